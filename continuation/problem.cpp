@@ -1,0 +1,61 @@
+#include "continuation/problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "solvers/finite_difference.h"
+
+namespace rubcont {
+
+int Spectrum::UnstableCount(double tolerance) const {
+  int count = 0;
+  for (Index i = 0; i < values.size(); ++i) {
+    if (kind == SpectrumKind::kEigenvalues ? values(i).real() > tolerance
+                                           : std::abs(values(i)) > 1.0 + tolerance) {
+      ++count;
+    }
+  }
+  return count;
+}
+
+void Problem::Jacobian(const Vector& u, double lambda, Matrix& J) {
+  const Vector typical = Scale();
+  FiniteDifferenceJacobian([&](const Vector& x, Vector& F) { Residual(x, lambda, F); }, u,
+                           Dimension(), J, {}, &typical);
+}
+
+void Problem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
+  const double h = 6.0e-6 * std::max(std::abs(lambda), LambdaScale());
+  Vector F_plus, F_minus;
+  Residual(u, lambda + h, F_plus);
+  Residual(u, lambda - h, F_minus);
+  dF = (F_plus - F_minus) / (2.0 * h);
+}
+
+Spectrum Problem::Stability(const Vector& /*u*/, double /*lambda*/) {
+  throw std::logic_error("Problem::Stability called on a problem without a stability operator");
+}
+
+double Problem::SecondParameter() const {
+  throw std::logic_error("Problem::SecondParameter called on a problem without a second parameter");
+}
+
+void Problem::SetSecondParameter(double /*eta*/) {
+  throw std::logic_error(
+      "Problem::SetSecondParameter called on a problem without a second parameter");
+}
+
+void Problem::DfDeta(const Vector& u, double lambda, Vector& dF) {
+  const double eta = SecondParameter();
+  const double h = 6.0e-6 * std::max(std::abs(eta), SecondParameterScale());
+  Vector F_plus, F_minus;
+  SetSecondParameter(eta + h);
+  Residual(u, lambda, F_plus);
+  SetSecondParameter(eta - h);
+  Residual(u, lambda, F_minus);
+  SetSecondParameter(eta);
+  dF = (F_plus - F_minus) / (2.0 * h);
+}
+
+}  // namespace rubcont

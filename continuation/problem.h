@@ -1,0 +1,91 @@
+// The one interface the continuation engine sees: F(u, λ) = 0, F: Rⁿ × R → Rⁿ.
+//
+// Every layer of rubcont wraps the one below and presents this interface upward
+// (BifurcationKit's BifurcationProblem / WrapPOSh / FoldMAProblem, LOCA's groups): a rotating-wave
+// problem, a shooting problem and a minimally augmented fold problem are all "a residual with a
+// Jacobian" to the engine. Methods are non-const because problems keep scratch space (and shooting
+// problems cache integrations); a Problem is not safe to share between threads.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "solvers/types.h"
+
+namespace rubcont {
+
+// What the stability operator returns for one solution.
+enum class SpectrumKind {
+  kEigenvalues,         // equilibria / rotating waves: stable when all Re < 0
+  kFloquetMultipliers,  // periodic orbits: stable when all |·| < 1
+};
+
+struct Spectrum {
+  SpectrumKind kind = SpectrumKind::kEigenvalues;
+  // The spectrum with the trivial values removed (the zero eigenvalue of a continuous symmetry,
+  // the unit multiplier of an autonomous orbit), sorted by decreasing Re (eigenvalues) or |·|
+  // (multipliers).
+  ComplexVector values;
+  int trivial_removed = 0;  // how many trivial values were identified and removed
+  bool valid = false;       // false when the operator could not be evaluated (e.g. integration failed)
+
+  // Number of values in the unstable half-plane / outside the unit circle.
+  int UnstableCount(double tolerance = 1e-9) const;
+  bool Stable(double tolerance = 1e-9) const { return valid && UnstableCount(tolerance) == 0; }
+};
+
+class Problem {
+ public:
+  virtual ~Problem() = default;
+
+  // n: the number of unknowns in u and of equations in F.
+  virtual Index Dimension() const = 0;
+
+  // F(u, λ), written into F (resized by the callee if needed).
+  virtual void Residual(const Vector& u, double lambda, Vector& F) = 0;
+
+  // ∂F/∂u (n × n). Default: central differences scaled by Scale().
+  virtual void Jacobian(const Vector& u, double lambda, Matrix& J);
+
+  // ∂F/∂λ (n). Default: central difference with step relative to max(|λ|, LambdaScale()).
+  virtual void DfDlambda(const Vector& u, double lambda, Vector& dF);
+
+  // Typical magnitude of each unknown (n entries > 0) and of λ, and of each equation. The engine
+  // works in u / Scale() and λ / LambdaScale(), and measures residuals in F / ResidualScale(), so
+  // that unknowns of very different units (metres ~1e-4, forces ~1e3, frequencies ~1e2) weigh
+  // alike in arclength, tangents, step control and convergence tests.
+  virtual Vector Scale() const { return Vector::Ones(Dimension()); }
+  virtual double LambdaScale() const { return 1.0; }
+  virtual Vector ResidualScale() const { return Vector::Ones(Dimension()); }
+
+  // Optional stability operator: eigenvalues (equilibria) or Floquet multipliers (orbits).
+  virtual bool HasStability() const { return false; }
+  virtual Spectrum Stability(const Vector& u, double lambda);
+
+  // Optional named scalar measures stored with every branch point (e.g. "precession_hz",
+  // "normal_force_left"). Measures(u, λ) returns one value per name, in order.
+  virtual std::vector<std::string> MeasureNames() const { return {}; }
+  virtual Vector Measures(const Vector& /*u*/, double /*lambda*/) { return Vector(); }
+
+  // Optional second parameter η, for two-parameter continuation (fold curves, cusps).
+  virtual bool HasSecondParameter() const { return false; }
+  virtual double SecondParameter() const;
+  virtual void SetSecondParameter(double eta);
+  virtual double SecondParameterScale() const { return 1.0; }
+  // ∂F/∂η at the current η. Default: central difference through SetSecondParameter.
+  virtual void DfDeta(const Vector& u, double lambda, Vector& dF);
+
+  // Optional events of a piecewise-smooth problem (stick ↔ slip, contact loss). The problem is
+  // smooth between events; EventFunctions(u, λ) returns EventNames().size() values whose sign
+  // changes mark the switching manifolds. When the engine has located a zero of event k it calls
+  // SwitchAt(k, u, λ); the problem changes its formulation (e.g. a contact changes from stick to
+  // slip) and may rewrite u into the new formulation's unknowns (Dimension() may change). It
+  // returns false when it cannot continue past the event (the branch ends there, saying why).
+  virtual std::vector<std::string> EventNames() const { return {}; }
+  virtual Vector EventFunctions(const Vector& /*u*/, double /*lambda*/) { return Vector(); }
+  virtual bool SwitchAt(int /*event*/, Vector& /*u*/, double /*lambda*/) { return false; }
+  // A label for the current smooth piece (e.g. "L:stick R:slip+"), stored with each branch point.
+  virtual std::string PieceLabel() const { return {}; }
+};
+
+}  // namespace rubcont

@@ -1,0 +1,53 @@
+// Physical parameters of the two-point rub model (design.md §2): a rigid rotor touching a rigid,
+// elastically supported stator at two contact planes, L (z = 0) and R (z = l). SI units throughout.
+// Arrays indexed [0] = left contact / station, [1] = right.
+#pragma once
+
+#include <array>
+
+namespace rubcont {
+
+enum class FrictionLawKind {
+  kTanh,   // F = μ N tanh(V / ε): smooth, for time marching and shooting
+  kExact,  // F = μ N sgn(V) with stick (V = 0, |F| ≤ μN): piecewise smooth, for rotating waves
+};
+
+struct FrictionLaw {
+  FrictionLawKind kind = FrictionLawKind::kTanh;
+  double velocity_scale = 1e-3;  // ε [m/s] of tanh(V/ε); > 0; unused by kExact
+};
+
+struct TwoPointParams {
+  // Rotor (rigid, free–free; 4 DOF described by its displacements at the two contact planes).
+  double rotor_mass = 9.99;            // m_r [kg] > 0
+  double rotor_inertia = 0.029;        // I_r [kg·m²] > 0, transverse, about the mass centre
+  double contact_span = 0.29;          // l [m] > 0, distance between the contact planes
+  double rotor_mass_center = 0.145;    // l_g [m], mass centre from the left plane; a = l_g/l (> 1: overhung)
+
+  // Stator (rigid, 4 DOF at its two stations, which are the contact stations).
+  double stator_mass = 21.44;          // m_s [kg] > 0
+  double stator_inertia = 0.206;       // I_s [kg·m²] > 0, transverse, about its mass centre
+  double stator_span = 0.27;           // l_s [m] > 0, distance between the stations
+  double stator_mass_center = 0.135;   // l_sg [m], mass centre from the left station; b = l_sg/l_s
+  std::array<double, 2> support_stiffness{4.70e6, 4.70e6};  // k_L, k_R [N/m] > 0
+  std::array<double, 2> support_damping{324.9, 324.9};      // c_L, c_R [N·s/m] ≥ 0
+
+  // Contacts (Hunt–Crossley normal force, Coulomb friction).
+  std::array<double, 2> clearance{3.81e-4, 3.81e-4};  // C_L, C_R [m] > 0, radial
+  std::array<double, 2> radius{38.1e-3, 38.1e-3};     // R_L, R_R [m] > 0, rotor radius at contact
+  double friction = 0.5;               // μ [-] ≥ 0
+  double contact_stiffness = 1.75e11;  // k1 [N/m] > 0:  N = k1 δ + k2 δ² + c_nl δ̇ δ
+  double contact_stiffness2 = 0.0;     // k2 [N/m²] ≥ 0
+  double contact_damping = 1.75e5;     // c_nl [N·s/m²] ≥ 0
+  FrictionLaw friction_law;
+
+  double imbalance = 0.0;        // m_u e [kg·m] ≥ 0, at the mass-centre plane (3.43 g·cm = 3.43e-5)
+  double center_damping = 52.0;  // c_d [N·s/m] ≥ 0, between rotor and stator mid-points
+
+  double a() const { return rotor_mass_center / contact_span; }
+  double b() const { return stator_mass_center / stator_span; }
+  // Radius-to-clearance ratio R_k / C_k of contact k.
+  double Rci(int k) const { return radius[k] / clearance[k]; }
+};
+
+}  // namespace rubcont

@@ -1,0 +1,15 @@
+// Common linear-algebra types. Dense Eigen throughout: the largest systems rubcont solves
+// (multiple shooting on 16 states × tens of segments) are a few hundred unknowns.
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace rubcont {
+
+using Index = Eigen::Index;
+using Vector = Eigen::VectorXd;
+using Matrix = Eigen::MatrixXd;
+using ComplexVector = Eigen::VectorXcd;
+using ComplexMatrix = Eigen::MatrixXcd;
+
+}  // namespace rubcont
