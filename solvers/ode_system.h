@@ -1,0 +1,52 @@
+// A first-order ODE system ẋ = f(t, x; p) with one scalar parameter p (the continuation parameter:
+// running speed, forcing frequency, ...), optional analytic derivatives, and optional description
+// of a continuous rotational symmetry. The integrators in solvers/ and the shooting problems in
+// shooting/ see models only through this interface.
+//
+// Signatures take Eigen::Ref so that integrators can pass maps over SUNDIALS N_Vector storage
+// without copying. Implementations must not allocate in Rhs / JacobianX (keep a workspace).
+#pragma once
+
+#include "solvers/types.h"
+
+namespace rubcont {
+
+using ConstVectorRef = Eigen::Ref<const Vector>;
+using VectorRef = Eigen::Ref<Vector>;
+using MatrixRef = Eigen::Ref<Matrix>;
+
+class OdeSystem {
+ public:
+  virtual ~OdeSystem() = default;
+
+  virtual Index Dimension() const = 0;
+
+  // f = ẋ at (t, x) for the current parameter value. f has Dimension() entries.
+  virtual void Rhs(double t, ConstVectorRef x, VectorRef f) = 0;
+
+  // ∂f/∂x (Dimension() × Dimension()). Default: central differences of Rhs.
+  virtual bool HasJacobian() const { return false; }
+  virtual void JacobianX(double t, ConstVectorRef x, MatrixRef J);
+
+  // The scalar parameter p and ∂f/∂p (default: central difference through SetParameter).
+  virtual double Parameter() const = 0;
+  virtual void SetParameter(double p) = 0;
+  virtual void DfDparameter(double t, ConstVectorRef x, VectorRef df);
+
+  // Typical magnitude of each state (entries > 0): scales finite differences, tolerances and
+  // shooting unknowns. Default: all ones.
+  virtual Vector StateScale() const { return Vector::Ones(Dimension()); }
+
+  // Period of an explicit time-periodic forcing at the current parameter (0: autonomous).
+  virtual double ForcingPeriod() const { return 0.0; }
+
+  // Optional SO(2) symmetry: f(R_φ x) = R_φ f(x) for a rotation action R_φ (e.g. rotating every
+  // complex coordinate by e^{jφ}). Relative periodic orbits satisfy x(T) = R_φ x(0).
+  virtual bool HasRotationSymmetry() const { return false; }
+  // x ← R_φ x.
+  virtual void Rotate(double /*phi*/, VectorRef /*x*/) const {}
+  // g = d/dφ (R_φ x) at φ = 0, the infinitesimal generator applied to x.
+  virtual void RotationGenerator(ConstVectorRef /*x*/, VectorRef /*g*/) const {}
+};
+
+}  // namespace rubcont
