@@ -1,9 +1,63 @@
+// The rubcont executable: argument parsing only (CLI11 stays in this translation unit); the
+// commands live in the rubcont_io library (apps/commands.h).
+#include <iostream>
+#include <optional>
+#include <string>
+
 #include <CLI/CLI.hpp>
 
+#include "apps/commands.h"
+#include "apps/version.h"
+
 int main(int argc, char** argv) {
-  CLI::App app{"rubcont: continuation and bifurcation for rotor–stator rub"};
+  CLI::App app{"rubcont: continuation and bifurcation toolkit for rotor–stator rub "
+               "(dry-friction backward whirl and whip).\n"
+               "Exit codes: 0 success, 1 numerical failure or I/O error, 2 bad scene or arguments."};
+  app.set_version_flag("--version", rubcont::Version());
   app.require_subcommand(1);
-  app.add_subcommand("run", "run everything the scene asks for");
-  CLI11_PARSE(app, argc, argv);
-  return 0;
+
+  rubcont::RunRequest run_request;
+  std::string run_scene;
+  CLI::App* run = app.add_subcommand("run", "run every stage the scene asks for; results go to "
+                                            "<out>/<scene name>/ (HDF5 + figures)");
+  run->add_option("SCENE", run_scene, "scene file (TOML); default: the built-in default scene "
+                                      "(scenes/default.toml)");
+  run->add_option("--out", run_request.out_dir, "output directory")->capture_default_str();
+  run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
+
+  rubcont::AnalyticRequest analytic_request;
+  std::string analytic_out;
+  CLI::App* analytic = app.add_subcommand(
+      "analytic", "level L0: closed-form Mode 1 / Mode 2 contact forces, μ_req and transitions");
+  analytic->add_option("SCENE", analytic_request.scene_file, "scene file (TOML)")->required();
+  analytic->add_option("--out", analytic_out,
+                       "HDF5 file to write (figures go next to it); default "
+                       "results/<scene name>/analytic.h5");
+  analytic->add_flag("-q,--quiet", analytic_request.quiet, "no progress on stderr");
+
+  CLI::App* scene = app.add_subcommand("scene", "scene files");
+  scene->require_subcommand(1);
+  std::string check_file;
+  CLI::App* check = scene->add_subcommand("check", "validate a scene and print its resolved values");
+  check->add_option("FILE", check_file, "scene file (TOML)")->required();
+  CLI::App* keys = scene->add_subcommand("keys", "print the scene key reference (markdown)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help / version / the error
+    return code == 0 ? rubcont::kExitSuccess : rubcont::kExitBadInput;
+  }
+
+  if (*run) {
+    if (!run_scene.empty()) run_request.scene_file = run_scene;
+    return rubcont::RunCommand(run_request, std::cout, std::cerr);
+  }
+  if (*analytic) {
+    if (!analytic_out.empty()) analytic_request.out_file = analytic_out;
+    return rubcont::AnalyticCommand(analytic_request, std::cout, std::cerr);
+  }
+  if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
+  if (*keys) return rubcont::SceneKeysCommand(std::cout);
+  return rubcont::kExitBadInput;
 }

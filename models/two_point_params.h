@@ -50,4 +50,8 @@ struct TwoPointParams {
   double Rci(int k) const { return radius[k] / clearance[k]; }
 };
 
+// Throws std::invalid_argument naming the first field that breaks its rule above (e.g.
+// "TwoPointParams.rotor_mass = -1: must be positive (kg)"); every value must also be finite.
+void Validate(const TwoPointParams& p);
+
 }  // namespace rubcont

@@ -1,0 +1,202 @@
+#include "apps/commands.h"
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <ostream>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "apps/analytic_output.h"
+#include "apps/figures.h"
+#include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "apps/version.h"
+#include "models/analytic.h"
+
+namespace rubcont {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Progress lines on stderr, silenced by --quiet.
+class Progress {
+ public:
+  Progress(bool quiet, std::ostream& err) : quiet_(quiet), err_(err) {}
+  template <class... Args>
+  void operator()(fmt::format_string<Args...> format, Args&&... args) {
+    if (quiet_) return;
+    fmt::print(err_, "rubcont: {}\n", fmt::format(format, std::forward<Args>(args)...));
+    err_.flush();
+  }
+
+ private:
+  bool quiet_;
+  std::ostream& err_;
+};
+
+// Catches what the commands throw and maps it to the exit code.
+template <class Function>
+int Guarded(std::ostream& err, Function&& function) {
+  try {
+    return function();
+  } catch (const SceneError& e) {
+    fmt::print(err, "{}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(err, "rubcont: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(err, "rubcont: error: {}\n", e.what());
+    return kExitFailure;
+  }
+}
+
+std::string Describe(const Transition& t) {
+  switch (t.type) {
+    case TransitionType::kMuCrossing:
+      return t.direction > 0 ? "μ_req rises through μ: rolling → slipping (whirl → whip)"
+                             : "μ_req falls through μ: slipping → rolling (whip → whirl)";
+    case TransitionType::kNegativeMuCrossing:
+      return t.direction > 0 ? "μ_req rises through −μ" : "μ_req falls through −μ";
+    case TransitionType::kContactLoss:
+      return t.through_pole ? "N: + → − through a pole (undamped resonance): contact lost"
+                            : "N falls through 0: contact lost";
+    case TransitionType::kContactRegain:
+      return t.through_pole ? "N: − → + through a pole (undamped resonance): contact regained"
+                            : "N rises through 0: contact regained";
+  }
+  return "";
+}
+
+void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
+  fmt::print(out, "  {} ({}):\n", ToString(curve.mode),
+             curve.mode == CircularMode::kMode1 ? "normals in phase" : "normals in antiphase");
+  if (curve.transitions.empty()) fmt::print(out, "    no transitions in range\n");
+  const auto& t = curve.transitions;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    // Symmetric rotors give the same transition at both contacts: print it once.
+    const bool both = i + 1 < t.size() && t[i + 1].type == t[i].type &&
+                      t[i + 1].direction == t[i].direction && t[i + 1].contact != t[i].contact &&
+                      std::abs(t[i + 1].precession_hz - t[i].precession_hz) <= 1e-9 * t[i].precession_hz;
+    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz,
+               both ? "both" : (t[i].contact == 0 ? "left" : "right"), Describe(t[i]));
+    if (both) ++i;
+  }
+  if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
+}
+
+// Runs the stages, writes the HDF5 file atomically, then the figures. Returns the exit code.
+int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::filesystem::path& h5_file,
+            bool quiet, std::ostream& out, std::ostream& err) {
+  Progress progress(quiet, err);
+  const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
+  std::filesystem::create_directories(out_dir);
+
+  ResultWriter writer(h5_file);
+  writer.SetAttribute("/", "rubcont_version", Version());
+  writer.SetAttribute("/", "scene_name", scene.name);
+  writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+  std::string level = "L0";
+  std::vector<std::string> failures;
+  std::vector<std::string> scripts;
+
+  fmt::print(out, "scene {} (model {}) from {}\n", scene.name, ToString(scene.model), scene.source);
+  for (Stage stage : stages) {
+    switch (stage) {
+      case Stage::kAnalytic: {
+        const Clock::time_point start = Clock::now();
+        const TwoPointParams& p = scene.two_point;
+        const AnalyticOptions options = AnalyticOptionsOf(scene);
+        const AnalyticResult result = ComputeAnalytic(p, options);
+        // The thesis's closed form (no centre damper) beside the scene's, when they differ.
+        std::optional<AnalyticResult> without_damper;
+        if (p.center_damping > 0.0) {
+          TwoPointParams q = p;
+          q.center_damping = 0.0;
+          without_damper = ComputeAnalytic(q, options);
+        }
+        WriteAnalytic(writer, p, result, without_damper ? &*without_damper : nullptr);
+        progress("[analytic] L0 closed form: 2 modes × {} frequencies, {:.1f} ms",
+                 options.precession_points, 1e3 * SecondsSince(start));
+
+        const NaturalFrequencies& nf = result.natural_frequencies;
+        fmt::print(out, "[analytic] L0 closed form, μ = {}, c_d = {} N·s/m, {} points over {}–{} Hz\n",
+                   p.friction, p.center_damping, options.precession_points,
+                   options.min_precession_hz, options.max_precession_hz);
+        fmt::print(out, "  natural frequencies: stator bounce {:.3f} Hz, pitch {:.3f} Hz; "
+                        "rotor and stator pinned: bounce {:.3f} Hz, pitch {:.3f} Hz\n",
+                   nf.stator_bounce.frequency_hz, nf.stator_pitch.frequency_hz,
+                   nf.pinned_bounce.frequency_hz, nf.pinned_pitch.frequency_hz);
+        PrintCurve(out, result.mode1);
+        PrintCurve(out, result.mode2);
+        for (const AnalyticCurve* curve : {&result.mode1, &result.mode2})
+          if (!curve->Succeeded()) failures.push_back("[analytic] " + curve->message);
+        scripts.push_back("analytic.py");
+        break;
+      }
+    }
+  }
+  writer.SetAttribute("/", "level", level);
+  writer.SetAttribute("/", "status", failures.empty() ? "success" : "failure");
+  writer.Commit();
+  fmt::print(out, "wrote {}\n", h5_file.string());
+
+  for (const std::string& script : scripts) {
+    const Clock::time_point start = Clock::now();
+    progress("figures: {} {} ...", PythonInterpreter(), (PlotsDirectory() / script).string());
+    const FigureOutcome figures = MakeFigures(script, h5_file, out_dir);
+    if (figures.made) {
+      progress("figures: done in {:.1f} s", SecondsSince(start));
+      fmt::print(out, "wrote figures ({}) in {}\n", script, out_dir.string());
+    } else {
+      fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+    }
+  }
+  for (const std::string& failure : failures) fmt::print(err, "rubcont: numerical failure: {}\n", failure);
+  return failures.empty() ? kExitSuccess : kExitFailure;
+}
+
+}  // namespace
+
+int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = request.scene_file ? LoadScene(*request.scene_file) : DefaultScene();
+    const std::filesystem::path dir = std::filesystem::path(request.out_dir) / scene.name;
+    return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), request.quiet, out, err);
+  });
+}
+
+int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(request.scene_file);
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name / "analytic.h5";
+    return Execute(scene, {Stage::kAnalytic}, file, request.quiet, out, err);
+  });
+}
+
+int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(file);
+    fmt::print(out, "{}: valid scene \"{}\" (model {})\n{}", file, scene.name, ToString(scene.model),
+               DescribeScene(scene));
+    return kExitSuccess;
+  });
+}
+
+int SceneKeysCommand(std::ostream& out) {
+  out << SceneKeysMarkdown();
+  return kExitSuccess;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,40 @@
+// The rubcont commands, independent of argument parsing (main.cpp holds CLI11). Each returns the
+// process exit code and writes results to `out` (stdout) and progress, warnings and errors to
+// `err` (stderr).
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace rubcont {
+
+constexpr int kExitSuccess = 0;
+constexpr int kExitFailure = 1;   // numerical failure or I/O error, with the reason on stderr
+constexpr int kExitBadInput = 2;  // bad scene or bad arguments
+
+struct RunRequest {
+  std::optional<std::string> scene_file;  // none: the built-in default scene
+  std::string out_dir = "results";        // results go to <out_dir>/<scene name>/
+  bool quiet = false;                     // no progress on stderr (warnings and errors still)
+};
+
+// `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
+int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err);
+
+struct AnalyticRequest {
+  std::string scene_file;
+  std::optional<std::string> out_file;  // none: results/<scene name>/analytic.h5
+  bool quiet = false;
+};
+
+// `rubcont analytic SCENE`: the L0 stage only; figures next to the HDF5 file.
+int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
+
+// `rubcont scene check FILE`: validates and prints the resolved values with units.
+int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& err);
+
+// `rubcont scene keys`: the key reference (markdown) that scenes/README.md embeds.
+int SceneKeysCommand(std::ostream& out);
+
+}  // namespace rubcont

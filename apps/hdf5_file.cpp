@@ -1,0 +1,318 @@
+#include "apps/hdf5_file.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <system_error>
+
+#include <H5Cpp.h>
+
+namespace rubcont {
+namespace {
+
+// HDF5's C++ exceptions do not derive from std::exception; translate them at every entry point.
+template <class Function>
+auto Guard(const std::filesystem::path& file, const std::string& what, Function&& function) {
+  try {
+    return function();
+  } catch (const H5::Exception& e) {
+    throw std::runtime_error("HDF5: " + file.string() + ": " + what + ": " + e.getCDetailMsg() +
+                             " (" + e.getCFuncName() + ")");
+  }
+}
+
+void CheckAbsolute(const std::string& path) {
+  if (path.empty() || path[0] != '/' || (path.size() > 1 && path.back() == '/'))
+    throw std::invalid_argument("HDF5 path \"" + path + "\": must be absolute, e.g. \"/analytic/mode1\"");
+}
+
+std::string ParentPath(const std::string& path) {
+  const auto slash = path.rfind('/');
+  return slash == 0 ? std::string("/") : path.substr(0, slash);
+}
+
+// Calls f(H5::H5Object&) on the group or dataset at `path` (attributes hang on either).
+template <class Function>
+auto WithObject(const H5::H5File& file, const std::string& path, Function&& f) {
+  if (path == "/" || file.childObjType(path) == H5O_TYPE_GROUP) {
+    H5::Group group = file.openGroup(path);
+    return f(static_cast<H5::H5Object&>(group));
+  }
+  if (file.childObjType(path) == H5O_TYPE_DATASET) {
+    H5::DataSet set = file.openDataSet(path);
+    return f(static_cast<H5::H5Object&>(set));
+  }
+  throw std::runtime_error(path + " is not a group or a dataset");
+}
+
+const H5::StrType& Utf8String() {
+  static const H5::StrType type = [] {
+    H5::StrType t(H5::PredType::C_S1, H5T_VARIABLE);
+    t.setCset(H5T_CSET_UTF8);
+    return t;
+  }();
+  return type;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+struct ResultWriter::Impl {
+  H5::H5File file;
+  bool open = true;
+
+  // Creation property lists that do not record modification times.
+  static H5::DSetCreatPropList DatasetProperties() {
+    H5::DSetCreatPropList properties;
+    H5Pset_obj_track_times(properties.getId(), false);
+    return properties;
+  }
+
+  bool Exists(const std::string& path) const {
+    if (path == "/") return true;
+    std::string prefix;
+    for (std::size_t start = 1; start <= path.size();) {
+      const std::size_t slash = std::min(path.find('/', start), path.size());
+      prefix = path.substr(0, slash);
+      if (H5Lexists(file.getId(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+      start = slash + 1;
+    }
+    return true;
+  }
+
+  void EnsureGroup(const std::string& path) {
+    if (path == "/" || Exists(path)) return;
+    EnsureGroup(ParentPath(path));
+    const hid_t gcpl = H5Pcreate(H5P_GROUP_CREATE);
+    H5Pset_obj_track_times(gcpl, false);
+    const hid_t group = H5Gcreate2(file.getId(), path.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT);
+    H5Pclose(gcpl);
+    if (group < 0) throw std::runtime_error("cannot create group " + path);
+    H5Gclose(group);
+  }
+
+  H5::DataSet CreateDataset(const std::string& path, const H5::DataType& type,
+                            const std::vector<hsize_t>& dims) {
+    CheckAbsolute(path);
+    EnsureGroup(ParentPath(path));
+    if (Exists(path)) throw std::runtime_error(path + " already exists");
+    const H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
+    return file.createDataSet(path, type, space, DatasetProperties());
+  }
+};
+
+ResultWriter::ResultWriter(std::filesystem::path target)
+    : target_(std::move(target)), temporary_(target_.string() + ".tmp") {
+  H5::Exception::dontPrint();
+  impl_ = Guard(temporary_, "create", [&] {
+    return std::unique_ptr<Impl>(new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC)});
+  });
+}
+
+ResultWriter::~ResultWriter() {
+  if (impl_ && impl_->open) {
+    try {
+      impl_->file.close();
+    } catch (...) {
+    }
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+  }
+}
+
+void ResultWriter::CreateGroup(const std::string& path) {
+  CheckAbsolute(path);
+  Guard(temporary_, path, [&] { impl_->EnsureGroup(path); });
+}
+
+void ResultWriter::WriteDoubles(const std::string& path, const std::vector<double>& values) {
+  Guard(temporary_, path, [&] {
+    H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_DOUBLE, {values.size()});
+    if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+}
+
+void ResultWriter::WriteDoubles(const std::string& path, const Vector& values) {
+  WriteDoubles(path, std::vector<double>(values.data(), values.data() + values.size()));
+}
+
+void ResultWriter::WriteMatrix(const std::string& path, const Matrix& values) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor row_major = values;
+  Guard(temporary_, path, [&] {
+    H5::DataSet set = impl_->CreateDataset(
+        path, H5::PredType::NATIVE_DOUBLE,
+        {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())});
+    if (values.size() > 0) set.write(row_major.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+}
+
+void ResultWriter::WriteInts(const std::string& path, const std::vector<int>& values) {
+  Guard(temporary_, path, [&] {
+    H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_INT, {values.size()});
+    if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_INT);
+  });
+}
+
+void ResultWriter::WriteStrings(const std::string& path, const std::vector<std::string>& values) {
+  std::vector<const char*> pointers;
+  for (const std::string& value : values) pointers.push_back(value.c_str());
+  Guard(temporary_, path, [&] {
+    H5::DataSet set = impl_->CreateDataset(path, Utf8String(), {values.size()});
+    if (!values.empty()) set.write(pointers.data(), Utf8String());
+  });
+}
+
+void ResultWriter::SetAttribute(const std::string& object, const std::string& name, double value) {
+  CheckAbsolute(object);
+  Guard(temporary_, object + "@" + name, [&] {
+    impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      if (target.attrExists(name)) target.removeAttr(name);
+      target.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
+          .write(H5::PredType::NATIVE_DOUBLE, &value);  // Attribute::write(type, buffer)
+    });
+  });
+}
+
+void ResultWriter::SetAttribute(const std::string& object, const std::string& name,
+                                const std::string& value) {
+  CheckAbsolute(object);
+  Guard(temporary_, object + "@" + name, [&] {
+    impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      if (target.attrExists(name)) target.removeAttr(name);
+      target.createAttribute(name, Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), value);
+    });
+  });
+}
+
+void ResultWriter::Commit() {
+  if (!impl_->open) throw std::logic_error("ResultWriter::Commit called twice");
+  Guard(temporary_, "close", [&] { impl_->file.close(); });
+  impl_->open = false;
+  std::error_code ec;
+  std::filesystem::rename(temporary_, target_, ec);
+  if (ec) {
+    std::filesystem::remove(temporary_, ec);
+    throw std::runtime_error("cannot rename " + temporary_.string() + " to " + target_.string() +
+                             ": " + ec.message());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct ResultReader::Impl {
+  H5::H5File file;
+};
+
+ResultReader::ResultReader(const std::filesystem::path& file) : file_(file) {
+  H5::Exception::dontPrint();
+  impl_ = Guard(file_, "open", [&] {
+    return std::unique_ptr<Impl>(new Impl{H5::H5File(file_.string(), H5F_ACC_RDONLY)});
+  });
+}
+
+ResultReader::~ResultReader() = default;
+
+bool ResultReader::Exists(const std::string& path) const {
+  CheckAbsolute(path);
+  if (path == "/") return true;
+  for (std::size_t start = 1; start <= path.size();) {
+    const std::size_t slash = std::min(path.find('/', start), path.size());
+    if (H5Lexists(impl_->file.getId(), path.substr(0, slash).c_str(), H5P_DEFAULT) <= 0) return false;
+    start = slash + 1;
+  }
+  return true;
+}
+
+std::vector<std::string> ResultReader::Children(const std::string& group) const {
+  return Guard(file_, group, [&] {
+    const H5::Group g = impl_->file.openGroup(group);
+    std::vector<std::string> names;
+    for (hsize_t i = 0; i < g.getNumObjs(); ++i) names.push_back(g.getObjnameByIdx(i));
+    std::sort(names.begin(), names.end());
+    return names;
+  });
+}
+
+std::vector<double> ResultReader::ReadDoubles(const std::string& path) const {
+  return Guard(file_, path, [&] {
+    const H5::DataSet set = impl_->file.openDataSet(path);
+    const H5::DataSpace space = set.getSpace();
+    if (space.getSimpleExtentNdims() != 1) throw std::runtime_error(path + " is not 1-D");
+    hsize_t n = 0;
+    space.getSimpleExtentDims(&n);
+    std::vector<double> values(n);
+    if (n > 0) set.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    return values;
+  });
+}
+
+Matrix ResultReader::ReadMatrix(const std::string& path) const {
+  return Guard(file_, path, [&] {
+    const H5::DataSet set = impl_->file.openDataSet(path);
+    const H5::DataSpace space = set.getSpace();
+    if (space.getSimpleExtentNdims() != 2) throw std::runtime_error(path + " is not 2-D");
+    hsize_t dims[2] = {0, 0};
+    space.getSimpleExtentDims(dims);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> values(dims[0], dims[1]);
+    if (values.size() > 0) set.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    return Matrix(values);
+  });
+}
+
+std::vector<int> ResultReader::ReadInts(const std::string& path) const {
+  return Guard(file_, path, [&] {
+    const H5::DataSet set = impl_->file.openDataSet(path);
+    hsize_t n = 0;
+    set.getSpace().getSimpleExtentDims(&n);
+    std::vector<int> values(n);
+    if (n > 0) set.read(values.data(), H5::PredType::NATIVE_INT);
+    return values;
+  });
+}
+
+std::vector<std::string> ResultReader::ReadStrings(const std::string& path) const {
+  return Guard(file_, path, [&] {
+    const H5::DataSet set = impl_->file.openDataSet(path);
+    const H5::DataSpace space = set.getSpace();
+    hsize_t n = 0;
+    space.getSimpleExtentDims(&n);
+    std::vector<char*> pointers(n, nullptr);
+    if (n > 0) set.read(pointers.data(), Utf8String());
+    std::vector<std::string> values;
+    for (char* p : pointers) values.emplace_back(p == nullptr ? "" : p);
+    if (n > 0) H5Dvlen_reclaim(Utf8String().getId(), space.getId(), H5P_DEFAULT, pointers.data());
+    return values;
+  });
+}
+
+bool ResultReader::HasAttribute(const std::string& object, const std::string& name) const {
+  return Guard(file_, object, [&] {
+    return WithObject(impl_->file, object, [&](H5::H5Object& target) { return target.attrExists(name); });
+  });
+}
+
+double ResultReader::ReadDoubleAttribute(const std::string& object, const std::string& name) const {
+  return Guard(file_, object + "@" + name, [&] {
+    double value = 0.0;
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      target.openAttribute(name).read(H5::PredType::NATIVE_DOUBLE, &value);
+    });
+    return value;
+  });
+}
+
+std::string ResultReader::ReadStringAttribute(const std::string& object, const std::string& name) const {
+  return Guard(file_, object + "@" + name, [&] {
+    std::string value;
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      const H5::Attribute attribute = target.openAttribute(name);
+      attribute.read(attribute.getStrType(), value);
+    });
+    return value;
+  });
+}
+
+}  // namespace rubcont

@@ -1,0 +1,840 @@
+#include "apps/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <utility>
+#include <variant>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "apps/version.h"
+
+namespace rubcont {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The schema: one row per key.
+
+enum class ValueType {
+  kFloat,       // TOML float or integer (1000 → 1000.0)
+  kInteger,     // TOML integer only
+  kString,
+  kFloatPair,   // array of exactly two numbers
+  kStringList,  // array of strings
+};
+
+enum class Rule {
+  kText,                  // any string
+  kSceneName,             // 1–100 characters of [A-Za-z0-9_.-], not starting with '.'
+  kChoice,                // one of KeySpec::choices
+  kStages,                // non-empty list of implemented stage names, no repeats
+  kFinite,                // any finite number
+  kPositive,              // > 0 (each entry of a pair)
+  kNonNegative,           // ≥ 0 (each entry of a pair)
+  kIncreasingPositive,    // pair 0 < low < high
+  kGridPoints,            // integer 2 … kMaxGridPoints
+};
+
+enum class Presence {
+  kRequired,           // must be present
+  kOptional,           // default applies when absent
+  kRequiredInSection,  // must be present if its section is; an absent section means the default
+};
+
+constexpr std::int64_t kMaxGridPoints = 1000000;
+
+using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
+                           std::vector<std::string>>;
+
+struct KeySpec {
+  std::string key;        // dotted path: "rotor.mass"
+  ValueType type;
+  std::string unit;       // SI unit; "-" dimensionless; "" not a quantity
+  Rule rule;
+  Presence presence;
+  Value default_value;    // for kOptional / kRequiredInSection
+  std::string default_text;  // how the docs state the default when it is not a literal
+  std::string doc;        // one line: symbol and meaning
+  std::vector<std::string> choices;       // kChoice
+  std::optional<ModelKind> model;         // nullopt: common to every model
+  std::function<void(Scene&, const Value&)> set;
+  std::function<Value(const Scene&)> get;
+
+  std::string Section() const {
+    const auto dot = key.rfind('.');
+    return dot == std::string::npos ? std::string() : key.substr(0, dot);
+  }
+};
+
+// Field accessors: a function returning a reference into the Scene. get() calls it on a
+// const Scene through const_cast only to form the reference; it never writes.
+template <class T>
+using Field = T& (*)(Scene&);
+
+template <class T, class Stored = T>
+KeySpec Make(std::string key, ValueType type, std::string unit, Rule rule, Presence presence,
+             Value default_value, std::string doc, Field<T> field,
+             std::optional<ModelKind> model = ModelKind::kTwoPoint) {
+  KeySpec spec;
+  spec.key = std::move(key);
+  spec.type = type;
+  spec.unit = std::move(unit);
+  spec.rule = rule;
+  spec.presence = presence;
+  spec.default_value = std::move(default_value);
+  spec.doc = std::move(doc);
+  spec.model = model;
+  spec.set = [field](Scene& s, const Value& v) { field(s) = static_cast<T>(std::get<Stored>(v)); };
+  spec.get = [field](const Scene& s) { return Value(static_cast<Stored>(field(const_cast<Scene&>(s)))); };
+  return spec;
+}
+
+KeySpec Float(std::string key, std::string unit, Rule rule, std::string doc, Field<double> field,
+              Presence presence = Presence::kRequired, double default_value = 0.0) {
+  return Make<double>(std::move(key), ValueType::kFloat, std::move(unit), rule, presence,
+                      default_value, std::move(doc), field);
+}
+
+KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
+             Field<std::array<double, 2>> field) {
+  return Make<std::array<double, 2>>(std::move(key), ValueType::kFloatPair, std::move(unit), rule,
+                                     Presence::kRequired, std::array<double, 2>{}, std::move(doc),
+                                     field);
+}
+
+const std::vector<std::string> kImplementedStages = {"analytic"};
+const std::vector<std::string> kPlannedStages = {"branches", "orbits", "sweep"};
+
+std::vector<KeySpec> BuildSchema() {
+  std::vector<KeySpec> s;
+  const auto kCommon = std::nullopt;
+
+  // Top level.
+  {
+    KeySpec name = Make<std::string>("name", ValueType::kString, "", Rule::kSceneName,
+                                     Presence::kOptional, std::string(),
+                                     "Scene name: the output goes to `<out>/<name>/`.",
+                                     [](Scene& x) -> std::string& { return x.name; }, kCommon);
+    name.default_text = "the file stem";
+    s.push_back(name);
+  }
+  s.push_back(Make<std::string>("description", ValueType::kString, "", Rule::kText,
+                                Presence::kOptional, std::string(),
+                                "Free text, kept in the result file.",
+                                [](Scene& x) -> std::string& { return x.description; }, kCommon));
+  {
+    KeySpec model;
+    model.key = "model";
+    model.type = ValueType::kString;
+    model.rule = Rule::kChoice;
+    model.presence = Presence::kOptional;
+    model.default_value = std::string("two_point");
+    model.doc = "Which model the scene describes; each model has its own sections.";
+    model.choices = {"two_point"};
+    model.set = [](Scene& x, const Value&) { x.model = ModelKind::kTwoPoint; };
+    model.get = [](const Scene& x) { return Value(std::string(ToString(x.model))); };
+    s.push_back(model);
+  }
+
+  // [rotor]
+  s.push_back(Float("rotor.mass", "kg", Rule::kPositive, "m_r: rotor mass.",
+                    [](Scene& x) -> double& { return x.two_point.rotor_mass; }));
+  s.push_back(Float("rotor.inertia", "kg·m²", Rule::kPositive,
+                    "I_r: transverse moment of inertia about the mass centre.",
+                    [](Scene& x) -> double& { return x.two_point.rotor_inertia; }));
+  s.push_back(Float("rotor.contact_span", "m", Rule::kPositive,
+                    "l: distance from the left contact plane (z = 0) to the right one (z = l).",
+                    [](Scene& x) -> double& { return x.two_point.contact_span; }));
+  s.push_back(Float("rotor.mass_center", "m", Rule::kFinite,
+                    "l_g: mass centre from the left contact plane; a = l_g/l > 1 is overhung "
+                    "beyond the right contact, a < 0 beyond the left.",
+                    [](Scene& x) -> double& { return x.two_point.rotor_mass_center; }));
+
+  // [stator]
+  s.push_back(Float("stator.mass", "kg", Rule::kPositive, "m_s: stator mass.",
+                    [](Scene& x) -> double& { return x.two_point.stator_mass; }));
+  s.push_back(Float("stator.inertia", "kg·m²", Rule::kPositive,
+                    "I_s: transverse moment of inertia about its mass centre.",
+                    [](Scene& x) -> double& { return x.two_point.stator_inertia; }));
+  s.push_back(Float("stator.span", "m", Rule::kPositive,
+                    "l_s: distance between the stator's two stations (supports and contacts).",
+                    [](Scene& x) -> double& { return x.two_point.stator_span; }));
+  s.push_back(Float("stator.mass_center", "m", Rule::kFinite,
+                    "l_sg: mass centre from the left station; b = l_sg/l_s.",
+                    [](Scene& x) -> double& { return x.two_point.stator_mass_center; }));
+  s.push_back(Pair("stator.stiffness", "N/m", Rule::kPositive,
+                   "[k_L, k_R]: support stiffness at each station.",
+                   [](Scene& x) -> std::array<double, 2>& { return x.two_point.support_stiffness; }));
+  s.push_back(Pair("stator.damping", "N·s/m", Rule::kNonNegative,
+                   "[c_L, c_R]: support damping at each station.",
+                   [](Scene& x) -> std::array<double, 2>& { return x.two_point.support_damping; }));
+
+  // [contact]
+  s.push_back(Pair("contact.clearance", "m", Rule::kPositive,
+                   "[C_L, C_R]: radial clearance at each contact.",
+                   [](Scene& x) -> std::array<double, 2>& { return x.two_point.clearance; }));
+  s.push_back(Pair("contact.radius", "m", Rule::kPositive,
+                   "[R_L, R_R]: rotor radius at each contact; RCI_k = R_k/C_k.",
+                   [](Scene& x) -> std::array<double, 2>& { return x.two_point.radius; }));
+  s.push_back(Float("contact.friction", "-", Rule::kNonNegative,
+                    "μ: Coulomb friction coefficient available at both contacts.",
+                    [](Scene& x) -> double& { return x.two_point.friction; }));
+  s.push_back(Float("contact.stiffness", "N/m", Rule::kPositive,
+                    "k1 of the normal force N = k1 δ + k2 δ² + c_nl δ̇ δ (Hunt–Crossley).",
+                    [](Scene& x) -> double& { return x.two_point.contact_stiffness; }));
+  s.push_back(Float("contact.stiffness2", "N/m²", Rule::kNonNegative, "k2 of the normal force.",
+                    [](Scene& x) -> double& { return x.two_point.contact_stiffness2; }));
+  s.push_back(Float("contact.damping", "N·s/m²", Rule::kNonNegative,
+                    "c_nl of the normal force.",
+                    [](Scene& x) -> double& { return x.two_point.contact_damping; }));
+
+  // [contact.friction_law]
+  {
+    KeySpec kind;
+    kind.key = "contact.friction_law.kind";
+    kind.type = ValueType::kString;
+    kind.rule = Rule::kChoice;
+    kind.presence = Presence::kOptional;
+    kind.default_value = std::string("exact");
+    kind.doc = "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\" "
+               "(μN tanh(V/ε)). Not used by the analytic stage.";
+    kind.choices = {"exact", "tanh"};
+    kind.model = ModelKind::kTwoPoint;
+    kind.set = [](Scene& x, const Value& v) {
+      x.two_point.friction_law.kind =
+          std::get<std::string>(v) == "tanh" ? FrictionLawKind::kTanh : FrictionLawKind::kExact;
+    };
+    kind.get = [](const Scene& x) {
+      return Value(std::string(x.two_point.friction_law.kind == FrictionLawKind::kTanh ? "tanh" : "exact"));
+    };
+    s.push_back(kind);
+  }
+  s.push_back(Float("contact.friction_law.velocity_scale", "m/s", Rule::kPositive,
+                    "ε of tanh(V/ε): the friction regularization of time marching and shooting "
+                    "(and of rotating waves when kind = \"tanh\"). Not used by the analytic stage.",
+                    [](Scene& x) -> double& { return x.two_point.friction_law.velocity_scale; },
+                    Presence::kOptional, 1e-3));
+
+  // [imbalance], [center_damper]: optional components; an absent section means none.
+  s.push_back(Float("imbalance.mass_radius", "kg·m", Rule::kNonNegative,
+                    "m_u e: imbalance at the mass-centre plane (3.43 g·cm = 3.43e-5 kg·m). "
+                    "Breaks the rotational symmetry; the analytic stage neglects it.",
+                    [](Scene& x) -> double& { return x.two_point.imbalance; },
+                    Presence::kRequiredInSection, 0.0));
+  s.push_back(Float("center_damper.damping", "N·s/m", Rule::kNonNegative,
+                    "c_d: viscous damper between the rotor and stator mid-points (weights ½, ½). "
+                    "The analytic stage includes it exactly; 0 gives the thesis's closed form.",
+                    [](Scene& x) -> double& { return x.two_point.center_damping; },
+                    Presence::kRequiredInSection, 0.0));
+
+  // [analysis]
+  {
+    KeySpec stages;
+    stages.key = "analysis.stages";
+    stages.type = ValueType::kStringList;
+    stages.rule = Rule::kStages;
+    stages.presence = Presence::kOptional;
+    stages.default_value = std::vector<std::string>{"analytic"};
+    stages.doc = "What `rubcont run` computes, in this order. Implemented: \"analytic\" (L0).";
+    stages.choices = kImplementedStages;
+    stages.model = kCommon;
+    stages.set = [](Scene& x, const Value& v) {
+      x.analysis.stages.clear();
+      for (const std::string& name : std::get<std::vector<std::string>>(v)) {
+        if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
+      }
+    };
+    stages.get = [](const Scene& x) {
+      std::vector<std::string> names;
+      for (Stage stage : x.analysis.stages) names.push_back(ToString(stage));
+      return Value(names);
+    };
+    s.push_back(stages);
+  }
+  s.push_back(Make<std::array<double, 2>>(
+      "analysis.precession_range_hz", ValueType::kFloatPair, "Hz", Rule::kIncreasingPositive,
+      Presence::kOptional, std::array<double, 2>{1.0, 200.0},
+      "[low, high]: precession-frequency range of the analytic curves.",
+      [](Scene& x) -> std::array<double, 2>& { return x.analysis.precession_range_hz; }, kCommon));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.precession_points", ValueType::kInteger, "-", Rule::kGridPoints,
+      Presence::kOptional, std::int64_t{4000},
+      "Grid points of the analytic curves; transitions are located to machine precision between "
+      "them.",
+      [](Scene& x) -> int& { return x.analysis.precession_points; }, kCommon));
+  return s;
+}
+
+const std::vector<KeySpec>& Schema() {
+  static const std::vector<KeySpec> schema = BuildSchema();
+  return schema;
+}
+
+// Sections in schema order ("" is the top level).
+std::vector<std::string> Sections() {
+  std::vector<std::string> sections;
+  for (const KeySpec& spec : Schema()) {
+    std::string section = spec.Section();
+    // Every prefix of a section is a section too ("contact" for "contact.friction_law").
+    std::vector<std::string> chain;
+    for (std::string s = section; !s.empty();) {
+      chain.push_back(s);
+      const auto dot = s.rfind('.');
+      s = dot == std::string::npos ? std::string() : s.substr(0, dot);
+    }
+    chain.push_back("");
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it)
+      if (std::find(sections.begin(), sections.end(), *it) == sections.end()) sections.push_back(*it);
+  }
+  return sections;
+}
+
+bool IsSection(const std::string& path) {
+  const auto sections = Sections();
+  return !path.empty() && std::find(sections.begin(), sections.end(), path) != sections.end();
+}
+
+const KeySpec* FindKey(const std::string& path) {
+  for (const KeySpec& spec : Schema())
+    if (spec.key == path) return &spec;
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Formatting values as TOML literals.
+
+std::string FormatFloat(double x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  std::string text = fmt::format("{}", x);  // shortest representation that round-trips
+  if (text.find_first_of(".eE") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string Quote(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04X}", c);
+        else out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string FormatValue(const Value& value) {
+  struct Visitor {
+    std::string operator()(double x) const { return FormatFloat(x); }
+    std::string operator()(std::int64_t x) const { return std::to_string(x); }
+    std::string operator()(const std::string& x) const { return Quote(x); }
+    std::string operator()(const std::array<double, 2>& x) const {
+      return "[" + FormatFloat(x[0]) + ", " + FormatFloat(x[1]) + "]";
+    }
+    std::string operator()(const std::vector<std::string>& x) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < x.size(); ++i) out += (i ? ", " : "") + Quote(x[i]);
+      return out + "]";
+    }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+std::string FormatNode(const toml::node& node) {
+  std::ostringstream out;
+  out << toml::node_view<const toml::node>(node);
+  return out.str();
+}
+
+std::string UnitSuffix(const KeySpec& spec) {
+  return spec.unit.empty() || spec.unit == "-" ? std::string() : " (" + spec.unit + ")";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rules.
+
+std::string JoinQuoted(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + Quote(names[i]);
+  return out;
+}
+
+std::string RuleText(const KeySpec& spec) {
+  switch (spec.rule) {
+    case Rule::kText: return "any text";
+    case Rule::kSceneName: return "1–100 of `A–Z a–z 0–9 _ . -`, not starting with `.`";
+    case Rule::kChoice: return "one of " + JoinQuoted(spec.choices);
+    case Rule::kStages: return "non-empty, no repeats, each one of " + JoinQuoted(spec.choices);
+    case Rule::kFinite: return "finite";
+    case Rule::kPositive: return spec.type == ValueType::kFloatPair ? "each > 0" : "> 0";
+    case Rule::kNonNegative: return spec.type == ValueType::kFloatPair ? "each ≥ 0" : "≥ 0";
+    case Rule::kIncreasingPositive: return "0 < low < high";
+    case Rule::kGridPoints: return fmt::format("2 … {}", kMaxGridPoints);
+  }
+  return "";
+}
+
+// Returns the broken rule ("must be positive") or nothing.
+std::optional<std::string> CheckNumber(double x, Rule rule) {
+  if (!std::isfinite(x)) return "must be finite";
+  if (rule == Rule::kPositive && !(x > 0.0)) return "must be positive";
+  if (rule == Rule::kNonNegative && !(x >= 0.0)) return "must be non-negative";
+  return std::nullopt;
+}
+
+std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
+  switch (spec.rule) {
+    case Rule::kText: return std::nullopt;
+    case Rule::kSceneName: {
+      const std::string& name = std::get<std::string>(value);
+      const bool ok = !name.empty() && name.size() <= 100 && name[0] != '.' &&
+                      std::all_of(name.begin(), name.end(), [](char c) {
+                        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
+                               c == '.' || c == '-';
+                      });
+      if (!ok) return "must be 1–100 characters from A–Z a–z 0–9 _ . - and not start with \".\"";
+      return std::nullopt;
+    }
+    case Rule::kChoice: {
+      const std::string& choice = std::get<std::string>(value);
+      if (std::find(spec.choices.begin(), spec.choices.end(), choice) == spec.choices.end())
+        return "must be one of " + JoinQuoted(spec.choices);
+      return std::nullopt;
+    }
+    case Rule::kStages: {
+      const auto& names = std::get<std::vector<std::string>>(value);
+      if (names.empty()) return std::string("must name at least one stage");
+      std::set<std::string> seen;
+      for (const std::string& name : names) {
+        const bool implemented =
+            std::find(kImplementedStages.begin(), kImplementedStages.end(), name) != kImplementedStages.end();
+        const bool planned =
+            std::find(kPlannedStages.begin(), kPlannedStages.end(), name) != kPlannedStages.end();
+        if (planned)
+          return Quote(name) + " is not implemented yet (implemented: " + JoinQuoted(kImplementedStages) + ")";
+        if (!implemented)
+          return Quote(name) + " is not a stage (implemented: " + JoinQuoted(kImplementedStages) + ")";
+        if (!seen.insert(name).second) return Quote(name) + " is listed twice";
+      }
+      return std::nullopt;
+    }
+    case Rule::kFinite:
+    case Rule::kPositive:
+    case Rule::kNonNegative:
+      if (spec.type == ValueType::kFloatPair) {
+        const auto& pair = std::get<std::array<double, 2>>(value);
+        for (int k = 0; k < 2; ++k)
+          if (auto broken = CheckNumber(pair[k], spec.rule))
+            return std::string(k == 0 ? "left" : "right") + " value " + *broken;
+        return std::nullopt;
+      }
+      return CheckNumber(std::get<double>(value), spec.rule);
+    case Rule::kIncreasingPositive: {
+      const auto& pair = std::get<std::array<double, 2>>(value);
+      if (!std::isfinite(pair[0]) || !std::isfinite(pair[1])) return "must be finite";
+      if (!(pair[0] > 0.0)) return "low end must be positive (0 < low < high)";
+      if (!(pair[1] > pair[0])) return "inverted range: must be increasing (0 < low < high)";
+      return std::nullopt;
+    }
+    case Rule::kGridPoints: {
+      const std::int64_t n = std::get<std::int64_t>(value);
+      if (n < 2 || n > kMaxGridPoints) return fmt::format("must be from 2 to {}", kMaxGridPoints);
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading.
+
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string LastComponent(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+std::string Parent(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? std::string() : path.substr(0, dot);
+}
+
+// "; did you mean rotor.mass?", or else what the enclosing section accepts.
+std::string Suggestion(const std::string& path) {
+  std::vector<std::string> candidates;
+  for (const std::string& section : Sections())
+    if (!section.empty()) candidates.push_back(section);
+  for (const KeySpec& spec : Schema()) candidates.push_back(spec.key);
+  std::string best;
+  std::size_t best_distance = std::string::npos;
+  for (const std::string& candidate : candidates) {
+    std::size_t d = EditDistance(path, candidate);
+    if (LastComponent(candidate) == LastComponent(path)) d = std::min<std::size_t>(d, 1);  // moved
+    if (d < best_distance) {
+      best_distance = d;
+      best = candidate;
+    }
+  }
+  const std::size_t limit = std::max<std::size_t>(2, path.size() / 3);
+  if (best_distance <= limit) return "; did you mean " + (IsSection(best) ? "[" + best + "]" : best) + "?";
+  const std::string section = Parent(path);
+  std::vector<std::string> known;
+  for (const KeySpec& spec : Schema())
+    if (spec.Section() == section) known.push_back(LastComponent(spec.key));
+  for (const std::string& s : Sections())
+    if (!s.empty() && Parent(s) == section) known.push_back("[" + s + "]");
+  std::string list;
+  for (std::size_t i = 0; i < known.size(); ++i) list += (i ? ", " : "") + known[i];
+  return " (known " + (section.empty() ? std::string("at the top level") : "in [" + section + "]") +
+         ": " + list + ")";
+}
+
+class Loader {
+ public:
+  Loader(std::string source, std::string default_name)
+      : source_(std::move(source)), default_name_(std::move(default_name)) {}
+
+  Scene Load(std::string_view text) {
+    toml::table root;
+    try {
+      root = toml::parse(text, source_);
+    } catch (const toml::parse_error& e) {
+      const auto& where = e.source().begin;
+      throw SceneError({fmt::format("{}:{}:{}: TOML syntax error: {}", source_, where.line,
+                                    where.column, e.description())});
+    }
+    Walk(root, "");
+
+    Scene scene;
+    scene.source = source_;
+    // The model decides which keys apply; read it first.
+    const std::optional<Value> model_value = Read(*FindKey("model"));
+    if (nodes_.count("model") && !model_value) throw SceneError(problems_);  // rest is moot
+    scene.model = ModelKind::kTwoPoint;  // the only model so far; later: from *model_value
+
+    for (const KeySpec& spec : Schema()) {
+      if (spec.model && *spec.model != scene.model) {
+        if (nodes_.count(spec.key))
+          Problem(*nodes_.at(spec.key), spec.key + ": not a key of model " +
+                                            Quote(ToString(scene.model)));
+        continue;
+      }
+      std::optional<Value> value = Read(spec);
+      if (value) {
+        spec.set(scene, *value);
+        continue;
+      }
+      if (nodes_.count(spec.key)) continue;  // present but invalid: already reported
+      const bool section_present = present_sections_.count(spec.Section()) > 0;
+      if (spec.presence == Presence::kRequired ||
+          (spec.presence == Presence::kRequiredInSection && section_present)) {
+        problems_.push_back(fmt::format(
+            "{}: {}: missing; required{} — {}", source_, spec.key,
+            spec.presence == Presence::kRequiredInSection
+                ? " when [" + spec.Section() + "] is present"
+                : std::string(),
+            spec.doc + (spec.unit.empty() || spec.unit == "-" ? "" : " [" + spec.unit + "]")));
+        continue;
+      }
+      if (spec.key == "name") {
+        scene.name = default_name_;
+        if (auto broken = CheckRule(spec, Value(default_name_)))
+          problems_.push_back(fmt::format("{}: name (from the file name) = {}: {}; set name = \"...\"",
+                                          source_, Quote(default_name_), *broken));
+      } else {
+        spec.set(scene, spec.default_value);
+      }
+      scene.defaulted_keys.push_back(spec.key);
+    }
+    if (!problems_.empty()) throw SceneError(problems_);
+    return scene;
+  }
+
+ private:
+  void Problem(const toml::node& node, const std::string& message) {
+    const auto& where = node.source().begin;
+    problems_.push_back(fmt::format("{}:{}:{}: {}", source_, where.line, where.column, message));
+  }
+
+  // Records every value under its dotted path; reports unknown keys and misplaced tables.
+  void Walk(const toml::table& table, const std::string& prefix) {
+    for (auto&& [key, node] : table) {
+      const std::string path = prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+      if (const toml::table* sub = node.as_table()) {
+        if (IsSection(path)) {
+          present_sections_.insert(path);
+          Walk(*sub, path);
+        } else if (const KeySpec* spec = FindKey(path)) {
+          Problem(node, fmt::format("{} is a table: must be a value ({}{})", path,
+                                    TypeName(*spec), UnitSuffix(*spec)));
+        } else {
+          Problem(node, "[" + path + "]: unknown section" + Suggestion(path));
+        }
+      } else if (FindKey(path) != nullptr) {
+        nodes_[path] = &node;
+      } else if (IsSection(path)) {
+        Problem(node, fmt::format("{} = {}: must be a table [{}]", path, FormatNode(node), path));
+      } else {
+        Problem(node, path + ": unknown key" + Suggestion(path));
+      }
+    }
+  }
+
+  static std::string TypeName(const KeySpec& spec) {
+    switch (spec.type) {
+      case ValueType::kFloat: return "a number";
+      case ValueType::kInteger: return "an integer";
+      case ValueType::kString: return "a string";
+      case ValueType::kFloatPair: return "an array of two numbers";
+      case ValueType::kStringList: return "an array of strings";
+    }
+    return "";
+  }
+
+  static std::optional<double> Number(const toml::node& node) {
+    if (const auto* f = node.as_floating_point()) return f->get();
+    if (const auto* i = node.as_integer()) return static_cast<double>(i->get());
+    return std::nullopt;
+  }
+
+  // The value of `spec` if present, well typed and within its rule; problems are recorded.
+  std::optional<Value> Read(const KeySpec& spec) {
+    const auto found = nodes_.find(spec.key);
+    if (found == nodes_.end()) return std::nullopt;
+    const toml::node& node = *found->second;
+    auto type_error = [&]() {
+      Problem(node, fmt::format("{} = {}: must be {}{}", spec.key, FormatNode(node), TypeName(spec),
+                                UnitSuffix(spec)));
+      return std::nullopt;
+    };
+    Value value;
+    switch (spec.type) {
+      case ValueType::kFloat: {
+        const auto x = Number(node);
+        if (!x) return type_error();
+        value = *x;
+        break;
+      }
+      case ValueType::kInteger: {
+        const auto* i = node.as_integer();
+        if (i == nullptr) return type_error();
+        value = i->get();
+        break;
+      }
+      case ValueType::kString: {
+        const auto* s = node.as_string();
+        if (s == nullptr) return type_error();
+        value = s->get();
+        break;
+      }
+      case ValueType::kFloatPair: {
+        const auto* a = node.as_array();
+        if (a == nullptr || a->size() != 2) return type_error();
+        std::array<double, 2> pair{};
+        for (int k = 0; k < 2; ++k) {
+          const auto x = Number(*a->get(k));
+          if (!x) return type_error();
+          pair[k] = *x;
+        }
+        value = pair;
+        break;
+      }
+      case ValueType::kStringList: {
+        const auto* a = node.as_array();
+        if (a == nullptr) return type_error();
+        std::vector<std::string> list;
+        for (const toml::node& element : *a) {
+          const auto* s = element.as_string();
+          if (s == nullptr) return type_error();
+          list.push_back(s->get());
+        }
+        value = list;
+        break;
+      }
+    }
+    if (auto broken = CheckRule(spec, value)) {
+      Problem(node, fmt::format("{} = {}: {}{}", spec.key, FormatNode(node), *broken, UnitSuffix(spec)));
+      return std::nullopt;
+    }
+    return value;
+  }
+
+  std::string source_;
+  std::string default_name_;
+  std::map<std::string, const toml::node*> nodes_;
+  std::set<std::string> present_sections_;
+  std::vector<std::string> problems_;
+};
+
+std::string Join(const std::vector<std::string>& lines) {
+  std::string out;
+  for (std::size_t i = 0; i < lines.size(); ++i) out += (i ? "\n" : "") + lines[i];
+  return out;
+}
+
+bool Applies(const KeySpec& spec, ModelKind model) { return !spec.model || *spec.model == model; }
+
+std::string DocTypeName(const KeySpec& spec) {
+  switch (spec.type) {
+    case ValueType::kFloat: return "float";
+    case ValueType::kInteger: return "integer";
+    case ValueType::kString: return "string";
+    case ValueType::kFloatPair:
+      return spec.rule == Rule::kIncreasingPositive ? "[float, float]" : "[left, right] floats";
+    case ValueType::kStringList: return "array of strings";
+  }
+  return "";
+}
+
+std::string PresenceText(const KeySpec& spec) {
+  const std::string literal = spec.default_text.empty() ? "`" + FormatValue(spec.default_value) + "`"
+                                                        : spec.default_text;
+  switch (spec.presence) {
+    case Presence::kRequired: return "required";
+    case Presence::kOptional: return "optional; default " + literal;
+    case Presence::kRequiredInSection:
+      return "required in [" + spec.Section() + "]; section absent: " + literal;
+  }
+  return "";
+}
+
+std::string EscapeTable(std::string text) {
+  std::string out;
+  for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+const char* ToString(ModelKind model) {
+  switch (model) {
+    case ModelKind::kTwoPoint: return "two_point";
+  }
+  return "?";
+}
+
+const char* ToString(Stage stage) {
+  switch (stage) {
+    case Stage::kAnalytic: return "analytic";
+  }
+  return "?";
+}
+
+SceneError::SceneError(std::vector<std::string> problems)
+    : std::invalid_argument(Join(problems)), problems_(std::move(problems)) {}
+
+Scene ParseScene(std::string_view toml_text, const std::string& source,
+                 const std::string& default_name) {
+  return Loader(source, default_name).Load(toml_text);
+}
+
+Scene LoadScene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    std::error_code ec;
+    const char* why = std::filesystem::exists(file, ec) ? "cannot be read" : "no such file";
+    throw SceneError({fmt::format("{}: {}", file.string(), why)});
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseScene(text.str(), file.string(), file.stem().string());
+}
+
+Scene DefaultScene() { return ParseScene(DefaultSceneToml(), "<built-in default scene>", "default"); }
+
+std::string ResolvedSceneToml(const Scene& scene) {
+  std::string out = fmt::format(
+      "# Scene \"{}\" as resolved by rubcont {} from {}: every key, defaults included.\n",
+      scene.name, Version(), scene.source.empty() ? std::string("memory") : scene.source);
+  for (const std::string& section : Sections()) {
+    std::string body;
+    for (const KeySpec& spec : Schema()) {
+      if (spec.Section() != section || !Applies(spec, scene.model)) continue;
+      body += LastComponent(spec.key) + " = " + FormatValue(spec.get(scene)) + "\n";
+    }
+    if (body.empty()) continue;
+    if (!section.empty()) out += "\n[" + section + "]\n";
+    out += body;
+  }
+  return out;
+}
+
+std::string DescribeScene(const Scene& scene) {
+  std::string out;
+  for (const KeySpec& spec : Schema()) {
+    if (!Applies(spec, scene.model)) continue;
+    const bool defaulted = std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(),
+                                     spec.key) != scene.defaulted_keys.end();
+    std::string value = FormatValue(spec.get(scene));
+    if (!spec.unit.empty() && spec.unit != "-") value += " " + spec.unit;
+    out += fmt::format("  {:<38} = {:<28}{}\n", spec.key, value, defaulted ? "  (default)" : "");
+  }
+  if (scene.model == ModelKind::kTwoPoint) {
+    const TwoPointParams& p = scene.two_point;
+    out += fmt::format(
+        "derived:\n  a = l_g/l = {:.6g}{}\n  b = l_sg/l_s = {:.6g}\n  RCI_L = R_L/C_L = {:.6g}, "
+        "RCI_R = R_R/C_R = {:.6g}\n",
+        p.a(), p.a() > 1.0 || p.a() < 0.0 ? " (overhung)" : "", p.b(), p.Rci(0), p.Rci(1));
+  }
+  return out;
+}
+
+std::string SceneKeysMarkdown() {
+  std::string out;
+  out += "Generated by `rubcont scene keys` from the schema that validates every scene.\n";
+  for (const std::string& section : Sections()) {
+    std::vector<const KeySpec*> keys;
+    for (const KeySpec& spec : Schema())
+      if (spec.Section() == section) keys.push_back(&spec);
+    if (keys.empty()) continue;
+    out += "\n### " + (section.empty() ? std::string("Top level") : "[" + section + "]") + "\n\n";
+    out += "| key | type | unit | rule | required / default | meaning |\n";
+    out += "|---|---|---|---|---|---|\n";
+    for (const KeySpec* spec : keys) {
+      out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", LastComponent(spec->key),
+                         DocTypeName(*spec), spec->unit.empty() ? "" : spec->unit,
+                         EscapeTable(RuleText(*spec)), EscapeTable(PresenceText(*spec)),
+                         EscapeTable(spec->doc));
+    }
+  }
+  return out;
+}
+
+AnalyticOptions AnalyticOptionsOf(const Scene& scene) {
+  AnalyticOptions options;
+  options.min_precession_hz = scene.analysis.precession_range_hz[0];
+  options.max_precession_hz = scene.analysis.precession_range_hz[1];
+  options.precession_points = scene.analysis.precession_points;
+  return options;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,96 @@
+// Scene files (TOML): what a user asks rubcont to compute, in SI units (design.md §4).
+//
+// One schema table (scene.cpp: key, type, unit, rule, required/default, one-line doc) drives both
+// the validation of every scene and the key reference in scenes/README.md (`rubcont scene keys`),
+// so the documentation cannot drift from what is checked. Every problem found is reported with
+// the file, line and column, the key, the value given and the rule it breaks, e.g.
+//   scene.toml:4:8: rotor.mass = -1: must be positive (kg)
+// and all problems of a file are reported at once (SceneError).
+//
+// Adding a model (issues 4–5: "jeffcott", "duffing", ...): add a ModelKind, its params struct to
+// Scene, and its rows (with `model` set) to the schema table; the loader rejects the keys of
+// other models. Adding a stage or an [analysis] key: a row in the table and a field below.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "models/analytic.h"
+#include "models/two_point_params.h"
+
+namespace rubcont {
+
+enum class ModelKind {
+  kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (design.md §2)
+};
+const char* ToString(ModelKind model);
+
+// The stages `rubcont run` can perform, in the order the scene lists them.
+enum class Stage {
+  kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
+};
+const char* ToString(Stage stage);
+
+// [analysis]: what to compute. Defaults are documented in the schema (scenes/README.md).
+struct AnalysisOptions {
+  std::vector<Stage> stages{Stage::kAnalytic};
+  std::array<double, 2> precession_range_hz{1.0, 200.0};  // [Hz] analytic curve grid, 0 < lo < hi
+  int precession_points = 4000;                          // grid points, 2 … 1 000 000
+};
+
+struct Scene {
+  std::string name;         // names the output: results/<name>/; default: the file stem
+  std::string description;  // free text
+  ModelKind model = ModelKind::kTwoPoint;
+  TwoPointParams two_point;  // the model description when model == kTwoPoint
+  AnalysisOptions analysis;
+
+  // Provenance, not part of the scene's content: where it was read from, and which keys the file
+  // left out (their documented defaults apply).
+  std::string source;
+  std::vector<std::string> defaulted_keys;
+};
+
+// All problems of one scene file; what() joins them, one per line. Exit code 2 at the CLI.
+class SceneError : public std::invalid_argument {
+ public:
+  explicit SceneError(std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+// Reads and validates a scene file. Throws SceneError (unreadable file, TOML syntax error with
+// line and column, or any rule of the schema broken).
+Scene LoadScene(const std::filesystem::path& file);
+
+// Same, from text. `source` names it in messages; `default_name` is the name when the text sets
+// none (LoadScene passes the file stem).
+Scene ParseScene(std::string_view toml_text, const std::string& source,
+                 const std::string& default_name);
+
+// The built-in scene: scenes/default.toml, embedded at build time (disk at centre, RCI 100/100).
+Scene DefaultScene();
+const char* DefaultSceneToml();
+
+// The resolved scene as TOML: every key of the model, defaults included, full precision. Parsing
+// it again gives the same scene; result files store it (root attribute `scene_toml`).
+std::string ResolvedSceneToml(const Scene& scene);
+
+// Human-readable listing of every resolved value with its unit (and "(default)" where the file
+// did not set it), followed by derived quantities (a, b, RCI). For `rubcont scene check`.
+std::string DescribeScene(const Scene& scene);
+
+// The key reference in markdown, generated from the schema: one table per section with key,
+// type, unit, rule, required/default and meaning. scenes/README.md embeds it verbatim.
+std::string SceneKeysMarkdown();
+
+// The analytic grid the scene asks for.
+AnalyticOptions AnalyticOptionsOf(const Scene& scene);
+
+}  // namespace rubcont
