@@ -311,10 +311,13 @@ const KeySpec* FindKey(const std::string& path) {
 // ---------------------------------------------------------------------------------------------
 // Formatting values as TOML literals.
 
-std::string FormatFloat(double x) {
+// TOML literal: the shortest text that reads back as the same double. For people (`human`):
+// 10 significant digits, exponent notation for large and small magnitudes (1.75e+11).
+std::string FormatFloat(double x, bool human = false) {
   if (std::isnan(x)) return "nan";
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  std::string text = fmt::format("{}", x);  // shortest representation that round-trips
+  if (human) return fmt::format("{:.10g}", x);
+  std::string text = fmt::format("{}", x);
   if (text.find_first_of(".eE") == std::string::npos) text += ".0";
   return text;
 }
@@ -336,13 +339,14 @@ std::string Quote(const std::string& text) {
   return out + "\"";
 }
 
-std::string FormatValue(const Value& value) {
+std::string FormatValue(const Value& value, bool human = false) {
   struct Visitor {
-    std::string operator()(double x) const { return FormatFloat(x); }
+    bool human;
+    std::string operator()(double x) const { return FormatFloat(x, human); }
     std::string operator()(std::int64_t x) const { return std::to_string(x); }
     std::string operator()(const std::string& x) const { return Quote(x); }
     std::string operator()(const std::array<double, 2>& x) const {
-      return "[" + FormatFloat(x[0]) + ", " + FormatFloat(x[1]) + "]";
+      return "[" + FormatFloat(x[0], human) + ", " + FormatFloat(x[1], human) + "]";
     }
     std::string operator()(const std::vector<std::string>& x) const {
       std::string out = "[";
@@ -350,11 +354,21 @@ std::string FormatValue(const Value& value) {
       return out + "]";
     }
   };
-  return std::visit(Visitor{}, value);
+  return std::visit(Visitor{human}, value);
 }
 
+// A value as the user would write it back (the shortest round-trip for floats).
 std::string FormatNode(const toml::node& node) {
-  std::ostringstream out;
+  if (const auto* f = node.as_floating_point()) return FormatFloat(f->get());
+  if (const auto* i = node.as_integer()) return std::to_string(i->get());
+  if (const auto* s = node.as_string()) return Quote(s->get());
+  if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (const auto* a = node.as_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < a->size(); ++i) out += (i ? ", " : "") + FormatNode(*a->get(i));
+    return out + "]";
+  }
+  std::ostringstream out;  // dates, times, tables: toml++'s own form
   out << toml::node_view<const toml::node>(node);
   return out.str();
 }
@@ -372,12 +386,20 @@ std::string JoinQuoted(const std::vector<std::string>& names) {
   return out;
 }
 
+// `"a"`, `"b"` (markdown).
+std::string JoinCode(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? ", `" : "`") + Quote(names[i]) + "`";
+  return out;
+}
+
+// The rule as the key reference states it (markdown).
 std::string RuleText(const KeySpec& spec) {
   switch (spec.rule) {
     case Rule::kText: return "any text";
     case Rule::kSceneName: return "1–100 of `A–Z a–z 0–9 _ . -`, not starting with `.`";
-    case Rule::kChoice: return "one of " + JoinQuoted(spec.choices);
-    case Rule::kStages: return "non-empty, no repeats, each one of " + JoinQuoted(spec.choices);
+    case Rule::kChoice: return "one of " + JoinCode(spec.choices);
+    case Rule::kStages: return "non-empty, no repeats, each one of " + JoinCode(spec.choices);
     case Rule::kFinite: return "finite";
     case Rule::kPositive: return spec.type == ValueType::kFloatPair ? "each > 0" : "> 0";
     case Rule::kNonNegative: return spec.type == ValueType::kFloatPair ? "each ≥ 0" : "≥ 0";
@@ -578,10 +600,11 @@ class Loader {
   }
 
  private:
-  void Problem(const toml::node& node, const std::string& message) {
-    const auto& where = node.source().begin;
+  void Problem(const toml::source_region& region, const std::string& message) {
+    const auto& where = region.begin;
     problems_.push_back(fmt::format("{}:{}:{}: {}", source_, where.line, where.column, message));
   }
+  void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
 
   // Records every value under its dotted path; reports unknown keys and misplaced tables.
   void Walk(const toml::table& table, const std::string& prefix) {
@@ -595,14 +618,14 @@ class Loader {
           Problem(node, fmt::format("{} is a table: must be a value ({}{})", path,
                                     TypeName(*spec), UnitSuffix(*spec)));
         } else {
-          Problem(node, "[" + path + "]: unknown section" + Suggestion(path));
+          Problem(key.source(), "[" + path + "]: unknown section" + Suggestion(path));
         }
       } else if (FindKey(path) != nullptr) {
         nodes_[path] = &node;
       } else if (IsSection(path)) {
         Problem(node, fmt::format("{} = {}: must be a table [{}]", path, FormatNode(node), path));
       } else {
-        Problem(node, path + ": unknown key" + Suggestion(path));
+        Problem(key.source(), path + ": unknown key" + Suggestion(path));
       }
     }
   }
@@ -794,9 +817,10 @@ std::string DescribeScene(const Scene& scene) {
     if (!Applies(spec, scene.model)) continue;
     const bool defaulted = std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(),
                                      spec.key) != scene.defaulted_keys.end();
-    std::string value = FormatValue(spec.get(scene));
+    std::string value = FormatValue(spec.get(scene), true);
     if (!spec.unit.empty() && spec.unit != "-") value += " " + spec.unit;
-    out += fmt::format("  {:<38} = {:<28}{}\n", spec.key, value, defaulted ? "  (default)" : "");
+    out += defaulted ? fmt::format("  {:<38} = {:<28}  (default)\n", spec.key, value)
+                     : fmt::format("  {:<38} = {}\n", spec.key, value);
   }
   if (scene.model == ModelKind::kTwoPoint) {
     const TwoPointParams& p = scene.two_point;
@@ -821,7 +845,7 @@ std::string SceneKeysMarkdown() {
     out += "|---|---|---|---|---|---|\n";
     for (const KeySpec* spec : keys) {
       out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", LastComponent(spec->key),
-                         DocTypeName(*spec), spec->unit.empty() ? "" : spec->unit,
+                         DocTypeName(*spec), spec->unit.empty() || spec->unit == "-" ? "–" : spec->unit,
                          EscapeTable(RuleText(*spec)), EscapeTable(PresenceText(*spec)),
                          EscapeTable(spec->doc));
     }

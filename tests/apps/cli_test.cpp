@@ -1,0 +1,168 @@
+// The rubcont executable, run as a user runs it: exit codes, messages, files written.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "apps/hdf5_file.h"
+#include "apps/scene.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("rubcont_cli_test_" + std::to_string(getpid()) + "_" +
+                                        std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  static inline int counter = 0;
+};
+
+std::string Slurp(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// Runs `<env> rubcont <args>` from the repository root (the tests' working directory).
+Outcome Rubcont(const std::string& args, const std::string& env = "") {
+  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
+  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/apps/rubcont";
+  TempDir capture;
+  const fs::path out = capture.path / "out", err = capture.path / "err";
+  const std::string command = env + " " + binary + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(command.c_str());
+  Outcome outcome;
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  outcome.out = Slurp(out);
+  outcome.err = Slurp(err);
+  return outcome;
+}
+
+// Python that cannot be found: figures are skipped with a warning (and the tests stay fast).
+const std::string kNoPython = "RUBCONT_PYTHON=/nonexistent/python3";
+
+TEST_CASE("CLI: scene check accepts a valid scene and prints resolved values (exit 0)", "[cli]") {
+  const Outcome o = Rubcont("scene check scenes/thesis_B_b.toml");
+  CHECK(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("valid scene \"thesis_B_b\""));
+  CHECK_THAT(o.out, Contains("rotor.mass_center                      = 0.22 m"));
+  CHECK_THAT(o.out, Contains("RCI_R = R_R/C_R = 125"));
+}
+
+TEST_CASE("CLI: a bad scene is exit code 2 with key, value and rule", "[cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  text.replace(text.find("mass = 9.99"), 11, "mass = -1  ");
+  std::ofstream(dir.path / "bad.toml") << text;
+  const Outcome o = Rubcont("scene check " + (dir.path / "bad.toml").string());
+  CHECK(o.exit_code == 2);
+  CHECK_THAT(o.err, Contains("bad.toml:6:8: rotor.mass = -1: must be positive (kg)"));
+  CHECK(Rubcont("run " + (dir.path / "bad.toml").string() + " --out " + dir.path.string()).exit_code == 2);
+  CHECK(Rubcont("analytic " + (dir.path / "bad.toml").string()).exit_code == 2);
+  CHECK_FALSE(fs::exists(dir.path / "bad"));  // nothing written
+
+  std::ofstream(dir.path / "syntax.toml") << "[rotor\nmass = 1\n";
+  const Outcome syntax = Rubcont("scene check " + (dir.path / "syntax.toml").string());
+  CHECK(syntax.exit_code == 2);
+  CHECK_THAT(syntax.err, Contains("syntax.toml:1:"));
+  CHECK(Rubcont("scene check " + (dir.path / "missing.toml").string()).exit_code == 2);
+}
+
+TEST_CASE("CLI: bad arguments are exit code 2; help is 0", "[cli]") {
+  CHECK(Rubcont("").exit_code == 2);
+  CHECK(Rubcont("frobnicate").exit_code == 2);
+  CHECK(Rubcont("run --bogus").exit_code == 2);
+  CHECK(Rubcont("analytic").exit_code == 2);  // SCENE is required
+  CHECK(Rubcont("scene").exit_code == 2);
+  CHECK(Rubcont("--help").exit_code == 0);
+  const Outcome version = Rubcont("--version");
+  CHECK(version.exit_code == 0);
+  CHECK_THAT(version.out, Contains("0."));
+}
+
+TEST_CASE("CLI: run without a scene runs the built-in default into <out>/default/", "[cli]") {
+  TempDir dir;
+  const Outcome o = Rubcont("run --out " + dir.path.string(), kNoPython);
+  CHECK(o.exit_code == 0);
+  const fs::path h5 = dir.path / "default" / "default.h5";
+  REQUIRE(fs::exists(h5));
+  CHECK_FALSE(fs::exists(dir.path / "default" / "default.h5.tmp"));
+  CHECK_THAT(o.out, Contains("84.4780 Hz  both   μ_req rises through μ"));
+  CHECK_THAT(o.err, Contains("[analytic]"));  // progress
+  CHECK_THAT(o.err, Contains("warning: figures not made: Python interpreter /nonexistent/python3 not found"));
+  const ResultReader reader(h5);
+  CHECK(reader.ReadStringAttribute("/", "level") == "L0");
+  CHECK_FALSE(reader.ReadStringAttribute("/", "rubcont_version").empty());
+  // The stored scene reproduces the run.
+  const Scene stored = ParseScene(reader.ReadStringAttribute("/", "scene_toml"), "stored", "x");
+  const auto body = [](const std::string& toml) { return toml.substr(toml.find('\n') + 1); };
+  CHECK(body(ResolvedSceneToml(stored)) == body(ResolvedSceneToml(DefaultScene())));
+  CHECK(reader.ReadDoubles("/analytic/mode1/precession_hz").size() == 4000);
+
+  const Outcome quiet = Rubcont("run --quiet --out " + dir.path.string(), kNoPython);
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.find("[analytic]") == std::string::npos);  // progress silenced ...
+  CHECK_THAT(quiet.err, Contains("warning: figures not made"));  // ... warnings are not
+}
+
+TEST_CASE("CLI: analytic writes the HDF5 file and the two figures", "[cli]") {
+  TempDir dir;
+  const fs::path h5 = dir.path / "sub" / "c_a.h5";
+  const Outcome o = Rubcont("analytic scenes/thesis_C_a.toml --quiet --out " + h5.string());
+  CHECK(o.exit_code == 0);
+  CHECK(o.err.empty());
+  CHECK(fs::exists(h5));
+  CHECK(fs::file_size(dir.path / "sub" / "analytic_mode1.png") > 10000);
+  CHECK(fs::file_size(dir.path / "sub" / "analytic_mode2.png") > 10000);
+}
+
+TEST_CASE("CLI: a missing plotting script keeps the HDF5 file (exit 0, warning)", "[cli]") {
+  TempDir dir;
+  const Outcome o = Rubcont("analytic scenes/thesis_A_b.toml -q --out " + (dir.path / "a.h5").string(),
+                            "RUBCONT_PLOTS_DIR=" + dir.path.string());
+  CHECK(o.exit_code == 0);
+  CHECK_THAT(o.err, Contains("plotting script"));
+  CHECK_THAT(o.err, Contains("the HDF5 result is complete"));
+  CHECK(fs::exists(dir.path / "a.h5"));
+}
+
+TEST_CASE("CLI: a numerical failure is exit code 1 with the reason, and the data is kept", "[cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  // A rotor so light (but positive) that M_r⁻¹ overflows: the closed form is not finite.
+  text.replace(text.find("mass = 9.99"), 11, "mass = 1e-320");
+  std::ofstream(dir.path / "light.toml") << text;
+  const Outcome o = Rubcont("analytic " + (dir.path / "light.toml").string() + " -q --out " +
+                            (dir.path / "light.h5").string(), kNoPython);
+  CHECK(o.exit_code == 1);
+  CHECK_THAT(o.err, Contains("numerical failure: [analytic] mode1: contact force not finite at 1 Hz"));
+  REQUIRE(fs::exists(dir.path / "light.h5"));
+  CHECK(ResultReader(dir.path / "light.h5").ReadStringAttribute("/", "status") == "failure");
+}
+
+TEST_CASE("CLI: scene keys prints the schema's key reference", "[cli]") {
+  const Outcome o = Rubcont("scene keys");
+  CHECK(o.exit_code == 0);
+  CHECK(o.out == SceneKeysMarkdown());
+}
+
+}  // namespace
+}  // namespace rubcont

@@ -1,0 +1,159 @@
+#include "apps/hdf5_file.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <unistd.h>
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory under the system temporary directory, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("rubcont_hdf5_test_" + std::to_string(getpid()) + "_" +
+                                        std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  static inline int counter = 0;
+};
+
+std::string Bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
+  TempDir dir;
+  const fs::path file = dir.path / "round.h5";
+  const double inf = std::numeric_limits<double>::infinity();
+  Matrix matrix(2, 3);
+  matrix << 1, 2, 3, 4, 5, 6;
+  {
+    ResultWriter writer(file);
+    writer.WriteDoubles("/a/b/doubles", std::vector<double>{1.5, -2.0, inf, 1e-300});
+    writer.WriteDoubles("/a/vector", Vector::LinSpaced(5, 0.0, 1.0));
+    writer.WriteMatrix("/a/matrix", matrix);
+    writer.WriteInts("/a/ints", {3, -1, 0});
+    writer.WriteStrings("/a/strings", {"mu_crossing", "μ_req ≤ μ", ""});
+    writer.WriteDoubles("/a/empty", std::vector<double>{});
+    writer.WriteStrings("/a/no_strings", {});
+    writer.CreateGroup("/c/d");
+    writer.SetAttribute("/", "rubcont_version", "0.1.0");
+    writer.SetAttribute("/a", "friction", 0.5);
+    writer.SetAttribute("/a/matrix", "unit", "N");
+    writer.SetAttribute("/a/matrix", "unit", "N·s/m");  // overwrite
+    writer.Commit();
+  }
+  const ResultReader reader(file);
+  const auto doubles = reader.ReadDoubles("/a/b/doubles");
+  REQUIRE(doubles.size() == 4);
+  CHECK(doubles[0] == 1.5);
+  CHECK(doubles[2] == inf);
+  CHECK(doubles[3] == 1e-300);
+  CHECK(reader.ReadDoubles("/a/vector")[4] == 1.0);
+  const Matrix back = reader.ReadMatrix("/a/matrix");
+  CHECK(back == matrix);
+  CHECK(reader.ReadInts("/a/ints") == std::vector<int>{3, -1, 0});
+  CHECK(reader.ReadStrings("/a/strings") == std::vector<std::string>{"mu_crossing", "μ_req ≤ μ", ""});
+  CHECK(reader.ReadDoubles("/a/empty").empty());
+  CHECK(reader.ReadStrings("/a/no_strings").empty());
+  CHECK(reader.ReadStringAttribute("/", "rubcont_version") == "0.1.0");
+  CHECK(reader.ReadDoubleAttribute("/a", "friction") == 0.5);
+  CHECK(reader.ReadStringAttribute("/a/matrix", "unit") == "N·s/m");
+  CHECK(reader.HasAttribute("/a", "friction"));
+  CHECK_FALSE(reader.HasAttribute("/a", "nothing"));
+  CHECK(reader.Exists("/c/d"));
+  CHECK_FALSE(reader.Exists("/c/e"));
+  CHECK_FALSE(reader.Exists("/x/y/z"));
+  CHECK(reader.Children("/a") == std::vector<std::string>{"b", "empty", "ints", "matrix", "no_strings", "strings", "vector"});
+  CHECK_THROWS_AS(reader.ReadDoubles("/a/missing"), std::runtime_error);
+  CHECK_THROWS_AS(reader.ReadDoubles("/a/matrix"), std::runtime_error);  // 2-D, not 1-D
+}
+
+TEST_CASE("The target appears only at Commit, by renaming the temporary", "[hdf5]") {
+  TempDir dir;
+  const fs::path file = dir.path / "result.h5";
+  ResultWriter writer(file);
+  writer.WriteInts("/x", {1});
+  CHECK(fs::exists(dir.path / "result.h5.tmp"));
+  CHECK_FALSE(fs::exists(file));
+  writer.Commit();
+  CHECK(fs::exists(file));
+  CHECK_FALSE(fs::exists(dir.path / "result.h5.tmp"));
+  CHECK_THROWS_AS(writer.Commit(), std::logic_error);
+}
+
+TEST_CASE("A failure mid-write leaves no file and no temporary", "[hdf5]") {
+  TempDir dir;
+  const fs::path file = dir.path / "result.h5";
+  CHECK_THROWS_WITH(
+      [&] {
+        ResultWriter writer(file);
+        writer.WriteDoubles("/analytic/mode1/precession_hz", std::vector<double>(1000, 1.0));
+        throw std::runtime_error("numerical failure halfway");
+      }(),
+      "numerical failure halfway");
+  CHECK_FALSE(fs::exists(file));
+  CHECK_FALSE(fs::exists(dir.path / "result.h5.tmp"));
+  CHECK(fs::is_empty(dir.path));
+}
+
+TEST_CASE("A failed write leaves an existing target untouched", "[hdf5]") {
+  TempDir dir;
+  const fs::path file = dir.path / "result.h5";
+  {
+    ResultWriter writer(file);
+    writer.WriteInts("/version", {1});
+    writer.Commit();
+  }
+  const std::string before = Bytes(file);
+  try {
+    ResultWriter writer(file);
+    writer.WriteInts("/version", {2});
+    writer.WriteInts("/version", {3});  // HDF5 refuses a second dataset of that name
+    FAIL("expected an exception");
+  } catch (const std::runtime_error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("/version already exists"));
+  }
+  CHECK(Bytes(file) == before);
+  CHECK(ResultReader(file).ReadInts("/version") == std::vector<int>{1});
+  CHECK_FALSE(fs::exists(dir.path / "result.h5.tmp"));
+}
+
+TEST_CASE("Relative HDF5 paths are caller mistakes", "[hdf5]") {
+  TempDir dir;
+  ResultWriter writer(dir.path / "x.h5");
+  CHECK_THROWS_AS(writer.WriteInts("relative", {1}), std::invalid_argument);
+  CHECK_THROWS_AS(writer.CreateGroup("/trailing/"), std::invalid_argument);
+}
+
+TEST_CASE("Equal content gives equal bytes (no timestamps)", "[hdf5]") {
+  TempDir dir;
+  for (const char* name : {"one.h5", "two.h5"}) {
+    if (std::string(name) == "two.h5") sleep(1);  // a recorded modification time would differ
+    ResultWriter writer(dir.path / name);
+    writer.WriteDoubles("/g/x", std::vector<double>{1.0, 2.0});
+    writer.SetAttribute("/g", "a", "text");
+    writer.Commit();
+  }
+  CHECK(Bytes(dir.path / "one.h5") == Bytes(dir.path / "two.h5"));
+}
+
+TEST_CASE("An unwritable target is reported, not crashed on", "[hdf5]") {
+  CHECK_THROWS_AS(ResultWriter("/nonexistent_dir_rubcont/x.h5"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace rubcont

@@ -1,0 +1,302 @@
+#include "apps/scene.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+namespace rubcont {
+namespace {
+
+using Catch::Matchers::Contains;
+
+// A complete, valid scene (thesis case A(a)); each rule test breaks one thing in it.
+const std::string kValid = R"(description = "test"
+
+[rotor]
+mass = 9.99
+inertia = 0.029
+contact_span = 0.29
+mass_center = 0.145
+
+[stator]
+mass = 21.44
+inertia = 0.206
+span = 0.27
+mass_center = 0.135
+stiffness = [4.70e6, 4.70e6]
+damping = [324.9, 324.9]
+
+[contact]
+clearance = [3.81e-4, 3.81e-4]
+radius = [38.1e-3, 38.1e-3]
+friction = 0.5
+stiffness = 1.75e11
+stiffness2 = 0.0
+damping = 1.75e5
+
+[center_damper]
+damping = 52.0
+)";
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+Scene Parse(const std::string& text) { return ParseScene(text, "scene.toml", "scene"); }
+
+// The resolved TOML without its first line (which names the source file).
+std::string Body(const std::string& resolved) { return resolved.substr(resolved.find('\n') + 1); }
+
+// The problems the loader reports for `text` (empty when it loads).
+std::vector<std::string> Problems(const std::string& text) {
+  try {
+    Parse(text);
+  } catch (const SceneError& e) {
+    return e.problems();
+  }
+  return {};
+}
+
+std::string OnlyProblem(const std::string& text) {
+  const auto problems = Problems(text);
+  REQUIRE(problems.size() == 1);
+  return problems[0];
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  REQUIRE(in);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST_CASE("A valid scene loads with its values and documented defaults", "[scene]") {
+  const Scene scene = Parse(kValid);
+  CHECK(scene.name == "scene");
+  CHECK(scene.model == ModelKind::kTwoPoint);
+  CHECK(scene.two_point.rotor_mass == 9.99);
+  CHECK(scene.two_point.support_stiffness[1] == 4.70e6);
+  CHECK(scene.two_point.clearance[0] == 3.81e-4);
+  CHECK(scene.two_point.center_damping == 52.0);
+  CHECK(scene.two_point.imbalance == 0.0);  // [imbalance] absent: no imbalance
+  CHECK(scene.two_point.friction_law.kind == FrictionLawKind::kExact);
+  CHECK(scene.two_point.friction_law.velocity_scale == 1e-3);
+  CHECK(scene.analysis.stages == std::vector<Stage>{Stage::kAnalytic});
+  CHECK(scene.analysis.precession_range_hz == std::array<double, 2>{1.0, 200.0});
+  CHECK(scene.analysis.precession_points == 4000);
+  for (const char* key : {"name", "model", "imbalance.mass_radius", "analysis.stages"})
+    CHECK(std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(), key) != scene.defaulted_keys.end());
+  CHECK(std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(), "rotor.mass") == scene.defaulted_keys.end());
+}
+
+TEST_CASE("Rule: TOML syntax errors give line and column", "[scene]") {
+  const std::string problem = OnlyProblem(Replace(kValid, "inertia = 0.029", "inertia = = 0.029"));
+  CHECK_THAT(problem, Contains("scene.toml:5:"));
+  CHECK_THAT(problem, Contains("TOML syntax error"));
+}
+
+TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene]") {
+  const auto problems = Problems(Replace(kValid, "mass = 9.99", "mas = 9.99"));
+  REQUIRE(problems.size() == 2);  // the misspelt key, and the key it was meant to be is missing
+  CHECK(problems[0] == "scene.toml:4:1: rotor.mas: unknown key; did you mean rotor.mass?");
+  CHECK_THAT(problems[1], Contains("rotor.mass: missing"));
+  // A known key in the wrong section.
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nclearance = 1.0\n"),
+             Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
+  // Nothing close: the section's keys are listed.
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points)"));
+}
+
+TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
+  CHECK_THAT(OnlyProblem(kValid + "[centre_damper]\ndamping = 1.0\n"),
+             Contains("[centre_damper]: unknown section; did you mean [center_damper]?"));
+}
+
+TEST_CASE("Rule: a missing required key is named with its meaning and unit", "[scene]") {
+  CHECK_THAT(OnlyProblem(Replace(kValid, "mass = 9.99\n", "")),
+             Contains("scene.toml: rotor.mass: missing; required — m_r: rotor mass. [kg]"));
+  // A whole section missing: every one of its keys.
+  const std::string no_stator = Replace(kValid,
+      "[stator]\nmass = 21.44\ninertia = 0.206\nspan = 0.27\nmass_center = 0.135\n"
+      "stiffness = [4.70e6, 4.70e6]\ndamping = [324.9, 324.9]\n", "");
+  CHECK(Problems(no_stator).size() == 6);
+}
+
+TEST_CASE("Rule: an optional component's section, once present, needs its key", "[scene]") {
+  CHECK_THAT(OnlyProblem(Replace(kValid, "damping = 52.0", "")),
+             Contains("center_damper.damping: missing; required when [center_damper] is present"));
+  // Absent section: no damper.
+  const Scene scene = Parse(Replace(kValid, "[center_damper]\ndamping = 52.0\n", ""));
+  CHECK(scene.two_point.center_damping == 0.0);
+}
+
+TEST_CASE("Rule: wrong types are rejected, integers are fine where floats are expected", "[scene]") {
+  CHECK(OnlyProblem(Replace(kValid, "mass = 9.99", "mass = \"heavy\"")) ==
+        "scene.toml:4:8: rotor.mass = \"heavy\": must be a number (kg)");
+  CHECK(Parse(Replace(kValid, "mass = 9.99", "mass = 10")).two_point.rotor_mass == 10.0);
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nprecession_points = 4000.5\n"),
+             Contains("analysis.precession_points = 4000.5: must be an integer"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "stiffness = [4.70e6, 4.70e6]", "stiffness = [4.70e6]")),
+             Contains("stator.stiffness = [4700000.0]: must be an array of two numbers (N/m)"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "stiffness = [4.70e6, 4.70e6]", "stiffness = 4.70e6")),
+             Contains("must be an array of two numbers (N/m)"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = \"analytic\"\n"),
+             Contains("analysis.stages = \"analytic\": must be an array of strings"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis.stages]\nfirst = \"analytic\"\n"),
+             Contains("analysis.stages is a table: must be a value"));
+  CHECK_THAT(OnlyProblem("imbalance = 3.4e-5\n" + kValid),
+             Contains("must be a table [imbalance]"));
+}
+
+TEST_CASE("Rule: non-finite values are rejected", "[scene]") {
+  CHECK_THAT(OnlyProblem(Replace(kValid, "mass = 9.99", "mass = nan")),
+             Contains("rotor.mass = nan: must be finite (kg)"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "mass_center = 0.145", "mass_center = inf")),
+             Contains("rotor.mass_center = inf: must be finite (m)"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "damping = [324.9, 324.9]", "damping = [324.9, -inf]")),
+             Contains("right value must be finite (N·s/m)"));
+}
+
+TEST_CASE("Rule: non-physical values name key, value and rule", "[scene]") {
+  CHECK(OnlyProblem(Replace(kValid, "mass = 9.99", "mass = -1")) ==
+        "scene.toml:4:8: rotor.mass = -1: must be positive (kg)");
+  CHECK_THAT(OnlyProblem(Replace(kValid, "clearance = [3.81e-4, 3.81e-4]", "clearance = [3.81e-4, 0.0]")),
+             Contains("contact.clearance = [0.000381, 0.0]: right value must be positive (m)"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "friction = 0.5", "friction = -0.1")),
+             Contains("contact.friction = -0.1: must be non-negative"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "damping = [324.9, 324.9]", "damping = [-1, 324.9]")),
+             Contains("left value must be non-negative (N·s/m)"));
+  CHECK_THAT(OnlyProblem(Replace(kValid, "span = 0.27", "span = 0")),
+             Contains("stator.span = 0: must be positive (m)"));
+  // Zero is physical where the rule is ≥ 0, and an overhung mass centre is fine.
+  CHECK(Parse(Replace(kValid, "friction = 0.5", "friction = 0")).two_point.friction == 0.0);
+  CHECK(Parse(Replace(kValid, "mass_center = 0.145", "mass_center = 0.35")).two_point.a() > 1.0);
+}
+
+TEST_CASE("Rule: ranges must increase and start above zero", "[scene]") {
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nprecession_range_hz = [200, 1]\n"),
+             Contains("analysis.precession_range_hz = [200, 1]: inverted range: must be increasing (0 < low < high) (Hz)"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nprecession_range_hz = [0, 100]\n"),
+             Contains("low end must be positive"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nprecession_points = 1\n"),
+             Contains("analysis.precession_points = 1: must be from 2 to 1000000"));
+}
+
+TEST_CASE("Rule: unknown model names list the known ones", "[scene]") {
+  CHECK_THAT(OnlyProblem("model = \"jeffcott\"\n" + kValid),
+             Contains("scene.toml:1:9: model = \"jeffcott\": must be one of \"two_point\""));
+}
+
+TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"sweep\"]\n"),
+             Contains("\"sweep\" is not implemented yet (implemented: \"analytic\")"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
+             Contains("\"analytik\" is not a stage (implemented: \"analytic\")"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
+             Contains("\"analytic\" is listed twice"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));
+}
+
+TEST_CASE("Rule: the friction law kind is one of its choices", "[scene]") {
+  CHECK_THAT(OnlyProblem(kValid + "[contact.friction_law]\nkind = \"coulomb\"\n"),
+             Contains("contact.friction_law.kind = \"coulomb\": must be one of \"exact\", \"tanh\""));
+  CHECK(Parse(kValid + "[contact.friction_law]\nkind = \"tanh\"\nvelocity_scale = 2e-3\n")
+            .two_point.friction_law.kind == FrictionLawKind::kTanh);
+  CHECK_THAT(OnlyProblem(kValid + "[contact.friction_law]\nvelocity_scale = 0.0\n"),
+             Contains("velocity_scale = 0.0: must be positive (m/s)"));
+}
+
+TEST_CASE("Rule: scene names are safe directory names", "[scene]") {
+  CHECK_THAT(OnlyProblem("name = \"my scene\"\n" + kValid), Contains("name = \"my scene\": must be 1–100 characters"));
+  CHECK_THAT(OnlyProblem("name = \"../up\"\n" + kValid), Contains("must be 1–100 characters"));
+  // Default from a file name that is not a valid scene name.
+  CHECK_THROWS_WITH(ParseScene(kValid, "my scene.toml", "my scene"),
+                    Contains("name (from the file name) = \"my scene\""));
+  CHECK(Parse("name = \"A.b-c_1\"\n" + kValid).name == "A.b-c_1");
+}
+
+TEST_CASE("All problems of a file are reported at once", "[scene]") {
+  std::string text = Replace(kValid, "mass = 9.99", "mass = -1");
+  text = Replace(text, "friction = 0.5", "friction = -2");
+  text += "[analysis]\nstage = [\"analytic\"]\n";
+  const auto problems = Problems(text);
+  REQUIRE(problems.size() == 3);
+  CHECK_THAT(problems[0], Contains("analysis.stage: unknown key; did you mean analysis.stages?"));
+}
+
+TEST_CASE("A missing file is a scene error", "[scene]") {
+  CHECK_THROWS_WITH(LoadScene("no/such/scene.toml"), Contains("no/such/scene.toml: no such file"));
+}
+
+TEST_CASE("The resolved TOML reproduces the scene", "[scene]") {
+  const Scene scene = Parse(Replace(kValid, "mass = 9.99", "mass = 10"));
+  const std::string resolved = ResolvedSceneToml(scene);
+  const Scene again = ParseScene(resolved, "resolved.toml", "other");
+  CHECK(again.name == "scene");
+  CHECK(again.two_point.rotor_mass == 10.0);
+  CHECK(Body(ResolvedSceneToml(again)) == Body(resolved));
+  CHECK(again.defaulted_keys.empty());  // every key is written out
+  CHECK_THAT(resolved, Contains("stiffness = 175000000000.0"));
+}
+
+TEST_CASE("Every scene file in scenes/ loads, with the thesis's Table 1 values", "[scene]") {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("scenes")) {
+    if (entry.path().extension() != ".toml") continue;
+    INFO(entry.path());
+    const Scene scene = LoadScene(entry.path());
+    CHECK(scene.name == (entry.path().stem() == "default" ? "default" : entry.path().stem().string()));
+    CHECK(Body(ResolvedSceneToml(ParseScene(ResolvedSceneToml(scene), "x", "x"))) == Body(ResolvedSceneToml(scene)));
+    ++count;
+  }
+  CHECK(count >= 11);
+  const Scene c_b = LoadScene("scenes/thesis_C_b.toml");
+  CHECK(c_b.two_point.rotor_mass_center == 0.26);
+  CHECK(c_b.two_point.rotor_inertia == 0.07);
+  CHECK(c_b.two_point.Rci(0) == Approx(100.0));
+  CHECK(c_b.two_point.Rci(1) == Approx(125.0));
+  CHECK(LoadScene("scenes/thesis_B_c.toml").two_point.Rci(0) == Approx(125.0));
+  CHECK(LoadScene("scenes/thesis_A_a_imbalance.toml").two_point.imbalance == 3.43e-5);
+  CHECK(LoadScene("scenes/thesis_A_a.toml").two_point.imbalance == 0.0);
+  CHECK(LoadScene("scenes/overhung_beyond_right.toml").two_point.a() > 1.0);
+}
+
+TEST_CASE("The built-in default scene is scenes/default.toml", "[scene]") {
+  CHECK(std::string(DefaultSceneToml()) == ReadFile("scenes/default.toml"));
+  const Scene scene = DefaultScene();
+  CHECK(scene.name == "default");
+  CHECK(scene.two_point.a() == Approx(0.5));
+  CHECK(scene.two_point.Rci(0) == Approx(100.0));
+  CHECK(scene.two_point.Rci(1) == Approx(100.0));
+}
+
+TEST_CASE("scenes/README.md embeds the key reference generated from the schema", "[scene]") {
+  const std::string readme = ReadFile("scenes/README.md");
+  const std::string begin = "<!-- BEGIN KEYS: generated by `rubcont scene keys`; do not edit by hand -->\n";
+  const std::string end = "<!-- END KEYS -->";
+  const auto from = readme.find(begin);
+  const auto to = readme.find(end);
+  REQUIRE(from != std::string::npos);
+  REQUIRE(to != std::string::npos);
+  INFO("regenerate with: build/apps/rubcont scene keys, and paste between the markers");
+  CHECK(readme.substr(from + begin.size(), to - from - begin.size()) == SceneKeysMarkdown());
+}
+
+TEST_CASE("scene check prints every resolved value with its unit", "[scene]") {
+  const std::string text = DescribeScene(Parse(kValid));
+  CHECK_THAT(text, Contains("rotor.mass                             = 9.99 kg\n"));
+  CHECK_THAT(text, Contains("contact.stiffness                      = 1.75e+11 N/m\n"));
+  CHECK_THAT(text, Contains("imbalance.mass_radius                  = 0 kg·m"));
+  CHECK_THAT(text, Contains("(default)"));
+  CHECK_THAT(text, Contains("RCI_L = R_L/C_L = 100"));
+}
+
+}  // namespace
+}  // namespace rubcont
