@@ -98,8 +98,9 @@ AnalyticCurve ReadAnalyticCurve(const ResultReader& reader, const std::string& g
   for (std::size_t i = 0; i < type.size(); ++i) {
     Transition transition;
     bool known = false;
-    for (TransitionType candidate : {TransitionType::kMuCrossing, TransitionType::kNegativeMuCrossing,
-                                     TransitionType::kContactLoss, TransitionType::kContactRegain}) {
+    for (TransitionType candidate :
+         {TransitionType::kMuCrossing, TransitionType::kNegativeMuCrossing, TransitionType::kZeroMuCrossing,
+          TransitionType::kContactLoss, TransitionType::kContactRegain}) {
       if (type[i] == ToString(candidate)) {
         transition.type = candidate;
         known = true;

@@ -67,6 +67,9 @@ std::string Describe(const Transition& t) {
                              : "μ_req falls through μ: slipping → rolling (whip → whirl)";
     case TransitionType::kNegativeMuCrossing:
       return t.direction > 0 ? "μ_req rises through −μ" : "μ_req falls through −μ";
+    case TransitionType::kZeroMuCrossing:
+      return t.direction > 0 ? "μ_req rises through 0 (friction turns to drive the precession)"
+                             : "μ_req falls through 0 (friction would have to oppose the precession)";
     case TransitionType::kContactLoss:
       return t.through_pole ? "N: + → − through a pole (undamped resonance): contact lost"
                             : "N falls through 0: contact lost";

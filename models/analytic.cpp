@@ -161,12 +161,13 @@ double Brent(const Function& f, double a, double b, double fa, double fb) {
 }
 
 // One scalar function on the grid whose sign changes are transitions.
-enum class Quantity { kMuExcess, kMuDeficit, kNormalForce };
+enum class Quantity { kMuExcess, kMuDeficit, kFriction, kNormalForce };
 
 double Evaluate(Quantity quantity, const ComplexVector2& P, int k, double mu) {
   switch (quantity) {
     case Quantity::kMuExcess: return P(k).imag() - mu * P(k).real();   // F − μN
     case Quantity::kMuDeficit: return P(k).imag() + mu * P(k).real();  // F + μN
+    case Quantity::kFriction: return P(k).imag();                      // F
     case Quantity::kNormalForce: return P(k).real();                   // N
   }
   return 0.0;
@@ -188,6 +189,7 @@ const char* ToString(TransitionType type) {
   switch (type) {
     case TransitionType::kMuCrossing: return "mu_crossing";
     case TransitionType::kNegativeMuCrossing: return "negative_mu_crossing";
+    case TransitionType::kZeroMuCrossing: return "zero_mu_crossing";
     case TransitionType::kContactLoss: return "contact_loss";
     case TransitionType::kContactRegain: return "contact_regain";
   }
@@ -286,8 +288,10 @@ AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
 
   // Transitions: sign changes between neighbouring grid points, refined on the closed form.
   for (int k = 0; k < 2; ++k) {
-    for (Quantity quantity : {Quantity::kMuExcess, Quantity::kMuDeficit, Quantity::kNormalForce}) {
-      if (quantity == Quantity::kMuDeficit && mu == 0.0) continue;  // same root as kMuExcess
+    for (Quantity quantity : {Quantity::kMuExcess, Quantity::kMuDeficit, Quantity::kFriction,
+                              Quantity::kNormalForce}) {
+      // With μ = 0 all three μ crossings are the same root: keep it once.
+      if (quantity != Quantity::kMuExcess && quantity != Quantity::kNormalForce && mu == 0.0) continue;
       auto f = [&](double hz) {
         return Evaluate(quantity, evaluator.ContactForce(kTwoPi * hz), k, mu);
       };
@@ -320,11 +324,12 @@ AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
           t.direction = direction;
           t.through_pole = through_pole;
         } else {
-          // μ_req ∓ μ = (F ∓ μN)/N: with N > 0 it changes sign with F ∓ μN. Out of contact
+          // μ_req − c = (F − cN)/N: with N > 0 it changes sign with F − cN. Out of contact
           // (N ≤ 0) μ_req means nothing; through a pole of P, μ_req = F/N stays finite.
           if (through_pole || !(t.normal_force > 0.0)) continue;
-          t.type = quantity == Quantity::kMuExcess ? TransitionType::kMuCrossing
-                                                   : TransitionType::kNegativeMuCrossing;
+          t.type = quantity == Quantity::kMuExcess    ? TransitionType::kMuCrossing
+                   : quantity == Quantity::kMuDeficit ? TransitionType::kNegativeMuCrossing
+                                                      : TransitionType::kZeroMuCrossing;
           t.direction = direction;
         }
         curve.transitions.push_back(t);

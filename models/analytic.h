@@ -127,12 +127,15 @@ void Validate(const AnalyticOptions& options);
 // A point where the character of a circular orbit family changes, located on the closed form.
 enum class TransitionType {
   kMuCrossing,          // μ_req,k = +μ with N_k > 0: rolling ↔ slipping (whirl ↔ whip) boundary
-  kNegativeMuCrossing,  // μ_req,k = −μ with N_k > 0 (friction would have to oppose precession)
+  kNegativeMuCrossing,  // μ_req,k = −μ with N_k > 0: the other end of the stick range |F| ≤ μN
+  kZeroMuCrossing,      // μ_req,k = 0 (F_k changes sign) with N_k > 0: the lower end of the
+                        // thesis's whirl range 0 ≤ μ_req ≤ μ (Eq. 30); below it friction would
+                        // have to oppose the backward precession
   kContactLoss,         // N_k: + → − as Ω increases (μ_req has a pole here)
   kContactRegain,       // N_k: − → + as Ω increases
 };
 
-// "mu_crossing" | "negative_mu_crossing" | "contact_loss" | "contact_regain"
+// "mu_crossing" | "negative_mu_crossing" | "zero_mu_crossing" | "contact_loss" | "contact_regain"
 const char* ToString(TransitionType type);
 
 struct Transition {
@@ -177,8 +180,8 @@ struct AnalyticResult {
 };
 
 // Evaluates N, F, μ_req of one mode on the grid and locates every transition on it: sign changes
-// of F − μN, F + μN and N between neighbouring grid points are bracketed, then refined by Brent's
-// method to machine precision; μ crossings are kept only where N > 0 (in contact). Throws
+// of F − μN, F + μN, F and N between neighbouring grid points are bracketed, then refined by
+// Brent's method to machine precision; μ crossings are kept only where N > 0 (in contact). Throws
 // std::invalid_argument on invalid parameters or options; numerical outcomes are a status.
 AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
                                    const AnalyticOptions& options = {});

@@ -117,7 +117,10 @@ def plot_mode(result, mode, out_dir):
 
     clip = 10 * limit  # keeps matplotlib away from the poles' huge values
     # Thesis form (no centre damper), thin, when the scene's damper makes it differ.
-    if "without_center_damper" in group:
+    differs = "without_center_damper" in group and any(
+        not np.allclose(group["without_center_damper"][f"friction_force_{side}"][()],
+                        group[f"friction_force_{side}"][()], rtol=1e-12, atol=0.0) for side in SIDES)
+    if differs:  # (in Mode 2 with equal clearances the damper does nothing)
         reference = group["without_center_damper"]
         for side in sides:
             curve = broken_at_poles(reference[f"mu_required_{side}"][()],
@@ -143,9 +146,9 @@ def plot_mode(result, mode, out_dir):
                    label=f"−μ = {fmt_number(-mu_available)}")
     ax.axhline(0.0, color="0.6", lw=0.6)
 
-    # Transitions. A μ crossing is marked on its line and labelled on the side of the line towards
-    # zero, horizontally away from the curve (a rising crossing of +μ has the curve on its left
-    # below the line, so its label goes right). Contact loss and regain are ticks hanging from
+    # Transitions. A crossing of μ_req = +μ, −μ or 0 (diamond) is marked on its line and labelled
+    # on one side of it (+μ: below; −μ, 0: above), horizontally away from the curve (a rising
+    # crossing of +μ has the curve on its left below the line, so its label goes right). Contact loss and regain are ticks hanging from
     # the top edge. Labels close in frequency are staggered.
     box = dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85)
     placed = {"mu": [], "contact": []}
@@ -153,10 +156,14 @@ def plot_mode(result, mode, out_dir):
         side = t["contact"]
         if side not in sides:
             continue
-        if t["type"] in ("mu_crossing", "negative_mu_crossing"):
+        if t["type"] in ("mu_crossing", "negative_mu_crossing", "zero_mu_crossing"):
+            # +μ: label below the line; −μ and 0: label above it.
+            y = {"mu_crossing": mu_available, "negative_mu_crossing": -mu_available,
+                 "zero_mu_crossing": 0.0}[t["type"]]
             positive = t["type"] == "mu_crossing"
-            y = mu_available if positive else -mu_available
-            ax.plot(t["hz"], y, "o", ms=4.5, mfc="white", mec=color(side), mew=1.4, zorder=5)
+            marker = "o" if t["type"] != "zero_mu_crossing" else "D"
+            ax.plot(t["hz"], y, marker, ms=4.5 if marker == "o" else 3.5, mfc="white",
+                    mec=color(side), mew=1.4, zorder=5)
             right = (t["direction"] > 0) == positive
             if t["hz"] - hz[0] < 0.04 * span or hz[-1] - t["hz"] < 0.04 * span:
                 right = t["hz"] - hz[0] < 0.5 * span  # keep labels off the axes' edges

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <complex>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -123,10 +124,12 @@ TEST_CASE("Mode 1, disk at centre, thesis form: μ_req = 0.5 at 84.5 and 109.4 H
 }
 
 TEST_CASE("Transitions are located to machine precision", "[analytic]") {
-  for (const TwoPointParams& p : {DiskAtCenter(52.0), TrulyOverhung()}) {
+  std::set<TransitionType> seen;
+  for (const TwoPointParams& p : {DiskAtCenter(52.0), DiskAtThreeQuarters(), TrulyOverhung()}) {
     for (CircularMode mode : {CircularMode::kMode1, CircularMode::kMode2}) {
       const AnalyticCurve curve = ComputeAnalyticCurve(p, mode);
       REQUIRE_FALSE(curve.transitions.empty());
+      for (const Transition& t : curve.transitions) seen.insert(t.type);
       for (const Transition& t : curve.transitions) {
         // The crossing quantity changes sign within ±1e-13 relative of the located frequency.
         auto quantity = [&](double hz) {
@@ -135,6 +138,7 @@ TEST_CASE("Transitions are located to machine precision", "[analytic]") {
           switch (t.type) {
             case TransitionType::kMuCrossing: return F - p.friction * N;
             case TransitionType::kNegativeMuCrossing: return F + p.friction * N;
+            case TransitionType::kZeroMuCrossing: return F;
             default: return N;
           }
         };
@@ -144,9 +148,12 @@ TEST_CASE("Transitions are located to machine precision", "[analytic]") {
                             << t.precession_hz << " Hz");
         CHECK(below * above < 0.0);
         CHECK((above > 0.0 ? 1 : -1) == t.direction);
+        if (t.type != TransitionType::kContactLoss && t.type != TransitionType::kContactRegain)
+          CHECK(t.normal_force > 0.0);  // μ crossings count only in contact
       }
     }
   }
+  CHECK(seen.size() == 5);  // every kind of transition was exercised
 }
 
 TEST_CASE("The centre damper: only friction changes, by s_k Ω c_d (wᵀd0) / 2", "[analytic]") {
