@@ -13,7 +13,7 @@ cmake --build build --parallel "$(nproc)"
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
         overhung_beyond_right)
 for scene in "${scenes[@]}"; do
-  summary=$(build/apps/rubcont run "scenes/$scene.toml" --out results --quiet)
+  summary=$(build/rubcont run "scenes/$scene.toml" --out results --quiet)
   # The summary names files by path; keep it relative so results/ reads the same anywhere.
   printf '%s\n' "$summary" > "results/$scene/summary.txt"
   echo "results/$scene: $(ls "results/$scene" | tr '\n' ' ')"

@@ -44,7 +44,7 @@ struct Outcome {
 // Runs `<env> rubcont <args>` from the repository root (the tests' working directory).
 Outcome Rubcont(const std::string& args, const std::string& env = "") {
   const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/apps/rubcont";
+  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
   TempDir capture;
   const fs::path out = capture.path / "out", err = capture.path / "err";
   const std::string command = env + " " + binary + " " + args + " >" + out.string() + " 2>" + err.string();

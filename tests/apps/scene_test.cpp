@@ -285,7 +285,7 @@ TEST_CASE("scenes/README.md embeds the key reference generated from the schema",
   const auto to = readme.find(end);
   REQUIRE(from != std::string::npos);
   REQUIRE(to != std::string::npos);
-  INFO("regenerate with: build/apps/rubcont scene keys, and paste between the markers");
+  INFO("regenerate with: build/rubcont scene keys, and paste between the markers");
   CHECK(readme.substr(from + begin.size(), to - from - begin.size()) == SceneKeysMarkdown());
 }
 
