@@ -117,10 +117,6 @@ double StuartLandauOscillator::NontrivialMultiplier() const {
 
 void Validate(const VanDerPolParams& params) {
   RequireFinite("VanDerPolParams", "mu", params.mu);
-  if (params.mu < 0.0) {
-    throw std::invalid_argument(
-        fmt::format("VanDerPolParams.mu = {}: must be non-negative", params.mu));
-  }
 }
 
 VanDerPolOscillator::VanDerPolOscillator(const VanDerPolParams& params) : params_(params) {
@@ -147,7 +143,7 @@ void VanDerPolOscillator::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef
 
 Vector VanDerPolOscillator::StateScale() const {
   Vector scale(2);
-  scale << 2.0, std::max(2.0, 4.0 * params_.mu / 3.0);
+  scale << 2.0, std::max(2.0, 4.0 * std::abs(params_.mu) / 3.0);
   return scale;
 }
 

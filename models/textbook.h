@@ -88,14 +88,18 @@ class StuartLandauOscillator : public OdeSystem {
 };
 
 struct VanDerPolParams {
-  double mu = 1.0;  // μ ≥ 0, nonlinear damping: the continuation parameter (relaxation for μ ≫ 1)
+  // μ, nonlinear damping: the continuation parameter. μ > 0: an attracting limit cycle (relaxation
+  // oscillation for μ ≫ 1); μ < 0 is the same system in reversed time, whose cycle (the μ > 0 cycle
+  // run backwards, same period) repels with multiplier e^{+|log μ₂|}: a test of unstable orbits.
+  double mu = 1.0;
 };
 
-// Throws std::invalid_argument (μ not finite or negative).
+// Throws std::invalid_argument (μ not finite).
 void Validate(const VanDerPolParams& params);
 
 // State (x, ẋ). The limit cycle has amplitude ≈ 2 and period ≈ (3 − 2 ln 2) μ for μ ≫ 1, with
-// |ẋ| up to about 4μ/3 during the fast jumps; StateScale() is (2, max(2, 4μ/3)) accordingly.
+// |ẋ| up to about 4μ/3 during the fast jumps; StateScale() is (2, max(2, 4|μ|/3)) accordingly.
+// Liouville: the nontrivial multiplier is exp ∮ μ (1 − x²) dt (≈ e^{−2.886 μ²} for μ ≫ 1).
 class VanDerPolOscillator : public OdeSystem {
  public:
   explicit VanDerPolOscillator(const VanDerPolParams& params = {});

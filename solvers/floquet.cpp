@@ -11,6 +11,7 @@ namespace rubcont {
 
 const char* ToString(FloquetMethod method) {
   switch (method) {
+    case FloquetMethod::kPeriodicSchur: return "periodic Schur (orthogonal iteration)";
     case FloquetMethod::kPencil: return "block-cyclic pencil (QZ)";
     case FloquetMethod::kProduct: return "explicit product";
   }
@@ -102,6 +103,124 @@ ComplexVector PencilEigenvalues(const std::vector<Matrix>& factors) {
   return values;
 }
 
+// 2^e applied to a modulus, with e clamped to what ldexp can take (it over- and underflows
+// gracefully to inf and 0).
+double ScaleByPowerOfTwo(double modulus, long exponent) {
+  return std::ldexp(modulus, static_cast<int>(std::clamp(exponent, -100000L, 100000L)));
+}
+
+// Eigenvalues of 2^extra_exponent · B_{N−1} ⋯ B_0 for small square blocks whose eigenvalues have
+// similar moduli (a complex pair, or values the orthogonal iteration did not separate). The running
+// product is renormalized by powers of two so that it neither over- nor underflows.
+ComplexVector SmallProductEigenvalues(const std::vector<Matrix>& blocks, long extra_exponent) {
+  const Index b = blocks[0].rows();
+  Matrix product = Matrix::Identity(b, b);
+  long exponent = extra_exponent;
+  for (const Matrix& block : blocks) {
+    product = block * product;
+    const double norm = product.norm();
+    if (norm == 0.0) return ComplexVector::Zero(b);
+    int e = 0;
+    std::frexp(norm, &e);
+    product *= std::ldexp(1.0, -e);
+    exponent += e;
+  }
+  ComplexVector values = StandardEigenvalues(product);
+  for (Index k = 0; k < values.size(); ++k) {
+    const double modulus = std::abs(values(k));
+    values(k) = modulus > 0.0
+                    ? std::polar(ScaleByPowerOfTwo(modulus, exponent), std::arg(values(k)))
+                    : std::complex<double>(0.0);
+  }
+  return values;
+}
+
+// Periodic orthogonal iteration (unshifted periodic QR): Q_{i+1} R_i = M_i Q_i around the cycle,
+// then Q_0 ← Q_N, until every coupling between leading and trailing columns of Z = Q_0ᵀ Q_N has
+// converged (below kConverged) or stagnated over 8 sweeps (a complex pair or equal moduli: kept
+// together as one block).
+ComplexVector PeriodicSchurEigenvalues(const std::vector<Matrix>& factors) {
+  constexpr int kMaxSweeps = 400;
+  constexpr int kStagnationWindow = 8;
+  constexpr double kConverged = 1e-15;  // coupling at round-off level
+  constexpr double kSplit = 1e-12;      // split a stagnated block only below this coupling
+  const Index N = static_cast<Index>(factors.size());
+  const Index n = factors[0].rows();
+  if (n == 0) return ComplexVector();
+  // Factors normalized by powers of two (exact), their exponents summed.
+  std::vector<Matrix> M(N);
+  long total_exponent = 0;
+  for (Index i = 0; i < N; ++i) {
+    const double norm = factors[i].norm();
+    int e = 0;
+    if (norm > 0.0) std::frexp(norm, &e);
+    M[i] = factors[i] * std::ldexp(1.0, -e);
+    total_exponent += e;
+  }
+  std::vector<Matrix> R(N);
+  Matrix Q0 = Matrix::Identity(n, n), Q(n, n), Z = Matrix::Identity(n, n);
+  std::vector<double> coupling(std::max<Index>(n - 1, 0), 0.0), history = coupling;
+  for (int sweep = 1; sweep <= kMaxSweeps; ++sweep) {
+    Q = Q0;
+    for (Index i = 0; i < N; ++i) {
+      Eigen::HouseholderQR<Matrix> qr(M[i] * Q);
+      Q = qr.householderQ() * Matrix::Identity(n, n);
+      R[i] = qr.matrixQR().triangularView<Eigen::Upper>();
+      // Positive diagonal: Q is then a continuous function of the iteration (no sign flips), so
+      // that Z converges to ±1 on the diagonal (2×2 rotations for complex pairs).
+      for (Index j = 0; j < n; ++j) {
+        if (R[i](j, j) < 0.0) {
+          R[i].row(j) *= -1.0;
+          Q.col(j) *= -1.0;
+        }
+      }
+    }
+    Z = Q0.transpose() * Q;
+    Q0 = Q;
+    for (Index j = 0; j + 1 < n; ++j) {
+      coupling[j] = Z.bottomLeftCorner(n - j - 1, j + 1).norm();
+    }
+    if (std::all_of(coupling.begin(), coupling.end(), [&](double c) { return c < kConverged; })) {
+      break;
+    }
+    if (sweep % kStagnationWindow == 0) {
+      bool settled = true;
+      for (std::size_t j = 0; j < coupling.size(); ++j) {
+        if (coupling[j] >= kConverged && coupling[j] < 0.5 * history[j]) settled = false;
+      }
+      if (settled && sweep > kStagnationWindow) break;
+      history = coupling;
+    }
+  }
+  // The cycle in the bases of the last sweep: T_i = R_i (i < N−1) and T_{N−1} = Z R_{N−1}, block
+  // upper triangular up to the couplings.
+  R[N - 1] = Z * R[N - 1];
+  ComplexVector values(n);
+  Index start = 0;
+  for (Index j = 0; j < n; ++j) {
+    if (j + 1 < n && !(coupling[j] < kSplit)) continue;  // block goes on
+    const Index size = j + 1 - start;
+    if (size == 1) {
+      // μ = Π T_i(j,j) · 2^{Σ exponents}, accumulated in logarithms: no over- or underflow
+      // before the final exp.
+      double log_modulus = static_cast<double>(total_exponent) * std::log(2.0);
+      double sign = 1.0;
+      for (Index i = 0; i < N; ++i) {
+        const double d = R[i](j, j);
+        log_modulus += std::log(std::abs(d));  // −inf for d = 0: μ = 0
+        if (d < 0.0) sign = -sign;
+      }
+      values(j) = sign * std::exp(log_modulus);
+    } else {
+      std::vector<Matrix> blocks(N);
+      for (Index i = 0; i < N; ++i) blocks[i] = R[i].block(start, start, size, size);
+      values.segment(start, size) = SmallProductEigenvalues(blocks, total_exponent);
+    }
+    start = j + 1;
+  }
+  return values;
+}
+
 }  // namespace
 
 ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMethod method) {
@@ -110,6 +229,9 @@ ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMeth
     if (!M.allFinite()) return NotANumber(factors[0].rows());
   }
   if (factors.size() == 1) return SortedByModulus(StandardEigenvalues(factors[0]));
+  if (method == FloquetMethod::kPeriodicSchur) {
+    return SortedByModulus(PeriodicSchurEigenvalues(factors));
+  }
   if (method == FloquetMethod::kProduct) {
     Matrix product = factors[0];
     for (std::size_t i = 1; i < factors.size(); ++i) product = factors[i] * product;
@@ -118,62 +240,58 @@ ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMeth
   return SortedByModulus(PencilEigenvalues(factors));
 }
 
-FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
-                                 const std::vector<Matrix>& trivial_bases, FloquetMethod method) {
+FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors, const Matrix& trivial_basis,
+                                 FloquetMethod method) {
   CheckFactors(factors);
   const std::size_t N = factors.size();
   const Index n = factors[0].rows();
+  const Index k = trivial_basis.cols();
   FloquetResult result;
+  if (k > 0 && (trivial_basis.rows() != n || k >= n)) {
+    throw std::invalid_argument(fmt::format(
+        "FloquetMultipliers: trivial_basis is {}×{}; must be {}×k with 0 ≤ k < {}",
+        trivial_basis.rows(), k, n, n));
+  }
   for (const Matrix& M : factors) {
-    if (!M.allFinite()) {
-      result.multipliers = NotANumber(n);
+    if (!M.allFinite() || !trivial_basis.allFinite()) {
+      result.multipliers = NotANumber(n - k);
       return result;
     }
   }
-  if (trivial_bases.empty()) {
+  if (k == 0) {
     result.multipliers = ProductEigenvalues(factors, method);
     result.valid = result.multipliers.allFinite();
     return result;
   }
-  if (trivial_bases.size() != N) {
-    throw std::invalid_argument(fmt::format(
-        "FloquetMultipliers: {} trivial bases for {} factors: give none or one per factor",
-        trivial_bases.size(), N));
-  }
-  const Index k = trivial_bases[0].cols();
-  for (std::size_t i = 0; i < N; ++i) {
-    if (trivial_bases[i].rows() != n || trivial_bases[i].cols() != k || k < 1 || k >= n) {
-      throw std::invalid_argument(fmt::format(
-          "FloquetMultipliers: trivial_bases[{}] is {}×{}; all must be {}×k with 1 ≤ k < {} "
-          "(k = {} from trivial_bases[0])",
-          i, trivial_bases[i].rows(), trivial_bases[i].cols(), n, n, k));
-    }
-  }
-  // Q_i = [U_i W_i], orthonormal, from a Householder QR of the trivial basis.
-  std::vector<Matrix> Q(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    Eigen::HouseholderQR<Matrix> qr(trivial_bases[i]);
-    const auto R = qr.matrixQR().topLeftCorner(k, k).template triangularView<Eigen::Upper>();
-    const double largest = trivial_bases[i].cwiseAbs().maxCoeff();
+  // Q_i = [U_i W_i], orthonormal, from a Householder QR of the transported trivial basis.
+  // A direction that vanishes (f = 0 at an equilibrium, g ∥ f at a relative equilibrium) cannot
+  // be deflated: the orbit is degenerate and its multipliers are not defined here.
+  auto complete = [&](const Matrix& basis, Matrix& Q) {
+    Eigen::HouseholderQR<Matrix> qr(basis);
+    const double largest = basis.cwiseAbs().maxCoeff();
     for (Index j = 0; j < k; ++j) {
-      // A direction that vanishes (f = 0 at an equilibrium, g ∥ f at a relative equilibrium)
-      // cannot be deflated: the orbit is degenerate and its multipliers are not defined here.
-      if (!(std::abs(R(j, j)) > 1e-12 * largest)) {
-        result.multipliers = NotANumber(n - k);
-        return result;
-      }
+      if (!(std::abs(qr.matrixQR()(j, j)) > 1e-12 * largest)) return false;
     }
-    Q[i] = qr.householderQ() * Matrix::Identity(n, n);
+    Q = qr.householderQ() * Matrix::Identity(n, n);
+    return true;
+  };
+  std::vector<Matrix> Q(N);
+  Matrix basis = trivial_basis;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (!complete(basis, Q[i])) {
+      result.multipliers = NotANumber(n - k);
+      return result;
+    }
+    basis = factors[i] * Q[i].leftCols(k);
   }
   std::vector<Matrix> trivial_factors(N), reduced_factors(N);
   for (std::size_t i = 0; i < N; ++i) {
     const Matrix block = Q[(i + 1) % N].transpose() * factors[i] * Q[i];
     trivial_factors[i] = block.topLeftCorner(k, k);
     reduced_factors[i] = block.bottomRightCorner(n - k, n - k);
-    const double norm = factors[i].norm();
-    if (norm > 0.0) {
-      result.invariance_defect =
-          std::max(result.invariance_defect, block.bottomLeftCorner(n - k, k).norm() / norm);
+    if (i + 1 == N) {
+      const double norm = factors[i].norm();
+      result.invariance_defect = norm > 0.0 ? block.bottomLeftCorner(n - k, k).norm() / norm : 0.0;
     }
   }
   result.trivial = ProductEigenvalues(trivial_factors, method);

@@ -3,29 +3,47 @@
 // end, so the monodromy is M_{N−1} ⋯ M_1 M_0).
 //
 // Forming that product loses every multiplier smaller than ε·‖product‖: for a strongly contracting
-// orbit (van der Pol at μ = 10 has a multiplier near e^{−290}) the small ones come out as round-off.
-// The block-cyclic pencil avoids the product (Fairgrieve & Jepson 1991; Lust 2001, "Improved
-// numerical Floquet multipliers", IJBC 11(9)): with v_{i+1} = M_i v_i,
+// orbit (van der Pol at μ = 10 has a multiplier e^{−311.8}) the small ones come out as round-off,
+// and for a strongly unstable one (multipliers 1e20 and 1.001) even the multiplier near the unit
+// circle — the one that decides stability — drowns in ε·1e20. Three methods are offered:
+//
+// kPeriodicSchur (default): the periodic real Schur form (Bojanczyk, Golub & Van Dooren 1992;
+//   Lust 2001, "Improved numerical Floquet multipliers", IJBC 11(9)) computed by periodic
+//   orthogonal iteration: Q_{i+1} R_i = M_i Q_i (QR, i = 0…N−1), repeated with Q_0 ← Q_N. The
+//   bases converge to Q_{i+1}ᵀ M_i Q_i block upper triangular; each multiplier of distinct modulus
+//   is then a product of diagonal entries Π_i R_i(j,j) — each factor computed to relative accuracy,
+//   so the small and the large multipliers keep theirs — and multipliers of (nearly) equal modulus
+//   (complex pairs) come from the small product of their diagonal blocks. Cost O(sweeps · N n³);
+//   without shifts the iteration converges at rate |μ_{j+1}/μ_j| per sweep: well separated moduli
+//   converge in a few sweeps, close ones stay together in a block (harmless: their product is
+//   well conditioned).
+// kPencil: the n finite eigenvalues of the block-cyclic pencil (Fairgrieve & Jepson 1991)
 //
 //     A v = μ B v,   A = ⎡ M_0  −I              ⎤     B = ⎡ 0            ⎤
 //                        ⎢      M_1  −I         ⎥         ⎢    0         ⎥
 //                        ⎢           ⋱    ⋱     ⎥         ⎢       ⋱      ⎥
 //                        ⎣                M_{N−1}⎦         ⎣ I        0   ⎦
 //
-// has the n multipliers as its finite generalized eigenvalues and (N−1)n semisimple infinite ones.
-// Real QZ (Eigen's GeneralizedEigenSolver) is backward stable for the pencil, i.e. for each factor
-// separately, which keeps small multipliers to relative accuracy ~ ε·cond(M_i) instead of ε·‖Π M‖.
-// Cost O((Nn)³) against O(N n³) for a periodic Schur method (Bojanczyk, Golub & Van Dooren 1992),
-// which would be the next step if N n grows beyond a few hundred.
+//   by real QZ (Eigen's GeneralizedEigenSolver), O((Nn)³). Each factor is scaled by a power of two
+//   near its norm first, so that finite and infinite eigenvalues separate by |β|/|α| however
+//   large the multipliers. QZ is backward stable for the pencil as a whole, not for each factor:
+//   its error falls on the identity and zero blocks too, and measured (tests/solvers/
+//   floquet_test.cpp, tests/shooting/van_der_pol_test.cpp) it loses graded multipliers like the
+//   product does (a unit-circle pair beside 1e20; e^{−311.8} on van der Pol). Kept for comparison.
+// kProduct: eigenvalues of the explicit product; cheap, for comparison.
 //
 // Trivial multipliers (1 for the phase of an autonomous orbit; two for a relative periodic orbit:
 // time shift and group rotation) are deflated exactly rather than by picking the values closest to
-// 1, which fails where it matters (at a fold a nontrivial multiplier is also 1). Given orthonormal
-// bases U_i of the trivial directions at each segment start (M_i maps span U_i into span U_{i+1},
-// indices cyclic), and W_i completing them to orthonormal bases, each factor is block triangular,
-//     [U_{i+1} W_{i+1}]ᵀ M_i [U_i W_i] = [[A_i, B_i], [E_i, C_i]],  E_i ≈ 0,
-// so the multipliers split into eig(Π A_i) (trivial, ≈ 1) and eig(Π C_i) (the nontrivial ones).
-// ‖E_i‖ measures how far the computed orbit is from exact invariance (reported, not hidden).
+// 1, which fails where it matters (at a fold a nontrivial multiplier is also 1). Given a basis U_0
+// of the trivial directions at the start of the cycle (f(x_0), and g(x_0) for a relative orbit),
+// the basis is transported around the cycle, U_{i+1} = orth(M_i U_i), and completed to orthonormal
+// bases [U_i W_i]. Each factor is then block triangular,
+//     [U_{i+1} W_{i+1}]ᵀ M_i [U_i W_i] = [[A_i, B_i], [E_i, C_i]],  E_i = 0 for i < N−1,
+// and only the closing factor has a coupling E_{N−1}, as large as span U_0 is far from invariant
+// under the whole cycle (the orbit's own error). The multipliers split into eig(Π A_i) (trivial,
+// ≈ 1) and eig(Π C_i) (the nontrivial ones). Transporting the basis, instead of projecting on
+// f(x_i) at every segment start, keeps the coupling in one factor: projecting put an
+// integration-error-sized coupling into every factor and cost two units in log μ on van der Pol.
 #pragma once
 
 #include <vector>
@@ -35,8 +53,9 @@
 namespace rubcont {
 
 enum class FloquetMethod {
-  kPencil,   // finite eigenvalues of the block-cyclic pencil, real QZ: no product is formed
-  kProduct,  // eigenvalues of the explicitly formed product (cheap, inaccurate for small multipliers)
+  kPeriodicSchur,  // periodic Schur form by periodic orthogonal iteration (structured, accurate)
+  kPencil,         // finite eigenvalues of the block-cyclic pencil by real QZ
+  kProduct,        // eigenvalues of the explicitly formed product (cheap, loses small multipliers)
 };
 const char* ToString(FloquetMethod method);
 
@@ -49,17 +68,15 @@ struct FloquetResult {
   ComplexVector multipliers;
   // Multipliers of the deflated trivial subspace, eig(Π A_i): ≈ 1 on a converged orbit.
   ComplexVector trivial;
-  // max_i ‖E_i‖₂ / ‖M_i‖₂: 0 when the trivial subspace is exactly invariant.
+  // ‖E_{N−1}‖_F / ‖M_{N−1}‖_F: 0 when span U_0 is exactly invariant under the cycle.
   double invariance_defect = 0.0;
   bool valid = false;  // false when a factor was not finite
 };
 
 // Floquet multipliers of the cycle M_{N−1} ⋯ M_0 with trivial directions deflated.
-// trivial_bases: empty (no deflation), or N matrices n × k (k < n, the same k for all, full column
-// rank; orthonormalized here) where trivial_bases[i] spans the trivial directions at the start of
-// segment i and M_{N−1} maps span trivial_bases[N−1] back into span trivial_bases[0].
-FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
-                                 const std::vector<Matrix>& trivial_bases,
-                                 FloquetMethod method = FloquetMethod::kPencil);
+// trivial_basis: n × k (0 ≤ k < n; k = 0: no deflation), full column rank (orthonormalized here),
+// spanning the trivial directions at the start of factor 0.
+FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors, const Matrix& trivial_basis,
+                                 FloquetMethod method = FloquetMethod::kPeriodicSchur);
 
 }  // namespace rubcont
