@@ -544,20 +544,23 @@ FloquetResult ShootingProblem::Floquet(const Vector& u, double lambda) {
     factors[N - 1] = state_scale_.cwiseInverse().asDiagonal() * rotation_work_ *
                      cache_.stm[N - 1] * state_scale_.asDiagonal();
   }
-  // Trivial directions at the start of the cycle, scaled: f(0, x_0) and g(x_0).
-  Matrix basis;
+  // Trivial directions at every segment start, scaled: f(t_i, x_i) and g(x_i).
+  std::vector<Matrix> bases;
   if (kind_ != OrbitKind::kForced) {
+    const double T = u(N * n);
     system_.SetParameter(lambda);
     const Index k = kind_ == OrbitKind::kAutonomous ? 1 : 2;
-    basis.resize(n, k);
-    system_.Rhs(0.0, u.head(n), f_work_);
-    basis.col(0) = f_work_.cwiseQuotient(state_scale_);
-    if (k == 2) {
-      system_.RotationGenerator(u.head(n), g_work_);
-      basis.col(1) = g_work_.cwiseQuotient(state_scale_);
+    bases.assign(N, Matrix(n, k));
+    for (Index i = 0; i < N; ++i) {
+      system_.Rhs(SegmentTime(T, i), u.segment(i * n, n), f_work_);
+      bases[i].col(0) = f_work_.cwiseQuotient(state_scale_);
+      if (k == 2) {
+        system_.RotationGenerator(u.segment(i * n, n), g_work_);
+        bases[i].col(1) = g_work_.cwiseQuotient(state_scale_);
+      }
     }
   }
-  return FloquetMultipliers(factors, basis, options_.floquet_method);
+  return FloquetMultipliers(factors, bases, options_.floquet_method);
 }
 
 Spectrum ShootingProblem::Stability(const Vector& u, double lambda) {

@@ -240,20 +240,28 @@ ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMeth
   return SortedByModulus(PencilEigenvalues(factors));
 }
 
-FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors, const Matrix& trivial_basis,
-                                 FloquetMethod method) {
+FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
+                                 const std::vector<Matrix>& trivial_bases, FloquetMethod method) {
   CheckFactors(factors);
   const std::size_t N = factors.size();
   const Index n = factors[0].rows();
-  const Index k = trivial_basis.cols();
   FloquetResult result;
-  if (k > 0 && (trivial_basis.rows() != n || k >= n)) {
+  if (!trivial_bases.empty() && trivial_bases.size() != N) {
     throw std::invalid_argument(fmt::format(
-        "FloquetMultipliers: trivial_basis is {}×{}; must be {}×k with 0 ≤ k < {}",
-        trivial_basis.rows(), k, n, n));
+        "FloquetMultipliers: {} trivial bases for {} factors: give none or one per factor",
+        trivial_bases.size(), N));
   }
-  for (const Matrix& M : factors) {
-    if (!M.allFinite() || !trivial_basis.allFinite()) {
+  const Index k = trivial_bases.empty() ? 0 : trivial_bases[0].cols();
+  for (std::size_t i = 0; i < trivial_bases.size(); ++i) {
+    if (trivial_bases[i].rows() != n || trivial_bases[i].cols() != k || k < 1 || k >= n) {
+      throw std::invalid_argument(fmt::format(
+          "FloquetMultipliers: trivial_bases[{}] is {}×{}; all must be {}×k with 1 ≤ k < {} "
+          "(k = {} from trivial_bases[0])",
+          i, trivial_bases[i].rows(), trivial_bases[i].cols(), n, n, k));
+    }
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    if (!factors[i].allFinite() || (k > 0 && !trivial_bases[i].allFinite())) {
       result.multipliers = NotANumber(n - k);
       return result;
     }
@@ -263,35 +271,30 @@ FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors, const Matri
     result.valid = result.multipliers.allFinite();
     return result;
   }
-  // Q_i = [U_i W_i], orthonormal, from a Householder QR of the transported trivial basis.
-  // A direction that vanishes (f = 0 at an equilibrium, g ∥ f at a relative equilibrium) cannot
-  // be deflated: the orbit is degenerate and its multipliers are not defined here.
-  auto complete = [&](const Matrix& basis, Matrix& Q) {
-    Eigen::HouseholderQR<Matrix> qr(basis);
-    const double largest = basis.cwiseAbs().maxCoeff();
-    for (Index j = 0; j < k; ++j) {
-      if (!(std::abs(qr.matrixQR()(j, j)) > 1e-12 * largest)) return false;
-    }
-    Q = qr.householderQ() * Matrix::Identity(n, n);
-    return true;
-  };
+  // Q_i = [U_i W_i], orthonormal, from a Householder QR of the trivial basis. A direction that
+  // vanishes (f = 0 at an equilibrium, g ∥ f at a relative equilibrium) cannot be deflated: the
+  // orbit is degenerate there and its multipliers are not defined by this construction.
   std::vector<Matrix> Q(N);
-  Matrix basis = trivial_basis;
   for (std::size_t i = 0; i < N; ++i) {
-    if (!complete(basis, Q[i])) {
-      result.multipliers = NotANumber(n - k);
-      return result;
+    Eigen::HouseholderQR<Matrix> qr(trivial_bases[i]);
+    const double largest = trivial_bases[i].cwiseAbs().maxCoeff();
+    for (Index j = 0; j < k; ++j) {
+      if (!(std::abs(qr.matrixQR()(j, j)) > 1e-12 * largest)) {
+        result.multipliers = NotANumber(n - k);
+        return result;
+      }
     }
-    basis = factors[i] * Q[i].leftCols(k);
+    Q[i] = qr.householderQ() * Matrix::Identity(n, n);
   }
   std::vector<Matrix> trivial_factors(N), reduced_factors(N);
   for (std::size_t i = 0; i < N; ++i) {
     const Matrix block = Q[(i + 1) % N].transpose() * factors[i] * Q[i];
     trivial_factors[i] = block.topLeftCorner(k, k);
     reduced_factors[i] = block.bottomRightCorner(n - k, n - k);
-    if (i + 1 == N) {
-      const double norm = factors[i].norm();
-      result.invariance_defect = norm > 0.0 ? block.bottomLeftCorner(n - k, k).norm() / norm : 0.0;
+    const double norm = factors[i].norm();
+    if (norm > 0.0) {
+      result.invariance_defect =
+          std::max(result.invariance_defect, block.bottomLeftCorner(n - k, k).norm() / norm);
     }
   }
   result.trivial = ProductEigenvalues(trivial_factors, method);
