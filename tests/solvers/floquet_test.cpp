@@ -164,7 +164,8 @@ TEST_CASE("deflation removes the trivial direction exactly, even when another mu
          0.0, 0.0, 0.5;
     factors.push_back(Q[i + 1] * U * Q[i].transpose());
   }
-  const Matrix trivial = Q[0].col(0);  // the image of e_0 at the start of the cycle
+  std::vector<Matrix> trivial(N);  // the images of e_0 at every segment start
+  for (Index i = 0; i < N; ++i) trivial[i] = Q[i].col(0);
   for (FloquetMethod method : {FloquetMethod::kPeriodicSchur, FloquetMethod::kProduct}) {
     CAPTURE(ToString(method));
     const FloquetResult result = FloquetMultipliers(factors, trivial, method);
@@ -177,7 +178,8 @@ TEST_CASE("deflation removes the trivial direction exactly, even when another mu
     CHECK(result.invariance_defect < 1e-14);
   }
   // A trivial basis that is not invariant shows up in the defect.
-  const Matrix wrong = Q[0].col(1);
+  std::vector<Matrix> wrong = trivial;
+  wrong[2] = Q[2].col(1);
   const FloquetResult result = FloquetMultipliers(factors, wrong);
   CHECK(result.invariance_defect > 1e-3);
 }
@@ -187,9 +189,12 @@ TEST_CASE("Floquet arguments are checked", "[floquet]") {
   CHECK_THROWS_WITH(ProductEigenvalues(factors, FloquetMethod::kPeriodicSchur),
                     Catch::Contains("factors[1]"));
   std::vector<Matrix> good = {Matrix::Identity(2, 2)};
-  CHECK_THROWS_WITH(FloquetMultipliers(good, Matrix::Ones(2, 2)), Catch::Contains("trivial_basis"));
+  CHECK_THROWS_WITH(FloquetMultipliers(good, {Matrix::Ones(2, 2)}),
+                    Catch::Contains("trivial_bases[0]"));
+  CHECK_THROWS_WITH(FloquetMultipliers(good, {Matrix::Ones(2, 1), Matrix::Ones(2, 1)}),
+                    Catch::Contains("2 trivial bases for 1 factors"));
   std::vector<Matrix> nan = {Matrix::Constant(2, 2, NAN)};
-  CHECK_FALSE(FloquetMultipliers(nan, Matrix()).valid);
+  CHECK_FALSE(FloquetMultipliers(nan, {}).valid);
 }
 
 }  // namespace
