@@ -192,7 +192,12 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
   f_work_.resize(n_);
   g_work_.resize(n_);
   x_work_.resize(n_);
-  for (SegmentData* data : {&cache_, &scratch_}) {
+  if (!options.integrator.sensitivity_error_control && options.accurate_stability) {
+    IntegratorOptions accurate = options.integrator;
+    accurate.sensitivity_error_control = true;
+    stability_integrator_ = std::make_unique<OdeIntegrator>(system, accurate);
+  }
+  for (SegmentData* data : {&cache_, &scratch_, &stability_}) {
     data->ends.assign(segments_, Vector::Zero(n_));
     data->stm.assign(segments_, Matrix::Zero(n_, n_));
     data->dxdp.assign(segments_, Vector::Zero(n_));
@@ -331,7 +336,7 @@ bool ShootingProblem::SameKey(const Vector& u, double lambda) const {
 }
 
 bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need need,
-                                        SegmentData& data) {
+                                        SegmentData& data, OdeIntegrator& integrator) {
   data.has_stm = data.has_dxdp = false;
   if (!u.allFinite() || !std::isfinite(lambda)) {
     last_failure_ = IntegrationResult();
@@ -351,8 +356,8 @@ bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need nee
     Matrix* stm = need == Need::kState ? nullptr : &data.stm[i];
     Vector* dxdp = need == Need::kStmAndParameter ? &data.dxdp[i] : nullptr;
     const IntegrationResult result =
-        integrator_.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
-                              data.ends[i], stm, dxdp);
+        integrator.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
+                             data.ends[i], stm, dxdp);
     statistics_.steps += result.statistics.steps;
     if (stm == nullptr) {
       ++statistics_.residual_integrations;
@@ -394,7 +399,7 @@ bool ShootingProblem::Ensure(const Vector& u, double lambda, Need need) {
       actual = parameter_sensitivity ? Need::kStmAndParameter : Need::kStm;
     }
     cache_valid_ = false;
-    if (!IntegrateSegments(u, lambda, actual, cache_)) return false;
+    if (!IntegrateSegments(u, lambda, actual, cache_, integrator_)) return false;
     cache_u_ = u;
     cache_lambda_ = lambda;
     cache_valid_ = true;
@@ -482,9 +487,10 @@ void ShootingProblem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
     const double h = 6.0e-6 * std::max(std::abs(lambda), lambda_scale_);
     Vector F_plus, F_minus;
     if (!has_reference_ && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
-    const bool ok = IntegrateSegments(u, lambda + h, Need::kState, scratch_);
+    const bool ok = IntegrateSegments(u, lambda + h, Need::kState, scratch_, integrator_);
     if (ok) AssembleResidual(u, scratch_, F_plus);
-    const bool ok_minus = ok && IntegrateSegments(u, lambda - h, Need::kState, scratch_);
+    const bool ok_minus =
+        ok && IntegrateSegments(u, lambda - h, Need::kState, scratch_, integrator_);
     if (ok_minus) AssembleResidual(u, scratch_, F_minus);
     system_.SetParameter(lambda);
     if (!ok_minus) {
@@ -515,17 +521,34 @@ void ShootingProblem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
   }
 }
 
+const std::vector<Matrix>* ShootingProblem::StabilityMonodromies(const Vector& u, double lambda) {
+  if (!stability_integrator_) return Ensure(u, lambda, Need::kStm) ? &cache_.stm : nullptr;
+  if (stability_valid_ && lambda == stability_lambda_ && u == stability_u_) {
+    ++statistics_.cache_hits;
+    return &stability_.stm;
+  }
+  stability_valid_ = false;
+  if (!IntegrateSegments(u, lambda, Need::kStm, stability_, *stability_integrator_)) {
+    return nullptr;
+  }
+  stability_u_ = u;
+  stability_lambda_ = lambda;
+  stability_valid_ = true;
+  return &stability_.stm;
+}
+
 const std::vector<Matrix>& ShootingProblem::SegmentMonodromies(const Vector& u, double lambda) {
   CheckUnknowns(u, "SegmentMonodromies");
   static const std::vector<Matrix> kEmpty;
-  if (!Ensure(u, lambda, Need::kStm)) return kEmpty;
-  return cache_.stm;
+  const std::vector<Matrix>* stm = StabilityMonodromies(u, lambda);
+  return stm != nullptr ? *stm : kEmpty;
 }
 
 FloquetResult ShootingProblem::Floquet(const Vector& u, double lambda) {
   CheckUnknowns(u, "Floquet");
   FloquetResult result;
-  if (!Ensure(u, lambda, Need::kStm)) {
+  const std::vector<Matrix>* stm = StabilityMonodromies(u, lambda);
+  if (stm == nullptr) {
     const Index k = kind_ == OrbitKind::kForced ? 0 : (kind_ == OrbitKind::kAutonomous ? 1 : 2);
     result.multipliers = ComplexVector::Constant(n_ - k, std::complex<double>(kNaN, kNaN));
     return result;
@@ -535,14 +558,14 @@ FloquetResult ShootingProblem::Floquet(const Vector& u, double lambda) {
   // blocks are balanced when states have different units).
   std::vector<Matrix> factors(N);
   for (Index i = 0; i < N; ++i) {
-    factors[i] = state_scale_.cwiseInverse().asDiagonal() * cache_.stm[i] * state_scale_.asDiagonal();
+    factors[i] = state_scale_.cwiseInverse().asDiagonal() * (*stm)[i] * state_scale_.asDiagonal();
   }
   const double phi = Rotation(u);
   if (kind_ == OrbitKind::kRelative) {
     // The return map of a relative periodic orbit is x ↦ R_{−φ} x(T; x): last factor R_{−φ} M.
     RotationMatrix(-phi, rotation_work_);
     factors[N - 1] = state_scale_.cwiseInverse().asDiagonal() * rotation_work_ *
-                     cache_.stm[N - 1] * state_scale_.asDiagonal();
+                     (*stm)[N - 1] * state_scale_.asDiagonal();
   }
   // Trivial directions at every segment start, scaled: f(t_i, x_i) and g(x_i).
   std::vector<Matrix> bases;

@@ -43,6 +43,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,11 @@ struct ShootingOptions {
   // Integrate with sensitivities already in Residual (useful when almost every residual is
   // followed by a Jacobian at the same point, as in continuation correctors).
   bool sensitivities_in_residual = false;
+  // When integrator.sensitivity_error_control is off (a cheap Jacobian for Newton: on stiff
+  // systems 25–100× cheaper and as good for convergence, see bench/shooting_bench.cpp), integrate
+  // the STM once more with it on for Stability, Floquet and SegmentMonodromies, so that the
+  // multipliers keep their accuracy. No effect when error control is on.
+  bool accurate_stability = true;
   // Typical period (time units) for Scale(); 0: |T| of the first phase reference.
   double period_scale = 0.0;
   // Typical |λ| for LambdaScale(); 0: max(|λ|, 1) with λ the system's parameter at construction.
@@ -195,7 +201,10 @@ class ShootingProblem : public Problem {
   void CheckUnknowns(const Vector& u, const char* where) const;
   bool SameKey(const Vector& u, double lambda) const;
   // Integrates every segment at (u, λ) into data; false on failure (last_failure_ set).
-  bool IntegrateSegments(const Vector& u, double lambda, Need need, SegmentData& data);
+  bool IntegrateSegments(const Vector& u, double lambda, Need need, SegmentData& data,
+                         OdeIntegrator& integrator);
+  // The segment STMs for stability at (u, λ) (see accurate_stability); null on failure.
+  const std::vector<Matrix>* StabilityMonodromies(const Vector& u, double lambda);
   // Makes the cache hold (u, λ) with at least `need`; false on failure.
   bool Ensure(const Vector& u, double lambda, Need need);
   void AssembleResidual(const Vector& u, const SegmentData& data, Vector& F);
@@ -208,6 +217,7 @@ class ShootingProblem : public Problem {
   OrbitKind kind_;
   ShootingOptions options_;
   OdeIntegrator integrator_;
+  std::unique_ptr<OdeIntegrator> stability_integrator_;  // see accurate_stability
   Index n_;
   Index segments_;
   std::vector<double> mesh_;  // N + 1 fractions
@@ -230,6 +240,11 @@ class ShootingProblem : public Problem {
   Vector cache_F_;
   SegmentData cache_;
   SegmentData scratch_;  // for finite differences in λ, which must not evict the cache
+  // STMs integrated with sensitivity error control for stability (accurate_stability).
+  SegmentData stability_;
+  bool stability_valid_ = false;
+  Vector stability_u_;
+  double stability_lambda_ = 0.0;
 
   // Workspaces.
   Vector f_work_, g_work_, x_work_;

@@ -56,8 +56,12 @@ struct IntegratorOptions {
   long max_steps = 100000;
   double max_step = 0.0;      // largest |h| (time units); 0: unlimited
   double initial_step = 0.0;  // first |h| (time units); 0: estimated by the integrator
-  // Largest order used: BDF 1–5, Adams 1–12; 0: the method's maximum.
+  // Largest order used: BDF 1–5, Adams 1–12; 0: the method's maximum. BDF ≤ 2 is A- and L-stable;
+  // orders 3–5 are unstable for eigenvalues near the imaginary axis (lightly damped stiff modes).
   int max_order = 0;
+  // CVODES BDF stability-limit detection (CVodeSetStabLimDet): lowers the order when it sees the
+  // instability of orders ≥ 3 on lightly damped oscillatory modes.
+  bool stability_limit_detection = false;
   // ERK order: 2, 3, 4, 5 (Dormand–Prince 7-4-5), 6 (Verner 8-5-6) or 8 (Fehlberg 13-7-8).
   int explicit_order = 5;
   // DIRK order: 2, 3, 4 (SDIRK 5-3-4) or 5 (ARK5(4)8L[2]SA's implicit table).
@@ -66,7 +70,11 @@ struct IntegratorOptions {
   // Forward sensitivities (CVODES only; ARKODE integrates the augmented system).
   SensitivityMethod sensitivity_method = SensitivityMethod::kStaggered;
   // Include the sensitivities in the local error test (CVodeSetSensErrCon). Without it the STM is
-  // only as accurate as the step sequence chosen for the state happens to make it.
+  // only as accurate as the step sequence chosen for the state makes it — and a fast mode that the
+  // state does not excite but a column of Φ does is then left to the method's stability: measured
+  // on a 16-state stiff chain (bench/shooting_bench.cpp), 25–100× cheaper and as good for Newton,
+  // but BDF orders 3–5 let a lightly damped fast mode of Φ grow without bound at rtol 1e-10
+  // (use max_order = 2 with it off), and a nearly undamped fast mode is damped numerically.
   bool sensitivity_error_control = true;
   // Typical magnitude of the parameter, for the absolute tolerance on q = ∂x/∂p
   // (atol_q,i = absolute_tolerance·scale_i / parameter_scale). 0: max(|p|, 1) at each call.

@@ -192,6 +192,10 @@ class CvodesBackend::State {
         (flag = CVodeSetMaxOrd(memory_, options_.max_order)) != CV_SUCCESS) {
       return flag;
     }
+    if (options_.stability_limit_detection && options_.method == IntegrationMethod::kBdf &&
+        (flag = CVodeSetStabLimDet(memory_, SUNTRUE)) != CV_SUCCESS) {
+      return flag;
+    }
     return CV_SUCCESS;
   }
 

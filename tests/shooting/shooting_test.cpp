@@ -201,6 +201,25 @@ TEST_CASE("integrations are cached: Residual, Jacobian, ∂F/∂λ and Stability
   CHECK(problem.statistics().cache_hits == 3);
 }
 
+TEST_CASE("a cheap Jacobian without sensitivity error control, with accurate multipliers",
+          "[shooting]") {
+  StuartLandauOscillator oscillator({0.5, 1.0, 0.4});
+  ShootingOptions options = Options(3);
+  options.integrator.sensitivity_error_control = false;  // Newton's Jacobian
+  ShootingProblem problem(oscillator, OrbitKind::kAutonomous, options);
+  Vector u = problem.InitialGuess((Vector(2) << 0.6, 0.1).finished(), 8.0, 0.5);
+  const NewtonResult newton = Solve(problem, u, 0.5);
+  REQUIRE(newton.Converged());
+  problem.ResetStatistics();
+  const Spectrum spectrum = problem.Stability(u, 0.5);
+  // Stability integrated the three segments again, under error control.
+  CHECK(problem.statistics().sensitivity_integrations == 3);
+  REQUIRE(spectrum.valid);
+  CHECK(std::abs(spectrum.values(0).real() - oscillator.NontrivialMultiplier()) < 1e-8);
+  problem.Stability(u, 0.5);
+  CHECK(problem.statistics().sensitivity_integrations == 3);  // cached
+}
+
 // A trajectory that blows up in finite time: ẋ = x², ẏ = 1.
 class BlowUp : public OdeSystem {
  public:
