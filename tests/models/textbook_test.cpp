@@ -42,7 +42,7 @@ void CheckDerivatives(OdeSystem& system, double t, const Vector& x) {
   CHECK(parameter_check.ok);
 }
 
-TEST_CASE("Duffing: analytic Jacobian and ∂f/∂w match differences; forcing period 2π/w",
+TEST_CASE("Duffing: analytic Jacobian and ∂f/∂w match differences — forcing period 2π/w",
           "[textbook]") {
   DuffingOscillator duffing({0.05, 1.0, 1.0, 0.3, 1.4});
   CheckDerivatives(duffing, 0.7, (Vector(2) << 1.3, -0.4).finished());

@@ -45,7 +45,7 @@ TEST_CASE("harmonic balance is converged in the number of harmonics", "[duffing]
 }
 
 TEST_CASE("Duffing at w = 1.5: the three coexisting orbits by single and multiple shooting match "
-          "harmonic balance; two stable, the middle one unstable",
+          "harmonic balance — two stable, the middle one unstable",
           "[duffing][shooting]") {
   DuffingParams params;  // c = 0.05, k = 1, β = 1, F = 0.3
   params.frequency = 1.5;

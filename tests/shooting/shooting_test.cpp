@@ -122,7 +122,7 @@ class ModulatedOscillator : public OdeSystem {
   }
 };
 
-TEST_CASE("shooting Jacobian and ∂F/∂λ agree with finite differences (autonomous, forced, relative; "
+TEST_CASE("shooting Jacobian and ∂F/∂λ agree with finite differences (autonomous, forced, relative — "
           "single and multiple)",
           "[shooting]") {
   // Tight integration so that differences (step ~1e-6 relative) see only O(1e-12 / 1e-6) noise.

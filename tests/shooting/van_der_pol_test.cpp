@@ -123,7 +123,7 @@ double AsymptoticPeriod(double mu) {
 }
 
 TEST_CASE("van der Pol μ = 10: single shooting converges but cannot resolve the contracting "
-          "multiplier; 40 segments can, and only a structured Floquet method keeps it",
+          "multiplier — 40 segments can, and only a structured Floquet method keeps it",
           "[van_der_pol][shooting]") {
   const double mu = 10.0;
   const CycleReference reference = ComputeReference(mu);
@@ -219,7 +219,7 @@ TEST_CASE("van der Pol μ = −10 (the repelling cycle): single shooting fails w
 }
 
 TEST_CASE("van der Pol μ = 1000 (stiff relaxation): single and multiple shooting converge with "
-          "BDF from the asymptotic guess; the multiplier underflows",
+          "BDF from the asymptotic guess — the multiplier underflows",
           "[van_der_pol][shooting]") {
   const double mu = 1000.0;
   const CycleReference reference = ComputeReference(mu);
