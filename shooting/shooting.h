@@ -36,6 +36,9 @@
 // Integrations are cached at the last (u, λ): Residual, Jacobian, DfDlambda, Stability at the same
 // point integrate once (Residual alone integrates without sensitivities, which is cheaper; the
 // residual value at a point is kept from its first evaluation so that F(u) is one function).
+// Floquet multipliers: periodic Schur method on the segment STMs (solvers/floquet.h), trivial
+// multipliers deflated with f(x_i) (and g(x_i)); for kRelative the return map is x ↦ R_{−φ} x(T),
+// so the last factor is R_{−φ} M_{N−1}.
 //
 // Integration failures (tier 3): Residual and Jacobian fill their output with NaN, which
 // NewtonSolve reports as kNonFinite and the continuation engine treats as a failed step;
@@ -81,7 +84,7 @@ struct ShootingOptions {
   // followed by a Jacobian at the same point, as in continuation correctors).
   bool sensitivities_in_residual = false;
   // When integrator.sensitivity_error_control is off (a cheap Jacobian for Newton: on stiff
-  // systems 25–100× cheaper and as good for convergence, see bench/shooting_bench.cpp), integrate
+  // systems 18–150× cheaper and as good for convergence, see bench/shooting_bench.cpp), integrate
   // the STM once more with it on for Stability, Floquet and SegmentMonodromies, so that the
   // multipliers keep their accuracy. No effect when error control is on.
   bool accurate_stability = true;
@@ -180,7 +183,8 @@ class ShootingProblem : public Problem {
   // Full Floquet information at (u, λ): nontrivial and trivial multipliers, invariance defect.
   FloquetResult Floquet(const Vector& u, double lambda);
 
-  // Segment state-transition matrices M_i at (u, λ) (integrating if needed); empty on failure.
+  // Segment state-transition matrices M_i at (u, λ), the ones Stability uses (integrated under
+  // sensitivity error control when accurate_stability applies); empty on failure.
   const std::vector<Matrix>& SegmentMonodromies(const Vector& u, double lambda);
 
   // The last integration failure (status kSuccess if none since construction).

@@ -8,15 +8,15 @@
 // circle — the one that decides stability — drowns in ε·1e20. Three methods are offered:
 //
 // kPeriodicSchur (default): the periodic real Schur form (Bojanczyk, Golub & Van Dooren 1992;
-//   Lust 2001, "Improved numerical Floquet multipliers", IJBC 11(9)) computed by periodic
-//   orthogonal iteration: Q_{i+1} R_i = M_i Q_i (QR, i = 0…N−1), repeated with Q_0 ← Q_N. The
-//   bases converge to Q_{i+1}ᵀ M_i Q_i block upper triangular; each multiplier of distinct modulus
-//   is then a product of diagonal entries Π_i R_i(j,j) — each factor computed to relative accuracy,
-//   so the small and the large multipliers keep theirs — and multipliers of (nearly) equal modulus
-//   (complex pairs) come from the small product of their diagonal blocks. Cost O(sweeps · N n³);
-//   without shifts the iteration converges at rate |μ_{j+1}/μ_j| per sweep: well separated moduli
-//   converge in a few sweeps, close ones stay together in a block (harmless: their product is
-//   well conditioned).
+//   Lust 2001, "Improved numerical Floquet multipliers", IJBC 11(9)), here in block form, computed
+//   by unshifted periodic QR (periodic orthogonal iteration): Q_{i+1} R_i = M_i Q_i (QR,
+//   i = 0…N−1), repeated with Q_0 ← Q_N. The bases converge to Q_{i+1}ᵀ M_i Q_i block upper
+//   triangular; each multiplier of distinct modulus is then a product of diagonal entries
+//   Π_i R_i(j,j) — each factor computed to relative accuracy, so the small and the large
+//   multipliers keep theirs — and multipliers of similar modulus (complex pairs, moduli within a
+//   factor ≈ 2.4, which the unshifted iteration separates slowly) come from the small, well
+//   conditioned product of their diagonal block. Cost O(sweeps · N n³): measured 2.7 ms for
+//   N = 10, n = 16 (QZ pencil 7.6 ms), 15 ms for N = 40 (QZ 250 ms).
 // kPencil: the n finite eigenvalues of the block-cyclic pencil (Fairgrieve & Jepson 1991)
 //
 //     A v = μ B v,   A = ⎡ M_0  −I              ⎤     B = ⎡ 0            ⎤

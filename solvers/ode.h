@@ -72,7 +72,7 @@ struct IntegratorOptions {
   // Include the sensitivities in the local error test (CVodeSetSensErrCon). Without it the STM is
   // only as accurate as the step sequence chosen for the state makes it — and a fast mode that the
   // state does not excite but a column of Φ does is then left to the method's stability: measured
-  // on a 16-state stiff chain (bench/shooting_bench.cpp), 25–100× cheaper and as good for Newton,
+  // on a 16-state stiff chain (bench/shooting_bench.cpp), 18–150× cheaper and as good for Newton,
   // but BDF orders 3–5 let a lightly damped fast mode of Φ grow without bound at rtol 1e-10
   // (use max_order = 2 with it off), and a nearly undamped fast mode is damped numerically.
   bool sensitivity_error_control = true;
