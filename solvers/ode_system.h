@@ -7,6 +7,8 @@
 // without copying. Implementations must not allocate in Rhs / JacobianX (keep a workspace).
 #pragma once
 
+#include <string>
+
 #include "solvers/types.h"
 
 namespace rubcont {
@@ -40,8 +42,13 @@ class OdeSystem {
   // Period of an explicit time-periodic forcing at the current parameter (0: autonomous).
   virtual double ForcingPeriod() const { return 0.0; }
 
+  // A short name for state i (0 ≤ i < Dimension()), used to label measures such as "max_<name>".
+  // Default: "x<i>".
+  virtual std::string StateName(Index i) const { return "x" + std::to_string(i); }
+
   // Optional SO(2) symmetry: f(R_φ x) = R_φ f(x) for a rotation action R_φ (e.g. rotating every
   // complex coordinate by e^{jφ}). Relative periodic orbits satisfy x(T) = R_φ x(0).
+  // The shooting code assumes the action is linear in x (R_φ a matrix, R_{φ+ψ} = R_φ R_ψ).
   virtual bool HasRotationSymmetry() const { return false; }
   // x ← R_φ x.
   virtual void Rotate(double /*phi*/, VectorRef /*x*/) const {}

@@ -1,0 +1,150 @@
+#include "models/textbook.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+void RequireFinite(const char* type, const char* field, double value) {
+  if (!std::isfinite(value)) {
+    throw std::invalid_argument(fmt::format("{}.{} = {}: must be finite", type, field, value));
+  }
+}
+
+}  // namespace
+
+void Validate(const DuffingParams& params) {
+  RequireFinite("DuffingParams", "damping", params.damping);
+  RequireFinite("DuffingParams", "stiffness", params.stiffness);
+  RequireFinite("DuffingParams", "cubic", params.cubic);
+  RequireFinite("DuffingParams", "force", params.force);
+  RequireFinite("DuffingParams", "frequency", params.frequency);
+  if (params.damping < 0.0) {
+    throw std::invalid_argument(
+        fmt::format("DuffingParams.damping = {}: must be non-negative", params.damping));
+  }
+  if (!(params.frequency > 0.0)) {
+    throw std::invalid_argument(
+        fmt::format("DuffingParams.frequency = {}: must be positive", params.frequency));
+  }
+}
+
+DuffingOscillator::DuffingOscillator(const DuffingParams& params) : params_(params) {
+  Validate(params);
+}
+
+void DuffingOscillator::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  const DuffingParams& p = params_;
+  f(0) = x(1);
+  f(1) = -p.damping * x(1) - p.stiffness * x(0) - p.cubic * x(0) * x(0) * x(0) +
+         p.force * std::cos(p.frequency * t);
+}
+
+void DuffingOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const DuffingParams& p = params_;
+  J(0, 0) = 0.0;
+  J(0, 1) = 1.0;
+  J(1, 0) = -p.stiffness - 3.0 * p.cubic * x(0) * x(0);
+  J(1, 1) = -p.damping;
+}
+
+void DuffingOscillator::DfDparameter(double t, ConstVectorRef /*x*/, VectorRef df) {
+  df(0) = 0.0;
+  df(1) = -params_.force * t * std::sin(params_.frequency * t);
+}
+
+double DuffingOscillator::ForcingPeriod() const { return kTwoPi / params_.frequency; }
+
+void Validate(const StuartLandauParams& params) {
+  RequireFinite("StuartLandauParams", "lambda", params.lambda);
+  RequireFinite("StuartLandauParams", "omega", params.omega);
+  RequireFinite("StuartLandauParams", "gamma", params.gamma);
+}
+
+StuartLandauOscillator::StuartLandauOscillator(const StuartLandauParams& params)
+    : params_(params) {
+  Validate(params);
+}
+
+void StuartLandauOscillator::Rhs(double /*t*/, ConstVectorRef x, VectorRef f) {
+  const StuartLandauParams& p = params_;
+  const double r2 = x(0) * x(0) + x(1) * x(1);
+  f(0) = p.lambda * x(0) - p.omega * x(1) - r2 * (x(0) - p.gamma * x(1));
+  f(1) = p.omega * x(0) + p.lambda * x(1) - r2 * (p.gamma * x(0) + x(1));
+}
+
+void StuartLandauOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const StuartLandauParams& p = params_;
+  const double r2 = x(0) * x(0) + x(1) * x(1);
+  const double a = x(0) - p.gamma * x(1);  // f0 = λx − ωy − r² a
+  const double b = p.gamma * x(0) + x(1);  // f1 = ωx + λy − r² b
+  J(0, 0) = p.lambda - 2.0 * x(0) * a - r2;
+  J(0, 1) = -p.omega - 2.0 * x(1) * a + r2 * p.gamma;
+  J(1, 0) = p.omega - 2.0 * x(0) * b - r2 * p.gamma;
+  J(1, 1) = p.lambda - 2.0 * x(1) * b - r2;
+}
+
+void StuartLandauOscillator::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef df) {
+  df = x;
+}
+
+void StuartLandauOscillator::Rotate(double phi, VectorRef x) const {
+  const double c = std::cos(phi), s = std::sin(phi);
+  const double x0 = x(0);
+  x(0) = c * x0 - s * x(1);
+  x(1) = s * x0 + c * x(1);
+}
+
+void StuartLandauOscillator::RotationGenerator(ConstVectorRef x, VectorRef g) const {
+  g(0) = -x(1);
+  g(1) = x(0);
+}
+
+double StuartLandauOscillator::OrbitRadius() const { return std::sqrt(params_.lambda); }
+double StuartLandauOscillator::AngularVelocity() const {
+  return params_.omega - params_.gamma * params_.lambda;
+}
+double StuartLandauOscillator::Period() const { return kTwoPi / std::abs(AngularVelocity()); }
+double StuartLandauOscillator::NontrivialMultiplier() const {
+  return std::exp(-2.0 * params_.lambda * Period());
+}
+
+void Validate(const VanDerPolParams& params) {
+  RequireFinite("VanDerPolParams", "mu", params.mu);
+}
+
+VanDerPolOscillator::VanDerPolOscillator(const VanDerPolParams& params) : params_(params) {
+  Validate(params);
+}
+
+void VanDerPolOscillator::Rhs(double /*t*/, ConstVectorRef x, VectorRef f) {
+  f(0) = x(1);
+  f(1) = params_.mu * (1.0 - x(0) * x(0)) * x(1) - x(0);
+}
+
+void VanDerPolOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const double mu = params_.mu;
+  J(0, 0) = 0.0;
+  J(0, 1) = 1.0;
+  J(1, 0) = -2.0 * mu * x(0) * x(1) - 1.0;
+  J(1, 1) = mu * (1.0 - x(0) * x(0));
+}
+
+void VanDerPolOscillator::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef df) {
+  df(0) = 0.0;
+  df(1) = (1.0 - x(0) * x(0)) * x(1);
+}
+
+Vector VanDerPolOscillator::StateScale() const {
+  Vector scale(2);
+  scale << 2.0, std::max(2.0, 4.0 * std::abs(params_.mu) / 3.0);
+  return scale;
+}
+
+}  // namespace rubcont

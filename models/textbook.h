@@ -1,0 +1,123 @@
+// Textbook systems with known answers, for checking integration, shooting, Floquet stability and
+// (later) continuation against closed forms or independent computations:
+//   DuffingOscillator     ẍ + c ẋ + k x + β x³ = F cos(w t)      parameter w  (forced, period 2π/w)
+//   StuartLandauOscillator ż = (λ + iω) z − (1 + iγ)|z|² z        parameter λ  (Hopf normal form)
+//   VanDerPolOscillator   ẍ − μ (1 − x²) ẋ + x = 0               parameter μ  (stiff for large μ)
+// All are dimensionless; "time" below means the model's time unit.
+#pragma once
+
+#include "solvers/ode_system.h"
+
+namespace rubcont {
+
+struct DuffingParams {
+  double damping = 0.05;   // c > 0, viscous damping coefficient (1/time)
+  double stiffness = 1.0;  // k, linear stiffness (1/time²); natural frequency √k
+  double cubic = 1.0;      // β, cubic stiffness (hardening for β > 0) (1/(time²·length²))
+  double force = 0.3;      // F, forcing amplitude (length/time²)
+  double frequency = 1.4;  // w > 0, forcing frequency (rad/time): the continuation parameter
+};
+
+// Throws std::invalid_argument naming the field (non-finite values, damping < 0, frequency ≤ 0).
+void Validate(const DuffingParams& params);
+
+// State (x, ẋ). ForcingPeriod() = 2π/w.
+class DuffingOscillator : public OdeSystem {
+ public:
+  explicit DuffingOscillator(const DuffingParams& params = {});
+  const DuffingParams& params() const { return params_; }
+
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.frequency; }
+  void SetParameter(double w) override { params_.frequency = w; }
+  // ∂f/∂w = (0, −F t sin(w t)).
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  double ForcingPeriod() const override;
+  std::string StateName(Index i) const override { return i == 0 ? "x" : "v"; }
+
+ private:
+  DuffingParams params_;
+};
+
+struct StuartLandauParams {
+  double lambda = 0.5;  // λ, linear growth rate: the continuation parameter (Hopf point at λ = 0)
+  double omega = 1.0;   // ω, linear frequency (rad/time)
+  double gamma = 0.0;   // γ, amplitude–frequency coupling ("shear")
+};
+
+// Throws std::invalid_argument naming a non-finite field.
+void Validate(const StuartLandauParams& params);
+
+// State (x, y) = (Re z, Im z):
+//   ẋ = λ x − ω y − r² (x − γ y),   ẏ = ω x + λ y − r² (γ x + y),   r² = x² + y².
+// For λ > 0 the periodic orbit is the circle r = √λ traversed at angular velocity ω − γλ
+// (period T = 2π/|ω − γλ|); its Floquet multipliers are 1 (phase) and e^{−2λT} (the radial
+// exponent: d/dr (λr − r³) = −2λ at r² = λ). It is stable for λ > 0 and, being a rotating wave of
+// the SO(2) symmetry z → e^{iφ} z, it is declared here with that symmetry.
+class StuartLandauOscillator : public OdeSystem {
+ public:
+  explicit StuartLandauOscillator(const StuartLandauParams& params = {});
+  const StuartLandauParams& params() const { return params_; }
+
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.lambda; }
+  void SetParameter(double lambda) override { params_.lambda = lambda; }
+  // ∂f/∂λ = (x, y).
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+
+  bool HasRotationSymmetry() const override { return true; }
+  // (x, y) ← rotation by φ counter-clockwise (z ← e^{iφ} z).
+  void Rotate(double phi, VectorRef x) const override;
+  // g = (−y, x).
+  void RotationGenerator(ConstVectorRef x, VectorRef g) const override;
+
+  // Closed forms of the periodic orbit at the current λ (> 0).
+  double OrbitRadius() const;          // √λ
+  double AngularVelocity() const;      // ω − γλ
+  double Period() const;               // 2π / |ω − γλ|
+  double NontrivialMultiplier() const; // e^{−2λT}
+
+ private:
+  StuartLandauParams params_;
+};
+
+struct VanDerPolParams {
+  // μ, nonlinear damping: the continuation parameter. μ > 0: an attracting limit cycle (relaxation
+  // oscillation for μ ≫ 1); μ < 0 is the same system in reversed time, whose cycle (the μ > 0 cycle
+  // run backwards, same period) repels with multiplier e^{+|log μ₂|}: a test of unstable orbits.
+  double mu = 1.0;
+};
+
+// Throws std::invalid_argument (μ not finite).
+void Validate(const VanDerPolParams& params);
+
+// State (x, ẋ). The limit cycle has amplitude ≈ 2 and period ≈ (3 − 2 ln 2) μ for μ ≫ 1, with
+// |ẋ| up to about 4μ/3 during the fast jumps; StateScale() is (2, max(2, 4|μ|/3)) accordingly.
+// Liouville: the nontrivial multiplier is exp ∮ μ (1 − x²) dt (≈ e^{−2.886 μ²} for μ ≫ 1).
+class VanDerPolOscillator : public OdeSystem {
+ public:
+  explicit VanDerPolOscillator(const VanDerPolParams& params = {});
+  const VanDerPolParams& params() const { return params_; }
+
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.mu; }
+  void SetParameter(double mu) override { params_.mu = mu; }
+  // ∂f/∂μ = (0, (1 − x²) ẋ).
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  Vector StateScale() const override;
+  std::string StateName(Index i) const override { return i == 0 ? "x" : "v"; }
+
+ private:
+  VanDerPolParams params_;
+};
+
+}  // namespace rubcont

@@ -1,0 +1,687 @@
+#include "shooting/shooting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+
+const char* ToString(OrbitKind kind) {
+  switch (kind) {
+    case OrbitKind::kAutonomous: return "autonomous periodic orbit";
+    case OrbitKind::kForced: return "forced periodic orbit";
+    case OrbitKind::kRelative: return "relative periodic orbit";
+  }
+  return "unknown";
+}
+
+void Validate(const ShootingOptions& options) {
+  if (options.segments < 1) {
+    throw std::invalid_argument(
+        fmt::format("ShootingOptions.segments = {}: must be at least 1", options.segments));
+  }
+  if (!options.mesh.empty()) {
+    const std::size_t expected = static_cast<std::size_t>(options.segments) + 1;
+    if (options.mesh.size() != expected) {
+      throw std::invalid_argument(
+          fmt::format("ShootingOptions.mesh has {} entries: must be empty or segments + 1 = {}",
+                      options.mesh.size(), expected));
+    }
+    if (options.mesh.front() != 0.0 || options.mesh.back() != 1.0) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingOptions.mesh runs from {} to {}: must run from 0 to 1", options.mesh.front(),
+          options.mesh.back()));
+    }
+    for (std::size_t i = 1; i < options.mesh.size(); ++i) {
+      if (!(options.mesh[i] > options.mesh[i - 1])) {
+        throw std::invalid_argument(fmt::format(
+            "ShootingOptions.mesh[{}] = {} ≤ mesh[{}] = {}: must increase strictly", i,
+            options.mesh[i], i - 1, options.mesh[i - 1]));
+      }
+    }
+  }
+  Validate(options.integrator);
+  if (!(options.period_scale >= 0.0) || std::isinf(options.period_scale)) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingOptions.period_scale = {}: must be finite and non-negative (0: automatic)",
+        options.period_scale));
+  }
+  if (!(options.lambda_scale >= 0.0) || std::isinf(options.lambda_scale)) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingOptions.lambda_scale = {}: must be finite and non-negative (0: automatic)",
+        options.lambda_scale));
+  }
+  if (options.samples_per_segment < 2) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingOptions.samples_per_segment = {}: must be at least 2",
+        options.samples_per_segment));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measures
+
+namespace {
+
+// Value at the extremum of the parabola through samples k−1, k, k+1 of row `state`, when the
+// extremum lies between them (sign = +1: maximum, −1: minimum); otherwise the sample itself.
+// For a closed orbit (x(T) = x(0)) the neighbours wrap around the period.
+double RefinedExtremum(const OrbitSamples& orbit, Index state, double sign) {
+  const Index m = orbit.states.cols();
+  const auto row = orbit.states.row(state);
+  Index k = 0;
+  (sign * row.array()).maxCoeff(&k);
+  const double b = row(k);
+  const bool closed = orbit.rotation == 0.0 && m >= 3;
+  Index left = k - 1, right = k + 1;
+  double t_left = 0.0, t_right = 0.0;
+  if (k == 0 || k == m - 1) {
+    if (!closed) return b;
+    // Samples 0 and m−1 are the same point of a closed orbit, at t = 0 and t = T.
+    left = m - 2;
+    right = 1;
+    t_left = orbit.times(m - 2) - orbit.period;
+    t_right = orbit.times(1);
+    if (k == m - 1) {
+      t_left = orbit.times(m - 2) - orbit.times(m - 1);
+      t_right = orbit.times(1) + orbit.period - orbit.times(m - 1);
+    }
+  } else {
+    t_left = orbit.times(left) - orbit.times(k);
+    t_right = orbit.times(right) - orbit.times(k);
+  }
+  const double a = row(left), c = row(right);
+  // p(t) = b + B t + A t² through (t_left, a), (0, b), (t_right, c).
+  const double slope_left = (a - b) / t_left, slope_right = (c - b) / t_right;
+  const double A = (slope_left - slope_right) / (t_left - t_right);
+  const double B = slope_left - A * t_left;
+  if (!(sign * A < 0.0)) return b;
+  const double t_star = -B / (2.0 * A);
+  if (t_star < t_left || t_star > t_right) return b;
+  return b - B * B / (4.0 * A);
+}
+
+}  // namespace
+
+OrbitMeasure StateMaximum(Index state, std::string name) {
+  return {std::move(name),
+          [state](const OrbitSamples& orbit) { return RefinedExtremum(orbit, state, +1.0); }};
+}
+
+OrbitMeasure StateMinimum(Index state, std::string name) {
+  return {std::move(name),
+          [state](const OrbitSamples& orbit) { return RefinedExtremum(orbit, state, -1.0); }};
+}
+
+OrbitMeasure StateAmplitude(Index state, std::string name) {
+  return {std::move(name), [state](const OrbitSamples& orbit) {
+            return 0.5 * (RefinedExtremum(orbit, state, +1.0) -
+                          RefinedExtremum(orbit, state, -1.0));
+          }};
+}
+
+OrbitMeasure StateMean(Index state, std::string name) {
+  return {std::move(name), [state](const OrbitSamples& orbit) {
+            const Index m = orbit.times.size();
+            double integral = 0.0;
+            for (Index k = 1; k < m; ++k) {
+              integral += 0.5 * (orbit.times(k) - orbit.times(k - 1)) *
+                          (orbit.states(state, k) + orbit.states(state, k - 1));
+            }
+            return integral / (orbit.times(m - 1) - orbit.times(0));
+          }};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Construction
+
+namespace {
+
+const ShootingOptions& Validated(const ShootingOptions& options) {
+  Validate(options);
+  return options;
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const ShootingOptions& options)
+    : system_(system),
+      kind_(kind),
+      options_(Validated(options)),
+      integrator_(system, options.integrator),
+      n_(system.Dimension()),
+      segments_(options.segments) {
+  if (kind == OrbitKind::kForced) {
+    const double T = system.ForcingPeriod();
+    if (!(T > 0.0) || !std::isfinite(T)) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingProblem: kind kForced needs OdeSystem::ForcingPeriod() > 0, got {}", T));
+    }
+    period_scale_ = options.period_scale > 0.0 ? options.period_scale : T;
+  } else {
+    if (system.ForcingPeriod() != 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingProblem: kind {} needs an autonomous system, but ForcingPeriod() = {}",
+          ToString(kind), system.ForcingPeriod()));
+    }
+    period_scale_ = options.period_scale;  // 0 until the first phase reference
+  }
+  if (kind == OrbitKind::kRelative && !system.HasRotationSymmetry()) {
+    throw std::invalid_argument(
+        "ShootingProblem: kind kRelative needs a system with HasRotationSymmetry()");
+  }
+  mesh_ = options.mesh;
+  if (mesh_.empty()) {
+    for (Index i = 0; i <= segments_; ++i) {
+      mesh_.push_back(static_cast<double>(i) / static_cast<double>(segments_));
+    }
+    mesh_.back() = 1.0;
+  }
+  state_scale_ = system.StateScale();
+  lambda_scale_ = options.lambda_scale > 0.0 ? options.lambda_scale
+                                             : std::max(std::abs(system.Parameter()), 1.0);
+  for (Index i = 0; i < n_; ++i) {
+    measures_.push_back(StateMaximum(i, "max_" + system.StateName(i)));
+    measures_.push_back(StateMinimum(i, "min_" + system.StateName(i)));
+  }
+  f_work_.resize(n_);
+  g_work_.resize(n_);
+  x_work_.resize(n_);
+  if (!options.integrator.sensitivity_error_control && options.accurate_stability) {
+    IntegratorOptions accurate = options.integrator;
+    accurate.sensitivity_error_control = true;
+    stability_integrator_ = std::make_unique<OdeIntegrator>(system, accurate);
+  }
+  for (SegmentData* data : {&cache_, &scratch_, &stability_}) {
+    data->ends.assign(segments_, Vector::Zero(n_));
+    data->stm.assign(segments_, Matrix::Zero(n_, n_));
+    data->dxdp.assign(segments_, Vector::Zero(n_));
+  }
+}
+
+Index ShootingProblem::Dimension() const {
+  const Index extra = kind_ == OrbitKind::kForced ? 0 : (kind_ == OrbitKind::kAutonomous ? 1 : 2);
+  return segments_ * n_ + extra;
+}
+
+void ShootingProblem::CheckUnknowns(const Vector& u, const char* where) const {
+  if (u.size() != Dimension()) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::{}: u has {} entries; this problem ({}, {} segments of {} states) has {}",
+        where, u.size(), ToString(kind_), segments_, n_, Dimension()));
+  }
+}
+
+Vector ShootingProblem::Pack(const Matrix& starts, double period, double rotation) const {
+  if (starts.rows() != n_ || starts.cols() != segments_) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::Pack: starts is {}×{}, must be {}×{} (states × segments)", starts.rows(),
+        starts.cols(), n_, segments_));
+  }
+  Vector u(Dimension());
+  for (Index i = 0; i < segments_; ++i) u.segment(i * n_, n_) = starts.col(i);
+  if (kind_ != OrbitKind::kForced) u(segments_ * n_) = period;
+  if (kind_ == OrbitKind::kRelative) u(segments_ * n_ + 1) = rotation;
+  return u;
+}
+
+Eigen::VectorBlock<const Vector> ShootingProblem::SegmentStart(const Vector& u,
+                                                               Index segment) const {
+  CheckUnknowns(u, "SegmentStart");
+  if (segment < 0 || segment >= segments_) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::SegmentStart: segment {} outside [0, {})", segment, segments_));
+  }
+  return u.segment(segment * n_, n_);
+}
+
+double ShootingProblem::Period(const Vector& u, double lambda) {
+  CheckUnknowns(u, "Period");
+  return kind_ == OrbitKind::kForced ? ForcingPeriodAt(lambda) : u(segments_ * n_);
+}
+
+double ShootingProblem::Rotation(const Vector& u) const {
+  CheckUnknowns(u, "Rotation");
+  return kind_ == OrbitKind::kRelative ? u(segments_ * n_ + 1) : 0.0;
+}
+
+double ShootingProblem::ForcingPeriodAt(double lambda) {
+  system_.SetParameter(lambda);
+  return system_.ForcingPeriod();
+}
+
+double ShootingProblem::ForcingPeriodDerivative(double lambda) {
+  const double h = 6.0e-6 * std::max(std::abs(lambda), lambda_scale_);
+  const double plus = ForcingPeriodAt(lambda + h);
+  const double minus = ForcingPeriodAt(lambda - h);
+  system_.SetParameter(lambda);
+  return (plus - minus) / (2.0 * h);
+}
+
+void ShootingProblem::RotationMatrix(double phi, Matrix& R) const {
+  R.setIdentity(n_, n_);
+  for (Index j = 0; j < n_; ++j) system_.Rotate(phi, R.col(j));
+}
+
+void ShootingProblem::SetPhaseReference(const Vector& u, double lambda) {
+  CheckUnknowns(u, "SetPhaseReference");
+  if (kind_ == OrbitKind::kForced) return;  // no phase condition
+  const Vector x_ref = u.head(n_);
+  system_.SetParameter(lambda);
+  system_.Rhs(0.0, x_ref, f_work_);
+  const Vector scaled_f = f_work_.cwiseQuotient(state_scale_);
+  if (!(scaled_f.norm() > 0.0) || !scaled_f.allFinite()) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::SetPhaseReference: f(x_ref) has norm {}: the reference must be a "
+        "regular point of an orbit, not an equilibrium",
+        scaled_f.norm()));
+  }
+  reference_ = x_ref;
+  time_normal_ = (scaled_f / scaled_f.norm()).cwiseQuotient(state_scale_);
+  if (kind_ == OrbitKind::kRelative) {
+    system_.RotationGenerator(x_ref, g_work_);
+    const Vector scaled_g = g_work_.cwiseQuotient(state_scale_);
+    if (!(scaled_g.norm() > 0.0) || !scaled_g.allFinite()) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingProblem::SetPhaseReference: the rotation generator at x_ref has norm {}: the "
+          "reference must not be fixed by the rotation",
+          scaled_g.norm()));
+    }
+    rotation_normal_ = (scaled_g / scaled_g.norm()).cwiseQuotient(state_scale_);
+  }
+  has_reference_ = true;
+  if (period_scale_ == 0.0) {
+    const double T = std::abs(u(segments_ * n_));
+    period_scale_ = T > 0.0 && std::isfinite(T) ? T : 1.0;
+  }
+  // The phase rows changed: a cached residual is stale (the integrations are not).
+  residual_ready_ = false;
+}
+
+void ShootingProblem::SetMeasures(std::vector<OrbitMeasure> measures) {
+  for (const OrbitMeasure& measure : measures) {
+    if (measure.name.empty() || !measure.evaluate) {
+      throw std::invalid_argument(
+          "ShootingProblem::SetMeasures: every measure needs a name and a function");
+    }
+  }
+  measures_ = std::move(measures);
+}
+
+Vector ShootingProblem::Scale() const {
+  Vector scale(Dimension());
+  for (Index i = 0; i < segments_; ++i) scale.segment(i * n_, n_) = state_scale_;
+  if (kind_ != OrbitKind::kForced) scale(segments_ * n_) = period_scale_ > 0.0 ? period_scale_ : 1.0;
+  if (kind_ == OrbitKind::kRelative) scale(segments_ * n_ + 1) = 1.0;  // radians
+  return scale;
+}
+
+Vector ShootingProblem::ResidualScale() const {
+  Vector scale = Vector::Ones(Dimension());
+  for (Index i = 0; i < segments_; ++i) scale.segment(i * n_, n_) = state_scale_;
+  return scale;  // the phase conditions are dimensionless already
+}
+
+// ---------------------------------------------------------------------------------------------
+// Integration and the cache
+
+bool ShootingProblem::SameKey(const Vector& u, double lambda) const {
+  return cache_valid_ && lambda == cache_lambda_ && u.size() == cache_u_.size() &&
+         u == cache_u_;
+}
+
+bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need need,
+                                        SegmentData& data, OdeIntegrator& integrator) {
+  data.has_stm = data.has_dxdp = false;
+  if (!u.allFinite() || !std::isfinite(lambda)) {
+    last_failure_ = IntegrationResult();
+    last_failure_.status = IntegrationStatus::kOther;
+    last_failure_.message = "the unknowns or λ are not finite";
+    return false;
+  }
+  system_.SetParameter(lambda);
+  const double T = kind_ == OrbitKind::kForced ? system_.ForcingPeriod() : u(segments_ * n_);
+  if (!(T > 0.0) || !std::isfinite(T)) {
+    last_failure_ = IntegrationResult();
+    last_failure_.status = IntegrationStatus::kOther;
+    last_failure_.message = fmt::format("the period T = {} is not positive and finite", T);
+    return false;
+  }
+  for (Index i = 0; i < segments_; ++i) {
+    Matrix* stm = need == Need::kState ? nullptr : &data.stm[i];
+    Vector* dxdp = need == Need::kStmAndParameter ? &data.dxdp[i] : nullptr;
+    const IntegrationResult result =
+        integrator.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
+                             data.ends[i], stm, dxdp);
+    statistics_.steps += result.statistics.steps;
+    if (stm == nullptr) {
+      ++statistics_.residual_integrations;
+    } else {
+      ++statistics_.sensitivity_integrations;
+    }
+    if (!result.Succeeded()) {
+      last_failure_ = result;
+      last_failure_.message =
+          fmt::format("segment {} of {}: {}", i, segments_, last_failure_.message);
+      return false;
+    }
+  }
+  data.has_stm = need != Need::kState;
+  data.has_dxdp = need == Need::kStmAndParameter;
+  return true;
+}
+
+bool ShootingProblem::Ensure(const Vector& u, double lambda, Need need) {
+  if (!SameKey(u, lambda)) {
+    cache_valid_ = false;
+    residual_ready_ = false;
+    cache_.has_stm = cache_.has_dxdp = false;
+  }
+  const bool have = cache_valid_ && (need == Need::kState  ? true
+                                     : need == Need::kStm ? cache_.has_stm
+                                                          : cache_.has_dxdp);
+  if (have) {
+    ++statistics_.cache_hits;
+  } else {
+    if (!has_reference_ && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
+    // A Jacobian is followed by ∂F/∂λ in a continuation corrector: compute both from one
+    // integration. A residual-only request stays cheap unless asked otherwise.
+    Need actual = need;
+    const bool parameter_sensitivity =
+        options_.lambda_derivative == LambdaDerivative::kSensitivity;
+    if (need == Need::kStm && parameter_sensitivity) actual = Need::kStmAndParameter;
+    if (need == Need::kState && options_.sensitivities_in_residual) {
+      actual = parameter_sensitivity ? Need::kStmAndParameter : Need::kStm;
+    }
+    cache_valid_ = false;
+    if (!IntegrateSegments(u, lambda, actual, cache_, integrator_)) return false;
+    cache_u_ = u;
+    cache_lambda_ = lambda;
+    cache_valid_ = true;
+  }
+  // The residual at a point is assembled from its first integration and then kept, so that F(u)
+  // does not change by integration noise when a Jacobian later integrates again with
+  // sensitivities (a different step sequence).
+  if (!residual_ready_) {
+    AssembleResidual(u, cache_, cache_F_);
+    residual_ready_ = true;
+  }
+  return true;
+}
+
+void ShootingProblem::AssembleResidual(const Vector& u, const SegmentData& data, Vector& F) {
+  F.resize(Dimension());
+  for (Index i = 0; i + 1 < segments_; ++i) {
+    F.segment(i * n_, n_) = data.ends[i] - u.segment((i + 1) * n_, n_);
+  }
+  x_work_ = u.head(n_);
+  if (kind_ == OrbitKind::kRelative) system_.Rotate(u(segments_ * n_ + 1), x_work_);
+  F.segment((segments_ - 1) * n_, n_) = data.ends[segments_ - 1] - x_work_;
+  if (kind_ != OrbitKind::kForced) {
+    F(segments_ * n_) = time_normal_.dot(u.head(n_) - reference_);
+  }
+  if (kind_ == OrbitKind::kRelative) {
+    F(segments_ * n_ + 1) = rotation_normal_.dot(u.head(n_) - reference_);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Problem interface
+
+void ShootingProblem::Residual(const Vector& u, double lambda, Vector& F) {
+  CheckUnknowns(u, "Residual");
+  if (!Ensure(u, lambda, Need::kState)) {
+    F = Vector::Constant(Dimension(), kNaN);
+    return;
+  }
+  F = cache_F_;
+}
+
+void ShootingProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
+  CheckUnknowns(u, "Jacobian");
+  const Index dimension = Dimension();
+  if (!Ensure(u, lambda, Need::kStm)) {
+    J = Matrix::Constant(dimension, dimension, kNaN);
+    return;
+  }
+  J.setZero(dimension, dimension);
+  const Index N = segments_, n = n_;
+  for (Index i = 0; i < N; ++i) {
+    J.block(i * n, i * n, n, n) = cache_.stm[i];
+    if (i + 1 < N) J.block(i * n, (i + 1) * n, n, n).diagonal().setConstant(-1.0);
+  }
+  if (kind_ == OrbitKind::kRelative) {
+    RotationMatrix(u(N * n + 1), rotation_work_);
+    J.block((N - 1) * n, 0, n, n) -= rotation_work_;
+  } else {
+    J.block((N - 1) * n, 0, n, n).diagonal().array() -= 1.0;
+  }
+  if (kind_ == OrbitKind::kForced) return;
+  const double T = u(N * n);
+  system_.SetParameter(lambda);
+  for (Index i = 0; i < N; ++i) {
+    system_.Rhs(SegmentTime(T, i + 1), cache_.ends[i], f_work_);
+    J.block(i * n, N * n, n, 1) = f_work_ * (mesh_[i + 1] - mesh_[i]);
+  }
+  J.block(N * n, 0, 1, n) = time_normal_.transpose();
+  if (kind_ == OrbitKind::kRelative) {
+    x_work_ = u.head(n);
+    system_.Rotate(u(N * n + 1), x_work_);
+    system_.RotationGenerator(x_work_, g_work_);
+    J.block((N - 1) * n, N * n + 1, n, 1) = -g_work_;
+    J.block(N * n + 1, 0, 1, n) = rotation_normal_.transpose();
+  }
+}
+
+void ShootingProblem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
+  CheckUnknowns(u, "DfDlambda");
+  const Index dimension = Dimension();
+  const Index N = segments_, n = n_;
+  if (options_.lambda_derivative == LambdaDerivative::kFiniteDifference) {
+    // Central differences; the scratch data keep the cache at (u, λ) intact.
+    const double h = 6.0e-6 * std::max(std::abs(lambda), lambda_scale_);
+    Vector F_plus, F_minus;
+    if (!has_reference_ && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
+    const bool ok = IntegrateSegments(u, lambda + h, Need::kState, scratch_, integrator_);
+    if (ok) AssembleResidual(u, scratch_, F_plus);
+    const bool ok_minus =
+        ok && IntegrateSegments(u, lambda - h, Need::kState, scratch_, integrator_);
+    if (ok_minus) AssembleResidual(u, scratch_, F_minus);
+    system_.SetParameter(lambda);
+    if (!ok_minus) {
+      dF = Vector::Constant(dimension, kNaN);
+      return;
+    }
+    dF = (F_plus - F_minus) / (2.0 * h);
+    return;
+  }
+  if (!Ensure(u, lambda, Need::kStmAndParameter)) {
+    dF = Vector::Constant(dimension, kNaN);
+    return;
+  }
+  dF.setZero(dimension);
+  for (Index i = 0; i < N; ++i) dF.segment(i * n, n) = cache_.dxdp[i];
+  if (kind_ == OrbitKind::kForced) {
+    // The segment ends t_i = T(λ) τ_i move with λ: d y_i = f(t_{i+1}, y_i) dt_{i+1} − M_i f(t_i, x_i) dt_i.
+    const double T = ForcingPeriodAt(lambda);
+    const double dT = ForcingPeriodDerivative(lambda);
+    for (Index i = 0; i < N; ++i) {
+      system_.Rhs(SegmentTime(T, i + 1), cache_.ends[i], f_work_);
+      dF.segment(i * n, n) += dT * mesh_[i + 1] * f_work_;
+      if (i > 0) {
+        system_.Rhs(SegmentTime(T, i), u.segment(i * n, n), f_work_);
+        dF.segment(i * n, n) -= dT * mesh_[i] * (cache_.stm[i] * f_work_);
+      }
+    }
+  }
+}
+
+const std::vector<Matrix>* ShootingProblem::StabilityMonodromies(const Vector& u, double lambda) {
+  if (!stability_integrator_) return Ensure(u, lambda, Need::kStm) ? &cache_.stm : nullptr;
+  if (stability_valid_ && lambda == stability_lambda_ && u == stability_u_) {
+    ++statistics_.cache_hits;
+    return &stability_.stm;
+  }
+  stability_valid_ = false;
+  if (!IntegrateSegments(u, lambda, Need::kStm, stability_, *stability_integrator_)) {
+    return nullptr;
+  }
+  stability_u_ = u;
+  stability_lambda_ = lambda;
+  stability_valid_ = true;
+  return &stability_.stm;
+}
+
+const std::vector<Matrix>& ShootingProblem::SegmentMonodromies(const Vector& u, double lambda) {
+  CheckUnknowns(u, "SegmentMonodromies");
+  static const std::vector<Matrix> kEmpty;
+  const std::vector<Matrix>* stm = StabilityMonodromies(u, lambda);
+  return stm != nullptr ? *stm : kEmpty;
+}
+
+FloquetResult ShootingProblem::Floquet(const Vector& u, double lambda) {
+  CheckUnknowns(u, "Floquet");
+  FloquetResult result;
+  const std::vector<Matrix>* stm = StabilityMonodromies(u, lambda);
+  if (stm == nullptr) {
+    const Index k = kind_ == OrbitKind::kForced ? 0 : (kind_ == OrbitKind::kAutonomous ? 1 : 2);
+    result.multipliers = ComplexVector::Constant(n_ - k, std::complex<double>(kNaN, kNaN));
+    return result;
+  }
+  const Index N = segments_, n = n_;
+  // Factors in scaled coordinates S⁻¹ M_i S (a similarity: the multipliers do not change, the
+  // blocks are balanced when states have different units).
+  std::vector<Matrix> factors(N);
+  for (Index i = 0; i < N; ++i) {
+    factors[i] = state_scale_.cwiseInverse().asDiagonal() * (*stm)[i] * state_scale_.asDiagonal();
+  }
+  const double phi = Rotation(u);
+  if (kind_ == OrbitKind::kRelative) {
+    // The return map of a relative periodic orbit is x ↦ R_{−φ} x(T; x): last factor R_{−φ} M.
+    RotationMatrix(-phi, rotation_work_);
+    factors[N - 1] = state_scale_.cwiseInverse().asDiagonal() * rotation_work_ *
+                     (*stm)[N - 1] * state_scale_.asDiagonal();
+  }
+  // Trivial directions at every segment start, scaled: f(t_i, x_i) and g(x_i).
+  std::vector<Matrix> bases;
+  if (kind_ != OrbitKind::kForced) {
+    const double T = u(N * n);
+    system_.SetParameter(lambda);
+    const Index k = kind_ == OrbitKind::kAutonomous ? 1 : 2;
+    bases.assign(N, Matrix(n, k));
+    for (Index i = 0; i < N; ++i) {
+      system_.Rhs(SegmentTime(T, i), u.segment(i * n, n), f_work_);
+      bases[i].col(0) = f_work_.cwiseQuotient(state_scale_);
+      if (k == 2) {
+        system_.RotationGenerator(u.segment(i * n, n), g_work_);
+        bases[i].col(1) = g_work_.cwiseQuotient(state_scale_);
+      }
+    }
+  }
+  return FloquetMultipliers(factors, bases, options_.floquet_method);
+}
+
+Spectrum ShootingProblem::Stability(const Vector& u, double lambda) {
+  const FloquetResult floquet = Floquet(u, lambda);
+  Spectrum spectrum;
+  spectrum.kind = SpectrumKind::kFloquetMultipliers;
+  spectrum.values = floquet.multipliers;
+  spectrum.trivial_removed =
+      kind_ == OrbitKind::kForced ? 0 : (kind_ == OrbitKind::kAutonomous ? 1 : 2);
+  spectrum.valid = floquet.valid;
+  return spectrum;
+}
+
+OrbitSamples ShootingProblem::Orbit(const Vector& u, double lambda) {
+  CheckUnknowns(u, "Orbit");
+  OrbitSamples orbit;
+  orbit.parameter = lambda;
+  orbit.rotation = Rotation(u);
+  system_.SetParameter(lambda);
+  const double T = Period(u, lambda);
+  orbit.period = T;
+  const Index s = options_.samples_per_segment;
+  const Index m = segments_ * s + 1;
+  orbit.times.resize(m);
+  orbit.states.resize(n_, m);
+  if (!u.allFinite() || !(T > 0.0) || !std::isfinite(T)) {
+    orbit.states.setConstant(kNaN);
+    return orbit;
+  }
+  Matrix segment_states;
+  for (Index i = 0; i < segments_; ++i) {
+    const double t0 = SegmentTime(T, i), t1 = SegmentTime(T, i + 1);
+    const Vector times = Vector::LinSpaced(s + 1, t0, t1);
+    const IntegrationResult result =
+        integrator_.Sample(t0, u.segment(i * n_, n_), times, segment_states);
+    statistics_.steps += result.statistics.steps;
+    ++statistics_.residual_integrations;
+    if (!result.Succeeded()) {
+      last_failure_ = result;
+      orbit.states.setConstant(kNaN);
+      return orbit;
+    }
+    const Index count = i + 1 == segments_ ? s + 1 : s;
+    orbit.times.segment(i * s, count) = times.head(count);
+    orbit.states.middleCols(i * s, count) = segment_states.leftCols(count);
+  }
+  orbit.valid = true;
+  return orbit;
+}
+
+std::vector<std::string> ShootingProblem::MeasureNames() const {
+  std::vector<std::string> names = {"period"};
+  if (kind_ == OrbitKind::kRelative) names.push_back("rotation");
+  for (const OrbitMeasure& measure : measures_) names.push_back(measure.name);
+  return names;
+}
+
+Vector ShootingProblem::Measures(const Vector& u, double lambda) {
+  CheckUnknowns(u, "Measures");
+  const OrbitSamples orbit = Orbit(u, lambda);
+  Vector values(MeasureNames().size());
+  Index k = 0;
+  values(k++) = orbit.period;
+  if (kind_ == OrbitKind::kRelative) values(k++) = orbit.rotation;
+  for (const OrbitMeasure& measure : measures_) {
+    values(k++) = orbit.valid ? measure.evaluate(orbit) : kNaN;
+  }
+  return values;
+}
+
+Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double lambda,
+                                     double rotation) {
+  if (x0.size() != n_) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::InitialGuess: x0 has {} entries, the system has {}", x0.size(), n_));
+  }
+  system_.SetParameter(lambda);
+  const double T = kind_ == OrbitKind::kForced ? system_.ForcingPeriod() : period;
+  if (!(T > 0.0) || !std::isfinite(T)) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingProblem::InitialGuess: period = {} must be positive and finite", T));
+  }
+  Matrix starts(n_, segments_);
+  starts.col(0) = x0;
+  for (Index i = 1; i < segments_; ++i) {
+    const IntegrationResult result = integrator_.Integrate(
+        SegmentTime(T, i - 1), starts.col(i - 1), SegmentTime(T, i), starts.col(i));
+    statistics_.steps += result.statistics.steps;
+    ++statistics_.residual_integrations;
+    if (!result.Succeeded()) {
+      last_failure_ = result;
+      starts.rightCols(segments_ - i).setConstant(kNaN);
+      break;
+    }
+  }
+  Vector u = Pack(starts, T, rotation);
+  if (kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
+  return u;
+}
+
+}  // namespace rubcont

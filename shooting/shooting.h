@@ -1,0 +1,260 @@
+// Periodic orbits by single and multiple shooting, as continuation problems F(u, λ) = 0
+// (continuation/problem.h). λ is the OdeSystem's parameter. Three kinds of orbit:
+//
+//   kAutonomous  ẋ = f(x):            x(T) = x(0), T unknown, one phase condition.
+//   kForced      ẋ = f(t, x), f T-periodic in t with T = system.ForcingPeriod() at λ (the
+//                parameter may change it, e.g. a forcing frequency): x(T) = x(0), no phase condition.
+//   kRelative    relative periodic orbit of a system with a rotation symmetry R_φ
+//                (OdeSystem::Rotate): x(T) = R_φ x(0) with T and φ unknown, two phase conditions.
+//                In the frame that rotates by φ per period the orbit is periodic; in the original
+//                frame it is quasi-periodic (frequencies 2π/T and φ/T) unless φ/2π is rational.
+//
+// Sign convention of the rotation: φ is the angle for which x(T) = R_φ x(0), R_φ being the model's
+// own Rotate(φ, ·) (OdeSystem's convention). If the model's Rotate multiplies complex coordinates by
+// e^{jφ}, design.md's p(T) = e^{−jφ_d} p(0) has φ_d = −φ.
+//
+// Unknowns (N segments, n states; mesh 0 = τ_0 < τ_1 < … < τ_N = 1, segment i covers
+// [T τ_i, T τ_{i+1}]):
+//   u = [x_0, x_1, …, x_{N−1}, T (kAutonomous, kRelative), φ (kRelative)],   size N n + 0/1/2.
+// Residual, with y_i = x(T τ_{i+1}; T τ_i, x_i) the end of segment i:
+//   r_i = y_i − x_{i+1}   (i < N−1),       r_{N−1} = y_{N−1} − R_φ x_0   (R = I unless kRelative),
+//   p_t = n̂_fᵀ S⁻¹ (x_0 − x_ref),           p_φ = n̂_gᵀ S⁻¹ (x_0 − x_ref)   (kRelative),
+// S = diag(StateScale()), n̂_f = S⁻¹ f(x_ref) / ‖S⁻¹ f(x_ref)‖, n̂_g likewise with the rotation
+// generator g(x_ref). These are Poincaré-type phase conditions (a hyperplane through a reference
+// point, orthogonal in the scaled metric to the flow, resp. to the group orbit; Seydel §7.3, Lust
+// 2001). The integral phase condition of collocation (AUTO) would need the sensitivities along the
+// whole orbit; the hyperplane needs them at one point only, and stays transversal as long as the
+// reference is updated from time to time along a branch (SetPhaseReference).
+//
+// The Jacobian is assembled from forward sensitivities (block-bidiagonal with a corner block, plus
+// the bordering columns ∂/∂T, ∂/∂φ and the phase rows; Keller 1968, Ascher–Mattheij–Russell):
+//   ∂r_i/∂x_i = M_i,  ∂r_i/∂x_{i+1} = −I,  ∂r_{N−1}/∂x_0 = −R_φ,  ∂r_{N−1}/∂φ = −g(R_φ x_0),
+//   ∂r_i/∂T = f(y_i)(τ_{i+1} − τ_i) (autonomous: y_i depends on T through the duration only).
+// ∂F/∂λ: r_i gets ∂y_i/∂p (parameter sensitivity) plus, for kForced, the motion of the segment
+// ends with T(λ): T′(λ)[τ_{i+1} f(t_{i+1}, y_i) − τ_i M_i f(t_i, x_i)].
+//
+// Integrations are cached at the last (u, λ): Residual, Jacobian, DfDlambda, Stability at the same
+// point integrate once (Residual alone integrates without sensitivities, which is cheaper; the
+// residual value at a point is kept from its first evaluation so that F(u) is one function).
+// Floquet multipliers: periodic Schur method on the segment STMs (solvers/floquet.h), trivial
+// multipliers deflated with f(x_i) (and g(x_i)); for kRelative the return map is x ↦ R_{−φ} x(T),
+// so the last factor is R_{−φ} M_{N−1}.
+//
+// Integration failures (tier 3): Residual and Jacobian fill their output with NaN, which
+// NewtonSolve reports as kNonFinite and the continuation engine treats as a failed step;
+// LastFailure() says why. Stability returns valid = false.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "continuation/problem.h"
+#include "solvers/floquet.h"
+#include "solvers/ode.h"
+
+namespace rubcont {
+
+enum class OrbitKind { kAutonomous, kForced, kRelative };
+const char* ToString(OrbitKind kind);
+
+enum class LambdaDerivative {
+  kSensitivity,       // ∂y_i/∂p from one more forward sensitivity, computed with the Jacobian
+  kFiniteDifference,  // central differences of the residual in λ (two more integrations)
+};
+
+struct ShootingOptions {
+  // Number of shooting segments N ≥ 1 (1: single shooting).
+  int segments = 1;
+  // Segment boundaries as fractions of the period, N + 1 values 0 = τ_0 < … < τ_N = 1. Empty:
+  // uniform. Put boundaries before fast phases (relaxation jumps) to keep each segment benign.
+  std::vector<double> mesh;
+  // Integrator for every segment. Tight defaults: the Newton tolerances of the caller cannot be
+  // met below the integration error (rtol 1e-10 gives residuals of order 1e-9).
+  IntegratorOptions integrator = [] {
+    IntegratorOptions options;
+    options.relative_tolerance = 1e-10;
+    options.absolute_tolerance = 1e-10;
+    return options;
+  }();
+  FloquetMethod floquet_method = FloquetMethod::kPeriodicSchur;
+  LambdaDerivative lambda_derivative = LambdaDerivative::kSensitivity;
+  // Integrate with sensitivities already in Residual (useful when almost every residual is
+  // followed by a Jacobian at the same point, as in continuation correctors).
+  bool sensitivities_in_residual = false;
+  // When integrator.sensitivity_error_control is off (a cheap Jacobian for Newton: on stiff
+  // systems 18–150× cheaper and as good for convergence, see bench/shooting_bench.cpp), integrate
+  // the STM once more with it on for Stability, Floquet and SegmentMonodromies, so that the
+  // multipliers keep their accuracy. No effect when error control is on.
+  bool accurate_stability = true;
+  // Typical period (time units) for Scale(); 0: |T| of the first phase reference.
+  double period_scale = 0.0;
+  // Typical |λ| for LambdaScale(); 0: max(|λ|, 1) with λ the system's parameter at construction.
+  double lambda_scale = 0.0;
+  // Samples per segment for measures and Orbit() (≥ 2).
+  int samples_per_segment = 64;
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const ShootingOptions& options);
+
+// An orbit sampled in time: times from 0 to T (the last sample is the end of the last segment).
+struct OrbitSamples {
+  Vector times;      // m
+  Matrix states;     // n × m
+  double period = 0.0;
+  double rotation = 0.0;  // φ (kRelative), else 0
+  double parameter = 0.0;
+  bool valid = false;     // false when an integration failed
+};
+
+// A named scalar of an orbit, evaluated from its samples (measures are stored with every branch
+// point by the continuation engine).
+struct OrbitMeasure {
+  std::string name;
+  std::function<double(const OrbitSamples&)> evaluate;
+};
+// Maximum / minimum of state i over the orbit (refined by a parabola through the extreme sample
+// and its neighbours), half the peak-to-peak range, and the time average (trapezoidal rule).
+OrbitMeasure StateMaximum(Index state, std::string name);
+OrbitMeasure StateMinimum(Index state, std::string name);
+OrbitMeasure StateAmplitude(Index state, std::string name);
+OrbitMeasure StateMean(Index state, std::string name);
+
+// Work done, summed over calls (for benchmarks).
+struct ShootingStatistics {
+  long residual_integrations = 0;     // segment integrations without sensitivities
+  long sensitivity_integrations = 0;  // segment integrations with the STM
+  long steps = 0;                     // integrator steps, all integrations
+  long cache_hits = 0;                // evaluations served from the cache
+};
+
+class ShootingProblem : public Problem {
+ public:
+  // The system must outlive the problem. Throws std::invalid_argument when the kind does not fit
+  // the system (kForced without ForcingPeriod() > 0, kRelative without rotation symmetry).
+  ShootingProblem(OdeSystem& system, OrbitKind kind, const ShootingOptions& options = {});
+
+  // --- Problem ---
+  Index Dimension() const override;
+  void Residual(const Vector& u, double lambda, Vector& F) override;
+  void Jacobian(const Vector& u, double lambda, Matrix& J) override;
+  void DfDlambda(const Vector& u, double lambda, Vector& dF) override;
+  Vector Scale() const override;
+  double LambdaScale() const override { return lambda_scale_; }
+  Vector ResidualScale() const override;
+  bool HasStability() const override { return true; }
+  // Nontrivial Floquet multipliers (1 removed for kAutonomous, 2 for kRelative).
+  Spectrum Stability(const Vector& u, double lambda) override;
+  // "period", then "rotation" (kRelative), then the measures of SetMeasures (default: max and min
+  // of every state, "max_<StateName(i)>", "min_<StateName(i)>").
+  std::vector<std::string> MeasureNames() const override;
+  Vector Measures(const Vector& u, double lambda) override;
+
+  // --- Building and reading unknowns ---
+  OrbitKind kind() const { return kind_; }
+  Index StateDimension() const { return n_; }
+  Index SegmentCount() const { return segments_; }
+  const ShootingOptions& options() const { return options_; }
+  // u from segment starts (n × N), T and φ (ignored where not unknowns).
+  Vector Pack(const Matrix& starts, double period, double rotation = 0.0) const;
+  Eigen::VectorBlock<const Vector> SegmentStart(const Vector& u, Index segment) const;
+  // T: the unknown (kAutonomous, kRelative) or ForcingPeriod() at λ (kForced).
+  double Period(const Vector& u, double lambda);
+  double Rotation(const Vector& u) const;  // φ (kRelative), else 0
+
+  // An initial guess from one point x0 near the orbit: integrates from x0 over one period guess
+  // (kForced: the forcing period at λ) and places the segment starts on that trajectory; sets the
+  // phase reference to x0 (not for kForced). On an integration failure the result has NaN
+  // entries and LastFailure() says why.
+  Vector InitialGuess(ConstVectorRef x0, double period, double lambda, double rotation = 0.0);
+
+  // The phase conditions' hyperplanes pass through x_0 of u, normal to f and g there. Call it on
+  // accepted continuation points to keep the hyperplane transversal to a changing orbit.
+  void SetPhaseReference(const Vector& u, double lambda);
+
+  // Replaces the default state min/max measures (period and rotation always come first).
+  void SetMeasures(std::vector<OrbitMeasure> measures);
+
+  // The orbit sampled with samples_per_segment points per segment.
+  OrbitSamples Orbit(const Vector& u, double lambda);
+
+  // Full Floquet information at (u, λ): nontrivial and trivial multipliers, invariance defect.
+  FloquetResult Floquet(const Vector& u, double lambda);
+
+  // Segment state-transition matrices M_i at (u, λ), the ones Stability uses (integrated under
+  // sensitivity error control when accurate_stability applies); empty on failure.
+  const std::vector<Matrix>& SegmentMonodromies(const Vector& u, double lambda);
+
+  // The last integration failure (status kSuccess if none since construction).
+  const IntegrationResult& LastFailure() const { return last_failure_; }
+  const ShootingStatistics& statistics() const { return statistics_; }
+  void ResetStatistics() { statistics_ = {}; }
+
+ private:
+  enum class Need { kState, kStm, kStmAndParameter };
+  struct SegmentData {
+    std::vector<Vector> ends;  // y_i
+    std::vector<Matrix> stm;   // M_i
+    std::vector<Vector> dxdp;  // ∂y_i/∂p
+    bool has_stm = false;
+    bool has_dxdp = false;
+  };
+
+  void CheckUnknowns(const Vector& u, const char* where) const;
+  bool SameKey(const Vector& u, double lambda) const;
+  // Integrates every segment at (u, λ) into data; false on failure (last_failure_ set).
+  bool IntegrateSegments(const Vector& u, double lambda, Need need, SegmentData& data,
+                         OdeIntegrator& integrator);
+  // The segment STMs for stability at (u, λ) (see accurate_stability); null on failure.
+  const std::vector<Matrix>* StabilityMonodromies(const Vector& u, double lambda);
+  // Makes the cache hold (u, λ) with at least `need`; false on failure.
+  bool Ensure(const Vector& u, double lambda, Need need);
+  void AssembleResidual(const Vector& u, const SegmentData& data, Vector& F);
+  double SegmentTime(double period, Index boundary) const { return period * mesh_[boundary]; }
+  double ForcingPeriodAt(double lambda);
+  double ForcingPeriodDerivative(double lambda);
+  void RotationMatrix(double phi, Matrix& R) const;
+
+  OdeSystem& system_;
+  OrbitKind kind_;
+  ShootingOptions options_;
+  OdeIntegrator integrator_;
+  std::unique_ptr<OdeIntegrator> stability_integrator_;  // see accurate_stability
+  Index n_;
+  Index segments_;
+  std::vector<double> mesh_;  // N + 1 fractions
+  Vector state_scale_;
+  double period_scale_ = 0.0;
+  double lambda_scale_ = 1.0;
+  std::vector<OrbitMeasure> measures_;
+
+  // Phase reference.
+  bool has_reference_ = false;
+  Vector reference_;       // x_ref
+  Vector time_normal_;     // S⁻¹ n̂_f  (so that p_t = time_normalᵀ (x_0 − x_ref))
+  Vector rotation_normal_; // S⁻¹ n̂_g
+
+  // Cache of the last evaluation point.
+  bool cache_valid_ = false;
+  Vector cache_u_;
+  double cache_lambda_ = 0.0;
+  bool residual_ready_ = false;
+  Vector cache_F_;
+  SegmentData cache_;
+  SegmentData scratch_;  // for finite differences in λ, which must not evict the cache
+  // STMs integrated with sensitivity error control for stability (accurate_stability).
+  SegmentData stability_;
+  bool stability_valid_ = false;
+  Vector stability_u_;
+  double stability_lambda_ = 0.0;
+
+  // Workspaces.
+  Vector f_work_, g_work_, x_work_;
+  Matrix rotation_work_;
+  IntegrationResult last_failure_;
+  ShootingStatistics statistics_;
+};
+
+}  // namespace rubcont

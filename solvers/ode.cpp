@@ -1,0 +1,379 @@
+#include "solvers/ode.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "solvers/ode_internal.h"
+
+namespace rubcont {
+
+const char* ToString(IntegrationMethod method) {
+  switch (method) {
+    case IntegrationMethod::kBdf: return "CVODES BDF";
+    case IntegrationMethod::kAdams: return "CVODES Adams";
+    case IntegrationMethod::kExplicitRungeKutta: return "ARKODE ERK";
+    case IntegrationMethod::kDiagonallyImplicitRungeKutta: return "ARKODE DIRK";
+  }
+  return "unknown";
+}
+
+const char* ToString(IntegrationStatus status) {
+  switch (status) {
+    case IntegrationStatus::kSuccess: return "success";
+    case IntegrationStatus::kTooMuchWork: return "too much work (max_steps reached)";
+    case IntegrationStatus::kTooMuchAccuracy: return "tolerances too small";
+    case IntegrationStatus::kErrorTestFailures: return "repeated error-test failures";
+    case IntegrationStatus::kConvergenceFailures: return "repeated convergence failures";
+    case IntegrationStatus::kLinearSolverFailure: return "linear solver failure";
+    case IntegrationStatus::kRhsFailure: return "right-hand side failure";
+    case IntegrationStatus::kNonFinite: return "non-finite right-hand side";
+    case IntegrationStatus::kStateBound: return "state bound exceeded";
+    case IntegrationStatus::kOther: return "integrator failure";
+  }
+  return "unknown";
+}
+
+void Validate(const IntegratorOptions& options) {
+  auto fail = [](const char* field, double value, const char* rule) {
+    throw std::invalid_argument(
+        fmt::format("IntegratorOptions.{} = {}: {}", field, value, rule));
+  };
+  if (!(options.relative_tolerance > 0.0 && options.relative_tolerance < 1.0)) {
+    fail("relative_tolerance", options.relative_tolerance, "must lie in (0, 1)");
+  }
+  if (!(options.absolute_tolerance > 0.0 && options.absolute_tolerance < 1.0)) {
+    fail("absolute_tolerance", options.absolute_tolerance, "must lie in (0, 1)");
+  }
+  if (options.max_steps < 1) fail("max_steps", options.max_steps, "must be at least 1");
+  if (!(options.max_step >= 0.0) || std::isinf(options.max_step)) {
+    fail("max_step", options.max_step, "must be finite and non-negative (0: unlimited)");
+  }
+  if (!(options.initial_step >= 0.0) || std::isinf(options.initial_step)) {
+    fail("initial_step", options.initial_step, "must be finite and non-negative (0: automatic)");
+  }
+  const int max_order_limit = options.method == IntegrationMethod::kAdams ? 12 : 5;
+  if ((options.method == IntegrationMethod::kBdf || options.method == IntegrationMethod::kAdams) &&
+      (options.max_order < 0 || options.max_order > max_order_limit)) {
+    fail("max_order", options.max_order,
+         options.method == IntegrationMethod::kAdams ? "must lie in [0, 12] for Adams"
+                                                     : "must lie in [0, 5] for BDF");
+  }
+  const int e = options.explicit_order;
+  if (e != 2 && e != 3 && e != 4 && e != 5 && e != 6 && e != 8) {
+    fail("explicit_order", e, "must be 2, 3, 4, 5, 6 or 8");
+  }
+  if (options.implicit_order < 2 || options.implicit_order > 5) {
+    fail("implicit_order", options.implicit_order, "must lie in [2, 5]");
+  }
+  if (!(options.parameter_scale >= 0.0) || std::isinf(options.parameter_scale)) {
+    fail("parameter_scale", options.parameter_scale,
+         "must be finite and non-negative (0: max(|p|, 1))");
+  }
+  if (!(options.state_bound > 1.0)) fail("state_bound", options.state_bound, "must exceed 1");
+}
+
+std::string IntegrationResult::BriefReport() const {
+  std::string report = fmt::format("{} at t = {:.6g}: {} steps, {} f evaluations", ToString(status),
+                                   t_reached, statistics.steps, statistics.rhs_evaluations);
+  if (!Succeeded()) {
+    report += fmt::format(" ({}: {})", flag_name, message);
+  }
+  return report;
+}
+
+namespace detail {
+
+SunContextPtr MakeSunContext() {
+  SUNContext context = nullptr;
+  if (SUNContext_Create(nullptr, &context) != 0 || context == nullptr) {
+    throw std::bad_alloc();
+  }
+  return SunContextPtr(context);
+}
+
+NVectorPtr MakeNVector(Index size, SUNContext context) {
+  N_Vector v = N_VNew_Serial(static_cast<sunindextype>(size), context);
+  if (v == nullptr) throw std::bad_alloc();
+  return NVectorPtr(v);
+}
+
+void CallbackContext::BeginRun() {
+  exception = nullptr;
+  state_bound_exceeded = false;
+  non_finite = false;
+  error_message.clear();
+  warnings = 0;
+}
+
+void CallbackContext::RethrowIfAny() {
+  if (exception) {
+    std::exception_ptr e = exception;
+    exception = nullptr;
+    std::rethrow_exception(e);
+  }
+}
+
+int EvaluateRhs(CallbackContext& context, double t, const double* x, double* f) {
+  const Index n = context.n;
+  Eigen::Map<const Vector> x_map(x, n);
+  Eigen::Map<Vector> f_map(f, n);
+  // ‖x ./ scale‖∞, written so that NaN in x also trips it.
+  const double size = x_map.cwiseProduct(context.inverse_scale).cwiseAbs().maxCoeff();
+  if (!(size <= context.state_bound)) {
+    if (std::isnan(size)) {
+      context.non_finite = true;
+      return 1;
+    }
+    context.state_bound_exceeded = true;
+    return -1;
+  }
+  try {
+    context.system->Rhs(t, x_map, f_map);
+  } catch (...) {
+    context.exception = std::current_exception();
+    return -1;
+  }
+  if (!f_map.allFinite()) {
+    context.non_finite = true;
+    return 1;
+  }
+  return 0;
+}
+
+int EvaluateJacobian(CallbackContext& context, double t, const double* x, double* J) {
+  const Index n = context.n;
+  Eigen::Map<Matrix> J_map(J, n, n);
+  try {
+    context.system->JacobianX(t, Eigen::Map<const Vector>(x, n), J_map);
+  } catch (...) {
+    context.exception = std::current_exception();
+    return -1;
+  }
+  if (!J_map.allFinite()) {
+    context.non_finite = true;
+    return 1;
+  }
+  return 0;
+}
+
+int EvaluateDfDparameter(CallbackContext& context, double t, const double* x) {
+  try {
+    context.system->DfDparameter(t, Eigen::Map<const Vector>(x, context.n), context.dfdp);
+  } catch (...) {
+    context.exception = std::current_exception();
+    return -1;
+  }
+  if (!context.dfdp.allFinite()) {
+    context.non_finite = true;
+    return 1;
+  }
+  return 0;
+}
+
+int EvaluateEvents(CallbackContext& context, double t, const double* x, double* gout) {
+  const int count = context.events->count;
+  Eigen::Map<Vector> g(gout, count);
+  try {
+    context.events->function(t, Eigen::Map<const Vector>(x, context.n), g);
+  } catch (...) {
+    context.exception = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
+
+void RecordError(int error_code, const char* /*module*/, const char* function, char* msg,
+                 void* user_data) {
+  auto& context = *static_cast<CallbackContext*>(user_data);
+  if (error_code > 0) {  // CV_WARNING / ARK_WARNING
+    ++context.warnings;
+    return;
+  }
+  context.error_message = fmt::format("{}: {}", function ? function : "", msg ? msg : "");
+}
+
+std::string TakeFlagName(char* name) {
+  std::string result = name != nullptr ? name : "";
+  std::free(name);
+  return result;
+}
+
+}  // namespace detail
+
+class OdeIntegrator::Impl {
+ public:
+  Impl(OdeSystem& system, const IntegratorOptions& options) : options_(options) {
+    Validate(options);
+    const Index n = system.Dimension();
+    if (n < 1) {
+      throw std::invalid_argument(fmt::format("OdeIntegrator: system dimension {} < 1", n));
+    }
+    context_.system = &system;
+    context_.n = n;
+    context_.scale = system.StateScale();
+    if (context_.scale.size() != n || !(context_.scale.array() > 0.0).all() ||
+        !context_.scale.allFinite()) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator: OdeSystem::StateScale() must have {} finite positive entries", n));
+    }
+    context_.inverse_scale = context_.scale.cwiseInverse();
+    context_.state_bound = options.state_bound;
+    context_.jacobian.resize(n, n);
+    context_.dfdp.resize(n);
+    if (options.method == IntegrationMethod::kBdf || options.method == IntegrationMethod::kAdams) {
+      cvodes_ = std::make_unique<detail::CvodesBackend>(context_, options);
+    } else {
+      arkode_ = std::make_unique<detail::ArkodeBackend>(context_, options);
+    }
+  }
+
+  IntegrationResult Run(const detail::IntegrationRequest& request) {
+    context_.BeginRun();
+    IntegrationResult result = cvodes_ ? cvodes_->Run(request) : arkode_->Run(request);
+    context_.RethrowIfAny();
+    return result;
+  }
+
+  void SetEvents(const EventOptions& events) {
+    if (!events.function || events.count < 1) {
+      throw std::invalid_argument(fmt::format(
+          "EventOptions: count = {} and function {}: need count ≥ 1 and a function", events.count,
+          events.function ? "set" : "empty"));
+    }
+    if (!events.directions.empty() &&
+        static_cast<int>(events.directions.size()) != events.count) {
+      throw std::invalid_argument(
+          fmt::format("EventOptions.directions has {} entries: must be empty or count = {}",
+                      events.directions.size(), events.count));
+    }
+    events_ = events;
+    context_.events = &events_;
+    context_.event_values.resize(events.count);
+    NotifyEvents();
+  }
+
+  void ClearEvents() {
+    context_.events = nullptr;
+    NotifyEvents();
+  }
+
+  const IntegratorOptions& options() const { return options_; }
+  OdeSystem& system() { return *context_.system; }
+  Index n() const { return context_.n; }
+  // Workspaces: the initial state is copied (x0 and x1 may alias), and Sample needs an end state.
+  Vector& x0_buffer() { return x0_buffer_; }
+  Vector& x_final_buffer() { return x_final_buffer_; }
+
+ private:
+  void NotifyEvents() {
+    if (cvodes_) cvodes_->EventsChanged();
+    if (arkode_) arkode_->EventsChanged();
+  }
+
+  IntegratorOptions options_;
+  detail::CallbackContext context_;
+  EventOptions events_;
+  Vector x0_buffer_;
+  Vector x_final_buffer_;
+  std::unique_ptr<detail::CvodesBackend> cvodes_;
+  std::unique_ptr<detail::ArkodeBackend> arkode_;
+};
+
+OdeIntegrator::OdeIntegrator(OdeSystem& system, const IntegratorOptions& options)
+    : impl_(std::make_unique<Impl>(system, options)) {}
+OdeIntegrator::~OdeIntegrator() = default;
+OdeIntegrator::OdeIntegrator(OdeIntegrator&&) noexcept = default;
+OdeIntegrator& OdeIntegrator::operator=(OdeIntegrator&&) noexcept = default;
+
+const IntegratorOptions& OdeIntegrator::options() const { return impl_->options(); }
+OdeSystem& OdeIntegrator::system() { return impl_->system(); }
+void OdeIntegrator::SetEvents(const EventOptions& events) { impl_->SetEvents(events); }
+void OdeIntegrator::ClearEvents() { impl_->ClearEvents(); }
+
+namespace {
+
+void CheckSize(const char* what, Index size, Index n) {
+  if (size != n) {
+    throw std::invalid_argument(
+        fmt::format("OdeIntegrator: {} has {} entries, the system has dimension {}", what, size, n));
+  }
+}
+
+void CheckTime(const char* what, double t) {
+  if (!std::isfinite(t)) {
+    throw std::invalid_argument(fmt::format("OdeIntegrator: {} = {} must be finite", what, t));
+  }
+}
+
+double ParameterScale(const IntegratorOptions& options, double p) {
+  return options.parameter_scale > 0.0 ? options.parameter_scale : std::max(std::abs(p), 1.0);
+}
+
+}  // namespace
+
+IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double t1, VectorRef x1,
+                                           Matrix* stm, Vector* dxdp) {
+  const Index n = impl_->n();
+  CheckSize("x0", x0.size(), n);
+  CheckSize("x1", x1.size(), n);
+  CheckTime("t0", t0);
+  CheckTime("t1", t1);
+  if (dxdp != nullptr && stm == nullptr) {
+    throw std::invalid_argument("OdeIntegrator::Integrate: dxdp requires stm as well");
+  }
+  if (stm != nullptr) stm->resize(n, n);
+  if (dxdp != nullptr) dxdp->resize(n);
+  Vector& x0_copy = impl_->x0_buffer();
+  x0_copy = x0;
+  detail::IntegrationRequest request;
+  request.t0 = t0;
+  request.x0 = x0_copy.data();
+  request.times = &t1;
+  request.count = 1;
+  request.x_final = x1.data();
+  request.stm = stm != nullptr ? stm->data() : nullptr;
+  request.dxdp = dxdp != nullptr ? dxdp->data() : nullptr;
+  request.parameter_scale = ParameterScale(impl_->options(), impl_->system().Parameter());
+  return impl_->Run(request);
+}
+
+IntegrationResult OdeIntegrator::Sample(double t0, ConstVectorRef x0, const Vector& times,
+                                        Matrix& states) {
+  const Index n = impl_->n();
+  CheckSize("x0", x0.size(), n);
+  CheckTime("t0", t0);
+  if (times.size() < 1) {
+    throw std::invalid_argument("OdeIntegrator::Sample: times is empty");
+  }
+  const double direction = times(times.size() - 1) >= t0 ? 1.0 : -1.0;
+  double previous = t0;
+  for (Index k = 0; k < times.size(); ++k) {
+    CheckTime("times(k)", times(k));
+    if (direction * (times(k) - previous) < 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator::Sample: times({}) = {} is out of order (previous {}, t0 = {}): times must "
+          "be monotone in the direction of integration",
+          k, times(k), previous, t0));
+    }
+    previous = times(k);
+  }
+  states.resize(n, times.size());
+  Vector& x_final = impl_->x_final_buffer();
+  x_final.resize(n);
+  Vector& x0_copy = impl_->x0_buffer();
+  x0_copy = x0;
+  detail::IntegrationRequest request;
+  request.t0 = t0;
+  request.x0 = x0_copy.data();
+  request.times = times.data();
+  request.count = times.size();
+  request.states = states.data();
+  request.x_final = x_final.data();
+  request.parameter_scale = ParameterScale(impl_->options(), impl_->system().Parameter());
+  return impl_->Run(request);
+}
+
+}  // namespace rubcont

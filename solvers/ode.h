@@ -1,0 +1,183 @@
+// Time integration of an OdeSystem with SUNDIALS: CVODES (BDF or Adams, dense LU, forward
+// sensitivities) and ARKODE (explicit or diagonally implicit Runge–Kutta).
+//
+// What the shooting code needs from an integrator, and what this one gives:
+//   x(t1)                      the end state, from x(t0) = x0;
+//   Φ = ∂x(t1)/∂x0  (n × n)    the state-transition matrix, from forward sensitivities
+//                              (CVODES: ṡ_j = J(t, x) s_j, s_j(t0) = e_j, Hindmarsh et al. 2005);
+//   q = ∂x(t1)/∂p   (n)        the parameter sensitivity (q̇ = J q + ∂f/∂p, q(t0) = 0);
+//   x(t_k) at requested times  dense output (orbit samples for measures and FFTs);
+//   events                     zeros of user functions g(t, x) (Poincaré sections, contact events).
+// ARKODE has no sensitivity module: for it the variational equations are appended to the state
+// (n + n² [+ n] unknowns) and integrated with full error control — an independent check of CVODES.
+//
+// Failures of the integration (too much work, repeated error-test or convergence failures, a
+// failing right-hand side, a trajectory that leaves `state_bound`) are expected numerical outcomes:
+// they are returned as an IntegrationStatus with SUNDIALS' flag name and message, never thrown and
+// never printed (the SUNDIALS error handler is replaced, so nothing reaches stderr). Wrong sizes and
+// invalid options are caller mistakes and throw std::invalid_argument.
+//
+// One OdeIntegrator keeps its SUNDIALS memory between calls (CVodeReInit / CVodeSensReInit,
+// ERKStepReInit), so that the thousands of integrations of a continuation run allocate nothing
+// after the first. It is not thread-safe; use one per thread.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solvers/ode_system.h"
+
+namespace rubcont {
+
+enum class IntegrationMethod {
+  kBdf,    // CVODES, variable-order BDF (orders 1–5), Newton + dense LU: stiff systems (the rub contact)
+  kAdams,  // CVODES, Adams–Moulton (orders 1–12), Newton + dense LU: smooth, non-stiff systems
+  kExplicitRungeKutta,             // ARKODE ERKStep, embedded pair of order `explicit_order`
+  kDiagonallyImplicitRungeKutta,   // ARKODE ARKStep, DIRK of order `implicit_order`, dense LU
+};
+const char* ToString(IntegrationMethod method);
+
+enum class SensitivityMethod {
+  kStaggered,     // CV_STAGGERED: sensitivities corrected after the state has converged (cheapest
+                  // with a direct solver: they reuse the state's Newton matrix)
+  kSimultaneous,  // CV_SIMULTANEOUS: state and sensitivities in one nonlinear system
+};
+
+struct IntegratorOptions {
+  IntegrationMethod method = IntegrationMethod::kBdf;
+  // Local error control: |e_i| ≤ relative_tolerance·|x_i| + absolute_tolerance·scale_i, with
+  // scale = OdeSystem::StateScale(): the absolute tolerance is in units of each state's typical
+  // magnitude (metres and metres per second are judged alike). Both in (0, 1).
+  double relative_tolerance = 1e-8;
+  double absolute_tolerance = 1e-8;
+  // Steps allowed between two output times before giving up with kTooMuchWork (≥ 1).
+  long max_steps = 100000;
+  double max_step = 0.0;      // largest |h| (time units); 0: unlimited
+  double initial_step = 0.0;  // first |h| (time units); 0: estimated by the integrator
+  // Largest order used: BDF 1–5, Adams 1–12; 0: the method's maximum. BDF ≤ 2 is A- and L-stable;
+  // orders 3–5 are unstable for eigenvalues near the imaginary axis (lightly damped stiff modes).
+  int max_order = 0;
+  // CVODES BDF stability-limit detection (CVodeSetStabLimDet): lowers the order when it sees the
+  // instability of orders ≥ 3 on lightly damped oscillatory modes.
+  bool stability_limit_detection = false;
+  // ERK order: 2, 3, 4, 5 (Dormand–Prince 7-4-5), 6 (Verner 8-5-6) or 8 (Fehlberg 13-7-8).
+  int explicit_order = 5;
+  // DIRK order: 2, 3, 4 (SDIRK 5-3-4) or 5 (ARK5(4)8L[2]SA's implicit table).
+  int implicit_order = 4;
+
+  // Forward sensitivities (CVODES only; ARKODE integrates the augmented system).
+  SensitivityMethod sensitivity_method = SensitivityMethod::kStaggered;
+  // Include the sensitivities in the local error test (CVodeSetSensErrCon). Without it the STM is
+  // only as accurate as the step sequence chosen for the state makes it — and a fast mode that the
+  // state does not excite but a column of Φ does is then left to the method's stability: measured
+  // on a 16-state stiff chain (bench/shooting_bench.cpp), 18–150× cheaper and as good for Newton,
+  // but BDF orders 3–5 let a lightly damped fast mode of Φ grow without bound at rtol 1e-10
+  // (use max_order = 2 with it off), and a nearly undamped fast mode is damped numerically.
+  bool sensitivity_error_control = true;
+  // Typical magnitude of the parameter, for the absolute tolerance on q = ∂x/∂p
+  // (atol_q,i = absolute_tolerance·scale_i / parameter_scale). 0: max(|p|, 1) at each call.
+  double parameter_scale = 0.0;
+
+  // A trajectory with ‖x ./ scale‖∞ > state_bound stops with kStateBound: a finite-time blow-up or a
+  // wild Newton iterate ends at once instead of exhausting max_steps. Must be > 1.
+  double state_bound = 1e12;
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const IntegratorOptions& options);
+
+enum class IntegrationStatus {
+  kSuccess,
+  kTooMuchWork,          // max_steps taken before reaching the next output time
+  kTooMuchAccuracy,      // the tolerances are below what the arithmetic can deliver
+  kErrorTestFailures,    // repeated local error-test failures, or the step became too small
+  kConvergenceFailures,  // repeated failures of the implicit method's Newton iteration
+  kLinearSolverFailure,  // the dense LU failed (setup or solve)
+  kRhsFailure,           // the right-hand side (or the sensitivity right-hand side) failed
+  kNonFinite,            // the right-hand side kept returning NaN or Inf
+  kStateBound,           // ‖x ./ scale‖∞ exceeded state_bound
+  kOther,                // any other SUNDIALS failure: see flag_name and message
+};
+const char* ToString(IntegrationStatus status);
+
+// Counters of one integration call (they restart at every call).
+struct IntegrationStatistics {
+  long steps = 0;
+  long rhs_evaluations = 0;            // f evaluations by the integrator (not the sensitivity ones)
+  long jacobian_evaluations = 0;       // analytic or difference-quotient Jacobians for the Newton matrix
+  long linear_solver_setups = 0;
+  long error_test_failures = 0;
+  long nonlinear_iterations = 0;
+  long nonlinear_convergence_failures = 0;
+  long sensitivity_rhs_evaluations = 0;  // calls of the sensitivity right-hand side (CVODES)
+};
+
+// One zero of an event function.
+struct IntegrationEvent {
+  int index = 0;    // which component of g
+  int direction = 0;  // +1: g rising through zero, −1: falling
+  double t = 0.0;
+  Vector x;         // state at t
+};
+
+struct IntegrationResult {
+  IntegrationStatus status = IntegrationStatus::kSuccess;
+  double t_reached = 0.0;           // the final time on success; the event time after a terminal event
+  bool stopped_at_event = false;    // a terminal event ended the integration before t1
+  int flag = 0;                     // SUNDIALS return flag of the failing call (0 on success)
+  std::string flag_name;            // e.g. "CV_TOO_MUCH_WORK" (empty on success)
+  std::string message;              // SUNDIALS' error message, or ours (state bound, NaN)
+  int warnings = 0;                 // warnings SUNDIALS raised (e.g. "t + h = t")
+  IntegrationStatistics statistics;
+  std::vector<IntegrationEvent> events;  // in time order
+  bool Succeeded() const { return status == IntegrationStatus::kSuccess; }
+  std::string BriefReport() const;
+};
+
+// Event functions g(t, x) ∈ R^count whose zeros are located by the integrator's root finder
+// (CVodeRootInit / ERKStepRootInit).
+struct EventOptions {
+  std::function<void(double t, ConstVectorRef x, VectorRef g)> function;
+  int count = 0;
+  // Per component: +1 report only rising zeros, −1 only falling, 0 both. Empty: all 0.
+  std::vector<int> directions;
+  // Stop at the first event (t_reached = event time, outputs = state there); otherwise record
+  // every event and go on to t1.
+  bool terminal = false;
+};
+
+class OdeIntegrator {
+ public:
+  // The system must outlive the integrator. The options are validated here.
+  explicit OdeIntegrator(OdeSystem& system, const IntegratorOptions& options = {});
+  ~OdeIntegrator();
+  OdeIntegrator(OdeIntegrator&&) noexcept;
+  OdeIntegrator& operator=(OdeIntegrator&&) noexcept;
+  OdeIntegrator(const OdeIntegrator&) = delete;
+  OdeIntegrator& operator=(const OdeIntegrator&) = delete;
+
+  const IntegratorOptions& options() const;
+  OdeSystem& system();
+
+  // Events apply to every later integration until cleared.
+  void SetEvents(const EventOptions& events);
+  void ClearEvents();
+
+  // x(t1) from x(t0) = x0 (t1 < t0 integrates backwards). x0 and x1 have Dimension() entries and
+  // may alias. With stm (resized to n × n): Φ(t1, t0) = ∂x(t1)/∂x0, column j = ∂x(t1)/∂x0_j.
+  // With dxdp as well (resized to n): ∂x(t1)/∂p at the system's current parameter.
+  IntegrationResult Integrate(double t0, ConstVectorRef x0, double t1, VectorRef x1,
+                              Matrix* stm = nullptr, Vector* dxdp = nullptr);
+
+  // Dense output: states (resized to n × m) column k = x(times(k)), from x(t0) = x0. times has
+  // m ≥ 1 entries, monotone in the direction of integration, none before t0 (in that direction).
+  IntegrationResult Sample(double t0, ConstVectorRef x0, const Vector& times, Matrix& states);
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rubcont

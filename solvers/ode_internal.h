@@ -1,0 +1,136 @@
+// Private to solvers/ode*.cpp: what the SUNDIALS C callbacks share, and the two backends.
+#pragma once
+
+#include <exception>
+#include <memory>
+#include <string>
+#include <type_traits>
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+
+#include "solvers/ode.h"
+
+namespace rubcont {
+namespace detail {
+
+// RAII for SUNDIALS objects. Members that hold them are declared context first, so that they are
+// destroyed in the reverse order (integrator memory, solver, matrix, vectors, then the context).
+struct SunContextDeleter {
+  void operator()(SUNContext context) const { SUNContext_Free(&context); }
+};
+struct NVectorDeleter {
+  void operator()(N_Vector v) const { N_VDestroy(v); }
+};
+struct SunMatrixDeleter {
+  void operator()(SUNMatrix m) const { SUNMatDestroy(m); }
+};
+struct SunLinearSolverDeleter {
+  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
+};
+using SunContextPtr = std::unique_ptr<std::remove_pointer_t<SUNContext>, SunContextDeleter>;
+using NVectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, NVectorDeleter>;
+using SunMatrixPtr = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, SunMatrixDeleter>;
+using SunLinearSolverPtr =
+    std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, SunLinearSolverDeleter>;
+
+SunContextPtr MakeSunContext();
+NVectorPtr MakeNVector(Index size, SUNContext context);
+
+inline Eigen::Map<Vector> MapVector(N_Vector v) {
+  return Eigen::Map<Vector>(N_VGetArrayPointer(v), N_VGetLength_Serial(v));
+}
+
+// Everything a callback needs: the system, workspaces sized once, and what went wrong. The
+// integrator owns one; SUNDIALS sees it as user_data.
+struct CallbackContext {
+  OdeSystem* system = nullptr;
+  Index n = 0;
+  Vector scale;          // OdeSystem::StateScale()
+  Vector inverse_scale;  // 1 ./ scale
+  double state_bound = 0.0;
+  Matrix jacobian;       // n × n, for sensitivity right-hand sides
+  Vector dfdp;           // n
+  Vector event_values;   // events->count
+  const EventOptions* events = nullptr;  // null: no events
+
+  // Set by callbacks during one integration call; cleared by BeginRun().
+  std::exception_ptr exception;  // thrown by the system inside a callback: rethrown after the call
+  bool state_bound_exceeded = false;
+  bool non_finite = false;
+  std::string error_message;     // the last message of SUNDIALS' error handler
+  int warnings = 0;
+
+  void BeginRun();
+  // Rethrows a stored exception (after the SUNDIALS call has returned: never through C frames).
+  void RethrowIfAny();
+};
+
+// f = Rhs(t, x) with the checks: 0 on success, +1 (recoverable: the integrator retries with a
+// smaller step) when f is not finite, −1 (unrecoverable) when x is beyond the state bound or the
+// system threw.
+int EvaluateRhs(CallbackContext& context, double t, const double* x, double* f);
+// J = JacobianX(t, x) into an n × n column-major array (leading dimension n).
+int EvaluateJacobian(CallbackContext& context, double t, const double* x, double* J);
+// ∂f/∂p at (t, x) into context.dfdp.
+int EvaluateDfDparameter(CallbackContext& context, double t, const double* x);
+// g(t, x) into gout (events->count entries).
+int EvaluateEvents(CallbackContext& context, double t, const double* x, double* gout);
+
+// CVODES / ARKODE error handler: records the message, prints nothing.
+void RecordError(int error_code, const char* module, const char* function, char* msg,
+                 void* user_data);
+
+// A flag name from SUNDIALS' *GetReturnFlagName (which mallocs; freed here).
+std::string TakeFlagName(char* name);
+
+// What one call asks for. Output times are monotone; the last one is the final time.
+struct IntegrationRequest {
+  double t0 = 0.0;
+  const double* x0 = nullptr;     // n
+  const double* times = nullptr;  // count output times
+  Index count = 0;
+  double* states = nullptr;       // n × count, column-major, or null
+  double* x_final = nullptr;      // n
+  double* stm = nullptr;          // n × n, column-major, or null
+  double* dxdp = nullptr;         // n, or null (only with stm)
+  double parameter_scale = 1.0;   // for the tolerance on ∂x/∂p
+};
+
+class CvodesBackend {
+ public:
+  CvodesBackend(CallbackContext& context, const IntegratorOptions& options);
+  ~CvodesBackend();
+  CvodesBackend(const CvodesBackend&) = delete;
+  CvodesBackend& operator=(const CvodesBackend&) = delete;
+  IntegrationResult Run(const IntegrationRequest& request);
+  void EventsChanged() { events_changed_ = true; }
+
+ private:
+  class State;
+  std::unique_ptr<State> state_;
+  bool events_changed_ = true;
+};
+
+class ArkodeBackend {
+ public:
+  ArkodeBackend(CallbackContext& context, const IntegratorOptions& options);
+  ~ArkodeBackend();
+  ArkodeBackend(const ArkodeBackend&) = delete;
+  ArkodeBackend& operator=(const ArkodeBackend&) = delete;
+  IntegrationResult Run(const IntegrationRequest& request);
+  void EventsChanged();
+
+ private:
+  class Memory;
+  CallbackContext& context_;
+  IntegratorOptions options_;
+  SunContextPtr sun_context_;
+  // One memory per augmented size: plain (n), with STM (n + n²), with STM and ∂x/∂p (n + n² + n).
+  std::unique_ptr<Memory> memories_[3];
+};
+
+}  // namespace detail
+}  // namespace rubcont

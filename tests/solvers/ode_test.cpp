@@ -1,0 +1,401 @@
+#include "solvers/ode.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "models/textbook.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ẋ = A(p) x with A(p) = A0 + p A1: x(t) = e^{A(p) t} x0, Φ = e^{A(p) t}, and ∂x/∂p from the
+// derivative of the exponential (evaluated below by differences of the exact exponential).
+class LinearSystem : public OdeSystem {
+ public:
+  LinearSystem() : A0_(3, 3), A1_(3, 3) {
+    A0_ << -0.3, 1.2, 0.0,
+           -1.1, -0.2, 0.4,
+            0.3, 0.0, -0.7;
+    A1_ << 0.1, 0.0, 0.2,
+           0.0, -0.3, 0.0,
+           0.5, 0.1, 0.0;
+  }
+  Index Dimension() const override { return 3; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override { f.noalias() = A() * x; }
+  bool HasJacobian() const override { return analytic_jacobian; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override {
+    if (analytic_jacobian) {
+      J = A();
+    } else {
+      OdeSystem::JacobianX(t, x, J);
+    }
+  }
+  double Parameter() const override { return p_; }
+  void SetParameter(double p) override { p_ = p; }
+  void DfDparameter(double, ConstVectorRef x, VectorRef df) override { df.noalias() = A1_ * x; }
+  Matrix A() const { return A0_ + p_ * A1_; }
+  Matrix Exponential(double t, double p) const { return ((A0_ + p * A1_) * t).exp(); }
+  bool analytic_jacobian = true;
+
+ private:
+  Matrix A0_, A1_;
+  double p_ = 0.4;
+};
+
+Vector X0() { return (Vector(3) << 1.0, -0.5, 0.25).finished(); }
+
+IntegratorOptions Tight(IntegrationMethod method) {
+  IntegratorOptions options;
+  options.method = method;
+  options.relative_tolerance = 1e-11;
+  options.absolute_tolerance = 1e-11;
+  return options;
+}
+
+TEST_CASE("state and state-transition matrix of a linear system match the matrix exponential",
+          "[ode]") {
+  LinearSystem system;
+  const double T = 3.0;
+  const Matrix expected_stm = system.Exponential(T, system.Parameter());
+  const Vector expected_x = expected_stm * X0();
+  // ∂x/∂p = d/dp e^{A(p)T} x0: central difference of the exact exponential (error O(h²) ≈ 1e-12).
+  const double h = 1e-6;
+  const Vector expected_dxdp =
+      (system.Exponential(T, system.Parameter() + h) - system.Exponential(T, system.Parameter() - h)) *
+      X0() / (2 * h);
+  for (IntegrationMethod method :
+       {IntegrationMethod::kBdf, IntegrationMethod::kAdams, IntegrationMethod::kExplicitRungeKutta,
+        IntegrationMethod::kDiagonallyImplicitRungeKutta}) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    Vector x(3), dxdp;
+    Matrix stm;
+    const IntegrationResult result = integrator.Integrate(0.0, X0(), T, x, &stm, &dxdp);
+    REQUIRE(result.Succeeded());
+    CHECK(result.t_reached == T);
+    CHECK((x - expected_x).norm() <= 1e-9 * expected_x.norm());
+    CHECK((stm - expected_stm).norm() <= 1e-9 * expected_stm.norm());
+    CHECK((dxdp - expected_dxdp).norm() <= 1e-8 * expected_dxdp.norm());
+    CHECK(result.statistics.steps > 0);
+  }
+}
+
+TEST_CASE("CVODES without an analytic Jacobian gives the same STM", "[ode]") {
+  LinearSystem system;
+  system.analytic_jacobian = false;
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x(3);
+  Matrix stm;
+  REQUIRE(integrator.Integrate(0.0, X0(), 2.0, x, &stm).Succeeded());
+  const Matrix expected = system.Exponential(2.0, system.Parameter());
+  CHECK((stm - expected).norm() <= 1e-8 * expected.norm());
+}
+
+TEST_CASE("repeated integrations reuse the memory and are reproducible in any order", "[ode]") {
+  LinearSystem system;
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x_plain(3), x_stm(3), x_both(3), x_again(3), dxdp;
+  Matrix stm, stm_again;
+  REQUIRE(integrator.Integrate(0.0, X0(), 1.5, x_plain).Succeeded());
+  REQUIRE(integrator.Integrate(0.0, X0(), 1.5, x_both, &stm, &dxdp).Succeeded());
+  REQUIRE(integrator.Integrate(0.0, X0(), 1.5, x_stm, &stm_again).Succeeded());
+  REQUIRE(integrator.Integrate(0.0, X0(), 1.5, x_again).Succeeded());
+  CHECK(x_again == x_plain);  // bit-for-bit: the same step sequence after CVodeReInit
+  CHECK((stm - stm_again).norm() <= 1e-10);
+  CHECK((x_stm - x_plain).norm() <= 1e-9);
+}
+
+TEST_CASE("backward integration inverts forward integration", "[ode]") {
+  LinearSystem system;
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x1(3), x0(3);
+  Matrix forward, backward;
+  REQUIRE(integrator.Integrate(0.0, X0(), 2.0, x1, &forward).Succeeded());
+  REQUIRE(integrator.Integrate(2.0, x1, 0.0, x0, &backward).Succeeded());
+  // Backwards the contracting flow expands the forward error (≈ 1e-9 at rtol 1e-11) by up to
+  // ‖e^{−2A}‖ ≈ 4.
+  CHECK((x0 - X0()).norm() <= 1e-8);
+  CHECK((backward * forward - Matrix::Identity(3, 3)).norm() <= 1e-8);
+}
+
+TEST_CASE("van der Pol: CVODES sensitivities agree with ARKODE's variational equations and with "
+          "finite differences",
+          "[ode]") {
+  VanDerPolOscillator system({2.0});
+  const Vector x0 = (Vector(2) << 1.5, 0.3).finished();
+  const double T = 4.0;
+  OdeIntegrator cvodes(system, Tight(IntegrationMethod::kBdf));
+  OdeIntegrator arkode(system, Tight(IntegrationMethod::kExplicitRungeKutta));
+  Vector x_c(2), x_a(2), q_c, q_a;
+  Matrix stm_c, stm_a;
+  REQUIRE(cvodes.Integrate(0.0, x0, T, x_c, &stm_c, &q_c).Succeeded());
+  REQUIRE(arkode.Integrate(0.0, x0, T, x_a, &stm_a, &q_a).Succeeded());
+  CHECK((x_c - x_a).norm() <= 1e-8 * x_a.norm());
+  CHECK((stm_c - stm_a).norm() <= 1e-7 * stm_a.norm());
+  CHECK((q_c - q_a).norm() <= 1e-7 * q_a.norm());
+
+  // Central differences of the tightly integrated flow: step 1e-4 balances the O(h²) truncation
+  // against the O(tol/h) integration noise (both ≈ 1e-8 here).
+  const double h = 1e-4;
+  Matrix fd(2, 2);
+  Vector plus(2), minus(2);
+  for (Index j = 0; j < 2; ++j) {
+    Vector xp = x0, xm = x0;
+    xp(j) += h;
+    xm(j) -= h;
+    REQUIRE(arkode.Integrate(0.0, xp, T, plus).Succeeded());
+    REQUIRE(arkode.Integrate(0.0, xm, T, minus).Succeeded());
+    fd.col(j) = (plus - minus) / (2 * h);
+  }
+  CHECK((stm_c - fd).norm() <= 1e-6 * fd.norm());
+  system.SetParameter(2.0 + h);
+  REQUIRE(arkode.Integrate(0.0, x0, T, plus).Succeeded());
+  system.SetParameter(2.0 - h);
+  REQUIRE(arkode.Integrate(0.0, x0, T, minus).Succeeded());
+  system.SetParameter(2.0);
+  const Vector q_fd = (plus - minus) / (2 * h);
+  CHECK((q_c - q_fd).norm() <= 1e-6 * q_fd.norm());
+}
+
+// ẋ = x² blows up at t = 1/x0.
+class BlowUp : public OdeSystem {
+ public:
+  Index Dimension() const override { return 1; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override { f(0) = x(0) * x(0); }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override { J(0, 0) = 2 * x(0); }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+};
+
+// Runs `body` with the process's stderr redirected into a temporary file; returns what was written.
+template <typename Body>
+std::string CaptureStderr(Body body) {
+  std::fflush(stderr);
+  char path[] = "/tmp/rubcont_stderr_XXXXXX";
+  const int fd = mkstemp(path);
+  REQUIRE(fd >= 0);
+  const int saved = dup(2);
+  dup2(fd, 2);
+  body();
+  std::fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  close(fd);
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  std::remove(path);
+  return text.str();
+}
+
+TEST_CASE("a finite-time blow-up is reported as a status with the reason, and nothing is printed",
+          "[ode]") {
+  BlowUp system;
+  for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kExplicitRungeKutta}) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    Vector x(1);
+    IntegrationResult result;
+    const std::string printed = CaptureStderr([&] {
+      result = integrator.Integrate(0.0, Vector::Ones(1), 2.0, x);
+    });
+    CHECK(printed.empty());
+    CHECK(result.status == IntegrationStatus::kStateBound);
+    CHECK_FALSE(result.flag_name.empty());
+    CHECK_THAT(result.message, Catch::Contains("state_bound"));
+    // It stopped just before the singularity at t = 1 (x = 1e12 at t = 1 − 1e-12).
+    CHECK(result.t_reached == Approx(1.0).margin(1e-6));
+    CHECK(result.t_reached < 1.0);
+    // The same integrator recovers on the next call: x(0.5) = 1/(1 − 0.5). (On this growing
+    // solution, ∂x(t)/∂x0 = 1/(1 − t)², BDF's global error is ≈ 2e-9 at rtol 1e-11.)
+    REQUIRE(integrator.Integrate(0.0, Vector::Ones(1), 0.5, x).Succeeded());
+    CHECK(x(0) == Approx(2.0).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("integrator failures carry SUNDIALS' flag name and message", "[ode]") {
+  BlowUp system;
+  IntegratorOptions options = Tight(IntegrationMethod::kBdf);
+  options.max_steps = 5;
+  OdeIntegrator integrator(system, options);
+  Vector x(1);
+  IntegrationResult result;
+  const std::string printed = CaptureStderr([&] {
+    result = integrator.Integrate(0.0, Vector::Constant(1, 0.01), 50.0, x);
+  });
+  CHECK(printed.empty());
+  CHECK(result.status == IntegrationStatus::kTooMuchWork);
+  CHECK(result.flag_name == "CV_TOO_MUCH_WORK");
+  CHECK_THAT(result.message, Catch::Contains("mxstep"));
+  CHECK_THAT(result.BriefReport(), Catch::Contains("CV_TOO_MUCH_WORK"));
+}
+
+// A model evaluated outside its domain (e.g. a parameter that makes it NaN everywhere). NaN is a
+// recoverable error for the integrator (a Newton iterate may probe an invalid state), so it ends
+// with kNonFinite only when no smaller step helps.
+class NotANumber : public BlowUp {
+ public:
+  void Rhs(double, ConstVectorRef, VectorRef f) override { f(0) = std::nan(""); }
+};
+
+TEST_CASE("a right-hand side that returns NaN ends with kNonFinite", "[ode]") {
+  NotANumber system;
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x(1);
+  const IntegrationResult result = integrator.Integrate(0.0, Vector::Ones(1), 1.0, x);
+  CHECK(result.status == IntegrationStatus::kNonFinite);
+  CHECK(result.t_reached == 0.0);
+}
+
+class Throwing : public BlowUp {
+ public:
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override {
+    if (t > 0.1) throw std::invalid_argument("model: contact stiffness is negative");
+    f(0) = x(0);
+  }
+};
+
+TEST_CASE("an exception thrown by the model crosses SUNDIALS safely and reaches the caller",
+          "[ode]") {
+  Throwing system;
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x(1);
+  CHECK_THROWS_WITH(integrator.Integrate(0.0, Vector::Ones(1), 1.0, x),
+                    Catch::Contains("contact stiffness"));
+}
+
+// ẋ = v, v̇ = −x: x = cos t.
+class Harmonic : public OdeSystem {
+ public:
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    f(0) = x(1);
+    f(1) = -x(0);
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef, MatrixRef J) override { J << 0, 1, -1, 0; }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+};
+
+TEST_CASE("dense output samples the solution at requested times", "[ode]") {
+  Harmonic system;
+  for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kExplicitRungeKutta}) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    const Vector times = Vector::LinSpaced(41, 0.0, 2 * kPi);
+    Matrix states;
+    const Vector x0 = (Vector(2) << 1.0, 0.0).finished();
+    REQUIRE(integrator.Sample(0.0, x0, times, states).Succeeded());
+    REQUIRE(states.cols() == 41);
+    for (Index k = 0; k < times.size(); ++k) {
+      CHECK(states(0, k) == Approx(std::cos(times(k))).margin(1e-9));
+      CHECK(states(1, k) == Approx(-std::sin(times(k))).margin(1e-9));
+    }
+  }
+}
+
+TEST_CASE("events: zeros located with direction filters, terminal or recorded", "[ode]") {
+  Harmonic system;
+  const Vector x0 = (Vector(2) << 1.0, 0.0).finished();
+  for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kExplicitRungeKutta}) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    EventOptions events;
+    events.count = 1;
+    events.function = [](double, ConstVectorRef x, VectorRef g) { g(0) = x(0); };
+    events.directions = {+1};  // x rising through 0: t = 3π/2, 7π/2
+    integrator.SetEvents(events);
+    Vector x(2);
+    IntegrationResult result = integrator.Integrate(0.0, x0, 12.0, x);
+    REQUIRE(result.Succeeded());
+    REQUIRE(result.events.size() == 2);
+    CHECK(result.events[0].t == Approx(1.5 * kPi).epsilon(1e-10));
+    CHECK(result.events[1].t == Approx(3.5 * kPi).epsilon(1e-10));
+    CHECK(result.events[0].direction == 1);
+    CHECK(x(0) == Approx(std::cos(12.0)).margin(1e-9));
+
+    events.directions.clear();
+    events.terminal = true;
+    integrator.SetEvents(events);
+    Matrix stm;
+    result = integrator.Integrate(0.0, x0, 12.0, x, &stm);
+    REQUIRE(result.Succeeded());
+    CHECK(result.stopped_at_event);
+    CHECK(result.t_reached == Approx(0.5 * kPi).epsilon(1e-10));
+    CHECK(x(0) == Approx(0.0).margin(1e-9));
+    CHECK(stm(0, 0) == Approx(0.0).margin(1e-8));  // Φ(t) = rotation by −t
+
+    integrator.ClearEvents();
+    result = integrator.Integrate(0.0, x0, 12.0, x);
+    CHECK(result.events.empty());
+    CHECK_FALSE(result.stopped_at_event);
+  }
+}
+
+// Two decoupled modes with rates −1 and −1e5 (the order of the rub contact's eigenvalues).
+class StiffLinear : public OdeSystem {
+ public:
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    f(0) = -x(0) + x(1);
+    f(1) = -1e5 * x(1);
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef, MatrixRef J) override { J << -1, 1, 0, -1e5; }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+};
+
+TEST_CASE("stiff system: BDF takes few steps, the explicit method is stability-limited", "[ode]") {
+  StiffLinear system;
+  const Vector x0 = Vector::Ones(2);
+  IntegratorOptions options = Tight(IntegrationMethod::kBdf);
+  options.relative_tolerance = options.absolute_tolerance = 1e-8;
+  OdeIntegrator bdf(system, options);
+  Vector x(2);
+  const IntegrationResult implicit_result = bdf.Integrate(0.0, x0, 10.0, x);
+  REQUIRE(implicit_result.Succeeded());
+  // x0 ≈ 4.5e-5 at t = 10 is below the absolute tolerance's reach: its global error is a few atol.
+  CHECK(x(0) == Approx(std::exp(-10.0) * (1 + 1 / (1e5 - 1))).margin(5e-8));
+  CHECK(implicit_result.statistics.steps < 1000);
+
+  options.method = IntegrationMethod::kExplicitRungeKutta;
+  options.max_steps = 20000;
+  OdeIntegrator erk(system, options);
+  const IntegrationResult explicit_result = erk.Integrate(0.0, x0, 10.0, x);
+  // Dormand–Prince's stability interval is ≈ 3.3/1e5: about 3e5 steps would be needed.
+  CHECK(explicit_result.status == IntegrationStatus::kTooMuchWork);
+  CHECK(explicit_result.t_reached < 1.0);
+}
+
+TEST_CASE("invalid options and sizes are rejected with the field name", "[ode]") {
+  Harmonic system;
+  IntegratorOptions options;
+  options.relative_tolerance = 0.0;
+  CHECK_THROWS_WITH(OdeIntegrator(system, options), Catch::Contains("relative_tolerance"));
+  options = {};
+  options.explicit_order = 7;
+  CHECK_THROWS_WITH(OdeIntegrator(system, options), Catch::Contains("explicit_order"));
+  OdeIntegrator integrator(system);
+  Vector x(3);
+  CHECK_THROWS_WITH(integrator.Integrate(0.0, Vector::Ones(2), 1.0, x), Catch::Contains("x1"));
+  Matrix states;
+  const Vector bad_times = (Vector(2) << 1.0, 0.5).finished();
+  CHECK_THROWS_WITH(integrator.Sample(0.0, Vector::Ones(2), bad_times, states),
+                    Catch::Contains("out of order"));
+}
+
+}  // namespace
+}  // namespace rubcont
