@@ -84,14 +84,17 @@ NewtonResult NewtonSolve(const ResidualFunction& residual, const JacobianFunctio
     x += xs.cwiseProduct(step_scaled);
     result.iterations = iteration;
     result.step_norm = step_scaled.lpNorm<Eigen::Infinity>();
+    const double previous_norm = result.residual_norm;
     residual(x, F);
     result.residual_norm = F.cwiseQuotient(fs).lpNorm<Eigen::Infinity>();
     if (!std::isfinite(result.residual_norm) || !std::isfinite(result.step_norm)) {
       result.status = NewtonStatus::kNonFinite;
       return result;
     }
-    if (result.step_norm <= options.step_tolerance &&
-        result.residual_norm <= options.residual_tolerance) {
+    const bool at_floor = previous_norm <= options.residual_tolerance &&
+                          result.residual_norm > 0.5 * previous_norm;
+    if (result.residual_norm <= options.residual_tolerance &&
+        (result.step_norm <= options.step_tolerance || at_floor)) {
       result.status = NewtonStatus::kConverged;
       return result;
     }

@@ -12,7 +12,10 @@ namespace rubcont {
 struct NewtonOptions {
   int max_iterations = 12;            // Newton iterations before giving up (≥ 1)
   double step_tolerance = 1e-10;      // converged when ‖Δx ./ x_scale‖∞ ≤ this ...
-  double residual_tolerance = 1e-9;   // ... and ‖F ./ F_scale‖∞ ≤ this (F_scale: see NewtonSolve)
+  double residual_tolerance = 1e-9;   // ... and ‖F ./ F_scale‖∞ ≤ this (F_scale: see NewtonSolve),
+                                      // or when the residual is below this and an iteration no
+                                      // longer halves it (round-off floor of an ill-conditioned
+                                      // system: further steps only move x by noise)
   double divergence_factor = 1e6;     // stop when the scaled residual grows by this factor
 };
 

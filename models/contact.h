@@ -1,0 +1,73 @@
+// One rub contact: Hunt–Crossley normal force and Coulomb friction (design.md §2, thesis Eqs. 43–45).
+//
+// Planar vectors are (x, y) pairs of the complex coordinate x + j y. For relative position
+// d = u_r − u_s of the rotor axis with respect to the stator at the contact plane and its rate ḋ:
+//   ρ = |d|, n = d/ρ, t = j n = (−n_y, n_x)        normal and tangent (counter-clockwise)
+//   δ = ρ − C, δ̇ = nᵀḋ                              penetration and its rate
+//   N = max(0, k1 δ + k2 δ² + c_nl δ̇ δ) if δ > 0, else 0
+//   V = ω R + tᵀḋ                                    slip velocity of the rotor surface over the stator
+//   F = μ N σ(V)                                     σ = tanh(V/ε) or sgn(V); in stick, F is given
+//   f = −N n − F t                                   force on the rotor (the stator gets −f)
+// With F > 0 the friction force −F t points clockwise: it drives backward precession u ∝ e^{−jΩt}.
+// For circular backward precession V = ωR − Ω|d|, so rolling (V = 0) is Ω = ωR/|d| ≈ (R/C)·ω.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace rubcont {
+
+using Vector2 = Eigen::Vector2d;
+using Matrix2 = Eigen::Matrix2d;
+using RowVector2 = Eigen::RowVector2d;
+
+// How the tangential force is obtained.
+enum class FrictionMode {
+  kRegularized,   // F = μ N tanh(V/ε)
+  kSlipPositive,  // F = +μ N (exact Coulomb, sliding with V > 0)
+  kSlipNegative,  // F = −μ N (exact Coulomb, sliding with V < 0)
+  kStick,         // F is an unknown supplied by the caller (exact Coulomb, V = 0 enforced elsewhere)
+};
+
+// Material law shared by the contacts of a scene.
+struct ContactLaw {
+  double stiffness = 1.75e11;    // k1 [N/m] > 0
+  double stiffness2 = 0.0;       // k2 [N/m²] ≥ 0
+  double damping = 1.75e5;       // c_nl [N·s/m²] ≥ 0 (Hunt–Crossley: damping force c_nl δ̇ δ)
+  double friction = 0.5;         // μ [-] ≥ 0
+  double velocity_scale = 1e-3;  // ε [m/s] > 0, of tanh(V/ε) in kRegularized mode
+};
+
+// Geometry of one contact.
+struct ContactGeometry {
+  double clearance = 3.81e-4;  // C [m] > 0, radial
+  double radius = 38.1e-3;     // R [m] > 0, rotor radius at the contact
+};
+
+// Everything a caller may want at one evaluation. Derivatives are filled only when requested and
+// are zero when there is no contact (δ ≤ 0 or the clamped N = 0).
+struct ContactEvaluation {
+  bool touching = false;           // N > 0
+  double penetration = 0.0;        // δ [m] (negative: gap)
+  double penetration_rate = 0.0;   // δ̇ [m/s]
+  double normal_force = 0.0;       // N [N] ≥ 0
+  double slip_velocity = 0.0;      // V [m/s]
+  double friction_force = 0.0;     // F [N]
+  Vector2 normal = Vector2::Zero();   // n (zero when ρ = 0)
+  Vector2 tangent = Vector2::Zero();  // t = j n
+  Vector2 force = Vector2::Zero();    // f on the rotor [N]
+
+  // ∂/∂d and ∂/∂ḋ (row vectors / 2×2), ∂/∂ω, ∂f/∂F (stick mode).
+  RowVector2 dN_dd = RowVector2::Zero(), dN_dddot = RowVector2::Zero();
+  RowVector2 dV_dd = RowVector2::Zero(), dV_dddot = RowVector2::Zero();
+  Matrix2 df_dd = Matrix2::Zero(), df_dddot = Matrix2::Zero();
+  Vector2 df_domega = Vector2::Zero();
+  Vector2 df_dF = Vector2::Zero();
+};
+
+// Evaluates the contact at relative position d [m] and rate ḋ [m/s] for spin ω [rad/s].
+// `stick_force` is F [N] in FrictionMode::kStick and ignored otherwise.
+void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, double omega,
+                     const Vector2& d, const Vector2& ddot, FrictionMode mode, double stick_force,
+                     bool with_derivatives, ContactEvaluation& out);
+
+}  // namespace rubcont

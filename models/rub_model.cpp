@@ -1,0 +1,367 @@
+#include "models/rub_model.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "models/analytic.h"
+
+namespace rubcont {
+
+namespace {
+
+// kron(A, I₂): the real 2n × 2n form of a real matrix acting on n complex coordinates.
+Matrix KronIdentity2(const Matrix& A) {
+  Matrix out = Matrix::Zero(2 * A.rows(), 2 * A.cols());
+  for (Index i = 0; i < A.rows(); ++i) {
+    for (Index j = 0; j < A.cols(); ++j) {
+      out(2 * i, 2 * j) = A(i, j);
+      out(2 * i + 1, 2 * j + 1) = A(i, j);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void RubStructure::Validate() const {
+  const Index n = mass.rows();
+  if (mass.cols() != n || damping.rows() != n || damping.cols() != n || stiffness.rows() != n ||
+      stiffness.cols() != n || imbalance_weights.size() != n) {
+    throw std::invalid_argument(fmt::format(
+        "RubStructure: M is {}×{}, C {}×{}, K {}×{}, imbalance_weights {}: all must match n_c = {}",
+        mass.rows(), mass.cols(), damping.rows(), damping.cols(), stiffness.rows(),
+        stiffness.cols(), imbalance_weights.size(), n));
+  }
+  if (!(mass - mass.transpose()).isZero(1e-12 * mass.norm())) {
+    throw std::invalid_argument("RubStructure: mass matrix must be symmetric");
+  }
+  if (Eigen::LLT<Matrix>(mass).info() != Eigen::Success) {
+    throw std::invalid_argument("RubStructure: mass matrix must be positive definite");
+  }
+  for (const RubContact& contact : contacts) {
+    if (contact.rotor < 0 || contact.rotor >= n || contact.stator < 0 || contact.stator >= n ||
+        contact.rotor == contact.stator) {
+      throw std::invalid_argument(fmt::format(
+          "RubStructure: contact '{}' joins coordinates {} and {}: need two distinct indices in "
+          "[0, {})", contact.name, contact.rotor, contact.stator, n));
+    }
+  }
+}
+
+RubStructure TwoPointStructure(const TwoPointParams& p) {
+  RubStructure s;
+  const Matrix M_r = RotorMassMatrix(p);
+  const Matrix M_s = StatorMassMatrix(p);
+  s.mass = Matrix::Zero(4, 4);
+  s.mass.topLeftCorner(2, 2) = M_r;
+  s.mass.bottomRightCorner(2, 2) = M_s;
+  s.stiffness = Matrix::Zero(4, 4);
+  s.stiffness(2, 2) = p.support_stiffness[0];
+  s.stiffness(3, 3) = p.support_stiffness[1];
+  s.damping = Matrix::Zero(4, 4);
+  s.damping(2, 2) = p.support_damping[0];
+  s.damping(3, 3) = p.support_damping[1];
+  const Eigen::Vector4d w(0.5, 0.5, -0.5, -0.5);  // centre damper: mid-point relative motion
+  s.damping += p.center_damping * w * w.transpose();
+  s.imbalance_weights = Eigen::Vector4d(1.0 - p.a(), p.a(), 0.0, 0.0);
+  s.imbalance = p.imbalance;
+  s.law.stiffness = p.contact_stiffness;
+  s.law.stiffness2 = p.contact_stiffness2;
+  s.law.damping = p.contact_damping;
+  s.law.friction = p.friction;
+  s.law.velocity_scale = p.friction_law.velocity_scale;
+  s.contacts = {RubContact{0, 2, {p.clearance[0], p.radius[0]}, "left"},
+                RubContact{1, 3, {p.clearance[1], p.radius[1]}, "right"}};
+  s.coordinate_names = {"rotor_left", "rotor_right", "stator_left", "stator_right"};
+  s.Validate();
+  return s;
+}
+
+void EvaluateContactForces(const RubStructure& structure, double omega, const Vector& q,
+                           const Vector& v, const std::vector<FrictionMode>& modes,
+                           const Vector& stick_forces, bool with_derivatives, ContactForces& out) {
+  const Index n2 = 2 * structure.Coordinates();
+  const Index m = static_cast<Index>(structure.contacts.size());
+  out.generalized.setZero(n2);
+  out.contacts.resize(m);
+  if (with_derivatives) {
+    out.d_dq.setZero(n2, n2);
+    out.d_dv.setZero(n2, n2);
+    out.d_domega.setZero(n2);
+    out.d_dstick.setZero(n2, m);
+  }
+  for (Index k = 0; k < m; ++k) {
+    const RubContact& contact = structure.contacts[k];
+    const Index r = 2 * contact.rotor;
+    const Index s = 2 * contact.stator;
+    const Vector2 d = q.segment<2>(r) - q.segment<2>(s);
+    const Vector2 ddot = v.segment<2>(r) - v.segment<2>(s);
+    const double stick_force = stick_forces.size() > k ? stick_forces(k) : 0.0;
+    ContactEvaluation& e = out.contacts[k];
+    EvaluateContact(structure.law, contact.geometry, omega, d, ddot, modes[k], stick_force,
+                    with_derivatives, e);
+    if (!e.touching) continue;
+    out.generalized.segment<2>(r) += e.force;
+    out.generalized.segment<2>(s) -= e.force;
+    if (!with_derivatives) continue;
+    // d = q_r − q_s: ∂f/∂q_r = ∂f/∂d, ∂f/∂q_s = −∂f/∂d; rotor rows get +f, stator rows −f.
+    out.d_dq.block<2, 2>(r, r) += e.df_dd;
+    out.d_dq.block<2, 2>(r, s) -= e.df_dd;
+    out.d_dq.block<2, 2>(s, r) -= e.df_dd;
+    out.d_dq.block<2, 2>(s, s) += e.df_dd;
+    out.d_dv.block<2, 2>(r, r) += e.df_dddot;
+    out.d_dv.block<2, 2>(r, s) -= e.df_dddot;
+    out.d_dv.block<2, 2>(s, r) -= e.df_dddot;
+    out.d_dv.block<2, 2>(s, s) += e.df_dddot;
+    out.d_domega.segment<2>(r) += e.df_domega;
+    out.d_domega.segment<2>(s) -= e.df_domega;
+    out.d_dstick.block<2, 1>(r, k) += e.df_dF;
+    out.d_dstick.block<2, 1>(s, k) -= e.df_dF;
+  }
+}
+
+RigidContactOrbit SolveRigidContactOrbit(const RubStructure& structure, double precession,
+                                 const std::vector<std::complex<double>>& normals) {
+  using Complex = std::complex<double>;
+  const Index n = structure.Coordinates();
+  const Index m = static_cast<Index>(structure.contacts.size());
+  if (static_cast<Index>(normals.size()) != m) {
+    throw std::invalid_argument(fmt::format(
+        "SolveCircularOrbit: {} normals given for {} contacts", normals.size(), m));
+  }
+  if (!(precession > 0.0)) {
+    throw std::invalid_argument(
+        fmt::format("SolveCircularOrbit: precession = {}: must be positive", precession));
+  }
+  // [D  B diag(n)] [u0]   [0  ]      D = K − Ω²M − jΩC, f_k = −P_k n_k
+  // [Bᵀ 0        ] [P ] = [C n]
+  const double W = precession;
+  ComplexMatrix A = ComplexMatrix::Zero(n + m, n + m);
+  A.topLeftCorner(n, n) = (structure.stiffness - W * W * structure.mass).cast<Complex>() -
+                          Complex(0.0, W) * structure.damping.cast<Complex>();
+  ComplexVector rhs = ComplexVector::Zero(n + m);
+  for (Index k = 0; k < m; ++k) {
+    const RubContact& c = structure.contacts[k];
+    const Complex nk = normals[k] / std::abs(normals[k]);
+    A(c.rotor, n + k) += nk;
+    A(c.stator, n + k) -= nk;
+    A(n + k, c.rotor) = 1.0;
+    A(n + k, c.stator) = -1.0;
+    rhs(n + k) = c.geometry.clearance * nk;
+  }
+  const ComplexVector solution = A.fullPivLu().solve(rhs);
+  RigidContactOrbit orbit;
+  orbit.precession = precession;
+  for (Index i = 0; i < n; ++i) orbit.amplitude.push_back(solution(i));
+  for (Index k = 0; k < m; ++k) orbit.force.push_back(solution(n + k));
+  return orbit;
+}
+
+RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
+    : structure_(std::move(structure)), omega_(omega) {
+  structure_.Validate();
+  mass_inverse_ = KronIdentity2(structure_.mass.inverse());
+  damping_ = KronIdentity2(structure_.damping);
+  stiffness_ = KronIdentity2(structure_.stiffness);
+  modes_.assign(structure_.contacts.size(), FrictionMode::kRegularized);
+  stick_forces_.setZero(static_cast<Index>(structure_.contacts.size()));
+}
+
+void RubFixedFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  const Index n2 = 2 * structure_.Coordinates();
+  const Vector q = x.head(n2);
+  const Vector v = x.tail(n2);
+  EvaluateContactForces(structure_, omega_, q, v, modes_, stick_forces_, false, forces_);
+  Vector load = forces_.generalized - damping_ * v - stiffness_ * q;
+  if (structure_.imbalance != 0.0) {
+    const double amplitude = structure_.imbalance * omega_ * omega_;
+    const double c = std::cos(omega_ * t), s = std::sin(omega_ * t);
+    for (Index i = 0; i < structure_.Coordinates(); ++i) {
+      load(2 * i) += amplitude * structure_.imbalance_weights(i) * c;
+      load(2 * i + 1) += amplitude * structure_.imbalance_weights(i) * s;
+    }
+  }
+  f.head(n2) = v;
+  f.tail(n2).noalias() = mass_inverse_ * load;
+}
+
+void RubFixedFrame::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const Index n2 = 2 * structure_.Coordinates();
+  EvaluateContactForces(structure_, omega_, x.head(n2), x.tail(n2), modes_, stick_forces_, true,
+                        forces_);
+  J.setZero();
+  J.topRightCorner(n2, n2).setIdentity();
+  J.bottomLeftCorner(n2, n2).noalias() = mass_inverse_ * (forces_.d_dq - stiffness_);
+  J.bottomRightCorner(n2, n2).noalias() = mass_inverse_ * (forces_.d_dv - damping_);
+}
+
+void RubFixedFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
+  const Index n2 = 2 * structure_.Coordinates();
+  EvaluateContactForces(structure_, omega_, x.head(n2), x.tail(n2), modes_, stick_forces_, true,
+                        forces_);
+  Vector load = forces_.d_domega;
+  if (structure_.imbalance != 0.0) {
+    // ∂/∂ω [m_u e ω² (cos ωt, sin ωt)] = m_u e (2ω (cos, sin) + ω² t (−sin, cos))
+    const double c = std::cos(omega_ * t), s = std::sin(omega_ * t);
+    const double me = structure_.imbalance;
+    for (Index i = 0; i < structure_.Coordinates(); ++i) {
+      const double b = structure_.imbalance_weights(i);
+      load(2 * i) += me * b * (2.0 * omega_ * c - omega_ * omega_ * t * s);
+      load(2 * i + 1) += me * b * (2.0 * omega_ * s + omega_ * omega_ * t * c);
+    }
+  }
+  df.head(n2).setZero();
+  df.tail(n2).noalias() = mass_inverse_ * load;
+}
+
+Vector RubFixedFrame::StateScale() const {
+  // Positions scale with the largest clearance; velocities with clearance × the fastest
+  // undamped frequency of the structure with the contacts pinned (or 2π·100 rad/s when free).
+  double clearance = 0.0;
+  for (const RubContact& c : structure_.contacts) {
+    clearance = std::max(clearance, c.geometry.clearance);
+  }
+  if (clearance == 0.0) clearance = 1e-3;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> modes(structure_.stiffness,
+                                                               structure_.mass,
+                                                               Eigen::EigenvaluesOnly);
+  const double fastest = std::sqrt(std::max(modes.eigenvalues().maxCoeff(), 0.0));
+  const double rate = fastest > 0.0 ? fastest : 2.0 * M_PI * 100.0;
+  const Index n2 = 2 * structure_.Coordinates();
+  Vector scale(2 * n2);
+  scale.head(n2).setConstant(clearance);
+  scale.tail(n2).setConstant(clearance * rate);
+  return scale;
+}
+
+double RubFixedFrame::ForcingPeriod() const {
+  return structure_.imbalance != 0.0 && omega_ > 0.0 ? 2.0 * M_PI / omega_ : 0.0;
+}
+
+void RubFixedFrame::Rotate(double phi, VectorRef x) const {
+  const double c = std::cos(phi), s = std::sin(phi);
+  for (Index i = 0; i + 1 < x.size(); i += 2) {
+    const double a = x(i), b = x(i + 1);
+    x(i) = c * a - s * b;
+    x(i + 1) = s * a + c * b;
+  }
+}
+
+void RubFixedFrame::RotationGenerator(ConstVectorRef x, VectorRef g) const {
+  for (Index i = 0; i + 1 < x.size(); i += 2) {
+    g(i) = -x(i + 1);
+    g(i + 1) = x(i);
+  }
+}
+
+std::vector<ContactEvaluation> RubFixedFrame::Contacts(ConstVectorRef x) {
+  const Index n2 = 2 * structure_.Coordinates();
+  EvaluateContactForces(structure_, omega_, x.head(n2), x.tail(n2), modes_, stick_forces_, false,
+                        forces_);
+  return forces_.contacts;
+}
+
+void RubFixedFrame::SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces) {
+  const std::size_t m = structure_.contacts.size();
+  if (modes.size() != m || static_cast<std::size_t>(stick_forces.size()) != m) {
+    throw std::invalid_argument(fmt::format(
+        "SetFrictionModes: {} modes and {} stick forces for {} contacts", modes.size(),
+        stick_forces.size(), m));
+  }
+  modes_ = std::move(modes);
+  stick_forces_ = std::move(stick_forces);
+}
+
+Matrix RubFixedFrame::StickForceJacobian() const {
+  const Index n2 = 2 * structure_.Coordinates();
+  Matrix G = Matrix::Zero(2 * n2, static_cast<Index>(structure_.contacts.size()));
+  G.bottomRows(n2).noalias() = mass_inverse_ * forces_.d_dstick;
+  return G;
+}
+
+RubRotatingFrame::RubRotatingFrame(RubStructure structure, double frame_rate, double omega)
+    : fixed_(std::move(structure), omega), frame_rate_(frame_rate) {
+  if (fixed_.structure().imbalance != 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "RubRotatingFrame: imbalance = {} kg·m: the rotating frame needs rotational symmetry "
+        "(imbalance 0); integrate an imbalanced rotor in the fixed frame",
+        fixed_.structure().imbalance));
+  }
+  fixed_state_.resize(fixed_.Dimension());
+  fixed_jacobian_.resize(fixed_.Dimension(), fixed_.Dimension());
+}
+
+void RubRotatingFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  // p̈ = a(p, ṗ − jΩ p) + 2jΩ ṗ + Ω² p
+  const Index n2 = x.size() / 2;
+  const double W = frame_rate_;
+  fixed_state_.head(n2) = x.head(n2);
+  for (Index i = 0; i < n2; i += 2) {  // w = ṗ − jΩ p
+    fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
+    fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
+  }
+  fixed_.Rhs(t, fixed_state_, f);  // f = [w; a]
+  f.head(n2) = x.tail(n2);
+  for (Index i = 0; i < n2; i += 2) {
+    f(n2 + i) += -2.0 * W * x(n2 + i + 1) + W * W * x(i);
+    f(n2 + i + 1) += 2.0 * W * x(n2 + i) + W * W * x(i + 1);
+  }
+}
+
+void RubRotatingFrame::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
+  // ∂p̈/∂p = a_q − Ω a_v J + Ω² I,  ∂p̈/∂ṗ = a_v + 2Ω J  (J: multiplication by j on each pair)
+  const Index n2 = x.size() / 2;
+  const double W = frame_rate_;
+  fixed_state_.head(n2) = x.head(n2);
+  for (Index i = 0; i < n2; i += 2) {
+    fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
+    fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
+  }
+  fixed_.JacobianX(t, fixed_state_, fixed_jacobian_);
+  const auto a_q = fixed_jacobian_.bottomLeftCorner(n2, n2);
+  const auto a_v = fixed_jacobian_.bottomRightCorner(n2, n2);
+  J.setZero();
+  J.topRightCorner(n2, n2).setIdentity();
+  auto dp = J.bottomLeftCorner(n2, n2);
+  auto dv = J.bottomRightCorner(n2, n2);
+  dp = a_q;
+  dv = a_v;
+  for (Index i = 0; i < n2; i += 2) {
+    // column pair (i, i+1): a_v J has columns (a_v e_{i+1}, −a_v e_i)
+    dp.col(i) -= W * a_v.col(i + 1);
+    dp.col(i + 1) += W * a_v.col(i);
+    dp(i, i) += W * W;
+    dp(i + 1, i + 1) += W * W;
+    dv(i + 1, i) += 2.0 * W;
+    dv(i, i + 1) -= 2.0 * W;
+  }
+}
+
+void RubRotatingFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
+  const Index n2 = x.size() / 2;
+  const double W = frame_rate_;
+  fixed_state_.head(n2) = x.head(n2);
+  for (Index i = 0; i < n2; i += 2) {
+    fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
+    fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
+  }
+  fixed_.DfDparameter(t, fixed_state_, df);
+}
+
+Vector RubRotatingFrame::ToFixedFrame(double t, ConstVectorRef x) const {
+  const Index n2 = x.size() / 2;
+  const double W = frame_rate_;
+  Vector u(x.size());
+  for (Index i = 0; i < n2; i += 2) {
+    u(i) = x(i);
+    u(i + 1) = x(i + 1);
+    u(n2 + i) = x(n2 + i) + W * x(i + 1);
+    u(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
+  }
+  fixed_.Rotate(-W * t, u);
+  return u;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,167 @@
+// A linear rotor–stator structure on complex coordinates with rub contacts, and its equations of
+// motion in the fixed frame and in a frame precessing backwards at a rate Ω (design.md §2).
+//
+// The structure has n_c complex coordinates u (rotor and stator displacements at chosen planes):
+//     M ü + C u̇ + K u = Σ_k B_k f_k + b m_u e ω² e^{jωt}
+// with real symmetric n_c × n_c matrices M, C, K acting identically on x and y, contact k acting
+// between coordinates rotor(k) and stator(k) (B_k = e_rotor − e_stator), and imbalance weights b.
+// The two-point rotor (4 coordinates: rotor L, R; stator L, R) and the single-contact Jeffcott
+// rotor (2 coordinates) are both instances, so one implementation serves both.
+//
+// Real state layout (4 n_c entries): x = [q; v], q = (x_0, y_0, x_1, y_1, ...), v = q̇.
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "models/contact.h"
+#include "models/two_point_params.h"
+#include "solvers/ode_system.h"
+
+namespace rubcont {
+
+struct RubContact {
+  int rotor = 0;   // index of the rotor coordinate at the contact plane
+  int stator = 1;  // index of the stator coordinate at the contact plane
+  ContactGeometry geometry;
+  std::string name;  // "left", "right", or "contact"
+};
+
+struct RubStructure {
+  Matrix mass;       // M (n_c × n_c) [kg], symmetric positive definite
+  Matrix damping;    // C (n_c × n_c) [N·s/m], symmetric positive semi-definite
+  Matrix stiffness;  // K (n_c × n_c) [N/m], symmetric positive semi-definite
+  std::vector<RubContact> contacts;
+  Vector imbalance_weights;  // b (n_c): generalized force per unit imbalance force m_u e ω²
+  double imbalance = 0.0;    // m_u e [kg·m]
+  ContactLaw law;
+  std::vector<std::string> coordinate_names;  // n_c names, e.g. "rotor_left"
+
+  Index Coordinates() const { return mass.rows(); }
+  Index States() const { return 4 * mass.rows(); }
+  // Throws std::invalid_argument naming the inconsistency (sizes, indices, non-symmetric M).
+  void Validate() const;
+};
+
+// The two-point model of design.md §2: coordinates (rotor L, rotor R, stator L, stator R),
+// M = blkdiag(M_r, M_s), K = blkdiag(0, K_s), C = blkdiag(0, C_s) + c_d w wᵀ with
+// w = (½, ½, −½, −½) (centre damper between the mid-points), imbalance b = ((1−a), a, 0, 0).
+RubStructure TwoPointStructure(const TwoPointParams& params);
+
+// Planar helpers on the real layout.
+inline Vector2 PlanarAt(const Vector& q, Index coordinate) {
+  return Vector2(q(2 * coordinate), q(2 * coordinate + 1));
+}
+
+// Generalized contact forces on the structure and their derivatives, for given positions q and
+// velocities v (2 n_c each), spin ω and per-contact friction modes (stick forces used in kStick).
+struct ContactForces {
+  Vector generalized;         // Σ_k B_k f_k (2 n_c)
+  Matrix d_dq;                // ∂/∂q (2 n_c × 2 n_c)
+  Matrix d_dv;                // ∂/∂v
+  Vector d_domega;            // ∂/∂ω (2 n_c)
+  Matrix d_dstick;            // ∂/∂F_k (2 n_c × contacts), non-zero for kStick contacts only
+  std::vector<ContactEvaluation> contacts;
+};
+void EvaluateContactForces(const RubStructure& structure, double omega, const Vector& q,
+                           const Vector& v, const std::vector<FrictionMode>& modes,
+                           const Vector& stick_forces, bool with_derivatives, ContactForces& out);
+
+// Circular backward precession u(t) = u0 e^{−jΩt} with every contact touching at exactly its
+// clearance along a prescribed unit normal n_k (|n_k| = 1): the closed form generalizing the
+// thesis's Mode 1 (all n_k equal) and Mode 2 (n_R = −n_L) to any phase between the contacts.
+// Contact forces f_k = −P_k n_k with P_k = N_k + jF_k; D(Ω) = K − Ω²M − jΩC; D u0 = Σ B_k f_k;
+// B_kᵀ u0 = C_k n_k. Imbalance is ignored; Hunt–Crossley compliance is not (|d_k| = C_k).
+struct RigidContactOrbit {
+  double precession = 0.0;                     // Ω [rad/s] > 0
+  std::vector<std::complex<double>> amplitude;  // u0 (n_c)
+  std::vector<std::complex<double>> force;      // P_k = N_k + j F_k per contact
+};
+RigidContactOrbit SolveRigidContactOrbit(const RubStructure& structure, double precession,
+                                 const std::vector<std::complex<double>>& normals);
+
+// Fixed-frame equations of motion ẋ = f(t, x; ω), 4 n_c states, parameter ω [rad/s], friction
+// regularized by tanh(V/ε) (the only law time marching can use). Non-autonomous when the
+// structure has an imbalance (forcing period 2π/ω).
+class RubFixedFrame : public OdeSystem {
+ public:
+  explicit RubFixedFrame(RubStructure structure, double omega = 0.0);
+
+  Index Dimension() const override { return structure_.States(); }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return omega_; }
+  void SetParameter(double omega) override { omega_ = omega; }
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  Vector StateScale() const override;
+  double ForcingPeriod() const override;
+  bool HasRotationSymmetry() const override { return structure_.imbalance == 0.0; }
+  void Rotate(double phi, VectorRef x) const override;
+  void RotationGenerator(ConstVectorRef x, VectorRef g) const override;
+
+  const RubStructure& structure() const { return structure_; }
+  // Contact quantities (N, V, F, δ, ...) at state x for the current ω.
+  std::vector<ContactEvaluation> Contacts(ConstVectorRef x);
+
+  // Friction modes used by Rhs / JacobianX, one per contact (default: all kRegularized). Exact
+  // modes (kSlip*, kStick with the given stick forces [N]) serve linearizations of rotating waves;
+  // time integration always uses kRegularized.
+  void SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces);
+  // ∂ẋ/∂F_k (States() × contacts) at the state of the last JacobianX call: non-zero for kStick.
+  Matrix StickForceJacobian() const;
+
+ private:
+  RubStructure structure_;
+  double omega_;
+  Matrix mass_inverse_;  // kron(M⁻¹, I₂)
+  Matrix damping_;       // kron(C, I₂)
+  Matrix stiffness_;     // kron(K, I₂)
+  std::vector<FrictionMode> modes_;
+  Vector stick_forces_;
+  ContactForces forces_;  // workspace
+};
+
+// The same equations in the frame precessing backwards at the constant rate Ω_f,
+// u = e^{−jΩ_f t} p:  p̈ = a(p, ṗ − jΩ_f p) + 2jΩ_f ṗ + Ω_f² p, a being the fixed-frame
+// acceleration. Rotating waves are equilibria when Ω_f equals their precession; modulated whirl
+// is a relative periodic orbit. Requires no imbalance (it would break the rotational symmetry).
+class RubRotatingFrame : public OdeSystem {
+ public:
+  RubRotatingFrame(RubStructure structure, double frame_rate, double omega = 0.0);
+
+  Index Dimension() const override { return fixed_.Dimension(); }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return fixed_.Parameter(); }
+  void SetParameter(double omega) override { fixed_.SetParameter(omega); }
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  Vector StateScale() const override { return fixed_.StateScale(); }
+  bool HasRotationSymmetry() const override { return true; }
+  void Rotate(double phi, VectorRef x) const override { fixed_.Rotate(phi, x); }
+  void RotationGenerator(ConstVectorRef x, VectorRef g) const override {
+    fixed_.RotationGenerator(x, g);
+  }
+
+  void SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces) {
+    fixed_.SetFrictionModes(std::move(modes), std::move(stick_forces));
+  }
+  // ∂ẋ/∂F_k at the state of the last JacobianX call (the frame terms do not involve F).
+  Matrix StickForceJacobian() const { return fixed_.StickForceJacobian(); }
+
+  double frame_rate() const { return frame_rate_; }
+  void set_frame_rate(double frame_rate) { frame_rate_ = frame_rate; }
+  const RubStructure& structure() const { return fixed_.structure(); }
+  // Fixed-frame state at time t from a rotating-frame state: u = e^{−jΩ_f t} p, u̇ = e^{−jΩ_f t}(ṗ − jΩ_f p).
+  Vector ToFixedFrame(double t, ConstVectorRef x) const;
+
+ private:
+  RubFixedFrame fixed_;
+  double frame_rate_;
+  Vector fixed_state_;  // workspace
+  Matrix fixed_jacobian_;
+};
+
+}  // namespace rubcont

@@ -1,0 +1,42 @@
+#include "models/jeffcott.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+namespace rubcont {
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+TEST_CASE("Jeffcott closed form equals the general circular-orbit solve", "[jeffcott]") {
+  const JeffcottParams params;
+  const RubStructure s = JeffcottStructure(params);
+  for (double hz : {20.0, 55.0, 65.0, 90.0, 140.0}) {
+    const std::complex<double> closed = JeffcottContactForce(params, kTwoPi * hz);
+    const RigidContactOrbit orbit = SolveRigidContactOrbit(s, kTwoPi * hz, {1.0});
+    CHECK(std::abs(orbit.force[0] - closed) <= 1e-10 * std::abs(closed));
+  }
+}
+
+TEST_CASE("Jeffcott: contact only between the rotor and the combined natural frequencies",
+          "[jeffcott]") {
+  // Black (1968): with light damping, N > 0 only for ω_r < Ω < ω_c (rotor alone, then pinned).
+  const JeffcottParams params;
+  const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
+  REQUIRE(f.rotor_hz < f.combined_hz);
+  REQUIRE(f.combined_hz < f.stator_hz);
+  CHECK(JeffcottContactForce(params, kTwoPi * 0.9 * f.rotor_hz).real() < 0.0);
+  CHECK(JeffcottContactForce(params, kTwoPi * 0.5 * (f.rotor_hz + f.combined_hz)).real() > 0.0);
+  CHECK(JeffcottContactForce(params, kTwoPi * 0.5 * (f.combined_hz + f.stator_hz)).real() < 0.0);
+  // Undamped: F = 0 (no friction needed to sustain rolling without dissipation).
+  JeffcottParams undamped = params;
+  undamped.c_r = 0.0;
+  undamped.c_s = 0.0;
+  CHECK(JeffcottContactForce(undamped, kTwoPi * 60.0).imag() == 0.0);
+  // Damped: rolling backward whirl needs a positive friction force.
+  CHECK(JeffcottContactForce(params, kTwoPi * 60.0).imag() > 0.0);
+}
+
+}  // namespace
+}  // namespace rubcont

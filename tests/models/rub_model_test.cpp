@@ -1,0 +1,177 @@
+#include "models/rub_model.h"
+
+#include <cmath>
+#include <complex>
+
+#include <catch2/catch.hpp>
+
+#include "models/analytic.h"
+#include "solvers/finite_difference.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+// A state of the two-point model with both contacts penetrating slightly and moving.
+Vector TouchingState(const RubStructure& s) {
+  Vector x = Vector::Zero(s.States());
+  const double C = s.contacts[0].geometry.clearance;
+  // rotor L, R; stator L, R (x, y pairs), then velocities
+  x.head(8) << 1.0002 * C * std::cos(0.3), 1.0002 * C * std::sin(0.3),
+      1.0001 * C * std::cos(2.0) + 1e-6, 1.0001 * C * std::sin(2.0) - 2e-6,
+      1e-6, -2e-6, 3e-6, 1e-6;
+  x.tail(8) << 0.02, -0.13, 0.11, 0.05, -0.01, 0.02, 0.03, -0.04;
+  return x;
+}
+
+TEST_CASE("contact law derivatives match finite differences in every friction mode",
+          "[contact]") {
+  ContactLaw law;
+  law.velocity_scale = 0.05;
+  const ContactGeometry geometry;
+  const double omega = 7.0;
+  Vector x(4);  // d, ḋ
+  x << 3.8105e-4 * std::cos(0.7), 3.8105e-4 * std::sin(0.7), 0.03, -0.21;
+  for (FrictionMode mode : {FrictionMode::kRegularized, FrictionMode::kSlipPositive,
+                            FrictionMode::kSlipNegative, FrictionMode::kStick}) {
+    auto force = [&](const Vector& y, Vector& f) {
+      ContactEvaluation e;
+      EvaluateContact(law, geometry, omega, y.head<2>(), y.tail<2>(), mode, 123.0, false, e);
+      f.resize(4);
+      f << e.force, e.normal_force, e.slip_velocity;
+    };
+    ContactEvaluation e;
+    EvaluateContact(law, geometry, omega, x.head<2>(), x.tail<2>(), mode, 123.0, true, e);
+    REQUIRE(e.touching);
+    Matrix J(4, 4);
+    J << e.df_dd, e.df_dddot, e.dN_dd, e.dN_dddot, e.dV_dd, e.dV_dddot;
+    const Vector typical = (Vector(4) << 3.8e-4, 3.8e-4, 0.1, 0.1).finished();
+    const JacobianCheck check = CheckJacobian(force, x, J, 1e-6, &typical);
+    INFO("mode " << static_cast<int>(mode) << " worst (" << check.worst_row << ", "
+                 << check.worst_col << ") analytic " << check.analytic_value << " fd "
+                 << check.difference_value);
+    CHECK(check.ok);
+  }
+}
+
+TEST_CASE("contact law: no force in the gap, friction drives backward precession", "[contact]") {
+  const ContactLaw law;
+  const ContactGeometry geometry;
+  ContactEvaluation e;
+  EvaluateContact(law, geometry, 10.0, Vector2(3.0e-4, 0.0), Vector2(0.0, -0.1),
+                  FrictionMode::kSlipPositive, 0.0, true, e);
+  CHECK_FALSE(e.touching);
+  CHECK(e.force.norm() == 0.0);
+  // Penetrating at n = (1, 0), sliding with V > 0: normal pushes the rotor back (−x), friction
+  // −F t = −F (0, 1) points along −y, the direction of backward (clockwise) precession at n.
+  EvaluateContact(law, geometry, 10.0, Vector2(3.82e-4, 0.0), Vector2(0.0, 0.0),
+                  FrictionMode::kSlipPositive, 0.0, false, e);
+  REQUIRE(e.touching);
+  CHECK(e.normal_force == Approx(law.stiffness * 1e-6).epsilon(1e-9));
+  CHECK(e.slip_velocity == Approx(10.0 * geometry.radius));
+  CHECK(e.force.x() < 0.0);
+  CHECK(e.force.y() == Approx(-law.friction * e.normal_force));
+}
+
+TEST_CASE("two-point structure: fixed-frame Jacobian and parameter derivative", "[rub_model]") {
+  TwoPointParams params;
+  params.friction_law.velocity_scale = 0.05;
+  params.imbalance = 3.43e-5;
+  RubFixedFrame model(TwoPointStructure(params), kTwoPi * 60.0 / 60.0);
+  const Vector x = TouchingState(model.structure());
+  const Vector typical = model.StateScale();
+  const double t = 0.0123;
+  Matrix J(16, 16);
+  model.JacobianX(t, x, J);
+  auto rhs = [&](const Vector& y, Vector& f) {
+    f.resize(16);
+    model.Rhs(t, y, f);
+  };
+  const JacobianCheck check = CheckJacobian(rhs, x, J, 1e-6, &typical);
+  INFO("worst (" << check.worst_row << ", " << check.worst_col << ") analytic "
+                 << check.analytic_value << " fd " << check.difference_value);
+  CHECK(check.ok);
+
+  Vector df(16);
+  model.DfDparameter(t, x, df);
+  const double omega = model.Parameter();
+  const double h = 1e-5 * omega;
+  Vector f_plus(16), f_minus(16);
+  model.SetParameter(omega + h);
+  model.Rhs(t, x, f_plus);
+  model.SetParameter(omega - h);
+  model.Rhs(t, x, f_minus);
+  model.SetParameter(omega);
+  const Vector fd = (f_plus - f_minus) / (2 * h);
+  CHECK((df - fd).norm() <= 1e-6 * fd.norm());
+}
+
+TEST_CASE("rotating frame: Jacobian, equivariance and agreement with the fixed frame",
+          "[rub_model]") {
+  TwoPointParams params;
+  params.friction_law.velocity_scale = 0.05;
+  const double frame_rate = kTwoPi * 80.0;
+  RubRotatingFrame rotating(TwoPointStructure(params), frame_rate, kTwoPi * 0.9);
+  const Vector x = TouchingState(rotating.structure());
+  const Vector typical = rotating.StateScale();
+  Matrix J(16, 16);
+  rotating.JacobianX(0.0, x, J);
+  auto rhs = [&](const Vector& y, Vector& f) {
+    f.resize(16);
+    rotating.Rhs(0.0, y, f);
+  };
+  const JacobianCheck check = CheckJacobian(rhs, x, J, 1e-6, &typical);
+  INFO("worst (" << check.worst_row << ", " << check.worst_col << ") analytic "
+                 << check.analytic_value << " fd " << check.difference_value);
+  CHECK(check.ok);
+
+  // Equivariance: f(R_φ x) = R_φ f(x).
+  Vector f(16), f_rotated(16);
+  rotating.Rhs(0.0, x, f);
+  Vector y = x;
+  rotating.Rotate(1.1, y);
+  rotating.Rhs(0.0, y, f_rotated);
+  rotating.Rotate(1.1, f);
+  CHECK((f_rotated - f).norm() <= 1e-12 * f.norm());
+
+  // d/dt of u(t) = e^{−jΩt} p(t) computed from the rotating-frame field equals the fixed-frame
+  // field at u: compare at t = 0.37 s by central differences of ToFixedFrame along a short step.
+  const double t = 0.37, h = 1e-7;
+  const Vector fixed_derivative =
+      (rotating.ToFixedFrame(t + h, y + h * f_rotated) -
+       rotating.ToFixedFrame(t - h, y - h * f_rotated)) / (2 * h);
+  RubFixedFrame fixed(rotating.structure(), rotating.Parameter());
+  Vector f_fixed(16);
+  fixed.Rhs(t, rotating.ToFixedFrame(t, y), f_fixed);
+  CHECK((fixed_derivative - f_fixed).norm() <= 1e-5 * f_fixed.norm());
+}
+
+TEST_CASE("rigid-contact orbit of the general structure equals the analytic Mode 1/2 closed form",
+          "[rub_model]") {
+  // Two independent derivations: the thesis-form W(Ω) receptance of models/analytic.h and the
+  // bordered solve of the assembled structure (with the centre damper inside C).
+  TwoPointParams params;
+  params.rotor_mass_center = 0.22;  // asymmetric rotor, unequal clearances
+  params.rotor_inertia = 0.04;
+  params.clearance = {3.81e-4, 3.048e-4};
+  const RubStructure s = TwoPointStructure(params);
+  for (CircularMode mode : {CircularMode::kMode1, CircularMode::kMode2}) {
+    for (double hz : {30.0, 84.0, 120.0, 170.0}) {
+      const CircularOrbit closed = SolveCircularOrbit(params, mode, kTwoPi * hz);
+      const RigidContactOrbit orbit =
+          SolveRigidContactOrbit(s, kTwoPi * hz, {1.0, double(ContactSign(mode))});
+      for (int k = 0; k < 2; ++k) {
+        CHECK(std::abs(orbit.force[k] - closed.contact_force(k)) <=
+              1e-9 * std::abs(closed.contact_force(k)));
+        CHECK(std::abs(orbit.amplitude[k] - closed.rotor_amplitude(k)) <=
+              1e-9 * std::abs(closed.rotor_amplitude(k)));
+        CHECK(std::abs(orbit.amplitude[2 + k] - closed.stator_amplitude(k)) <=
+              1e-9 * std::abs(closed.stator_amplitude(k)));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rubcont
