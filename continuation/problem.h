@@ -61,6 +61,10 @@ class Problem {
   // Optional stability operator: eigenvalues (equilibria) or Floquet multipliers (orbits).
   virtual bool HasStability() const { return false; }
   virtual Spectrum Stability(const Vector& u, double lambda);
+  // Values with Re ≤ this (eigenvalues) or |·| ≤ 1 + this (multipliers) count as stable: the
+  // tolerance of Spectrum::UnstableCount the engine uses. Problems with physically marginal modes
+  // (e.g. a growth rate of 1e-5 s⁻¹ from contact compliance) raise it and say why.
+  virtual double StabilityTolerance() const { return 1e-9; }
 
   // Optional named scalar measures stored with every branch point (e.g. "precession_hz",
   // "normal_force_left"). Measures(u, λ) returns one value per name, in order.
