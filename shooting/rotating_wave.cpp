@@ -481,7 +481,7 @@ std::string RotatingWaveProblem::PieceLabel() const {
   return label;
 }
 
-Vector RotatingWaveProblem::FromCircularOrbit(const RigidContactOrbit& orbit) {
+Vector RotatingWaveProblem::FromRigidContactOrbit(const RigidContactOrbit& orbit) {
   const Index n = structure_.Coordinates();
   Vector u = Vector::Zero(Dimension());
   for (Index i = 0; i < n; ++i) {

@@ -69,9 +69,10 @@ class RotatingWaveProblem : public Problem {
   bool SwitchAt(int event, Vector& u, double omega) override;
   std::string PieceLabel() const override;
 
-  // Unknowns from a circular orbit (e.g. the analytic Mode 1/2 solution, or SolveCircularOrbit):
-  // p = u0, Ω, F_k = Im P_k. Also makes its contact displacements the phase reference.
-  Vector FromCircularOrbit(const RigidContactOrbit& orbit);
+  // Unknowns from a rigid-contact circular orbit (SolveRigidContactOrbit, or the analytic Mode 1/2
+  // solution): p = u0 with each touching rotor coordinate moved out by δ_k = N_k/k1, Ω, and
+  // F_k = Im P_k (0 for free contacts). Also makes its contact displacements the phase reference.
+  Vector FromRigidContactOrbit(const RigidContactOrbit& orbit);
   // Sets the phase reference from the contact displacements of u.
   void SetPhaseReference(const Vector& u);
 
