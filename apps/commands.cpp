@@ -82,7 +82,9 @@ std::string Describe(const Transition& t) {
 
 void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
   fmt::print(out, "  {} ({}):\n", ToString(curve.mode),
-             curve.mode == CircularMode::kMode1 ? "normals in phase" : "normals in antiphase");
+             curve.mode == CircularMode::kMode1   ? "normals in phase"
+             : curve.mode == CircularMode::kMode2 ? "normals in antiphase"
+                                                  : "one contact");
   if (curve.transitions.empty()) fmt::print(out, "    no transitions in range\n");
   const auto& t = curve.transitions;
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -90,8 +92,11 @@ void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
     const bool both = i + 1 < t.size() && t[i + 1].type == t[i].type &&
                       t[i + 1].direction == t[i].direction && t[i + 1].contact != t[i].contact &&
                       std::abs(t[i + 1].precession_hz - t[i].precession_hz) <= 1e-9 * t[i].precession_hz;
-    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz,
-               both ? "both" : (t[i].contact == 0 ? "left" : "right"), Describe(t[i]));
+    const char* where = curve.mode == CircularMode::kSingleContact ? ""
+                        : both                                      ? "both"
+                        : t[i].contact == 0                         ? "left"
+                                                                    : "right";
+    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz, where, Describe(t[i]));
     if (both) ++i;
   }
   if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
@@ -116,6 +121,25 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
+        if (scene.model == ModelKind::kJeffcott) {
+          const Clock::time_point start = Clock::now();
+          const AnalyticOptions options = AnalyticOptionsOf(scene);
+          const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
+          WriteJeffcottAnalytic(writer, scene.jeffcott, curve);
+          progress("[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
+                   options.precession_points, 1e3 * SecondsSince(start));
+          const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
+          fmt::print(out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",
+                     scene.jeffcott.mu, options.precession_points, options.min_precession_hz,
+                     options.max_precession_hz);
+          fmt::print(out, "  natural frequencies: rotor {:.3f} Hz, stator {:.3f} Hz, "
+                          "pinned together {:.3f} Hz\n",
+                     f.rotor_hz, f.stator_hz, f.combined_hz);
+          PrintCurve(out, curve);
+          if (!curve.Succeeded()) failures.push_back("[analytic] " + curve.message);
+          scripts.push_back("analytic.py");
+          break;
+        }
         const Clock::time_point start = Clock::now();
         const TwoPointParams& p = scene.two_point;
         const AnalyticOptions options = AnalyticOptionsOf(scene);

@@ -20,12 +20,14 @@
 #include <vector>
 
 #include "models/analytic.h"
+#include "models/jeffcott.h"
 #include "models/two_point_params.h"
 
 namespace rubcont {
 
 enum class ModelKind {
   kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (design.md §2)
+  kJeffcott,  // "jeffcott": single-contact Jeffcott rotor with an elastic stator (Black, Crandall)
 };
 const char* ToString(ModelKind model);
 
@@ -47,6 +49,7 @@ struct Scene {
   std::string description;  // free text
   ModelKind model = ModelKind::kTwoPoint;
   TwoPointParams two_point;  // the model description when model == kTwoPoint
+  JeffcottParams jeffcott;   // the model description when model == kJeffcott
   AnalysisOptions analysis;
 
   // Provenance, not part of the scene's content: where it was read from, and which keys the file

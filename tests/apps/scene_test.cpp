@@ -190,8 +190,21 @@ TEST_CASE("Rule: ranges must increase and start above zero", "[scene]") {
 }
 
 TEST_CASE("Rule: unknown model names list the known ones", "[scene]") {
-  CHECK_THAT(OnlyProblem("model = \"jeffcott\"\n" + kValid),
-             Contains("scene.toml:1:9: model = \"jeffcott\": must be one of \"two_point\""));
+  CHECK_THAT(OnlyProblem("model = \"jefcott\"\n" + kValid),
+             Contains("scene.toml:1:9: model = \"jefcott\": must be one of \"two_point\", \"jeffcott\""));
+}
+
+TEST_CASE("Jeffcott scenes: their own section, the other model's keys rejected", "[scene]") {
+  const std::string jeffcott = ReadFile("scenes/jeffcott.toml");
+  const Scene scene = ParseScene(jeffcott, "scene.toml", "x");
+  CHECK(scene.model == ModelKind::kJeffcott);
+  CHECK(scene.jeffcott.k_s == 5.0e6);
+  CHECK_THAT(OnlyProblem(jeffcott + "[rotor]\nmass = 9.99\n"),
+             Contains("rotor.mass: not a key of model \"jeffcott\""));
+  CHECK_THAT(OnlyProblem(Replace(jeffcott, "k_s = 5.0e6\n", "")),
+             Contains("jeffcott.k_s: missing; required"));
+  CHECK_THAT(OnlyProblem(Replace(jeffcott, "C = 3.81e-4", "C = 0.0")),
+             Contains("jeffcott.C = 0.0: must be positive (m)"));
 }
 
 TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
