@@ -506,13 +506,12 @@ struct Continuation::Impl {
                                                  const PointData& to, double sigma_end,
                                                  SpectralKind kind, bool locate) {
     const double imaginary_tolerance = options.detect.imaginary_tolerance;
-    const double stability_tolerance = problem.StabilityTolerance();
     const auto k = static_cast<size_t>(
         std::min(from.counts.unstable[static_cast<int>(kind)],
                  to.counts.unstable[static_cast<int>(kind)]));
     auto critical = [&](const Spectrum& spectrum, SpectralValue& value) {
       const std::vector<SpectralValue> values =
-          ValuesOfKind(spectrum, kind, imaginary_tolerance, stability_tolerance);
+          ValuesOfKind(spectrum, kind, imaginary_tolerance);
       if (values.size() <= k) return false;
       value = values[k];
       return true;
@@ -524,16 +523,22 @@ struct Continuation::Impl {
       sp.note = "detected from the unstable counts; no continuous critical value to locate";
       return {sigma_end, sp};
     }
+    // Locate the boundary itself (Re μ = 0, |μ| = 1). The counts use StabilityTolerance: when a
+    // value within that tolerance of the boundary makes both ends lie on one side of it, locate
+    // where the value crosses the tolerance instead.
+    const double shift =
+        va.measure * vb.measure <= 0.0 ? 0.0 : problem.StabilityTolerance();
     SpectralValue located = vb;
     ArcFunction psi = [&, this](const CorrectedPoint& p, double& value) {
       const Spectrum spectrum = StabilityAt(p.x);
       SpectralValue v;
       if (!spectrum.valid || !critical(spectrum, v)) return false;
-      value = v.measure;
+      value = v.measure - shift;
       located = v;
       return true;
     };
-    auto entry = FromArc(type, sampler, psi, va.measure, vb.measure, to, sigma_end, locate);
+    auto entry = FromArc(type, sampler, psi, va.measure - shift, vb.measure - shift, to,
+                         sigma_end, locate);
     // The critical value at the returned point (re-evaluated if the last trial was elsewhere).
     SpecialPoint& sp = entry.second;
     if (locate) {

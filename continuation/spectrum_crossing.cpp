@@ -24,11 +24,8 @@ int KindOf(const Spectrum& spectrum, std::complex<double> value, double imaginar
                                               : SpectralKind::kRealNegativeMultiplier);
 }
 
-double MeasureOf(const Spectrum& spectrum, std::complex<double> value,
-                 double stability_tolerance) {
-  return spectrum.kind == SpectrumKind::kEigenvalues
-             ? value.real() - stability_tolerance
-             : std::abs(value) - 1.0 - stability_tolerance;
+double MeasureOf(const Spectrum& spectrum, std::complex<double> value) {
+  return spectrum.kind == SpectrumKind::kEigenvalues ? value.real() : std::abs(value) - 1.0;
 }
 
 }  // namespace
@@ -38,7 +35,7 @@ SpectrumCounts CountUnstable(const Spectrum& spectrum, double imaginary_toleranc
   SpectrumCounts counts;
   for (Index i = 0; i < spectrum.values.size(); ++i) {
     const std::complex<double> value = spectrum.values(i);
-    if (!(MeasureOf(spectrum, value, stability_tolerance) > 0.0)) continue;
+    if (!(MeasureOf(spectrum, value) > stability_tolerance)) continue;
     ++counts.total;
     const int kind = KindOf(spectrum, value, imaginary_tolerance);
     if (kind >= 0) ++counts.unstable[kind];
@@ -47,12 +44,12 @@ SpectrumCounts CountUnstable(const Spectrum& spectrum, double imaginary_toleranc
 }
 
 std::vector<SpectralValue> ValuesOfKind(const Spectrum& spectrum, SpectralKind kind,
-                                        double imaginary_tolerance, double stability_tolerance) {
+                                        double imaginary_tolerance) {
   std::vector<SpectralValue> values;
   for (Index i = 0; i < spectrum.values.size(); ++i) {
     const std::complex<double> value = spectrum.values(i);
     if (KindOf(spectrum, value, imaginary_tolerance) != static_cast<int>(kind)) continue;
-    values.push_back({MeasureOf(spectrum, value, stability_tolerance), value});
+    values.push_back({MeasureOf(spectrum, value), value});
   }
   std::sort(values.begin(), values.end(),
             [](const SpectralValue& a, const SpectralValue& b) { return a.measure > b.measure; });

@@ -8,7 +8,8 @@
 // changes the same way (a complex pair that collides on the real axis changes the kinds but not the
 // total: that is no crossing). Its test function is the (k+1)-th largest instability measure of
 // that kind, k = the smaller of the two counts: an order statistic of continuous functions, hence
-// continuous, negative on the stable side and positive on the other (Re μ − tol, or |μ| − 1 − tol).
+// continuous, and its zero is the crossing (Re μ = 0, or |μ| = 1; the tolerance only decides the
+// counts).
 #pragma once
 
 #include <array>
@@ -37,13 +38,13 @@ SpectrumCounts CountUnstable(const Spectrum& spectrum, double imaginary_toleranc
                              double stability_tolerance);
 
 struct SpectralValue {
-  double measure = 0.0;          // > 0 unstable: Re μ − tol, or |μ| − 1 − tol
+  double measure = 0.0;          // Re μ, or |μ| − 1: vanishes on the stability boundary
   std::complex<double> value;    // the eigenvalue or multiplier (Im ≥ 0 for pairs)
 };
 
-// The values of one kind, by decreasing measure.
+// The values of one kind, by decreasing measure (unstable when measure > StabilityTolerance).
 std::vector<SpectralValue> ValuesOfKind(const Spectrum& spectrum, SpectralKind kind,
-                                        double imaginary_tolerance, double stability_tolerance);
+                                        double imaginary_tolerance);
 
 // The special point a crossing of this kind is (kFold-like kinds map to kRealEigenvalueCrossing
 // and kMultiplierPlusOne; the engine reports those only when its fold and branch-point tests did

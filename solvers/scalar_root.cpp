@@ -78,9 +78,15 @@ BracketedRootResult IllinoisRoot(const FallibleScalarFunction& f, double a, doub
       return finish(BracketedRootStatus::kMaxEvaluations);
     }
     double x = b - fb * (b - a) / (fb - fa);
-    // Keep the trial strictly inside the bracket (round-off near convergence can push it out).
-    const double margin = 0.25 * options.x_tolerance;
-    if (!(x > a + margin && x < b - margin)) x = 0.5 * (a + b);
+    // As in Brent's method: a trial within x_tolerance/2 of the last point moves to x_tolerance/2
+    // from it, towards the far end. After a near-exact secant step (f linear, say) this closes the
+    // bracket at once instead of shrinking the far end by repeated halvings.
+    if (side != 0 && std::abs(x - previous_x) < 0.5 * options.x_tolerance) {
+      const double toward = side == +1 ? b : a;  // the retained (far) end
+      x = previous_x + std::copysign(0.5 * options.x_tolerance, toward - previous_x);
+    }
+    // Keep the trial strictly inside the bracket (round-off can push a secant step out).
+    if (!(x > a && x < b)) x = 0.5 * (a + b);
     double fx = 0.0;
     ++result.evaluations;
     if (!f(x, fx) || !std::isfinite(fx)) {
