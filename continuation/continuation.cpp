@@ -180,15 +180,18 @@ struct Continuation::Impl {
   // ---- points X(σ) on the branch near the current step --------------------------------------
 
   // Trial points with τ̂_kᵀ(X − x̂_k) = σ, corrected from a linear interpolation of the nearest
-  // known ones; cached, so that every σ is corrected once.
+  // known ones; cached, so that every σ is corrected once. The two ends of the step are copied
+  // into the cache only when a location needs it (most steps locate nothing).
   class Sampler {
    public:
-    Sampler(Impl& impl, const PointData& from) : impl_(impl), from_(from) {
-      known_.push_back({0.0, from.point});
-    }
-    void Add(double sigma, const CorrectedPoint& point) { known_.push_back({sigma, point}); }
+    Sampler(Impl& impl, const PointData& from, const CorrectedPoint& end, double sigma_end)
+        : impl_(impl), from_(from), end_(end), sigma_end_(sigma_end) {}
 
     bool At(double sigma, CorrectedPoint& out) {
+      if (known_.empty()) {
+        known_.push_back({0.0, from_.point});
+        known_.push_back({sigma_end_, end_});
+      }
       const std::pair<double, CorrectedPoint>* lo = nullptr;
       const std::pair<double, CorrectedPoint>* hi = nullptr;
       for (const auto& entry : known_) {
@@ -216,6 +219,8 @@ struct Continuation::Impl {
    private:
     Impl& impl_;
     const PointData& from_;
+    const CorrectedPoint& end_;
+    double sigma_end_;
     std::vector<std::pair<double, CorrectedPoint>> known_;
   };
 
@@ -633,8 +638,9 @@ struct Continuation::Impl {
   enum class Cut { kNone, kLambdaBound, kEvent, kClosed };
 
   StepResult Advance(CorrectedPoint candidate, double sigma_end) {
-    Sampler sampler(*this, current);
-    sampler.Add(sigma_end, candidate);
+    // The step's end as the corrector found it: `candidate` may be cut below, this stays.
+    const CorrectedPoint step_end = candidate;
+    Sampler sampler(*this, current, step_end, sigma_end);
     Cut cut = Cut::kNone;
     const double s_lambda = system.lambda_scale();
 

@@ -30,8 +30,8 @@ void Validate(const CorrectorOptions& options) {
   if (!(options.divergence_factor > 1.0)) {
     Reject("corrector.divergence_factor", options.divergence_factor, "must be greater than 1");
   }
-  if (!(options.min_rcond >= 0.0 && options.min_rcond < 1.0)) {
-    Reject("corrector.min_rcond", options.min_rcond, "must lie in [0, 1)");
+  if (!(options.min_pivot_ratio >= 0.0 && options.min_pivot_ratio < 1.0)) {
+    Reject("corrector.min_pivot_ratio", options.min_pivot_ratio, "must lie in [0, 1)");
   }
 }
 

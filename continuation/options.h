@@ -23,8 +23,11 @@ struct CorrectorOptions {
                                       // tolerance and no longer halving.)
   double divergence_factor = 1e3;     // fail when ‖F̂‖∞ exceeds this × its value at the predictor
                                       // (> 1)
-  double min_rcond = 1e-14;           // fail when the bordered matrix's reciprocal condition
-                                      // estimate falls below this (singular), in [0, 1)
+  double min_pivot_ratio = 1e-14;     // fail (singular) when min |U_ii| / max |U_ii| of the
+                                      // bordered matrix's LU falls below this, in [0, 1). O(n),
+                                      // where Eigen's rcond() estimate costs several solves: it
+                                      // took a quarter of the run time of a rub-model branch
+                                      // (bench/continuation_bench.cpp)
 };
 
 // Step-length control (Seydel, "Practical Bifurcation and Stability Analysis", §4.6; the angle

@@ -116,7 +116,6 @@ void BorderedCorrector::Resize() {
   F_.resize(n);
   DF_.resize(n, n + 1);
   A_.resize(n + 1, n + 1);
-  lu_ = Eigen::PartialPivLU<Matrix>(n + 1);
   rhs_.resize(n + 1);
   delta_.resize(n + 1);
 }
@@ -125,18 +124,16 @@ bool BorderedCorrector::Factor(const Vector& border) {
   const Index n = system_.n();
   A_.topRows(n) = DF_;
   A_.row(n) = border.transpose();
-  lu_.compute(A_);
-  // rcond() is an O(n²) estimate from the factors; an exactly zero pivot gives rcond = 0.
-  const double rcond = lu_.rcond();
-  return rcond > options_.min_rcond && std::isfinite(rcond);
+  lu_.Compute(A_);
+  // Singular to working precision when a pivot is negligible against the largest one.
+  return lu_.PivotRatio() > options_.min_pivot_ratio;
 }
 
 void BorderedCorrector::SolveTangent(Vector& tangent) {
   const Index n = system_.n();
   rhs_.setZero();
   rhs_(n) = 1.0;
-  tangent.resize(n + 1);
-  tangent = lu_.solve(rhs_);
+  lu_.Solve(rhs_, tangent);
   tangent /= tangent.norm();
 }
 
@@ -165,7 +162,7 @@ CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& bo
     }
     rhs_.head(n) = -F_;
     rhs_(n) = constraint;
-    delta_ = lu_.solve(rhs_);
+    lu_.Solve(rhs_, delta_);
     out.x += delta_;
     out.iterations = iteration;
     out.step_norm = delta_.lpNorm<Eigen::Infinity>();
@@ -181,7 +178,7 @@ CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& bo
     if (out.residual_norm <= options_.residual_tolerance &&
         (out.step_norm <= options_.step_tolerance || at_floor)) {
       SolveTangent(out.tangent);
-      out.det = LogDeterminantOf(lu_);
+      out.det = lu_.Determinant();
       return CorrectorStatus::kConverged;
     }
     if (out.residual_norm > options_.divergence_factor * initial_norm) {
@@ -196,7 +193,7 @@ bool BorderedCorrector::TangentAt(const Vector& x, const Vector& border, Vector&
   if (!system_.Jacobian(x, DF_)) return false;
   if (!Factor(border)) return false;
   SolveTangent(tangent);
-  det = LogDeterminantOf(lu_);
+  det = lu_.Determinant();
   return true;
 }
 

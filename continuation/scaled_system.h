@@ -125,7 +125,7 @@ class BorderedCorrector {
   Vector F_;
   Matrix DF_;
   Matrix A_;
-  Eigen::PartialPivLU<Matrix> lu_;
+  DenseLu lu_;
   Vector rhs_;
   Vector delta_;
 };

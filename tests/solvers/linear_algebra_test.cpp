@@ -54,3 +54,44 @@ TEST_CASE("the smallest singular pair of a nearly singular square matrix", "[lin
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("DenseLu solves and gives the determinant below and above its unblocked limit",
+          "[linear_algebra]") {
+  const Index n = GENERATE(Index(1), Index(5), Index(17), DenseLu::kUnblockedLimit + 12);
+  std::srand(7);
+  const Matrix A = Matrix::Random(n, n) + 0.5 * Matrix::Identity(n, n);
+  const Vector b = Vector::Random(n);
+  DenseLu lu;
+  lu.Compute(A);
+  Vector x;
+  lu.Solve(b, x);
+  CHECK((A * x - b).norm() <= 1e-12 * (A.norm() * x.norm() + b.norm()));
+  const Eigen::PartialPivLU<Matrix> reference(A);
+  const LogDeterminant det = lu.Determinant();
+  const LogDeterminant expected = LogDeterminantOf(reference);
+  CHECK(det.sign == expected.sign);
+  CHECK(det.log_abs == Approx(expected.log_abs).epsilon(1e-12).margin(1e-12));
+  CHECK(lu.PivotRatio() > 0.0);
+  // The same object refactors another matrix of the same size.
+  Matrix B = A;
+  B.row(0).swap(B.row(n > 1 ? 1 : 0));
+  lu.Compute(B);
+  CHECK(lu.Determinant().sign == (n > 1 ? -det.sign : det.sign));
+}
+
+TEST_CASE("DenseLu reports an exactly singular matrix through its pivots", "[linear_algebra]") {
+  Matrix A(3, 3);
+  A << 1, 2, 3,  //
+      2, 4, 6,   //
+      1, 0, 1;
+  DenseLu lu;
+  lu.Compute(A);
+  CHECK(lu.PivotRatio() <= 1e-16);
+  CHECK(lu.Determinant().sign == 0);
+}
+
+}  // namespace
+}  // namespace rubcont
