@@ -156,9 +156,11 @@ struct Continuation::Impl {
     point.arclength = branch.points.empty() ? 0.0 : branch.points.back().arclength + step;
     point.newton_iterations = data.point.iterations;
     point.residual_norm = data.point.residual_norm;
-    if (data.has_spectrum) {
-      point.spectrum = data.spectrum;
-      point.num_unstable = data.spectrum.UnstableCount(problem.StabilityTolerance());
+    if (stability_on) {
+      point.spectrum = data.spectrum;  // valid = false when the operator failed here
+      if (data.has_spectrum) {
+        point.num_unstable = data.spectrum.UnstableCount(problem.StabilityTolerance());
+      }
     }
     point.piece = data.piece;
     branch.points.push_back(std::move(point));

@@ -56,7 +56,18 @@
 // it is the start point within closure_tolerance the branch ends there (kClosed).
 //
 // Stepping API (style.md): Continuation::Start, then Step() until it returns kStop or kFailed;
-// Continue() is the thin driver with a per-step callback.
+// Continue() is the thin driver with a per-step callback. After every stored point the problem's
+// PointAccepted hook runs. Use:
+//     ContinuationOptions options;
+//     options.bounds.lambda_max = 27.0;
+//     options.detect.stability = true;
+//     Branch branch = Continue(problem, u0, lambda0, options,
+//                              [](const Branch& b) { return true; /* progress */ });
+//     // branch.BriefReport(), branch.Lambda(), branch.Measure("precession_hz"), ...
+//     for (const SpecialPoint& p : branch.special_points) {
+//       if (p.type == SpecialPointType::kFold) ContinueFoldCurve(problem, p, curve_options);
+//       if (p.type == SpecialPointType::kBranchPoint) ContinueFromBranchPoint(problem, p, +1);
+//     }
 #pragma once
 
 #include <functional>

@@ -281,12 +281,15 @@ Branch ContinueFoldCurve(Problem& problem, const SpecialPoint& fold,
     throw std::invalid_argument(fmt::format(
         "ContinueFoldCurve: the special point is a {}, not a fold", ToString(fold.type)));
   }
-  const double eta0 = problem.SecondParameter();
+  // The fold problem moves the inner problem's η; put it back however the run ends.
+  struct RestoreEta {
+    Problem& problem;
+    double eta;
+    ~RestoreEta() { problem.SetSecondParameter(eta); }
+  } restore{problem, problem.SecondParameter()};
   FoldProblem fold_problem(problem, fold.u, fold.lambda);
-  Branch branch = Continue(fold_problem, FoldProblem::Join(fold.u, fold.lambda), eta0, options,
-                           callback);
-  problem.SetSecondParameter(eta0);
-  return branch;
+  return Continue(fold_problem, FoldProblem::Join(fold.u, fold.lambda), restore.eta, options,
+                  callback);
 }
 
 }  // namespace rubcont

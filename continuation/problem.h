@@ -72,7 +72,9 @@ class Problem {
   // Typical magnitude of each unknown (n entries > 0) and of λ, and of each equation. The engine
   // works in u / Scale() and λ / LambdaScale(), and measures residuals in F / ResidualScale(), so
   // that unknowns of very different units (metres ~1e-4, forces ~1e3, frequencies ~1e2) weigh
-  // alike in arclength, tangents, step control and convergence tests.
+  // alike in arclength, tangents, step control and convergence tests (continuation/
+  // scaled_system.h says how; the options' step lengths and tolerances are in these units). Read
+  // once per smooth piece: they must not depend on u.
   virtual Vector Scale() const { return Vector::Ones(Dimension()); }
   virtual double LambdaScale() const { return 1.0; }
   virtual Vector ResidualScale() const { return Vector::Ones(Dimension()); }

@@ -284,6 +284,33 @@ TEST_CASE("the stepper can take one step at a time", "[continuation][stepper]") 
   CHECK(continuation.branch().status == BranchStatus::kRunning);
 }
 
+TEST_CASE("a start exactly at a fold: along a given tangent, or by the null-vector fallback",
+          "[continuation][stepper]") {
+  LambdaProblem problem = Parabola(true);
+  ContinuationOptions options;
+  options.bounds.lambda_min = -1.0;
+  options.bounds.lambda_max = 1.0;
+  SECTION("StartWithTangent picks the half of the branch") {
+    for (double side : {1.0, -1.0}) {
+      Continuation continuation(problem, options);
+      REQUIRE(continuation.StartWithTangent(Vec({0.0}), 0.0, Vec({side}), 0.0) ==
+              StepResult::kContinue);
+      const Branch branch = RunToEnd(continuation);
+      INFO(branch.BriefReport());
+      REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
+      CHECK(branch.points.back().u(0) == Approx(side).margin(1e-9));
+      for (const BranchPoint& p : branch.points) CHECK(p.u(0) * side >= 0.0);
+    }
+  }
+  SECTION("Start: F_u is singular at fixed λ, the start is corrected along the null vector") {
+    const Branch branch = Continue(problem, Vec({0.0}), 0.0, options);
+    INFO(branch.BriefReport());
+    CHECK(branch.status == BranchStatus::kReachedLambdaBound);
+    CHECK(branch.points.front().residual_norm <= 1e-12);
+    CHECK(std::abs(branch.points.back().u(0)) == Approx(1.0).margin(1e-9));
+  }
+}
+
 TEST_CASE("the per-step callback sees every step and can stop the branch",
           "[continuation][stepper]") {
   LambdaProblem problem = Cubic(true);
