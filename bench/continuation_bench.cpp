@@ -151,7 +151,8 @@ Row Measure(const std::string& name, int repetitions,
   for (size_t k = 0; k + 1 < points.size(); ++k) {
     if (points[k + 1].step <= 0.0 || points[k].u.size() != row.n) continue;
     const Vector& tangent = points[k].tangent;
-    predictors.push_back(points[k].u + points[k + 1].step * tangent.head(row.n).cwiseProduct(scale));
+    predictors.push_back(points[k].u +
+                         points[k + 1].step * tangent.head(row.n).cwiseProduct(scale));
     lambdas.push_back(points[k + 1].lambda);
   }
   const CorrectorOptions& corrector = row.branch.options.corrector;

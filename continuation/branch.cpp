@@ -41,6 +41,12 @@ std::string Plural(const std::string& name) {
 
 }  // namespace
 
+std::string SpecialPoint::Name() const {
+  const std::string type_name = ToString(type);
+  if (label.empty() || label == type_name) return type_name;
+  return type_name + ": " + label;
+}
+
 int Branch::Count(SpecialPointType type) const {
   return static_cast<int>(std::count_if(special_points.begin(), special_points.end(),
                                         [type](const SpecialPoint& p) { return p.type == type; }));

@@ -38,6 +38,7 @@ struct SpecialPoint {
   std::string label;    // event or test-function name; empty otherwise
   double lambda = 0.0;
   Vector u;
+  Vector measures;      // Problem::Measures at the point (for events: on the piece that ends)
   Vector tangent;       // unit branch tangent in scaled variables (û, λ̂) at the point
   Index index = 0;
   std::string piece;    // piece label where it was found (for events: the piece that ends there)
@@ -59,6 +60,9 @@ struct SpecialPoint {
   // piece have opposite signs): a non-smooth fold, where a sweep in λ would jump.
   bool nonsmooth_fold = false;
   std::string note;     // a human sentence when there is more to say
+
+  // "fold", "Hopf", "event: right stick to slip+", …: the type, and the label when it adds to it.
+  std::string Name() const;
 };
 
 enum class BranchStatus {

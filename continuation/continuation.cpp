@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -17,6 +19,21 @@
 namespace rubcont {
 
 namespace {
+
+// Tier 1 of style.md: a broken internal invariant aborts, saying where and with which values.
+[[noreturn]] void InvariantFailed(const char* file, int line, const char* condition,
+                                  const std::string& values) {
+  std::fprintf(stderr, "%s:%d: continuation invariant violated: %s (%s)\n", file, line, condition,
+               values.c_str());
+  std::abort();
+}
+
+#define RUBCONT_INVARIANT(condition, ...)                                  \
+  do {                                                                     \
+    if (!(condition)) {                                                    \
+      InvariantFailed(__FILE__, __LINE__, #condition, fmt::format(__VA_ARGS__)); \
+    }                                                                      \
+  } while (false)
 
 // What the detectors compare between consecutive points of one piece.
 struct PointData {
@@ -168,10 +185,11 @@ struct Continuation::Impl {
     problem.PointAccepted(stored.u, stored.lambda);
   }
 
-  SpecialPoint MakeSpecialPoint(SpecialPointType type, const CorrectedPoint& at) const {
+  SpecialPoint MakeSpecialPoint(SpecialPointType type, const CorrectedPoint& at) {
     SpecialPoint sp;
     sp.type = type;
     system.ToUnscaled(at.x, sp.u, sp.lambda);
+    sp.measures = problem.Measures(sp.u, sp.lambda);
     sp.tangent = at.tangent;
     sp.index = static_cast<Index>(branch.points.size()) - 1;
     sp.piece = current.piece;
@@ -632,6 +650,10 @@ struct Continuation::Impl {
     const double angle_factor = angle > 0.0 ? step.target_angle / angle : step.max_growth;
     const double factor = Clamp(std::min(iteration_factor, angle_factor), 0.5, step.max_growth);
     const double next_ds = Clamp(ds * factor, step.min, step.max);
+    RUBCONT_INVARIANT(std::abs(candidate.tangent.norm() - 1.0) <= 1e-12 &&
+                          candidate.tangent.dot(current.point.tangent) > 0.0,
+                      "|τ| = {}, τ_k·τ_(k+1) = {}", candidate.tangent.norm(),
+                      candidate.tangent.dot(current.point.tangent));
     const StepResult result = Advance(candidate, sigma);
     ds = next_ds;
     return result;
@@ -769,6 +791,8 @@ struct Continuation::Impl {
   // ---- events ---------------------------------------------------------------------------------
 
   StepResult SwitchAtEvent(int event, const ArcRoot& root, const PointData& at) {
+    RUBCONT_INVARIANT(event >= 0 && event < static_cast<int>(event_names.size()),
+                      "event {} of {}", event, event_names.size());
     const std::string name = event_names[static_cast<size_t>(event)];
     SpecialPoint sp = MakeSpecialPoint(SpecialPointType::kEvent, at.point);
     sp.index = static_cast<Index>(branch.points.size()) - 2;

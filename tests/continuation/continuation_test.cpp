@@ -34,7 +34,8 @@ LambdaProblem Cubic(bool analytic) {
   };
   if (!analytic) return LambdaProblem(1, residual);
   return LambdaProblem(
-      1, residual, [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 3 * u(0) * u(0) - 1; },
+      1, residual,
+      [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 3 * u(0) * u(0) - 1; },
       [](const Vector&, double, double, Vector& dF) { dF(0) = 1.0; });
 }
 
@@ -400,6 +401,12 @@ TEST_CASE("the branch flattens into columns and reports in one line", "[continua
   CHECK(std::isnan(branch.StateComponent(1)(0)));
   CHECK_THROWS_WITH(branch.Measure("nope"), Catch::Contains("x_squared"));
   CHECK(branch.Arclength()(branch.Size() - 1) > 0.0);
+  // Special points carry the measures too, for the special-point table.
+  for (const SpecialPoint& sp : branch.special_points) {
+    REQUIRE(sp.measures.size() == 1);
+    CHECK(sp.measures(0) == Approx(sp.u(0) * sp.u(0)));
+    CHECK(sp.Name() == "fold");
+  }
   const std::string report = branch.BriefReport();
   CHECK(report.find("2 folds") != std::string::npos);
   CHECK(report.find("λ ∈ [-1, 1]") != std::string::npos);

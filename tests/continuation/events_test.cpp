@@ -118,6 +118,7 @@ TEST_CASE("an event is located, the problem switches (changing dimension) and th
   REQUIRE(branch.Count(SpecialPointType::kEvent) == 1);
   const SpecialPoint& event = branch.special_points.front();
   CHECK(event.label == "x reaches 1/2");
+  CHECK(event.Name() == "event: x reaches 1/2");
   CHECK(event.piece == "A");
   CHECK(event.converged);
   CHECK(std::abs(event.lambda - 0.625) <= 1e-10);

@@ -49,7 +49,9 @@ class LambdaProblem : public Problem {
   Vector ResidualScale() const override { return residual_scale_; }
 
   bool HasStability() const override { return static_cast<bool>(stability_); }
-  Spectrum Stability(const Vector& u, double lambda) override { return stability_(u, lambda, eta_); }
+  Spectrum Stability(const Vector& u, double lambda) override {
+    return stability_(u, lambda, eta_);
+  }
 
   bool HasSecondParameter() const override { return has_eta_; }
   double SecondParameter() const override { return eta_; }
