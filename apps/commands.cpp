@@ -12,11 +12,13 @@
 #include <fmt/ostream.h>
 
 #include "apps/analytic_output.h"
+#include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/version.h"
 #include "models/analytic.h"
+#include "shooting/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
@@ -102,6 +104,63 @@ void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
   if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
 }
 
+RubStructure StructureOf(const Scene& scene) {
+  return scene.model == ModelKind::kJeffcott ? JeffcottStructure(scene.jeffcott)
+                                             : TwoPointStructure(scene.two_point);
+}
+
+FrictionLawKind FrictionLawOf(const Scene& scene) {
+  return scene.model == ModelKind::kJeffcott ? scene.jeffcott.friction_law.kind
+                                             : scene.two_point.friction_law.kind;
+}
+
+// Level L1: every rotating-wave family of the scene continued over its speed range.
+void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, std::ostream& out,
+                 std::vector<std::string>& failures) {
+  const Clock::time_point start = Clock::now();
+  constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
+  options.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
+  options.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
+  const FrictionLawKind law = FrictionLawOf(scene);
+  const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
+      StructureOf(scene), law, options, [&](int done, int tried, int starts) {
+        progress("[branches] {} branches from {} of {} starts ({:.1f} s)", done, tried, starts,
+                 SecondsSince(start));
+      });
+  const double compute_s = SecondsSince(start);
+  WriteRotatingWaveBranches(writer, branches, law, scene.analysis.speed_range_rpm);
+  const double imbalance = scene.model == ModelKind::kJeffcott ? scene.jeffcott.imbalance
+                                                               : scene.two_point.imbalance;
+  if (imbalance != 0.0) {
+    // A rotating wave is an equilibrium of the frame precessing backward at Ω; the imbalance
+    // turns forward at ω, so it is not stationary there: the branches are those of the balanced
+    // rotor, and the imbalance response is a periodic orbit (shooting).
+    const std::string note = fmt::format(
+        "the imbalance ({} kg·m) is left out of the rotating waves: it is not stationary in the "
+        "backward-precessing frame", imbalance);
+    writer.SetAttribute("/branches", "note", note);
+    fmt::print(out, "[branches] note: {}\n", note);
+  }
+  fmt::print(out, "[branches] L1 rotating waves, {} friction, {}–{} rpm: {} branches in {:.3f} s\n",
+             law == FrictionLawKind::kExact ? "exact" : "tanh", scene.analysis.speed_range_rpm[0],
+             scene.analysis.speed_range_rpm[1], branches.size(), compute_s);
+  for (const RotatingWaveBranch& b : branches) {
+    fmt::print(out, "  {} ({}, {}): {}\n", b.name, PatternName(b.normals), b.family,
+               b.branch.BriefReport());
+    for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
+      const SpecialPoint& p = b.branch.special_points[i];
+      fmt::print(out, "    {:<36} {:9.3f} rpm {:9.3f} Hz{}\n", p.Name(),
+                 p.lambda / kRadPerSecondPerRpm, b.special_precession_hz[i],
+                 p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
+    }
+    if (IsFailure(b.branch.status)) {
+      failures.push_back(fmt::format("[branches] {}: {}", b.name, b.branch.message));
+    }
+  }
+}
+
 // Runs the stages, writes the HDF5 file atomically, then the figures. Returns the exit code.
 int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::filesystem::path& h5_file,
             bool quiet, std::ostream& out, std::ostream& err) {
@@ -174,6 +233,12 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         scripts.push_back("analytic.py");
         break;
       }
+      case Stage::kBranches: {
+        level = "L1";
+        RunBranches(scene, writer, progress, out, failures);
+        scripts.push_back("branches.py");
+        break;
+      }
     }
   }
   writer.SetAttribute("/", "level", level);
@@ -213,6 +278,16 @@ int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name / "analytic.h5";
     return Execute(scene, {Stage::kAnalytic}, file, request.quiet, out, err);
+  });
+}
+
+int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(request.scene_file);
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name / "branches.h5";
+    return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, request.quiet, out, err);
   });
 }
 

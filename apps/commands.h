@@ -31,6 +31,9 @@ struct AnalyticRequest {
 // `rubcont analytic SCENE`: the L0 stage only; figures next to the HDF5 file.
 int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
 
+// `rubcont branches SCENE`: the L0 and L1 stages (default file results/<name>/branches.h5).
+int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
+
 // `rubcont scene check FILE`: validates and prints the resolved values with units.
 int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& err);
 

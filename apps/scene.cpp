@@ -110,8 +110,8 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      field);
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic"};
-const std::vector<std::string> kPlannedStages = {"branches", "orbits", "sweep"};
+const std::vector<std::string> kImplementedStages = {"analytic", "branches"};
+const std::vector<std::string> kPlannedStages = {"orbits", "sweep"};
 
 std::vector<KeySpec> BuildSchema() {
   std::vector<KeySpec> s;
@@ -305,14 +305,16 @@ std::vector<KeySpec> BuildSchema() {
     stages.type = ValueType::kStringList;
     stages.rule = Rule::kStages;
     stages.presence = Presence::kOptional;
-    stages.default_value = std::vector<std::string>{"analytic"};
-    stages.doc = "What `rubcont run` computes, in this order. Implemented: \"analytic\" (L0).";
+    stages.default_value = std::vector<std::string>{"analytic", "branches"};
+    stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
+                 "\"branches\" (L1 rotating waves continued in speed).";
     stages.choices = kImplementedStages;
     stages.model = kCommon;
     stages.set = [](Scene& x, const Value& v) {
       x.analysis.stages.clear();
       for (const std::string& name : std::get<std::vector<std::string>>(v)) {
         if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
+        if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
       }
     };
     stages.get = [](const Scene& x) {
@@ -333,6 +335,11 @@ std::vector<KeySpec> BuildSchema() {
       "Grid points of the analytic curves; transitions are located to machine precision between "
       "them.",
       [](Scene& x) -> int& { return x.analysis.precession_points; }, kCommon));
+  s.push_back(Make<std::array<double, 2>>(
+      "analysis.speed_range_rpm", ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
+      Presence::kOptional, std::array<double, 2>{20.0, 260.0},
+      "[low, high]: running-speed range of the continuation branches.",
+      [](Scene& x) -> std::array<double, 2>& { return x.analysis.speed_range_rpm; }, kCommon));
   return s;
 }
 
@@ -832,6 +839,7 @@ const char* ToString(ModelKind model) {
 const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
+    case Stage::kBranches: return "branches";
   }
   return "?";
 }

@@ -34,6 +34,7 @@ const char* ToString(ModelKind model);
 // The stages `rubcont run` can perform, in the order the scene lists them.
 enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
+  kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
 };
 const char* ToString(Stage stage);
 
@@ -42,6 +43,7 @@ struct AnalysisOptions {
   std::vector<Stage> stages{Stage::kAnalytic};
   std::array<double, 2> precession_range_hz{1.0, 200.0};  // [Hz] analytic curve grid, 0 < lo < hi
   int precession_points = 4000;                          // grid points, 2 … 1 000 000
+  std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
 };
 
 struct Scene {

@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
   auto whirl = [&](bool stability) {
     return [&, stability](Problem& p) {
       auto& problem = static_cast<RotatingWaveProblem&>(p);
-      Vector u = problem.FromCircularOrbit(SolveRigidContactOrbit(structure, precession, {1, 1}));
+      Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(structure, precession, {1, 1}));
       problem.SolveConsistent(u, omega0);
       ContinuationOptions o;
       o.detect.stability = stability;

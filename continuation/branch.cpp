@@ -151,3 +151,58 @@ std::vector<std::string> Branch::PieceLabels() const {
 }
 
 }  // namespace rubcont
+
+namespace rubcont {
+
+Branch JoinAtStart(const Branch& backward, const Branch& forward) {
+  if (backward.points.empty() || forward.points.empty()) {
+    throw std::invalid_argument("JoinAtStart: a run has no points (its start failed)");
+  }
+  if (backward.points.front().lambda != forward.points.front().lambda) {
+    throw std::invalid_argument(fmt::format(
+        "JoinAtStart: the runs start at different λ ({} and {})", backward.points.front().lambda,
+        forward.points.front().lambda));
+  }
+  Branch joined;
+  joined.measure_names = forward.measure_names;
+  joined.options = forward.options;
+  const Index nb = backward.Size();
+  for (Index i = nb - 1; i >= 0; --i) {
+    BranchPoint p = backward.points[i];
+    p.tangent = -p.tangent;
+    p.arclength = -p.arclength;
+    // The step to a point is from its predecessor, which is now the next point of `backward`.
+    p.step = i + 1 < nb ? backward.points[i + 1].step : 0.0;
+    joined.points.push_back(std::move(p));
+  }
+  for (Index i = 1; i < forward.Size(); ++i) joined.points.push_back(forward.points[i]);
+  // A point between backward's i and i + 1 lies between the joined nb − 2 − i and nb − 1 − i.
+  for (auto it = backward.special_points.rbegin(); it != backward.special_points.rend(); ++it) {
+    SpecialPoint p = *it;
+    p.tangent = -p.tangent;
+    p.index = std::max<Index>(0, nb - 2 - p.index);
+    joined.special_points.push_back(std::move(p));
+  }
+  for (SpecialPoint p : forward.special_points) {
+    p.index += nb - 1;
+    joined.special_points.push_back(std::move(p));
+  }
+  joined.status = IsFailure(forward.status) || !IsFailure(backward.status) ? forward.status
+                                                                          : backward.status;
+  const auto ended = [](const Branch& b) {
+    return b.message.empty() ? std::string(ToString(b.status)) : b.message;
+  };
+  joined.message = fmt::format("backward: {}; forward: {}", ended(backward), ended(forward));
+  const BranchStatistics& a = backward.statistics;
+  const BranchStatistics& b = forward.statistics;
+  joined.statistics = {a.steps + b.steps,
+                       a.corrector_failures + b.corrector_failures,
+                       a.angle_rejections + b.angle_rejections,
+                       a.residual_evaluations + b.residual_evaluations,
+                       a.jacobian_evaluations + b.jacobian_evaluations,
+                       a.stability_evaluations + b.stability_evaluations,
+                       a.switches + b.switches};
+  return joined;
+}
+
+}  // namespace rubcont

@@ -121,4 +121,12 @@ struct Branch {
   std::vector<std::string> PieceLabels() const;
 };
 
+// One branch through a start point from two runs started there in opposite directions (AUTO's
+// two-way continuation): `backward`'s points reversed (tangents negated, arclength negative),
+// then `forward`'s points after its first (the shared start). Special points are re-indexed;
+// statistics are summed; the status is `forward`'s if it failed, else `backward`'s if that failed,
+// else `forward`'s, and the message says how each half ended. Throws std::invalid_argument when
+// either run is empty or their first points differ in λ.
+Branch JoinAtStart(const Branch& backward, const Branch& forward);
+
 }  // namespace rubcont

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 namespace rubcont {
@@ -117,6 +118,46 @@ NullVectors SmallestSingularVectors(const Matrix& A, Index count) {
   result.left = svd.matrixU().rightCols(left_count).rowwise().reverse();
   result.singular_values = svd.singularValues().tail(left_count).reverse();
   return result;
+}
+
+bool BalancedEigenvalues(const Matrix& A, ComplexVector& values) {
+  if (A.rows() != A.cols()) {
+    throw std::invalid_argument("BalancedEigenvalues: the matrix is " + std::to_string(A.rows()) +
+                                "×" + std::to_string(A.cols()) + ", not square");
+  }
+  Matrix B = A;
+  const Index n = B.rows();
+  // Scale row and column i by a power of two until their off-diagonal 1-norms are within a factor
+  // of two (dgebal's loop: stop when no scaling reduces the norm sum by 5 %).
+  bool converged = false;
+  while (!converged) {
+    converged = true;
+    for (Index i = 0; i < n; ++i) {
+      const double c = B.col(i).cwiseAbs().sum() - std::abs(B(i, i));
+      const double r = B.row(i).cwiseAbs().sum() - std::abs(B(i, i));
+      if (c == 0.0 || r == 0.0) continue;
+      double f = 1.0;
+      double cs = c;
+      const double s = c + r;
+      while (cs < r / 2.0) {
+        cs *= 4.0;
+        f *= 2.0;
+      }
+      while (cs >= r * 2.0) {
+        cs /= 4.0;
+        f /= 2.0;
+      }
+      if ((cs + r) / f < 0.95 * s) {  // c·f + r/f: the norms after column i ×f, row i ÷f
+        converged = false;
+        B.row(i) /= f;
+        B.col(i) *= f;
+      }
+    }
+  }
+  Eigen::EigenSolver<Matrix> solver(B, false);
+  if (solver.info() != Eigen::Success) return false;
+  values = solver.eigenvalues();
+  return true;
 }
 
 }  // namespace rubcont

@@ -87,7 +87,7 @@ TEST_CASE("A valid scene loads with its values and documented defaults", "[scene
   CHECK(scene.two_point.imbalance == 0.0);  // [imbalance] absent: no imbalance
   CHECK(scene.two_point.friction_law.kind == FrictionLawKind::kExact);
   CHECK(scene.two_point.friction_law.velocity_scale == 1e-3);
-  CHECK(scene.analysis.stages == std::vector<Stage>{Stage::kAnalytic});
+  CHECK(scene.analysis.stages == std::vector<Stage>({Stage::kAnalytic, Stage::kBranches}));
   CHECK(scene.analysis.precession_range_hz == std::array<double, 2>{1.0, 200.0});
   CHECK(scene.analysis.precession_points == 4000);
   for (const char* key : {"name", "model", "imbalance.mass_radius", "analysis.stages"})
@@ -111,7 +111,7 @@ TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene
              Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
   // Nothing close: the section's keys are listed.
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
-             Contains("(known in [analysis]: stages, precession_range_hz, precession_points)"));
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm)"));
 }
 
 TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
@@ -209,9 +209,9 @@ TEST_CASE("Jeffcott scenes: their own section, the other model's keys rejected",
 
 TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"sweep\"]\n"),
-             Contains("\"sweep\" is not implemented yet (implemented: \"analytic\")"));
+             Contains("\"sweep\" is not implemented yet (implemented: \"analytic\", \"branches\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
-             Contains("\"analytik\" is not a stage (implemented: \"analytic\")"));
+             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"branches\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
              Contains("\"analytic\" is listed twice"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));

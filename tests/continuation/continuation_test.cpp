@@ -416,3 +416,46 @@ TEST_CASE("the branch flattens into columns and reports in one line", "[continua
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("two runs from one start join into one branch ordered along it",
+          "[continuation][branch]") {
+  // From x = 0 on x³ − x + λ = 0 (middle sheet) both ways: each run meets one fold.
+  LambdaProblem problem = Cubic(true);
+  ContinuationOptions options;
+  options.bounds.lambda_min = -1.0;
+  options.bounds.lambda_max = 1.0;
+  options.direction = -1;
+  const Branch backward = Continue(problem, Vec({0.0}), 0.0, options);
+  options.direction = +1;
+  const Branch forward = Continue(problem, Vec({0.0}), 0.0, options);
+  const Branch joined = JoinAtStart(backward, forward);
+  INFO(joined.BriefReport());
+  CHECK(joined.Size() == backward.Size() + forward.Size() - 1);
+  REQUIRE(joined.Count(SpecialPointType::kFold) == 2);
+  // Along the joined branch x increases monotonically (x = 0 is passed once), arclength grows and
+  // consecutive tangents agree in orientation.
+  for (Index i = 1; i < joined.Size(); ++i) {
+    CHECK(joined.points[i].u(0) > joined.points[i - 1].u(0));
+    CHECK(joined.points[i].arclength > joined.points[i - 1].arclength);
+    CHECK(joined.points[i].tangent.dot(joined.points[i - 1].tangent) > 0.0);
+    CHECK(joined.points[i].step == Approx(joined.points[i].arclength -
+                                          joined.points[i - 1].arclength));
+  }
+  // Each fold lies between the points its index names.
+  for (const SpecialPoint& fold : joined.special_points) {
+    const double x = fold.u(0);
+    CHECK(joined.points[fold.index].u(0) <= x);
+    CHECK(joined.points[fold.index + 1].u(0) >= x);
+  }
+  CHECK(joined.special_points[0].u(0) < joined.special_points[1].u(0));
+  CHECK(joined.status == BranchStatus::kReachedLambdaBound);
+  CHECK(joined.message.find("backward: ") == 0);
+  CHECK(joined.statistics.steps == backward.statistics.steps + forward.statistics.steps);
+  CHECK_THROWS_AS(JoinAtStart(Branch{}, forward), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rubcont

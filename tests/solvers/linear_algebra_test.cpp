@@ -1,6 +1,11 @@
 #include "solvers/linear_algebra.h"
 
 #include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/QR>
 
 #include <catch2/catch.hpp>
 
@@ -91,6 +96,59 @@ TEST_CASE("DenseLu reports an exactly singular matrix through its pivots", "[lin
   lu.Compute(A);
   CHECK(lu.PivotRatio() <= 1e-16);
   CHECK(lu.Determinant().sign == 0);
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// Balancing is an exact similarity (powers of two): it must change no eigenvalue. Where it matters
+// (the close pair of the rub whip's state matrix, scattered by ±2.5 s⁻¹ without it) is tested in
+// tests/shooting/rotating_wave_branches_test.cpp.
+TEST_CASE("balanced eigenvalues of a graded matrix are its eigenvalues", "[linear_algebra]") {
+  // Known spectrum: pairs −0.5 ± 700i, −4 ± 276i, −13 ± 1320i and reals 730, −2e5, −3e5, mixed
+  // by an orthogonal similarity, then scaled by D = diag(10^k), k from −6 to 6: the spread of a
+  // stiff contact model's state matrix (positions ~1e-4 m, forces ~1e3 N).
+  const std::vector<std::pair<double, double>> pairs = {{-0.5, 700.0}, {-4.0, 276.0}, {-13.0, 1320.0}};
+  const std::vector<double> reals = {730.0, -2e5, -3e5};
+  const Index n = 2 * static_cast<Index>(pairs.size()) + static_cast<Index>(reals.size());
+  Matrix T = Matrix::Zero(n, n);
+  Index i = 0;
+  for (const auto& [re, im] : pairs) {
+    T(i, i) = T(i + 1, i + 1) = re;
+    T(i, i + 1) = -im;
+    T(i + 1, i) = im;
+    i += 2;
+  }
+  for (double r : reals) T(i, i) = r, ++i;
+  const Matrix Q = Eigen::HouseholderQR<Matrix>(Matrix::Random(n, n)).householderQ();
+  Vector d(n);
+  for (Index k = 0; k < n; ++k) d(k) = std::pow(10.0, -6.0 + 12.0 * k / (n - 1));
+  const Matrix A = d.cwiseInverse().asDiagonal() * (Q * T * Q.transpose()) * d.asDiagonal();
+  ComplexVector values;
+  REQUIRE(BalancedEigenvalues(A, values));
+  REQUIRE(values.size() == n);
+  auto distance_to_nearest = [&](std::complex<double> expected) {
+    double best = std::numeric_limits<double>::infinity();
+    for (Index k = 0; k < n; ++k) best = std::min(best, std::abs(values(k) - expected));
+    return best;
+  };
+  for (const auto& [re, im] : pairs) {
+    CHECK(distance_to_nearest({re, im}) < 1e-9 * std::abs(std::complex<double>(re, im)));
+    // The real part, which decides stability, to far better than its own size.
+    double closest_re = 0.0, best = std::numeric_limits<double>::infinity();
+    for (Index k = 0; k < n; ++k) {
+      if (std::abs(values(k) - std::complex<double>(re, im)) < best) {
+        best = std::abs(values(k) - std::complex<double>(re, im));
+        closest_re = values(k).real();
+      }
+    }
+    CHECK(std::abs(closest_re - re) < 1e-6);
+  }
+  for (double r : reals) CHECK(distance_to_nearest({r, 0.0}) < 1e-9 * std::abs(r));
+  CHECK_THROWS_AS(BalancedEigenvalues(Matrix::Zero(2, 3), values), std::invalid_argument);
 }
 
 }  // namespace
