@@ -531,6 +531,30 @@ Vector RotatingWaveProblem::FromRigidContactOrbit(const RigidContactOrbit& orbit
   return u;
 }
 
+std::vector<std::string> RotatingWaveProblem::TestFunctionNames() const {
+  std::vector<std::string> names;
+  if (law_ != FrictionLawKind::kTanh) return names;
+  for (const RubContact& c : structure_.contacts) names.push_back(c.name + " knee");
+  return names;
+}
+
+Vector RotatingWaveProblem::TestFunctions(const Vector& u, double omega) {
+  if (law_ != FrictionLawKind::kTanh) return Vector();
+  // dΩ/dω along the branch from F_u du/dω = −F_ω (regular points; one extra LU per evaluation).
+  Matrix J;
+  Vector dF;
+  Jacobian(u, omega, J);
+  DfDlambda(u, omega, dF);
+  const Vector du = J.partialPivLu().solve(-dF);
+  const double slope = du(2 * structure_.Coordinates());
+  Vector t(Contacts());
+  for (Index k = 0; k < Contacts(); ++k) {
+    const ContactGeometry& g = structure_.contacts[k].geometry;
+    t(k) = slope * g.clearance / g.radius - 0.5;
+  }
+  return t;
+}
+
 void RotatingWaveProblem::PointAccepted(const Vector& u, double /*omega*/) { SetPhaseReference(u); }
 
 void RotatingWaveProblem::SetPhaseReference(const Vector& u) {

@@ -77,6 +77,13 @@ class RotatingWaveProblem : public Problem {
   Vector EventFunctions(const Vector& u, double omega) override;
   bool SwitchAt(int event, Vector& u, double omega) override;
   std::string PieceLabel() const override;
+  // Regularized law only: "<contact> knee", dΩ/dω / (R_k/C_k) − ½ per contact, located where it
+  // changes sign. On a rolling whirl dΩ/dω = R/C, on a whip ≈ 0: the knee's midpoint is the smooth
+  // counterpart of the exact law's stick → slip event and converges to it as ε → 0
+  // (results/README.md). (A fixed slip V = cε would not: there tanh = tanh(c), and the point
+  // converges to the closed form's μ_req = tanh(c)·μ crossing instead, −0.8 % for c = 1.)
+  std::vector<std::string> TestFunctionNames() const override;
+  Vector TestFunctions(const Vector& u, double omega) override;
   // Moves the phase reference to the accepted point (the condition stays satisfied there), so
   // that it stays well posed however far the branch deforms the orbit.
   void PointAccepted(const Vector& u, double omega) override;

@@ -198,3 +198,34 @@ TEST_CASE("branch-set options are validated", "[branches]") {
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// The regularized whirl → whip transition: the knee (dΩ/dω = R/2C) of the Mode 1 branch.
+double KneePrecessionHz(double epsilon) {
+  TwoPointParams params;
+  params.friction_law.velocity_scale = epsilon;
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(params),
+                                                    FrictionLawKind::kTanh, ThesisRange());
+  for (const RotatingWaveBranch& b : branches) {
+    if (PatternName(b.normals) != "mode1") continue;
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.label == "left knee" && std::abs(p.measures(0) - 84.5) < 5.0) return p.measures(0);
+    }
+  }
+  return 0.0;
+}
+
+TEST_CASE("tanh friction: the whirl → whip knee converges to the exact event as ε → 0",
+          "[branches]") {
+  const double exact_hz = 84.47801334971142;  // the closed form's μ_req = μ crossing (A(a))
+  const double coarse = std::abs(KneePrecessionHz(1e-3) - exact_hz) / exact_hz;
+  const double fine = std::abs(KneePrecessionHz(1e-4) - exact_hz) / exact_hz;
+  INFO("relative errors " << coarse << " (ε = 1e-3), " << fine << " (ε = 1e-4)");
+  CHECK(fine < 5e-4);               // measured 2.5e-4
+  CHECK(coarse / fine > 5.0);        // first order in ε: measured 9.7
+}
+
+}  // namespace
+}  // namespace rubcont
