@@ -15,6 +15,7 @@
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
+#include "apps/orbits_stage.h"
 #include "apps/scene.h"
 #include "apps/version.h"
 #include "models/analytic.h"
@@ -165,6 +166,12 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
 int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::filesystem::path& h5_file,
             bool quiet, std::ostream& out, std::ostream& err) {
   Progress progress(quiet, err);
+  for (Stage stage : stages) {
+    if (IsTextbook(scene.model) != (stage == Stage::kOrbits)) {
+      throw std::invalid_argument(fmt::format("stage \"{}\" does not apply to model \"{}\"",
+                                              ToString(stage), ToString(scene.model)));
+    }
+  }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
   std::filesystem::create_directories(out_dir);
 
@@ -237,6 +244,13 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         level = "L1";
         RunBranches(scene, writer, progress, out, failures);
         scripts.push_back("branches.py");
+        break;
+      }
+      case Stage::kOrbits: {
+        level = "L2";
+        RunOrbitsStage(scene, writer, [&](const std::string& line) { progress("{}", line); }, out,
+                       failures);
+        scripts.push_back("orbits.py");
         break;
       }
     }
