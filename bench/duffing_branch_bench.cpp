@@ -10,13 +10,15 @@
 //      shooting; the Jacobian M − I, ∂F/∂w and the multipliers all from differences): cost and
 //      accuracy of the branch and its folds.
 // Usage: duffing_branch_bench [--quick]
-//        duffing_branch_bench custom bdf|adams|erk8 TOL SEGMENTS STEP_MAX TARGET_ANGLE BUDGET_S
+//        duffing_branch_bench custom bdf|adams|erk5|erk6|erk8 TOL SEGMENTS STEP_MAX TARGET_ANGLE BUDGET_S
 //                             [TARGET_ITERATIONS [SENSITIVITIES_IN_RESIDUAL 0|1]]   (one row)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <utility>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -33,19 +35,23 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using testing::DuffingHarmonicBalance;
 
-// Median wall time (seconds) of `body` over repetitions filling about `budget` seconds (≥ 3 runs).
-double MedianSeconds(const std::function<void()>& body, double budget) {
-  std::vector<double> times;
+// Median wall time and median process CPU time (seconds) of `body` over repetitions filling about
+// `budget` seconds (≥ 3 runs). On a shared machine the CPU time is the steadier figure.
+std::pair<double, double> MedianSeconds(const std::function<void()>& body, double budget) {
+  std::vector<double> wall, cpu;
   const auto start = Clock::now();
   do {
     const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
     body();
-    times.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    cpu.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    wall.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   } while ((std::chrono::duration<double>(Clock::now() - start).count() < budget ||
-            times.size() < 3) &&
-           times.size() < 50);
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
+            wall.size() < 3) &&
+           wall.size() < 50);
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
 // Single forced shooting with every derivative by central differences of the flow map: F = y − x,
@@ -116,6 +122,7 @@ struct Variant {
   double target_angle = 0.1;   // StepOptions::target_angle (rad)
   int target_iterations = 3;   // StepOptions::target_iterations
   bool sensitivities_in_residual = false;
+  int explicit_order = 8;      // ERK order (kExplicitRungeKutta)
 };
 
 ContinuationOptions BranchOptions(const Variant& v) {
@@ -138,13 +145,15 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
   shooting.integrator.relative_tolerance = shooting.integrator.absolute_tolerance = v.tolerance;
   shooting.integrator.sensitivity_error_control = v.sensitivity_error_control;
   shooting.sensitivities_in_residual = v.sensitivities_in_residual;
-  if (v.method == IntegrationMethod::kExplicitRungeKutta) shooting.integrator.explicit_order = 8;
+  if (v.method == IntegrationMethod::kExplicitRungeKutta) {
+    shooting.integrator.explicit_order = v.explicit_order;
+  }
   const auto start = DuffingHarmonicBalance::OneTermSolutions(params)[0];
   const Vector x0 = (Vector(2) << start.first * std::cos(start.second),
                      start.first * params.frequency * std::sin(start.second)).finished();
   Branch branch;
   ShootingStatistics work;
-  const double seconds = MedianSeconds(
+  const auto [seconds, cpu_seconds] = MedianSeconds(
       [&] {
         ShootingProblem problem(duffing, OrbitKind::kForced, shooting);
         const Vector u0 = problem.InitialGuess(x0, 0.0, params.frequency);
@@ -166,8 +175,8 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
     err_w[k] = std::abs(p.lambda - ref.w[k]);
     err_x[k] = std::abs(p.u(0) - ref.x0[k]);
   }
-  std::printf("%-30s %5.0e %8.4f %5d %5ld %5ld %5ld %8ld %7ld %5d %9.1e %9.1e %9.1e %9.1e  %s\n",
-              v.name.c_str(), v.tolerance, seconds, branch.statistics.steps,
+  std::printf("%-30s %5.0e %7.3f %7.3f %5d %5ld %5ld %5ld %8ld %7ld %5d %9.1e %9.1e %9.1e %9.1e  %s\n",
+              v.name.c_str(), v.tolerance, seconds, cpu_seconds, branch.statistics.steps,
               branch.statistics.residual_evaluations, branch.statistics.jacobian_evaluations,
               branch.statistics.stability_evaluations, work.steps,
               work.residual_integrations + work.sensitivity_integrations, folds, err_w[0],
@@ -180,9 +189,10 @@ int Main(int argc, char** argv) {
     // custom METHOD(bdf|adams|erk8) TOL SEGMENTS STEP_MAX TARGET_ANGLE: one row.
     Variant v;
     v.name = std::string(argv[2]) + " N=" + argv[4];
-    v.method = std::strcmp(argv[2], "adams") == 0  ? IntegrationMethod::kAdams
-               : std::strcmp(argv[2], "erk8") == 0 ? IntegrationMethod::kExplicitRungeKutta
-                                                  : IntegrationMethod::kBdf;
+    v.method = std::strcmp(argv[2], "adams") == 0 ? IntegrationMethod::kAdams
+               : std::strncmp(argv[2], "erk", 3) == 0 ? IntegrationMethod::kExplicitRungeKutta
+                                                    : IntegrationMethod::kBdf;
+    if (v.method == IntegrationMethod::kExplicitRungeKutta) v.explicit_order = std::atoi(argv[2] + 3);
     v.tolerance = std::atof(argv[3]);
     v.segments = std::atoi(argv[4]);
     v.step_max = std::atof(argv[5]);
@@ -202,8 +212,8 @@ int Main(int argc, char** argv) {
   std::printf("Harmonic-balance folds (H = 25): lower w = %.12f (x0 = %.10f), upper w = %.12f "
               "(x0 = %.10f)\n", ref.w[0], ref.x0[0], ref.w[1], ref.x0[1]);
   auto header = [](const char* title) {
-    std::printf("\n%s\n%-30s %5s %8s %5s %5s %5s %5s %8s %7s %5s %9s %9s %9s %9s  %s\n", title,
-                "variant", "tol", "wall s", "steps", "res", "jac", "stab", "int.step", "integr",
+    std::printf("\n%s\n%-30s %5s %7s %7s %5s %5s %5s %5s %8s %7s %5s %9s %9s %9s %9s  %s\n", title,
+                "variant", "tol", "wall s", "cpu s", "steps", "res", "jac", "stab", "int.step", "integr",
                 "folds", "dw_lower", "dx_lower", "dw_upper", "dx_upper", "status");
   };
   // The step controller used in sections 1 and 3: Newton converges in 3 iterations even on tiny
@@ -253,7 +263,7 @@ int Main(int argc, char** argv) {
       }
     }
   }
-  std::printf("\nColumns: wall time of the whole branch (median), accepted continuation steps, "
+  std::printf("\nColumns: wall and process CPU time of the whole branch (medians), accepted continuation steps, "
               "Problem::Residual / Jacobian / Stability calls, integrator steps and segment "
               "integrations (shooting statistics), folds found, |w − w_HB| and |x(0) − x0_HB| at "
               "each fold.\n");
