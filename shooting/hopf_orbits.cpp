@@ -96,7 +96,10 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   ShootingOptions shooting = options.orbits.shooting;
   shooting.refresh_phase_reference = true;
   if (shooting.period_scale <= 0.0) shooting.period_scale = 2.0 * M_PI / omega;
-  ShootingProblem problem(system, OrbitKind::kAutonomous, shooting);
+  if (options.kind == OrbitKind::kForced) {
+    throw std::invalid_argument("HopfOrbitOptions.kind = kForced: Hopf orbits are autonomous");
+  }
+  ShootingProblem problem(system, options.kind, shooting);
   if (!options.orbits.measures.empty()) problem.SetMeasures(options.orbits.measures);
   const double period = 2.0 * M_PI / omega;
   const int segments = shooting.segments;
@@ -108,9 +111,9 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
     directions.col(i) = shape;
     starts.col(i) = hopf.u + options.amplitude * shape;
   }
-  const Vector u0 = problem.Pack(starts, period);
+  const Vector u0 = problem.Pack(starts, period, 0.0);
   problem.SetPhaseReference(u0, lambda);
-  const Vector du = problem.Pack(directions, 0.0).cwiseQuotient(problem.Scale());
+  const Vector du = problem.Pack(directions, 0.0, 0.0).cwiseQuotient(problem.Scale());
 
   ContinuationOptions continuation = options.orbits.continuation;
   continuation.bounds.lambda_min = options.orbits.lambda_min;
@@ -118,7 +121,7 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   continuation.detect.stability = true;
   Continuation stepper(problem, continuation);
   PeriodicOrbitBranch result;
-  result.kind = OrbitKind::kAutonomous;
+  result.kind = options.kind;
   result.state_dimension = n;
   result.segments = segments;
   result.start_lambda = lambda;

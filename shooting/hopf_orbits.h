@@ -44,6 +44,10 @@ class EquilibriumProblem : public Problem {
 };
 
 struct HopfOrbitOptions {
+  // kAutonomous, or kRelative for a Hopf point of a relative equilibrium (a rotating wave, an
+  // equilibrium of the co-rotating frame): the orbits born there drift with the symmetry and are
+  // shot as relative periodic orbits, x(T) = R_φ x(0), starting from φ = 0.
+  OrbitKind kind = OrbitKind::kAutonomous;
   // Amplitude a of the first orbit, in units of the scaled state (‖Re v ./ StateScale‖ = 1).
   double amplitude = 1e-2;
   // Range, shooting and engine options as for ContinuePeriodicOrbits (direction is ignored: the
@@ -52,7 +56,7 @@ struct HopfOrbitOptions {
 };
 
 // The periodic orbits born at `hopf` (a kHopf special point of an EquilibriumProblem branch of
-// `system`: u = x_H, lambda = λ_H, frequency = ω). Throws std::invalid_argument when the point is
+// `system`, or one built from a rotating wave's: u = x_H, lambda = λ_H, frequency = ω). Throws std::invalid_argument when the point is
 // not a Hopf point or the system has no complex pair near iω there.
 PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint& hopf,
                                            const HopfOrbitOptions& options);
