@@ -74,5 +74,96 @@ TEST_CASE("Stuart–Landau: Hopf point of the equilibrium located, the orbits bo
   }
 }
 
+// A relative equilibrium that undergoes a Hopf bifurcation, in closed form: a rotating wave p
+// (|p| = 1, shown here in the frame that co-rotates with it, where it is a circle of equilibria)
+// and a Stuart–Landau oscillator w that it carries, whose amplitude makes p drift:
+//   ṗ = (1 − |p|²) p + i c |w|² p,     ẇ = (λ + iν) w − |w|² w,     symmetry p → e^{iφ} p.
+// At λ = 0 the wave (p, w) = (1, 0) has eigenvalues ±iν: the orbits born there have |w| = √λ,
+// T = 2π/ν, and p turns by φ = cλT per period: relative periodic orbits, x(T) = R_φ x(0), with
+// nontrivial multipliers e^{−2T} (|p|) and e^{−2λT} (|w|).
+class CarriedOscillator : public OdeSystem {
+ public:
+  static constexpr double kNu = 2.0, kC = 0.5;
+  Index Dimension() const override { return 4; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const double r2 = x(0) * x(0) + x(1) * x(1), s = x(2) * x(2) + x(3) * x(3);
+    f(0) = (1 - r2) * x(0) - kC * s * x(1);
+    f(1) = (1 - r2) * x(1) + kC * s * x(0);
+    f(2) = lambda_ * x(2) - kNu * x(3) - s * x(2);
+    f(3) = kNu * x(2) + lambda_ * x(3) - s * x(3);
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override {
+    const double r2 = x(0) * x(0) + x(1) * x(1), s = x(2) * x(2) + x(3) * x(3);
+    J << 1 - r2 - 2 * x(0) * x(0), -2 * x(0) * x(1) - kC * s, -2 * kC * x(2) * x(1),
+        -2 * kC * x(3) * x(1),  //
+        -2 * x(0) * x(1) + kC * s, 1 - r2 - 2 * x(1) * x(1), 2 * kC * x(2) * x(0),
+        2 * kC * x(3) * x(0),  //
+        0, 0, lambda_ - s - 2 * x(2) * x(2), -kNu - 2 * x(2) * x(3),  //
+        0, 0, kNu - 2 * x(2) * x(3), lambda_ - s - 2 * x(3) * x(3);
+  }
+  double Parameter() const override { return lambda_; }
+  void SetParameter(double lambda) override { lambda_ = lambda; }
+  void DfDparameter(double, ConstVectorRef x, VectorRef df) override {
+    df << 0, 0, x(2), x(3);
+  }
+  bool HasRotationSymmetry() const override { return true; }
+  void Rotate(double phi, VectorRef x) const override {
+    const double c = std::cos(phi), s = std::sin(phi), x0 = x(0);
+    x(0) = c * x0 - s * x(1);
+    x(1) = s * x0 + c * x(1);
+  }
+  void RotationGenerator(ConstVectorRef x, VectorRef g) const override { g << -x(1), x(0), 0, 0; }
+
+ private:
+  double lambda_ = 0.0;
+};
+
+TEST_CASE("Hopf point of a relative equilibrium: the orbits born there continued as relative "
+          "periodic orbits, drift and multipliers as in closed form",
+          "[hopf][shooting][relative]") {
+  CarriedOscillator system;
+  SpecialPoint hopf;  // as the rotating-wave branches report it: the wave, λ, and ω = ν
+  hopf.type = SpecialPointType::kHopf;
+  hopf.u = (Vector(4) << 1.0, 0.0, 0.0, 0.0).finished();
+  hopf.lambda = 0.0;
+  hopf.frequency = CarriedOscillator::kNu;
+
+  HopfOrbitOptions options;
+  options.kind = OrbitKind::kRelative;
+  options.amplitude = 1e-2;
+  options.orbits.lambda_min = -0.5;
+  options.orbits.lambda_max = 1.0;
+  options.orbits.shooting.segments = 2;
+  options.orbits.shooting.integrator.method = IntegrationMethod::kExplicitRungeKutta;
+  options.orbits.shooting.integrator.explicit_order = 8;
+  options.orbits.shooting.sensitivities_in_residual = true;
+  options.orbits.continuation.step.target_iterations = 5;
+  options.orbits.continuation.step.max = 0.5;
+  const PeriodicOrbitBranch orbits = ContinueOrbitsFromHopf(system, hopf, options);
+  const Branch& branch = orbits.branch;
+  INFO(branch.BriefReport() << " — " << branch.message);
+  REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
+  REQUIRE(branch.Size() > 5);
+  CHECK(branch.points.back().lambda == Approx(1.0).margin(1e-9));
+  const Vector period = branch.Measure("period"), rotation = branch.Measure("rotation");
+  const double T = 2 * M_PI / CarriedOscillator::kNu;
+  for (Index i = 0; i < branch.Size(); ++i) {
+    const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
+    CAPTURE(p.lambda);
+    CHECK(p.u.segment(2, 2).norm() == Approx(std::sqrt(p.lambda)).margin(1e-9));
+    CHECK(p.u.head(2).norm() == Approx(1.0).margin(1e-9));
+    CHECK(period(i) == Approx(T).epsilon(1e-9));
+    CHECK(rotation(i) == Approx(CarriedOscillator::kC * p.lambda * T).margin(1e-9));
+    REQUIRE(p.spectrum.valid);
+    REQUIRE(p.spectrum.values.size() == 2);
+    CHECK(p.spectrum.trivial_removed == 2);
+    const double radial_w = std::exp(-2 * p.lambda * T), radial_p = std::exp(-2 * T);
+    CHECK(p.spectrum.values(0).real() == Approx(std::max(radial_w, radial_p)).margin(1e-8));
+    CHECK(p.spectrum.values(1).real() == Approx(std::min(radial_w, radial_p)).margin(1e-8));
+    CHECK(p.num_unstable == 0);
+  }
+}
+
 }  // namespace
 }  // namespace rubcont
