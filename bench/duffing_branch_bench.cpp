@@ -155,6 +155,8 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
   ShootingStatistics work;
   const auto [seconds, cpu_seconds] = MedianSeconds(
       [&] {
+        // Every run from the same state: the problem's λ scale is read from the system.
+        duffing.SetParameter(params.frequency);
         ShootingProblem problem(duffing, OrbitKind::kForced, shooting);
         const Vector u0 = problem.InitialGuess(x0, 0.0, params.frequency);
         if (v.finite_differences) {

@@ -99,7 +99,6 @@ def main(argv):
         fig.tight_layout()
         out = os.path.join(out_dir, "orbits.png")
         fig.savefig(out, dpi=130)
-        print(out)
     return 0
 
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates everything in results/: the result file (analytic L0, rotating-wave branches L1),
 # figures and summary of the
-# eight thesis scenes (Kumar 2010, Table 1) and of the truly overhung contrast scene, and the
+# eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
+# textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol), and the
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib).
 set -euo pipefail
@@ -12,7 +13,7 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --parallel "$(nproc)"
 
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
-        overhung_beyond_right jeffcott)
+        overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
 for scene in "${scenes[@]}"; do
   summary=$(build/rubcont run "scenes/$scene.toml" --out results --quiet)
   # The summary names files by path; keep it relative so results/ reads the same anywhere.
