@@ -274,13 +274,12 @@ FoldOptimizationResult LocateFoldByOptimization(Problem& problem, const Vector& 
 
   // Independent checks at the returned point: the residual and the singularity of F̂_û.
   Vector F;
-  Matrix J;
   problem.Residual(result.u, result.lambda, F);
-  problem.Jacobian(result.u, result.lambda, J);
   result.residual_norm = F.cwiseProduct(nlp_raw->r_inv()).lpNorm<Eigen::Infinity>();
-  const Matrix J_scaled = nlp_raw->r_inv().asDiagonal() * J * nlp_raw->s().asDiagonal();
-  const Vector sigma = Eigen::JacobiSVD<Matrix>(J_scaled).singularValues();
-  result.singular_ratio = sigma.size() > 0 && sigma(0) > 0.0 ? sigma(sigma.size() - 1) / sigma(0) : 0.0;
+  const Matrix J_full = nlp_raw->ScaledJacobian(U);  // [F̂_û F̂_λ̂]
+  const Vector sigma = Eigen::JacobiSVD<Matrix>(J_full.leftCols(n)).singularValues();
+  const double full_norm = Eigen::JacobiSVD<Matrix>(J_full).singularValues()(0);
+  result.singular_ratio = full_norm > 0.0 ? sigma(sigma.size() - 1) / full_norm : 0.0;
 
   const bool converged = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   const double bound_tolerance = 1e-9 * std::max(1.0, std::abs(result.lambda));
@@ -297,12 +296,12 @@ FoldOptimizationResult LocateFoldByOptimization(Problem& problem, const Vector& 
   } else if (converged && result.singular_ratio <= options.singular_tolerance) {
     result.status = FoldOptimizationStatus::kSolved;
     result.message = fmt::format(
-        "fold at λ = {:.12g} after {} Ipopt iterations: ‖F̂‖∞ = {:.2e}, σ_min/σ_max(F̂_û) = {:.2e}",
+        "fold at λ = {:.12g} after {} Ipopt iterations: ‖F̂‖∞ = {:.2e}, σ_min(F̂_û)/‖[F̂_û F̂_λ̂]‖ = {:.2e}",
         result.lambda, result.iterations, result.residual_norm, result.singular_ratio);
   } else if (converged) {
     result.status = FoldOptimizationStatus::kNotSingular;
     result.message = fmt::format(
-        "Ipopt converged at λ = {:.10g} but F_u is regular there (σ_min/σ_max = {:.2e} > {:.1e}): "
+        "Ipopt converged at λ = {:.10g} but F_u is regular there (σ_min(F̂_û)/‖[F̂_û F̂_λ̂]‖ = {:.2e} > {:.1e}): "
         "not a fold", result.lambda, result.singular_ratio, options.singular_tolerance);
   } else if (status == Ipopt::Infeasible_Problem_Detected) {
     result.status = FoldOptimizationStatus::kInfeasible;

@@ -33,15 +33,20 @@ enum class FoldHessian {
 struct FoldOptimizationOptions {
   int sense = +1;                    // +1: the fold where λ is locally largest; −1: smallest
   int max_iterations = 200;          // Ipopt max_iter (≥ 1)
-  double tolerance = 1e-12;          // Ipopt tol on the scaled KKT error (> 0)
-  double constraint_tolerance = 1e-11;  // Ipopt constr_viol_tol on ‖F̂‖∞ (> 0)
+  // Ipopt tol on the scaled KKT error (> 0). Its dual part has a round-off floor of about
+  // ε_machine·‖F̂'‖·‖y‖ (~1e-9 for the rub model's rotating waves, whose contact stiffness makes
+  // ‖F̂'‖ ~ 1e4), so it cannot be much smaller; it hardly matters for λ: a dual error ε moves the
+  // point along the branch by O(ε) and λ by O(ε²) at a fold.
+  double tolerance = 1e-8;
+  // Ipopt constr_viol_tol on ‖F̂‖∞ (> 0): sets the precision of λ (error ≈ this / |wᵀF̂_λ̂|).
+  double constraint_tolerance = 1e-10;
   FoldHessian hessian = FoldHessian::kFiniteDifference;
   // Bounds on λ (problem units). A solution on a bound is not a fold (status kAtBound): the
   // branch has no extremum of λ in between.
   double lambda_min = -std::numeric_limits<double>::infinity();
   double lambda_max = std::numeric_limits<double>::infinity();
   // A converged point is confirmed as a fold when the smallest singular value of F̂_û is at most
-  // this times the largest (∈ (0, 1)).
+  // this times the norm of the constraint Jacobian [F̂_û F̂_λ̂] (∈ (0, 1)).
   double singular_tolerance = 1e-6;
 };
 
@@ -66,7 +71,7 @@ struct FoldOptimizationResult {
   int iterations = 0;
   int ipopt_status = 0;            // Ipopt's ApplicationReturnStatus
   double residual_norm = 0.0;      // ‖F̂‖∞ at the result
-  double singular_ratio = 0.0;     // σ_min / σ_max of F̂_û at the result
+  double singular_ratio = 0.0;     // σ_min(F̂_û) / ‖[F̂_û F̂_λ̂]‖₂ at the result
   std::string message;             // one sentence with numbers
 
   bool Solved() const { return status == FoldOptimizationStatus::kSolved; }
