@@ -131,6 +131,21 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       }
       sp_speed.push_back(speed_rpm);
     }
+    std::vector<double> x_eta, x_speed, x_ipopt_eta, x_ipopt_speed;
+    std::vector<std::string> x_status;
+    for (const CurveExtremum& e : c.extrema) {
+      x_eta.push_back(e.engine_eta);
+      x_speed.push_back(e.engine_speed * kRpmPerRadPerSecond);
+      x_ipopt_eta.push_back(e.ipopt.lambda);
+      x_ipopt_speed.push_back(e.ipopt_speed * kRpmPerRadPerSecond);
+      x_status.push_back(ToString(e.ipopt.status));
+    }
+    writer.CreateGroup(g + "/extrema");
+    writer.WriteDoubles(g + "/extrema/eta", x_eta);
+    writer.WriteDoubles(g + "/extrema/speed_rpm", x_speed);
+    writer.WriteDoubles(g + "/extrema/ipopt_eta", x_ipopt_eta);
+    writer.WriteDoubles(g + "/extrema/ipopt_speed_rpm", x_ipopt_speed);
+    writer.WriteStrings(g + "/extrema/ipopt_status", x_status);
     writer.CreateGroup(g + "/special_points");
     writer.WriteStrings(g + "/special_points/type", sp_type);
     writer.WriteStrings(g + "/special_points/label", sp_label);
@@ -226,8 +241,18 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                  c.name, c.kind, c.label, c.start_speed * kRpmPerRadPerSecond, ToString(parameter),
                  c.start_eta, b.points.size(), ToString(parameter), lo, hi, b.message);
       for (const SpecialPoint& sp : b.special_points) {
+        if (sp.type == SpecialPointType::kFold) continue;  // printed with Ipopt's below
         fmt::print(out, "    {} at {} = {:.6g}, {:.3f} rpm\n", sp.Name(), ToString(parameter),
                    sp.lambda, sp.measures.size() > 0 ? sp.measures(0) * kRpmPerRadPerSecond : 0.0);
+      }
+      for (const CurveExtremum& e : c.extrema) {
+        fmt::print(out, "    turning point ({} {}): engine {} = {:.10g} at {:.6f} rpm; Ipopt {} = "
+                        "{:.10g} at {:.6f} rpm ({}, {} iterations)\n",
+                   e.sense > 0 ? "largest" : "smallest", ToString(parameter), ToString(parameter),
+                   e.engine_eta, e.engine_speed * kRpmPerRadPerSecond, ToString(parameter),
+                   e.ipopt.lambda, e.ipopt_speed * kRpmPerRadPerSecond, ToString(e.ipopt.status),
+                   e.ipopt.iterations);
+        if (!e.ipopt.Solved()) fmt::print(out, "      Ipopt: {}\n", e.ipopt.message);
       }
     }
     fmt::print(out, "wrote {}\n", file.string());

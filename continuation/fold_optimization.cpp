@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/SVD>
@@ -272,14 +273,24 @@ FoldOptimizationResult LocateFoldByOptimization(Problem& problem, const Vector& 
   result.u = U.head(n);
   result.lambda = U(n);
 
-  // Independent checks at the returned point: the residual and the singularity of F̂_û.
-  Vector F;
-  problem.Residual(result.u, result.lambda, F);
-  result.residual_norm = F.cwiseProduct(nlp_raw->r_inv()).lpNorm<Eigen::Infinity>();
-  const Matrix J_full = nlp_raw->ScaledJacobian(U);  // [F̂_û F̂_λ̂]
-  const Vector sigma = Eigen::JacobiSVD<Matrix>(J_full.leftCols(n)).singularValues();
-  const double full_norm = Eigen::JacobiSVD<Matrix>(J_full).singularValues()(0);
-  result.singular_ratio = full_norm > 0.0 ? sigma(sigma.size() - 1) / full_norm : 0.0;
+  // Independent checks at the returned point: the residual and the singularity of F̂_û. A failed
+  // run may return a point where the problem cannot be evaluated (e.g. a parameter outside its
+  // physical range): that is a failure, not an exception.
+  try {
+    Vector F;
+    problem.Residual(result.u, result.lambda, F);
+    result.residual_norm = F.cwiseProduct(nlp_raw->r_inv()).lpNorm<Eigen::Infinity>();
+    const Matrix J_full = nlp_raw->ScaledJacobian(U);  // [F̂_û F̂_λ̂]
+    const Vector sigma = Eigen::JacobiSVD<Matrix>(J_full.leftCols(n)).singularValues();
+    const double full_norm = Eigen::JacobiSVD<Matrix>(J_full).singularValues()(0);
+    result.singular_ratio = full_norm > 0.0 ? sigma(sigma.size() - 1) / full_norm : 0.0;
+  } catch (const std::exception& e) {
+    result.status = FoldOptimizationStatus::kFailed;
+    result.residual_norm = std::numeric_limits<double>::infinity();
+    result.message = fmt::format("Ipopt ended (status {}) at λ = {:.10g}, where the problem cannot "
+                                 "be evaluated: {}", result.ipopt_status, result.lambda, e.what());
+    return result;
+  }
 
   const bool converged = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   const double bound_tolerance = 1e-9 * std::max(1.0, std::abs(result.lambda));

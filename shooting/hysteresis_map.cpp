@@ -33,6 +33,46 @@ void PlaceAt(RotatingWaveDesignProblem& problem, const Branch& branch, const Spe
   problem.SetPhaseReference(point.u);
 }
 
+// Ipopt on every located turning point of an event curve (see CurveExtremum).
+std::vector<CurveExtremum> LocateExtrema(RotatingWaveDesignProblem& problem, const Branch& branch,
+                                         const SpecialPoint& event, const Branch& curve,
+                                         double eta_min, double eta_max) {
+  std::vector<CurveExtremum> extrema;
+  const double base = problem.SecondParameter();
+  const Index n = problem.Dimension();
+  for (const SpecialPoint& turn : curve.special_points) {
+    if (turn.type != SpecialPointType::kFold || !turn.converged) continue;
+    const BranchPoint& before = curve.points[turn.index];
+    CurveExtremum e;
+    e.engine_eta = turn.lambda;
+    e.engine_speed = turn.u(n);
+    e.sense = before.lambda < turn.lambda ? +1 : -1;
+    PlaceAt(problem, branch, event);
+    problem.SetSecondParameter(before.lambda);
+    problem.SetPhaseReference(before.u.head(n));
+    const std::vector<std::string> names = problem.EventNames();
+    const int k = static_cast<int>(std::find(names.begin(), names.end(), event.label) - names.begin());
+    EventCurveProblem manifold(problem, k, before.u.head(n), before.u(n));
+    FoldOptimizationOptions options;
+    options.sense = e.sense;
+    options.lambda_min = eta_min;  // the map's range: Ipopt's iterates stay physical
+    options.lambda_max = eta_max;
+    e.ipopt = LocateFoldByOptimization(manifold, before.u, before.lambda, options);
+    if (!e.ipopt.Solved()) {
+      // The finite-difference Hessian of the event manifold differences a Jacobian whose margin
+      // row is itself a difference; where that is too noisy for Ipopt's first steps, the
+      // limited-memory approximation needs no second derivatives.
+      options.hessian = FoldHessian::kLimitedMemory;
+      problem.SetSecondParameter(before.lambda);
+      e.ipopt = LocateFoldByOptimization(manifold, before.u, before.lambda, options);
+    }
+    e.ipopt_speed = e.ipopt.u.size() > n ? e.ipopt.u(n) : 0.0;
+    extrema.push_back(e);
+  }
+  problem.SetSecondParameter(base);
+  return extrema;
+}
+
 }  // namespace
 
 void Validate(const HysteresisMapOptions& o) {
@@ -274,6 +314,8 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
             curve.partner_margins = probe.PartnerMargins();
           }
           curve.curve = ContinueEventCurve(problem, sp, curve_options);
+          curve.extrema =
+              LocateExtrema(problem, branch, sp, curve.curve, options.eta_min, options.eta_max);
         } else {
           ContinuationOptions run = curve_options;
           run.direction = -1;

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "continuation/branch.h"
+#include "continuation/fold_optimization.h"
 #include "shooting/rotating_wave_branches.h"
 #include "shooting/rotating_wave_parameters.h"
 
@@ -40,8 +41,8 @@ struct HysteresisMapOptions {
   int speed_points = 481;      // grid speeds for the stable-state count (≥ 2)
   RotatingWaveBranchOptions branches;  // speed range (search.speed_min/max, rad/s) and the rest
   bool continue_curves = true;         // part 2 above
-  int curve_max_steps = 400;           // continuation steps per half curve (≥ 1)
-  double curve_max_step = 0.02;        // largest arclength step on a curve (scaled, > 0)
+  int curve_max_steps = 1500;          // continuation steps per half curve (≥ 1)
+  double curve_max_step = 0.2;         // largest arclength step on a curve (scaled, > 0)
 };
 
 // Throws std::invalid_argument naming the field, value and rule.
@@ -60,6 +61,20 @@ struct MapPoint {
   int stable_after = -1;       // ... and after it (on the new piece for events)
 };
 
+// A turning point of an event curve in η: where two jump curves of the (ω, η) plane meet and the
+// jump they mark disappears (e.g. a family's speed-up and speed-down jumps coincide: the gap or
+// overlap between its whirl and its whip closes). Located twice: by the engine (fold of the curve)
+// and by Ipopt as the extremum of η on the event manifold {F = 0, m_k = 0}
+// (LocateFoldByOptimization on the EventCurveProblem), the engineering question "the smallest /
+// largest η for which the jump still exists" posed as an NLP.
+struct CurveExtremum {
+  double engine_eta = 0.0;
+  double engine_speed = 0.0;   // ω [rad/s]
+  int sense = +1;              // +1: η is largest there, −1: smallest
+  FoldOptimizationResult ipopt;
+  double ipopt_speed = 0.0;    // ω of the Ipopt solution [rad/s]
+};
+
 // One continued curve in (ω, η).
 struct MapCurve {
   std::string name;            // "curve1", ...
@@ -73,6 +88,7 @@ struct MapCurve {
   bool start_nonsmooth_fold = false;
   Branch curve;                // λ = η; states (u, ω); measure "lambda" = ω
   std::vector<std::string> partner_margins;  // EventCurveProblem::PartnerMargins (events)
+  std::vector<CurveExtremum> extrema;        // event curves: their located turning points in η
 };
 
 enum class MapRegion { kNone = 0, kOne = 1, kCoexisting = 2 };

@@ -271,3 +271,44 @@ TEST_CASE("an event curve stops where the parameter leaves its physical range",
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engine and by Ipopt",
+          "[design][map][fold_optimization]") {
+  // The Mode 2 whirl's stick → slip event (79.9 rpm) and its whip's slip → stick event (89.9 rpm)
+  // move together as the stator damping grows, and meet where both event curves turn back in c:
+  // the smallest damping for which the speed-up and speed-down jumps of the family coincide.
+  HysteresisMapOptions options;
+  options.parameter = DesignParameter::kStatorDamping;
+  options.eta_min = 250.0;
+  options.eta_max = 1500.0;
+  options.eta_points = 2;
+  options.speed_points = 11;
+  options.branches = Range(20, 120);
+  const HysteresisMap map = ComputeHysteresisMap(ExactThesisA(), options);
+  std::vector<const CurveExtremum*> mode2;
+  for (const MapCurve& c : map.curves) {
+    UNSCOPED_INFO(c.name << " " << c.pattern << " " << c.label << " from " << c.start_speed
+                         << ": " << c.curve.BriefReport() << ", " << c.extrema.size() << " extrema");
+    if (c.pattern != "mode2") continue;
+    for (const CurveExtremum& e : c.extrema) mode2.push_back(&e);
+  }
+  REQUIRE(mode2.size() >= 2);
+  for (const CurveExtremum* e : mode2) {
+    INFO("engine c = " << e->engine_eta << ", Ipopt: " << e->ipopt.message);
+    REQUIRE(e->ipopt.Solved());
+    CHECK(e->sense == +1);
+    CHECK(std::abs(e->ipopt.lambda - e->engine_eta) <= 1e-8 * e->engine_eta);
+    CHECK(std::abs(e->ipopt_speed - e->engine_speed) <= 1e-6 * e->engine_speed);
+  }
+  // Both curves (whirl's and whip's event) turn at the same point: the gap closes there.
+  CHECK(mode2[0]->engine_eta == Approx(mode2[1]->engine_eta).epsilon(1e-8));
+  CHECK(mode2[0]->engine_speed == Approx(mode2[1]->engine_speed).epsilon(1e-6));
+  CHECK(mode2[0]->engine_eta > 1000.0);
+  CHECK(mode2[0]->engine_eta < 1500.0);
+}
+
+}  // namespace
+}  // namespace rubcont
