@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -58,17 +59,26 @@ Vector EventCurveProblem::Join(const Vector& u, double lambda) {
   return U;
 }
 
-void EventCurveProblem::SetEta(double eta) {
-  if (inner_.SecondParameter() != eta) inner_.SetSecondParameter(eta);
+bool EventCurveProblem::SetEta(double eta) {
+  if (inner_.SecondParameter() == eta) return true;
+  try {
+    inner_.SetSecondParameter(eta);
+    return true;
+  } catch (const std::invalid_argument&) {
+    return false;  // outside the inner problem's range: the caller returns NaN
+  }
 }
 
 double EventCurveProblem::Margin(const Vector& U, double eta) {
-  SetEta(eta);
+  if (!SetEta(eta)) return std::numeric_limits<double>::quiet_NaN();
   return inner_.EventFunctions(U.head(n_), U(n_))(event_);
 }
 
 void EventCurveProblem::Residual(const Vector& U, double eta, Vector& G) {
-  SetEta(eta);
+  if (!SetEta(eta)) {
+    G = Vector::Constant(n_ + 1, std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   Vector F;
   inner_.Residual(U.head(n_), U(n_), F);
   G.resize(n_ + 1);
@@ -77,7 +87,10 @@ void EventCurveProblem::Residual(const Vector& U, double eta, Vector& G) {
 }
 
 void EventCurveProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
-  SetEta(eta);
+  if (!SetEta(eta)) {
+    DG = Matrix::Constant(n_ + 1, n_ + 1, std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   const Vector u = U.head(n_);
   const double lambda = U(n_);
   Matrix J;
@@ -102,9 +115,15 @@ void EventCurveProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
 }
 
 void EventCurveProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
-  SetEta(eta);
+  dG = Vector::Constant(n_ + 1, std::numeric_limits<double>::quiet_NaN());
+  if (!SetEta(eta)) return;
   Vector dF;
-  inner_.DfDeta(U.head(n_), U(n_), dF);
+  try {
+    inner_.DfDeta(U.head(n_), U(n_), dF);  // differences in η may step out of range
+  } catch (const std::invalid_argument&) {
+    SetEta(eta);
+    return;
+  }
   const double h = kRelativeStep * std::max(std::abs(eta), inner_.SecondParameterScale());
   const double plus = Margin(U, eta + h);
   const double minus = Margin(U, eta - h);
@@ -135,7 +154,10 @@ std::vector<std::string> EventCurveProblem::MeasureNames() const {
 }
 
 Vector EventCurveProblem::Measures(const Vector& U, double eta) {
-  SetEta(eta);
+  if (!SetEta(eta)) {
+    return Vector::Constant(static_cast<Index>(MeasureNames().size()),
+                            std::numeric_limits<double>::quiet_NaN());
+  }
   const Vector inner = inner_.Measures(U.head(n_), U(n_));
   Vector m(inner.size() + 1);
   m(0) = U(n_);
@@ -146,7 +168,10 @@ Vector EventCurveProblem::Measures(const Vector& U, double eta) {
 std::vector<std::string> EventCurveProblem::EventNames() const { return monitored_names_; }
 
 Vector EventCurveProblem::EventFunctions(const Vector& U, double eta) {
-  SetEta(eta);
+  if (!SetEta(eta)) {
+    return Vector::Constant(static_cast<Index>(monitored_.size()),
+                            std::numeric_limits<double>::quiet_NaN());
+  }
   const Vector all = inner_.EventFunctions(U.head(n_), U(n_));
   Vector g(monitored_.size());
   for (std::size_t j = 0; j < monitored_.size(); ++j) g(j) = all(monitored_[j]);
@@ -154,7 +179,7 @@ Vector EventCurveProblem::EventFunctions(const Vector& U, double eta) {
 }
 
 void EventCurveProblem::PointAccepted(const Vector& U, double eta) {
-  SetEta(eta);
+  if (!SetEta(eta)) return;
   inner_.PointAccepted(U.head(n_), U(n_));
 }
 

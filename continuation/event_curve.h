@@ -69,7 +69,10 @@ class EventCurveProblem : public Problem {
   static Vector Join(const Vector& u, double lambda);
 
  private:
-  void SetEta(double eta);
+  // Sets the inner η; false when the inner problem rejects it (std::invalid_argument: outside
+  // its physical range), and then residuals, Jacobians and margins are NaN, which the engine
+  // treats as a failed corrector step (it halves the step) rather than an exception.
+  bool SetEta(double eta);
   double Margin(const Vector& U, double eta);
 
   Problem& inner_;
