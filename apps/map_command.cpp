@@ -111,6 +111,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     writer.SetAttribute(g, "start_eta", c.start_eta);
     writer.SetAttribute(g, "start_speed_rpm", c.start_speed * kRpmPerRadPerSecond);
     writer.SetAttribute(g, "start_nonsmooth_fold", c.start_nonsmooth_fold ? 1.0 : 0.0);
+    writer.SetAttribute(g, "fold_sense", static_cast<double>(c.fold_sense));
     writer.SetAttribute(g, "partner_margins", fmt::format("{}", fmt::join(c.partner_margins, "; ")));
     const bool has_points = !c.curve.points.empty();
     writer.WriteDoubles(g + "/eta", has_points ? c.curve.Lambda() : Vector());

@@ -14,7 +14,7 @@
 //           stable_after}: special points of the branch set at every grid value;
 //   curves/<curveN>/{eta, speed_rpm, precession_hz} (attributes kind "event" | "fold", label,
 //           piece, pattern, status, message, start_eta, start_speed_rpm, start_nonsmooth_fold,
-//           partner_margins), curves/<curveN>/special_points/{type, label, eta, speed_rpm} and
+//           fold_sense, partner_margins), curves/<curveN>/special_points/{type, label, eta, speed_rpm} and
 //           curves/<curveN>/extrema/{eta, speed_rpm, ipopt_eta, ipopt_speed_rpm, ipopt_status}
 //           (turning points of the curve in the parameter, by the engine and by Ipopt);
 //   failures: one sentence per failed grid value or curve.

@@ -77,8 +77,11 @@ struct FoldOptimizationResult {
   bool Solved() const { return status == FoldOptimizationStatus::kSolved; }
 };
 
-// Solves the NLP from (u0, λ0), a point on or near the branch close to the fold. Throws
-// std::invalid_argument for invalid options or a u0 of the wrong size.
+// Solves the NLP from (u0, λ0), a point on or near the branch close to the fold. Start on the
+// branch (F(u0, λ0) ≈ 0): from an infeasible start Ipopt may wander to another singular point of
+// F = 0 (another fold, or a degenerate solution such as a rotating wave without contact), which
+// the singularity check cannot tell from the wanted fold. Throws std::invalid_argument for invalid
+// options or a u0 of the wrong size.
 FoldOptimizationResult LocateFoldByOptimization(Problem& problem, const Vector& u0, double lambda0,
                                                 const FoldOptimizationOptions& options = {});
 

@@ -70,7 +70,8 @@ def draw_panel(ax, group, count, title, pattern=None):
     ax.set_ylim(eta[0], eta[-1])
     ax.set_xlabel("running speed [rpm]")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=5.5, loc="upper right", framealpha=0.85)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=5.5, loc="upper right", framealpha=0.85)
 
 
 def plot_map(group, name, out_dir):

@@ -195,6 +195,10 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
                                             ToString(options.parameter), map.base_value));
   }
   const FrictionLawKind law = params.friction_law.kind;
+  // The regularized law's knee test functions sit at the branches' turning points and would be
+  // recorded there instead of the folds: switch them off, so the folds are located and continued.
+  RotatingWaveBranchOptions branch_options = options.branches;
+  if (law == FrictionLawKind::kTanh) branch_options.continuation.detect.test_functions = false;
   const Index m = options.eta_points, k = options.speed_points;
   map.eta = Vector::LinSpaced(m, options.eta_min, options.eta_max);
   map.speed = Vector::LinSpaced(k, options.branches.search.speed_min, options.branches.search.speed_max);
@@ -207,7 +211,7 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
     try {
       const TwoPointParams p = WithoutImbalance(WithDesignParameter(params, options.parameter, eta));
       const std::vector<RotatingWaveBranch> branches =
-          ComputeRotatingWaveBranches(TwoPointStructure(p), law, options.branches);
+          ComputeRotatingWaveBranches(TwoPointStructure(p), law, branch_options);
       map.grid_branches += static_cast<int>(branches.size());
       for (std::size_t b = 0; b < branches.size(); ++b) {
         const Branch& branch = branches[b].branch;
@@ -264,7 +268,7 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
   // 2. Curves through the events and folds of the branch set at the base η.
   const Clock::time_point curve_start = Clock::now();
   const std::vector<RotatingWaveBranch> base = ComputeRotatingWaveBranches(
-      TwoPointStructure(WithoutImbalance(params)), law, options.branches);
+      TwoPointStructure(WithoutImbalance(params)), law, branch_options);
   RotatingWaveDesignProblem problem(params, options.parameter);
   ContinuationOptions curve_options;
   curve_options.bounds.lambda_min = options.eta_min;
@@ -302,6 +306,9 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
       curve.start_eta = map.base_value;
       curve.start_speed = sp.lambda;
       curve.start_nonsmooth_fold = sp.nonsmooth_fold;
+      if (sp.type == SpecialPointType::kFold) {
+        curve.fold_sense = branch.points[sp.index].lambda < sp.lambda ? +1 : -1;
+      }
       try {
         problem.SetSecondParameter(map.base_value);
         PlaceAt(problem, branch, sp);

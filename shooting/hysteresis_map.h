@@ -17,7 +17,9 @@
 //     the grid resolves them only to its spacing; the grid's special points must lie on them.
 //
 // Level L1 (rotating waves, exact friction law by default): the map inherits the branch set's
-// assumptions (isotropic supports, no imbalance, circular orbits only).
+// assumptions (isotropic supports, no imbalance, circular orbits only). With the regularized
+// (tanh) law the branch sets are computed without the knee test functions, which would otherwise
+// be recorded at the turning points in place of the folds; the folds are then continued.
 #pragma once
 
 #include <functional>
@@ -86,6 +88,9 @@ struct MapCurve {
   double start_eta = 0.0;
   double start_speed = 0.0;
   bool start_nonsmooth_fold = false;
+  // Folds: +1 where ω is locally largest on the branch at the fold, −1 smallest (the sense to give
+  // LocateFoldByOptimization along the curve, unchanged up to a cusp); 0 for events.
+  int fold_sense = 0;
   Branch curve;                // λ = η; states (u, ω); measure "lambda" = ω
   std::vector<std::string> partner_margins;  // EventCurveProblem::PartnerMargins (events)
   std::vector<CurveExtremum> extrema;        // event curves: their located turning points in η
