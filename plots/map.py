@@ -4,6 +4,7 @@
 Usage: /usr/bin/python3 plots/map.py RESULT.h5 OUTDIR
 Writes, from the HDF5 file only (layout: apps/map_command.h), for every /maps/<parameter>:
   OUTDIR/map_<parameter>.png  the number of coexisting stable circular rub states on the grid
+                              (all families, then the Mode 1 and Mode 2 families alone)
                               (grey: none, white: one, blue: two or more = hysteresis), the special
                               points of the branch sets at every grid value (markers), and the
                               continued event and fold curves (lines; cusps and ends marked).
@@ -49,6 +50,7 @@ def draw_panel(ax, group, count, title, pattern=None):
                 ax.plot(points["speed_rpm"][()][sel], points["eta"][()][sel], marker, ms=3,
                         mfc="none", color="0.35", label=label, linestyle="none")
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    turns = ([], [])
     for index, curve_name in enumerate(sorted(group["curves"].keys(), key=lambda s: int(s[5:]))):
         curve = group["curves"][curve_name]
         if len(curve["eta"]) == 0:
@@ -65,6 +67,12 @@ def draw_panel(ax, group, count, title, pattern=None):
         for t, e, s in zip(sp["type"][()], sp["eta"][()], sp["speed_rpm"][()]):
             if text(t) == "cusp":
                 ax.plot(s, e, "kP", ms=9)
+        if "extrema" in curve and len(curve["extrema"]["eta"]) > 0:
+            turns[0].extend(curve["extrema"]["speed_rpm"][()])
+            turns[1].extend(curve["extrema"]["eta"][()])
+    if turns[0]:
+        ax.plot(turns[0], turns[1], "kX", ms=7, linestyle="none",
+                label="turning point of a jump curve (the jump disappears)")
     ax.axhline(group.attrs["base_value"], color="k", lw=0.6, ls=":")
     ax.set_xlim(speed[0], speed[-1])
     ax.set_ylim(eta[0], eta[-1])
@@ -77,10 +85,11 @@ def draw_panel(ax, group, count, title, pattern=None):
 def plot_map(group, name, out_dir):
     unit = text(group.attrs.get("unit", ""))
     panels = [(group["stable_count"][()], "all circular rub states", None)]
-    if "by_pattern" in group and "mode1" in group["by_pattern"]:
-        panels.append((group["by_pattern"]["mode1"]["stable_count"][()],
-                       "Mode 1 family only (the state a sweep from a Mode 1 whirl follows)", "mode1"))
-    fig, axes = plt.subplots(1, len(panels), figsize=(7.5 * len(panels), 6.5), squeeze=False)
+    for pattern, title in (("mode1", "Mode 1 family only (what a sweep from a Mode 1 whirl follows)"),
+                           ("mode2", "Mode 2 family only")):
+        if "by_pattern" in group and pattern in group["by_pattern"]:
+            panels.append((group["by_pattern"][pattern]["stable_count"][()], title, pattern))
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 6.5), squeeze=False)
     for ax, (count, title, pattern) in zip(axes[0], panels):
         draw_panel(ax, group, count, title, pattern)
     axes[0][0].set_ylabel(f"{name} [{unit}]")
