@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "apps/fit_command.h"
 #include "apps/map_command.h"
 #include "apps/version.h"
 
@@ -66,6 +67,17 @@ int main(int argc, char** argv) {
                   "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
 
+  rubcont::FitRequest fit_request;
+  CLI::App* fit = app.add_subcommand(
+      "fit", "identification: fit design parameters to target jump speeds and whip frequencies "
+             "(NLopt global then local search; HDF5 /fit)");
+  fit->add_option("SCENE", fit_request.scene_file, "scene file (TOML), model two_point")->required();
+  fit->add_option("--targets", fit_request.targets_file,
+                  "targets file (TOML): [[parameter]], [[target]], [fit] (apps/fit_command.h)")
+      ->required();
+  fit->add_option("--out", fit_request.out_file, "HDF5 file; default results/<scene>/fit.h5");
+  fit->add_flag("-q,--quiet", fit_request.quiet, "no progress on stderr");
+
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
   std::string check_file;
@@ -99,6 +111,7 @@ int main(int argc, char** argv) {
     }
     return rubcont::MapCommand(map_request, std::cout, std::cerr);
   }
+  if (*fit) return rubcont::FitCommand(fit_request, std::cout, std::cerr);
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
   return rubcont::kExitBadInput;
