@@ -312,3 +312,111 @@ TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engi
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("the design problem at eta equals a rotating-wave problem built with that parameter",
+          "[design][parameters]") {
+  const TwoPointParams params = ExactThesisA();
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
+  const Found event = StickToSlip(branches, 84.5);
+  REQUIRE(event.point != nullptr);
+  const Vector& u = event.point->u;
+  const double omega = event.point->lambda;
+  for (const std::string& name : DesignParameterNames()) {
+    const DesignParameter p = ParseDesignParameter(name);
+    RotatingWaveDesignProblem design(params, p);
+    const std::vector<ContactMode> modes = ModesAt(*event.branch, *event.point, design.Contacts());
+    const double eta = 1.1 * GetDesignParameter(params, p);
+    design.SetModes(modes);
+    design.SetPhaseReference(u);
+    design.SetSecondParameter(eta);
+    RotatingWaveProblem fresh(TwoPointStructure(WithDesignParameter(params, p, eta)), FrictionLawKind::kExact);
+    fresh.SetModes(modes);
+    fresh.SetPhaseReference(u);
+    Vector F_design, F_fresh;
+    design.Residual(u, omega, F_design);
+    fresh.Residual(u, omega, F_fresh);
+    INFO(name);
+    CHECK((F_design - F_fresh).lpNorm<Eigen::Infinity>() <= 1e-12 * std::max(1.0, F_fresh.lpNorm<Eigen::Infinity>()));
+    Matrix J_design, J_fresh;
+    design.Jacobian(u, omega, J_design);
+    fresh.Jacobian(u, omega, J_fresh);
+    CHECK((J_design - J_fresh).lpNorm<Eigen::Infinity>() <= 1e-12 * J_fresh.lpNorm<Eigen::Infinity>());
+    // The margins are scaled by the problem's force scale, which the design problem keeps from
+    // the scene (support stiffness sets it): equal up to that factor, so equal in sign.
+    const Vector m_design = design.EventFunctions(u, omega), m_fresh = fresh.EventFunctions(u, omega);
+    if (p != DesignParameter::kSupportStiffness) {
+      CHECK((m_design - m_fresh).lpNorm<Eigen::Infinity>() <= 1e-12);
+    }
+    for (Index i = 0; i < m_fresh.size(); ++i) {
+      if (std::abs(m_fresh(i)) > 1e-9) CHECK((m_design(i) > 0.0) == (m_fresh(i) > 0.0));
+    }
+    // Back at the scene's value the residual vanishes again (the base is not drifted).
+    design.SetSecondParameter(GetDesignParameter(params, p));
+    Vector F_back;
+    design.Residual(u, omega, F_back);
+    CHECK(F_back.cwiseQuotient(design.ResidualScale()).lpNorm<Eigen::Infinity>() <= 1e-9);
+  }
+  // A structure of another shape is refused.
+  RotatingWaveDesignProblem design(params, DesignParameter::kFriction);
+  TwoPointParams single = params;
+  RubStructure three = TwoPointStructure(single);
+  three.contacts.pop_back();
+  CHECK_THROWS_WITH(design.SetStructure(three), Catch::Contains("must have 4 and 2 like the problem's"));
+}
+
+TEST_CASE("the event curve problem's Jacobian and eta derivative match finite differences",
+          "[design][event_curve]") {
+  const TwoPointParams params = ExactThesisA();
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
+  const Found event = StickToSlip(branches, 84.5);
+  REQUIRE(event.point != nullptr);
+  RotatingWaveDesignProblem problem(params, DesignParameter::kStatorDamping);
+  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
+  problem.SetPhaseReference(event.point->u);
+  const std::vector<std::string> names = problem.EventNames();
+  const int k = static_cast<int>(std::find(names.begin(), names.end(), event.point->label) - names.begin());
+  EventCurveProblem curve(problem, k, event.point->u, event.point->lambda);
+  CHECK(curve.event_name() == event.point->label);
+  // The symmetric rotor's other contact reaches μ at the same point: a partner, not monitored.
+  CHECK(curve.PartnerMargins() == std::vector<std::string>{"right stick to slip+"});
+  const Vector U = EventCurveProblem::Join(event.point->u, event.point->lambda);
+  const double eta = 324.9;
+  Vector G;
+  curve.Residual(U, eta, G);
+  CHECK(G.cwiseQuotient(curve.ResidualScale()).lpNorm<Eigen::Infinity>() <= 1e-8);
+  Matrix DG;
+  curve.Jacobian(U, eta, DG);
+  const Vector s = curve.Scale();
+  for (Index j = 0; j < U.size(); ++j) {
+    const double h = 1e-5 * s(j);
+    Vector Up = U, Um = U;
+    Up(j) += h;
+    Um(j) -= h;
+    Vector Gp, Gm;
+    curve.Residual(Up, eta, Gp);
+    curve.Residual(Um, eta, Gm);
+    const Vector column = (Gp - Gm) / (2.0 * h);
+    INFO("column " << j);
+    CHECK((column - DG.col(j)).cwiseQuotient(curve.ResidualScale()).lpNorm<Eigen::Infinity>() * s(j) <=
+          1e-5 * std::max(1.0, DG.col(j).cwiseQuotient(curve.ResidualScale()).lpNorm<Eigen::Infinity>() * s(j)));
+  }
+  Vector dG;
+  curve.DfDlambda(U, eta, dG);
+  Vector Gp, Gm;
+  const double h = 1e-3;
+  curve.Residual(U, eta + h, Gp);
+  curve.Residual(U, eta - h, Gm);
+  CHECK((dG - (Gp - Gm) / (2.0 * h)).cwiseQuotient(curve.ResidualScale()).lpNorm<Eigen::Infinity>() <=
+        1e-6 * std::max(1.0, dG.cwiseQuotient(curve.ResidualScale()).lpNorm<Eigen::Infinity>()));
+  // Outside the physical range the curve problem returns NaN instead of throwing.
+  curve.Residual(U, -1.0, G);
+  CHECK(!G.allFinite());
+}
+
+}  // namespace
+}  // namespace rubcont
