@@ -50,6 +50,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
   writer.SetAttribute(group, "level", "L1");
   writer.SetAttribute(group, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
   writer.SetAttribute(group, "summary", map.BriefReport());
+  writer.SetAttribute(group, "note", map.note);
   writer.SetAttribute(group, "grid_seconds", map.grid_seconds);
   writer.SetAttribute(group, "curve_seconds", map.curve_seconds);
   writer.SetAttribute(group, "region_codes",
@@ -229,6 +230,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     writer.Commit();
 
     fmt::print(out, "scene {} from {}\n[map] {}\n", scene.name, scene.source, map.BriefReport());
+    if (!map.note.empty()) fmt::print(out, "[map] note: {}\n", map.note);
     for (const MapCurve& c : map.curves) {
       const Branch& b = c.curve;
       double lo = 0.0, hi = 0.0;

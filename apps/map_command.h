@@ -5,7 +5,7 @@
 // Kept free of Eigen so that main.cpp stays light; the writer is in apps/map_output.h.
 //
 // HDF5 layout, /maps/<parameter>/ (attributes: parameter, unit, base_value, level "L1",
-// friction_law, summary, grid_seconds, curve_seconds, region_codes):
+// friction_law, summary, note, grid_seconds, curve_seconds, region_codes):
 //   eta (m), speed_rpm (k), stable_count (m × k: stable circular states, −1 where the branch set
 //   failed), region (m × k: 0 none, 1 one, 2 two or more coexisting),
 //   by_pattern/<pattern>/stable_count (the count within one closed-form family: mode1, mode2,

@@ -264,6 +264,13 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
   }
   map.grid_seconds = SecondsSince(grid_start);
   if (!options.continue_curves) return map;
+  if (map.base_value < options.eta_min || map.base_value > options.eta_max) {
+    // The curves start from the branch set at the scene's own value.
+    map.note = fmt::format(
+        "no curves: the scene's {} = {:g} lies outside the range [{:g}, {:g}] they start from",
+        ToString(options.parameter), map.base_value, options.eta_min, options.eta_max);
+    return map;
+  }
 
   // 2. Curves through the events and folds of the branch set at the base η.
   const Clock::time_point curve_start = Clock::now();

@@ -114,6 +114,7 @@ struct HysteresisMap {
   std::vector<MapPoint> points;
   std::vector<MapCurve> curves;
   std::vector<std::string> failures;  // grid values or curves that failed, one sentence each
+  std::string note;            // why part 2 was skipped (the scene's value outside the range), or "".
   double grid_seconds = 0.0;
   double curve_seconds = 0.0;
   int grid_branches = 0;       // branches computed over the whole grid

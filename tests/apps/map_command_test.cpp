@@ -107,5 +107,19 @@ TEST_CASE("rubcont map rejects bad parameters and ranges with exit code 2", "[cl
   CHECK(!fs::exists(dir.path / "m.h5"));
 }
 
+TEST_CASE("rubcont map outside the scene's value maps the grid and says why there are no curves",
+          "[cli][map]") {
+  TempDir dir;
+  const fs::path file = dir.path / "map.h5";
+  const Outcome o = Rubcont("map scenes/default.toml --parameter friction --range 0.6 0.9 "
+                            "--eta-points 2 --speed-points 21 -q --out " + file.string());
+  INFO(o.out << o.err);
+  CHECK(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("no curves: the scene's friction = 0.5 lies outside the range [0.6, 0.9]"));
+  ResultReader reader(file);
+  CHECK(reader.Children("/maps/friction/curves").empty());
+  CHECK_THAT(reader.ReadStringAttribute("/maps/friction", "note"), Contains("outside the range"));
+}
+
 }  // namespace
 }  // namespace rubcont
