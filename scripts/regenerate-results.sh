@@ -25,5 +25,19 @@ build/bench/branches_bench scenes 5 results/regularization/thesis_A_a.csv \
   > results/regularization/branches_bench.txt
 /usr/bin/python3 plots/regularization.py results/regularization/thesis_A_a.csv \
   results/regularization/convergence.png
+# Hysteresis maps and the identification example of the default scene (results/design).
+mkdir -p results/design
+for spec in "friction --range 0.1 1.0" "stator_damping --range 50 2000" "rci_ratio"; do
+  name=${spec%% *}
+  # shellcheck disable=SC2086  # $spec holds the parameter name and its options
+  build/rubcont map scenes/default.toml --parameter $spec --eta-points 41 --quiet \
+    --out "results/design/map_$name.h5" > "results/design/map_$name.txt"
+done
+build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml --quiet \
+  --out results/design/fit_hidden.h5 > results/design/fit_hidden.txt
+# Exit code 1 expected: no friction reproduces the thesis's jump (results/README.md).
+build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_up_jump.toml \
+  --quiet --out results/design/fit_thesis_A_a_jump.h5 > results/design/fit_thesis_A_a_jump.txt 2>&1 || true
+echo "results/design: $(ls results/design | tr '\n' ' ')"
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
