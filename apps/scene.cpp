@@ -41,6 +41,8 @@ enum class Rule {
   kNonNegative,           // ≥ 0 (each entry of a pair)
   kIncreasingPositive,    // pair 0 < low < high
   kGridPoints,            // integer 2 … kMaxGridPoints
+  kOpenUnit,              // 0 < x < 1
+  kCount,                 // integer 1 … kMaxCount
 };
 
 enum class Presence {
@@ -50,6 +52,7 @@ enum class Presence {
 };
 
 constexpr std::int64_t kMaxGridPoints = 1000000;
+constexpr std::int64_t kMaxCount = 1000;
 
 using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
                            std::vector<std::string>>;
@@ -110,8 +113,8 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      field);
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic"};
-const std::vector<std::string> kPlannedStages = {"branches", "orbits", "sweep"};
+const std::vector<std::string> kImplementedStages = {"analytic", "sweep"};
+const std::vector<std::string> kPlannedStages = {"branches", "orbits"};
 
 std::vector<KeySpec> BuildSchema() {
   std::vector<KeySpec> s;
@@ -243,13 +246,15 @@ std::vector<KeySpec> BuildSchema() {
     stages.rule = Rule::kStages;
     stages.presence = Presence::kOptional;
     stages.default_value = std::vector<std::string>{"analytic"};
-    stages.doc = "What `rubcont run` computes, in this order. Implemented: \"analytic\" (L0).";
+    stages.doc = "What `rubcont run` computes, in this order. Implemented: \"analytic\" (L0), "
+                 "\"sweep\" (L3: the speed-up and speed-down sweeps of [analysis.sweep]).";
     stages.choices = kImplementedStages;
     stages.model = kCommon;
     stages.set = [](Scene& x, const Value& v) {
       x.analysis.stages.clear();
       for (const std::string& name : std::get<std::vector<std::string>>(v)) {
         if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
+        if (name == "sweep") x.analysis.stages.push_back(Stage::kSweep);
       }
     };
     stages.get = [](const Scene& x) {
@@ -270,6 +275,73 @@ std::vector<KeySpec> BuildSchema() {
       "Grid points of the analytic curves; transitions are located to machine precision between "
       "them.",
       [](Scene& x) -> int& { return x.analysis.precession_points; }, kCommon));
+
+  // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; models/rub_sweep.h).
+  auto sweep_pair = [&](const char* key, std::array<double, 2> value, const char* doc,
+                        Field<std::array<double, 2>> field) {
+    s.push_back(Make<std::array<double, 2>>(key, ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
+                                            Presence::kOptional, value, doc, field));
+  };
+  auto sweep_float = [&](const char* key, const char* unit, Rule rule, double value, const char* doc,
+                         Field<double> field) {
+    s.push_back(Float(key, unit, rule, doc, field, Presence::kOptional, value));
+  };
+  sweep_pair("analysis.sweep.up_range_rpm", {20.0, 258.0},
+             "[low, high]: the speed-up sweep runs from low to high.",
+             [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.up_range_rpm; });
+  sweep_pair("analysis.sweep.down_range_rpm", {20.0, 252.0},
+             "[low, high]: the speed-down sweep runs from high to low.",
+             [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.down_range_rpm; });
+  sweep_float("analysis.sweep.speed_step_rpm", "rpm", Rule::kPositive, 2.0,
+              "Speed step; each speed continues from the state the previous one ended in.",
+              [](Scene& x) -> double& { return x.analysis.sweep.speed_step_rpm; });
+  sweep_float("analysis.sweep.dwell", "s", Rule::kPositive, 1.5,
+              "Longest simulated time per speed (whole settle windows); ≥ (settle_windows + 1)·"
+              "settle_window.", [](Scene& x) -> double& { return x.analysis.sweep.dwell; });
+  sweep_float("analysis.sweep.settle_window", "s", Rule::kPositive, 0.25,
+              "Window length of the settle test: successive windows are compared.",
+              [](Scene& x) -> double& { return x.analysis.sweep.settle_window; });
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.sweep.settle_windows", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      std::int64_t{2},
+      "A speed has settled when this many successive window pairs agree (spectra and dominant "
+      "frequencies); else it runs to the dwell and is flagged.",
+      [](Scene& x) -> int& { return x.analysis.sweep.settle_windows; }));
+  sweep_float("analysis.sweep.spectrum_tolerance", "-", Rule::kOpenUnit, 0.05,
+              "Agreeing windows: relative L2 distance of their two-sided amplitude spectra.",
+              [](Scene& x) -> double& { return x.analysis.sweep.spectrum_tolerance; });
+  sweep_float("analysis.sweep.frequency_tolerance_hz", "Hz", Rule::kPositive, 0.25,
+              "Agreeing windows: change of each contact's dominant (BP) frequency.",
+              [](Scene& x) -> double& { return x.analysis.sweep.frequency_tolerance_hz; });
+  sweep_float("analysis.sweep.analysis_length", "s", Rule::kPositive, 0.5,
+              "The last stretch of each speed that is analysed (spectrum, BP, slip velocity); "
+              "≤ (settle_windows + 1)·settle_window.",
+              [](Scene& x) -> double& { return x.analysis.sweep.analysis_length; });
+  sweep_float("analysis.sweep.sample_rate_hz", "Hz", Rule::kPositive, 4096.0,
+              "Sampling rate of the analysed signals (dense output of the integrator).",
+              [](Scene& x) -> double& { return x.analysis.sweep.sample_rate_hz; });
+  sweep_float("analysis.sweep.spectrum_max_hz", "Hz", Rule::kPositive, 600.0,
+              "Spectra are stored for −this … +this (the waterfall); ≤ sample_rate_hz/2.",
+              [](Scene& x) -> double& { return x.analysis.sweep.spectrum_max_hz; });
+  sweep_float("analysis.sweep.impulse", "N·s", Rule::kNonNegative, 1.0,
+              "Impulse on the rotor at its mass-centre plane along +x at the start of each "
+              "direction (rotor centred and at rest): a translation at impulse/m_r.",
+              [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
+  sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit, 1e-6,
+              "CVODES BDF (order ≤ 2, analytic Jacobian): relative local error tolerance.",
+              [](Scene& x) -> double& { return x.analysis.sweep.relative_tolerance; });
+  sweep_float("analysis.sweep.absolute_tolerance", "-", Rule::kOpenUnit, 1e-6,
+              "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
+              "fastest support frequency).",
+              [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
+  sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
+              "A contact whirls (rolls) when |BP − f_roll| ≤ this·f_roll, f_roll = RCI·(speed in "
+              "rev/s); otherwise it whips (slips).",
+              [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
+  sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive, 3.0,
+              "Between successive speeds, a BP change larger than this from both trends (BP "
+              "constant, BP ∝ speed) is a jump even when the regime stays the same.",
+              [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
   return s;
 }
 
@@ -405,6 +477,8 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kNonNegative: return spec.type == ValueType::kFloatPair ? "each ≥ 0" : "≥ 0";
     case Rule::kIncreasingPositive: return "0 < low < high";
     case Rule::kGridPoints: return fmt::format("2 … {}", kMaxGridPoints);
+    case Rule::kOpenUnit: return "0 < x < 1";
+    case Rule::kCount: return fmt::format("1 … {}", kMaxCount);
   }
   return "";
 }
@@ -474,6 +548,17 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
     case Rule::kGridPoints: {
       const std::int64_t n = std::get<std::int64_t>(value);
       if (n < 2 || n > kMaxGridPoints) return fmt::format("must be from 2 to {}", kMaxGridPoints);
+      return std::nullopt;
+    }
+    case Rule::kOpenUnit: {
+      const double x = std::get<double>(value);
+      if (!std::isfinite(x)) return std::string("must be finite");
+      if (!(x > 0.0 && x < 1.0)) return std::string("must lie strictly between 0 and 1");
+      return std::nullopt;
+    }
+    case Rule::kCount: {
+      const std::int64_t n = std::get<std::int64_t>(value);
+      if (n < 1 || n > kMaxCount) return fmt::format("must be from 1 to {}", kMaxCount);
       return std::nullopt;
     }
   }
@@ -595,6 +680,7 @@ class Loader {
       }
       scene.defaulted_keys.push_back(spec.key);
     }
+    if (problems_.empty()) CheckSweep(scene.analysis.sweep);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
@@ -605,6 +691,32 @@ class Loader {
     problems_.push_back(fmt::format("{}:{}:{}: {}", source_, where.line, where.column, message));
   }
   void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
+
+  // Rules of [analysis.sweep] that tie two keys together; the problem is reported at `key`.
+  void CheckSweep(const SweepSettings& w) {
+    auto problem = [&](const std::string& key, double value, const std::string& rule) {
+      const std::string message = fmt::format("{} = {}: {}", key, FormatFloat(value), rule);
+      if (nodes_.count(key)) Problem(*nodes_.at(key), message);
+      else problems_.push_back(fmt::format("{}: {} (default)", source_, message));
+    };
+    const double shortest = (w.settle_windows + 1) * w.settle_window;
+    if (w.dwell < shortest * (1.0 - 1e-12))
+      problem("analysis.sweep.dwell", w.dwell,
+              fmt::format("must be at least (settle_windows + 1)·settle_window = {} s", shortest));
+    if (w.analysis_length > shortest * (1.0 + 1e-12))
+      problem("analysis.sweep.analysis_length", w.analysis_length,
+              fmt::format("must not exceed (settle_windows + 1)·settle_window = {} s (the shortest "
+                          "run of a speed)", shortest));
+    if (w.settle_window * w.sample_rate_hz < 15.5)
+      problem("analysis.sweep.settle_window", w.settle_window,
+              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+    if (w.analysis_length * w.sample_rate_hz < 15.5)
+      problem("analysis.sweep.analysis_length", w.analysis_length,
+              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+    if (w.spectrum_max_hz > 0.5 * w.sample_rate_hz)
+      problem("analysis.sweep.spectrum_max_hz", w.spectrum_max_hz,
+              fmt::format("must not exceed sample_rate_hz/2 = {} Hz (Nyquist)", 0.5 * w.sample_rate_hz));
+  }
 
   // Records every value under its dotted path; reports unknown keys and misplaced tables.
   void Walk(const toml::table& table, const std::string& prefix) {
@@ -768,6 +880,7 @@ const char* ToString(ModelKind model) {
 const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
+    case Stage::kSweep: return "sweep";
   }
   return "?";
 }

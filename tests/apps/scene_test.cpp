@@ -111,7 +111,7 @@ TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene
              Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
   // Nothing close: the section's keys are listed.
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
-             Contains("(known in [analysis]: stages, precession_range_hz, precession_points)"));
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, [analysis.sweep])"));
 }
 
 TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
@@ -195,10 +195,10 @@ TEST_CASE("Rule: unknown model names list the known ones", "[scene]") {
 }
 
 TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
-  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"sweep\"]\n"),
-             Contains("\"sweep\" is not implemented yet (implemented: \"analytic\")"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"orbits\"]\n"),
+             Contains("\"orbits\" is not implemented yet (implemented: \"analytic\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
-             Contains("\"analytik\" is not a stage (implemented: \"analytic\")"));
+             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
              Contains("\"analytic\" is listed twice"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));
