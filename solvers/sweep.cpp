@@ -26,7 +26,7 @@ double HannGain(double delta) {
 
 }  // namespace
 
-Spectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate) {
+AmplitudeSpectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate) {
   const Index n = samples.size();
   if (n < 4) {
     throw std::invalid_argument(
@@ -47,7 +47,7 @@ Spectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate) {
   Eigen::FFT<double> fft;
   fft.fwd(transform, windowed);
 
-  Spectrum s;
+  AmplitudeSpectrum s;
   s.sample_rate = sample_rate;
   s.frequency.resize(n);
   s.magnitude.resize(n);
@@ -62,7 +62,7 @@ Spectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate) {
   return s;
 }
 
-SpectralPeak DominantPeak(const Spectrum& spectrum, PeakSide side, double min_frequency) {
+SpectralPeak DominantPeak(const AmplitudeSpectrum& spectrum, PeakSide side, double min_frequency) {
   SpectralPeak peak;
   const Index n = spectrum.frequency.size();
   const double df = spectrum.BinWidth();
@@ -97,7 +97,7 @@ SpectralPeak DominantPeak(const Spectrum& spectrum, PeakSide side, double min_fr
   return peak;
 }
 
-double SpectralDistance(const Spectrum& a, const Spectrum& b) {
+double SpectralDistance(const AmplitudeSpectrum& a, const AmplitudeSpectrum& b) {
   if (a.magnitude.size() != b.magnitude.size()) {
     throw std::invalid_argument(fmt::format("SpectralDistance: spectra of {} and {} bins",
                                             a.magnitude.size(), b.magnitude.size()));
@@ -270,7 +270,7 @@ void SweepStepper::Setup() {
 ChannelSummary SweepStepper::Summarize(int channel, Index first, Index count) const {
   ChannelSummary summary;
   const ComplexVector samples = signals_.row(channel).segment(first, count).transpose();
-  const Spectrum spectrum = TwoSidedSpectrum(samples, options_.sample_rate);
+  const AmplitudeSpectrum spectrum = TwoSidedSpectrum(samples, options_.sample_rate);
   summary.peak = DominantPeak(spectrum, options_.peak_side, options_.min_frequency);
   summary.spectrum = spectrum.magnitude.segment(band_first_, band_frequencies_.size());
   summary.mean_modulus = samples.cwiseAbs().mean();
@@ -313,7 +313,7 @@ SweepStepOutcome SweepStepper::Step() {
 
   const double dt = 1.0 / o.sample_rate;
   const double window = static_cast<double>(window_samples_) * dt;
-  std::vector<Spectrum> previous(static_cast<std::size_t>(channels));
+  std::vector<AmplitudeSpectrum> previous(static_cast<std::size_t>(channels));
   std::vector<SpectralPeak> previous_peak(static_cast<std::size_t>(channels));
   int agreeing = 0;
   bool settled = false;
@@ -349,7 +349,7 @@ SweepStepOutcome SweepStepper::Step() {
     bool agree = w > 0;
     for (int c = 0; c < channels; ++c) {
       const ComplexVector samples = signals_.row(c).segment(offset, window_samples_).transpose();
-      Spectrum spectrum = TwoSidedSpectrum(samples, o.sample_rate);
+      AmplitudeSpectrum spectrum = TwoSidedSpectrum(samples, o.sample_rate);
       const SpectralPeak peak = DominantPeak(spectrum, o.peak_side, o.min_frequency);
       if (w > 0) {
         const double d = SpectralDistance(spectrum, previous[static_cast<std::size_t>(c)]);

@@ -17,7 +17,7 @@
 // window would pass `dwell`. A steady modulated response (sidebands that do not change) settles;
 // a drifting, beating or chaotic one does not, and says so.
 //
-// Spectrum: the complex samples z_0 … z_{N−1} of the analysed stretch, minus their Hann-weighted
+// AmplitudeSpectrum: the complex samples z_0 … z_{N−1} of the analysed stretch, minus their Hann-weighted
 // mean (so the static offset does not leak), times the periodic Hann window w_n = ½ − ½cos(2πn/N),
 // Fourier transformed (Eigen's FFT, kissfft) and scaled by 1/Σw: a tone a·e^{j2πft} with f on a
 // bin gives amplitude |a| there. Bins are ordered by frequency, −fs/2 … fs/2 − fs/N.
@@ -48,7 +48,7 @@ namespace rubcont {
 // ---------------------------------------------------------------------------------------------
 // Spectral tools.
 
-struct Spectrum {
+struct AmplitudeSpectrum {
   double sample_rate = 0.0;  // fs [samples per time unit]
   Vector frequency;          // N bin frequencies, ascending: −fs/2 … fs/2 − fs/N [cycles per time unit]
   Vector magnitude;          // N amplitudes (Hann, scaled by 1/Σw: a tone on a bin gives its amplitude)
@@ -57,7 +57,7 @@ struct Spectrum {
 
 // The two-sided amplitude spectrum of uniform complex samples (N ≥ 4 of them) at rate fs > 0.
 // Throws std::invalid_argument for fewer than 4 samples or a non-positive rate.
-Spectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate);
+AmplitudeSpectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate);
 
 enum class PeakSide {
   kNegative,  // f < 0: clockwise rotation of x + jy (backward precession for the rub model)
@@ -69,16 +69,16 @@ struct SpectralPeak {
   bool found = false;      // false: no bin on that side at |f| ≥ the minimum
   double frequency = 0.0;  // refined frequency [cycles per time unit], signed
   double amplitude = 0.0;  // refined amplitude (same unit as the samples)
-  Index bin = 0;           // index of the largest bin in Spectrum::frequency
+  Index bin = 0;           // index of the largest bin in AmplitudeSpectrum::frequency
   double offset = 0.0;     // δ: refined offset from that bin, in bins, |δ| ≤ ½
 };
 
 // The largest bin on `side` with |f| ≥ max(min_frequency, 2Δf) (the two bins nearest 0 hold the
 // Hann leakage of what is left of the mean), refined as in the header comment.
-SpectralPeak DominantPeak(const Spectrum& spectrum, PeakSide side, double min_frequency = 0.0);
+SpectralPeak DominantPeak(const AmplitudeSpectrum& spectrum, PeakSide side, double min_frequency = 0.0);
 
 // ‖|A| − |B|‖₂ / max(‖A‖₂, ‖B‖₂) over all bins (0 when both are zero). Same length required.
-double SpectralDistance(const Spectrum& a, const Spectrum& b);
+double SpectralDistance(const AmplitudeSpectrum& a, const AmplitudeSpectrum& b);
 
 // ---------------------------------------------------------------------------------------------
 // What a sweep observes.
