@@ -351,13 +351,13 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
   ResultReader reader(file);
   const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
   if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) {
-    throw std::runtime_error(fmt::format(
+    throw std::invalid_argument(fmt::format(
         "checkpoint {} was written for another scene (or other settings) than {}: delete it or run "
         "without --resume", file.string(), scene.source));
   }
   if (reader.ReadStringAttribute("/checkpoint", "direction") != ToString(direction)) {
-    throw std::runtime_error(fmt::format("checkpoint {} is not for the {} sweep", file.string(),
-                                         ToString(direction)));
+    throw std::invalid_argument(fmt::format("checkpoint {} is not for the {} sweep", file.string(),
+                                            ToString(direction)));
   }
   SweepCheckpoint checkpoint;
   checkpoint.points = ReadSweepPoints(reader, direction);

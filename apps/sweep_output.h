@@ -91,7 +91,8 @@ struct SweepCheckpoint {
   Vector state;
 };
 // Reads a checkpoint written for this scene and direction; nothing when `file` does not exist.
-// Throws std::runtime_error when it was written for another scene or direction, or is unreadable.
+// Throws std::invalid_argument when it was written for another scene (or other settings) or
+// direction, std::runtime_error when it is unreadable.
 std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& file,
                                                    const Scene& scene, SweepDirection direction);
 

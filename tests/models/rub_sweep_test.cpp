@@ -158,3 +158,82 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+struct SegmentResult {
+  RubSweepRegimes regimes;
+  std::vector<SweepPoint> points;
+};
+
+// A short speed-up segment of case A(a) (the scene defaults are the thesis's), started by the
+// 1 N·s impulse at its first speed, with every speed run for the minimum three windows.
+SegmentResult Segment(const std::vector<double>& rpm, double tolerance) {
+  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  RubFixedFrame system(s);
+  RubSweepObservables observables(system);
+  SweepOptions o;
+  for (double v : rpm) o.parameters.push_back(RpmToRadPerSecond(v));
+  o.dwell = 0.75;
+  o.integrator.max_order = 2;
+  o.integrator.relative_tolerance = tolerance;
+  o.integrator.absolute_tolerance = tolerance;
+  o.integrator.max_steps = 100000000;
+  SweepStepper stepper(system, observables, o, RubImpulseIncrement(s, 1.0));
+  while (stepper.Step() == SweepStepOutcome::kContinue) {
+  }
+  REQUIRE(stepper.Done());
+  return {ClassifySweep(s, stepper.points()), stepper.points()};
+}
+
+TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tolerances tighten",
+          "[rub_sweep][tolerance]") {
+  // 48, 50 rpm roll (whirl); 52, 54 rpm slip (whip at the analytic Mode 1 μ_req = μ frequency).
+  const std::vector<double> rpm = {48.0, 50.0, 52.0, 54.0};
+  const SegmentResult loose = Segment(rpm, 1e-6);  // the scene default
+  const SegmentResult tight = Segment(rpm, 1e-8);
+  const AnalyticCurve mode1 = ComputeAnalyticCurve(TwoPointParams{}, CircularMode::kMode1);
+  double whip_onset_hz = kNaN;
+  for (const Transition& t : mode1.transitions)
+    if (t.type == TransitionType::kMuCrossing && t.direction > 0) {
+      whip_onset_hz = t.precession_hz;
+      break;
+    }
+  REQUIRE(whip_onset_hz == Approx(84.478).margin(0.01));
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    for (int k = 0; k < 2; ++k) {
+      CAPTURE(rpm[i], k);
+      const double bp = loose.regimes.precession_hz[k][i];
+      // Tolerances 100× tighter: the same BP to 0.01 Hz (the analysis bins are 2 Hz wide), the
+      // same regime, the same slip velocity to 0.5 mm/s.
+      CHECK(std::abs(bp - tight.regimes.precession_hz[k][i]) < 0.01);
+      CHECK(loose.regimes.regime[k][i] == tight.regimes.regime[k][i]);
+      const double v_loose = loose.points[i].channels[k].measures[kSlipVelocityMeasure].mean;
+      const double v_tight = tight.points[i].channels[k].measures[kSlipVelocityMeasure].mean;
+      CHECK(std::abs(v_loose - v_tight) < 5e-4);
+      CHECK(loose.points[i].channels[k].active_fraction == 1.0);
+      // And the physics: rolling at RCI·f below the transition, whip at the closed form's
+      // μ_req = μ frequency above it (the sweep's whip is slightly modulated: within 0.1 Hz).
+      if (rpm[i] <= 50.0) {
+        CHECK(loose.regimes.regime[k][i] == RubRegime::kWhirl);
+        CHECK(bp == Approx(100.0 * rpm[i] / 60.0).epsilon(0.005));
+        CHECK(std::abs(v_loose) < 1e-3);
+      } else {
+        CHECK(loose.regimes.regime[k][i] == RubRegime::kWhip);
+        CHECK(bp == Approx(whip_onset_hz).margin(0.1));
+        CHECK(v_loose > 1e-3);
+      }
+    }
+  }
+  // The tighter run does the work the tolerances ask for.
+  long loose_steps = 0, tight_steps = 0;
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    loose_steps += loose.points[i].statistics.steps;
+    tight_steps += tight.points[i].statistics.steps;
+  }
+  CHECK(tight_steps > loose_steps);
+}
+
+}  // namespace
+}  // namespace rubcont
