@@ -8,12 +8,21 @@ namespace {
 
 const char* kContactNames[2] = {"left", "right"};
 
+// The name of contact k in dataset names: "left"/"right", or "contact" for a single contact.
+std::string ContactName(const AnalyticCurve& curve, int k) {
+  return curve.mode == CircularMode::kSingleContact ? "contact" : kContactNames[k];
+}
+
+int ContactCount(const AnalyticCurve& curve) {
+  return curve.mode == CircularMode::kSingleContact ? 1 : 2;
+}
+
 void WriteCurve(ResultWriter& writer, const std::string& group, const AnalyticCurve& curve,
                 bool with_grid) {
   writer.CreateGroup(group);
   if (with_grid) writer.WriteDoubles(group + "/precession_hz", curve.precession_hz);
-  for (int k = 0; k < 2; ++k) {
-    const std::string side = kContactNames[k];
+  for (int k = 0; k < ContactCount(curve); ++k) {
+    const std::string side = ContactName(curve, k);
     writer.WriteDoubles(group + "/normal_force_" + side, curve.normal_force[k]);
     writer.WriteDoubles(group + "/friction_force_" + side, curve.friction_force[k]);
     writer.WriteDoubles(group + "/mu_required_" + side, curve.mu_required[k]);
@@ -26,7 +35,7 @@ void WriteCurve(ResultWriter& writer, const std::string& group, const AnalyticCu
   std::vector<double> precession_hz, normal_force;
   for (const Transition& t : curve.transitions) {
     type.push_back(ToString(t.type));
-    contact.push_back(kContactNames[t.contact]);
+    contact.push_back(ContactName(curve, t.contact));
     direction.push_back(t.direction);
     through_pole.push_back(t.through_pole ? 1 : 0);
     precession_hz.push_back(t.precession_hz);
@@ -71,15 +80,31 @@ void WriteAnalytic(ResultWriter& writer, const TwoPointParams& params, const Ana
   }
 }
 
+void WriteJeffcottAnalytic(ResultWriter& writer, const JeffcottParams& params,
+                           const AnalyticCurve& curve) {
+  writer.CreateGroup("/analytic");
+  writer.SetAttribute("/analytic", "level", "L0");
+  writer.SetAttribute("/analytic", "friction", params.mu);
+  const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
+  const std::string nf = "/analytic/natural_frequencies";
+  writer.CreateGroup(nf);
+  writer.SetAttribute(nf, "rotor_hz", f.rotor_hz);
+  writer.SetAttribute(nf, "stator_hz", f.stator_hz);
+  writer.SetAttribute(nf, "combined_hz", f.combined_hz);
+  WriteCurve(writer, "/analytic/single", curve, true);
+}
+
 AnalyticCurve ReadAnalyticCurve(const ResultReader& reader, const std::string& group) {
   AnalyticCurve curve;
   const bool nested = group.size() > 22 && group.substr(group.size() - 22) == "/without_center_damper";
   const std::string mode_group = nested ? group.substr(0, group.size() - 22) : group;
-  curve.mode = mode_group.substr(mode_group.size() - 5) == "mode2" ? CircularMode::kMode2
-                                                                   : CircularMode::kMode1;
+  const std::string tail = mode_group.substr(mode_group.rfind('/') + 1);
+  curve.mode = tail == "mode2"    ? CircularMode::kMode2
+               : tail == "single" ? CircularMode::kSingleContact
+                                  : CircularMode::kMode1;
   curve.precession_hz = ToVector(reader.ReadDoubles(mode_group + "/precession_hz"));
-  for (int k = 0; k < 2; ++k) {
-    const std::string side = kContactNames[k];
+  for (int k = 0; k < ContactCount(curve); ++k) {
+    const std::string side = ContactName(curve, k);
     curve.normal_force[k] = ToVector(reader.ReadDoubles(group + "/normal_force_" + side));
     curve.friction_force[k] = ToVector(reader.ReadDoubles(group + "/friction_force_" + side));
     curve.mu_required[k] = ToVector(reader.ReadDoubles(group + "/mu_required_" + side));

@@ -15,12 +15,21 @@
 
 #include "apps/hdf5_file.h"
 #include "models/analytic.h"
+#include "models/jeffcott.h"
 
 namespace rubcont {
+
+// The single-contact (Jeffcott) scene writes instead:
+//   /analytic/natural_frequencies  attrs rotor_hz, stator_hz, combined_hz
+//   /analytic/single               precession_hz, normal_force_contact, friction_force_contact,
+//                                  mu_required_contact, transitions/{...} (contact = "contact")
 
 // `without_damper` may be null (the scene has no centre damper).
 void WriteAnalytic(ResultWriter& writer, const TwoPointParams& params, const AnalyticResult& result,
                    const AnalyticResult* without_damper);
+
+void WriteJeffcottAnalytic(ResultWriter& writer, const JeffcottParams& params,
+                           const AnalyticCurve& curve);
 
 // Reads one curve group back (e.g. "/analytic/mode1" or "/analytic/mode1/without_center_damper";
 // the latter takes precession_hz from its parent). Throws std::runtime_error on a missing object.

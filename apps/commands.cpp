@@ -14,12 +14,14 @@
 #include <fmt/ostream.h>
 
 #include "apps/analytic_output.h"
+#include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/sweep_output.h"
 #include "apps/version.h"
 #include "models/analytic.h"
+#include "shooting/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
@@ -85,7 +87,9 @@ std::string Describe(const Transition& t) {
 
 void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
   fmt::print(out, "  {} ({}):\n", ToString(curve.mode),
-             curve.mode == CircularMode::kMode1 ? "normals in phase" : "normals in antiphase");
+             curve.mode == CircularMode::kMode1   ? "normals in phase"
+             : curve.mode == CircularMode::kMode2 ? "normals in antiphase"
+                                                  : "one contact");
   if (curve.transitions.empty()) fmt::print(out, "    no transitions in range\n");
   const auto& t = curve.transitions;
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -93,8 +97,11 @@ void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
     const bool both = i + 1 < t.size() && t[i + 1].type == t[i].type &&
                       t[i + 1].direction == t[i].direction && t[i + 1].contact != t[i].contact &&
                       std::abs(t[i + 1].precession_hz - t[i].precession_hz) <= 1e-9 * t[i].precession_hz;
-    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz,
-               both ? "both" : (t[i].contact == 0 ? "left" : "right"), Describe(t[i]));
+    const char* where = curve.mode == CircularMode::kSingleContact ? ""
+                        : both                                      ? "both"
+                        : t[i].contact == 0                         ? "left"
+                                                                    : "right";
+    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz, where, Describe(t[i]));
     if (both) ++i;
   }
   if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
@@ -219,6 +226,63 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   }
 }
 
+RubStructure StructureOf(const Scene& scene) {
+  return scene.model == ModelKind::kJeffcott ? JeffcottStructure(scene.jeffcott)
+                                             : TwoPointStructure(scene.two_point);
+}
+
+FrictionLawKind FrictionLawOf(const Scene& scene) {
+  return scene.model == ModelKind::kJeffcott ? scene.jeffcott.friction_law.kind
+                                             : scene.two_point.friction_law.kind;
+}
+
+// Level L1: every rotating-wave family of the scene continued over its speed range.
+void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, std::ostream& out,
+                 std::vector<std::string>& failures) {
+  const Clock::time_point start = Clock::now();
+  constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
+  options.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
+  options.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
+  const FrictionLawKind law = FrictionLawOf(scene);
+  const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
+      StructureOf(scene), law, options, [&](int done, int tried, int starts) {
+        progress("[branches] {} branches from {} of {} starts ({:.1f} s)", done, tried, starts,
+                 SecondsSince(start));
+      });
+  const double compute_s = SecondsSince(start);
+  WriteRotatingWaveBranches(writer, branches, law, scene.analysis.speed_range_rpm);
+  const double imbalance = scene.model == ModelKind::kJeffcott ? scene.jeffcott.imbalance
+                                                               : scene.two_point.imbalance;
+  if (imbalance != 0.0) {
+    // A rotating wave is an equilibrium of the frame precessing backward at Ω; the imbalance
+    // turns forward at ω, so it is not stationary there: the branches are those of the balanced
+    // rotor, and the imbalance response is a periodic orbit (shooting).
+    const std::string note = fmt::format(
+        "the imbalance ({} kg·m) is left out of the rotating waves: it is not stationary in the "
+        "backward-precessing frame", imbalance);
+    writer.SetAttribute("/branches", "note", note);
+    fmt::print(out, "[branches] note: {}\n", note);
+  }
+  fmt::print(out, "[branches] L1 rotating waves, {} friction, {}–{} rpm: {} branches in {:.3f} s\n",
+             law == FrictionLawKind::kExact ? "exact" : "tanh", scene.analysis.speed_range_rpm[0],
+             scene.analysis.speed_range_rpm[1], branches.size(), compute_s);
+  for (const RotatingWaveBranch& b : branches) {
+    fmt::print(out, "  {} ({}, {}): {}\n", b.name, PatternName(b.normals), b.family,
+               b.branch.BriefReport());
+    for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
+      const SpecialPoint& p = b.branch.special_points[i];
+      fmt::print(out, "    {:<36} {:9.3f} rpm {:9.3f} Hz{}\n", p.Name(),
+                 p.lambda / kRadPerSecondPerRpm, b.special_precession_hz[i],
+                 p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
+    }
+    if (IsFailure(b.branch.status)) {
+      failures.push_back(fmt::format("[branches] {}: {}", b.name, b.branch.message));
+    }
+  }
+}
+
 // Runs the stages, writes the HDF5 file atomically, then the figures. Returns the exit code.
 int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::filesystem::path& h5_file,
             const ExecuteOptions& options, std::ostream& out, std::ostream& err) {
@@ -231,7 +295,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   writer.SetAttribute("/", "rubcont_version", Version());
   writer.SetAttribute("/", "scene_name", scene.name);
   writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
-  std::string level;
+  std::string level = "L0";
   std::vector<std::string> failures;
   std::vector<std::string> scripts;
   std::vector<std::filesystem::path> checkpoints;
@@ -240,6 +304,25 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
+        if (scene.model == ModelKind::kJeffcott) {
+          const Clock::time_point start = Clock::now();
+          const AnalyticOptions options = AnalyticOptionsOf(scene);
+          const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
+          WriteJeffcottAnalytic(writer, scene.jeffcott, curve);
+          progress("[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
+                   options.precession_points, 1e3 * SecondsSince(start));
+          const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
+          fmt::print(out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",
+                     scene.jeffcott.mu, options.precession_points, options.min_precession_hz,
+                     options.max_precession_hz);
+          fmt::print(out, "  natural frequencies: rotor {:.3f} Hz, stator {:.3f} Hz, "
+                          "pinned together {:.3f} Hz\n",
+                     f.rotor_hz, f.stator_hz, f.combined_hz);
+          PrintCurve(out, curve);
+          if (!curve.Succeeded()) failures.push_back("[analytic] " + curve.message);
+          scripts.push_back("analytic.py");
+          break;
+        }
         const Clock::time_point start = Clock::now();
         const TwoPointParams& p = scene.two_point;
         const AnalyticOptions options = AnalyticOptionsOf(scene);
@@ -272,13 +355,18 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         for (const AnalyticCurve* curve : {&result.mode1, &result.mode2})
           if (!curve->Succeeded()) failures.push_back("[analytic] " + curve->message);
         scripts.push_back("analytic.py");
-        level += level.empty() ? "L0" : ", L0";
         break;
       }
       case Stage::kSweep: {
         SweepStage(scene, options, h5_file, writer, progress, out, err, failures, checkpoints);
         scripts.push_back("sweep.py");
-        level += level.empty() ? "L3" : ", L3";
+        level = "L3";  // the highest level a stage of this file used
+        break;
+      }
+      case Stage::kBranches: {
+        if (level != "L3") level = "L1";
+        RunBranches(scene, writer, progress, out, failures);
+        scripts.push_back("branches.py");
         break;
       }
     }
@@ -350,6 +438,18 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name / "sweep.h5";
     return Execute(scene, {Stage::kSweep}, file, options, out, err);
+  });
+}
+
+int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(request.scene_file);
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name / "branches.h5";
+    ExecuteOptions options;
+    options.quiet = request.quiet;
+    return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, options, out, err);
   });
 }
 

@@ -45,6 +45,8 @@ struct SweepRequest {
 // `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);
 // figures next to the HDF5 file.
 int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& err);
+// `rubcont branches SCENE`: the L0 and L1 stages (default file results/<name>/branches.h5).
+int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
 
 // `rubcont scene check FILE`: validates and prints the resolved values with units.
 int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& err);

@@ -53,6 +53,16 @@ int main(int argc, char** argv) {
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
+  rubcont::AnalyticRequest branches_request;
+  std::string branches_out;
+  CLI::App* branches = app.add_subcommand(
+      "branches", "level L1: whirl and whip rotating waves continued in running speed, with "
+                  "stability and special points (runs the analytic stage too)");
+  branches->add_option("SCENE", branches_request.scene_file, "scene file (TOML)")->required();
+  branches->add_option("--out", branches_out,
+                       "HDF5 file to write (figures go next to it); default "
+                       "results/<scene name>/branches.h5");
+  branches->add_flag("-q,--quiet", branches_request.quiet, "no progress on stderr");
 
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
@@ -79,6 +89,10 @@ int main(int argc, char** argv) {
   if (*sweep) {
     if (!sweep_out.empty()) sweep_request.out_file = sweep_out;
     return rubcont::SweepCommand(sweep_request, std::cout, std::cerr);
+  }
+  if (*branches) {
+    if (!branches_out.empty()) branches_request.out_file = branches_out;
+    return rubcont::BranchesCommand(branches_request, std::cout, std::cerr);
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);

@@ -113,8 +113,8 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      field);
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic", "sweep"};
-const std::vector<std::string> kPlannedStages = {"branches", "orbits"};
+const std::vector<std::string> kImplementedStages = {"analytic", "branches", "sweep"};
+const std::vector<std::string> kPlannedStages = {"orbits"};
 
 std::vector<KeySpec> BuildSchema() {
   std::vector<KeySpec> s;
@@ -141,8 +141,10 @@ std::vector<KeySpec> BuildSchema() {
     model.presence = Presence::kOptional;
     model.default_value = std::string("two_point");
     model.doc = "Which model the scene describes; each model has its own sections.";
-    model.choices = {"two_point"};
-    model.set = [](Scene& x, const Value&) { x.model = ModelKind::kTwoPoint; };
+    model.choices = {"two_point", "jeffcott"};
+    model.set = [](Scene& x, const Value& v) {
+      x.model = std::get<std::string>(v) == "jeffcott" ? ModelKind::kJeffcott : ModelKind::kTwoPoint;
+    };
     model.get = [](const Scene& x) { return Value(std::string(ToString(x.model))); };
     s.push_back(model);
   }
@@ -238,6 +240,67 @@ std::vector<KeySpec> BuildSchema() {
                     [](Scene& x) -> double& { return x.two_point.center_damping; },
                     Presence::kRequiredInSection, 0.0));
 
+  // [jeffcott]: the single-contact model, in Black's and Crandall's symbols.
+  {
+    const auto jeffcott = [&s](std::string key, std::string unit, Rule rule, std::string doc,
+                               Field<double> field, Presence presence = Presence::kRequired,
+                               double default_value = 0.0) {
+      s.push_back(Make<double>("jeffcott." + key, ValueType::kFloat, std::move(unit), rule,
+                               presence, default_value, std::move(doc), field,
+                               ModelKind::kJeffcott));
+    };
+    jeffcott("m_r", "kg", Rule::kPositive, "Rotor mass.",
+             [](Scene& x) -> double& { return x.jeffcott.m_r; });
+    jeffcott("k_r", "N/m", Rule::kPositive, "Rotor (shaft) stiffness.",
+             [](Scene& x) -> double& { return x.jeffcott.k_r; });
+    jeffcott("c_r", "N·s/m", Rule::kNonNegative, "Rotor damping.",
+             [](Scene& x) -> double& { return x.jeffcott.c_r; });
+    jeffcott("m_s", "kg", Rule::kPositive, "Stator mass.",
+             [](Scene& x) -> double& { return x.jeffcott.m_s; });
+    jeffcott("k_s", "N/m", Rule::kPositive, "Stator support stiffness.",
+             [](Scene& x) -> double& { return x.jeffcott.k_s; });
+    jeffcott("c_s", "N·s/m", Rule::kNonNegative, "Stator support damping.",
+             [](Scene& x) -> double& { return x.jeffcott.c_s; });
+    jeffcott("C", "m", Rule::kPositive, "Radial clearance.",
+             [](Scene& x) -> double& { return x.jeffcott.C; });
+    jeffcott("R", "m", Rule::kPositive, "Rotor radius at the contact; RCI = R/C.",
+             [](Scene& x) -> double& { return x.jeffcott.R; });
+    jeffcott("mu", "-", Rule::kNonNegative, "μ: Coulomb friction coefficient.",
+             [](Scene& x) -> double& { return x.jeffcott.mu; });
+    jeffcott("contact_stiffness", "N/m", Rule::kPositive,
+             "k1 of the Hunt–Crossley normal force N = k1 δ + k2 δ² + c_nl δ̇ δ.",
+             [](Scene& x) -> double& { return x.jeffcott.contact_stiffness; });
+    jeffcott("contact_stiffness2", "N/m²", Rule::kNonNegative, "k2 of the normal force.",
+             [](Scene& x) -> double& { return x.jeffcott.contact_stiffness2; },
+             Presence::kOptional, 0.0);
+    jeffcott("contact_damping", "N·s/m²", Rule::kNonNegative, "c_nl of the normal force.",
+             [](Scene& x) -> double& { return x.jeffcott.contact_damping; });
+    jeffcott("imbalance", "kg·m", Rule::kNonNegative, "m_u e: imbalance on the rotor.",
+             [](Scene& x) -> double& { return x.jeffcott.imbalance; }, Presence::kOptional, 0.0);
+    KeySpec kind;
+    kind.key = "jeffcott.friction_law";
+    kind.type = ValueType::kString;
+    kind.rule = Rule::kChoice;
+    kind.presence = Presence::kOptional;
+    kind.default_value = std::string("exact");
+    kind.doc = "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\".";
+    kind.choices = {"exact", "tanh"};
+    kind.model = ModelKind::kJeffcott;
+    kind.set = [](Scene& x, const Value& v) {
+      x.jeffcott.friction_law.kind =
+          std::get<std::string>(v) == "tanh" ? FrictionLawKind::kTanh : FrictionLawKind::kExact;
+    };
+    kind.get = [](const Scene& x) {
+      return Value(std::string(x.jeffcott.friction_law.kind == FrictionLawKind::kTanh ? "tanh" : "exact"));
+    };
+    s.push_back(kind);
+    jeffcott("velocity_scale", "m/s", Rule::kPositive,
+             "ε of tanh(V/ε) (time marching, shooting, and rotating waves when friction_law = "
+             "\"tanh\").",
+             [](Scene& x) -> double& { return x.jeffcott.friction_law.velocity_scale; },
+             Presence::kOptional, 1e-3);
+  }
+
   // [analysis]
   {
     KeySpec stages;
@@ -245,8 +308,9 @@ std::vector<KeySpec> BuildSchema() {
     stages.type = ValueType::kStringList;
     stages.rule = Rule::kStages;
     stages.presence = Presence::kOptional;
-    stages.default_value = std::vector<std::string>{"analytic"};
-    stages.doc = "What `rubcont run` computes, in this order. Implemented: \"analytic\" (L0), "
+    stages.default_value = std::vector<std::string>{"analytic", "branches"};
+    stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
+                 "\"branches\" (L1 rotating waves continued in speed), "
                  "\"sweep\" (L3: the speed-up and speed-down sweeps of [analysis.sweep]).";
     stages.choices = kImplementedStages;
     stages.model = kCommon;
@@ -255,6 +319,7 @@ std::vector<KeySpec> BuildSchema() {
       for (const std::string& name : std::get<std::vector<std::string>>(v)) {
         if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
         if (name == "sweep") x.analysis.stages.push_back(Stage::kSweep);
+        if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
       }
     };
     stages.get = [](const Scene& x) {
@@ -275,6 +340,11 @@ std::vector<KeySpec> BuildSchema() {
       "Grid points of the analytic curves; transitions are located to machine precision between "
       "them.",
       [](Scene& x) -> int& { return x.analysis.precession_points; }, kCommon));
+  s.push_back(Make<std::array<double, 2>>(
+      "analysis.speed_range_rpm", ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
+      Presence::kOptional, std::array<double, 2>{20.0, 260.0},
+      "[low, high]: running-speed range of the continuation branches.",
+      [](Scene& x) -> std::array<double, 2>& { return x.analysis.speed_range_rpm; }, kCommon));
 
   // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; models/rub_sweep.h).
   auto sweep_pair = [&](const char* key, std::array<double, 2> value, const char* doc,
@@ -644,7 +714,7 @@ class Loader {
     // The model decides which keys apply; read it first.
     const std::optional<Value> model_value = Read(*FindKey("model"));
     if (nodes_.count("model") && !model_value) throw SceneError(problems_);  // rest is moot
-    scene.model = ModelKind::kTwoPoint;  // the only model so far; later: from *model_value
+    FindKey("model")->set(scene, model_value ? *model_value : FindKey("model")->default_value);
 
     for (const KeySpec& spec : Schema()) {
       if (spec.model && *spec.model != scene.model) {
@@ -873,6 +943,7 @@ std::string EscapeTable(std::string text) {
 const char* ToString(ModelKind model) {
   switch (model) {
     case ModelKind::kTwoPoint: return "two_point";
+    case ModelKind::kJeffcott: return "jeffcott";
   }
   return "?";
 }
@@ -881,6 +952,7 @@ const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
     case Stage::kSweep: return "sweep";
+    case Stage::kBranches: return "branches";
   }
   return "?";
 }
@@ -934,6 +1006,13 @@ std::string DescribeScene(const Scene& scene) {
     if (!spec.unit.empty() && spec.unit != "-") value += " " + spec.unit;
     out += defaulted ? fmt::format("  {:<38} = {:<28}  (default)\n", spec.key, value)
                      : fmt::format("  {:<38} = {}\n", spec.key, value);
+  }
+  if (scene.model == ModelKind::kJeffcott) {
+    const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
+    out += fmt::format(
+        "derived:\n  RCI = R/C = {:.6g}\n  rotor alone {:.6g} Hz, stator alone {:.6g} Hz, "
+        "pinned together {:.6g} Hz\n",
+        scene.jeffcott.R / scene.jeffcott.C, f.rotor_hz, f.stator_hz, f.combined_hz);
   }
   if (scene.model == ModelKind::kTwoPoint) {
     const TwoPointParams& p = scene.two_point;

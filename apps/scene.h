@@ -20,12 +20,14 @@
 #include <vector>
 
 #include "models/analytic.h"
+#include "models/jeffcott.h"
 #include "models/two_point_params.h"
 
 namespace rubcont {
 
 enum class ModelKind {
   kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (design.md §2)
+  kJeffcott,  // "jeffcott": single-contact Jeffcott rotor with an elastic stator (Black, Crandall)
 };
 const char* ToString(ModelKind model);
 
@@ -33,6 +35,7 @@ const char* ToString(ModelKind model);
 enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
   kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (models/rub_sweep.h)
+  kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
 };
 const char* ToString(Stage stage);
 
@@ -62,6 +65,7 @@ struct AnalysisOptions {
   std::array<double, 2> precession_range_hz{1.0, 200.0};  // [Hz] analytic curve grid, 0 < lo < hi
   int precession_points = 4000;                          // grid points, 2 … 1 000 000
   SweepSettings sweep;
+  std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
 };
 
 struct Scene {
@@ -69,6 +73,7 @@ struct Scene {
   std::string description;  // free text
   ModelKind model = ModelKind::kTwoPoint;
   TwoPointParams two_point;  // the model description when model == kTwoPoint
+  JeffcottParams jeffcott;   // the model description when model == kJeffcott
   AnalysisOptions analysis;
 
   // Provenance, not part of the scene's content: where it was read from, and which keys the file

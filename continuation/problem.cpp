@@ -8,6 +8,22 @@
 
 namespace rubcont {
 
+const char* ToString(SpecialPointType type) {
+  switch (type) {
+    case SpecialPointType::kFold: return "fold";
+    case SpecialPointType::kBranchPoint: return "branch point";
+    case SpecialPointType::kHopf: return "Hopf";
+    case SpecialPointType::kRealEigenvalueCrossing: return "real eigenvalue crossing";
+    case SpecialPointType::kPeriodDoubling: return "period doubling";
+    case SpecialPointType::kNeimarkSacker: return "Neimark-Sacker";
+    case SpecialPointType::kMultiplierPlusOne: return "multiplier +1";
+    case SpecialPointType::kEvent: return "event";
+    case SpecialPointType::kCusp: return "cusp";
+    case SpecialPointType::kTestFunction: return "test function";
+  }
+  return "unknown";
+}
+
 int Spectrum::UnstableCount(double tolerance) const {
   int count = 0;
   for (Index i = 0; i < values.size(); ++i) {

@@ -34,6 +34,25 @@ struct Spectrum {
   bool Stable(double tolerance = 1e-9) const { return valid && UnstableCount(tolerance) == 0; }
 };
 
+// Kinds of special points on a branch (continuation/branch.h records them). Declared here because
+// a problem's own test functions name the kind they mark (Problem::TestFunctionType).
+enum class SpecialPointType {
+  kFold,                    // turning point in λ: the λ-component of the tangent changes sign
+  kBranchPoint,             // simple branch point: det [F_u F_λ; τᵀ] changes sign
+  kHopf,                    // a complex pair of eigenvalues crosses the imaginary axis
+  kRealEigenvalueCrossing,  // a real eigenvalue crosses 0 where the fold and branch-point tests
+                            // did not fire (e.g. the stability operator is not F_u)
+  kPeriodDoubling,          // a real Floquet multiplier crosses −1
+  kNeimarkSacker,           // a complex pair of Floquet multipliers crosses the unit circle
+  kMultiplierPlusOne,       // a real multiplier crosses +1 where the fold and branch-point tests
+                            // did not fire
+  kEvent,                   // an event function of a piecewise-smooth problem vanished; switched
+  kCusp,                    // the fold normal-form coefficient vanishes on a fold curve
+  kTestFunction,            // a problem-defined test function vanished (Problem::TestFunctions)
+};
+
+const char* ToString(SpecialPointType type);
+
 class Problem {
  public:
   virtual ~Problem() = default;
@@ -53,7 +72,9 @@ class Problem {
   // Typical magnitude of each unknown (n entries > 0) and of λ, and of each equation. The engine
   // works in u / Scale() and λ / LambdaScale(), and measures residuals in F / ResidualScale(), so
   // that unknowns of very different units (metres ~1e-4, forces ~1e3, frequencies ~1e2) weigh
-  // alike in arclength, tangents, step control and convergence tests.
+  // alike in arclength, tangents, step control and convergence tests (continuation/
+  // scaled_system.h says how; the options' step lengths and tolerances are in these units). Read
+  // once per smooth piece: they must not depend on u.
   virtual Vector Scale() const { return Vector::Ones(Dimension()); }
   virtual double LambdaScale() const { return 1.0; }
   virtual Vector ResidualScale() const { return Vector::Ones(Dimension()); }
@@ -85,11 +106,35 @@ class Problem {
   // SwitchAt(k, u, λ); the problem changes its formulation (e.g. a contact changes from stick to
   // slip) and may rewrite u into the new formulation's unknowns (Dimension() may change). It
   // returns false when it cannot continue past the event (the branch ends there, saying why).
+  //
+  // Sign convention the engine relies on: every event function is a validity margin, ≥ 0 while the
+  // current piece is valid (e.g. μN − |F| in stick, ±V in slip±, the penetration while in contact;
+  // a constant 1 for a condition that does not apply to the piece). An event fires when a margin
+  // turns negative; the branch must start where all margins are ≥ 0. After a switch the engine
+  // continues along the new piece in the direction where its margins that vanish at the switch
+  // point grow: when that is back towards where the branch came from (a non-smooth fold), it turns
+  // round and says so; when neither direction is valid the branch ends there. Names and the number
+  // of events may differ between pieces; the engine re-reads EventNames() after a switch.
   virtual std::vector<std::string> EventNames() const { return {}; }
   virtual Vector EventFunctions(const Vector& /*u*/, double /*lambda*/) { return Vector(); }
   virtual bool SwitchAt(int /*event*/, Vector& /*u*/, double /*lambda*/) { return false; }
   // A label for the current smooth piece (e.g. "L:stick R:slip+"), stored with each branch point.
   virtual std::string PieceLabel() const { return {}; }
+
+  // Optional smooth test functions of the problem itself, located where they change sign and
+  // recorded as special points of type TestFunctionType(k) (default kTestFunction) labelled
+  // TestFunctionNames()[k]. Unlike events, nothing switches there. The fold problem uses this for
+  // cusps (continuation/fold.h); AUTO's and BifurcationKit's user test functions are the model.
+  virtual std::vector<std::string> TestFunctionNames() const { return {}; }
+  virtual Vector TestFunctions(const Vector& /*u*/, double /*lambda*/) { return Vector(); }
+  virtual SpecialPointType TestFunctionType(int /*k*/) const {
+    return SpecialPointType::kTestFunction;
+  }
+
+  // Called by the engine after it has accepted a branch point (u, λ), before the next step. A
+  // problem may refresh internal data that leaves its solution set unchanged, such as the
+  // bordering vectors of a minimally augmented system (continuation/fold.h). Default: nothing.
+  virtual void PointAccepted(const Vector& /*u*/, double /*lambda*/) {}
 };
 
 }  // namespace rubcont

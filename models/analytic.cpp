@@ -181,9 +181,16 @@ std::string FormatHz(double hz) {
 
 }  // namespace
 
-const char* ToString(CircularMode mode) { return mode == CircularMode::kMode1 ? "mode1" : "mode2"; }
+const char* ToString(CircularMode mode) {
+  switch (mode) {
+    case CircularMode::kMode1: return "mode1";
+    case CircularMode::kMode2: return "mode2";
+    case CircularMode::kSingleContact: return "single";
+  }
+  return "?";
+}
 
-int ContactSign(CircularMode mode) { return mode == CircularMode::kMode1 ? 1 : -1; }
+int ContactSign(CircularMode mode) { return mode == CircularMode::kMode2 ? -1 : 1; }
 
 const char* ToString(TransitionType type) {
   switch (type) {
@@ -256,44 +263,57 @@ void Validate(const AnalyticOptions& options) {
 AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
                                    const AnalyticOptions& options) {
   Validate(p);
-  Validate(options);
+  if (mode == CircularMode::kSingleContact) {
+    throw std::invalid_argument("ComputeAnalyticCurve: the two-point model has Mode 1 and Mode 2 only");
+  }
   const ModeEvaluator evaluator(p, mode);
-  const double mu = p.friction;
+  return ComputeClosedFormCurve(
+      [&](double omega) { return evaluator.ContactForce(omega); }, 2, p.friction, mode, options);
+}
+
+AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double precession)>& contact_force,
+                                     int contacts, double mu, CircularMode mode,
+                                     const AnalyticOptions& options) {
+  Validate(options);
+  if (contacts < 1 || contacts > 2) {
+    throw std::invalid_argument("ComputeClosedFormCurve: contacts = " + std::to_string(contacts) +
+                                ": must be 1 or 2");
+  }
   const Index n = options.precession_points;
 
   AnalyticCurve curve;
   curve.mode = mode;
   curve.precession_hz =
       Vector::LinSpaced(n, options.min_precession_hz, options.max_precession_hz);
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < contacts; ++k) {
     curve.normal_force[k].resize(n);
     curve.friction_force[k].resize(n);
     curve.mu_required[k].resize(n);
   }
   std::vector<ComplexVector2> forces(n);
   for (Index i = 0; i < n; ++i) {
-    forces[i] = evaluator.ContactForce(kTwoPi * curve.precession_hz(i));
-    for (int k = 0; k < 2; ++k) {
+    forces[i] = contact_force(kTwoPi * curve.precession_hz(i));
+    for (int k = 0; k < contacts; ++k) {
       curve.normal_force[k](i) = forces[i](k).real();
       curve.friction_force[k](i) = forces[i](k).imag();
       curve.mu_required[k](i) = forces[i](k).imag() / forces[i](k).real();
       if (curve.Succeeded() && !std::isfinite(std::abs(forces[i](k)))) {
         curve.status = AnalyticStatus::kNonFinite;
         curve.message = std::string(ToString(mode)) + ": contact force not finite at " +
-                        FormatHz(curve.precession_hz(i)) + " Hz (" + (k == 0 ? "left" : "right") +
-                        " contact)";
+                        FormatHz(curve.precession_hz(i)) + " Hz (" +
+                        (contacts == 1 ? "the" : (k == 0 ? "left" : "right")) + " contact)";
       }
     }
   }
 
   // Transitions: sign changes between neighbouring grid points, refined on the closed form.
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < contacts; ++k) {
     for (Quantity quantity : {Quantity::kMuExcess, Quantity::kMuDeficit, Quantity::kFriction,
                               Quantity::kNormalForce}) {
       // With μ = 0 all three μ crossings are the same root: keep it once.
       if (quantity != Quantity::kMuExcess && quantity != Quantity::kNormalForce && mu == 0.0) continue;
       auto f = [&](double hz) {
-        return Evaluate(quantity, evaluator.ContactForce(kTwoPi * hz), k, mu);
+        return Evaluate(quantity, contact_force(kTwoPi * hz), k, mu);
       };
       for (Index i = 0; i + 1 < n; ++i) {
         const double a = curve.precession_hz(i), b = curve.precession_hz(i + 1);
@@ -310,7 +330,7 @@ AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
         } else {
           continue;
         }
-        const ComplexVector2 P = evaluator.ContactForce(kTwoPi * root);
+        const ComplexVector2 P = contact_force(kTwoPi * root);
         // A sign change through a pole (|value| grows instead of vanishing) is not a root.
         const bool through_pole =
             std::abs(Evaluate(quantity, P, k, mu)) > std::max(std::abs(fa), std::abs(fb));

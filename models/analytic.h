@@ -42,6 +42,7 @@
 
 #include <array>
 #include <complex>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,12 +59,13 @@ using ComplexVector2 = Eigen::Vector2cd;
 
 // The two circular orbit families of the closed form.
 enum class CircularMode {
-  kMode1,  // contact normals in phase (s = +1): thesis §2.2
-  kMode2,  // contact normals in antiphase (s = −1): thesis §2.4
+  kMode1,          // contact normals in phase (s = +1): thesis §2.2
+  kMode2,          // contact normals in antiphase (s = −1): thesis §2.4
+  kSingleContact,  // one contact only (the Jeffcott rotor of models/jeffcott.h)
 };
 
-const char* ToString(CircularMode mode);  // "mode1" | "mode2"
-// s of S = diag(1, s): +1 for Mode 1, −1 for Mode 2.
+const char* ToString(CircularMode mode);  // "mode1" | "mode2" | "single"
+// s of S = diag(1, s): +1 for Mode 1, −1 for Mode 2 (and for a single contact).
 int ContactSign(CircularMode mode);
 
 // Rotor mass matrix in the contact-plane coordinates u_r = (u_rL, u_rR) [kg]:
@@ -188,5 +190,12 @@ AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
 
 // Natural frequencies and both modes.
 AnalyticResult ComputeAnalytic(const TwoPointParams& p, const AnalyticOptions& options = {});
+
+// The same evaluation for any closed form: `contact_force(Ω)` returns P_k = N_k + jF_k of the
+// first `contacts` (1 or 2) entries; entries of the curve beyond `contacts` stay empty. Throws
+// std::invalid_argument on invalid options or a contact count outside 1…2.
+AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double precession)>& contact_force,
+                                     int contacts, double mu, CircularMode mode,
+                                     const AnalyticOptions& options);
 
 }  // namespace rubcont

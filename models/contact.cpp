@@ -37,11 +37,15 @@ void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, dou
   }
 
   const double delta = out.penetration;
-  if (!(delta > 0.0)) return;
+  if (mode == FrictionMode::kInactive) return;
+  // The exact modes hold the contact closed: the force law continues smoothly past δ = 0 (N < 0),
+  // so each piece of a piecewise formulation stays smooth; its caller checks the margin δ ≥ 0.
+  const bool held = mode != FrictionMode::kRegularized;
+  if (!held && !(delta > 0.0)) return;
   const double delta_dot = out.penetration_rate;
   const double normal = law.stiffness * delta + law.stiffness2 * delta * delta +
                         law.damping * delta_dot * delta;
-  if (!(normal > 0.0)) return;  // Hunt–Crossley force clamped at zero while separating fast
+  if (!held && !(normal > 0.0)) return;  // Hunt–Crossley force clamped at zero while separating
   out.touching = true;
   out.normal_force = normal;
 
@@ -56,6 +60,7 @@ void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, dou
     case FrictionMode::kSlipPositive: sigma = 1.0; break;
     case FrictionMode::kSlipNegative: sigma = -1.0; break;
     case FrictionMode::kStick: break;
+    case FrictionMode::kInactive: break;  // not reached: returned above
   }
   const double mu = law.friction;
   out.friction_force = mode == FrictionMode::kStick ? stick_force : mu * normal * sigma;

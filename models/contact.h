@@ -23,9 +23,14 @@ using RowVector2 = Eigen::RowVector2d;
 // How the tangential force is obtained.
 enum class FrictionMode {
   kRegularized,   // F = μ N tanh(V/ε)
+  // The exact modes below belong to piecewise formulations (rotating waves with stick/slip
+  // events): they hold the contact closed, with the normal law continued past δ = 0 (N < 0 there);
+  // the formulation's contact-loss margin δ ≥ 0 decides where that is valid.
   kSlipPositive,  // F = +μ N (exact Coulomb, sliding with V > 0)
   kSlipNegative,  // F = −μ N (exact Coulomb, sliding with V < 0)
   kStick,         // F is an unknown supplied by the caller (exact Coulomb, V = 0 enforced elsewhere)
+  kInactive,      // no force whatever the penetration: a contact held open by a piecewise
+                  // formulation (its validity margin, penetration ≤ 0, is checked elsewhere)
 };
 
 // Material law shared by the contacts of a scene.

@@ -38,4 +38,12 @@ JeffcottFrequencies JeffcottNaturalFrequencies(const JeffcottParams& p) {
   return f;
 }
 
+AnalyticCurve ComputeJeffcottCurve(const JeffcottParams& params, const AnalyticOptions& options) {
+  return ComputeClosedFormCurve(
+      [&](double precession) {
+        return ComplexVector2(JeffcottContactForce(params, precession), 0.0);
+      },
+      1, params.mu, CircularMode::kSingleContact, options);
+}
+
 }  // namespace rubcont

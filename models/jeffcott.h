@@ -5,6 +5,7 @@
 
 #include <complex>
 
+#include "models/analytic.h"
 #include "models/rub_model.h"
 
 namespace rubcont {
@@ -42,5 +43,9 @@ struct JeffcottFrequencies {
   double combined_hz = 0.0;  // √((k_r + k_s)/(m_r + m_s)) / 2π: rotor and stator pinned together
 };
 JeffcottFrequencies JeffcottNaturalFrequencies(const JeffcottParams& params);
+
+// The closed form on the grid of `options`, with its transitions located as for the two-point
+// model (CircularMode::kSingleContact; only entry 0 of the per-contact arrays is filled).
+AnalyticCurve ComputeJeffcottCurve(const JeffcottParams& params, const AnalyticOptions& options);
 
 }  // namespace rubcont

@@ -129,11 +129,11 @@ RigidContactOrbit SolveRigidContactOrbit(const RubStructure& structure, double p
   const Index m = static_cast<Index>(structure.contacts.size());
   if (static_cast<Index>(normals.size()) != m) {
     throw std::invalid_argument(fmt::format(
-        "SolveCircularOrbit: {} normals given for {} contacts", normals.size(), m));
+        "SolveRigidContactOrbit: {} normals given for {} contacts", normals.size(), m));
   }
   if (!(precession > 0.0)) {
     throw std::invalid_argument(
-        fmt::format("SolveCircularOrbit: precession = {}: must be positive", precession));
+        fmt::format("SolveRigidContactOrbit: precession = {}: must be positive", precession));
   }
   // [D  B diag(n)] [u0]   [0  ]      D = K − Ω²M − jΩC, f_k = −P_k n_k
   // [Bᵀ 0        ] [P ] = [C n]
@@ -143,6 +143,10 @@ RigidContactOrbit SolveRigidContactOrbit(const RubStructure& structure, double p
                           Complex(0.0, W) * structure.damping.cast<Complex>();
   ComplexVector rhs = ComplexVector::Zero(n + m);
   for (Index k = 0; k < m; ++k) {
+    if (normals[k] == 0.0) {  // contact k not touching: no force, no constraint (P_k = 0)
+      A(n + k, n + k) = 1.0;
+      continue;
+    }
     const RubContact& c = structure.contacts[k];
     const Complex nk = normals[k] / std::abs(normals[k]);
     A(c.rotor, n + k) += nk;

@@ -68,9 +68,10 @@ void EvaluateContactForces(const RubStructure& structure, double omega, const Ve
                            const Vector& v, const std::vector<FrictionMode>& modes,
                            const Vector& stick_forces, bool with_derivatives, ContactForces& out);
 
-// Circular backward precession u(t) = u0 e^{−jΩt} with every contact touching at exactly its
-// clearance along a prescribed unit normal n_k (|n_k| = 1): the closed form generalizing the
+// Circular backward precession u(t) = u0 e^{−jΩt} with each contact touching at exactly its
+// clearance along a prescribed normal n_k (normalized here): the closed form generalizing the
 // thesis's Mode 1 (all n_k equal) and Mode 2 (n_R = −n_L) to any phase between the contacts.
+// n_k = 0 leaves contact k out (not touching: no force, no constraint; P_k = 0).
 // Contact forces f_k = −P_k n_k with P_k = N_k + jF_k; D(Ω) = K − Ω²M − jΩC; D u0 = Σ B_k f_k;
 // B_kᵀ u0 = C_k n_k. Imbalance is ignored; Hunt–Crossley compliance is not (|d_k| = C_k).
 struct RigidContactOrbit {

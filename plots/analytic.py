@@ -2,7 +2,8 @@
 """Figures of the analytic level (L0): required friction against precession frequency.
 
 Usage: /usr/bin/python3 plots/analytic.py RESULT.h5 OUTDIR
-Writes OUTDIR/analytic_mode1.png and OUTDIR/analytic_mode2.png, one per mode, to be read beside
+Writes OUTDIR/analytic_mode1.png and OUTDIR/analytic_mode2.png (or analytic_single.png for the
+single-contact Jeffcott scene), one per mode, to be read beside
 Kumar (2010) Figures 5-10: mu_req = F/N at both contacts against the precession frequency, the
 available mu as a line, the bands where a contact is lost (N <= 0) shaded, every transition
 labelled with its frequency. Reads only the HDF5 file (layout: apps/analytic_output.h).
@@ -26,8 +27,11 @@ except ImportError as error:  # rubcont reports exit status 3 as "modules missin
 SIDES = ("left", "right")
 COLORS = {"left": "#1f5fa8", "right": "#d2691e"}
 STYLES = {"left": "-", "right": (0, (5, 2.5))}
+COLORS["contact"] = "black"
+STYLES["contact"] = "-"
 MODE_TITLES = {"mode1": "Mode 1 (contact normals in phase)",
-               "mode2": "Mode 2 (contact normals in antiphase)"}
+               "mode2": "Mode 2 (contact normals in antiphase)",
+               "single": "one contact (Jeffcott rotor, elastic stator)"}
 
 
 def text(value):
@@ -86,15 +90,18 @@ def plot_mode(result, mode, out_dir):
     group = analytic[mode]
     hz = group["precession_hz"][()]
     mu_available = float(analytic.attrs["friction"])
-    center_damping = float(analytic.attrs["center_damping"])
+    center_damping = float(analytic.attrs.get("center_damping", 0.0))
     scene = text(result.attrs["scene_name"])
     transitions = read_transitions(group)
-    normal = {side: group[f"normal_force_{side}"][()] for side in SIDES}
-    mu = {side: group[f"mu_required_{side}"][()] for side in SIDES}
+    single = mode == "single"
+    present = ("contact",) if single else SIDES
+    normal = {side: group[f"normal_force_{side}"][()] for side in present}
+    mu = {side: group[f"mu_required_{side}"][()] for side in present}
     # Equal forces at both contacts (a symmetric rotor): draw one curve and label once.
-    symmetric = (np.allclose(normal["left"], normal["right"], rtol=1e-9, atol=1e-9) and
-                 np.allclose(mu["left"], mu["right"], rtol=1e-9, atol=1e-12, equal_nan=True))
-    sides = ("left",) if symmetric else SIDES
+    symmetric = single or (
+        np.allclose(normal["left"], normal["right"], rtol=1e-9, atol=1e-9) and
+        np.allclose(mu["left"], mu["right"], rtol=1e-9, atol=1e-12, equal_nan=True))
+    sides = present[:1] if symmetric else SIDES
 
     def color(side):
         return "black" if symmetric else COLORS[side]
@@ -104,11 +111,14 @@ def plot_mode(result, mode, out_dir):
     fig, ax = plt.subplots(figsize=(8.4, 5.6), dpi=150)
 
     # Contact-loss bands: both contacts (grey), one contact only (its colour).
-    lost = {side: normal[side] <= 0.0 for side in SIDES}
-    bands = [(lost["left"] & lost["right"], "0.55", "contact lost (N ≤ 0)" if symmetric else
-              "contact lost at both (N ≤ 0)"),
-             (lost["left"] & ~lost["right"], COLORS["left"], "contact lost at left only"),
-             (lost["right"] & ~lost["left"], COLORS["right"], "contact lost at right only")]
+    lost = {side: normal[side] <= 0.0 for side in present}
+    if single:
+        bands = [(lost["contact"], "0.55", "contact lost (N ≤ 0)")]
+    else:
+        bands = [(lost["left"] & lost["right"], "0.55", "contact lost (N ≤ 0)" if symmetric else
+                  "contact lost at both (N ≤ 0)"),
+                 (lost["left"] & ~lost["right"], COLORS["left"], "contact lost at left only"),
+                 (lost["right"] & ~lost["left"], COLORS["right"], "contact lost at right only")]
     loss_kinds = ("contact_loss", "contact_regain")
     for mask, band_color, label in bands:
         for k, (start, end) in enumerate(loss_intervals(hz, mask)):
@@ -133,7 +143,7 @@ def plot_mode(result, mode, out_dir):
         curve = broken_at_poles(mu[side], normal[side])
         in_contact = np.where(normal[side] > 0.0, curve, np.nan)
         out_of_contact = np.where(normal[side] > 0.0, np.nan, curve)
-        label = "μ_req, left = right" if symmetric else f"μ_req, {side}"
+        label = "μ_req" if single else ("μ_req, left = right" if symmetric else f"μ_req, {side}")
         ax.plot(hz, np.clip(in_contact, -clip, clip), color=color(side), ls=STYLES[side], lw=1.8,
                 label=label)
         ax.plot(hz, np.clip(out_of_contact, -clip, clip), color=color(side), ls=STYLES[side],
@@ -185,8 +195,12 @@ def plot_mode(result, mode, out_dir):
     # Natural frequencies on the top axis: P = rotor and stator pinned, S = stator alone.
     nf = analytic["natural_frequencies"].attrs
     top = ax.secondary_xaxis("top")
-    ticks = [(float(nf["pinned_bounce_hz"]), "P$_b$"), (float(nf["pinned_pitch_hz"]), "P$_p$"),
-             (float(nf["stator_bounce_hz"]), "S$_b$"), (float(nf["stator_pitch_hz"]), "S$_p$")]
+    if single:
+        ticks = [(float(nf["rotor_hz"]), "R"), (float(nf["combined_hz"]), "P"),
+                 (float(nf["stator_hz"]), "S")]
+    else:
+        ticks = [(float(nf["pinned_bounce_hz"]), "P$_b$"), (float(nf["pinned_pitch_hz"]), "P$_p$"),
+                 (float(nf["stator_bounce_hz"]), "S$_b$"), (float(nf["stator_pitch_hz"]), "S$_p$")]
     ticks = [(x, name) for x, name in ticks if hz[0] <= x <= hz[-1]]
     top.set_xticks([x for x, _ in ticks])
     top.set_xticklabels([name for _, name in ticks], fontsize=8)
@@ -197,9 +211,12 @@ def plot_mode(result, mode, out_dir):
     ax.set_xlabel("precession frequency Ω/2π [Hz]")
     ax.set_ylabel("required friction μ_req = F/N")
     ax.set_title(f"{scene}: {MODE_TITLES[mode]}", fontsize=11.5, pad=30)
-    ax.annotate(f"level L0 closed form, centre damper c_d = {fmt_number(center_damping)} N·s/m;  "
-                "top ticks: natural frequencies, P pinned rotor and stator / S stator alone, "
-                "b bounce / p pitch", (0.5, 1.0), xycoords="axes fraction", xytext=(0, 17),
+    note = ("level L0 closed form (Black 1968, Crandall 1990);  top ticks: natural frequencies, "
+            "R rotor alone / P rotor and stator pinned / S stator alone") if single else (
+        f"level L0 closed form, centre damper c_d = {fmt_number(center_damping)} N·s/m;  "
+        "top ticks: natural frequencies, P pinned rotor and stator / S stator alone, "
+        "b bounce / p pitch")
+    ax.annotate(note, (0.5, 1.0), xycoords="axes fraction", xytext=(0, 17),
                 textcoords="offset points", ha="center", va="bottom", fontsize=7, color="0.3")
     ax.grid(True, lw=0.3, alpha=0.5)
     handles, labels = ax.get_legend_handles_labels()
@@ -223,8 +240,9 @@ def main(argv):
         if "analytic" not in result:
             print(f"analytic.py: {h5_file} has no /analytic group", file=sys.stderr)
             return 1
-        for mode in ("mode1", "mode2"):
-            plot_mode(result, mode, out_dir)
+        for mode in ("mode1", "mode2", "single"):
+            if mode in result["analytic"]:
+                plot_mode(result, mode, out_dir)
     return 0
 
 

@@ -1,5 +1,7 @@
 #include "shooting/rotating_wave.h"
 
+#include "solvers/linear_algebra.h"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -43,6 +45,9 @@ Matrix KronIdentity2(const Matrix& A) {
 }
 
 constexpr double kMarginTolerance = 1e-12;
+// Scaled margins this close to zero at another contact's located event count as simultaneous
+// events (the location's own error is ~1e-10 in these units).
+constexpr double kSimultaneousTolerance = 1e-8;
 
 }  // namespace
 
@@ -94,8 +99,10 @@ std::vector<FrictionMode> RotatingWaveProblem::FrictionModes() const {
   if (law_ == FrictionLawKind::kTanh) return modes;
   for (std::size_t k = 0; k < modes_.size(); ++k) {
     switch (modes_[k]) {
-      // Free and stick contacts take F from the unknown F_k (free: closure F_k = 0).
-      case ContactMode::kFree:
+      // A free contact exerts no force even where a trial point penetrates: the piece stays
+      // smooth (the normal force's kink at δ = 0 would stall Newton), and the engine locates
+      // the contact-regain event on its margin −δ.
+      case ContactMode::kFree: modes[k] = FrictionMode::kInactive; break;
       case ContactMode::kStick: modes[k] = FrictionMode::kStick; break;
       case ContactMode::kSlipPositive: modes[k] = FrictionMode::kSlipPositive; break;
       case ContactMode::kSlipNegative: modes[k] = FrictionMode::kSlipNegative; break;
@@ -324,9 +331,8 @@ Spectrum RotatingWaveProblem::Stability(const Vector& u, double omega) {
 
   Spectrum spectrum;
   spectrum.kind = SpectrumKind::kEigenvalues;
-  Eigen::EigenSolver<Matrix> solver(reduced, false);
-  if (solver.info() != Eigen::Success) return spectrum;  // valid = false
-  ComplexVector values = solver.eigenvalues();
+  ComplexVector values;
+  if (!BalancedEigenvalues(reduced, values)) return spectrum;  // valid = false
   std::sort(values.data(), values.data() + values.size(),
             [](const std::complex<double>& a, const std::complex<double>& b) {
               return a.real() > b.real();
@@ -436,14 +442,30 @@ bool RotatingWaveProblem::SwitchAt(int event, Vector& u, double omega) {
   if (law_ != FrictionLawKind::kExact || event < 0 || event >= 3 * Contacts()) return false;
   const Index k = event / 3;
   const int i = event % 3;
-  const Index n2 = 2 * structure_.Coordinates();
   Evaluate(u, omega, false);
+  // Contacts in the same mode whose same margin vanishes here too switch with k (a symmetric
+  // rotor's two contacts reach μ together); their margins are read before any mode changes.
+  std::vector<Index> partners;
+  for (Index j = 0; j < Contacts(); ++j) {
+    if (j != k && modes_[j] == modes_[k] && std::abs(Margin(j, i)) <= kSimultaneousTolerance) {
+      partners.push_back(j);
+    }
+  }
+  if (!SwitchContact(k, i, u)) return false;
+  for (Index j : partners) SwitchContact(j, i, u);
+  return true;
+}
+
+bool RotatingWaveProblem::SwitchContact(Index k, int i, Vector& u) {
+  const Index n2 = 2 * structure_.Coordinates();
   const ContactEvaluation& e = forces_.contacts[k];
   const double mu_N = structure_.law.friction * e.normal_force;
   ContactMode& mode = modes_[k];
   switch (mode) {
     case ContactMode::kFree:
       if (i != 0) return false;
+      // A regained contact slips the way V points. Even beside a rolling contact it cannot
+      // stick: V_k = 0 there needs the other contact's penetration, V_k ≈ Ω δ_other at δ_k = 0.
       mode = e.slip_velocity >= 0.0 ? ContactMode::kSlipPositive : ContactMode::kSlipNegative;
       u(n2 + 1 + k) = mode == ContactMode::kSlipPositive ? mu_N : -mu_N;
       return true;
@@ -481,7 +503,7 @@ std::string RotatingWaveProblem::PieceLabel() const {
   return label;
 }
 
-Vector RotatingWaveProblem::FromCircularOrbit(const RigidContactOrbit& orbit) {
+Vector RotatingWaveProblem::FromRigidContactOrbit(const RigidContactOrbit& orbit) {
   const Index n = structure_.Coordinates();
   Vector u = Vector::Zero(Dimension());
   for (Index i = 0; i < n; ++i) {
@@ -508,6 +530,32 @@ Vector RotatingWaveProblem::FromCircularOrbit(const RigidContactOrbit& orbit) {
   SetPhaseReference(u);
   return u;
 }
+
+std::vector<std::string> RotatingWaveProblem::TestFunctionNames() const {
+  std::vector<std::string> names;
+  if (law_ != FrictionLawKind::kTanh) return names;
+  for (const RubContact& c : structure_.contacts) names.push_back(c.name + " knee");
+  return names;
+}
+
+Vector RotatingWaveProblem::TestFunctions(const Vector& u, double omega) {
+  if (law_ != FrictionLawKind::kTanh) return Vector();
+  // dΩ/dω along the branch from F_u du/dω = −F_ω (regular points; one extra LU per evaluation).
+  Matrix J;
+  Vector dF;
+  Jacobian(u, omega, J);
+  DfDlambda(u, omega, dF);
+  const Vector du = J.partialPivLu().solve(-dF);
+  const double slope = du(2 * structure_.Coordinates());
+  Vector t(Contacts());
+  for (Index k = 0; k < Contacts(); ++k) {
+    const ContactGeometry& g = structure_.contacts[k].geometry;
+    t(k) = slope * g.clearance / g.radius - 0.5;
+  }
+  return t;
+}
+
+void RotatingWaveProblem::PointAccepted(const Vector& u, double /*omega*/) { SetPhaseReference(u); }
 
 void RotatingWaveProblem::SetPhaseReference(const Vector& u) {
   for (Index k = 0; k < Contacts(); ++k) {

@@ -109,8 +109,11 @@ TEST_CASE("CLI: run without a scene runs the built-in default into <out>/default
   CHECK_THAT(o.err, Contains("[analytic]"));  // progress
   CHECK_THAT(o.err, Contains("warning: figures not made: Python interpreter /nonexistent/python3 not found"));
   const ResultReader reader(h5);
-  CHECK(reader.ReadStringAttribute("/", "level") == "L0");
+  CHECK(reader.ReadStringAttribute("/", "level") == "L1");  // analytic, then branches
   CHECK_FALSE(reader.ReadStringAttribute("/", "rubcont_version").empty());
+  CHECK_THAT(o.out, Contains("[branches] L1 rotating waves, exact friction"));
+  CHECK_THAT(o.out, Contains("event: left stick to slip+"));
+  CHECK(reader.ReadStringAttribute("/branches/branch1", "kind") == "rotating_wave");
   // The stored scene reproduces the run.
   const Scene stored = ParseScene(reader.ReadStringAttribute("/", "scene_toml"), "stored", "x");
   const auto body = [](const std::string& toml) { return toml.substr(toml.find('\n') + 1); };

@@ -87,7 +87,7 @@ TEST_CASE("A valid scene loads with its values and documented defaults", "[scene
   CHECK(scene.two_point.imbalance == 0.0);  // [imbalance] absent: no imbalance
   CHECK(scene.two_point.friction_law.kind == FrictionLawKind::kExact);
   CHECK(scene.two_point.friction_law.velocity_scale == 1e-3);
-  CHECK(scene.analysis.stages == std::vector<Stage>{Stage::kAnalytic});
+  CHECK(scene.analysis.stages == std::vector<Stage>({Stage::kAnalytic, Stage::kBranches}));
   CHECK(scene.analysis.precession_range_hz == std::array<double, 2>{1.0, 200.0});
   CHECK(scene.analysis.precession_points == 4000);
   for (const char* key : {"name", "model", "imbalance.mass_radius", "analysis.stages"})
@@ -111,7 +111,7 @@ TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene
              Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
   // Nothing close: the section's keys are listed.
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
-             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, [analysis.sweep])"));
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm, [analysis.sweep])"));
 }
 
 TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
@@ -190,15 +190,28 @@ TEST_CASE("Rule: ranges must increase and start above zero", "[scene]") {
 }
 
 TEST_CASE("Rule: unknown model names list the known ones", "[scene]") {
-  CHECK_THAT(OnlyProblem("model = \"jeffcott\"\n" + kValid),
-             Contains("scene.toml:1:9: model = \"jeffcott\": must be one of \"two_point\""));
+  CHECK_THAT(OnlyProblem("model = \"jefcott\"\n" + kValid),
+             Contains("scene.toml:1:9: model = \"jefcott\": must be one of \"two_point\", \"jeffcott\""));
+}
+
+TEST_CASE("Jeffcott scenes: their own section, the other model's keys rejected", "[scene]") {
+  const std::string jeffcott = ReadFile("scenes/jeffcott.toml");
+  const Scene scene = ParseScene(jeffcott, "scene.toml", "x");
+  CHECK(scene.model == ModelKind::kJeffcott);
+  CHECK(scene.jeffcott.k_s == 5.0e6);
+  CHECK_THAT(OnlyProblem(jeffcott + "[rotor]\nmass = 9.99\n"),
+             Contains("rotor.mass: not a key of model \"jeffcott\""));
+  CHECK_THAT(OnlyProblem(Replace(jeffcott, "k_s = 5.0e6\n", "")),
+             Contains("jeffcott.k_s: missing; required"));
+  CHECK_THAT(OnlyProblem(Replace(jeffcott, "C = 3.81e-4", "C = 0.0")),
+             Contains("jeffcott.C = 0.0: must be positive (m)"));
 }
 
 TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"orbits\"]\n"),
-             Contains("\"orbits\" is not implemented yet (implemented: \"analytic\", \"sweep\")"));
+             Contains("\"orbits\" is not implemented yet (implemented: \"analytic\", \"branches\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
-             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"sweep\")"));
+             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"branches\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
              Contains("\"analytic\" is listed twice"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));

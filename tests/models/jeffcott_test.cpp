@@ -38,5 +38,29 @@ TEST_CASE("Jeffcott: contact only between the rotor and the combined natural fre
   CHECK(JeffcottContactForce(params, kTwoPi * 60.0).imag() > 0.0);
 }
 
+TEST_CASE("Jeffcott curve: transitions are roots of the closed form", "[jeffcott]") {
+  const JeffcottParams params;
+  const AnalyticCurve curve = ComputeJeffcottCurve(params, {1.0, 150.0, 3000});
+  REQUIRE(curve.Succeeded());
+  const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
+  CHECK(curve.normal_force[1].size() == 0);
+  int mu_crossings = 0, contact_changes = 0;
+  for (const Transition& t : curve.transitions) {
+    const std::complex<double> P = JeffcottContactForce(params, kTwoPi * t.precession_hz);
+    if (t.type == TransitionType::kMuCrossing) {
+      if (t.precession_hz > f.rotor_hz && t.precession_hz < f.combined_hz) ++mu_crossings;
+      CHECK(P.imag() / P.real() == Approx(params.mu).epsilon(1e-10));
+    }
+    if (t.type == TransitionType::kContactLoss || t.type == TransitionType::kContactRegain) {
+      ++contact_changes;
+      CHECK(std::abs(P.real()) <= 1e-9 * std::abs(P));
+    }
+  }
+  // Black's U: contact from the rotor to the combined frequency with μ_req dipping below μ
+  // inside (and contact again above the stator frequency).
+  CHECK(contact_changes >= 2);
+  CHECK(mu_crossings == 2);
+}
+
 }  // namespace
 }  // namespace rubcont

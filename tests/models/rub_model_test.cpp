@@ -60,9 +60,19 @@ TEST_CASE("contact law: no force in the gap, friction drives backward precession
   const ContactGeometry geometry;
   ContactEvaluation e;
   EvaluateContact(law, geometry, 10.0, Vector2(3.0e-4, 0.0), Vector2(0.0, -0.1),
-                  FrictionMode::kSlipPositive, 0.0, true, e);
+                  FrictionMode::kRegularized, 0.0, true, e);
   CHECK_FALSE(e.touching);
   CHECK(e.force.norm() == 0.0);
+  // An inactive contact exerts nothing even when it penetrates; an exact (held) mode continues
+  // the normal law into the gap with N < 0, smoothly, for piecewise formulations.
+  EvaluateContact(law, geometry, 10.0, Vector2(3.82e-4, 0.0), Vector2(0.0, 0.0),
+                  FrictionMode::kInactive, 0.0, true, e);
+  CHECK_FALSE(e.touching);
+  CHECK(e.force.norm() == 0.0);
+  EvaluateContact(law, geometry, 10.0, Vector2(3.80e-4, 0.0), Vector2(0.0, 0.0),
+                  FrictionMode::kStick, 0.0, true, e);
+  CHECK(e.touching);
+  CHECK(e.normal_force == Approx(-law.stiffness * 1e-6).epsilon(1e-6));
   // Penetrating at n = (1, 0), sliding with V > 0: normal pushes the rotor back (−x), friction
   // −F t = −F (0, 1) points along −y, the direction of backward (clockwise) precession at n.
   EvaluateContact(law, geometry, 10.0, Vector2(3.82e-4, 0.0), Vector2(0.0, 0.0),

@@ -62,7 +62,7 @@ TEST_CASE("rotating-wave Jacobians match finite differences in every contact mod
   const RigidContactOrbit orbit = SolveRigidContactOrbit(s, kTwoPi * 70.0, {1.0, std::polar(1.0, 0.2)});
   // Push the contacts slightly into the stator so that they touch.
   auto touching = [&](RotatingWaveProblem& problem) {
-    Vector u = problem.FromCircularOrbit(orbit);
+    Vector u = problem.FromRigidContactOrbit(orbit);
     // Penetration (relative to |d|) well above the difference step (6e-6 of the largest |p|).
     const double scale = thesis_stiffness ? 1e-4 : 1e-2;
     u.head(2) += 2.0 * scale * (u.head(2) - u.segment<2>(4));
@@ -94,7 +94,7 @@ TEST_CASE("whirl from the analytic Mode 1 start: rolling at both contacts, μ_re
   const double precession = kTwoPi * 60.0;
   const double rci = params.Rci(0);
   const double omega = precession / rci;  // rolling speed for rigid contacts
-  Vector u = problem.FromCircularOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
+  Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
   const auto start = problem.SolveConsistent(u, omega);
   INFO(start.newton.BriefReport() << ", " << problem.PieceLabel());
   REQUIRE(start.newton.Converged());
@@ -137,7 +137,7 @@ TEST_CASE("whip: slipping at both contacts precesses where μ_req = μ", "[rotat
   problem.SetModes({ContactMode::kSlipPositive, ContactMode::kSlipPositive});
   // Start from the analytic Mode 1 orbit at 86 Hz, where rolling would need μ_req > 0.5.
   const double omega = kTwoPi * 70.0 / 60.0;  // 70 rpm: slip velocity ωR − ΩC > 0
-  Vector u = problem.FromCircularOrbit(SolveRigidContactOrbit(s, kTwoPi * 86.0, {1.0, 1.0}));
+  Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(s, kTwoPi * 86.0, {1.0, 1.0}));
   const auto start = problem.SolveConsistent(u, omega);
   INFO(start.newton.BriefReport());
   REQUIRE(start.consistent);
@@ -162,7 +162,7 @@ TEST_CASE("an inconsistent start is repaired by switching contact modes", "[rota
   RotatingWaveProblem problem(s, FrictionLawKind::kExact);
   const double precession = kTwoPi * 84.0;
   const double omega = precession / params.Rci(0);
-  Vector u = problem.FromCircularOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
+  Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
   const auto start = problem.SolveConsistent(u, omega);
   INFO(start.newton.BriefReport() << ", " << problem.PieceLabel());
   REQUIRE(start.consistent);
@@ -180,7 +180,7 @@ TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh; s
   const double precession = kTwoPi * 60.0;
   const double omega = precession / params.Rci(0);
   RotatingWaveProblem exact(s, FrictionLawKind::kExact);
-  Vector u = exact.FromCircularOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
+  Vector u = exact.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
   REQUIRE(exact.SolveConsistent(u, omega).consistent);
   const Spectrum exact_spectrum = exact.Stability(u, omega);
   REQUIRE(exact_spectrum.valid);
@@ -190,7 +190,7 @@ TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh; s
   params.friction_law.velocity_scale = 1e-6;
   RubStructure s_tanh = TwoPointStructure(params);
   RotatingWaveProblem tanh_problem(s_tanh, FrictionLawKind::kTanh);
-  Vector v = tanh_problem.FromCircularOrbit(SolveRigidContactOrbit(s_tanh, precession, {1.0, 1.0}));
+  Vector v = tanh_problem.FromRigidContactOrbit(SolveRigidContactOrbit(s_tanh, precession, {1.0, 1.0}));
   REQUIRE(tanh_problem.SolveConsistent(v, omega).newton.Converged());
   REQUIRE(tanh_problem.Precession(v) == Approx(exact.Precession(u)).epsilon(1e-5));
   const Spectrum tanh_spectrum = tanh_problem.Stability(v, omega);
@@ -222,7 +222,7 @@ TEST_CASE("rolling at two contacts: the phase drift between them is set by conta
   const double precession = kTwoPi * 60.0;
   const double omega = precession / params.Rci(0);
   RotatingWaveProblem exact(s, FrictionLawKind::kExact);
-  Vector u = exact.FromCircularOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
+  Vector u = exact.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
   REQUIRE(exact.SolveConsistent(u, omega).consistent);
   const double W = exact.Precession(u);
   const double h = 1e-4;

@@ -1,0 +1,231 @@
+#include "shooting/rotating_wave_branches.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "models/analytic.h"
+#include "models/jeffcott.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+constexpr double kRadPerSecondPerRpm = kTwoPi / 60.0;
+
+RotatingWaveBranchOptions ThesisRange() {
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = 20.0 * kRadPerSecondPerRpm;
+  options.search.speed_max = 260.0 * kRadPerSecondPerRpm;
+  options.search.precession_max = kTwoPi * 200.0;
+  return options;
+}
+
+double Measure(const Branch& branch, const SpecialPoint& point, const std::string& name) {
+  const auto it = std::find(branch.measure_names.begin(), branch.measure_names.end(), name);
+  REQUIRE(it != branch.measure_names.end());
+  return point.measures(it - branch.measure_names.begin());
+}
+
+// The first located event on any branch whose label contains `label`, near `hz` (10 % window).
+struct FoundEvent {
+  const RotatingWaveBranch* branch = nullptr;
+  const SpecialPoint* point = nullptr;
+};
+FoundEvent FindEvent(const std::vector<RotatingWaveBranch>& branches, const std::string& label,
+                     double hz) {
+  for (const RotatingWaveBranch& b : branches) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kEvent || p.label.find(label) == std::string::npos) continue;
+      if (std::abs(Measure(b.branch, p, "precession_hz") - hz) < 0.1 * hz) return {&b, &p};
+    }
+  }
+  return {};
+}
+
+double MuCrossingHz(const AnalyticCurve& curve, int direction, double near_hz) {
+  double best = 0.0;
+  for (const Transition& t : curve.transitions) {
+    if (t.type == TransitionType::kMuCrossing && t.direction == direction && t.contact == 0 &&
+        std::abs(t.precession_hz - near_hz) < std::abs(best - near_hz)) {
+      best = t.precession_hz;
+    }
+  }
+  return best;
+}
+
+TEST_CASE("case A(a): whirl to whip where the closed form’s μ_req reaches μ, to 1e-9",
+          "[branches]") {
+  const TwoPointParams params;
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, ThesisRange());
+  const AnalyticResult analytic = ComputeAnalytic(params, {1.0, 200.0, 4000});
+  // Mode 1: rolling → slipping at the rising crossing near 84.5 Hz; Mode 2 near 133.2 Hz.
+  for (const auto& [curve, near_hz] : {std::pair{&analytic.mode1, 84.5}, {&analytic.mode2, 133.2}}) {
+    const double crossing_hz = MuCrossingHz(*curve, +1, near_hz);
+    const FoundEvent event = FindEvent(branches, "stick to slip+", crossing_hz);
+    INFO(ToString(curve->mode) << ": closed-form crossing " << crossing_hz << " Hz");
+    REQUIRE(event.point != nullptr);
+    const double hz = Measure(event.branch->branch, *event.point, "precession_hz");
+    CHECK(event.point->converged);
+    CHECK(std::abs(hz - crossing_hz) <= 1e-9 * crossing_hz);  // measured ~1e-13
+    // Rolling at RCI 100: the speed is Ω/RCI (to the compliance δ/C ~ 1e-5).
+    CHECK(event.point->lambda == Approx(kTwoPi * crossing_hz / params.Rci(0)).epsilon(1e-4));
+  }
+  // The symmetric rotor's two contacts reach μ together: one event switches both, and the Mode 1
+  // whirl continues as the whip at the crossing frequency up to the end of the range.
+  const FoundEvent mode1 = FindEvent(branches, "stick to slip+", 84.5);
+  const Branch& branch = mode1.branch->branch;
+  const Index after = mode1.point->index + 2;  // the switch point, stored again on the new piece
+  REQUIRE(after < branch.Size());
+  CHECK(branch.points[after].piece == "left:slip+ right:slip+");
+  CHECK(branch.points.back().lambda == Approx(260.0 * kRadPerSecondPerRpm));
+  CHECK(branch.points.back().measures(0) == Approx(branch.points[after].measures(0)).epsilon(1e-6));
+  // Whirl stable before the switch (compliance drift below the tolerance); the circular whip
+  // unstable (growth ~262 s⁻¹, the thesis's whip is not a circular orbit).
+  CHECK(branch.points[mode1.point->index].num_unstable == 0);
+  CHECK(branch.points[after].num_unstable > 0);
+  CHECK(branch.points[after].spectrum.values(0).real() > 100.0);
+  // Each start lies on one branch: no two branches trace the same rolling whirl at 30 rpm.
+  int mode1_whirls_at_30 = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    if (PatternName(b.normals) != "mode1") continue;
+    const auto& p = b.branch.points;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+      const double w = 30.0 * kRadPerSecondPerRpm;
+      if (p[i].piece == "left:stick right:stick" && p[i + 1].piece == p[i].piece &&
+          (p[i].lambda - w) * (p[i + 1].lambda - w) <= 0.0) {
+        ++mode1_whirls_at_30;
+      }
+    }
+  }
+  CHECK(mode1_whirls_at_30 == 1);
+  for (const RotatingWaveBranch& b : branches) {
+    INFO(b.name << ": " << b.branch.BriefReport());
+    CHECK_FALSE(IsFailure(b.branch.status));
+  }
+}
+
+TEST_CASE("a slipping rotating wave's spectrum does not depend on the running speed",
+          "[branches]") {
+  // With exact Coulomb slip, F = μN whatever V: the slipping orbit and its linearization do not
+  // involve ω, so along a whip piece the spectrum is constant. The whip of one contact has a
+  // close pair near 675.8 rad/s (Re 0 and −4.57 s⁻¹); without balancing the eigenvalue solver
+  // scattered it by ±2.5 s⁻¹ and the engine reported a dozen spurious Hopf points.
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams()),
+                                                    FrictionLawKind::kExact, ThesisRange());
+  int pieces = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    const auto& p = b.branch.points;
+    for (std::size_t i = 1; i < p.size(); ++i) {
+      if (p[i].piece != p[i - 1].piece || p[i].piece.find("stick") != std::string::npos) continue;
+      REQUIRE(p[i].spectrum.values.size() == p[i - 1].spectrum.values.size());
+      double change = 0.0;
+      for (Index k = 0; k < p[i].spectrum.values.size(); ++k) {
+        change = std::max(change, std::abs(p[i].spectrum.values(k).real() -
+                                           p[i - 1].spectrum.values(k).real()));
+      }
+      INFO(b.name << " " << p[i].piece << " at " << p[i].lambda / kRadPerSecondPerRpm << " rpm");
+      CHECK(change < 1e-3);
+      ++pieces;
+    }
+    if (b.branch.points.front().piece.find("stick") == std::string::npos &&
+        b.branch.points.back().piece.find("stick") == std::string::npos) {
+      CHECK(b.branch.Count(SpecialPointType::kHopf) == 0);
+    }
+  }
+  CHECK(pieces > 50);
+}
+
+TEST_CASE("case A(b), unequal RCI: contact loss is located where the penetration vanishes",
+          "[branches]") {
+  TwoPointParams params;
+  params.clearance = {3.81e-4, 3.048e-4};  // RCI 100 / 125
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, ThesisRange());
+  int losses = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    INFO(b.name << ": " << b.branch.BriefReport());
+    CHECK_FALSE(IsFailure(b.branch.status));
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kEvent || p.label.find("contact loss") == std::string::npos) {
+        continue;
+      }
+      ++losses;
+      const std::string contact = p.label.substr(0, p.label.find(' '));
+      CHECK(p.converged);
+      // Penetration ~1e-9 m on the branch; at the located loss it is zero to the location error.
+      CHECK(std::abs(Measure(b.branch, p, "penetration_" + contact)) < 1e-15);
+    }
+  }
+  CHECK(losses >= 1);
+}
+
+TEST_CASE("Jeffcott rotor: the whip branch meets the whirl at Black's μ crossing", "[branches]") {
+  const JeffcottParams params;
+  RotatingWaveBranchOptions options = ThesisRange();
+  const auto branches =
+      ComputeRotatingWaveBranches(JeffcottStructure(params), FrictionLawKind::kExact, options);
+  const AnalyticCurve curve = ComputeJeffcottCurve(params, {1.0, 200.0, 4000});
+  int matched = 0;
+  for (const Transition& t : curve.transitions) {
+    if (t.type != TransitionType::kMuCrossing) continue;
+    const double rolling_speed = kTwoPi * t.precession_hz * params.C / params.R;
+    if (rolling_speed < options.search.speed_min || rolling_speed > options.search.speed_max) {
+      continue;
+    }
+    // Whirl → whip (μ_req rising) or whip → whirl (falling): a stick ↔ slip event either way.
+    const FoundEvent event =
+        FindEvent(branches, t.direction > 0 ? "stick to slip+" : "slip to stick", t.precession_hz);
+    INFO("closed-form crossing " << t.precession_hz << " Hz");
+    REQUIRE(event.point != nullptr);
+    CHECK(std::abs(Measure(event.branch->branch, *event.point, "precession_hz") - t.precession_hz) <=
+          1e-9 * t.precession_hz);
+    ++matched;
+  }
+  CHECK(matched >= 1);
+}
+
+TEST_CASE("branch-set options are validated", "[branches]") {
+  RotatingWaveBranchOptions options = ThesisRange();
+  options.continuation.step.min = -1.0;
+  CHECK_THROWS_WITH(ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams()),
+                                                FrictionLawKind::kExact, options),
+                    Catch::Contains("step.min"));
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// The regularized whirl → whip transition: the knee (dΩ/dω = R/2C) of the Mode 1 branch.
+double KneePrecessionHz(double epsilon) {
+  TwoPointParams params;
+  params.friction_law.velocity_scale = epsilon;
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(params),
+                                                    FrictionLawKind::kTanh, ThesisRange());
+  for (const RotatingWaveBranch& b : branches) {
+    if (PatternName(b.normals) != "mode1") continue;
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.label == "left knee" && std::abs(p.measures(0) - 84.5) < 5.0) return p.measures(0);
+    }
+  }
+  return 0.0;
+}
+
+TEST_CASE("tanh friction: the whirl → whip knee converges to the exact event as ε → 0",
+          "[branches]") {
+  const double exact_hz = 84.47801334971142;  // the closed form's μ_req = μ crossing (A(a))
+  const double coarse = std::abs(KneePrecessionHz(1e-3) - exact_hz) / exact_hz;
+  const double fine = std::abs(KneePrecessionHz(1e-4) - exact_hz) / exact_hz;
+  INFO("relative errors " << coarse << " (ε = 1e-3), " << fine << " (ε = 1e-4)");
+  CHECK(fine < 5e-4);               // measured 2.5e-4
+  CHECK(coarse / fine > 5.0);        // first order in ε: measured 9.7
+}
+
+}  // namespace
+}  // namespace rubcont
