@@ -18,6 +18,7 @@
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
+#include "apps/sweep_jumps.h"
 #include "apps/sweep_output.h"
 #include "apps/version.h"
 #include "models/analytic.h"
@@ -129,10 +130,24 @@ std::string Hz(double value) { return std::isnan(value) ? "  –  " : fmt::forma
 void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::filesystem::path& h5_file,
                 ResultWriter& writer, Progress& progress, std::ostream& out, std::ostream& err,
                 std::vector<std::string>& failures, std::vector<std::filesystem::path>& checkpoints) {
-  // Runs first (resumed or new), so the ETA can count every speed still to do.
+  // Runs first (resumed or new), so the ETA can count every speed still to do. A direction not
+  // asked for is carried over from an earlier result file of this scene, when there is one.
   std::vector<std::unique_ptr<SweepRun>> runs;
+  std::vector<bool> carried;
   std::size_t remaining = 0;
-  for (SweepDirection direction : options.directions) {
+  for (SweepDirection direction : {SweepDirection::kUp, SweepDirection::kDown}) {
+    const bool asked = std::find(options.directions.begin(), options.directions.end(), direction) !=
+                       options.directions.end();
+    if (!asked) {
+      if (std::optional<std::vector<SweepPoint>> earlier = ReadFinishedSweep(h5_file, scene, direction)) {
+        progress("[sweep {}] kept from {}: {} speeds", ToString(direction), h5_file.string(),
+                 earlier->size());
+        const Index n = TwoPointStructure(scene.two_point).States();
+        runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*earlier), Vector::Zero(n)));
+        carried.push_back(true);
+      }
+      continue;
+    }
     const std::filesystem::path checkpoint = CheckpointPath(h5_file, direction);
     std::optional<SweepCheckpoint> saved;
     if (options.resume) {
@@ -142,13 +157,28 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                       "will be overwritten (--resume continues from it)\n",
                  ToString(direction), checkpoint.string());
     }
+    std::optional<std::vector<SweepPoint>> finished;
+    if (options.resume && !saved) {
+      // No checkpoint: a direction already complete in the result file is not run again.
+      finished = ReadFinishedSweep(h5_file, scene, direction);
+      const std::size_t planned = SweepOptionsOf(scene, direction).parameters.size();
+      if (finished && (finished->size() != planned ||
+                       finished->back().status == SweepPointStatus::kIntegrationFailure)) {
+        finished.reset();
+      }
+    }
     if (saved) {
       progress("[sweep {}] resuming from {}: {} speeds done", ToString(direction),
                checkpoint.string(), saved->points.size());
       runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(saved->points), saved->state));
+    } else if (finished) {
+      progress("[sweep {}] complete in {}: not run again", ToString(direction), h5_file.string());
+      const Index n = TwoPointStructure(scene.two_point).States();
+      runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*finished), Vector::Zero(n)));
     } else {
       runs.push_back(std::make_unique<SweepRun>(scene, direction));
     }
+    carried.push_back(false);
     const SweepRun& run = *runs.back();
     remaining += run.stepper().options().parameters.size() - run.stepper().next_index();
   }
@@ -164,8 +194,12 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
 
   const Clock::time_point start = Clock::now();
   std::size_t done = 0;
-  for (auto& run_pointer : runs) {
-    SweepRun& run = *run_pointer;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    SweepRun& run = *runs[r];
+    if (carried[r]) {
+      WriteSweep(writer, run);
+      continue;
+    }
     SweepStepper& stepper = run.stepper();
     const std::string label = fmt::format("[sweep {}]", ToString(run.direction()));
     const std::filesystem::path checkpoint = CheckpointPath(h5_file, run.direction());
@@ -222,6 +256,42 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     if (stepper.Failed()) {
       failures.push_back(fmt::format("[sweep {}] at {:.1f} rpm: {}", ToString(run.direction()),
                                      RadPerSecondToRpm(points.back().parameter), points.back().message));
+    }
+  }
+
+  // The jump table: each jump next to the bifurcation of the L1 branches that predicts it.
+  const Clock::time_point branches_start = Clock::now();
+  const RubStructure structure = TwoPointStructure(scene.two_point);
+  const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
+      structure, scene.two_point.friction_law.kind, BranchOptionsOf(scene));
+  std::vector<PredictedJump> table;
+  for (const auto& run : runs) {
+    const std::vector<PredictedJump> rows =
+        PredictJumps(ToString(run->direction()), structure, run->stepper().points(), run->Regimes(),
+                     branches);
+    table.insert(table.end(), rows.begin(), rows.end());
+  }
+  WriteJumpTable(writer, table);
+  fmt::print(out, "  jump table (L1 branches: {} in {:.3f} s):\n", branches.size(),
+             SecondsSince(branches_start));
+  for (const PredictedJump& row : table) {
+    const RubSweepJump& j = row.jump;
+    fmt::print(out, "    {:<4} {:<5} {:<16} {:6.1f} → {:6.1f} rpm  BP {} → {} Hz  ", row.direction,
+               row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
+               Hz(j.precession_from_hz), Hz(j.precession_to_hz));
+    if (row.bifurcation.empty()) {
+      if (row.branch.empty()) {
+        fmt::print(out, "not predicted: neither state is a rotating wave\n");
+      } else {
+        fmt::print(out, "not predicted: {} state on {} ({}), no special point within 10 rpm\n",
+                   row.matched_side, row.branch,
+                   row.branch_stable == 1 ? "stable" : row.branch_stable == 0 ? "unstable" : "?");
+      }
+    } else {
+      fmt::print(out, "{} on {} ({}, {}): {:.2f} rpm, {:.2f} Hz; jump − bifurcation {:+.2f} rpm\n",
+                 row.bifurcation, row.branch, row.matched_side,
+                 row.branch_stable == 1 ? "stable" : row.branch_stable == 0 ? "unstable" : "?",
+                 row.bifurcation_speed_rpm, row.bifurcation_precession_hz, row.difference_rpm);
     }
   }
 }
@@ -437,7 +507,8 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     const std::filesystem::path file =
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name / "sweep.h5";
-    return Execute(scene, {Stage::kSweep}, file, options, out, err);
+    // The branches go into the same file: the figures draw the sweeps over them.
+    return Execute(scene, {Stage::kBranches, Stage::kSweep}, file, options, out, err);
   });
 }
 

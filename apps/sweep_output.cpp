@@ -324,6 +324,17 @@ std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirecti
   return points;
 }
 
+std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
+                                                         const Scene& scene, SweepDirection direction) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return std::nullopt;
+  ResultReader reader(file);
+  if (!reader.Exists("/sweeps/" + std::string(ToString(direction)))) return std::nullopt;
+  const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
+  if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) return std::nullopt;
+  return ReadSweepPoints(reader, direction);
+}
+
 std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, SweepDirection direction) {
   std::filesystem::path path = h5_file;
   path.replace_filename(h5_file.stem().string() + "." + ToString(direction) + ".checkpoint.h5");

@@ -96,6 +96,13 @@ struct SweepCheckpoint {
 std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& file,
                                                    const Scene& scene, SweepDirection direction);
 
+// The finished speeds of /sweeps/<direction> in an earlier result file `file` of this scene (same
+// settings): nothing when the file does not exist, holds no such group, or was written for another
+// scene or other settings. A one-direction run carries the other direction over from it, and
+// --resume takes a complete direction from it instead of running it again.
+std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
+                                                         const Scene& scene, SweepDirection direction);
+
 // `<stem>.<direction>.checkpoint.h5` next to the result file `h5_file`.
 std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, SweepDirection direction);
 

@@ -12,9 +12,11 @@ apps/sweep_output.h):
       the same spectra as a map of log10 amplitude: the small sidebands of modulated whip and
       partial rub show here.
   sweep_precession.png
-      BP frequency against speed, speed-up and speed-down, per contact, with the rolling lines
-      BP = RCI*speed, the detected jumps, and the continuation branches when the file has
-      /branches (stable solid, unstable dashed, special points marked).
+      BP frequency against speed, speed-up and speed-down, per contact, over the continuation
+      branches of /branches (plots/branches.py colours: by family; stable solid, unstable dashed;
+      events, non-smooth folds, Hopf and branch points marked) and the rolling lines
+      BP = RCI*speed; each jump of /sweeps/jump_table is an arrow from the bifurcation that
+      predicts it to the middle of the jump's speed interval. Right panel: zoom on the jumps.
   sweep_slip_velocity.png
       mean slip velocity per contact over the time in contact (min-max band), both directions.
 Exit status 3 when numpy, h5py or matplotlib cannot be imported (rubcont then keeps the HDF5
@@ -30,6 +32,10 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import branches as branch_plots  # plots/branches.py: the same colours and markers
 except ImportError as error:  # rubcont reports exit status 3 as "modules missing"
     print(f"sweep.py: {error}", file=sys.stderr)
     sys.exit(3)
@@ -38,9 +44,6 @@ SIDES = ("left", "right")
 DIRECTIONS = ("up", "down")
 COLORS = {"up": "#b22222", "down": "#1f5fa8"}
 MARKERS = {"up": "^", "down": "v"}
-BRANCH_COLORS = ["#2e8b57", "#6a5acd", "#8b4513", "#ff8c00", "#008b8b", "#c71585", "#556b2f"]
-SPECIAL_MARKERS = {"fold": "s", "hopf": "D", "branch_point": "X", "stick_slip": "o",
-                   "slip_stick": "o", "contact_loss": "x", "contact_regain": "+"}
 
 
 def text(value):
@@ -133,43 +136,34 @@ def waterfall(f, direction, outdir, name):
     plt.close(fig)
 
 
-def branches(f, ax):
-    """Draws /branches/<name> when present; returns whether anything was drawn."""
+def draw_branches(f, ax):
+    """Draws /branches (colour by family, stable solid, unstable dashed, special points marked);
+    returns (modes, special point types) drawn, for the legend."""
+    modes, types = [], []
     if "branches" not in f:
-        return False
-    drawn = False
-    for index, name in enumerate(sorted(f["branches"].keys())):
-        b = f["branches"][name]
-        if not all(k in b for k in ("speed_rpm", "precession_hz", "stable")):
+        return modes, types
+    # Mode 1 on top: the whirls of every family share the rolling line.
+    order = {"left_only": 0, "right_only": 1, "single": 2, "mode2": 3, "mode1": 4}
+    for name, b in sorted(branch_plots.branches_of(f),
+                          key=lambda item: order.get(text(item[1].attrs.get("mode", "single")), 2)):
+        if not all(k in b for k in ("speed_rpm", "precession_hz", "stable")) or len(b["speed_rpm"]) < 2:
             continue
-        rpm, hz = b["speed_rpm"][()], b["precession_hz"][()]
-        stable = b["stable"][()].astype(bool)
-        color = BRANCH_COLORS[index % len(BRANCH_COLORS)]
-        # Runs of equal stability, joined at their ends.
-        start = 0
-        for i in range(1, len(rpm) + 1):
-            if i == len(rpm) or stable[i] != stable[start]:
-                stop = min(i + 1, len(rpm))
-                ax.plot(rpm[start:stop], hz[start:stop], color=color, lw=1.3,
-                        ls="-" if stable[start] else "--", alpha=0.8, zorder=2,
-                        label=(f"branch {name}" if start == 0 else None))
-                start = i
-        drawn = True
-        if "special_points" in b:
-            sp = b["special_points"]
-            kinds = texts(sp["type"]) if "type" in sp else []
-            for kind, r, h in zip(kinds, sp["speed_rpm"][()], sp["precession_hz"][()]):
-                ax.plot([r], [h], SPECIAL_MARKERS.get(kind, "*"), color=color, ms=7, mfc="none",
-                        mew=1.5, zorder=6)
-                ax.annotate(kind, (r, h), textcoords="offset points", xytext=(4, 4), fontsize=7,
-                            color=color)
-    return drawn
+        mode = text(b.attrs.get("mode", "single"))
+        color = branch_plots.MODE_COLORS.get(mode, "#555555")
+        branch_plots.plot_lines(ax, b["speed_rpm"][()], b["precession_hz"][()], b["stable"][()], color)
+        if mode not in modes:
+            modes.append(mode)
+        points = branch_plots.special_points(b) if "special_points" in b else []
+        branch_plots.mark(ax, points, "rpm", lambda p: p["hz"], color)
+        for p in points:
+            if p["type"] not in types:
+                types.append(p["type"])
+    return modes, types
 
 
-def precession(f, outdir, name):
-    fig, ax = plt.subplots(figsize=(10, 6.5))
-    top = 0.0
-    lo, hi = np.inf, -np.inf
+def draw_sweeps(f, ax):
+    """BP of the up and down sweeps (one marker per speed and contact); returns the legend handles."""
+    handles = []
     for direction in DIRECTIONS:
         if direction not in f.get("sweeps", {}):
             continue
@@ -177,53 +171,93 @@ def precession(f, outdir, name):
         speed = g["speed_rpm"][()]
         if len(speed) == 0:
             continue
-        lo, hi = min(lo, speed.min()), max(hi, speed.max())
         both = np.allclose(g["precession_hz_left"][()], g["precession_hz_right"][()], rtol=0.0,
                            atol=0.1, equal_nan=True)  # within 0.1 Hz: one marker per speed
         for side in (["left"] if both else SIDES):
             bp = g["precession_hz_" + side][()].copy()
             regime = texts(g["regime_" + side])
             bp[[r in ("no_contact", "unknown") for r in regime]] = np.nan
-            top = max(top, np.nanmax(bp) if np.isfinite(bp).any() else 0.0)
-            ax.plot(speed, bp, MARKERS[direction], color=COLORS[direction], ms=6 if side == "left" else 8,
-                    mfc=COLORS[direction] if side == "left" else "none", alpha=0.85, zorder=4,
-                    label=f"speed-{direction}, " + ("both contacts" if both else f"{side} contact"))
-        if "jumps" in g:
-            j = g["jumps"]
-            merged = {}  # one label per change, naming the contacts that make it
-            for kind, side, r0, r1 in zip(texts(j["kind"]), texts(j["contact"]),
-                                          j["speed_from_rpm"][()], j["speed_to_rpm"][()]):
-                if kind in ("contact_lost", "contact_regained"):
-                    continue
-                merged.setdefault((kind, float(r0), float(r1)), []).append(side)
-            for (kind, r0, r1), contacts in merged.items():
-                r = 0.5 * (r0 + r1)
-                where = "both" if len(contacts) == 2 else contacts[0]
-                ax.axvline(r, color=COLORS[direction], lw=0.6, ls=":", zorder=1)
-                up = direction == "up"
-                ax.annotate(f"{direction}: {kind.replace('_', ' ')} ({where}) {r0:g}→{r1:g} rpm",
-                            (r, 0.01 if up else 0.99), xycoords=("data", "axes fraction"),
-                            rotation=90, fontsize=6.5, color=COLORS[direction], xytext=(2, 0),
-                            textcoords="offset points", va="bottom" if up else "top")
-    ratios = rci(f)
-    if ratios is not None and np.isfinite(lo):
-        rpm = np.linspace(0.0, hi, 2)
-        for side, ratio in zip(SIDES, ratios):
-            ax.plot(rpm, ratio * rpm / 60.0, color="#888888", lw=0.8, ls=(0, (1, 2)), zorder=1)
-            ax.annotate(f"rolling, RCI {ratio:.0f}", (hi, ratio * hi / 60.0), fontsize=7,
-                        color="#666666", ha="right", va="bottom")
-            if ratios[0] == ratios[1]:
-                break
-    has_branches = branches(f, ax)
-    ax.set_xlim(0.0 if not np.isfinite(lo) else max(0.0, lo - 5.0), hi + 5.0 if np.isfinite(hi) else 1.0)
-    ax.set_ylim(0.0, 1.15 * top if top > 0 else 1.0)
-    ax.set_xlabel("running speed [rpm]")
-    ax.set_ylabel("backward precession (BP) frequency [Hz]")
-    title = f"{name}: BP frequency, time-marching sweeps (L3)"
-    title += " over the continuation branches" if has_branches else ""
-    ax.set_title(title, fontsize=11)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="lower right", ncol=2)
+            line, = ax.plot(speed, bp, MARKERS[direction], color=COLORS[direction],
+                            ms=6 if side == "left" else 8,
+                            mfc=COLORS[direction] if side == "left" else "none", alpha=0.85, zorder=7,
+                            label=f"sweep {direction}, " + ("both contacts" if both else f"{side} contact"))
+            handles.append(line)
+    return handles
+
+
+def draw_predictions(f, ax):
+    """Each jump of /sweeps/jump_table: a dotted arrow from the predicting bifurcation to the middle
+    of the jump's speed interval, at the bifurcation's frequency."""
+    if "jump_table" not in f.get("sweeps", {}):
+        return
+    t = f["sweeps"]["jump_table"]
+    if len(t["direction"]) == 0:
+        return
+    seen = set()
+    for d, r0, r1, br, bh in zip(texts(t["direction"]), t["speed_from_rpm"][()], t["speed_to_rpm"][()],
+                                 t["bifurcation_speed_rpm"][()], t["bifurcation_precession_hz"][()]):
+        if not np.isfinite(br) or (d, r0, r1) in seen:
+            continue
+        seen.add((d, r0, r1))
+        mid = 0.5 * (r0 + r1)
+        ax.annotate("", (mid, bh), (br, bh), zorder=8,
+                    arrowprops=dict(arrowstyle="->", color=COLORS[d], lw=1.2, ls=":"))
+        ax.plot([mid], [bh], "|", color=COLORS[d], ms=14, mew=2, zorder=8)
+
+
+def precession(f, outdir, name):
+    fig, axes = plt.subplots(1, 2, figsize=(15, 6.5), gridspec_kw=dict(width_ratios=[1.1, 1]))
+    top, lo, hi = 0.0, np.inf, -np.inf
+    for ax in axes:
+        ratios = rci(f)
+        sweep_handles = draw_sweeps(f, ax)
+        modes, types = draw_branches(f, ax)
+        draw_predictions(f, ax)
+        for direction in DIRECTIONS:
+            if direction in f.get("sweeps", {}) and len(f["sweeps"][direction]["speed_rpm"]) > 0:
+                g = f["sweeps"][direction]
+                lo, hi = min(lo, g["speed_rpm"][()].min()), max(hi, g["speed_rpm"][()].max())
+                for side in SIDES:
+                    bp = g["precession_hz_" + side][()]
+                    if np.isfinite(bp).any():
+                        top = max(top, np.nanmax(bp))
+        if ratios is not None and np.isfinite(hi):
+            rpm = np.linspace(0.0, hi + 10.0, 2)
+            for ratio in sorted(set(ratios)):
+                ax.plot(rpm, ratio * rpm / 60.0, color="#888888", lw=0.8, ls=(0, (1, 2)), zorder=1)
+        ax.set_xlabel("running speed [rpm]")
+        ax.set_ylabel("backward precession (BP) frequency [Hz]")
+        ax.grid(alpha=0.3)
+    if not np.isfinite(lo):
+        lo, hi = 0.0, 1.0
+    axes[0].set_xlim(max(0.0, lo - 5.0), hi + 5.0)
+    axes[0].set_ylim(0.0, 1.1 * top if top > 0 else 1.0)
+    axes[0].set_title("whole sweep range", fontsize=10)
+    # The zoom: where the predicted jumps are (their intervals and bifurcations).
+    zoom_lo, zoom_hi, f_lo, f_hi = 40.0, 100.0, 60.0, 160.0
+    if "jump_table" in f.get("sweeps", {}) and len(f["sweeps"]["jump_table"]["direction"]) > 0:
+        t = f["sweeps"]["jump_table"]
+        keep = np.isfinite(t["bifurcation_speed_rpm"][()])  # the predicted jumps, if any
+        if not keep.any():
+            keep[:] = True
+        speeds = np.concatenate([t["speed_from_rpm"][()][keep], t["speed_to_rpm"][()][keep],
+                                 t["bifurcation_speed_rpm"][()][keep]])
+        freqs = np.concatenate([t["precession_from_hz"][()][keep], t["precession_to_hz"][()][keep],
+                                t["bifurcation_precession_hz"][()][keep]])
+        speeds, freqs = speeds[np.isfinite(speeds)], freqs[np.isfinite(freqs)]
+        if len(speeds):
+            zoom_lo, zoom_hi = max(0.0, speeds.min() - 10.0), speeds.max() + 10.0
+        if len(freqs):
+            f_lo, f_hi = max(0.0, freqs.min() - 20.0), freqs.max() + 20.0
+    axes[1].set_xlim(zoom_lo, zoom_hi)
+    axes[1].set_ylim(f_lo, f_hi)
+    axes[1].set_title("zoom on the predicted jumps: arrows run from the bifurcation (L1) to the "
+                      "middle of the jump (L3)", fontsize=9)
+    handles = sweep_handles + branch_plots.legend_handles(modes, types)
+    handles.append(Line2D([], [], color="#888888", lw=0.8, ls=(0, (1, 2)), label="rolling: BP = RCI·speed"))
+    axes[1].legend(handles=handles, fontsize=7, loc="upper left", ncol=2)
+    fig.suptitle(f"{name}: BP frequency of the speed-up and speed-down sweeps (L3) over the "
+                 f"continuation branches (L1)", fontsize=11)
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, "sweep_precession.png"), dpi=110)
     plt.close(fig)
