@@ -1,5 +1,6 @@
 #include "models/rub_sweep.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -7,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "shooting/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
@@ -168,15 +170,16 @@ struct SegmentResult {
 };
 
 // A short speed-up segment of case A(a) (the scene defaults are the thesis's), started by the
-// 1 N·s impulse at its first speed, with every speed run for the minimum three windows.
-SegmentResult Segment(const std::vector<double>& rpm, double tolerance) {
+// 1 N·s impulse at its first speed, with every speed run for the minimum three windows; CVODES BDF
+// of maximum order `order` with relative and (scaled) absolute tolerance `tolerance`.
+SegmentResult Segment(const std::vector<double>& rpm, int order, double tolerance) {
   const RubStructure s = TwoPointStructure(TwoPointParams{});
   RubFixedFrame system(s);
   RubSweepObservables observables(system);
   SweepOptions o;
   for (double v : rpm) o.parameters.push_back(RpmToRadPerSecond(v));
   o.dwell = 0.75;
-  o.integrator.max_order = 2;
+  o.integrator.max_order = order;
   o.integrator.relative_tolerance = tolerance;
   o.integrator.absolute_tolerance = tolerance;
   o.integrator.max_steps = 100000000;
@@ -190,9 +193,12 @@ SegmentResult Segment(const std::vector<double>& rpm, double tolerance) {
 TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tolerances tighten",
           "[rub_sweep][tolerance]") {
   // 48, 50 rpm roll (whirl); 52, 54 rpm slip (whip at the analytic Mode 1 μ_req = μ frequency).
+  // Loose: the scene default, BDF order ≤ 2 at 1e-6. Tight: 100× tighter and order ≤ 5, so that
+  // the whip cannot be the numerical damping of the A-stable order-2 formula (orders 3–5 are not
+  // A-stable and damp nothing at these step sizes: ~1e6 steps per simulated second).
   const std::vector<double> rpm = {48.0, 50.0, 52.0, 54.0};
-  const SegmentResult loose = Segment(rpm, 1e-6);  // the scene default
-  const SegmentResult tight = Segment(rpm, 1e-8);
+  const SegmentResult loose = Segment(rpm, 2, 1e-6);
+  const SegmentResult tight = Segment(rpm, 5, 1e-8);
   const AnalyticCurve mode1 = ComputeAnalyticCurve(TwoPointParams{}, CircularMode::kMode1);
   double whip_onset_hz = kNaN;
   for (const Transition& t : mode1.transitions)
@@ -226,6 +232,46 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
       }
     }
   }
+  // Cross-check with level L1: the whip at 54 rpm precesses at the circular Mode 1 whip's
+  // frequency (exact slip) with its mean slip velocity (within 2 %), but it is not that circular
+  // orbit, which L1 finds unstable (growth 262 s⁻¹ at 238 and 577 Hz in the rotating frame): the
+  // slip velocity swings by more than its mean. The swing is the same in both runs (10 %): the
+  // modulation is not an artefact of the order-2 formula's damping.
+  RotatingWaveBranchOptions branch_options;
+  branch_options.search.speed_min = RpmToRadPerSecond(40.0);
+  branch_options.search.speed_max = RpmToRadPerSecond(60.0);
+  branch_options.search.precession_max = 2.0 * M_PI * 200.0;
+  const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
+      TwoPointStructure(TwoPointParams{}), FrictionLawKind::kExact, branch_options);
+  double v_branch = kNaN;
+  for (const RotatingWaveBranch& b : branches) {
+    if (PatternName(b.normals) != "mode1") continue;
+    const auto& names = b.branch.measure_names;
+    const auto at = [&](const char* name) {
+      return static_cast<Index>(std::find(names.begin(), names.end(), name) - names.begin());
+    };
+    const Index hz = at("precession_hz"), v = at("slip_velocity_left");
+    const auto& p = b.branch.points;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+      const double r0 = RadPerSecondToRpm(p[i].lambda), r1 = RadPerSecondToRpm(p[i + 1].lambda);
+      if (54.0 < std::min(r0, r1) || 54.0 > std::max(r0, r1) || p[i].piece != p[i + 1].piece) continue;
+      if (std::abs(p[i].measures(hz) - whip_onset_hz) > 0.1) continue;
+      const double s = (54.0 - r0) / (r1 - r0);
+      v_branch = (1.0 - s) * p[i].measures(v) + s * p[i + 1].measures(v);
+    }
+  }
+  REQUIRE(v_branch > 1e-3);
+  for (int k = 0; k < 2; ++k) {
+    CAPTURE(k, v_branch);
+    const MeasureSummary& a = loose.points[3].channels[k].measures[kSlipVelocityMeasure];
+    const MeasureSummary& b = tight.points[3].channels[k].measures[kSlipVelocityMeasure];
+    CAPTURE(a.min, a.max, b.min, b.max);
+    CHECK(a.mean == Approx(v_branch).epsilon(0.02));
+    CHECK(b.mean == Approx(v_branch).epsilon(0.02));
+    CHECK(a.max - a.min > a.mean);
+    CHECK((a.max - a.min) == Approx(b.max - b.min).epsilon(0.1));
+  }
+
   // The tighter run does the work the tolerances ask for.
   long loose_steps = 0, tight_steps = 0;
   for (std::size_t i = 0; i < rpm.size(); ++i) {
