@@ -259,11 +259,16 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     }
   }
 
-  // The jump table: each jump next to the bifurcation of the L1 branches that predicts it.
+  // The jump table: each jump next to the bifurcation of the L1 branches that predicts it. The
+  // branches are those of the law the sweeps integrate (tanh, ε = velocity_scale): with exact
+  // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
+  // they can, and the sweeps do.
   const Clock::time_point branches_start = Clock::now();
   const RubStructure structure = TwoPointStructure(scene.two_point);
-  const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      structure, scene.two_point.friction_law.kind, BranchOptionsOf(scene));
+  const std::vector<RotatingWaveBranch> branches =
+      ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+  WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,
+                            scene.analysis.speed_range_rpm, "/sweeps/branches");
   std::vector<PredictedJump> table;
   for (const auto& run : runs) {
     const std::vector<PredictedJump> rows =
@@ -272,8 +277,8 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     table.insert(table.end(), rows.begin(), rows.end());
   }
   WriteJumpTable(writer, table);
-  fmt::print(out, "  jump table (L1 branches: {} in {:.3f} s):\n", branches.size(),
-             SecondsSince(branches_start));
+  fmt::print(out, "  jump table (L1 branches, tanh friction ε = {:g} m/s: {} in {:.3f} s):\n",
+             structure.law.velocity_scale, branches.size(), SecondsSince(branches_start));
   for (const PredictedJump& row : table) {
     const RubSweepJump& j = row.jump;
     fmt::print(out, "    {:<4} {:<5} {:<16} {:6.1f} → {:6.1f} rpm  BP {} → {} Hz  ", row.direction,

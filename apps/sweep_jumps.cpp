@@ -112,13 +112,16 @@ SweepState StateAt(double speed_rpm, const RubStructure& structure,
   return state;
 }
 
-// The special point of `b` nearest the speed interval [lo, hi] (distance 0 inside it), if within
-// `max_distance`; −1 otherwise.
+// The special point of `b` nearest the speed interval [lo, hi] (distance 0 inside it; the first
+// one of the branch among equals), if within `max_distance`; −1 otherwise.
 int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance) {
   int best = -1;
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
     const SpecialPoint& p = b.branch.special_points[i];
+    // A test function (the tanh law's "knee", where rolling rounds into slipping) marks a corner
+    // of a smooth branch, not a change of existence or stability.
+    if (p.type == SpecialPointType::kTestFunction) continue;
     const double rpm = p.lambda * kRpmPerRadPerSecond;
     const double distance = rpm < lo ? lo - rpm : rpm > hi ? rpm - hi : 0.0;
     if (distance <= max_distance && distance < best_distance) {

@@ -19,7 +19,8 @@
 // interpolation between points of one smooth piece); stable branch points are preferred (a sweep
 // settles on attractors), then the smallest relative normal-force mismatch. The departure state (before the jump) is tried
 // first: the jump happens where that state stops existing or being stable, which is one of its
-// branch's special points (event: stick ↔ slip or contact loss, fold, Hopf, branch point). The
+// branch's special points (event: stick ↔ slip or contact loss, fold, Hopf, branch point; not
+// test functions such as the tanh law's knee, which is a corner, not a bifurcation). The
 // special point nearest to the speed interval of the jump is taken, if it lies within
 // max_distance_rpm of it. When the departure state is on no branch (a non-circular motion, or no
 // contact) or its branch has no special point near the jump, the landing state is tried the same

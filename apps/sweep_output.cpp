@@ -202,9 +202,9 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
   o.peak_side = PeakSide::kNegative;
   o.rotate_forcing_phase = scene.two_point.imbalance > 0.0;
   o.integrator.method = IntegrationMethod::kBdf;
-  // BDF orders 3–5 are unstable near the imaginary axis: they amplify the nearly undamped
-  // ~85 kHz contact mode (k1 = 1.75e11 N/m) into chatter that costs 10× the steps (measured, see
-  // results/README.md). Orders 1–2 are A-stable and damp it.
+  // Orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11 N/m)
+  // cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took 3×
+  // the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
   o.integrator.max_order = 2;
   o.integrator.relative_tolerance = s.relative_tolerance;
   o.integrator.absolute_tolerance = s.absolute_tolerance;

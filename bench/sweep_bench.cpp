@@ -1,6 +1,9 @@
 // Benchmark of the time-marching speed sweep (level L3) on a two-point rub scene: wall time of a
 // full up + down sweep and its cost breakdown (steps per simulated second, Jacobian evaluations,
-// Newton iterations = dense linear solves, LU factorizations), per direction and per regime.
+// Newton iterations = dense linear solves, LU factorizations), per direction and per regime; and,
+// in the same run, the wall time of the continuation that predicts the same jumps
+// (ComputeRotatingWaveBranches over the scene's speed_range_rpm with the sweeps' tanh law, as the
+// sweep stage runs it for its jump table; best of 5) and the ratio sweep / continuation.
 //
 // Usage: sweep_bench [SCENE] [--from RPM --to RPM] [--step RPM] [--dwell S] [--rtol X] [--order K]
 //                    [--direction up|down|both] [--verbose]
@@ -15,6 +18,7 @@
 #include <vector>
 
 #include "apps/scene.h"
+#include "apps/sweep_jumps.h"
 #include "apps/sweep_output.h"
 #include "models/rub_sweep.h"
 
@@ -135,6 +139,22 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("total:\n");
   all.Print("up + down");
-  std::printf("wall time of the whole benchmark: %.1f s\n", wall);
+  std::printf("wall time of the sweeps: %.1f s\n", wall);
+
+  // The continuation run (level L1) that predicts the jumps, timed the same way.
+  double continuation = 1e300;
+  std::size_t branches = 0;
+  for (int repeat = 0; repeat < 5; ++repeat) {
+    const auto c0 = std::chrono::steady_clock::now();
+    const auto result = rubcont::ComputeRotatingWaveBranches(
+        rubcont::TwoPointStructure(scene.two_point), rubcont::FrictionLawKind::kTanh,
+        rubcont::BranchOptionsOf(scene));
+    continuation = std::min(continuation,
+                            std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count());
+    branches = result.size();
+  }
+  std::printf("continuation (L1, tanh, %zu branches, %g–%g rpm, best of 5): %.1f ms\n", branches,
+              scene.analysis.speed_range_rpm[0], scene.analysis.speed_range_rpm[1], 1e3 * continuation);
+  std::printf("ratio sweep / continuation: %.0f\n", wall / continuation);
   return 0;
 }

@@ -13,7 +13,8 @@ apps/sweep_output.h):
       partial rub show here.
   sweep_precession.png
       BP frequency against speed, speed-up and speed-down, per contact, over the continuation
-      branches of /branches (plots/branches.py colours: by family; stable solid, unstable dashed;
+      branches of /sweeps/branches (the sweeps' tanh friction law; /branches when absent;
+      plots/branches.py colours: by family; stable solid, unstable dashed;
       events, non-smooth folds, Hopf and branch points marked) and the rolling lines
       BP = RCI*speed; each jump of /sweeps/jump_table is an arrow from the bifurcation that
       predicts it to the middle of the jump's speed interval. Right panel: zoom on the jumps.
@@ -137,14 +138,20 @@ def waterfall(f, direction, outdir, name):
 
 
 def draw_branches(f, ax):
-    """Draws /branches (colour by family, stable solid, unstable dashed, special points marked);
-    returns (modes, special point types) drawn, for the legend."""
+    """Draws /sweeps/branches (the branches of the sweeps' tanh law; else /branches): colour by
+    family, stable solid, unstable dashed, special points marked. Returns (modes, special point
+    types) drawn, for the legend."""
     modes, types = [], []
-    if "branches" not in f:
+    # The branches of the sweeps' own friction law (tanh) when the file has them, else /branches.
+    if "branches" in f.get("sweeps", {}):
+        source = {"branches": f["sweeps"]["branches"]}
+    elif "branches" in f:
+        source = f
+    else:
         return modes, types
     # Mode 1 on top: the whirls of every family share the rolling line.
     order = {"left_only": 0, "right_only": 1, "single": 2, "mode2": 3, "mode1": 4}
-    for name, b in sorted(branch_plots.branches_of(f),
+    for name, b in sorted(branch_plots.branches_of(source),
                           key=lambda item: order.get(text(item[1].attrs.get("mode", "single")), 2)):
         if not all(k in b for k in ("speed_rpm", "precession_hz", "stable")) or len(b["speed_rpm"]) < 2:
             continue
@@ -256,8 +263,13 @@ def precession(f, outdir, name):
     handles = sweep_handles + branch_plots.legend_handles(modes, types)
     handles.append(Line2D([], [], color="#888888", lw=0.8, ls=(0, (1, 2)), label="rolling: BP = RCI·speed"))
     axes[1].legend(handles=handles, fontsize=7, loc="upper left", ncol=2)
+    law = ""
+    for group in (f.get("sweeps", {}).get("branches"), f.get("branches")):
+        if group is not None and "friction_law" in group.attrs:
+            law = f", {text(group.attrs['friction_law'])} friction"
+            break
     fig.suptitle(f"{name}: BP frequency of the speed-up and speed-down sweeps (L3) over the "
-                 f"continuation branches (L1)", fontsize=11)
+                 f"continuation branches (L1{law})", fontsize=11)
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, "sweep_precession.png"), dpi=110)
     plt.close(fig)
