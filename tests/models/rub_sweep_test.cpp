@@ -192,11 +192,11 @@ SegmentResult Segment(const std::vector<double>& rpm, int order, double toleranc
 
 TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tolerances tighten",
           "[rub_sweep][tolerance]") {
-  // 48, 50 rpm roll (whirl); 52, 54 rpm slip (whip at the analytic Mode 1 μ_req = μ frequency).
+  // 50 rpm rolls (whirl); 52, 54 rpm slip (whip at the analytic Mode 1 μ_req = μ frequency).
   // Loose: the scene default, BDF order ≤ 2 at 1e-6. Tight: 100× tighter and order ≤ 5, so that
   // the whip cannot be the numerical damping of the A-stable order-2 formula (orders 3–5 are not
   // A-stable and damp nothing at these step sizes: ~1e6 steps per simulated second).
-  const std::vector<double> rpm = {48.0, 50.0, 52.0, 54.0};
+  const std::vector<double> rpm = {50.0, 52.0, 54.0};
   const SegmentResult loose = Segment(rpm, 2, 1e-6);
   const SegmentResult tight = Segment(rpm, 5, 1e-8);
   const AnalyticCurve mode1 = ComputeAnalyticCurve(TwoPointParams{}, CircularMode::kMode1);
@@ -263,8 +263,8 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
   REQUIRE(v_branch > 1e-3);
   for (int k = 0; k < 2; ++k) {
     CAPTURE(k, v_branch);
-    const MeasureSummary& a = loose.points[3].channels[k].measures[kSlipVelocityMeasure];
-    const MeasureSummary& b = tight.points[3].channels[k].measures[kSlipVelocityMeasure];
+    const MeasureSummary& a = loose.points[2].channels[k].measures[kSlipVelocityMeasure];
+    const MeasureSummary& b = tight.points[2].channels[k].measures[kSlipVelocityMeasure];
     CAPTURE(a.min, a.max, b.min, b.max);
     CHECK(a.mean == Approx(v_branch).epsilon(0.02));
     CHECK(b.mean == Approx(v_branch).epsilon(0.02));
