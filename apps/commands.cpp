@@ -321,8 +321,11 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
   options.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
   options.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
   const FrictionLawKind law = FrictionLawOf(scene);
+  // Rotating waves need rotational symmetry: the imbalance is left out (note below).
+  RubStructure structure = StructureOf(scene);
+  structure.imbalance = 0.0;
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      StructureOf(scene), law, options, [&](int done, int tried, int starts) {
+      structure, law, options, [&](int done, int tried, int starts) {
         progress("[branches] {} branches from {} of {} starts ({:.1f} s)", done, tried, starts,
                  SecondsSince(start));
       });

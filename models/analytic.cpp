@@ -1,5 +1,7 @@
 #include "models/analytic.h"
 
+#include "solvers/scalar_root.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -108,56 +110,18 @@ class ModeEvaluator {
 
 int Sign(double x) { return (x > 0.0) - (x < 0.0); }
 
-// Brent's method (Brent 1973, "zeroin"): a root of f in [a, b] with f(a)·f(b) < 0, to a bracket of
-// a few ulps. Always converges (it falls back to bisection).
+// The root of f in the grid bracket [a, b] (f(a)·f(b) < 0) to a few ulps of the frequency, by
+// Illinois regula falsi (solvers/scalar_root.h); the closed form never fails to evaluate.
 template <class Function>
-double Brent(const Function& f, double a, double b, double fa, double fb) {
-  constexpr double kEps = std::numeric_limits<double>::epsilon();
-  double c = a, fc = fa, d = b - a, e = d;
-  for (int iteration = 0; iteration < 300; ++iteration) {
-    if (Sign(fb) == Sign(fc)) {  // keep the root between b and c
-      c = a;
-      fc = fa;
-      d = e = b - a;
-    }
-    if (std::abs(fc) < std::abs(fb)) {  // b is the best estimate
-      a = b; b = c; c = a;
-      fa = fb; fb = fc; fc = fa;
-    }
-    const double tolerance = 2.0 * kEps * std::abs(b);
-    const double m = 0.5 * (c - b);
-    if (std::abs(m) <= tolerance || fb == 0.0) return b;
-    if (std::abs(e) >= tolerance && std::abs(fa) > std::abs(fb)) {
-      // Secant (two points) or inverse quadratic interpolation (three points).
-      double p, q, r;
-      const double s = fb / fa;
-      if (a == c) {
-        p = 2.0 * m * s;
-        q = 1.0 - s;
-      } else {
-        q = fa / fc;
-        r = fb / fc;
-        p = s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0));
-        q = (q - 1.0) * (r - 1.0) * (s - 1.0);
-      }
-      if (p > 0.0) q = -q; else p = -p;
-      if (2.0 * p < std::min(3.0 * m * q - std::abs(tolerance * q), std::abs(e * q))) {
-        e = d;
-        d = p / q;
-      } else {
-        d = m;
-        e = m;
-      }
-    } else {
-      d = m;
-      e = m;
-    }
-    a = b;
-    fa = fb;
-    b += std::abs(d) > tolerance ? d : (m > 0.0 ? tolerance : -tolerance);
-    fb = f(b);
-  }
-  return b;
+double RefineRoot(const Function& f, double a, double b, double fa, double fb) {
+  BracketedRootOptions options;
+  options.max_evaluations = 200;
+  options.x_tolerance = 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b));
+  const auto evaluate = [&f](double x, double& value) {
+    value = f(x);
+    return true;
+  };
+  return IllinoisRoot(evaluate, a, fa, b, fb, options).x;
 }
 
 // One scalar function on the grid whose sign changes are transitions.
@@ -323,7 +287,7 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
         const int sa = Sign(fa), sb = Sign(fb);
         double root;
         if (sa * sb < 0) {
-          root = Brent(f, a, b, fa, fb);
+          root = RefineRoot(f, a, b, fa, fb);
         } else if (sa == 0 && i > 0 &&
                    Sign(Evaluate(quantity, forces[i - 1], k, mu)) * sb < 0) {
           root = a;  // exactly on a grid point

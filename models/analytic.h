@@ -143,7 +143,7 @@ const char* ToString(TransitionType type);
 struct Transition {
   TransitionType type = TransitionType::kMuCrossing;
   int contact = 0;             // 0 = left, 1 = right
-  double precession_hz = 0.0;  // located to a few ulps by Brent's method on the closed form
+  double precession_hz = 0.0;  // located to a few ulps by Illinois regula falsi on the closed form
   // +1 when the quantity that crosses (μ_req for μ crossings, N for contact loss/regain) increases
   // with Ω, −1 when it decreases. A μ crossing with direction +1 is whirl → whip as Ω increases.
   int direction = 0;
@@ -183,7 +183,7 @@ struct AnalyticResult {
 
 // Evaluates N, F, μ_req of one mode on the grid and locates every transition on it: sign changes
 // of F − μN, F + μN, F and N between neighbouring grid points are bracketed, then refined by
-// Brent's method to machine precision; μ crossings are kept only where N > 0 (in contact). Throws
+// Illinois regula falsi (solvers/scalar_root.h) to a few ulps; μ crossings are kept only where N > 0 (in contact). Throws
 // std::invalid_argument on invalid parameters or options; numerical outcomes are a status.
 AnalyticCurve ComputeAnalyticCurve(const TwoPointParams& p, CircularMode mode,
                                    const AnalyticOptions& options = {});

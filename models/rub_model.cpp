@@ -297,8 +297,7 @@ RubRotatingFrame::RubRotatingFrame(RubStructure structure, double frame_rate, do
   fixed_jacobian_.resize(fixed_.Dimension(), fixed_.Dimension());
 }
 
-void RubRotatingFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
-  // p̈ = a(p, ṗ − jΩ p) + 2jΩ ṗ + Ω² p
+void RubRotatingFrame::LoadFixedState(ConstVectorRef x) {
   const Index n2 = x.size() / 2;
   const double W = frame_rate_;
   fixed_state_.head(n2) = x.head(n2);
@@ -306,6 +305,13 @@ void RubRotatingFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
     fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
     fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
   }
+}
+
+void RubRotatingFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  // p̈ = a(p, ṗ − jΩ p) + 2jΩ ṗ + Ω² p
+  const Index n2 = x.size() / 2;
+  const double W = frame_rate_;
+  LoadFixedState(x);
   fixed_.Rhs(t, fixed_state_, f);  // f = [w; a]
   f.head(n2) = x.tail(n2);
   for (Index i = 0; i < n2; i += 2) {
@@ -318,11 +324,7 @@ void RubRotatingFrame::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
   // ∂p̈/∂p = a_q − Ω a_v J + Ω² I,  ∂p̈/∂ṗ = a_v + 2Ω J  (J: multiplication by j on each pair)
   const Index n2 = x.size() / 2;
   const double W = frame_rate_;
-  fixed_state_.head(n2) = x.head(n2);
-  for (Index i = 0; i < n2; i += 2) {
-    fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
-    fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
-  }
+  LoadFixedState(x);
   fixed_.JacobianX(t, fixed_state_, fixed_jacobian_);
   const auto a_q = fixed_jacobian_.bottomLeftCorner(n2, n2);
   const auto a_v = fixed_jacobian_.bottomRightCorner(n2, n2);
@@ -344,13 +346,7 @@ void RubRotatingFrame::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
 }
 
 void RubRotatingFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
-  const Index n2 = x.size() / 2;
-  const double W = frame_rate_;
-  fixed_state_.head(n2) = x.head(n2);
-  for (Index i = 0; i < n2; i += 2) {
-    fixed_state_(n2 + i) = x(n2 + i) + W * x(i + 1);
-    fixed_state_(n2 + i + 1) = x(n2 + i + 1) - W * x(i);
-  }
+  LoadFixedState(x);
   fixed_.DfDparameter(t, fixed_state_, df);
 }
 

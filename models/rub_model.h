@@ -161,6 +161,8 @@ class RubRotatingFrame : public OdeSystem {
  private:
   RubFixedFrame fixed_;
   double frame_rate_;
+  // The fixed-frame model's state (p, ṗ − jΩ p) at the co-rotating state x, into fixed_state_.
+  void LoadFixedState(ConstVectorRef x);
   Vector fixed_state_;  // workspace
   Matrix fixed_jacobian_;
 };

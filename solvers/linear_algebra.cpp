@@ -9,13 +9,16 @@
 
 namespace rubcont {
 
-LogDeterminant LogDeterminantOf(const Eigen::PartialPivLU<Matrix>& lu) {
+namespace {
+
+// det = permutation_sign · Π U_ii, in logarithms, from the U factor's diagonal.
+template <class Derived>
+LogDeterminant FromPivots(const Eigen::MatrixBase<Derived>& lu, int permutation_sign) {
   LogDeterminant result;
-  const Matrix& lu_matrix = lu.matrixLU();
-  int sign = static_cast<int>(lu.permutationP().determinant());
+  int sign = permutation_sign;
   double log_abs = 0.0;
-  for (Index i = 0; i < lu_matrix.rows(); ++i) {
-    const double pivot = lu_matrix(i, i);
+  for (Index i = 0; i < lu.rows(); ++i) {
+    const double pivot = lu(i, i);
     if (pivot == 0.0 || !std::isfinite(pivot)) {
       result.sign = 0;
       result.log_abs = -INFINITY;
@@ -27,6 +30,12 @@ LogDeterminant LogDeterminantOf(const Eigen::PartialPivLU<Matrix>& lu) {
   result.sign = sign;
   result.log_abs = log_abs;
   return result;
+}
+
+}  // namespace
+
+LogDeterminant LogDeterminantOf(const Eigen::PartialPivLU<Matrix>& lu) {
+  return FromPivots(lu.matrixLU(), static_cast<int>(lu.permutationP().determinant()));
 }
 
 void DenseLu::Compute(const Matrix& A) {
@@ -80,23 +89,11 @@ double DenseLu::PivotRatio() const {
 
 LogDeterminant DenseLu::Determinant() const {
   if (!unblocked_) return LogDeterminantOf(eigen_);
-  LogDeterminant result;
   int sign = 1;
-  double log_abs = 0.0;
   for (Index k = 0; k < n_; ++k) {
     if (pivots_[static_cast<size_t>(k)] != k) sign = -sign;
-    const double pivot = lu_(k, k);
-    if (pivot == 0.0 || !std::isfinite(pivot)) {
-      result.sign = 0;
-      result.log_abs = -INFINITY;
-      return result;
-    }
-    if (pivot < 0.0) sign = -sign;
-    log_abs += std::log(std::abs(pivot));
   }
-  result.sign = sign;
-  result.log_abs = log_abs;
-  return result;
+  return FromPivots(lu_.topLeftCorner(n_, n_), sign);
 }
 
 NullVectors SmallestSingularVectors(const Matrix& A, Index count) {

@@ -137,6 +137,19 @@ TEST_CASE("CLI: analytic writes the HDF5 file and the two figures", "[cli]") {
   CHECK(fs::file_size(dir.path / "sub" / "analytic_mode2.png") > 10000);
 }
 
+TEST_CASE("CLI: branches of an imbalanced scene leave the imbalance out and say so", "[cli]") {
+  TempDir dir;
+  const fs::path h5 = dir.path / "imbalance.h5";
+  const Outcome o =
+      Rubcont("branches scenes/thesis_A_a_imbalance.toml -q --out " + h5.string(), kNoPython);
+  INFO(o.err);
+  CHECK(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("[branches] note: the imbalance (3.43e-05 kg·m) is left out"));
+  CHECK_THAT(o.out, Contains("event: left stick to slip+"));
+  const ResultReader reader(h5);
+  CHECK_THAT(reader.ReadStringAttribute("/branches", "note"), Contains("not stationary"));
+}
+
 TEST_CASE("CLI: a missing plotting script keeps the HDF5 file (exit 0, warning)", "[cli]") {
   TempDir dir;
   const Outcome o = Rubcont("analytic scenes/thesis_A_b.toml -q --out " + (dir.path / "a.h5").string(),
