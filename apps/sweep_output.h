@@ -23,6 +23,9 @@
 //     spectrum_magnitude_left|right [speeds × m] amplitude spectra [m] (the waterfall)
 //     jumps/{contact, kind, speed_from_rpm, speed_to_rpm, precession_from_hz, precession_to_hz}
 //
+// The sweep stage also writes /sweeps/branches (the L1 branches of the tanh law the sweeps
+// integrate, layout of apps/branch_output.h) and /sweeps/jump_table (apps/sweep_jumps.h).
+//
 // A checkpoint file holds the same group for the finished speeds plus /checkpoint/state (the state
 // to continue from) and the resolved scene; it is rewritten atomically after every speed.
 #pragma once
