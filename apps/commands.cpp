@@ -265,8 +265,10 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   // they can, and the sweeps do.
   const Clock::time_point branches_start = Clock::now();
   const RubStructure structure = TwoPointStructure(scene.two_point);
+  RubStructure balanced = structure;  // rotating waves need rotational symmetry (as RunBranches)
+  balanced.imbalance = 0.0;
   const std::vector<RotatingWaveBranch> branches =
-      ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+      ComputeRotatingWaveBranches(balanced, FrictionLawKind::kTanh, BranchOptionsOf(scene));
   WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,
                             scene.analysis.speed_range_rpm, "/sweeps/branches");
   std::vector<PredictedJump> table;

@@ -122,6 +122,28 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   CHECK(r.ReadDoubles("/sweeps/up/precession_hz_left") == up_bp);
 }
 
+TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the balanced branches",
+          "[sweep_cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_A_a_imbalance.toml");
+  const auto at = text.find("[analysis.sweep]");
+  REQUIRE(at != std::string::npos);
+  text = text.substr(0, at) + kTwoSpeeds;
+  const fs::path scene = dir.path / "thesis_A_a_imbalance.toml";
+  std::ofstream(scene) << text;
+  const fs::path h5 = dir.path / "sweep.h5";
+  const Outcome up = Rubcont("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(up.out << up.err);
+  REQUIRE(up.exit_code == 0);
+  ResultReader r(h5);
+  CHECK(r.ReadStringAttribute("/sweeps/up", "status") == "complete");
+  CHECK(r.Exists("/sweeps/branches/branch1"));
+  // Rolling whirl at RCI 100 despite the imbalance (m e ω² = 6e-4 N at 40 rpm).
+  const std::vector<double> bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
+  REQUIRE(bp.size() == 2);
+  CHECK(bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
+}
+
 TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with exit code 2",
           "[sweep_cli]") {
   TempDir dir;
