@@ -11,14 +11,15 @@ constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * M_PI);
 }  // namespace
 
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,
-                               FrictionLawKind law, const std::array<double, 2>& speed_range_rpm) {
-  writer.CreateGroup("/branches");
-  writer.SetAttribute("/branches", "level", "L1");
-  writer.SetAttribute("/branches", "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
-  writer.WriteDoubles("/branches/speed_range_rpm",
+                               FrictionLawKind law, const std::array<double, 2>& speed_range_rpm,
+                               const std::string& root) {
+  writer.CreateGroup(root);
+  writer.SetAttribute(root, "level", "L1");
+  writer.SetAttribute(root, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
+  writer.WriteDoubles(root + "/speed_range_rpm",
                       std::vector<double>{speed_range_rpm[0], speed_range_rpm[1]});
   for (const RotatingWaveBranch& b : branches) {
-    const std::string group = "/branches/" + b.name;
+    const std::string group = root + "/" + b.name;
     const Branch& branch = b.branch;
     writer.CreateGroup(group);
     writer.SetAttribute(group, "kind", "rotating_wave");

@@ -26,7 +26,10 @@
 
 namespace rubcont {
 
+// `root`: the group to write ("/branches"; the sweeps keep the branches of their own friction law
+// in "/sweeps/branches").
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,
-                               FrictionLawKind law, const std::array<double, 2>& speed_range_rpm);
+                               FrictionLawKind law, const std::array<double, 2>& speed_range_rpm,
+                               const std::string& root = "/branches");
 
 }  // namespace rubcont

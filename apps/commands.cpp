@@ -4,6 +4,8 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <vector>
@@ -17,6 +19,8 @@
 #include "apps/hdf5_file.h"
 #include "apps/orbits_stage.h"
 #include "apps/scene.h"
+#include "apps/sweep_jumps.h"
+#include "apps/sweep_output.h"
 #include "apps/version.h"
 #include "models/analytic.h"
 #include "shooting/rotating_wave_branches.h"
@@ -105,6 +109,201 @@ void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
   if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
 }
 
+struct ExecuteOptions {
+  bool quiet = false;
+  bool resume = false;  // sweeps continue from their checkpoints
+  std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
+};
+
+std::string Duration(double seconds) {
+  if (!(seconds < 1e9)) return "?";
+  if (seconds < 60.0) return fmt::format("{:.0f} s", seconds);
+  if (seconds < 3600.0) return fmt::format("{:.0f} min {:02.0f} s", std::floor(seconds / 60.0),
+                                           std::fmod(seconds, 60.0));
+  return fmt::format("{:.0f} h {:02.0f} min", std::floor(seconds / 3600.0),
+                     std::fmod(seconds, 3600.0) / 60.0);
+}
+
+std::string Hz(double value) { return std::isnan(value) ? "  –  " : fmt::format("{:.2f}", value); }
+
+// The sweep stage: each direction from its checkpoint (with resume) or from the impulse, a
+// checkpoint after every finished speed, progress with ETA. Writes /sweeps into `writer`.
+void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::filesystem::path& h5_file,
+                ResultWriter& writer, Progress& progress, std::ostream& out, std::ostream& err,
+                std::vector<std::string>& failures, std::vector<std::filesystem::path>& checkpoints) {
+  // Runs first (resumed or new), so the ETA can count every speed still to do. A direction not
+  // asked for is carried over from an earlier result file of this scene, when there is one.
+  std::vector<std::unique_ptr<SweepRun>> runs;
+  std::vector<bool> carried;
+  std::size_t remaining = 0;
+  for (SweepDirection direction : {SweepDirection::kUp, SweepDirection::kDown}) {
+    const bool asked = std::find(options.directions.begin(), options.directions.end(), direction) !=
+                       options.directions.end();
+    if (!asked) {
+      if (std::optional<std::vector<SweepPoint>> earlier = ReadFinishedSweep(h5_file, scene, direction)) {
+        progress("[sweep {}] kept from {}: {} speeds", ToString(direction), h5_file.string(),
+                 earlier->size());
+        const Index n = TwoPointStructure(scene.two_point).States();
+        runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*earlier), Vector::Zero(n)));
+        carried.push_back(true);
+      }
+      continue;
+    }
+    const std::filesystem::path checkpoint = CheckpointPath(h5_file, direction);
+    std::optional<SweepCheckpoint> saved;
+    if (options.resume) {
+      saved = ReadSweepCheckpoint(checkpoint, scene, direction);
+    } else if (std::filesystem::exists(checkpoint)) {
+      fmt::print(err, "rubcont: warning: starting the {} sweep afresh; {} (from an interrupted run) "
+                      "will be overwritten (--resume continues from it)\n",
+                 ToString(direction), checkpoint.string());
+    }
+    std::optional<std::vector<SweepPoint>> finished;
+    if (options.resume && !saved) {
+      // No checkpoint: a direction already complete in the result file is not run again.
+      finished = ReadFinishedSweep(h5_file, scene, direction);
+      const std::size_t planned = SweepOptionsOf(scene, direction).parameters.size();
+      if (finished && (finished->size() != planned ||
+                       finished->back().status == SweepPointStatus::kIntegrationFailure)) {
+        finished.reset();
+      }
+    }
+    if (saved) {
+      progress("[sweep {}] resuming from {}: {} speeds done", ToString(direction),
+               checkpoint.string(), saved->points.size());
+      runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(saved->points), saved->state));
+    } else if (finished) {
+      progress("[sweep {}] complete in {}: not run again", ToString(direction), h5_file.string());
+      const Index n = TwoPointStructure(scene.two_point).States();
+      runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*finished), Vector::Zero(n)));
+    } else {
+      runs.push_back(std::make_unique<SweepRun>(scene, direction));
+    }
+    carried.push_back(false);
+    const SweepRun& run = *runs.back();
+    remaining += run.stepper().options().parameters.size() - run.stepper().next_index();
+  }
+  const SweepSettings& w = scene.analysis.sweep;
+  const SweepOptions& used = runs.front()->stepper().options();
+  fmt::print(out, "[sweep] L3 time marching (Kumar 2010 §3.5): {} order ≤ {}, rtol {:g}, atol {:g}; "
+                  "{:g} rpm steps, dwell ≤ {:g} s, settled when {} successive {:g} s windows agree "
+                  "(spectra to {:g}, BP to {:g} Hz); impulse {:g} N·s\n",
+             ToString(used.integrator.method), used.integrator.max_order,
+             used.integrator.relative_tolerance, used.integrator.absolute_tolerance,
+             w.speed_step_rpm, w.dwell, w.settle_windows + 1, w.settle_window, w.spectrum_tolerance,
+             w.frequency_tolerance_hz, w.impulse);
+
+  const Clock::time_point start = Clock::now();
+  std::size_t done = 0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    SweepRun& run = *runs[r];
+    if (carried[r]) {
+      WriteSweep(writer, run);
+      continue;
+    }
+    SweepStepper& stepper = run.stepper();
+    const std::string label = fmt::format("[sweep {}]", ToString(run.direction()));
+    const std::filesystem::path checkpoint = CheckpointPath(h5_file, run.direction());
+    const std::size_t total = stepper.options().parameters.size();
+    checkpoints.push_back(checkpoint);
+    while (!stepper.Done() && !stepper.Failed()) {
+      const SweepStepOutcome outcome = stepper.Step();
+      const SweepPoint& p = stepper.points().back();
+      ++done;
+      if (outcome == SweepStepOutcome::kFailed) {
+        progress("{} {}/{} {:.1f} rpm: integration failure: {}", label, stepper.points().size(), total,
+                 RadPerSecondToRpm(p.parameter), p.message);
+        break;
+      }
+      WriteSweepCheckpoint(checkpoint, run);
+      const RubSweepRegimes regimes = run.Regimes();
+      const std::size_t i = stepper.points().size() - 1;
+      const double elapsed = SecondsSince(start);
+      progress("{} {}/{} {:.1f} rpm: BP {}/{} Hz ({}/{}), V {:.4f}/{:.4f} m/s, {} after {:g} s "
+               "({:.1f} s); ETA {}",
+               label, stepper.points().size(), total, RadPerSecondToRpm(p.parameter),
+               Hz(regimes.precession_hz[0][i]), Hz(regimes.precession_hz[1][i]),
+               ToString(regimes.regime[0][i]), ToString(regimes.regime[1][i]),
+               p.channels[0].measures[kSlipVelocityMeasure].mean,
+               p.channels[1].measures[kSlipVelocityMeasure].mean, ToString(p.status),
+               p.simulated_time, p.wall_seconds,
+               Duration(elapsed / static_cast<double>(done) * static_cast<double>(remaining - done)));
+    }
+    WriteSweep(writer, run);
+
+    // Summary on stdout.
+    const std::vector<SweepPoint>& points = stepper.points();
+    int settled = 0, unsettled = 0;
+    double simulated = 0.0, wall = 0.0;
+    long steps = 0;
+    for (const SweepPoint& p : points) {
+      settled += p.status == SweepPointStatus::kSettled ? 1 : 0;
+      unsettled += p.status == SweepPointStatus::kNotSettled ? 1 : 0;
+      simulated += p.simulated_time;
+      wall += p.wall_seconds;
+      steps += p.statistics.steps;
+    }
+    fmt::print(out, "  {}: {} of {} speeds, {:g} → {:g} rpm; {} settled, {} not settled within {:g} s; "
+                    "{:.1f} s simulated, {} steps, {:.1f} s wall\n",
+               ToString(run.direction()), points.size(), total,
+               RadPerSecondToRpm(stepper.options().parameters.front()),
+               RadPerSecondToRpm(stepper.options().parameters.back()), settled, unsettled, w.dwell,
+               simulated, steps, wall);
+    for (const RubSweepJump& j : run.Regimes().jumps) {
+      fmt::print(out, "    {:<5}  {:<16}  {:6.1f} → {:6.1f} rpm   BP {} → {} Hz\n",
+                 run.structure().contacts[static_cast<std::size_t>(j.contact)].name, ToString(j.kind),
+                 j.speed_from_rpm, j.speed_to_rpm, Hz(j.precession_from_hz), Hz(j.precession_to_hz));
+    }
+    if (stepper.Failed()) {
+      failures.push_back(fmt::format("[sweep {}] at {:.1f} rpm: {}", ToString(run.direction()),
+                                     RadPerSecondToRpm(points.back().parameter), points.back().message));
+    }
+  }
+
+  // The jump table: each jump next to the bifurcation of the L1 branches that predicts it. The
+  // branches are those of the law the sweeps integrate (tanh, ε = velocity_scale): with exact
+  // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
+  // they can, and the sweeps do.
+  const Clock::time_point branches_start = Clock::now();
+  const RubStructure structure = TwoPointStructure(scene.two_point);
+  RubStructure balanced = structure;  // rotating waves need rotational symmetry (as RunBranches)
+  balanced.imbalance = 0.0;
+  const std::vector<RotatingWaveBranch> branches =
+      ComputeRotatingWaveBranches(balanced, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+  WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,
+                            scene.analysis.speed_range_rpm, "/sweeps/branches");
+  std::vector<PredictedJump> table;
+  for (const auto& run : runs) {
+    const std::vector<PredictedJump> rows =
+        PredictJumps(ToString(run->direction()), structure, run->stepper().points(), run->Regimes(),
+                     branches);
+    table.insert(table.end(), rows.begin(), rows.end());
+  }
+  WriteJumpTable(writer, table);
+  fmt::print(out, "  jump table (L1 branches, tanh friction ε = {:g} m/s: {} in {:.3f} s):\n",
+             structure.law.velocity_scale, branches.size(), SecondsSince(branches_start));
+  for (const PredictedJump& row : table) {
+    const RubSweepJump& j = row.jump;
+    fmt::print(out, "    {:<4} {:<5} {:<16} {:6.1f} → {:6.1f} rpm  BP {} → {} Hz  ", row.direction,
+               row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
+               Hz(j.precession_from_hz), Hz(j.precession_to_hz));
+    if (row.bifurcation.empty()) {
+      if (row.branch.empty()) {
+        fmt::print(out, "not predicted: neither state is a rotating wave\n");
+      } else {
+        fmt::print(out, "not predicted: {} state on {} ({}), no special point within 10 rpm\n",
+                   row.matched_side, row.branch,
+                   row.branch_stable == 1 ? "stable" : row.branch_stable == 0 ? "unstable" : "?");
+      }
+    } else {
+      fmt::print(out, "{} on {} ({}, {}): {:.2f} rpm, {:.2f} Hz; jump − bifurcation {:+.2f} rpm\n",
+                 row.bifurcation, row.branch, row.matched_side,
+                 row.branch_stable == 1 ? "stable" : row.branch_stable == 0 ? "unstable" : "?",
+                 row.bifurcation_speed_rpm, row.bifurcation_precession_hz, row.difference_rpm);
+    }
+  }
+}
+
 RubStructure StructureOf(const Scene& scene) {
   return scene.model == ModelKind::kJeffcott ? JeffcottStructure(scene.jeffcott)
                                              : TwoPointStructure(scene.two_point);
@@ -167,7 +366,8 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
 
 // Runs the stages, writes the HDF5 file atomically, then the figures. Returns the exit code.
 int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::filesystem::path& h5_file,
-            bool quiet, std::ostream& out, std::ostream& err) {
+            const ExecuteOptions& options, std::ostream& out, std::ostream& err) {
+  const bool quiet = options.quiet;
   Progress progress(quiet, err);
   for (Stage stage : stages) {
     if (IsTextbook(scene.model) != (stage == Stage::kOrbits)) {
@@ -185,6 +385,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   std::string level = "L0";
   std::vector<std::string> failures;
   std::vector<std::string> scripts;
+  std::vector<std::filesystem::path> checkpoints;
 
   fmt::print(out, "scene {} (model {}) from {}\n", scene.name, ToString(scene.model), scene.source);
   for (Stage stage : stages) {
@@ -243,8 +444,14 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         scripts.push_back("analytic.py");
         break;
       }
+      case Stage::kSweep: {
+        SweepStage(scene, options, h5_file, writer, progress, out, err, failures, checkpoints);
+        scripts.push_back("sweep.py");
+        level = "L3";  // the highest level a stage of this file used
+        break;
+      }
       case Stage::kBranches: {
-        level = "L1";
+        if (level != "L3") level = "L1";
         RunBranches(scene, writer, progress, out, failures);
         scripts.push_back("branches.py");
         break;
@@ -262,6 +469,11 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   writer.SetAttribute("/", "status", failures.empty() ? "success" : "failure");
   writer.Commit();
   fmt::print(out, "wrote {}\n", h5_file.string());
+  // The result holds every finished speed now: the checkpoints are no longer needed.
+  for (const std::filesystem::path& checkpoint : checkpoints) {
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint, ignored);
+  }
 
   for (const std::string& script : scripts) {
     const Clock::time_point start = Clock::now();
@@ -284,7 +496,10 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
   return Guarded(err, [&] {
     const Scene scene = request.scene_file ? LoadScene(*request.scene_file) : DefaultScene();
     const std::filesystem::path dir = std::filesystem::path(request.out_dir) / scene.name;
-    return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), request.quiet, out, err);
+    ExecuteOptions options;
+    options.quiet = request.quiet;
+    options.resume = request.resume;
+    return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
 }
 
@@ -294,7 +509,30 @@ int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     const std::filesystem::path file =
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name / "analytic.h5";
-    return Execute(scene, {Stage::kAnalytic}, file, request.quiet, out, err);
+    ExecuteOptions options;
+    options.quiet = request.quiet;
+    return Execute(scene, {Stage::kAnalytic}, file, options, out, err);
+  });
+}
+
+int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    ExecuteOptions options;
+    options.quiet = request.quiet;
+    options.resume = request.resume;
+    if (request.direction == "up") {
+      options.directions = {SweepDirection::kUp};
+    } else if (request.direction == "down") {
+      options.directions = {SweepDirection::kDown};
+    } else if (request.direction != "both") {
+      throw std::invalid_argument("--direction " + request.direction + ": must be up, down or both");
+    }
+    const Scene scene = LoadScene(request.scene_file);
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name / "sweep.h5";
+    // The branches go into the same file: the figures draw the sweeps over them.
+    return Execute(scene, {Stage::kBranches, Stage::kSweep}, file, options, out, err);
   });
 }
 
@@ -304,7 +542,9 @@ int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     const std::filesystem::path file =
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name / "branches.h5";
-    return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, request.quiet, out, err);
+    ExecuteOptions options;
+    options.quiet = request.quiet;
+    return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, options, out, err);
   });
 }
 

@@ -17,6 +17,7 @@ struct RunRequest {
   std::optional<std::string> scene_file;  // none: the built-in default scene
   std::string out_dir = "results";        // results go to <out_dir>/<scene name>/
   bool quiet = false;                     // no progress on stderr (warnings and errors still)
+  bool resume = false;                    // sweeps continue from their checkpoints, if any
 };
 
 // `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
@@ -31,6 +32,19 @@ struct AnalyticRequest {
 // `rubcont analytic SCENE`: the L0 stage only; figures next to the HDF5 file.
 int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
 
+struct SweepRequest {
+  std::string scene_file;
+  std::string direction = "both";       // "up", "down" or "both" (up first)
+  std::optional<std::string> out_file;  // none: results/<scene name>/sweep.h5
+  bool quiet = false;
+  // Continue from `<out stem>.<direction>.checkpoint.h5` (written after every finished speed)
+  // instead of starting again; a checkpoint of another scene or settings is an error.
+  bool resume = false;
+};
+
+// `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);
+// figures next to the HDF5 file.
+int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& err);
 // `rubcont branches SCENE`: the L0 and L1 stages (default file results/<name>/branches.h5).
 int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostream& err);
 

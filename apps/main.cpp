@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
                                       "(scenes/default.toml)");
   run->add_option("--out", run_request.out_dir, "output directory")->capture_default_str();
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
+  run->add_flag("--resume", run_request.resume,
+                "sweeps continue from the checkpoints of an interrupted run");
 
   rubcont::AnalyticRequest analytic_request;
   std::string analytic_out;
@@ -38,6 +40,22 @@ int main(int argc, char** argv) {
                        "results/<scene name>/analytic.h5");
   analytic->add_flag("-q,--quiet", analytic_request.quiet, "no progress on stderr");
 
+  rubcont::SweepRequest sweep_request;
+  std::string sweep_out;
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "level L3: time-marching speed-up / speed-down sweeps of [analysis.sweep] (BP "
+               "frequency, slip velocity, waterfall spectra, jumps), checkpointed per speed");
+  sweep->add_option("SCENE", sweep_request.scene_file, "scene file (TOML)")->required();
+  sweep->add_option("--direction", sweep_request.direction, "up, down or both (up first)")
+      ->check(CLI::IsMember({"up", "down", "both"}))
+      ->capture_default_str();
+  sweep->add_option("--out", sweep_out,
+                    "HDF5 file to write (figures and checkpoints go next to it); default "
+                    "results/<scene name>/sweep.h5");
+  sweep->add_flag("-q,--quiet", sweep_request.quiet, "no progress on stderr");
+  sweep->add_flag("--resume", sweep_request.resume,
+                  "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
+                  "checkpoint.h5) instead of starting again");
   rubcont::AnalyticRequest branches_request;
   std::string branches_out;
   CLI::App* branches = app.add_subcommand(
@@ -99,6 +117,10 @@ int main(int argc, char** argv) {
   if (*analytic) {
     if (!analytic_out.empty()) analytic_request.out_file = analytic_out;
     return rubcont::AnalyticCommand(analytic_request, std::cout, std::cerr);
+  }
+  if (*sweep) {
+    if (!sweep_out.empty()) sweep_request.out_file = sweep_out;
+    return rubcont::SweepCommand(sweep_request, std::cout, std::cerr);
   }
   if (*branches) {
     if (!branches_out.empty()) branches_request.out_file = branches_out;

@@ -41,9 +41,9 @@ enum class Rule {
   kNonNegative,           // ≥ 0 (each entry of a pair)
   kIncreasingPositive,    // pair 0 < low < high
   kGridPoints,            // integer 2 … kMaxGridPoints
-  kSegments,              // integer 1 … kMaxSegments
+  kCount,                 // integer 1 … kMaxCount
   kSteps,                 // integer 1 … kMaxSteps
-  kTolerance,             // 0 < x < 1
+  kOpenUnit,              // 0 < x < 1
 };
 
 enum class Presence {
@@ -53,7 +53,7 @@ enum class Presence {
 };
 
 constexpr std::int64_t kMaxGridPoints = 1000000;
-constexpr std::int64_t kMaxSegments = 1000;
+constexpr std::int64_t kMaxCount = 1000;
 constexpr std::int64_t kMaxSteps = 1000000;
 
 using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
@@ -115,8 +115,7 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      field);
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits"};
-const std::vector<std::string> kPlannedStages = {"sweep"};
+const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
 const std::vector<std::string> kModelNames = {"two_point", "jeffcott", "duffing", "stuart_landau",
                                               "van_der_pol"};
 
@@ -337,11 +336,11 @@ std::vector<KeySpec> BuildSchema() {
       start.default_text = "the low end of `" + parameter + "_range`";
       s.push_back(start);
       s.push_back(Make<int, std::int64_t>(
-          prefix + "segments", ValueType::kInteger, "-", Rule::kSegments, Presence::kOptional,
+          prefix + "segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
           std::int64_t{1}, "Shooting segments: 1 single shooting, more for multiple shooting.",
           [](Scene& x) -> int& { return x.orbits.segments; }, model));
       s.push_back(Make<double>(
-          prefix + "tolerance", ValueType::kFloat, "-", Rule::kTolerance, Presence::kOptional,
+          prefix + "tolerance", ValueType::kFloat, "-", Rule::kOpenUnit, Presence::kOptional,
           1e-10, "Integrator tolerance (relative = absolute, on scaled states) of every segment.",
           [](Scene& x) -> double& { return x.orbits.tolerance; }, model));
       s.push_back(Make<int, std::int64_t>(
@@ -389,7 +388,8 @@ std::vector<KeySpec> BuildSchema() {
     stages.presence = Presence::kOptional;
     stages.default_value = std::vector<std::string>{"analytic", "branches"};
     stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
-                 "\"branches\" (L1 rotating waves continued in speed) — models two_point and "
+                 "\"branches\" (L1 rotating waves continued in speed) and \"sweep\" (L3: the "
+                 "speed-up and speed-down sweeps of [analysis.sweep]) — models two_point and "
                  "jeffcott; \"orbits\" (periodic orbits by shooting, continued in the parameter, "
                  "Floquet stability) — the textbook models.";
     stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
@@ -399,6 +399,7 @@ std::vector<KeySpec> BuildSchema() {
       x.analysis.stages.clear();
       for (const std::string& name : std::get<std::vector<std::string>>(v)) {
         if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
+        if (name == "sweep") x.analysis.stages.push_back(Stage::kSweep);
         if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
         if (name == "orbits") x.analysis.stages.push_back(Stage::kOrbits);
       }
@@ -426,6 +427,73 @@ std::vector<KeySpec> BuildSchema() {
       Presence::kOptional, std::array<double, 2>{20.0, 260.0},
       "[low, high]: running-speed range of the continuation branches.",
       [](Scene& x) -> std::array<double, 2>& { return x.analysis.speed_range_rpm; }, kCommon));
+
+  // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; models/rub_sweep.h).
+  auto sweep_pair = [&](const char* key, std::array<double, 2> value, const char* doc,
+                        Field<std::array<double, 2>> field) {
+    s.push_back(Make<std::array<double, 2>>(key, ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
+                                            Presence::kOptional, value, doc, field));
+  };
+  auto sweep_float = [&](const char* key, const char* unit, Rule rule, double value, const char* doc,
+                         Field<double> field) {
+    s.push_back(Float(key, unit, rule, doc, field, Presence::kOptional, value));
+  };
+  sweep_pair("analysis.sweep.up_range_rpm", {20.0, 258.0},
+             "[low, high]: the speed-up sweep runs from low to high.",
+             [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.up_range_rpm; });
+  sweep_pair("analysis.sweep.down_range_rpm", {20.0, 252.0},
+             "[low, high]: the speed-down sweep runs from high to low.",
+             [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.down_range_rpm; });
+  sweep_float("analysis.sweep.speed_step_rpm", "rpm", Rule::kPositive, 2.0,
+              "Speed step; each speed continues from the state the previous one ended in.",
+              [](Scene& x) -> double& { return x.analysis.sweep.speed_step_rpm; });
+  sweep_float("analysis.sweep.dwell", "s", Rule::kPositive, 1.5,
+              "Longest simulated time per speed (whole settle windows); ≥ (settle_windows + 1)·"
+              "settle_window.", [](Scene& x) -> double& { return x.analysis.sweep.dwell; });
+  sweep_float("analysis.sweep.settle_window", "s", Rule::kPositive, 0.25,
+              "Window length of the settle test: successive windows are compared.",
+              [](Scene& x) -> double& { return x.analysis.sweep.settle_window; });
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.sweep.settle_windows", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      std::int64_t{2},
+      "A speed has settled when this many successive window pairs agree (spectra and dominant "
+      "frequencies); else it runs to the dwell and is flagged.",
+      [](Scene& x) -> int& { return x.analysis.sweep.settle_windows; }));
+  sweep_float("analysis.sweep.spectrum_tolerance", "-", Rule::kOpenUnit, 0.05,
+              "Agreeing windows: relative L2 distance of their two-sided amplitude spectra.",
+              [](Scene& x) -> double& { return x.analysis.sweep.spectrum_tolerance; });
+  sweep_float("analysis.sweep.frequency_tolerance_hz", "Hz", Rule::kPositive, 0.25,
+              "Agreeing windows: change of each contact's dominant (BP) frequency.",
+              [](Scene& x) -> double& { return x.analysis.sweep.frequency_tolerance_hz; });
+  sweep_float("analysis.sweep.analysis_length", "s", Rule::kPositive, 0.5,
+              "The last stretch of each speed that is analysed (spectrum, BP, slip velocity); "
+              "≤ (settle_windows + 1)·settle_window.",
+              [](Scene& x) -> double& { return x.analysis.sweep.analysis_length; });
+  sweep_float("analysis.sweep.sample_rate_hz", "Hz", Rule::kPositive, 4096.0,
+              "Sampling rate of the analysed signals (dense output of the integrator).",
+              [](Scene& x) -> double& { return x.analysis.sweep.sample_rate_hz; });
+  sweep_float("analysis.sweep.spectrum_max_hz", "Hz", Rule::kPositive, 600.0,
+              "Spectra are stored for −this … +this (the waterfall); ≤ sample_rate_hz/2.",
+              [](Scene& x) -> double& { return x.analysis.sweep.spectrum_max_hz; });
+  sweep_float("analysis.sweep.impulse", "N·s", Rule::kNonNegative, 1.0,
+              "Impulse on the rotor at its mass-centre plane along +x at the start of each "
+              "direction (rotor centred and at rest): a translation at impulse/m_r.",
+              [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
+  sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit, 1e-6,
+              "CVODES BDF (order ≤ 2, analytic Jacobian): relative local error tolerance.",
+              [](Scene& x) -> double& { return x.analysis.sweep.relative_tolerance; });
+  sweep_float("analysis.sweep.absolute_tolerance", "-", Rule::kOpenUnit, 1e-6,
+              "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
+              "fastest support frequency).",
+              [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
+  sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
+              "A contact whirls (rolls) when |BP − f_roll| ≤ this·f_roll, f_roll = RCI·(speed in "
+              "rev/s); otherwise it whips (slips).",
+              [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
+  sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive, 3.0,
+              "Between successive speeds, a BP change larger than this from both trends (BP "
+              "constant, BP ∝ speed) is a jump even when the regime stays the same.",
+              [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
   return s;
 }
 
@@ -561,9 +629,9 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kNonNegative: return spec.type == ValueType::kFloatPair ? "each ≥ 0" : "≥ 0";
     case Rule::kIncreasingPositive: return "0 < low < high";
     case Rule::kGridPoints: return fmt::format("2 … {}", kMaxGridPoints);
-    case Rule::kSegments: return fmt::format("1 … {}", kMaxSegments);
+    case Rule::kCount: return fmt::format("1 … {}", kMaxCount);
     case Rule::kSteps: return fmt::format("1 … {}", kMaxSteps);
-    case Rule::kTolerance: return "0 < x < 1";
+    case Rule::kOpenUnit: return "0 < x < 1";
   }
   return "";
 }
@@ -602,10 +670,6 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
       for (const std::string& name : names) {
         const bool implemented =
             std::find(kImplementedStages.begin(), kImplementedStages.end(), name) != kImplementedStages.end();
-        const bool planned =
-            std::find(kPlannedStages.begin(), kPlannedStages.end(), name) != kPlannedStages.end();
-        if (planned)
-          return Quote(name) + " is not implemented yet (implemented: " + JoinQuoted(kImplementedStages) + ")";
         if (!implemented)
           return Quote(name) + " is not a stage (implemented: " + JoinQuoted(kImplementedStages) + ")";
         if (!seen.insert(name).second) return Quote(name) + " is listed twice";
@@ -635,14 +699,14 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
       if (n < 2 || n > kMaxGridPoints) return fmt::format("must be from 2 to {}", kMaxGridPoints);
       return std::nullopt;
     }
-    case Rule::kSegments:
+    case Rule::kCount:
     case Rule::kSteps: {
       const std::int64_t n = std::get<std::int64_t>(value);
-      const std::int64_t most = spec.rule == Rule::kSegments ? kMaxSegments : kMaxSteps;
+      const std::int64_t most = spec.rule == Rule::kCount ? kMaxCount : kMaxSteps;
       if (n < 1 || n > most) return fmt::format("must be from 1 to {}", most);
       return std::nullopt;
     }
-    case Rule::kTolerance: {
+    case Rule::kOpenUnit: {
       const double x = std::get<double>(value);
       if (!std::isfinite(x)) return "must be finite";
       if (!(x > 0.0 && x < 1.0)) return "must lie strictly between 0 and 1";
@@ -769,6 +833,7 @@ class Loader {
     }
     CheckStagesFitModel(scene);
     if (IsTextbook(scene.model)) CheckOrbitsStart(scene);
+    if (problems_.empty()) CheckSweep(scene.analysis.sweep);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
@@ -832,6 +897,32 @@ class Loader {
     problems_.push_back(fmt::format("{}:{}:{}: {}", source_, where.line, where.column, message));
   }
   void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
+
+  // Rules of [analysis.sweep] that tie two keys together; the problem is reported at `key`.
+  void CheckSweep(const SweepSettings& w) {
+    auto problem = [&](const std::string& key, double value, const std::string& rule) {
+      const std::string message = fmt::format("{} = {}: {}", key, FormatFloat(value), rule);
+      if (nodes_.count(key)) Problem(*nodes_.at(key), message);
+      else problems_.push_back(fmt::format("{}: {} (default)", source_, message));
+    };
+    const double shortest = (w.settle_windows + 1) * w.settle_window;
+    if (w.dwell < shortest * (1.0 - 1e-12))
+      problem("analysis.sweep.dwell", w.dwell,
+              fmt::format("must be at least (settle_windows + 1)·settle_window = {} s", shortest));
+    if (w.analysis_length > shortest * (1.0 + 1e-12))
+      problem("analysis.sweep.analysis_length", w.analysis_length,
+              fmt::format("must not exceed (settle_windows + 1)·settle_window = {} s (the shortest "
+                          "run of a speed)", shortest));
+    if (w.settle_window * w.sample_rate_hz < 15.5)
+      problem("analysis.sweep.settle_window", w.settle_window,
+              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+    if (w.analysis_length * w.sample_rate_hz < 15.5)
+      problem("analysis.sweep.analysis_length", w.analysis_length,
+              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+    if (w.spectrum_max_hz > 0.5 * w.sample_rate_hz)
+      problem("analysis.sweep.spectrum_max_hz", w.spectrum_max_hz,
+              fmt::format("must not exceed sample_rate_hz/2 = {} Hz (Nyquist)", 0.5 * w.sample_rate_hz));
+  }
 
   // Records every value under its dotted path; reports unknown keys and misplaced tables.
   void Walk(const toml::table& table, const std::string& prefix) {
@@ -1004,6 +1095,7 @@ bool IsTextbook(ModelKind model) {
 const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
+    case Stage::kSweep: return "sweep";
     case Stage::kBranches: return "branches";
     case Stage::kOrbits: return "orbits";
   }

@@ -42,17 +42,39 @@ bool IsTextbook(ModelKind model);
 // The stages `rubcont run` can perform, in the order the scene lists them.
 enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
+  kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (models/rub_sweep.h)
   kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
   kOrbits,    // "orbits": periodic orbits of a textbook model continued in its parameter, by shooting
               // with Floquet stability (shooting/orbit_branches.h)
 };
 const char* ToString(Stage stage);
 
+// [analysis.sweep]: the time-marching sweeps (Kumar 2010 §3.5). Units and rules in the schema.
+struct SweepSettings {
+  std::array<double, 2> up_range_rpm{20.0, 258.0};    // speed-up sweep: low → high [rpm]
+  std::array<double, 2> down_range_rpm{20.0, 252.0};  // speed-down sweep: high → low [rpm]
+  double speed_step_rpm = 2.0;        // [rpm]
+  double dwell = 1.5;                 // longest simulated time per speed [s]
+  double settle_window = 0.25;        // [s]
+  int settle_windows = 2;             // successive agreeing window pairs
+  double spectrum_tolerance = 0.05;   // relative spectral distance between windows
+  double frequency_tolerance_hz = 0.25;
+  double analysis_length = 0.5;       // [s] analysed at the end of each speed
+  double sample_rate_hz = 4096.0;
+  double spectrum_max_hz = 600.0;     // spectra kept for |f| ≤ this
+  double impulse = 1.0;               // [N·s] at t = 0 of each direction
+  double relative_tolerance = 1e-6;   // CVODES BDF
+  double absolute_tolerance = 1e-6;   // in units of each state's scale
+  double whirl_tolerance = 0.02;
+  double frequency_jump_hz = 3.0;
+};
+
 // [analysis]: what to compute. Defaults are documented in the schema (scenes/README.md).
 struct AnalysisOptions {
   std::vector<Stage> stages{Stage::kAnalytic};
   std::array<double, 2> precession_range_hz{1.0, 200.0};  // [Hz] analytic curve grid, 0 < lo < hi
   int precession_points = 4000;                          // grid points, 2 … 1 000 000
+  SweepSettings sweep;
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
 };
 

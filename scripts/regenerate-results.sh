@@ -4,7 +4,8 @@
 # eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
 # textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol), and the
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
-# build (most of it is matplotlib).
+# build (most of it is matplotlib). With --sweeps it also re-runs the time-marching sweeps (L3) of
+# the scenes that have them: about 8 min per scene on 2 cores (results/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -41,3 +42,9 @@ build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_
 echo "results/design: $(ls results/design | tr '\n' ' ')"
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
+if [[ "${1:-}" == "--sweeps" ]]; then
+  for scene in thesis_A_a thesis_C_a thesis_A_a_imbalance; do
+    build/rubcont sweep "scenes/$scene.toml" --quiet > "results/$scene/sweep_summary.txt"
+    echo "results/$scene: sweeps"
+  done
+fi

@@ -1,0 +1,234 @@
+#include "apps/sweep_jumps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rubcont {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRpmPerRadPerSecond = 30.0 / 3.14159265358979323846;
+
+struct BranchMatch {
+  const RotatingWaveBranch* branch = nullptr;
+  double score = std::numeric_limits<double>::infinity();
+  int stable = -1;
+};
+
+// What the sweep saw at one speed, per contact.
+struct SweepState {
+  double speed_rpm = kNaN;
+  std::vector<char> touching;        // in contact for at least half the analysed time
+  std::vector<double> precession_hz;
+  std::vector<double> normal_force;  // mean over the time in contact [N]
+};
+
+// The branch whose state at the sweep state's speed matches it: the same contacts touching, each
+// touching contact's precession within the tolerance; among those the stable ones first (a sweep
+// settles on attractors), then the smallest relative normal-force mismatch (which tells, e.g., the
+// Mode 1 whirl from the Mode 2 and single-contact whirls that roll at the same precession).
+BranchMatch MatchState(const SweepState& state, const RubStructure& structure,
+                       const std::vector<RotatingWaveBranch>& branches, const JumpMatchOptions& o) {
+  BranchMatch best;
+  bool best_stable = false;
+  if (!std::isfinite(state.speed_rpm)) return best;
+  const std::size_t m = structure.contacts.size();
+  bool any_touching = false;
+  for (std::size_t k = 0; k < m; ++k) {
+    if (!state.touching[k]) continue;
+    if (!std::isfinite(state.precession_hz[k])) return best;
+    any_touching = true;
+  }
+  if (!any_touching) return best;
+  for (const RotatingWaveBranch& b : branches) {
+    const auto& names = b.branch.measure_names;
+    auto index = [&](const std::string& name) -> Index {
+      const auto it = std::find(names.begin(), names.end(), name);
+      return it == names.end() ? -1 : static_cast<Index>(it - names.begin());
+    };
+    const Index precession = index("precession_hz");
+    std::vector<Index> normal(m);
+    bool complete = precession >= 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      normal[k] = index("normal_force_" + structure.contacts[k].name);
+      complete = complete && normal[k] >= 0;
+    }
+    if (!complete) continue;
+    const auto& points = b.branch.points;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      const double r0 = points[i].lambda * kRpmPerRadPerSecond;
+      const double r1 = points[i + 1].lambda * kRpmPerRadPerSecond;
+      if (state.speed_rpm < std::min(r0, r1) || state.speed_rpm > std::max(r0, r1)) continue;
+      if (points[i].piece != points[i + 1].piece) continue;  // no interpolation across a switch
+      const double s = r1 == r0 ? 0.0 : (state.speed_rpm - r0) / (r1 - r0);
+      auto at = [&](Index j) { return (1.0 - s) * points[i].measures(j) + s * points[i + 1].measures(j); };
+      const double hz = at(precession);
+      bool matches = true;
+      double score = 0.0;
+      for (std::size_t k = 0; k < m && matches; ++k) {
+        const double n = at(normal[k]);
+        const bool touching = n > 0.0;
+        if (touching != static_cast<bool>(state.touching[k])) {
+          matches = false;
+        } else if (touching) {
+          const double tolerance = std::max(o.match_hz, o.match_relative * std::abs(hz));
+          matches = std::abs(hz - state.precession_hz[k]) <= tolerance;
+          const double ns = state.normal_force[k];
+          score += std::abs(ns - n) / std::max({std::abs(ns), std::abs(n), 1e-12});
+        }
+      }
+      if (!matches) continue;
+      const BranchPoint& nearer = s < 0.5 ? points[i] : points[i + 1];
+      const bool stable = nearer.num_unstable == 0;
+      if ((stable && !best_stable) || (stable == best_stable && score < best.score)) {
+        best.branch = &b;
+        best.score = score;
+        best.stable = nearer.num_unstable < 0 ? -1 : stable ? 1 : 0;
+        best_stable = stable;
+      }
+    }
+  }
+  return best;
+}
+
+SweepState StateAt(double speed_rpm, const RubStructure& structure,
+                   const std::vector<SweepPoint>& points, const RubSweepRegimes& regimes) {
+  SweepState state;
+  const std::size_t m = structure.contacts.size();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (std::abs(RadPerSecondToRpm(points[i].parameter) - speed_rpm) > 1e-9) continue;
+    if (points[i].channels.size() != m) return state;
+    state.speed_rpm = speed_rpm;
+    for (std::size_t k = 0; k < m; ++k) {
+      const ChannelSummary& c = points[i].channels[k];
+      state.touching.push_back(c.active_fraction >= 0.5 ? 1 : 0);
+      state.precession_hz.push_back(regimes.precession_hz[k][i]);
+      state.normal_force.push_back(c.measures.size() > kNormalForceMeasure
+                                       ? c.measures[kNormalForceMeasure].mean : kNaN);
+    }
+    return state;
+  }
+  return state;
+}
+
+// The special point of `b` nearest the speed interval [lo, hi] (distance 0 inside it; the first
+// one of the branch among equals), if within `max_distance`; −1 otherwise.
+int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance) {
+  int best = -1;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
+    const SpecialPoint& p = b.branch.special_points[i];
+    // A test function (the tanh law's "knee", where rolling rounds into slipping) marks a corner
+    // of a smooth branch, not a change of existence or stability.
+    if (p.type == SpecialPointType::kTestFunction) continue;
+    const double rpm = p.lambda * kRpmPerRadPerSecond;
+    const double distance = rpm < lo ? lo - rpm : rpm > hi ? rpm - hi : 0.0;
+    if (distance <= max_distance && distance < best_distance) {
+      best_distance = distance;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = scene.analysis.speed_range_rpm[0] / kRpmPerRadPerSecond;
+  options.search.speed_max = scene.analysis.speed_range_rpm[1] / kRpmPerRadPerSecond;
+  options.search.precession_max = 2.0 * 3.14159265358979323846 * scene.analysis.precession_range_hz[1];
+  return options;
+}
+
+std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,
+                                        const std::vector<SweepPoint>& points,
+                                        const RubSweepRegimes& regimes,
+                                        const std::vector<RotatingWaveBranch>& branches,
+                                        const JumpMatchOptions& options) {
+  std::vector<PredictedJump> rows;
+  for (const RubSweepJump& j : regimes.jumps) {
+    PredictedJump row;
+    row.direction = direction;
+    row.contact = structure.contacts.at(static_cast<std::size_t>(j.contact)).name;
+    row.jump = j;
+    row.bifurcation_speed_rpm = kNaN;
+    row.bifurcation_precession_hz = kNaN;
+    row.difference_rpm = kNaN;
+    const double lo = std::min(j.speed_from_rpm, j.speed_to_rpm);
+    const double hi = std::max(j.speed_from_rpm, j.speed_to_rpm);
+    bool first_match = true;
+    for (const char* side : {"departure", "landing"}) {
+      const double speed = side[0] == 'd' ? j.speed_from_rpm : j.speed_to_rpm;
+      const BranchMatch match =
+          MatchState(StateAt(speed, structure, points, regimes), structure, branches, options);
+      if (match.branch == nullptr) continue;
+      const int k = NearestSpecialPoint(*match.branch, lo, hi, options.max_distance_rpm);
+      if (first_match || k >= 0) {
+        row.matched_side = side;
+        row.branch = match.branch->name;
+        row.branch_stable = match.stable;
+        first_match = false;
+      }
+      if (k < 0) continue;
+      const SpecialPoint& p = match.branch->branch.special_points[static_cast<std::size_t>(k)];
+      row.bifurcation = p.Name();
+      row.bifurcation_speed_rpm = p.lambda * kRpmPerRadPerSecond;
+      row.bifurcation_precession_hz = match.branch->special_precession_hz[static_cast<std::size_t>(k)];
+      row.difference_rpm = 0.5 * (lo + hi) - row.bifurcation_speed_rpm;
+      break;
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {
+  const std::string g = "/sweeps/jump_table";
+  writer.CreateGroup(g);
+  writer.SetAttribute(g, "level", "L3 jumps, L1 bifurcations");
+  writer.SetAttribute(g, "rule",
+                      "a sweep state lies on a branch when the same contacts touch and each "
+                      "touching contact's BP is within max(1 Hz, 1 %) of the branch's precession "
+                      "at its speed (stable branches first, then the closest normal forces); the "
+                      "departure state is tried first, then the "
+                      "landing state; the predicting bifurcation is that branch's special point "
+                      "nearest the jump's speed interval, within 10 rpm of it; difference_rpm = "
+                      "middle of the interval minus the bifurcation speed");
+  std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
+  std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
+  std::vector<int> stable;
+  for (const PredictedJump& r : rows) {
+    direction.push_back(r.direction);
+    contact.push_back(r.contact);
+    kind.push_back(ToString(r.jump.kind));
+    from_rpm.push_back(r.jump.speed_from_rpm);
+    to_rpm.push_back(r.jump.speed_to_rpm);
+    from_hz.push_back(r.jump.precession_from_hz);
+    to_hz.push_back(r.jump.precession_to_hz);
+    side.push_back(r.matched_side);
+    branch.push_back(r.branch);
+    stable.push_back(r.branch_stable);
+    bifurcation.push_back(r.bifurcation);
+    b_rpm.push_back(r.bifurcation_speed_rpm);
+    b_hz.push_back(r.bifurcation_precession_hz);
+    difference.push_back(r.difference_rpm);
+  }
+  writer.WriteStrings(g + "/direction", direction);
+  writer.WriteStrings(g + "/contact", contact);
+  writer.WriteStrings(g + "/kind", kind);
+  writer.WriteDoubles(g + "/speed_from_rpm", from_rpm);
+  writer.WriteDoubles(g + "/speed_to_rpm", to_rpm);
+  writer.WriteDoubles(g + "/precession_from_hz", from_hz);
+  writer.WriteDoubles(g + "/precession_to_hz", to_hz);
+  writer.WriteStrings(g + "/matched_side", side);
+  writer.WriteStrings(g + "/branch", branch);
+  writer.WriteInts(g + "/branch_stable", stable);
+  writer.WriteStrings(g + "/bifurcation", bifurcation);
+  writer.WriteDoubles(g + "/bifurcation_speed_rpm", b_rpm);
+  writer.WriteDoubles(g + "/bifurcation_precession_hz", b_hz);
+  writer.WriteDoubles(g + "/difference_rpm", difference);
+}
+
+}  // namespace rubcont

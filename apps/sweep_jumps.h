@@ -1,0 +1,77 @@
+// The jump table of a scene's sweeps: each jump a time-marching sweep makes (level L3) next to the
+// bifurcation of the continuation branches (level L1) that predicts it.
+//
+//   /sweeps/jump_table   one row per jump, speed-up jumps first (attrs level "L3 with L1", rule)
+//     direction ("up" | "down"), contact, kind (RubJumpKind), speed_from_rpm, speed_to_rpm,
+//     precession_from_hz, precession_to_hz       the jump as the sweep saw it (models/rub_sweep.h)
+//     matched_side       "departure" | "landing" | "none": the state whose branch predicts the jump
+//                        (without a prediction: the state that lies on a branch, if any)
+//     branch             the branch it lies on ("" for none); branch_stable: 1 / 0 / −1 unknown,
+//                        at that speed
+//     bifurcation        SpecialPoint::Name() of the predicting point ("" for none)
+//     bifurcation_speed_rpm, bifurcation_precession_hz   where the branches put it (NaN for none)
+//     difference_rpm     jump speed − bifurcation speed, the jump speed being the middle of
+//                        [speed_from, speed_to] (± half a step); NaN for none
+//
+// The rule (PredictJumps): a state of the sweep lies on a branch when, at its speed, the same
+// contacts touch (sweep: in contact ≥ half the analysed time; branch: N > 0) and each touching
+// contact's BP is within max(match_hz, match_relative·BP) of the branch's precession (linear
+// interpolation between points of one smooth piece); stable branch points are preferred (a sweep
+// settles on attractors), then the smallest relative normal-force mismatch. The departure state (before the jump) is tried
+// first: the jump happens where that state stops existing or being stable, which is one of its
+// branch's special points (event: stick ↔ slip or contact loss, fold, Hopf, branch point; not
+// test functions such as the tanh law's knee, which is a corner, not a bifurcation). The
+// special point nearest to the speed interval of the jump is taken, if it lies within
+// max_distance_rpm of it. When the departure state is on no branch (a non-circular motion, or no
+// contact) or its branch has no special point near the jump, the landing state is tried the same
+// way. A jump neither side of which is predicted keeps the matched branch (if any) and no
+// bifurcation: the branches do not explain it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "models/rub_sweep.h"
+#include "shooting/rotating_wave_branches.h"
+
+namespace rubcont {
+
+struct JumpMatchOptions {
+  double match_hz = 1.0;         // [Hz] > 0: absolute precession tolerance of a state on a branch
+  double match_relative = 0.01;  // [-] ≥ 0: relative precession tolerance
+  // [rpm] > 0: a special point further than this from the jump's speed interval does not predict
+  // it (the thesis's sweeps overshoot a jump by about one 2 rpm step and a transient).
+  double max_distance_rpm = 10.0;
+};
+
+struct PredictedJump {
+  std::string direction;  // "up" or "down"
+  std::string contact;    // contact name
+  RubSweepJump jump;
+  std::string matched_side = "none";  // "departure", "landing" or "none"
+  std::string branch;                 // the branch the matched state lies on
+  int branch_stable = -1;             // 1 / 0 at the matched speed; −1 unknown
+  std::string bifurcation;            // SpecialPoint::Name() of the predicting point
+  double bifurcation_speed_rpm;       // NaN when there is none
+  double bifurcation_precession_hz;
+  double difference_rpm;              // middle of the jump's interval − bifurcation speed
+};
+
+// The continuation options `rubcont branches` uses for a scene: its speed_range_rpm and the top of
+// its precession_range_hz.
+RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene);
+
+// The prediction of every jump of one direction's classified sweep.
+// `points` and `regimes` are one direction's sweep (SweepStepper::points(), ClassifySweep).
+std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,
+                                        const std::vector<SweepPoint>& points,
+                                        const RubSweepRegimes& regimes,
+                                        const std::vector<RotatingWaveBranch>& branches,
+                                        const JumpMatchOptions& options = {});
+
+// Writes /sweeps/jump_table (layout above).
+void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows);
+
+}  // namespace rubcont

@@ -1,0 +1,380 @@
+#include "apps/sweep_output.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "apps/version.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Group(SweepDirection direction) { return std::string("/sweeps/") + ToString(direction); }
+
+// The resolved scene without its first line (which names the file it was read from).
+std::string SceneBody(const Scene& scene) {
+  const std::string resolved = ResolvedSceneToml(scene);
+  return resolved.substr(resolved.find('\n') + 1);
+}
+
+template <class Function>
+std::vector<double> PerPoint(const std::vector<SweepPoint>& points, Function&& value) {
+  std::vector<double> out;
+  out.reserve(points.size());
+  for (const SweepPoint& p : points) out.push_back(value(p));
+  return out;
+}
+
+template <class Function>
+std::vector<int> PerPointInt(const std::vector<SweepPoint>& points, Function&& value) {
+  std::vector<int> out;
+  out.reserve(points.size());
+  for (const SweepPoint& p : points) out.push_back(value(p));
+  return out;
+}
+
+// A channel quantity per point (NaN for failed points, which have no summary).
+template <class Function>
+std::vector<double> PerChannel(const std::vector<SweepPoint>& points, std::size_t k, Function&& value) {
+  return PerPoint(points, [&](const SweepPoint& p) {
+    return k < p.channels.size() ? value(p.channels[k]) : kNaN;
+  });
+}
+
+void WriteAttributes(ResultWriter& writer, const std::string& group, const SweepRun& run) {
+  const SweepSettings& s = run.scene().analysis.sweep;
+  const SweepOptions& o = run.stepper().options();
+  writer.SetAttribute(group, "direction", ToString(run.direction()));
+  writer.SetAttribute(group, "level", "L3");
+  writer.SetAttribute(group, "speeds_planned", static_cast<double>(o.parameters.size()));
+  writer.SetAttribute(group, "integrator", ToString(o.integrator.method));
+  writer.SetAttribute(group, "max_order", static_cast<double>(o.integrator.max_order));
+  writer.SetAttribute(group, "relative_tolerance", o.integrator.relative_tolerance);
+  writer.SetAttribute(group, "absolute_tolerance", o.integrator.absolute_tolerance);
+  writer.SetAttribute(group, "speed_step_rpm", s.speed_step_rpm);
+  writer.SetAttribute(group, "dwell", s.dwell);
+  writer.SetAttribute(group, "settle_window", s.settle_window);
+  writer.SetAttribute(group, "settle_windows", static_cast<double>(s.settle_windows));
+  writer.SetAttribute(group, "spectrum_tolerance", s.spectrum_tolerance);
+  writer.SetAttribute(group, "frequency_tolerance_hz", s.frequency_tolerance_hz);
+  writer.SetAttribute(group, "analysis_length", s.analysis_length);
+  writer.SetAttribute(group, "sample_rate_hz", s.sample_rate_hz);
+  writer.SetAttribute(group, "spectrum_max_hz", s.spectrum_max_hz);
+  writer.SetAttribute(group, "impulse", s.impulse);
+  writer.SetAttribute(group, "whirl_tolerance", s.whirl_tolerance);
+  writer.SetAttribute(group, "frequency_jump_hz", s.frequency_jump_hz);
+  writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
+}
+
+void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun& run,
+                 const std::vector<SweepPoint>& points) {
+  const RubStructure& structure = run.structure();
+  writer.CreateGroup(group);
+  WriteAttributes(writer, group, run);
+  const RubSweepRegimes regimes =
+      ClassifySweep(structure, points, RegimeOptionsOf(run.scene()));
+  double wall = 0.0;
+  for (const SweepPoint& p : points) wall += p.wall_seconds;
+  writer.SetAttribute(group, "wall_seconds", wall);
+  const bool failed = !points.empty() && points.back().status == SweepPointStatus::kIntegrationFailure;
+  const bool complete = points.size() == run.stepper().options().parameters.size() && !failed;
+  writer.SetAttribute(group, "status", failed ? "failure" : complete ? "complete" : "partial");
+
+  writer.WriteDoubles(group + "/speed_rpm",
+                      PerPoint(points, [](const SweepPoint& p) { return RadPerSecondToRpm(p.parameter); }));
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    const std::string side = "_" + structure.contacts[k].name;
+    writer.WriteDoubles(group + "/precession_hz" + side, regimes.precession_hz[k]);
+    writer.WriteDoubles(group + "/precession_amplitude" + side, PerChannel(points, k, [](const ChannelSummary& c) {
+      return c.peak.found ? c.peak.amplitude : kNaN;
+    }));
+    const int V = kSlipVelocityMeasure, N = kNormalForceMeasure;
+    writer.WriteDoubles(group + "/slip_velocity" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[V].mean; }));
+    writer.WriteDoubles(group + "/slip_velocity_min" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[V].min; }));
+    writer.WriteDoubles(group + "/slip_velocity_max" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[V].max; }));
+    writer.WriteDoubles(group + "/normal_force" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].mean; }));
+    writer.WriteDoubles(group + "/normal_force_min" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].min; }));
+    writer.WriteDoubles(group + "/normal_force_max" + side,
+                        PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].max; }));
+    writer.WriteDoubles(group + "/contact_fraction" + side,
+                        PerChannel(points, k, [](const ChannelSummary& c) { return c.active_fraction; }));
+    writer.WriteDoubles(group + "/orbit_radius" + side,
+                        PerChannel(points, k, [](const ChannelSummary& c) { return c.mean_modulus; }));
+    std::vector<std::string> regime;
+    for (RubRegime r : regimes.regime[k]) regime.push_back(ToString(r));
+    writer.WriteStrings(group + "/regime" + side, regime);
+
+    const Vector& band = run.stepper().BandFrequencies();
+    Matrix spectrum = Matrix::Constant(static_cast<Index>(points.size()), band.size(), kNaN);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (k < points[i].channels.size())
+        spectrum.row(static_cast<Index>(i)) = points[i].channels[k].spectrum.transpose();
+    }
+    writer.WriteMatrix(group + "/spectrum_magnitude" + side, spectrum);
+  }
+  writer.WriteDoubles(group + "/spectrum_frequency_hz", run.stepper().BandFrequencies());
+
+  std::vector<std::string> status, message;
+  for (const SweepPoint& p : points) {
+    status.push_back(ToString(p.status));
+    message.push_back(p.message);
+  }
+  writer.WriteStrings(group + "/status", status);
+  writer.WriteStrings(group + "/message", message);
+  writer.WriteInts(group + "/settled", PerPointInt(points, [](const SweepPoint& p) {
+    return p.status == SweepPointStatus::kSettled ? 1 : 0;
+  }));
+  writer.WriteInts(group + "/windows", PerPointInt(points, [](const SweepPoint& p) { return p.windows; }));
+  writer.WriteDoubles(group + "/simulated_time", PerPoint(points, [](const SweepPoint& p) { return p.simulated_time; }));
+  writer.WriteDoubles(group + "/spectrum_change", PerPoint(points, [](const SweepPoint& p) { return p.spectrum_change; }));
+  writer.WriteDoubles(group + "/frequency_change", PerPoint(points, [](const SweepPoint& p) { return p.frequency_change; }));
+  writer.WriteDoubles(group + "/wall_seconds", PerPoint(points, [](const SweepPoint& p) { return p.wall_seconds; }));
+  auto counter = [&](const char* name, long IntegrationStatistics::*field) {
+    writer.WriteDoubles(group + "/" + name, PerPoint(points, [&](const SweepPoint& p) {
+      return static_cast<double>(p.statistics.*field);
+    }));
+  };
+  counter("steps", &IntegrationStatistics::steps);
+  counter("rhs_evaluations", &IntegrationStatistics::rhs_evaluations);
+  counter("jacobian_evaluations", &IntegrationStatistics::jacobian_evaluations);
+  counter("linear_solver_setups", &IntegrationStatistics::linear_solver_setups);
+  counter("newton_iterations", &IntegrationStatistics::nonlinear_iterations);
+  counter("error_test_failures", &IntegrationStatistics::error_test_failures);
+  counter("convergence_failures", &IntegrationStatistics::nonlinear_convergence_failures);
+
+  const std::string jumps = group + "/jumps";
+  std::vector<std::string> contact, kind;
+  std::vector<double> from_rpm, to_rpm, from_hz, to_hz;
+  for (const RubSweepJump& j : regimes.jumps) {
+    contact.push_back(structure.contacts[static_cast<std::size_t>(j.contact)].name);
+    kind.push_back(ToString(j.kind));
+    from_rpm.push_back(j.speed_from_rpm);
+    to_rpm.push_back(j.speed_to_rpm);
+    from_hz.push_back(j.precession_from_hz);
+    to_hz.push_back(j.precession_to_hz);
+  }
+  writer.WriteStrings(jumps + "/contact", contact);
+  writer.WriteStrings(jumps + "/kind", kind);
+  writer.WriteDoubles(jumps + "/speed_from_rpm", from_rpm);
+  writer.WriteDoubles(jumps + "/speed_to_rpm", to_rpm);
+  writer.WriteDoubles(jumps + "/precession_from_hz", from_hz);
+  writer.WriteDoubles(jumps + "/precession_to_hz", to_hz);
+}
+
+SweepPointStatus ParseStatus(const std::string& text) {
+  for (SweepPointStatus s : {SweepPointStatus::kSettled, SweepPointStatus::kNotSettled,
+                             SweepPointStatus::kIntegrationFailure})
+    if (text == ToString(s)) return s;
+  throw std::runtime_error("sweep result: unknown point status \"" + text + "\"");
+}
+
+}  // namespace
+
+const char* ToString(SweepDirection direction) {
+  return direction == SweepDirection::kUp ? "up" : "down";
+}
+
+SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
+  const SweepSettings& s = scene.analysis.sweep;
+  SweepOptions o;
+  const std::vector<double> rpm =
+      direction == SweepDirection::kUp
+          ? SpeedSchedule(s.up_range_rpm[0], s.up_range_rpm[1], s.speed_step_rpm)
+          : SpeedSchedule(s.down_range_rpm[1], s.down_range_rpm[0], s.speed_step_rpm);
+  for (double v : rpm) o.parameters.push_back(RpmToRadPerSecond(v));
+  o.dwell = s.dwell;
+  o.window = s.settle_window;
+  o.settle_windows = s.settle_windows;
+  o.spectrum_tolerance = s.spectrum_tolerance;
+  o.frequency_tolerance = s.frequency_tolerance_hz;
+  o.analysis_length = s.analysis_length;
+  o.sample_rate = s.sample_rate_hz;
+  o.band = s.spectrum_max_hz;
+  o.peak_side = PeakSide::kNegative;
+  o.rotate_forcing_phase = scene.two_point.imbalance > 0.0;
+  o.integrator.method = IntegrationMethod::kBdf;
+  // Orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11 N/m)
+  // cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took 3×
+  // the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
+  o.integrator.max_order = 2;
+  o.integrator.relative_tolerance = s.relative_tolerance;
+  o.integrator.absolute_tolerance = s.absolute_tolerance;
+  o.integrator.max_steps = 100000000;  // per window; the dwell bounds the work
+  return o;
+}
+
+RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
+  RubRegimeOptions o;
+  o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
+  o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
+  return o;
+}
+
+namespace {
+RubStructure StructureOf(const Scene& scene) {
+  if (scene.model != ModelKind::kTwoPoint) {
+    throw std::invalid_argument(fmt::format("the sweep stage needs model = \"two_point\" (scene {} has {})",
+                                            scene.name, ToString(scene.model)));
+  }
+  return TwoPointStructure(scene.two_point);
+}
+}  // namespace
+
+SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<SweepOptions> options)
+    : scene_(scene), direction_(direction) {
+  system_ = std::make_unique<RubFixedFrame>(StructureOf(scene));
+  observables_ = std::make_unique<RubSweepObservables>(*system_);
+  const Vector x0 = RubImpulseIncrement(system_->structure(), scene.analysis.sweep.impulse);
+  stepper_ = std::make_unique<SweepStepper>(
+      *system_, *observables_, options ? std::move(*options) : SweepOptionsOf(scene, direction), x0);
+}
+
+SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::vector<SweepPoint> finished,
+                   const Vector& state, std::optional<SweepOptions> options)
+    : scene_(scene), direction_(direction) {
+  system_ = std::make_unique<RubFixedFrame>(StructureOf(scene));
+  observables_ = std::make_unique<RubSweepObservables>(*system_);
+  stepper_ = std::make_unique<SweepStepper>(
+      *system_, *observables_, options ? std::move(*options) : SweepOptionsOf(scene, direction),
+      std::move(finished), state);
+}
+
+RubSweepRegimes SweepRun::Regimes() const {
+  return ClassifySweep(structure(), stepper_->points(), RegimeOptionsOf(scene_));
+}
+
+void WriteSweep(ResultWriter& writer, const SweepRun& run) {
+  WritePoints(writer, Group(run.direction()), run, run.stepper().points());
+}
+
+std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirection direction) {
+  const std::string group = Group(direction);
+  if (!reader.Exists(group)) throw std::runtime_error("sweep result: no group " + group);
+  const std::vector<double> speed = reader.ReadDoubles(group + "/speed_rpm");
+  const std::size_t n = speed.size();
+  auto doubles = [&](const std::string& name) {
+    std::vector<double> v = reader.ReadDoubles(group + "/" + name);
+    if (v.size() != n) throw std::runtime_error(fmt::format("sweep result: {}/{} has {} values for {} speeds", group, name, v.size(), n));
+    return v;
+  };
+  const std::vector<std::string> status = reader.ReadStrings(group + "/status");
+  const std::vector<std::string> message = reader.ReadStrings(group + "/message");
+  const std::vector<int> windows = reader.ReadInts(group + "/windows");
+  if (status.size() != n || message.size() != n || windows.size() != n)
+    throw std::runtime_error("sweep result: " + group + ": per-speed lists of different lengths");
+  const auto simulated = doubles("simulated_time"), spectrum_change = doubles("spectrum_change"),
+             frequency_change = doubles("frequency_change"), wall = doubles("wall_seconds"),
+             steps = doubles("steps"), rhs = doubles("rhs_evaluations"),
+             jacobians = doubles("jacobian_evaluations"), setups = doubles("linear_solver_setups"),
+             newton = doubles("newton_iterations"), error_tests = doubles("error_test_failures"),
+             convergence = doubles("convergence_failures");
+  std::vector<SweepPoint> points(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    SweepPoint& p = points[i];
+    p.parameter = RpmToRadPerSecond(speed[i]);
+    p.status = ParseStatus(status[i]);
+    p.message = message[i];
+    p.windows = windows[i];
+    p.simulated_time = simulated[i];
+    p.spectrum_change = spectrum_change[i];
+    p.frequency_change = frequency_change[i];
+    p.wall_seconds = wall[i];
+    p.statistics.steps = static_cast<long>(steps[i]);
+    p.statistics.rhs_evaluations = static_cast<long>(rhs[i]);
+    p.statistics.jacobian_evaluations = static_cast<long>(jacobians[i]);
+    p.statistics.linear_solver_setups = static_cast<long>(setups[i]);
+    p.statistics.nonlinear_iterations = static_cast<long>(newton[i]);
+    p.statistics.error_test_failures = static_cast<long>(error_tests[i]);
+    p.statistics.nonlinear_convergence_failures = static_cast<long>(convergence[i]);
+  }
+  for (const char* side : {"left", "right"}) {
+    const std::string s = std::string("_") + side;
+    const auto bp = doubles("precession_hz" + s), amplitude = doubles("precession_amplitude" + s),
+               v = doubles("slip_velocity" + s), v_min = doubles("slip_velocity_min" + s),
+               v_max = doubles("slip_velocity_max" + s), f = doubles("normal_force" + s),
+               f_min = doubles("normal_force_min" + s), f_max = doubles("normal_force_max" + s),
+               fraction = doubles("contact_fraction" + s), radius = doubles("orbit_radius" + s);
+    const Matrix spectrum = reader.ReadMatrix(group + "/spectrum_magnitude" + s);
+    if (static_cast<std::size_t>(spectrum.rows()) != n)
+      throw std::runtime_error("sweep result: " + group + "/spectrum_magnitude" + s + ": wrong row count");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (points[i].status == SweepPointStatus::kIntegrationFailure) continue;
+      ChannelSummary c;
+      c.peak.found = !std::isnan(bp[i]);
+      c.peak.frequency = c.peak.found ? -bp[i] : 0.0;
+      c.peak.amplitude = c.peak.found ? amplitude[i] : 0.0;
+      c.active_fraction = fraction[i];
+      c.mean_modulus = radius[i];
+      c.measures.resize(2);
+      c.measures[kSlipVelocityMeasure] = {v[i], v_min[i], v_max[i]};
+      c.measures[kNormalForceMeasure] = {f[i], f_min[i], f_max[i]};
+      c.spectrum = spectrum.row(static_cast<Index>(i)).transpose();
+      points[i].channels.push_back(std::move(c));
+    }
+  }
+  return points;
+}
+
+std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
+                                                         const Scene& scene, SweepDirection direction) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return std::nullopt;
+  ResultReader reader(file);
+  if (!reader.Exists("/sweeps/" + std::string(ToString(direction)))) return std::nullopt;
+  const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
+  if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) return std::nullopt;
+  return ReadSweepPoints(reader, direction);
+}
+
+std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, SweepDirection direction) {
+  std::filesystem::path path = h5_file;
+  path.replace_filename(h5_file.stem().string() + "." + ToString(direction) + ".checkpoint.h5");
+  return path;
+}
+
+void WriteSweepCheckpoint(const std::filesystem::path& file, const SweepRun& run) {
+  std::vector<SweepPoint> points = run.stepper().points();
+  if (!points.empty() && points.back().status == SweepPointStatus::kIntegrationFailure) points.pop_back();
+  ResultWriter writer(file);
+  writer.SetAttribute("/", "rubcont_version", Version());
+  writer.SetAttribute("/", "scene_name", run.scene().name);
+  writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(run.scene()));
+  WritePoints(writer, Group(run.direction()), run, points);
+  writer.WriteDoubles("/checkpoint/state", run.stepper().state());
+  writer.SetAttribute("/checkpoint", "direction", ToString(run.direction()));
+  writer.SetAttribute("/checkpoint", "next_index", static_cast<double>(points.size()));
+  writer.Commit();
+}
+
+std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& file,
+                                                   const Scene& scene, SweepDirection direction) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return std::nullopt;
+  ResultReader reader(file);
+  const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
+  if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) {
+    throw std::invalid_argument(fmt::format(
+        "checkpoint {} was written for another scene (or other settings) than {}: delete it or run "
+        "without --resume", file.string(), scene.source));
+  }
+  if (reader.ReadStringAttribute("/checkpoint", "direction") != ToString(direction)) {
+    throw std::invalid_argument(fmt::format("checkpoint {} is not for the {} sweep", file.string(),
+                                            ToString(direction)));
+  }
+  SweepCheckpoint checkpoint;
+  checkpoint.points = ReadSweepPoints(reader, direction);
+  const std::vector<double> state = reader.ReadDoubles("/checkpoint/state");
+  checkpoint.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
+  return checkpoint;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,112 @@
+// The sweep stage of a scene (level L3): its set-up from [analysis.sweep], the /sweeps part of a
+// result file, and the checkpoints that let an interrupted sweep resume.
+//
+//   /sweeps/up, /sweeps/down     attrs direction, level = "L3", status ("complete" | "partial" |
+//                                "failure"), speeds_planned, wall_seconds, integrator, max_order,
+//                                relative_tolerance, absolute_tolerance and every [analysis.sweep]
+//                                setting (the run is reproducible from them and /scene_toml)
+//     speed_rpm                                      one value per finished speed, in sweep order
+//     precession_hz_left|right      BP [Hz]: minus the refined dominant negative frequency of
+//                                   d_k = u_rk − u_sk over the analysed stretch (NaN: no peak)
+//     precession_amplitude_left|right   its amplitude [m]
+//     slip_velocity_left|right      mean slip velocity V [m/s] over the samples in contact (NaN: none)
+//     slip_velocity_min_left|right, slip_velocity_max_left|right
+//     normal_force_left|right       mean N [N] over the samples in contact; normal_force_max_*
+//     contact_fraction_left|right   share of the analysed samples in contact
+//     orbit_radius_left|right       mean |d_k| [m]
+//     regime_left|right             "whirl" | "whip" | "no_contact" | "unknown" (models/rub_sweep.h)
+//     status                        "settled" | "not settled" | "integration failure"; settled (0/1)
+//     windows, simulated_time [s], spectrum_change, frequency_change [Hz] (the last settle test),
+//     wall_seconds, steps, rhs_evaluations, jacobian_evaluations, linear_solver_setups,
+//     newton_iterations (= dense linear solves), error_test_failures, convergence_failures, message
+//     spectrum_frequency_hz         [m] two-sided, |f| ≤ spectrum_max_hz
+//     spectrum_magnitude_left|right [speeds × m] amplitude spectra [m] (the waterfall)
+//     jumps/{contact, kind, speed_from_rpm, speed_to_rpm, precession_from_hz, precession_to_hz}
+//
+// The sweep stage also writes /sweeps/branches (the L1 branches of the tanh law the sweeps
+// integrate, layout of apps/branch_output.h) and /sweeps/jump_table (apps/sweep_jumps.h).
+//
+// A checkpoint file holds the same group for the finished speeds plus /checkpoint/state (the state
+// to continue from) and the resolved scene; it is rewritten atomically after every speed.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "models/rub_sweep.h"
+
+namespace rubcont {
+
+enum class SweepDirection { kUp, kDown };
+const char* ToString(SweepDirection direction);  // "up", "down"
+
+// The library options of one direction of the scene's sweep (speeds in rad/s).
+SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction);
+RubRegimeOptions RegimeOptionsOf(const Scene& scene);
+
+// One direction of a scene's sweep: the model, its observables and the stepper. Throws
+// std::invalid_argument when the scene's model is not the two-point rotor.
+class SweepRun {
+ public:
+  // A new sweep: rotor and stator centred and at rest, plus the scene's impulse. `options`
+  // replaces SweepOptionsOf(scene, direction) (benchmarks and tests vary the integrator).
+  SweepRun(const Scene& scene, SweepDirection direction,
+           std::optional<SweepOptions> options = std::nullopt);
+  // Resumes from finished points and the state after the last one.
+  SweepRun(const Scene& scene, SweepDirection direction, std::vector<SweepPoint> finished,
+           const Vector& state, std::optional<SweepOptions> options = std::nullopt);
+  SweepRun(const SweepRun&) = delete;
+  SweepRun& operator=(const SweepRun&) = delete;
+
+  SweepDirection direction() const { return direction_; }
+  SweepStepper& stepper() { return *stepper_; }
+  const SweepStepper& stepper() const { return *stepper_; }
+  const RubStructure& structure() const { return system_->structure(); }
+  const Scene& scene() const { return scene_; }
+  RubSweepRegimes Regimes() const;
+
+ private:
+  Scene scene_;
+  SweepDirection direction_;
+  std::unique_ptr<RubFixedFrame> system_;
+  std::unique_ptr<RubSweepObservables> observables_;
+  std::unique_ptr<SweepStepper> stepper_;
+};
+
+// Writes /sweeps/<direction> for the points finished so far.
+void WriteSweep(ResultWriter& writer, const SweepRun& run);
+
+// The points of /sweeps/<direction> read back (what resuming needs; bins of the peaks are not
+// stored). Throws std::runtime_error when the group is missing or malformed.
+std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirection direction);
+
+// Writes the checkpoint of `run` (its finished speeds that did not fail, and the state)
+// atomically to `file`.
+void WriteSweepCheckpoint(const std::filesystem::path& file, const SweepRun& run);
+
+struct SweepCheckpoint {
+  std::vector<SweepPoint> points;
+  Vector state;
+};
+// Reads a checkpoint written for this scene and direction; nothing when `file` does not exist.
+// Throws std::invalid_argument when it was written for another scene (or other settings) or
+// direction, std::runtime_error when it is unreadable.
+std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& file,
+                                                   const Scene& scene, SweepDirection direction);
+
+// The finished speeds of /sweeps/<direction> in an earlier result file `file` of this scene (same
+// settings): nothing when the file does not exist, holds no such group, or was written for another
+// scene or other settings. A one-direction run carries the other direction over from it, and
+// --resume takes a complete direction from it instead of running it again.
+std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
+                                                         const Scene& scene, SweepDirection direction);
+
+// `<stem>.<direction>.checkpoint.h5` next to the result file `h5_file`.
+std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, SweepDirection direction);
+
+}  // namespace rubcont

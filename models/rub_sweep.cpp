@@ -1,0 +1,189 @@
+#include "models/rub_sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kTwoPi = 6.283185307179586;
+}  // namespace
+
+RubSweepObservables::RubSweepObservables(RubFixedFrame& system) : system_(system) {}
+
+int RubSweepObservables::Channels() const {
+  return static_cast<int>(system_.structure().contacts.size());
+}
+
+std::string RubSweepObservables::ChannelName(int channel) const {
+  return system_.structure().contacts.at(static_cast<std::size_t>(channel)).name;
+}
+
+std::string RubSweepObservables::MeasureName(int measure) const {
+  switch (measure) {
+    case kSlipVelocityMeasure: return "slip_velocity";
+    case kNormalForceMeasure: return "normal_force";
+  }
+  throw std::invalid_argument(fmt::format("RubSweepObservables: measure {} does not exist", measure));
+}
+
+void RubSweepObservables::Observe(double /*t*/, ConstVectorRef x, SweepObservation& out) {
+  const std::vector<ContactEvaluation> contacts = system_.Contacts(x);
+  const auto& structure = system_.structure();
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const RubContact& c = structure.contacts[k];
+    const Index r = 2 * c.rotor, s = 2 * c.stator;
+    const Index i = static_cast<Index>(k);
+    out.signal(i) = std::complex<double>(x(r) - x(s), x(r + 1) - x(s + 1));
+    out.active[k] = contacts[k].touching ? 1 : 0;
+    out.measures(i, kSlipVelocityMeasure) = contacts[k].slip_velocity;
+    out.measures(i, kNormalForceMeasure) = contacts[k].normal_force;
+  }
+}
+
+Vector RubImpulseIncrement(const RubStructure& structure, double impulse) {
+  if (!(impulse >= 0.0) || !std::isfinite(impulse)) {
+    throw std::invalid_argument(
+        fmt::format("RubImpulseIncrement: impulse = {} N·s: must be finite and non-negative", impulse));
+  }
+  const Index n = structure.Coordinates();
+  const Vector dv = structure.mass.ldlt().solve(structure.imbalance_weights * impulse);
+  Vector dx = Vector::Zero(4 * n);
+  for (Index i = 0; i < n; ++i) dx(2 * n + 2 * i) = dv(i);  // x components of the velocities
+  return dx;
+}
+
+std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm) {
+  if (!std::isfinite(from_rpm) || !std::isfinite(to_rpm) || !(from_rpm > 0.0) || !(to_rpm > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "SpeedSchedule: from {} rpm to {} rpm: both must be positive and finite", from_rpm, to_rpm));
+  }
+  if (!(step_rpm > 0.0) || !std::isfinite(step_rpm)) {
+    throw std::invalid_argument(
+        fmt::format("SpeedSchedule: step = {} rpm: must be positive and finite", step_rpm));
+  }
+  const double span = std::abs(to_rpm - from_rpm);
+  const double sign = to_rpm >= from_rpm ? 1.0 : -1.0;
+  const long steps = static_cast<long>(std::floor(span / step_rpm + 1e-9));
+  std::vector<double> speeds;
+  speeds.reserve(static_cast<std::size_t>(steps + 1));
+  for (long i = 0; i <= steps; ++i) speeds.push_back(from_rpm + sign * step_rpm * static_cast<double>(i));
+  return speeds;
+}
+
+const char* ToString(RubRegime regime) {
+  switch (regime) {
+    case RubRegime::kUnknown: return "unknown";
+    case RubRegime::kNoContact: return "no_contact";
+    case RubRegime::kWhirl: return "whirl";
+    case RubRegime::kWhip: return "whip";
+  }
+  return "?";
+}
+
+const char* ToString(RubJumpKind kind) {
+  switch (kind) {
+    case RubJumpKind::kWhirlToWhip: return "whirl_to_whip";
+    case RubJumpKind::kWhipToWhirl: return "whip_to_whirl";
+    case RubJumpKind::kContactLost: return "contact_lost";
+    case RubJumpKind::kContactRegained: return "contact_regained";
+    case RubJumpKind::kFrequencyJump: return "frequency_jump";
+  }
+  return "?";
+}
+
+void Validate(const RubRegimeOptions& o) {
+  if (!(o.whirl_tolerance >= 0.0 && o.whirl_tolerance < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.whirl_tolerance = {}: must lie in [0, 1)", o.whirl_tolerance));
+  }
+  if (!(o.frequency_jump_hz > 0.0) || !std::isfinite(o.frequency_jump_hz)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.frequency_jump_hz = {}: must be positive and finite", o.frequency_jump_hz));
+  }
+  if (!(o.min_contact_fraction >= 0.0 && o.min_contact_fraction <= 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.min_contact_fraction = {}: must lie in [0, 1]", o.min_contact_fraction));
+  }
+}
+
+RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<SweepPoint>& points,
+                              const RubRegimeOptions& options) {
+  Validate(options);
+  const std::size_t m = structure.contacts.size();
+  RubSweepRegimes out;
+  out.regime.assign(m, std::vector<RubRegime>(points.size(), RubRegime::kUnknown));
+  out.precession_hz.assign(m, std::vector<double>(points.size(), kNaN));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SweepPoint& p = points[i];
+    if (p.status == SweepPointStatus::kIntegrationFailure || p.channels.size() != m) continue;
+    const double rotation_hz = p.parameter / kTwoPi;
+    for (std::size_t k = 0; k < m; ++k) {
+      const ChannelSummary& c = p.channels[k];
+      const double bp = c.peak.found ? -c.peak.frequency : kNaN;
+      out.precession_hz[k][i] = bp;
+      const ContactGeometry& g = structure.contacts[k].geometry;
+      const double rolling_hz = g.radius / g.clearance * rotation_hz;
+      if (c.active_fraction < options.min_contact_fraction || !(bp > 0.0)) {
+        out.regime[k][i] = RubRegime::kNoContact;
+      } else if (std::abs(bp - rolling_hz) <= options.whirl_tolerance * rolling_hz) {
+        out.regime[k][i] = RubRegime::kWhirl;
+      } else {
+        out.regime[k][i] = RubRegime::kWhip;
+      }
+    }
+  }
+  // Jumps between successive classified speeds.
+  for (std::size_t k = 0; k < m; ++k) {
+    std::size_t last = points.size();  // the previous classified point
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const RubRegime now = out.regime[k][i];
+      if (now == RubRegime::kUnknown) continue;
+      if (last < points.size()) {
+        const RubRegime before = out.regime[k][last];
+        RubSweepJump jump;
+        jump.contact = static_cast<int>(k);
+        jump.speed_from_rpm = RadPerSecondToRpm(points[last].parameter);
+        jump.speed_to_rpm = RadPerSecondToRpm(points[i].parameter);
+        jump.precession_from_hz = before == RubRegime::kNoContact ? kNaN : out.precession_hz[k][last];
+        jump.precession_to_hz = now == RubRegime::kNoContact ? kNaN : out.precession_hz[k][i];
+        bool found = true;
+        if (before == now) {
+          found = false;
+          if (now != RubRegime::kNoContact) {
+            const double before_hz = out.precession_hz[k][last], now_hz = out.precession_hz[k][i];
+            const double off_whip_trend = std::abs(now_hz - before_hz);
+            const double off_whirl_trend =
+                std::abs(now_hz - before_hz * points[i].parameter / points[last].parameter);
+            if (std::min(off_whip_trend, off_whirl_trend) > options.frequency_jump_hz) {
+              jump.kind = RubJumpKind::kFrequencyJump;
+              found = true;
+            }
+          }
+        } else if (before == RubRegime::kNoContact) {
+          jump.kind = RubJumpKind::kContactRegained;
+        } else if (now == RubRegime::kNoContact) {
+          jump.kind = RubJumpKind::kContactLost;
+        } else {
+          jump.kind = now == RubRegime::kWhip ? RubJumpKind::kWhirlToWhip : RubJumpKind::kWhipToWhirl;
+        }
+        if (found) out.jumps.push_back(jump);
+      }
+      last = i;
+    }
+  }
+  // Schedule order, then contact.
+  std::stable_sort(out.jumps.begin(), out.jumps.end(), [&](const RubSweepJump& a, const RubSweepJump& b) {
+    const bool up = points.size() < 2 || points.back().parameter >= points.front().parameter;
+    if (a.speed_to_rpm != b.speed_to_rpm) return up ? a.speed_to_rpm < b.speed_to_rpm : a.speed_to_rpm > b.speed_to_rpm;
+    return a.contact < b.contact;
+  });
+  return out;
+}
+
+}  // namespace rubcont

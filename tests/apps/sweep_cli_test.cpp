@@ -1,0 +1,164 @@
+// `rubcont sweep`, run as a user runs it: what the file holds, one direction after the other,
+// --resume of a complete file, bad input.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "apps/hdf5_file.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("rubcont_sweep_cli_test_" + std::to_string(getpid()) + "_" +
+                                        std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  static inline int counter = 0;
+};
+
+std::string Slurp(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// Runs `rubcont <args>` from the repository root without figures (no Python: a warning).
+Outcome Rubcont(const std::string& args) {
+  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
+  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
+  TempDir capture;
+  const fs::path out = capture.path / "out", err = capture.path / "err";
+  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args + " >" +
+                              out.string() + " 2>" + err.string();
+  const int status = std::system(command.c_str());
+  Outcome outcome;
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  outcome.out = Slurp(out);
+  outcome.err = Slurp(err);
+  return outcome;
+}
+
+// Case A(a) with a two-speed sweep each way (40 and 44 rpm: whirl), written into `dir`.
+fs::path ShortSweepScene(const fs::path& dir, const std::string& sweep_section) {
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  const auto at = text.find("[analysis.sweep]");
+  REQUIRE(at != std::string::npos);
+  text = text.substr(0, at) + sweep_section;
+  const fs::path file = dir / "thesis_A_a.toml";
+  std::ofstream(file) << text;
+  return file;
+}
+
+const std::string kTwoSpeeds =
+    "[analysis.sweep]\nup_range_rpm = [40.0, 44.0]\ndown_range_rpm = [40.0, 44.0]\n"
+    "speed_step_rpm = 4.0\ndwell = 0.75\n";
+
+TEST_CASE("rubcont sweep: one direction after the other gives one file with both, and the jump table",
+          "[sweep_cli]") {
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
+  const fs::path h5 = dir.path / "sweep.h5";
+
+  const Outcome up = Rubcont("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(up.out << up.err);
+  REQUIRE(up.exit_code == 0);
+  CHECK_THAT(up.out, Contains("CVODES BDF order ≤ 2, rtol 1e-06, atol 1e-06; 4 rpm steps"));
+  CHECK_THAT(up.out, Contains("up: 2 of 2 speeds, 40 → 44 rpm"));
+  CHECK_FALSE(fs::exists(dir.path / "sweep.up.checkpoint.h5"));  // removed once the file is written
+  std::vector<double> up_bp;
+  {
+    ResultReader r(h5);
+    CHECK(r.ReadStringAttribute("/", "level") == "L3");
+    CHECK(r.ReadStringAttribute("/sweeps/up", "status") == "complete");
+    CHECK_FALSE(r.Exists("/sweeps/down"));
+    CHECK(r.Exists("/branches/branch1"));                 // the scene's law (exact)
+    CHECK(r.ReadStringAttribute("/sweeps/branches", "friction_law") == "tanh");  // the sweeps' law
+    CHECK(r.Exists("/sweeps/jump_table/difference_rpm"));
+    up_bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
+    REQUIRE(up_bp.size() == 2);
+    // Rolling whirl at RCI 100: BP = 100 × speed / 60.
+    CHECK(up_bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
+    CHECK(up_bp[1] == Approx(100.0 * 44.0 / 60.0).epsilon(0.01));
+  }
+
+  const Outcome down = Rubcont("sweep " + scene.string() + " --direction down --quiet --out " + h5.string());
+  INFO(down.out << down.err);
+  REQUIRE(down.exit_code == 0);
+  {
+    ResultReader r(h5);
+    CHECK(r.ReadDoubles("/sweeps/up/precession_hz_left") == up_bp);  // kept, not recomputed
+    const std::vector<double> speeds = r.ReadDoubles("/sweeps/down/speed_rpm");
+    REQUIRE(speeds.size() == 2);
+    CHECK(speeds[0] == Approx(44.0).epsilon(1e-12));
+    CHECK(speeds[1] == Approx(40.0).epsilon(1e-12));
+  }
+
+  // --resume with both directions complete in the file: nothing is integrated again.
+  const Outcome again = Rubcont("sweep " + scene.string() + " --resume --out " + h5.string());
+  INFO(again.out << again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("[sweep up] complete in"));
+  CHECK_THAT(again.err, Contains("[sweep down] complete in"));
+  ResultReader r(h5);
+  CHECK(r.ReadDoubles("/sweeps/up/precession_hz_left") == up_bp);
+}
+
+TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the balanced branches",
+          "[sweep_cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_A_a_imbalance.toml");
+  const auto at = text.find("[analysis.sweep]");
+  REQUIRE(at != std::string::npos);
+  text = text.substr(0, at) + kTwoSpeeds;
+  const fs::path scene = dir.path / "thesis_A_a_imbalance.toml";
+  std::ofstream(scene) << text;
+  const fs::path h5 = dir.path / "sweep.h5";
+  const Outcome up = Rubcont("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(up.out << up.err);
+  REQUIRE(up.exit_code == 0);
+  ResultReader r(h5);
+  CHECK(r.ReadStringAttribute("/sweeps/up", "status") == "complete");
+  CHECK(r.Exists("/sweeps/branches/branch1"));
+  // Rolling whirl at RCI 100 despite the imbalance (m e ω² = 6e-4 N at 40 rpm).
+  const std::vector<double> bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
+  REQUIRE(bp.size() == 2);
+  CHECK(bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
+}
+
+TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with exit code 2",
+          "[sweep_cli]") {
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, "[analysis.sweep]\ndwell = -1.0\n");
+  const Outcome bad = Rubcont("sweep " + scene.string() + " --quiet --out " + (dir.path / "x.h5").string());
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.err, Contains("analysis.sweep.dwell = -1"));
+  CHECK_THAT(bad.err, Contains("must be positive"));
+  CHECK_FALSE(fs::exists(dir.path / "x.h5"));
+
+  const fs::path good = ShortSweepScene(dir.path, kTwoSpeeds);
+  const Outcome sideways = Rubcont("sweep " + good.string() + " --direction sideways");
+  CHECK(sideways.exit_code == 2);
+  CHECK_THAT(sideways.err, Contains("--direction"));
+}
+
+}  // namespace
+}  // namespace rubcont
