@@ -17,6 +17,7 @@
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
+#include "apps/orbits_stage.h"
 #include "apps/scene.h"
 #include "apps/sweep_jumps.h"
 #include "apps/sweep_output.h"
@@ -368,6 +369,12 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
             const ExecuteOptions& options, std::ostream& out, std::ostream& err) {
   const bool quiet = options.quiet;
   Progress progress(quiet, err);
+  for (Stage stage : stages) {
+    if (IsTextbook(scene.model) != (stage == Stage::kOrbits)) {
+      throw std::invalid_argument(fmt::format("stage \"{}\" does not apply to model \"{}\"",
+                                              ToString(stage), ToString(scene.model)));
+    }
+  }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
   std::filesystem::create_directories(out_dir);
 
@@ -447,6 +454,13 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         if (level != "L3") level = "L1";
         RunBranches(scene, writer, progress, out, failures);
         scripts.push_back("branches.py");
+        break;
+      }
+      case Stage::kOrbits: {
+        level = "L2";
+        RunOrbitsStage(scene, writer, [&](const std::string& line) { progress("{}", line); }, out,
+                       failures);
+        scripts.push_back("orbits.py");
         break;
       }
     }

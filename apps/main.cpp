@@ -3,10 +3,13 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "apps/fit_command.h"
+#include "apps/map_command.h"
 #include "apps/version.h"
 
 int main(int argc, char** argv) {
@@ -64,6 +67,35 @@ int main(int argc, char** argv) {
                        "results/<scene name>/branches.h5");
   branches->add_flag("-q,--quiet", branches_request.quiet, "no progress on stderr");
 
+  rubcont::MapRequest map_request;
+  std::vector<double> map_range;
+  CLI::App* map = app.add_subcommand(
+      "map", "hysteresis map in (running speed, design parameter): regions with one, two or no "
+             "stable circular state, and the jump curves (HDF5 /maps/<parameter> + figure)");
+  map->add_option("SCENE", map_request.scene_file, "scene file (TOML), model two_point")->required();
+  map->add_option("--parameter", map_request.parameter,
+                  "friction | stator_damping | support_stiffness | center_damping | rci_ratio | "
+                  "contact_stiffness")->required();
+  map->add_option("--range", map_range, "LO HI: the parameter's range (default: ±50 % of the "
+                                        "scene's value; rci_ratio 0.75–1.35 of it)")->expected(2);
+  map->add_option("--eta-points", map_request.eta_points, "grid values of the parameter")
+      ->capture_default_str();
+  map->add_option("--speed-points", map_request.speed_points, "grid speeds")->capture_default_str();
+  map->add_option("--out", map_request.out_file,
+                  "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
+  map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
+
+  rubcont::FitRequest fit_request;
+  CLI::App* fit = app.add_subcommand(
+      "fit", "identification: fit design parameters to target jump speeds and whip frequencies "
+             "(NLopt global then local search; HDF5 /fit)");
+  fit->add_option("SCENE", fit_request.scene_file, "scene file (TOML), model two_point")->required();
+  fit->add_option("--targets", fit_request.targets_file,
+                  "targets file (TOML): [[parameter]], [[target]], [fit] (apps/fit_command.h)")
+      ->required();
+  fit->add_option("--out", fit_request.out_file, "HDF5 file; default results/<scene>/fit.h5");
+  fit->add_flag("-q,--quiet", fit_request.quiet, "no progress on stderr");
+
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
   std::string check_file;
@@ -94,6 +126,14 @@ int main(int argc, char** argv) {
     if (!branches_out.empty()) branches_request.out_file = branches_out;
     return rubcont::BranchesCommand(branches_request, std::cout, std::cerr);
   }
+  if (*map) {
+    if (map_range.size() == 2) {
+      map_request.eta_min = map_range[0];
+      map_request.eta_max = map_range[1];
+    }
+    return rubcont::MapCommand(map_request, std::cout, std::cerr);
+  }
+  if (*fit) return rubcont::FitCommand(fit_request, std::cout, std::cerr);
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
   return rubcont::kExitBadInput;

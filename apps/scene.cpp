@@ -41,6 +41,9 @@ enum class Rule {
   kNonNegative,           // ≥ 0 (each entry of a pair)
   kIncreasingPositive,    // pair 0 < low < high
   kGridPoints,            // integer 2 … kMaxGridPoints
+  kSegments,              // integer 1 … kMaxSegments
+  kSteps,                 // integer 1 … kMaxSteps
+  kTolerance,             // 0 < x < 1
   kOpenUnit,              // 0 < x < 1
   kCount,                 // integer 1 … kMaxCount
 };
@@ -52,6 +55,8 @@ enum class Presence {
 };
 
 constexpr std::int64_t kMaxGridPoints = 1000000;
+constexpr std::int64_t kMaxSegments = 1000;
+constexpr std::int64_t kMaxSteps = 1000000;
 constexpr std::int64_t kMaxCount = 1000;
 
 using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
@@ -113,8 +118,18 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      field);
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic", "branches", "sweep"};
-const std::vector<std::string> kPlannedStages = {"orbits"};
+const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
+const std::vector<std::string> kPlannedStages = {};
+const std::vector<std::string> kModelNames = {"two_point", "jeffcott", "duffing", "stuart_landau",
+                                              "van_der_pol"};
+
+ModelKind ModelFromName(const std::string& name) {
+  if (name == "jeffcott") return ModelKind::kJeffcott;
+  if (name == "duffing") return ModelKind::kDuffing;
+  if (name == "stuart_landau") return ModelKind::kStuartLandau;
+  if (name == "van_der_pol") return ModelKind::kVanDerPol;
+  return ModelKind::kTwoPoint;
+}
 
 std::vector<KeySpec> BuildSchema() {
   std::vector<KeySpec> s;
@@ -141,10 +156,8 @@ std::vector<KeySpec> BuildSchema() {
     model.presence = Presence::kOptional;
     model.default_value = std::string("two_point");
     model.doc = "Which model the scene describes; each model has its own sections.";
-    model.choices = {"two_point", "jeffcott"};
-    model.set = [](Scene& x, const Value& v) {
-      x.model = std::get<std::string>(v) == "jeffcott" ? ModelKind::kJeffcott : ModelKind::kTwoPoint;
-    };
+    model.choices = kModelNames;
+    model.set = [](Scene& x, const Value& v) { x.model = ModelFromName(std::get<std::string>(v)); };
     model.get = [](const Scene& x) { return Value(std::string(ToString(x.model))); };
     s.push_back(model);
   }
@@ -301,6 +314,75 @@ std::vector<KeySpec> BuildSchema() {
              Presence::kOptional, 1e-3);
   }
 
+  // Textbook models (models/textbook.h): [<model>] with the model's coefficients and the range of
+  // its continuation parameter, [<model>.orbits] with the numerics of the "orbits" stage.
+  {
+    const auto number = [&s](ModelKind model, std::string key, std::string unit, Rule rule,
+                             std::string doc, Field<double> field,
+                             Presence presence = Presence::kRequired, double default_value = 0.0) {
+      s.push_back(Make<double>(std::string(ToString(model)) + "." + key, ValueType::kFloat,
+                               std::move(unit), rule, presence, default_value, std::move(doc),
+                               field, model));
+    };
+    const auto range = [&s](ModelKind model, std::string key, std::string doc) {
+      s.push_back(Make<std::array<double, 2>>(
+          std::string(ToString(model)) + "." + key, ValueType::kFloatPair, "-",
+          Rule::kIncreasingPositive, Presence::kRequired, std::array<double, 2>{}, std::move(doc),
+          [](Scene& x) -> std::array<double, 2>& { return x.orbits.parameter_range; }, model));
+    };
+    const auto orbits = [&s](ModelKind model, const std::string& parameter) {
+      const std::string prefix = std::string(ToString(model)) + ".orbits.";
+      KeySpec start = Make<double>(
+          prefix + "start", ValueType::kFloat, "-", Rule::kPositive, Presence::kOptional, 0.0,
+          "Parameter of the first orbit; the branch is continued both ways from it to the ends "
+          "of `" + parameter + "_range`.",
+          [](Scene& x) -> double& { return x.orbits.start; }, model);
+      start.default_text = "the low end of `" + parameter + "_range`";
+      s.push_back(start);
+      s.push_back(Make<int, std::int64_t>(
+          prefix + "segments", ValueType::kInteger, "-", Rule::kSegments, Presence::kOptional,
+          std::int64_t{1}, "Shooting segments: 1 single shooting, more for multiple shooting.",
+          [](Scene& x) -> int& { return x.orbits.segments; }, model));
+      s.push_back(Make<double>(
+          prefix + "tolerance", ValueType::kFloat, "-", Rule::kTolerance, Presence::kOptional,
+          1e-10, "Integrator tolerance (relative = absolute, on scaled states) of every segment.",
+          [](Scene& x) -> double& { return x.orbits.tolerance; }, model));
+      s.push_back(Make<int, std::int64_t>(
+          prefix + "max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
+          std::int64_t{1000}, "Continuation steps allowed each way from the start.",
+          [](Scene& x) -> int& { return x.orbits.max_steps; }, model));
+    };
+    const ModelKind kDuffing = ModelKind::kDuffing;
+    number(kDuffing, "damping", "-", Rule::kNonNegative, "c of ẍ + c ẋ + k x + β x³ = F cos(w t).",
+           [](Scene& x) -> double& { return x.duffing.damping; });
+    number(kDuffing, "stiffness", "-", Rule::kFinite, "k: linear stiffness.",
+           [](Scene& x) -> double& { return x.duffing.stiffness; });
+    number(kDuffing, "cubic", "-", Rule::kFinite, "β: cubic stiffness (> 0 hardening).",
+           [](Scene& x) -> double& { return x.duffing.cubic; });
+    number(kDuffing, "force", "-", Rule::kFinite, "F: forcing amplitude.",
+           [](Scene& x) -> double& { return x.duffing.force; });
+    range(kDuffing, "frequency_range",
+          "[low, high]: forcing frequency w, the continuation parameter (forcing period 2π/w).");
+    orbits(kDuffing, "frequency");
+
+    const ModelKind kStuartLandau = ModelKind::kStuartLandau;
+    number(kStuartLandau, "omega", "-", Rule::kFinite,
+           "ω of ż = (λ + iω) z − (1 + iγ)|z|² z: linear frequency.",
+           [](Scene& x) -> double& { return x.stuart_landau.omega; });
+    number(kStuartLandau, "gamma", "-", Rule::kFinite,
+           "γ: amplitude–frequency coupling; the orbit turns at ω − γλ.",
+           [](Scene& x) -> double& { return x.stuart_landau.gamma; }, Presence::kOptional, 0.0);
+    range(kStuartLandau, "lambda_range",
+          "[low, high]: growth rate λ, the continuation parameter (the orbit r = √λ exists for "
+          "λ > 0; Hopf point at 0).");
+    orbits(kStuartLandau, "lambda");
+
+    range(ModelKind::kVanDerPol, "mu_range",
+          "[low, high]: μ of ẍ − μ (1 − x²) ẋ + x = 0, the continuation parameter (relaxation "
+          "oscillations for μ ≫ 1: use several segments).");
+    orbits(ModelKind::kVanDerPol, "mu");
+  }
+
   // [analysis]
   {
     KeySpec stages;
@@ -310,8 +392,11 @@ std::vector<KeySpec> BuildSchema() {
     stages.presence = Presence::kOptional;
     stages.default_value = std::vector<std::string>{"analytic", "branches"};
     stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
-                 "\"branches\" (L1 rotating waves continued in speed), "
-                 "\"sweep\" (L3: the speed-up and speed-down sweeps of [analysis.sweep]).";
+                 "\"branches\" (L1 rotating waves continued in speed) — models two_point and "
+                 "jeffcott; \"orbits\" (periodic orbits by shooting, continued in the parameter, "
+                 "Floquet stability) — the textbook models; \"sweep\" (L3: the speed-up and speed-down "
+                 "sweeps of [analysis.sweep]) — model two_point.";
+    stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
     stages.choices = kImplementedStages;
     stages.model = kCommon;
     stages.set = [](Scene& x, const Value& v) {
@@ -320,6 +405,7 @@ std::vector<KeySpec> BuildSchema() {
         if (name == "analytic") x.analysis.stages.push_back(Stage::kAnalytic);
         if (name == "sweep") x.analysis.stages.push_back(Stage::kSweep);
         if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
+        if (name == "orbits") x.analysis.stages.push_back(Stage::kOrbits);
       }
     };
     stages.get = [](const Scene& x) {
@@ -547,6 +633,9 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kNonNegative: return spec.type == ValueType::kFloatPair ? "each ≥ 0" : "≥ 0";
     case Rule::kIncreasingPositive: return "0 < low < high";
     case Rule::kGridPoints: return fmt::format("2 … {}", kMaxGridPoints);
+    case Rule::kSegments: return fmt::format("1 … {}", kMaxSegments);
+    case Rule::kSteps: return fmt::format("1 … {}", kMaxSteps);
+    case Rule::kTolerance: return "0 < x < 1";
     case Rule::kOpenUnit: return "0 < x < 1";
     case Rule::kCount: return fmt::format("1 … {}", kMaxCount);
   }
@@ -618,6 +707,19 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
     case Rule::kGridPoints: {
       const std::int64_t n = std::get<std::int64_t>(value);
       if (n < 2 || n > kMaxGridPoints) return fmt::format("must be from 2 to {}", kMaxGridPoints);
+      return std::nullopt;
+    }
+    case Rule::kSegments:
+    case Rule::kSteps: {
+      const std::int64_t n = std::get<std::int64_t>(value);
+      const std::int64_t most = spec.rule == Rule::kSegments ? kMaxSegments : kMaxSteps;
+      if (n < 1 || n > most) return fmt::format("must be from 1 to {}", most);
+      return std::nullopt;
+    }
+    case Rule::kTolerance: {
+      const double x = std::get<double>(value);
+      if (!std::isfinite(x)) return "must be finite";
+      if (!(x > 0.0 && x < 1.0)) return "must lie strictly between 0 and 1";
       return std::nullopt;
     }
     case Rule::kOpenUnit: {
@@ -751,11 +853,66 @@ class Loader {
       scene.defaulted_keys.push_back(spec.key);
     }
     if (problems_.empty()) CheckSweep(scene.analysis.sweep);
+    CheckStagesFitModel(scene);
+    if (IsTextbook(scene.model)) CheckOrbitsStart(scene);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
 
  private:
+  // Where a key was given ("file:line:col"), or the file alone for a defaulted key.
+  std::string Where(const std::string& key) const {
+    const auto found = nodes_.find(key);
+    if (found == nodes_.end()) return source_;
+    const auto& begin = found->second->source().begin;
+    return fmt::format("{}:{}:{}", source_, begin.line, begin.column);
+  }
+
+  // The textbook models have stage "orbits" only (their default); the rotor models have no
+  // "orbits" stage yet.
+  void CheckStagesFitModel(Scene& scene) {
+    const bool textbook = IsTextbook(scene.model);
+    const bool defaulted = nodes_.count("analysis.stages") == 0;
+    if (textbook && defaulted) {
+      scene.analysis.stages = {Stage::kOrbits};
+      return;
+    }
+    for (Stage stage : scene.analysis.stages) {
+      const bool fits = textbook ? stage == Stage::kOrbits : stage != Stage::kOrbits;
+      if (fits) continue;
+      const std::string given = nodes_.count("analysis.stages")
+                                    ? FormatNode(*nodes_.at("analysis.stages"))
+                                    : FormatValue(FindKey("analysis.stages")->get(scene));
+      problems_.push_back(fmt::format(
+          "{}: analysis.stages = {}: {} does not apply to model {}; {}", Where("analysis.stages"),
+          given, Quote(ToString(stage)), Quote(ToString(scene.model)),
+          textbook ? "the textbook models have the stage \"orbits\""
+                   : "\"orbits\" is implemented for the textbook models (\"duffing\", "
+                     "\"stuart_landau\", \"van_der_pol\")"));
+      return;
+    }
+  }
+
+  // The first orbit's parameter: the low end of the range by default, else inside the range.
+  void CheckOrbitsStart(Scene& scene) {
+    const std::string model = ToString(scene.model);
+    const std::string key = model + ".orbits.start";
+    const auto& range = scene.orbits.parameter_range;
+    if (nodes_.count(key) == 0) {
+      scene.orbits.start = range[0];
+      return;
+    }
+    if (scene.orbits.start < range[0] || scene.orbits.start > range[1]) {
+      const std::string range_key =
+          scene.model == ModelKind::kDuffing        ? "frequency_range"
+          : scene.model == ModelKind::kStuartLandau ? "lambda_range"
+                                                    : "mu_range";
+      problems_.push_back(fmt::format("{}: {} = {}: must lie in {}.{} = [{}, {}]", Where(key), key,
+                                      FormatNode(*nodes_.at(key)), model, range_key,
+                                      FormatFloat(range[0]), FormatFloat(range[1])));
+    }
+  }
+
   void Problem(const toml::source_region& region, const std::string& message) {
     const auto& where = region.begin;
     problems_.push_back(fmt::format("{}:{}:{}: {}", source_, where.line, where.column, message));
@@ -944,8 +1101,16 @@ const char* ToString(ModelKind model) {
   switch (model) {
     case ModelKind::kTwoPoint: return "two_point";
     case ModelKind::kJeffcott: return "jeffcott";
+    case ModelKind::kDuffing: return "duffing";
+    case ModelKind::kStuartLandau: return "stuart_landau";
+    case ModelKind::kVanDerPol: return "van_der_pol";
   }
   return "?";
+}
+
+bool IsTextbook(ModelKind model) {
+  return model == ModelKind::kDuffing || model == ModelKind::kStuartLandau ||
+         model == ModelKind::kVanDerPol;
 }
 
 const char* ToString(Stage stage) {
@@ -953,6 +1118,7 @@ const char* ToString(Stage stage) {
     case Stage::kAnalytic: return "analytic";
     case Stage::kSweep: return "sweep";
     case Stage::kBranches: return "branches";
+    case Stage::kOrbits: return "orbits";
   }
   return "?";
 }

@@ -21,6 +21,7 @@
 
 #include "models/analytic.h"
 #include "models/jeffcott.h"
+#include "models/textbook.h"
 #include "models/two_point_params.h"
 
 namespace rubcont {
@@ -28,14 +29,23 @@ namespace rubcont {
 enum class ModelKind {
   kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (design.md §2)
   kJeffcott,  // "jeffcott": single-contact Jeffcott rotor with an elastic stator (Black, Crandall)
+  // Textbook problems with known answers (models/textbook.h), for checking the tool: stage
+  // "orbits" only.
+  kDuffing,       // "duffing": forced Duffing oscillator, continued in the forcing frequency w
+  kStuartLandau,  // "stuart_landau": Hopf normal form, continued in the growth rate λ
+  kVanDerPol,     // "van_der_pol": van der Pol oscillator, continued in μ
 };
 const char* ToString(ModelKind model);
+// Duffing, Stuart–Landau, van der Pol.
+bool IsTextbook(ModelKind model);
 
 // The stages `rubcont run` can perform, in the order the scene lists them.
 enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
   kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (models/rub_sweep.h)
   kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
+  kOrbits,    // "orbits": periodic orbits of a textbook model continued in its parameter, by shooting
+              // with Floquet stability (shooting/orbit_branches.h)
 };
 const char* ToString(Stage stage);
 
@@ -68,12 +78,26 @@ struct AnalysisOptions {
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
 };
 
+// Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and
+// [<model>.shooting] (the model's own sections; see scenes/README.md).
+struct OrbitsOptions {
+  std::array<double, 2> parameter_range{0.5, 2.5};  // continuation parameter, model units, lo < hi
+  double start = 0.0;           // parameter of the first orbit, in the range; 0: the low end
+  int segments = 1;             // shooting segments (1: single shooting)
+  double tolerance = 1e-10;     // integrator rtol = atol (scaled states)
+  int max_steps = 1000;         // continuation steps each way
+};
+
 struct Scene {
   std::string name;         // names the output: results/<name>/; default: the file stem
   std::string description;  // free text
   ModelKind model = ModelKind::kTwoPoint;
   TwoPointParams two_point;  // the model description when model == kTwoPoint
   JeffcottParams jeffcott;   // the model description when model == kJeffcott
+  DuffingParams duffing;            // when model == kDuffing (frequency: see orbits)
+  StuartLandauParams stuart_landau; // when model == kStuartLandau (lambda: see orbits)
+  VanDerPolParams van_der_pol;      // when model == kVanDerPol (mu: see orbits)
+  OrbitsOptions orbits;             // textbook models: the parameter range and shooting numerics
   AnalysisOptions analysis;
 
   // Provenance, not part of the scene's content: where it was read from, and which keys the file

@@ -112,7 +112,7 @@ void Validate(const LocationOptions& options) {
   RequirePositive("location.step_tolerance", options.step_tolerance);
 }
 
-void Validate(const EventSwitchOptions& options) {
+void Validate(const SwitchOptions& options) {
   RequirePositive("events.probe_step", options.probe_step);
 }
 

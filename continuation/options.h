@@ -83,7 +83,7 @@ struct LocationOptions {
 };
 
 // Piecewise-smooth problems: what happens at a located event (Problem::SwitchAt).
-struct EventSwitchOptions {
+struct SwitchOptions {
   // Arclength of the two probe points, one either way along the new piece's tangent, on which the
   // new piece's margins decide the direction (scaled, > 0). Larger than the location error, small
   // enough that no other event lies within it.
@@ -97,7 +97,7 @@ struct ContinuationOptions {
   BoundsOptions bounds;
   DetectionOptions detect;
   LocationOptions location;
-  EventSwitchOptions events;
+  SwitchOptions events;
   // The branch is closed when it returns to its start point within this distance (scaled, relative
   // to max(1, ‖x̂₀‖)) with a tangent pointing the same way (> 0).
   double closure_tolerance = 1e-6;
@@ -110,7 +110,7 @@ void Validate(const StepOptions& options);
 void Validate(const BoundsOptions& options);
 void Validate(const DetectionOptions& options);
 void Validate(const LocationOptions& options);
-void Validate(const EventSwitchOptions& options);
+void Validate(const SwitchOptions& options);
 void Validate(const ContinuationOptions& options);
 
 }  // namespace rubcont

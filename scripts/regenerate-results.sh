@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates everything in results/: the result file (analytic L0, rotating-wave branches L1),
 # figures and summary of the
-# eight thesis scenes (Kumar 2010, Table 1) and of the truly overhung contrast scene, and the
+# eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
+# textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol), and the
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib). With --sweeps it also re-runs the time-marching sweeps (L3) of
 # the scenes that have them: about 8 min per scene on 2 cores (results/README.md).
@@ -13,7 +14,7 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --parallel "$(nproc)"
 
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
-        overhung_beyond_right jeffcott)
+        overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
 for scene in "${scenes[@]}"; do
   summary=$(build/rubcont run "scenes/$scene.toml" --out results --quiet)
   # The summary names files by path; keep it relative so results/ reads the same anywhere.
@@ -25,6 +26,20 @@ build/bench/branches_bench scenes 5 results/regularization/thesis_A_a.csv \
   > results/regularization/branches_bench.txt
 /usr/bin/python3 plots/regularization.py results/regularization/thesis_A_a.csv \
   results/regularization/convergence.png
+# Hysteresis maps and the identification example of the default scene (results/design).
+mkdir -p results/design
+for spec in "friction --range 0.1 1.0" "stator_damping --range 50 2000" "rci_ratio"; do
+  name=${spec%% *}
+  # shellcheck disable=SC2086  # $spec holds the parameter name and its options
+  build/rubcont map scenes/default.toml --parameter $spec --eta-points 41 --quiet \
+    --out "results/design/map_$name.h5" > "results/design/map_$name.txt"
+done
+build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml --quiet \
+  --out results/design/fit_hidden.h5 > results/design/fit_hidden.txt
+# Exit code 1 expected: no friction reproduces the thesis's jump (results/README.md).
+build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_up_jump.toml \
+  --quiet --out results/design/fit_thesis_A_a_jump.h5 > results/design/fit_thesis_A_a_jump.txt 2>&1 || true
+echo "results/design: $(ls results/design | tr '\n' ' ')"
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
 if [[ "${1:-}" == "--sweeps" ]]; then

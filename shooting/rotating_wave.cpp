@@ -90,6 +90,24 @@ RotatingWaveProblem::RotatingWaveProblem(RubStructure structure, FrictionLawKind
   phase_reference_(0) = 1.0;
 }
 
+void RotatingWaveProblem::SetStructure(RubStructure structure) {
+  structure.Validate();
+  if (structure.Coordinates() != structure_.Coordinates() ||
+      structure.contacts.size() != structure_.contacts.size()) {
+    throw std::invalid_argument(
+        "RotatingWaveProblem::SetStructure: the new structure has " +
+        std::to_string(structure.Coordinates()) + " coordinates and " +
+        std::to_string(structure.contacts.size()) + " contacts: must have " +
+        std::to_string(structure_.Coordinates()) + " and " +
+        std::to_string(structure_.contacts.size()) + " like the problem's");
+  }
+  structure_ = std::move(structure);
+  frame_ = RubRotatingFrame(structure_, 0.0);
+  mass_ = KronIdentity2(structure_.mass);
+  damping_ = KronIdentity2(structure_.damping);
+  stiffness_ = KronIdentity2(structure_.stiffness);
+}
+
 Index RotatingWaveProblem::Dimension() const {
   return 2 * structure_.Coordinates() + 1 + (law_ == FrictionLawKind::kExact ? Contacts() : 0);
 }

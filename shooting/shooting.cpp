@@ -303,6 +303,10 @@ void ShootingProblem::SetPhaseReference(const Vector& u, double lambda) {
   residual_ready_ = false;
 }
 
+void ShootingProblem::PointAccepted(const Vector& u, double lambda) {
+  if (options_.refresh_phase_reference && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
+}
+
 void ShootingProblem::SetMeasures(std::vector<OrbitMeasure> measures) {
   for (const OrbitMeasure& measure : measures) {
     if (measure.name.empty() || !measure.evaluate) {

@@ -94,6 +94,11 @@ struct ShootingOptions {
   double lambda_scale = 0.0;
   // Samples per segment for measures and Orbit() (≥ 2).
   int samples_per_segment = 64;
+  // Move the phase conditions' reference to every accepted continuation point (PointAccepted),
+  // so that the hyperplane stays transversal to an orbit that changes along the branch (the
+  // accepted point stays a solution; the next one lies on the new hyperplane). No effect for
+  // kForced.
+  bool refresh_phase_reference = false;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -151,6 +156,8 @@ class ShootingProblem : public Problem {
   // of every state, "max_<StateName(i)>", "min_<StateName(i)>").
   std::vector<std::string> MeasureNames() const override;
   Vector Measures(const Vector& u, double lambda) override;
+  // SetPhaseReference(u, λ) when options().refresh_phase_reference.
+  void PointAccepted(const Vector& u, double lambda) override;
 
   // --- Building and reading unknowns ---
   OrbitKind kind() const { return kind_; }

@@ -208,13 +208,74 @@ TEST_CASE("Jeffcott scenes: their own section, the other model's keys rejected",
 }
 
 TEST_CASE("Rule: stages must be implemented, named once, and at least one", "[scene]") {
-  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"orbits\"]\n"),
-             Contains("\"orbits\" is not implemented yet (implemented: \"analytic\", \"branches\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
-             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"branches\", \"sweep\")"));
+             Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"branches\", "
+                      "\"orbits\", \"sweep\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
              Contains("\"analytic\" is listed twice"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));
+}
+
+// A textbook scene: the Duffing oscillator of scenes/duffing.toml, without its optional keys.
+const std::string kDuffing = R"(model = "duffing"
+
+[duffing]
+damping = 0.05
+stiffness = 1.0
+cubic = 1.0
+force = 0.3
+frequency_range = [0.5, 2.5]
+)";
+
+TEST_CASE("Textbook models: their own sections, the orbits stage by default, start in range",
+          "[scene]") {
+  const Scene duffing = Parse(kDuffing);
+  CHECK(duffing.model == ModelKind::kDuffing);
+  CHECK(duffing.duffing.force == 0.3);
+  CHECK(duffing.orbits.parameter_range == std::array<double, 2>{0.5, 2.5});
+  CHECK(duffing.orbits.start == 0.5);  // the low end by default
+  CHECK(duffing.orbits.segments == 1);
+  CHECK(duffing.analysis.stages == std::vector<Stage>{Stage::kOrbits});
+  CHECK(Body(ResolvedSceneToml(ParseScene(ResolvedSceneToml(duffing), "x", "x"))) ==
+        Body(ResolvedSceneToml(duffing)));
+  CHECK(Parse(kDuffing + "[duffing.orbits]\nstart = 1.5\nsegments = 4\n").orbits.start == 1.5);
+
+  // Keys of one model are not keys of another; the rotor sections are not textbook ones.
+  CHECK_THAT(OnlyProblem(kDuffing + "[van_der_pol]\nmu_range = [1.0, 2.0]\n"),
+             Contains("van_der_pol.mu_range: not a key of model \"duffing\""));
+  CHECK_THAT(OnlyProblem(kDuffing + "[rotor]\nmass = 9.99\n"),
+             Contains("rotor.mass: not a key of model \"duffing\""));
+  CHECK_THAT(OnlyProblem(Replace(kDuffing, "force = 0.3\n", "")),
+             Contains("duffing.force: missing; required"));
+  // Values: key, value and rule.
+  CHECK_THAT(OnlyProblem(Replace(kDuffing, "[0.5, 2.5]", "[2.5, 0.5]")),
+             Contains("duffing.frequency_range = [2.5, 0.5]: inverted range: must be increasing"));
+  CHECK_THAT(OnlyProblem(Replace(kDuffing, "damping = 0.05", "damping = -0.05")),
+             Contains("duffing.damping = -0.05: must be non-negative"));
+  CHECK_THAT(OnlyProblem(kDuffing + "[duffing.orbits]\nstart = 3.0\n"),
+             Contains("duffing.orbits.start = 3.0: must lie in duffing.frequency_range = [0.5, 2.5]"));
+  CHECK_THAT(OnlyProblem(kDuffing + "[duffing.orbits]\nsegments = 0\n"),
+             Contains("duffing.orbits.segments = 0: must be from 1 to 1000"));
+  CHECK_THAT(OnlyProblem(kDuffing + "[duffing.orbits]\ntolerance = 1.5\n"),
+             Contains("duffing.orbits.tolerance = 1.5: must lie strictly between 0 and 1"));
+  CHECK_THAT(OnlyProblem(kDuffing + "[duffing.orbits]\nsegments = 2.0\n"),
+             Contains("duffing.orbits.segments = 2.0: must be an integer"));
+  // Stages that do not fit the model.
+  CHECK_THAT(OnlyProblem(kDuffing + "[analysis]\nstages = [\"branches\"]\n"),
+             Contains("analysis.stages = [\"branches\"]: \"branches\" does not apply to model "
+                      "\"duffing\"; the textbook models have the stage \"orbits\""));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"orbits\"]\n"),
+             Contains("analysis.stages = [\"orbits\"]: \"orbits\" does not apply to model "
+                      "\"two_point\""));
+
+  const Scene stuart_landau =
+      Parse("model = \"stuart_landau\"\n[stuart_landau]\nomega = 1.0\nlambda_range = [0.1, 1.0]\n");
+  CHECK(stuart_landau.stuart_landau.gamma == 0.0);  // optional
+  CHECK(stuart_landau.orbits.start == 0.1);
+  CHECK_THAT(OnlyProblem("model = \"van_der_pol\"\n"), Contains("van_der_pol.mu_range: missing"));
+  CHECK_THAT(OnlyProblem("model = \"duffin\"\n"),
+             Contains("model = \"duffin\": must be one of \"two_point\", \"jeffcott\", \"duffing\", "
+                      "\"stuart_landau\", \"van_der_pol\""));
 }
 
 TEST_CASE("Rule: the friction law kind is one of its choices", "[scene]") {

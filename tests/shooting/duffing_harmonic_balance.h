@@ -8,10 +8,18 @@
 // Fourier sums, which is exact: x³ has harmonics up to 3H, and 3H + H < M avoids aliasing onto the
 // retained ones. The periodic solution is analytic, so the coefficients decay geometrically and
 // the truncation error falls below 1e-12 for H ≈ 25 (checked by comparing H with 2H).
+//
+// Folds of the response curve (LocateFold): the Moore–Spence extended system in (c, v, w),
+//   R(c, w) = 0,   R_c(c, w) v = 0,   ℓᵀ v = 1,
+// with the exact second derivatives (R is a polynomial in c and w), by Newton from the fold of the
+// one-term balance (OneTermFolds): nothing of the continuation engine or of shooting is used.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <utility>
+#include <vector>
 
 #include "models/textbook.h"
 #include "solvers/newton.h"
@@ -34,30 +42,110 @@ class DuffingHarmonicBalance {
     // Discrete projection: a_0 = (1/M) Σ q_j, a_h = (2/M) Σ q_j cos hθ_j, b_h likewise.
     projection_ = basis_.transpose() * (2.0 / M_);
     projection_.row(0) *= 0.5;
-    linear_ = Matrix::Zero(Size(), Size());
-    linear_(0, 0) = p_.stiffness;
-    for (int h = 1; h <= H_; ++h) {
-      const double hw = h * p_.frequency;
-      const int a = 2 * h - 1, b = 2 * h;
-      linear_(a, a) = p_.stiffness - hw * hw;
-      linear_(a, b) = p_.damping * hw;
-      linear_(b, b) = p_.stiffness - hw * hw;
-      linear_(b, a) = -p_.damping * hw;
-    }
+    linear_ = LinearPart(p_.frequency);
   }
 
   Index Size() const { return 2 * H_ + 1; }
 
   void Residual(const Vector& coefficients, Vector& R) const {
-    const Vector x = basis_ * coefficients;
-    R = linear_ * coefficients + projection_ * (p_.cubic * x.array().cube()).matrix();
-    R(1) -= p_.force;
+    ResidualAt(coefficients, linear_, R);
   }
 
   void Jacobian(const Vector& coefficients, Matrix& J) const {
-    const Vector x = basis_ * coefficients;
-    J = linear_ +
-        projection_ * (3.0 * p_.cubic * x.array().square()).matrix().asDiagonal() * basis_;
+    JacobianAt(coefficients, linear_, J);
+  }
+
+  // A fold of the response curve: coefficients, frequency w and the null vector of R_c there.
+  struct Fold {
+    Vector coefficients;
+    Vector null_vector;
+    double frequency = 0.0;
+    NewtonResult newton;
+  };
+
+  // Newton on the extended system from the guess (coefficients, w); the null-vector guess is the
+  // right singular vector of R_c's smallest singular value at the guess.
+  Fold LocateFold(const Vector& coefficients, double frequency) const {
+    const Index m = Size();
+    Matrix J;
+    JacobianAt(coefficients, LinearPart(frequency), J);
+    Eigen::JacobiSVD<Matrix> svd(J, Eigen::ComputeFullV);
+    Vector v = svd.matrixV().col(m - 1);
+    const Vector ell = v;  // normalization ℓᵀv = 1 along the initial null vector
+    Vector z(2 * m + 1);
+    z << coefficients, v, frequency;
+    auto residual = [&](const Vector& y, Vector& F) {
+      const Vector c = y.head(m), n = y.segment(m, m);
+      const Matrix L = LinearPart(y(2 * m));
+      Vector R;
+      Matrix Jc;
+      ResidualAt(c, L, R);
+      JacobianAt(c, L, Jc);
+      F.resize(2 * m + 1);
+      F << R, Jc * n, ell.dot(n) - 1.0;
+    };
+    auto jacobian = [&](const Vector& y, Matrix& D) {
+      const Vector c = y.head(m), n = y.segment(m, m);
+      const double w = y(2 * m);
+      const Matrix L = LinearPart(w), Lw = LinearPartDw(w);
+      Matrix Jc;
+      JacobianAt(c, L, Jc);
+      const Vector x = basis_ * c, xn = basis_ * n;
+      D = Matrix::Zero(2 * m + 1, 2 * m + 1);
+      D.block(0, 0, m, m) = Jc;
+      D.block(0, 2 * m, m, 1) = Lw * c;
+      // ∂(R_c n)/∂c = P diag(6β x ∘ (B n)) B.
+      D.block(m, 0, m, m) =
+          projection_ * (6.0 * p_.cubic * x.array() * xn.array()).matrix().asDiagonal() * basis_;
+      D.block(m, m, m, m) = Jc;
+      D.block(m, 2 * m, m, 1) = Lw * n;
+      D.block(2 * m, m, 1, m) = ell.transpose();
+    };
+    NewtonOptions options;
+    options.max_iterations = 40;
+    options.residual_tolerance = 1e-13;
+    options.step_tolerance = 1e-13;
+    Fold fold;
+    fold.newton = NewtonSolve(residual, jacobian, z, options);
+    fold.coefficients = z.head(m);
+    fold.null_vector = z.segment(m, m);
+    fold.frequency = z(2 * m);
+    return fold;
+  }
+
+  // The folds of the one-term balance: frequencies where two of the amplitudes of OneTermSolutions
+  // merge (the cubic in A² has a double root), with that double amplitude and its phase, in
+  // increasing frequency. Bisection on the number of solutions over [w_lo, w_hi], which must
+  // bracket the bistable band.
+  struct OneTermFold {
+    double frequency = 0.0;
+    double amplitude = 0.0;
+    double phase = 0.0;
+  };
+  static std::vector<OneTermFold> OneTermFolds(DuffingParams p, double w_lo, double w_hi,
+                                               int grid = 400) {
+    auto count = [&p](double w) {
+      p.frequency = w;
+      return OneTermSolutions(p).size();
+    };
+    std::vector<OneTermFold> folds;
+    for (int i = 0; i < grid; ++i) {
+      double a = w_lo + (w_hi - w_lo) * i / grid, b = w_lo + (w_hi - w_lo) * (i + 1) / grid;
+      const std::size_t na = count(a), nb = count(b);
+      if (na == nb) continue;
+      for (int k = 0; k < 200 && b - a > 1e-14; ++k) {
+        const double mid = 0.5 * (a + b);
+        (count(mid) == na ? a : b) = mid;
+      }
+      // The inner side has three solutions; the merging pair is the one closest together.
+      p.frequency = na == 3 ? a : b;
+      const auto s = OneTermSolutions(p);
+      const std::size_t pair =
+          std::abs(s[1].first - s[0].first) < std::abs(s[2].first - s[1].first) ? 0 : 1;
+      folds.push_back({p.frequency, 0.5 * (s[pair].first + s[pair + 1].first),
+                       0.5 * (s[pair].second + s[pair + 1].second)});
+    }
+    return folds;
   }
 
   // Newton from `coefficients` (overwritten).
@@ -85,9 +173,10 @@ class DuffingHarmonicBalance {
     for (int h = 1; h <= H_; ++h) x += c(2 * h - 1);
     return x;
   }
-  double Velocity0(const Vector& c) const {
+  double Velocity0(const Vector& c) const { return Velocity0(c, p_.frequency); }
+  double Velocity0(const Vector& c, double w) const {
     double v = 0.0;
-    for (int h = 1; h <= H_; ++h) v += h * p_.frequency * c(2 * h);
+    for (int h = 1; h <= H_; ++h) v += h * w * c(2 * h);
     return v;
   }
   static double FirstHarmonicAmplitude(const Vector& c) { return std::hypot(c(1), c(2)); }
@@ -119,6 +208,39 @@ class DuffingHarmonicBalance {
   }
 
  private:
+  // The linear part at frequency w: k − (hw)² on the diagonal, ± c h w off it; and its w-derivative.
+  Matrix LinearPart(double w) const {
+    Matrix L = Matrix::Zero(Size(), Size());
+    L(0, 0) = p_.stiffness;
+    for (int h = 1; h <= H_; ++h) {
+      const double hw = h * w;
+      const int a = 2 * h - 1, b = 2 * h;
+      L(a, a) = L(b, b) = p_.stiffness - hw * hw;
+      L(a, b) = p_.damping * hw;
+      L(b, a) = -p_.damping * hw;
+    }
+    return L;
+  }
+  Matrix LinearPartDw(double w) const {
+    Matrix L = Matrix::Zero(Size(), Size());
+    for (int h = 1; h <= H_; ++h) {
+      const int a = 2 * h - 1, b = 2 * h;
+      L(a, a) = L(b, b) = -2.0 * h * h * w;
+      L(a, b) = p_.damping * h;
+      L(b, a) = -p_.damping * h;
+    }
+    return L;
+  }
+  void ResidualAt(const Vector& c, const Matrix& L, Vector& R) const {
+    const Vector x = basis_ * c;
+    R = L * c + projection_ * (p_.cubic * x.array().cube()).matrix();
+    R(1) -= p_.force;
+  }
+  void JacobianAt(const Vector& c, const Matrix& L, Matrix& J) const {
+    const Vector x = basis_ * c;
+    J = L + projection_ * (3.0 * p_.cubic * x.array().square()).matrix().asDiagonal() * basis_;
+  }
+
   DuffingParams p_;
   int H_;
   int M_;

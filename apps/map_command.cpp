@@ -1,0 +1,282 @@
+#include "apps/map_command.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <ostream>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "apps/commands.h"
+#include "apps/figures.h"
+#include "apps/hdf5_file.h"
+#include "apps/map_output.h"
+#include "apps/scene.h"
+#include "apps/version.h"
+
+namespace rubcont {
+
+namespace {
+
+constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * M_PI);
+
+std::string SpecialPointName(SpecialPointType type, bool nonsmooth_fold) {
+  if (type == SpecialPointType::kEvent && nonsmooth_fold) return "non_smooth_fold";
+  return ToString(type);
+}
+
+}  // namespace
+
+std::pair<double, double> DefaultMapRange(DesignParameter parameter, double base) {
+  if (parameter == DesignParameter::kRciRatio) return {0.75 * base, 1.35 * base};
+  if (base == 0.0) {
+    const double typical = parameter == DesignParameter::kFriction ? 0.5
+                           : parameter == DesignParameter::kCenterDamping ? 100.0
+                                                                          : 500.0;
+    return {0.0, 2.0 * typical};
+  }
+  return {0.5 * base, 1.5 * base};
+}
+
+void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, FrictionLawKind law) {
+  const std::string group = std::string("/maps/") + ToString(map.parameter);
+  writer.CreateGroup(group);
+  writer.SetAttribute(group, "parameter", ToString(map.parameter));
+  writer.SetAttribute(group, "unit", UnitOf(map.parameter));
+  writer.SetAttribute(group, "base_value", map.base_value);
+  writer.SetAttribute(group, "level", "L1");
+  writer.SetAttribute(group, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
+  writer.SetAttribute(group, "summary", map.BriefReport());
+  writer.SetAttribute(group, "note", map.note);
+  writer.SetAttribute(group, "grid_seconds", map.grid_seconds);
+  writer.SetAttribute(group, "curve_seconds", map.curve_seconds);
+  writer.SetAttribute(group, "region_codes",
+                      "0: no stable circular rub state, 1: one, 2: two or more coexisting "
+                      "(hysteresis); the no-rub state is not counted");
+  writer.WriteDoubles(group + "/eta", map.eta);
+  writer.WriteDoubles(group + "/speed_rpm", Vector(map.speed * kRpmPerRadPerSecond));
+  Matrix count = map.stable_count.cast<double>();
+  Matrix region = count;
+  for (Index i = 0; i < region.rows(); ++i) {
+    for (Index j = 0; j < region.cols(); ++j) {
+      region(i, j) = count(i, j) < 0 ? -1.0 : static_cast<double>(static_cast<int>(map.Region(i, j)));
+    }
+  }
+  writer.WriteMatrix(group + "/stable_count", count);
+  writer.WriteMatrix(group + "/region", region);
+  for (std::size_t p = 0; p < map.patterns.size(); ++p) {
+    writer.WriteMatrix(group + "/by_pattern/" + map.patterns[p] + "/stable_count",
+                       map.pattern_counts[p].cast<double>());
+  }
+
+  const std::string points = group + "/points";
+  writer.CreateGroup(points);
+  std::vector<double> eta, speed, precession;
+  std::vector<std::string> type, label;
+  std::vector<int> nonsmooth, branch, before, after;
+  for (const MapPoint& p : map.points) {
+    eta.push_back(p.eta);
+    speed.push_back(p.speed * kRpmPerRadPerSecond);
+    precession.push_back(p.precession_hz);
+    type.push_back(SpecialPointName(p.type, p.nonsmooth_fold));
+    label.push_back(p.label);
+    nonsmooth.push_back(p.nonsmooth_fold ? 1 : 0);
+    branch.push_back(p.branch);
+    before.push_back(p.stable_before);
+    after.push_back(p.stable_after);
+  }
+  writer.WriteDoubles(points + "/eta", eta);
+  writer.WriteDoubles(points + "/speed_rpm", speed);
+  writer.WriteDoubles(points + "/precession_hz", precession);
+  writer.WriteStrings(points + "/type", type);
+  writer.WriteStrings(points + "/label", label);
+  writer.WriteInts(points + "/nonsmooth_fold", nonsmooth);
+  writer.WriteInts(points + "/branch", branch);
+  writer.WriteInts(points + "/stable_before", before);
+  writer.WriteInts(points + "/stable_after", after);
+
+  writer.CreateGroup(group + "/curves");
+  for (const MapCurve& c : map.curves) {
+    const std::string g = group + "/curves/" + c.name;
+    writer.CreateGroup(g);
+    writer.SetAttribute(g, "kind", c.kind);
+    writer.SetAttribute(g, "label", c.label);
+    writer.SetAttribute(g, "piece", c.piece);
+    writer.SetAttribute(g, "pattern", c.pattern);
+    writer.SetAttribute(g, "branch", static_cast<double>(c.branch));
+    writer.SetAttribute(g, "status", ToString(c.curve.status));
+    writer.SetAttribute(g, "message", c.curve.message);
+    writer.SetAttribute(g, "start_eta", c.start_eta);
+    writer.SetAttribute(g, "start_speed_rpm", c.start_speed * kRpmPerRadPerSecond);
+    writer.SetAttribute(g, "start_nonsmooth_fold", c.start_nonsmooth_fold ? 1.0 : 0.0);
+    writer.SetAttribute(g, "fold_sense", static_cast<double>(c.fold_sense));
+    writer.SetAttribute(g, "partner_margins", fmt::format("{}", fmt::join(c.partner_margins, "; ")));
+    const bool has_points = !c.curve.points.empty();
+    writer.WriteDoubles(g + "/eta", has_points ? c.curve.Lambda() : Vector());
+    writer.WriteDoubles(g + "/speed_rpm",
+                        has_points ? Vector(c.curve.Measure("lambda") * kRpmPerRadPerSecond) : Vector());
+    writer.WriteDoubles(g + "/precession_hz",
+                        has_points ? c.curve.Measure("precession_hz") : Vector());
+    std::vector<std::string> sp_type, sp_label;
+    std::vector<double> sp_eta, sp_speed;
+    const auto& names = c.curve.measure_names;
+    for (const SpecialPoint& sp : c.curve.special_points) {
+      sp_type.push_back(ToString(sp.type));
+      sp_label.push_back(sp.label);
+      sp_eta.push_back(sp.lambda);
+      double speed_rpm = std::nan("");
+      if (!names.empty() && names[0] == "lambda" && sp.measures.size() > 0) {
+        speed_rpm = sp.measures(0) * kRpmPerRadPerSecond;
+      }
+      sp_speed.push_back(speed_rpm);
+    }
+    std::vector<double> x_eta, x_speed, x_ipopt_eta, x_ipopt_speed;
+    std::vector<std::string> x_status;
+    for (const CurveExtremum& e : c.extrema) {
+      x_eta.push_back(e.engine_eta);
+      x_speed.push_back(e.engine_speed * kRpmPerRadPerSecond);
+      x_ipopt_eta.push_back(e.ipopt.lambda);
+      x_ipopt_speed.push_back(e.ipopt_speed * kRpmPerRadPerSecond);
+      x_status.push_back(ToString(e.ipopt.status));
+    }
+    writer.CreateGroup(g + "/extrema");
+    writer.WriteDoubles(g + "/extrema/eta", x_eta);
+    writer.WriteDoubles(g + "/extrema/speed_rpm", x_speed);
+    writer.WriteDoubles(g + "/extrema/ipopt_eta", x_ipopt_eta);
+    writer.WriteDoubles(g + "/extrema/ipopt_speed_rpm", x_ipopt_speed);
+    writer.WriteStrings(g + "/extrema/ipopt_status", x_status);
+    writer.CreateGroup(g + "/special_points");
+    writer.WriteStrings(g + "/special_points/type", sp_type);
+    writer.WriteStrings(g + "/special_points/label", sp_label);
+    writer.WriteDoubles(g + "/special_points/eta", sp_eta);
+    writer.WriteDoubles(g + "/special_points/speed_rpm", sp_speed);
+  }
+  writer.WriteStrings(group + "/failures", map.failures);
+}
+
+int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) {
+  using Clock = std::chrono::steady_clock;
+  try {
+    const DesignParameter parameter = [&] {
+      try {
+        return ParseDesignParameter(request.parameter);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(fmt::format("--{}", e.what()));
+      }
+    }();
+    const Scene scene = LoadScene(request.scene_file);
+    if (scene.model != ModelKind::kTwoPoint) {
+      throw std::invalid_argument(fmt::format(
+          "model = \"{}\" in {}: rubcont map needs the two_point model", ToString(scene.model),
+          request.scene_file));
+    }
+    const double base = GetDesignParameter(scene.two_point, parameter);
+    const auto [default_min, default_max] = DefaultMapRange(parameter, base);
+    HysteresisMapOptions options;
+    options.parameter = parameter;
+    options.eta_min = request.eta_min.value_or(default_min);
+    options.eta_max = request.eta_max.value_or(default_max);
+    if (!InPhysicalRange(parameter, options.eta_min)) {
+      throw std::invalid_argument(fmt::format(
+          "--eta-min = {}: must lie in the physical range of {} ({} {} {})", options.eta_min,
+          ToString(parameter), LowerLimitIncluded(parameter) ? "≥" : ">", LowerLimit(parameter),
+          UnitOf(parameter)));
+    }
+    if (!(std::isfinite(options.eta_max) && options.eta_max > options.eta_min)) {
+      throw std::invalid_argument(fmt::format("--eta-max = {}: must be finite and exceed --eta-min = {}",
+                                              options.eta_max, options.eta_min));
+    }
+    if (request.eta_points < 2 || request.eta_points > 2000) {
+      throw std::invalid_argument(
+          fmt::format("--eta-points = {}: must be in 2 … 2000", request.eta_points));
+    }
+    if (request.speed_points < 2 || request.speed_points > 100000) {
+      throw std::invalid_argument(
+          fmt::format("--speed-points = {}: must be in 2 … 100000", request.speed_points));
+    }
+    options.eta_points = request.eta_points;
+    options.speed_points = request.speed_points;
+    constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
+    options.branches.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
+    options.branches.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
+    options.branches.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
+
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name /
+                               (std::string("map_") + ToString(parameter) + ".h5");
+    const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
+    std::filesystem::create_directories(out_dir);
+
+    const Clock::time_point start = Clock::now();
+    const HysteresisMap map = ComputeHysteresisMap(
+        scene.two_point, options, [&](const std::string& stage, int done, int total) {
+          if (request.quiet) return;
+          fmt::print(err, "rubcont: [map] {} {}/{} ({:.1f} s)\n", stage, done, total,
+                     std::chrono::duration<double>(Clock::now() - start).count());
+          err.flush();
+        });
+
+    ResultWriter writer(file);
+    writer.SetAttribute("/", "rubcont_version", Version());
+    writer.SetAttribute("/", "scene_name", scene.name);
+    writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+    writer.SetAttribute("/", "level", "L1");
+    writer.SetAttribute("/", "status", map.failures.empty() ? "success" : "failure");
+    WriteHysteresisMap(writer, map, scene.two_point.friction_law.kind);
+    writer.Commit();
+
+    fmt::print(out, "scene {} from {}\n[map] {}\n", scene.name, scene.source, map.BriefReport());
+    if (!map.note.empty()) fmt::print(out, "[map] note: {}\n", map.note);
+    for (const MapCurve& c : map.curves) {
+      const Branch& b = c.curve;
+      double lo = 0.0, hi = 0.0;
+      if (!b.points.empty()) {
+        const Vector eta = b.Lambda();
+        lo = eta.minCoeff();
+        hi = eta.maxCoeff();
+      }
+      fmt::print(out, "  {} {} \"{}\" from {:.3f} rpm at {} = {:g}: {} points, {} ∈ [{:g}, {:g}], "
+                      "ended: {}\n",
+                 c.name, c.kind, c.label, c.start_speed * kRpmPerRadPerSecond, ToString(parameter),
+                 c.start_eta, b.points.size(), ToString(parameter), lo, hi, b.message);
+      for (const SpecialPoint& sp : b.special_points) {
+        if (sp.type == SpecialPointType::kFold) continue;  // printed with Ipopt's below
+        fmt::print(out, "    {} at {} = {:.6g}, {:.3f} rpm\n", sp.Name(), ToString(parameter),
+                   sp.lambda, sp.measures.size() > 0 ? sp.measures(0) * kRpmPerRadPerSecond : 0.0);
+      }
+      for (const CurveExtremum& e : c.extrema) {
+        fmt::print(out, "    turning point ({} {}): engine {} = {:.10g} at {:.6f} rpm; Ipopt {} = "
+                        "{:.10g} at {:.6f} rpm ({}, {} iterations)\n",
+                   e.sense > 0 ? "largest" : "smallest", ToString(parameter), ToString(parameter),
+                   e.engine_eta, e.engine_speed * kRpmPerRadPerSecond, ToString(parameter),
+                   e.ipopt.lambda, e.ipopt_speed * kRpmPerRadPerSecond, ToString(e.ipopt.status),
+                   e.ipopt.iterations);
+        if (!e.ipopt.Solved()) fmt::print(out, "      Ipopt: {}\n", e.ipopt.message);
+      }
+    }
+    fmt::print(out, "wrote {}\n", file.string());
+    const FigureOutcome figures = MakeFigures("map.py", file, out_dir);
+    if (figures.made) {
+      fmt::print(out, "wrote figures (map.py) in {}\n", out_dir.string());
+    } else {
+      fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+    }
+    for (const std::string& f : map.failures) fmt::print(err, "rubcont: numerical failure: {}\n", f);
+    return map.failures.empty() ? kExitSuccess : kExitFailure;
+  } catch (const SceneError& e) {
+    fmt::print(err, "{}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(err, "rubcont: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(err, "rubcont: error: {}\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace rubcont

@@ -1,0 +1,64 @@
+// Periodic orbits born at a Hopf point of an equilibrium: the equilibria of an OdeSystem as a
+// continuation problem (Hopf points detected and located by the engine), and the switch from a
+// located Hopf point onto the family of periodic orbits born there.
+//
+// The switch (Seydel §7.6; AUTO's and BifurcationKit's Hopf-to-orbit start, without the normal
+// form): at the Hopf point (x_H, λ_H) with critical eigenvalue iω and eigenvector v, the small
+// orbits are x(t) ≈ x_H + a Re(v e^{iωt}), T ≈ 2π/ω, and the family leaves the Hopf point
+// along the amplitude a with dλ/da = 0. The engine is started (StartWithTangent) at a = amplitude
+// along that direction: its corrector fixes the projection on the direction (the amplitude) and
+// solves for λ, whichever side of λ_H the orbits lie on (supercritical or subcritical).
+//
+// Use:
+//     EquilibriumProblem equilibria(system);
+//     Branch eq = Continue(equilibria, x0, lambda0, options_with_stability);
+//     for (const SpecialPoint& p : eq.special_points)
+//       if (p.type == SpecialPointType::kHopf)
+//         Branch orbits = ContinueOrbitsFromHopf(system, p, hopf_options);
+#pragma once
+
+#include "continuation/branch.h"
+#include "continuation/problem.h"
+#include "shooting/orbit_branches.h"
+
+namespace rubcont {
+
+// F(x, λ) = f(0, x; λ) of an autonomous system; stability = eigenvalues of ∂f/∂x.
+class EquilibriumProblem : public Problem {
+ public:
+  // The system must outlive the problem; it must be autonomous (ForcingPeriod() = 0).
+  explicit EquilibriumProblem(OdeSystem& system);
+  Index Dimension() const override { return system_.Dimension(); }
+  void Residual(const Vector& u, double lambda, Vector& F) override;
+  void Jacobian(const Vector& u, double lambda, Matrix& J) override;
+  void DfDlambda(const Vector& u, double lambda, Vector& dF) override;
+  Vector Scale() const override { return system_.StateScale(); }
+  Vector ResidualScale() const override { return system_.StateScale(); }
+  double LambdaScale() const override { return lambda_scale_; }
+  bool HasStability() const override { return true; }
+  Spectrum Stability(const Vector& u, double lambda) override;
+
+ private:
+  OdeSystem& system_;
+  double lambda_scale_;
+};
+
+struct HopfOrbitOptions {
+  // kAutonomous, or kRelative for a Hopf point of a relative equilibrium (a rotating wave, an
+  // equilibrium of the co-rotating frame): the orbits born there drift with the symmetry and are
+  // shot as relative periodic orbits, x(T) = R_φ x(0), starting from φ = 0.
+  OrbitKind kind = OrbitKind::kAutonomous;
+  // Amplitude a of the first orbit, in units of the scaled state (‖Re v ./ StateScale‖ = 1).
+  double amplitude = 1e-2;
+  // Range, shooting and engine options as for ContinuePeriodicOrbits (direction is ignored: the
+  // branch leaves the Hopf point towards growing amplitude).
+  PeriodicOrbitBranchOptions orbits;
+};
+
+// The periodic orbits born at `hopf` (a kHopf special point of an EquilibriumProblem branch of
+// `system`, or one built from a rotating wave's: u = x_H, lambda = λ_H, frequency = ω). Throws std::invalid_argument when the point is
+// not a Hopf point or the system has no complex pair near iω there.
+PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint& hopf,
+                                           const HopfOrbitOptions& options);
+
+}  // namespace rubcont

@@ -1,0 +1,363 @@
+#include "shooting/hysteresis_map.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "continuation/event_curve.h"
+#include "continuation/fold.h"
+#include "models/rub_model.h"
+
+namespace rubcont {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+int StableFlag(const BranchPoint& p) {
+  if (p.num_unstable < 0) return -1;
+  return p.num_unstable == 0 ? 1 : 0;
+}
+
+// Puts `problem` on the piece and phase of a special point of `branch`.
+void PlaceAt(RotatingWaveDesignProblem& problem, const Branch& branch, const SpecialPoint& point) {
+  problem.SetModes(ModesAt(branch, point, problem.Contacts()));
+  problem.SetPhaseReference(point.u);
+}
+
+// Ipopt on every located turning point of an event curve (see CurveExtremum).
+std::vector<CurveExtremum> LocateExtrema(RotatingWaveDesignProblem& problem, const Branch& branch,
+                                         const SpecialPoint& event, const Branch& curve,
+                                         double eta_min, double eta_max) {
+  std::vector<CurveExtremum> extrema;
+  const double base = problem.SecondParameter();
+  const Index n = problem.Dimension();
+  for (const SpecialPoint& turn : curve.special_points) {
+    if (turn.type != SpecialPointType::kFold || !turn.converged) continue;
+    const BranchPoint& before = curve.points[turn.index];
+    CurveExtremum e;
+    e.engine_eta = turn.lambda;
+    e.engine_speed = turn.u(n);
+    e.sense = before.lambda < turn.lambda ? +1 : -1;
+    PlaceAt(problem, branch, event);
+    problem.SetSecondParameter(before.lambda);
+    problem.SetPhaseReference(before.u.head(n));
+    const std::vector<std::string> names = problem.EventNames();
+    const int k = static_cast<int>(std::find(names.begin(), names.end(), event.label) - names.begin());
+    EventCurveProblem manifold(problem, k, before.u.head(n), before.u(n));
+    FoldOptimizationOptions options;
+    options.sense = e.sense;
+    options.lambda_min = eta_min;  // the map's range: Ipopt's iterates stay physical
+    options.lambda_max = eta_max;
+    e.ipopt = LocateFoldByOptimization(manifold, before.u, before.lambda, options);
+    if (!e.ipopt.Solved()) {
+      // The finite-difference Hessian of the event manifold differences a Jacobian whose margin
+      // row is itself a difference; where that is too noisy for Ipopt's first steps, the
+      // limited-memory approximation needs no second derivatives.
+      options.hessian = FoldHessian::kLimitedMemory;
+      problem.SetSecondParameter(before.lambda);
+      e.ipopt = LocateFoldByOptimization(manifold, before.u, before.lambda, options);
+    }
+    e.ipopt_speed = e.ipopt.u.size() > n ? e.ipopt.u(n) : 0.0;
+    extrema.push_back(e);
+  }
+  problem.SetSecondParameter(base);
+  return extrema;
+}
+
+}  // namespace
+
+void Validate(const HysteresisMapOptions& o) {
+  auto fail = [](const std::string& field, double value, const std::string& rule) {
+    throw std::invalid_argument(fmt::format("HysteresisMapOptions.{} = {}: {}", field, value, rule));
+  };
+  const char* name = ToString(o.parameter);
+  if (!InPhysicalRange(o.parameter, o.eta_min)) {
+    fail("eta_min", o.eta_min,
+         fmt::format("must lie in the physical range of {} ({} {})", name,
+                     LowerLimitIncluded(o.parameter) ? "≥" : ">", LowerLimit(o.parameter)));
+  }
+  if (!(std::isfinite(o.eta_max) && o.eta_max > o.eta_min)) {
+    fail("eta_max", o.eta_max, fmt::format("must be finite and exceed eta_min = {}", o.eta_min));
+  }
+  if (o.eta_points < 2) fail("eta_points", o.eta_points, "must be at least 2");
+  if (o.speed_points < 2) fail("speed_points", o.speed_points, "must be at least 2");
+  if (o.curve_max_steps < 1) fail("curve_max_steps", o.curve_max_steps, "must be at least 1");
+  if (!(o.curve_max_step > 0.0)) fail("curve_max_step", o.curve_max_step, "must be positive");
+  Validate(o.branches.search);
+}
+
+const char* ToString(MapRegion region) {
+  switch (region) {
+    case MapRegion::kNone: return "no stable circular state";
+    case MapRegion::kOne: return "one stable circular state";
+    case MapRegion::kCoexisting: return "two or more coexisting stable circular states";
+  }
+  return "?";
+}
+
+MapRegion HysteresisMap::Region(Index i, Index j) const {
+  const int c = stable_count(i, j);
+  return c <= 0 ? MapRegion::kNone : c == 1 ? MapRegion::kOne : MapRegion::kCoexisting;
+}
+
+std::string HysteresisMap::BriefReport() const {
+  int coexisting = 0, none = 0, cells = 0;
+  for (Index i = 0; i < stable_count.rows(); ++i) {
+    for (Index j = 0; j < stable_count.cols(); ++j) {
+      if (stable_count(i, j) < 0) continue;
+      ++cells;
+      if (stable_count(i, j) >= 2) ++coexisting;
+      if (stable_count(i, j) == 0) ++none;
+    }
+  }
+  int cusps = 0;
+  for (const MapCurve& c : curves) cusps += c.curve.Count(SpecialPointType::kCusp);
+  return fmt::format(
+      "map of {} over [{:g}, {:g}] ({} values, {} branches) × {} speeds: {:.1f} % of the cells "
+      "with coexisting stable states, {:.1f} % with none; {} curves, {} cusps; grid {:.2f} s, "
+      "curves {:.2f} s{}",
+      ToString(parameter), eta.size() ? eta(0) : 0.0, eta.size() ? eta(eta.size() - 1) : 0.0,
+      eta.size(), grid_branches, speed.size(), cells ? 100.0 * coexisting / cells : 0.0,
+      cells ? 100.0 * none / cells : 0.0, curves.size(), cusps, grid_seconds, curve_seconds,
+      failures.empty() ? "" : fmt::format(", {} failures", failures.size()));
+}
+
+std::vector<std::pair<double, double>> StableIntervals(const Branch& branch) {
+  std::vector<std::pair<double, double>> intervals;
+  const auto& p = branch.points;
+  std::size_t i = 0;
+  while (i < p.size()) {
+    if (p[i].num_unstable != 0) {
+      ++i;
+      continue;
+    }
+    // A run of stable points on one piece; a piece change (a switch point stored twice) or an
+    // unstable point ends it.
+    double lo = p[i].lambda, hi = p[i].lambda;
+    std::size_t j = i + 1;
+    while (j < p.size() && p[j].num_unstable == 0 && p[j].piece == p[i].piece) {
+      lo = std::min(lo, p[j].lambda);
+      hi = std::max(hi, p[j].lambda);
+      // A turning point inside a run starts a new state at the same speeds: split there.
+      if (j + 1 < p.size() && p[j + 1].num_unstable == 0 && p[j + 1].piece == p[i].piece &&
+          (p[j].lambda - p[j - 1].lambda) * (p[j + 1].lambda - p[j].lambda) < 0.0) {
+        break;
+      }
+      ++j;
+    }
+    if (hi > lo) intervals.emplace_back(lo, hi);
+    i = j;  // j > i: the first point after the run, or the turning point that starts the next
+  }
+  return intervals;
+}
+
+std::vector<ContactMode> ModesAt(const Branch& branch, const SpecialPoint& point, Index contacts) {
+  std::vector<ContactMode> modes;
+  Index first = -1;
+  for (std::size_t i = 0; i < branch.measure_names.size(); ++i) {
+    if (branch.measure_names[i].rfind("mode_", 0) == 0) {
+      first = static_cast<Index>(i);
+      break;
+    }
+  }
+  if (first < 0 || first + contacts > point.measures.size()) {
+    throw std::invalid_argument("ModesAt: the branch has no contact-mode measures (mode_<contact>)");
+  }
+  for (Index k = 0; k < contacts; ++k) {
+    switch (static_cast<int>(std::lround(point.measures(first + k)))) {
+      case 0: modes.push_back(ContactMode::kFree); break;
+      case 1: modes.push_back(ContactMode::kStick); break;
+      case 2: modes.push_back(ContactMode::kSlipPositive); break;
+      default: modes.push_back(ContactMode::kSlipNegative); break;
+    }
+  }
+  return modes;
+}
+
+HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,
+                                   const MapProgress& progress) {
+  Validate(options);
+  Validate(params);
+  HysteresisMap map;
+  map.parameter = options.parameter;
+  map.base_value = GetDesignParameter(params, options.parameter);
+  if (!InPhysicalRange(options.parameter, map.base_value)) {
+    throw std::invalid_argument(fmt::format("{} = {} in the scene: outside its physical range",
+                                            ToString(options.parameter), map.base_value));
+  }
+  const FrictionLawKind law = params.friction_law.kind;
+  // The regularized law's knee test functions sit at the branches' turning points and would be
+  // recorded there instead of the folds: switch them off, so the folds are located and continued.
+  RotatingWaveBranchOptions branch_options = options.branches;
+  if (law == FrictionLawKind::kTanh) branch_options.continuation.detect.test_functions = false;
+  const Index m = options.eta_points, k = options.speed_points;
+  map.eta = Vector::LinSpaced(m, options.eta_min, options.eta_max);
+  map.speed = Vector::LinSpaced(k, options.branches.search.speed_min, options.branches.search.speed_max);
+  map.stable_count = Eigen::MatrixXi::Zero(m, k);
+
+  // 1. The grid.
+  const Clock::time_point grid_start = Clock::now();
+  for (Index i = 0; i < m; ++i) {
+    const double eta = map.eta(i);
+    try {
+      const TwoPointParams p = WithoutImbalance(WithDesignParameter(params, options.parameter, eta));
+      const std::vector<RotatingWaveBranch> branches =
+          ComputeRotatingWaveBranches(TwoPointStructure(p), law, branch_options);
+      map.grid_branches += static_cast<int>(branches.size());
+      for (std::size_t b = 0; b < branches.size(); ++b) {
+        const Branch& branch = branches[b].branch;
+        if (IsFailure(branch.status)) {
+          map.failures.push_back(fmt::format("{} = {:g}: {} ended: {}", ToString(options.parameter),
+                                             eta, branches[b].name, branch.message));
+        }
+        const std::string pattern = PatternName(branches[b].normals);
+        auto where = std::find(map.patterns.begin(), map.patterns.end(), pattern);
+        if (where == map.patterns.end()) {
+          map.patterns.push_back(pattern);
+          map.pattern_counts.push_back(Eigen::MatrixXi::Zero(m, k));
+          where = map.patterns.end() - 1;
+        }
+        Eigen::MatrixXi& pattern_count = map.pattern_counts[where - map.patterns.begin()];
+        for (const auto& [lo, hi] : StableIntervals(branch)) {
+          for (Index j = 0; j < k; ++j) {
+            if (map.speed(j) >= lo && map.speed(j) < hi) {
+              ++map.stable_count(i, j);
+              ++pattern_count(i, j);
+            }
+          }
+        }
+        for (std::size_t s = 0; s < branch.special_points.size(); ++s) {
+          const SpecialPoint& sp = branch.special_points[s];
+          if (sp.type != SpecialPointType::kEvent && sp.type != SpecialPointType::kFold &&
+              sp.type != SpecialPointType::kHopf && sp.type != SpecialPointType::kRealEigenvalueCrossing) {
+            continue;
+          }
+          MapPoint point;
+          point.eta = eta;
+          point.speed = sp.lambda;
+          point.precession_hz = branches[b].special_precession_hz[s];
+          point.type = sp.type;
+          point.label = sp.label;
+          point.nonsmooth_fold = sp.nonsmooth_fold;
+          point.branch = static_cast<int>(b);
+          const std::size_t at = static_cast<std::size_t>(sp.index);
+          if (at < branch.points.size()) point.stable_before = StableFlag(branch.points[at]);
+          if (at + 1 < branch.points.size()) point.stable_after = StableFlag(branch.points[at + 1]);
+          map.points.push_back(point);
+        }
+      }
+    } catch (const std::invalid_argument& e) {
+      map.stable_count.row(i).setConstant(-1);
+      for (Eigen::MatrixXi& c : map.pattern_counts) c.row(i).setConstant(-1);
+      map.failures.push_back(fmt::format("{} = {:g}: {}", ToString(options.parameter), eta, e.what()));
+    }
+    if (progress) progress("grid", static_cast<int>(i + 1), static_cast<int>(m));
+  }
+  map.grid_seconds = SecondsSince(grid_start);
+  if (!options.continue_curves) return map;
+  if (map.base_value < options.eta_min || map.base_value > options.eta_max) {
+    // The curves start from the branch set at the scene's own value.
+    map.note = fmt::format(
+        "no curves: the scene's {} = {:g} lies outside the range [{:g}, {:g}] they start from",
+        ToString(options.parameter), map.base_value, options.eta_min, options.eta_max);
+    return map;
+  }
+
+  // 2. Curves through the events and folds of the branch set at the base η.
+  const Clock::time_point curve_start = Clock::now();
+  const std::vector<RotatingWaveBranch> base = ComputeRotatingWaveBranches(
+      TwoPointStructure(WithoutImbalance(params)), law, branch_options);
+  RotatingWaveDesignProblem problem(params, options.parameter);
+  ContinuationOptions curve_options;
+  curve_options.bounds.lambda_min = options.eta_min;
+  curve_options.bounds.lambda_max = options.eta_max;
+  curve_options.bounds.max_steps = options.curve_max_steps;
+  curve_options.step.max = options.curve_max_step;
+  curve_options.step.initial = std::min(curve_options.step.initial, options.curve_max_step);
+  curve_options.detect.branch_points = false;
+  curve_options.detect.closed_branches = false;
+  // Keep the inner speed ω inside the scene's range: the last state component of U = (u, ω).
+  auto speed_box = [&](Index dimension) {
+    curve_options.bounds.state_lower = Vector::Constant(dimension, -std::numeric_limits<double>::infinity());
+    curve_options.bounds.state_upper = Vector::Constant(dimension, std::numeric_limits<double>::infinity());
+    curve_options.bounds.state_lower(dimension - 1) = options.branches.search.speed_min;
+    curve_options.bounds.state_upper(dimension - 1) = options.branches.search.speed_max;
+  };
+  int total = 0;
+  for (const RotatingWaveBranch& b : base) {
+    for (const SpecialPoint& sp : b.branch.special_points) {
+      if (sp.type == SpecialPointType::kEvent || sp.type == SpecialPointType::kFold) ++total;
+    }
+  }
+  int done = 0;
+  for (std::size_t b = 0; b < base.size(); ++b) {
+    const Branch& branch = base[b].branch;
+    for (const SpecialPoint& sp : branch.special_points) {
+      if (sp.type != SpecialPointType::kEvent && sp.type != SpecialPointType::kFold) continue;
+      MapCurve curve;
+      curve.name = "curve" + std::to_string(map.curves.size() + 1);
+      curve.kind = sp.type == SpecialPointType::kEvent ? "event" : "fold";
+      curve.label = sp.type == SpecialPointType::kEvent ? sp.label : "fold";
+      curve.piece = sp.piece;
+      curve.branch = static_cast<int>(b);
+      curve.pattern = PatternName(base[b].normals);
+      curve.start_eta = map.base_value;
+      curve.start_speed = sp.lambda;
+      curve.start_nonsmooth_fold = sp.nonsmooth_fold;
+      if (sp.type == SpecialPointType::kFold) {
+        curve.fold_sense = branch.points[sp.index].lambda < sp.lambda ? +1 : -1;
+      }
+      try {
+        problem.SetSecondParameter(map.base_value);
+        PlaceAt(problem, branch, sp);
+        speed_box(problem.Dimension() + 1);
+        if (sp.type == SpecialPointType::kEvent) {
+          const std::vector<std::string> names = problem.EventNames();
+          const auto it = std::find(names.begin(), names.end(), sp.label);
+          if (it != names.end()) {
+            EventCurveProblem probe(problem, static_cast<int>(it - names.begin()), sp.u, sp.lambda);
+            curve.partner_margins = probe.PartnerMargins();
+          }
+          curve.curve = ContinueEventCurve(problem, sp, curve_options);
+          curve.extrema =
+              LocateExtrema(problem, branch, sp, curve.curve, options.eta_min, options.eta_max);
+        } else {
+          ContinuationOptions run = curve_options;
+          run.direction = -1;
+          const Branch backward = ContinueFoldCurve(problem, sp, run);
+          problem.SetSecondParameter(map.base_value);
+          PlaceAt(problem, branch, sp);
+          run.direction = +1;
+          const Branch forward = ContinueFoldCurve(problem, sp, run);
+          curve.curve = backward.points.empty() ? forward
+                        : forward.points.empty() ? backward
+                                                 : JoinAtStart(backward, forward);
+        }
+        if (IsFailure(curve.curve.status)) {
+          map.failures.push_back(fmt::format("{} ({} \"{}\" at {:.4f} rad/s): {}", curve.name,
+                                             curve.kind, curve.label, sp.lambda, curve.curve.message));
+        }
+      } catch (const std::invalid_argument& e) {
+        curve.curve.status = BranchStatus::kStartFailed;
+        curve.curve.message = e.what();
+        map.failures.push_back(fmt::format("{} ({} \"{}\"): {}", curve.name, curve.kind, curve.label,
+                                           e.what()));
+      }
+      map.curves.push_back(std::move(curve));
+      if (progress) progress("curves", ++done, total);
+    }
+  }
+  map.curve_seconds = SecondsSince(curve_start);
+  return map;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,191 @@
+// The "orbits" stage of the textbook scenes, run as a user runs it: `rubcont run scenes/<model>.toml`
+// writes /branches/periodic_orbits with Floquet stability and special points, and a bad scene exits
+// with code 2 naming the key, the value and the rule.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "apps/hdf5_file.h"
+#include "tests/shooting/duffing_harmonic_balance.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("rubcont_orbits_test_" + std::to_string(getpid()) + "_" +
+                                        std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  static inline int counter = 0;
+};
+
+std::string Slurp(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// `rubcont <args>` from the repository root, without figures (no Python: a warning only).
+Outcome Rubcont(const std::string& args) {
+  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
+  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
+  TempDir capture;
+  const fs::path out = capture.path / "out", err = capture.path / "err";
+  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args +
+                              " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(command.c_str());
+  Outcome outcome;
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  outcome.out = Slurp(out);
+  outcome.err = Slurp(err);
+  return outcome;
+}
+
+TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds at the "
+          "harmonic-balance frequencies, the middle branch unstable",
+          "[orbits][cli]") {
+  TempDir dir;
+  const Outcome run = Rubcont("run scenes/duffing.toml --quiet --out " + dir.path.string());
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("[orbits] L2 periodic orbits of duffing"));
+  const ResultReader file(dir.path / "duffing" / "duffing.h5");
+  const std::string group = "/branches/periodic_orbits";
+  CHECK(file.ReadStringAttribute(group, "kind") == "periodic_orbit");
+  CHECK(file.ReadStringAttribute(group, "orbit_kind") == "forced");
+  CHECK(file.ReadStringAttribute(group, "parameter_name") == "frequency");
+  CHECK(file.ReadStringAttribute(group, "status") == "reached a λ bound");
+  CHECK(file.ReadStringAttribute("/", "level") == "L2");
+  const auto w = file.ReadDoubles(group + "/frequency");
+  REQUIRE(w.size() > 10);
+  CHECK(w.front() == 0.5);
+  CHECK(w.back() == Approx(2.5).margin(1e-9));
+
+  // Both folds, against the harmonic balance's (tests/shooting/duffing_harmonic_balance.h).
+  DuffingParams params;
+  const testing::DuffingHarmonicBalance balance(params, 25);
+  std::vector<double> hb;
+  for (const auto& guess : testing::DuffingHarmonicBalance::OneTermFolds(params, 0.5, 2.5)) {
+    const auto fold = balance.LocateFold(balance.FirstHarmonic(guess.amplitude, guess.phase),
+                                         guess.frequency);
+    REQUIRE(fold.newton.Converged());
+    hb.push_back(fold.frequency);
+  }
+  REQUIRE(hb.size() == 2);
+  const auto types = file.ReadStrings(group + "/special_points/type");
+  const auto folds = file.ReadDoubles(group + "/special_points/frequency");
+  REQUIRE(types == std::vector<std::string>{"fold", "fold"});
+  CHECK(folds[0] == Approx(hb[1]).margin(1e-8));  // the upper fold comes first along the branch
+  CHECK(folds[1] == Approx(hb[0]).margin(1e-8));
+  CHECK(file.ReadInts(group + "/special_points/converged") == std::vector<int>{1, 1});
+
+  // Stability: stable, then one multiplier outside the unit circle between the folds, then stable.
+  const auto index = file.ReadInts(group + "/special_points/point_index");
+  const auto stable = file.ReadInts(group + "/stable");
+  const auto largest = file.ReadDoubles(group + "/max_multiplier_modulus");
+  const Matrix real = file.ReadMatrix(group + "/multipliers_real");
+  REQUIRE(real.rows() == static_cast<Index>(w.size()));
+  REQUIRE(real.cols() == 2);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const bool middle = static_cast<int>(i) > index[0] && static_cast<int>(i) <= index[1];
+    CHECK(stable[i] == (middle ? 0 : 1));
+    CHECK((largest[i] > 1.0) == middle);
+  }
+}
+
+TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multipliers as in closed form",
+          "[orbits][cli]") {
+  TempDir dir;
+  const Outcome run = Rubcont("run scenes/stuart_landau.toml --quiet --out " + dir.path.string());
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  const ResultReader file(dir.path / "stuart_landau" / "stuart_landau.h5");
+  const std::string group = "/branches/periodic_orbits";
+  CHECK(file.ReadStringAttribute(group, "orbit_kind") == "autonomous");
+  const auto lambda = file.ReadDoubles(group + "/lambda");
+  REQUIRE(lambda.size() > 5);
+  CHECK(lambda.front() == 0.05);
+  CHECK(lambda.back() == Approx(1.5).margin(1e-9));  // the bound is located on arclength
+  // The closed-form comparison the stage writes, recomputed here from the raw columns.
+  const auto radius = file.ReadDoubles(group + "/mean_radius");
+  const auto period = file.ReadDoubles(group + "/period");
+  const Matrix real = file.ReadMatrix(group + "/multipliers_real");
+  const Matrix imag = file.ReadMatrix(group + "/multipliers_imag");
+  REQUIRE(real.cols() == 1);  // the trivial multiplier is deflated
+  const double omega = 1.0, gamma = 0.5;  // scenes/stuart_landau.toml
+  for (std::size_t i = 0; i < lambda.size(); ++i) {
+    const double T = 2 * M_PI / std::abs(omega - gamma * lambda[i]);
+    CHECK(radius[i] == Approx(std::sqrt(lambda[i])).margin(1e-7));
+    CHECK(period[i] == Approx(T).epsilon(1e-8));
+    CHECK(real(static_cast<Index>(i), 0) == Approx(std::exp(-2 * lambda[i] * T)).margin(1e-7));
+    CHECK(imag(static_cast<Index>(i), 0) == 0.0);
+  }
+  for (int s : file.ReadInts(group + "/stable")) CHECK(s == 1);
+  CHECK(file.ReadStrings(group + "/special_points/type").empty());
+  CHECK(file.ReadDoubles(group + "/closed_form_radius_error").size() == lambda.size());
+}
+
+TEST_CASE("rubcont run scenes/van_der_pol.toml: a stable cycle from harmonic to relaxation "
+          "oscillations by multiple shooting",
+          "[orbits][cli]") {
+  TempDir dir;
+  const Outcome run = Rubcont("run scenes/van_der_pol.toml --quiet --out " + dir.path.string());
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  const ResultReader file(dir.path / "van_der_pol" / "van_der_pol.h5");
+  const std::string group = "/branches/periodic_orbits";
+  CHECK(file.ReadDoubleAttribute(group, "segments") == 8.0);
+  const auto mu = file.ReadDoubles(group + "/mu");
+  const auto period = file.ReadDoubles(group + "/period");
+  const auto max_x = file.ReadDoubles(group + "/max_x");
+  REQUIRE(mu.size() > 5);
+  CHECK(mu.back() == Approx(20.0).margin(1e-9));
+  // Near-harmonic at μ = 0.2 (T → 2π, amplitude → 2), relaxation at μ = 20: T = (3 − 2 ln 2) μ
+  // + 7.014 μ^(−1/3) + O(ln μ / μ) (Dorodnitsyn), amplitude → 2.
+  CHECK(period.front() == Approx(2 * M_PI).epsilon(0.01));
+  CHECK(period.back() == Approx((3 - 2 * std::log(2.0)) * 20 + 7.014 * std::pow(20.0, -1.0 / 3)).epsilon(0.02));
+  for (double a : max_x) CHECK(a == Approx(2.0).epsilon(0.02));
+  for (int s : file.ReadInts(group + "/stable")) CHECK(s == 1);
+}
+
+TEST_CASE("a bad textbook scene exits with code 2, naming the key, the value and the rule",
+          "[orbits][cli]") {
+  TempDir dir;
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << "model = \"duffing\"\n[duffing]\ndamping = 0.05\nstiffness = 1.0\n"
+                          "cubic = 1.0\nforce = \"large\"\nfrequency_range = [0.5, 2.5]\n"
+                          "[duffing.orbits]\nsegments = 0\n";
+  const Outcome run = Rubcont("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("duffing.force = \"large\": must be a number"));
+  CHECK_THAT(run.err, Contains("duffing.orbits.segments = 0: must be from 1 to 1000"));
+  // `rubcont branches` on a textbook scene: the stage does not apply.
+  std::ofstream(scene) << "model = \"duffing\"\n[duffing]\ndamping = 0.05\nstiffness = 1.0\n"
+                          "cubic = 1.0\nforce = 0.3\nfrequency_range = [0.5, 2.5]\n";
+  const Outcome branches = Rubcont("branches " + scene.string() + " --out " +
+                                   (dir.path / "b.h5").string());
+  CHECK(branches.exit_code == 2);
+  CHECK_THAT(branches.err, Contains("stage \"analytic\" does not apply to model \"duffing\""));
+}
+
+}  // namespace
+}  // namespace rubcont
