@@ -388,10 +388,10 @@ std::vector<KeySpec> BuildSchema() {
     stages.presence = Presence::kOptional;
     stages.default_value = std::vector<std::string>{"analytic", "branches"};
     stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
-                 "\"branches\" (L1 rotating waves continued in speed) and \"sweep\" (L3: the "
-                 "speed-up and speed-down sweeps of [analysis.sweep]) — models two_point and "
+                 "\"branches\" (L1 rotating waves continued in speed) — models two_point and "
                  "jeffcott; \"orbits\" (periodic orbits by shooting, continued in the parameter, "
-                 "Floquet stability) — the textbook models.";
+                 "Floquet stability) — the textbook models; \"sweep\" (L3: the speed-up and "
+                 "speed-down sweeps of [analysis.sweep]) — model two_point.";
     stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
     stages.choices = kImplementedStages;
     stages.model = kCommon;
