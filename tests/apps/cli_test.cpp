@@ -6,6 +6,8 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,46 +20,11 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_cli_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
-
-std::string Slurp(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// Runs `<env> rubcont <args>` from the repository root (the tests' working directory).
-Outcome Rubcont(const std::string& args, const std::string& env = "") {
-  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
-  TempDir capture;
-  const fs::path out = capture.path / "out", err = capture.path / "err";
-  const std::string command = env + " " + binary + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  Outcome outcome;
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  outcome.out = Slurp(out);
-  outcome.err = Slurp(err);
-  return outcome;
-}
-
-// Python that cannot be found: figures are skipped with a warning (and the tests stay fast).
-const std::string kNoPython = "RUBCONT_PYTHON=/nonexistent/python3";
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
+using testing::kNoPython;
+using testing::Rubcont;
 
 TEST_CASE("CLI: scene check accepts a valid scene and prints resolved values (exit 0)", "[cli]") {
   const Outcome o = Rubcont("scene check scenes/thesis_B_b.toml");

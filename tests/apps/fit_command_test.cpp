@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+
+#include "cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,44 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_fit_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
-
-std::string Slurp(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-Outcome Rubcont(const std::string& args) {
-  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
-  TempDir capture;
-  const fs::path out = capture.path / "out", err = capture.path / "err";
-  // No Python: figures are skipped with a warning, and the test stays fast.
-  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args + " >" +
-                              out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  Outcome outcome;
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  outcome.out = Slurp(out);
-  outcome.err = Slurp(err);
-  return outcome;
-}
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
 
 std::string DefaultSceneWithRange(const std::string& range) {
   std::ifstream in("scenes/default.toml");
@@ -81,7 +48,7 @@ TEST_CASE("rubcont fit recovers friction from a jump speed and writes /fit", "[c
                             "quantity = \"speed_rpm\"\nvalue = 50.688718793\nuncertainty = 0.001\n"
                             "[fit]\nglobal_evaluations = 15\nlocal_evaluations = 60\n";
   const fs::path file = dir.path / "fit.h5";
-  const Outcome o = Rubcont("fit " + scene.string() + " --targets " + targets.string() + " -q --out " +
+  const Outcome o = testing::RubcontNoPython("fit " + scene.string() + " --targets " + targets.string() + " -q --out " +
                             file.string());
   INFO(o.out << o.err);
   REQUIRE(o.exit_code == 0);
@@ -102,7 +69,7 @@ TEST_CASE("rubcont fit rejects bad targets files naming key, value and rule", "[
                             "[[parameter]]\nname = \"stator_damping\"\nrange = [-5.0, 700.0]\n"
                             "[[target]]\nfamily = \"mode3\"\nevent = \"stick to slip+\"\n"
                             "quantity = \"rpm\"\nvalue = 50.0\nuncertainty = 0.0\ncolour = 1\n";
-  const Outcome o = Rubcont("fit scenes/default.toml --targets " + targets.string() + " -q --out " +
+  const Outcome o = testing::RubcontNoPython("fit scenes/default.toml --targets " + targets.string() + " -q --out " +
                             (dir.path / "f.h5").string());
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("parameter[0].name = \"mu\": must be one of friction"));
@@ -112,7 +79,7 @@ TEST_CASE("rubcont fit rejects bad targets files naming key, value and rule", "[
   CHECK_THAT(o.err, Contains("target[0].uncertainty = 0.0: must be positive"));
   CHECK_THAT(o.err, Contains("target[0].colour: unknown key"));
   CHECK(!fs::exists(dir.path / "f.h5"));
-  const Outcome missing = Rubcont("fit scenes/default.toml --targets " + (dir.path / "none.toml").string());
+  const Outcome missing = testing::RubcontNoPython("fit scenes/default.toml --targets " + (dir.path / "none.toml").string());
   CHECK(missing.exit_code == 2);
   CHECK_THAT(missing.err, Contains("cannot read the targets file"));
 }

@@ -8,6 +8,8 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,49 +21,14 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_map_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
-
-std::string Slurp(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-Outcome Rubcont(const std::string& args) {
-  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
-  TempDir capture;
-  const fs::path out = capture.path / "out", err = capture.path / "err";
-  // No Python: figures are skipped with a warning, and the test stays fast.
-  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args + " >" +
-                              out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  Outcome outcome;
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  outcome.out = Slurp(out);
-  outcome.err = Slurp(err);
-  return outcome;
-}
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
 
 TEST_CASE("rubcont map writes /maps/<parameter> with grid, points and curves", "[cli][map]") {
   TempDir dir;
   const fs::path file = dir.path / "map.h5";
-  const Outcome o = Rubcont("map scenes/default.toml --parameter stator_damping --range 250 400 "
+  const Outcome o = testing::RubcontNoPython("map scenes/default.toml --parameter stator_damping --range 250 400 "
                             "--eta-points 3 --speed-points 101 -q --out " + file.string());
   INFO(o.out << o.err);
   REQUIRE(o.exit_code == 0);
@@ -89,19 +56,19 @@ TEST_CASE("rubcont map writes /maps/<parameter> with grid, points and curves", "
 TEST_CASE("rubcont map rejects bad parameters and ranges with exit code 2", "[cli][map][failure]") {
   TempDir dir;
   const std::string out = " -q --out " + (dir.path / "m.h5").string();
-  Outcome o = Rubcont("map scenes/default.toml --parameter mu" + out);
+  Outcome o = testing::RubcontNoPython("map scenes/default.toml --parameter mu" + out);
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("--parameter = \"mu\": must be one of friction"));
-  o = Rubcont("map scenes/default.toml --parameter friction --range -0.2 0.5" + out);
+  o = testing::RubcontNoPython("map scenes/default.toml --parameter friction --range -0.2 0.5" + out);
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("--eta-min = -0.2: must lie in the physical range of friction"));
-  o = Rubcont("map scenes/default.toml --parameter friction --range 0.6 0.4" + out);
+  o = testing::RubcontNoPython("map scenes/default.toml --parameter friction --range 0.6 0.4" + out);
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("--eta-max = 0.4: must be finite and exceed --eta-min = 0.6"));
-  o = Rubcont("map scenes/default.toml --parameter friction --eta-points 1" + out);
+  o = testing::RubcontNoPython("map scenes/default.toml --parameter friction --eta-points 1" + out);
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("--eta-points = 1: must be in 2"));
-  o = Rubcont("map scenes/jeffcott.toml --parameter friction" + out);
+  o = testing::RubcontNoPython("map scenes/jeffcott.toml --parameter friction" + out);
   CHECK(o.exit_code == 2);
   CHECK_THAT(o.err, Contains("rubcont map needs the two_point model"));
   CHECK(!fs::exists(dir.path / "m.h5"));
@@ -111,7 +78,7 @@ TEST_CASE("rubcont map outside the scene's value maps the grid and says why ther
           "[cli][map]") {
   TempDir dir;
   const fs::path file = dir.path / "map.h5";
-  const Outcome o = Rubcont("map scenes/default.toml --parameter friction --range 0.6 0.9 "
+  const Outcome o = testing::RubcontNoPython("map scenes/default.toml --parameter friction --range 0.6 0.9 "
                             "--eta-points 2 --speed-points 21 -q --out " + file.string());
   INFO(o.out << o.err);
   CHECK(o.exit_code == 0);

@@ -9,6 +9,8 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,50 +23,15 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_orbits_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
-
-std::string Slurp(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// `rubcont <args>` from the repository root, without figures (no Python: a warning only).
-Outcome Rubcont(const std::string& args) {
-  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
-  TempDir capture;
-  const fs::path out = capture.path / "out", err = capture.path / "err";
-  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args +
-                              " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  Outcome outcome;
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  outcome.out = Slurp(out);
-  outcome.err = Slurp(err);
-  return outcome;
-}
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
 
 TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds at the "
           "harmonic-balance frequencies, the middle branch unstable",
           "[orbits][cli]") {
   TempDir dir;
-  const Outcome run = Rubcont("run scenes/duffing.toml --quiet --out " + dir.path.string());
+  const Outcome run = testing::RubcontNoPython("run scenes/duffing.toml --quiet --out " + dir.path.string());
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("[orbits] L2 periodic orbits of duffing"));
@@ -115,7 +82,7 @@ TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds 
 TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multipliers as in closed form",
           "[orbits][cli]") {
   TempDir dir;
-  const Outcome run = Rubcont("run scenes/stuart_landau.toml --quiet --out " + dir.path.string());
+  const Outcome run = testing::RubcontNoPython("run scenes/stuart_landau.toml --quiet --out " + dir.path.string());
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   const ResultReader file(dir.path / "stuart_landau" / "stuart_landau.h5");
@@ -148,7 +115,7 @@ TEST_CASE("rubcont run scenes/van_der_pol.toml: a stable cycle from harmonic to 
           "oscillations by multiple shooting",
           "[orbits][cli]") {
   TempDir dir;
-  const Outcome run = Rubcont("run scenes/van_der_pol.toml --quiet --out " + dir.path.string());
+  const Outcome run = testing::RubcontNoPython("run scenes/van_der_pol.toml --quiet --out " + dir.path.string());
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   const ResultReader file(dir.path / "van_der_pol" / "van_der_pol.h5");
@@ -174,14 +141,14 @@ TEST_CASE("a bad textbook scene exits with code 2, naming the key, the value and
   std::ofstream(scene) << "model = \"duffing\"\n[duffing]\ndamping = 0.05\nstiffness = 1.0\n"
                           "cubic = 1.0\nforce = \"large\"\nfrequency_range = [0.5, 2.5]\n"
                           "[duffing.orbits]\nsegments = 0\n";
-  const Outcome run = Rubcont("run " + scene.string() + " --out " + dir.path.string());
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(run.exit_code == 2);
   CHECK_THAT(run.err, Contains("duffing.force = \"large\": must be a number"));
   CHECK_THAT(run.err, Contains("duffing.orbits.segments = 0: must be from 1 to 1000"));
   // `rubcont branches` on a textbook scene: the stage does not apply.
   std::ofstream(scene) << "model = \"duffing\"\n[duffing]\ndamping = 0.05\nstiffness = 1.0\n"
                           "cubic = 1.0\nforce = 0.3\nfrequency_range = [0.5, 2.5]\n";
-  const Outcome branches = Rubcont("branches " + scene.string() + " --out " +
+  const Outcome branches = testing::RubcontNoPython("branches " + scene.string() + " --out " +
                                    (dir.path / "b.h5").string());
   CHECK(branches.exit_code == 2);
   CHECK_THAT(branches.err, Contains("stage \"analytic\" does not apply to model \"duffing\""));

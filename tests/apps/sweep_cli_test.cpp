@@ -7,6 +7,8 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,44 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_sweep_cli_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
-
-std::string Slurp(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// Runs `rubcont <args>` from the repository root without figures (no Python: a warning).
-Outcome Rubcont(const std::string& args) {
-  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
-  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
-  TempDir capture;
-  const fs::path out = capture.path / "out", err = capture.path / "err";
-  const std::string command = "RUBCONT_PYTHON=/nonexistent/python3 " + binary + " " + args + " >" +
-                              out.string() + " 2>" + err.string();
-  const int status = std::system(command.c_str());
-  Outcome outcome;
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  outcome.out = Slurp(out);
-  outcome.err = Slurp(err);
-  return outcome;
-}
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
 
 // Case A(a) with a two-speed sweep each way (40 and 44 rpm: whirl), written into `dir`.
 fs::path ShortSweepScene(const fs::path& dir, const std::string& sweep_section) {
@@ -78,7 +45,7 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
   const fs::path h5 = dir.path / "sweep.h5";
 
-  const Outcome up = Rubcont("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  const Outcome up = testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
   INFO(up.out << up.err);
   REQUIRE(up.exit_code == 0);
   CHECK_THAT(up.out, Contains("CVODES BDF order ≤ 2, rtol 1e-06, atol 1e-06; 4 rpm steps"));
@@ -100,7 +67,7 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
     CHECK(up_bp[1] == Approx(100.0 * 44.0 / 60.0).epsilon(0.01));
   }
 
-  const Outcome down = Rubcont("sweep " + scene.string() + " --direction down --quiet --out " + h5.string());
+  const Outcome down = testing::RubcontNoPython("sweep " + scene.string() + " --direction down --quiet --out " + h5.string());
   INFO(down.out << down.err);
   REQUIRE(down.exit_code == 0);
   {
@@ -113,7 +80,7 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   }
 
   // --resume with both directions complete in the file: nothing is integrated again.
-  const Outcome again = Rubcont("sweep " + scene.string() + " --resume --out " + h5.string());
+  const Outcome again = testing::RubcontNoPython("sweep " + scene.string() + " --resume --out " + h5.string());
   INFO(again.out << again.err);
   REQUIRE(again.exit_code == 0);
   CHECK_THAT(again.err, Contains("[sweep up] complete in"));
@@ -132,7 +99,7 @@ TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the ba
   const fs::path scene = dir.path / "thesis_A_a_imbalance.toml";
   std::ofstream(scene) << text;
   const fs::path h5 = dir.path / "sweep.h5";
-  const Outcome up = Rubcont("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  const Outcome up = testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
   INFO(up.out << up.err);
   REQUIRE(up.exit_code == 0);
   ResultReader r(h5);
@@ -148,14 +115,14 @@ TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with 
           "[sweep_cli]") {
   TempDir dir;
   const fs::path scene = ShortSweepScene(dir.path, "[analysis.sweep]\ndwell = -1.0\n");
-  const Outcome bad = Rubcont("sweep " + scene.string() + " --quiet --out " + (dir.path / "x.h5").string());
+  const Outcome bad = testing::RubcontNoPython("sweep " + scene.string() + " --quiet --out " + (dir.path / "x.h5").string());
   CHECK(bad.exit_code == 2);
   CHECK_THAT(bad.err, Contains("analysis.sweep.dwell = -1"));
   CHECK_THAT(bad.err, Contains("must be positive"));
   CHECK_FALSE(fs::exists(dir.path / "x.h5"));
 
   const fs::path good = ShortSweepScene(dir.path, kTwoSpeeds);
-  const Outcome sideways = Rubcont("sweep " + good.string() + " --direction sideways");
+  const Outcome sideways = testing::RubcontNoPython("sweep " + good.string() + " --direction sideways");
   CHECK(sideways.exit_code == 2);
   CHECK_THAT(sideways.err, Contains("--direction"));
 }
