@@ -16,6 +16,7 @@
 #include "apps/analytic_output.h"
 #include "apps/branch_output.h"
 #include "apps/figures.h"
+#include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/orbits_stage.h"
 #include "apps/scene.h"
@@ -50,22 +51,6 @@ class Progress {
   std::ostream& err_;
 };
 
-// Catches what the commands throw and maps it to the exit code.
-template <class Function>
-int Guarded(std::ostream& err, Function&& function) {
-  try {
-    return function();
-  } catch (const SceneError& e) {
-    fmt::print(err, "{}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::invalid_argument& e) {
-    fmt::print(err, "rubcont: {}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    fmt::print(err, "rubcont: error: {}\n", e.what());
-    return kExitFailure;
-  }
-}
 
 std::string Describe(const Transition& t) {
   switch (t.type) {

@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "apps/commands.h"
+#include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/version.h"
@@ -286,7 +287,7 @@ FitSpec LoadTargets(const std::string& file) {
 }  // namespace
 
 int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) {
-  try {
+  return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
     if (scene.model != ModelKind::kTwoPoint) {
       throw std::invalid_argument(fmt::format(
@@ -377,16 +378,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
       fmt::print(err, "rubcont: the fit did not reproduce the targets: {}\n", r.message);
     }
     return r.Fitted() ? kExitSuccess : kExitFailure;
-  } catch (const SceneError& e) {
-    fmt::print(err, "{}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::invalid_argument& e) {
-    fmt::print(err, "rubcont: {}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    fmt::print(err, "rubcont: error: {}\n", e.what());
-    return kExitFailure;
-  }
+  });
 }
 
 }  // namespace rubcont

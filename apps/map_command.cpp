@@ -11,6 +11,7 @@
 #include <fmt/ostream.h>
 
 #include "apps/commands.h"
+#include "apps/guarded.h"
 #include "apps/figures.h"
 #include "apps/hdf5_file.h"
 #include "apps/map_output.h"
@@ -159,7 +160,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
 
 int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) {
   using Clock = std::chrono::steady_clock;
-  try {
+  return Guarded(err, [&] {
     const DesignParameter parameter = [&] {
       try {
         return ParseDesignParameter(request.parameter);
@@ -267,16 +268,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     for (const std::string& f : map.failures) fmt::print(err, "rubcont: numerical failure: {}\n", f);
     return map.failures.empty() ? kExitSuccess : kExitFailure;
-  } catch (const SceneError& e) {
-    fmt::print(err, "{}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::invalid_argument& e) {
-    fmt::print(err, "rubcont: {}\n", e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    fmt::print(err, "rubcont: error: {}\n", e.what());
-    return kExitFailure;
-  }
+  });
 }
 
 }  // namespace rubcont
