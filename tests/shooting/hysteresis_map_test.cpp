@@ -31,9 +31,7 @@ RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
 }
 
 double MeasureOf(const Branch& branch, const SpecialPoint& point, const std::string& name) {
-  const auto it = std::find(branch.measure_names.begin(), branch.measure_names.end(), name);
-  REQUIRE(it != branch.measure_names.end());
-  return point.measures(it - branch.measure_names.begin());
+  return point.measures(branch.MeasureIndex(name));
 }
 
 // The Mode 1 whirl's stick → slip event of a branch set (the one near `hz`).
@@ -52,6 +50,22 @@ Found StickToSlip(const std::vector<RotatingWaveBranch>& branches, double hz) {
     }
   }
   return {};
+}
+
+// Case A(a)'s Mode 1 stick → slip event near 84.5 Hz, from one branch set (20–120 rpm) computed
+// for the whole file: every test below starts its design problem there.
+Found ThesisAStickToSlip() {
+  static const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
+      TwoPointStructure(ExactThesisA()), FrictionLawKind::kExact, Range(20, 120));
+  const Found event = StickToSlip(branches, 84.5);
+  REQUIRE(event.point != nullptr);
+  return event;
+}
+
+// The design problem in the contact modes and phase of the event's branch.
+void StartAt(RotatingWaveDesignProblem& problem, const Found& event) {
+  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
+  problem.SetPhaseReference(event.point->u);
 }
 
 // The closed form's rising μ_req = μ crossing of Mode 1 at the left contact nearest `near_hz`.
@@ -97,13 +111,9 @@ TEST_CASE("design parameters are set, read back and kept in their physical range
 TEST_CASE("the stick to slip curve in friction follows the closed form's mu_req = mu crossing",
           "[design][event_curve]") {
   const TwoPointParams params = ExactThesisA();
-  const auto branches =
-      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
-  const Found event = StickToSlip(branches, 84.5);
-  REQUIRE(event.point != nullptr);
+  const Found event = ThesisAStickToSlip();
   RotatingWaveDesignProblem problem(params, DesignParameter::kFriction);
-  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
-  problem.SetPhaseReference(event.point->u);
+  StartAt(problem, event);
   ContinuationOptions options;
   options.bounds.lambda_min = 0.3;
   options.bounds.lambda_max = 0.7;
@@ -138,13 +148,9 @@ TEST_CASE("the stick to slip curve in friction follows the closed form's mu_req 
 TEST_CASE("an event curve in stator damping matches branch sets recomputed along it",
           "[design][event_curve]") {
   const TwoPointParams params = ExactThesisA();
-  const auto branches =
-      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
-  const Found event = StickToSlip(branches, 84.5);
-  REQUIRE(event.point != nullptr);
+  const Found event = ThesisAStickToSlip();
   RotatingWaveDesignProblem problem(params, DesignParameter::kStatorDamping);
-  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
-  problem.SetPhaseReference(event.point->u);
+  StartAt(problem, event);
   ContinuationOptions options;
   options.bounds.lambda_min = 150.0;
   options.bounds.lambda_max = 600.0;
@@ -245,13 +251,9 @@ TEST_CASE("an event curve stops where the parameter leaves its physical range",
   // Continuing the stick → slip point in friction down to μ = 0: the curve ends on the bound with
   // a status (friction would turn negative past it), and η is restored.
   const TwoPointParams params = ExactThesisA();
-  const auto branches =
-      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
-  const Found event = StickToSlip(branches, 84.5);
-  REQUIRE(event.point != nullptr);
+  const Found event = ThesisAStickToSlip();
   RotatingWaveDesignProblem problem(params, DesignParameter::kFriction);
-  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
-  problem.SetPhaseReference(event.point->u);
+  StartAt(problem, event);
   CHECK_THROWS_WITH(problem.SetSecondParameter(-0.01), Catch::Contains("friction = -0.01"));
   CHECK(problem.SecondParameter() == 0.5);
   ContinuationOptions options;
@@ -269,11 +271,6 @@ TEST_CASE("an event curve stops where the parameter leaves its physical range",
   CHECK_THROWS_WITH(ContinueEventCurve(problem, fold), Catch::Contains("not an event"));
 }
 
-}  // namespace
-}  // namespace rubcont
-
-namespace rubcont {
-namespace {
 
 TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engine and by Ipopt",
           "[design][map][fold_optimization]") {
@@ -310,19 +307,11 @@ TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engi
   CHECK(mode2[0]->engine_eta < 1500.0);
 }
 
-}  // namespace
-}  // namespace rubcont
-
-namespace rubcont {
-namespace {
 
 TEST_CASE("the design problem at eta equals a rotating-wave problem built with that parameter",
           "[design][parameters]") {
   const TwoPointParams params = ExactThesisA();
-  const auto branches =
-      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
-  const Found event = StickToSlip(branches, 84.5);
-  REQUIRE(event.point != nullptr);
+  const Found event = ThesisAStickToSlip();
   const Vector& u = event.point->u;
   const double omega = event.point->lambda;
   for (const std::string& name : DesignParameterNames()) {
@@ -371,13 +360,9 @@ TEST_CASE("the design problem at eta equals a rotating-wave problem built with t
 TEST_CASE("the event curve problem's Jacobian and eta derivative match finite differences",
           "[design][event_curve]") {
   const TwoPointParams params = ExactThesisA();
-  const auto branches =
-      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, Range(20, 120));
-  const Found event = StickToSlip(branches, 84.5);
-  REQUIRE(event.point != nullptr);
+  const Found event = ThesisAStickToSlip();
   RotatingWaveDesignProblem problem(params, DesignParameter::kStatorDamping);
-  problem.SetModes(ModesAt(*event.branch, *event.point, problem.Contacts()));
-  problem.SetPhaseReference(event.point->u);
+  StartAt(problem, event);
   const std::vector<std::string> names = problem.EventNames();
   const int k = static_cast<int>(std::find(names.begin(), names.end(), event.point->label) - names.begin());
   EventCurveProblem curve(problem, k, event.point->u, event.point->lambda);
