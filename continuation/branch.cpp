@@ -87,7 +87,7 @@ Vector Branch::Lambda() const {
   return column;
 }
 
-Vector Branch::Measure(const std::string& name) const {
+Index Branch::MeasureIndex(const std::string& name) const {
   const auto it = std::find(measure_names.begin(), measure_names.end(), name);
   if (it == measure_names.end()) {
     std::string known;
@@ -95,7 +95,11 @@ Vector Branch::Measure(const std::string& name) const {
     throw std::invalid_argument(fmt::format(
         "Branch::Measure: no measure named '{}' (the branch has: {})", name, known));
   }
-  const Index k = it - measure_names.begin();
+  return it - measure_names.begin();
+}
+
+Vector Branch::Measure(const std::string& name) const {
+  const Index k = MeasureIndex(name);
   Vector column(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     column(i) = k < points[i].measures.size() ? points[i].measures(k)

@@ -111,6 +111,9 @@ struct Branch {
   Vector Lambda() const;
   // The named measure (throws std::invalid_argument naming the measure if it is unknown).
   Vector Measure(const std::string& name) const;
+  // Position of the named measure in BranchPoint::measures and SpecialPoint::measures (throws
+  // like Measure).
+  Index MeasureIndex(const std::string& name) const;
   // Component i of u; NaN at points whose piece has fewer unknowns.
   Vector StateComponent(Index i) const;
   Vector Arclength() const;

@@ -400,6 +400,8 @@ TEST_CASE("the branch flattens into columns and reports in one line", "[continua
   }
   CHECK(std::isnan(branch.StateComponent(1)(0)));
   CHECK_THROWS_WITH(branch.Measure("nope"), Catch::Contains("x_squared"));
+  CHECK(branch.MeasureIndex("x_squared") == 0);
+  CHECK_THROWS_WITH(branch.MeasureIndex("nope"), Catch::Contains("x_squared"));
   CHECK(branch.Arclength()(branch.Size() - 1) > 0.0);
   // Special points carry the measures too, for the special-point table.
   for (const SpecialPoint& sp : branch.special_points) {

@@ -24,9 +24,7 @@ RotatingWaveBranchOptions ThesisRange() {
 }
 
 double Measure(const Branch& branch, const SpecialPoint& point, const std::string& name) {
-  const auto it = std::find(branch.measure_names.begin(), branch.measure_names.end(), name);
-  REQUIRE(it != branch.measure_names.end());
-  return point.measures(it - branch.measure_names.begin());
+  return point.measures(branch.MeasureIndex(name));
 }
 
 // The first located event on any branch whose label contains `label`, near `hz` (10 % window).
