@@ -251,10 +251,8 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   // they can, and the sweeps do.
   const Clock::time_point branches_start = Clock::now();
   const RubStructure structure = TwoPointStructure(scene.two_point);
-  RubStructure balanced = structure;  // rotating waves need rotational symmetry (as RunBranches)
-  balanced.imbalance = 0.0;
   const std::vector<RotatingWaveBranch> branches =
-      ComputeRotatingWaveBranches(balanced, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+      ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
   WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,
                             scene.analysis.speed_range_rpm, "/sweeps/branches");
   std::vector<PredictedJump> table;
@@ -309,11 +307,9 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
   options.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
   options.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
   const FrictionLawKind law = FrictionLawOf(scene);
-  // Rotating waves need rotational symmetry: the imbalance is left out (note below).
-  RubStructure structure = StructureOf(scene);
-  structure.imbalance = 0.0;
+  // The imbalance is left out of the rotating waves (note below).
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      structure, law, options, [&](int done, int tried, int starts) {
+      StructureOf(scene), law, options, [&](int done, int tried, int starts) {
         progress("[branches] {} branches from {} of {} starts ({:.1f} s)", done, tried, starts,
                  SecondsSince(start));
       });

@@ -146,10 +146,9 @@ int main(int argc, char** argv) {
   std::size_t branches = 0;
   for (int repeat = 0; repeat < 5; ++repeat) {
     const auto c0 = std::chrono::steady_clock::now();
-    rubcont::RubStructure balanced = rubcont::TwoPointStructure(scene.two_point);
-    balanced.imbalance = 0.0;  // rotating waves need rotational symmetry
     const auto result = rubcont::ComputeRotatingWaveBranches(
-        balanced, rubcont::FrictionLawKind::kTanh, rubcont::BranchOptionsOf(scene));
+        rubcont::TwoPointStructure(scene.two_point), rubcont::FrictionLawKind::kTanh,
+        rubcont::BranchOptionsOf(scene));
     continuation = std::min(continuation,
                             std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count());
     branches = result.size();

@@ -94,7 +94,10 @@ std::vector<RotatingWaveBranch> ComputeRotatingWaveBranches(
   continuation.bounds.lambda_max = options.search.speed_max;
   Validate(continuation);
 
-  RotatingWaveProblem problem(structure, law);
+  // A rotating wave needs rotational symmetry: the imbalance (forward at ω) is left out.
+  RubStructure balanced = structure;
+  balanced.imbalance = 0.0;
+  RotatingWaveProblem problem(balanced, law);
   const std::vector<RotatingWaveStart> starts = FindRotatingWaveStarts(problem, options.search);
   const Index contacts = problem.Contacts();
   double force_scale = 0.0;  // forces below 1e-3 of the largest support force count as zero

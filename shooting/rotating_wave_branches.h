@@ -51,7 +51,9 @@ std::string PatternName(const std::vector<double>& normals);
 // Progress: called after each branch with (branches done, starts tried, starts in all).
 using BranchProgress = std::function<void(int branches, int tried, int starts)>;
 
-// Throws std::invalid_argument on invalid options. Numerical failures of single branches are in
+// The branches are those of the balanced rotor: a rotating wave is stationary only in the frame
+// precessing backward, where a forward-turning imbalance is not, so `structure.imbalance` is left
+// out. Throws std::invalid_argument on invalid options. Numerical failures of single branches are in
 // their Branch::status; a start whose continuation fails immediately is still reported.
 std::vector<RotatingWaveBranch> ComputeRotatingWaveBranches(
     const RubStructure& structure, FrictionLawKind law, const RotatingWaveBranchOptions& options,

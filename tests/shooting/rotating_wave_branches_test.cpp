@@ -231,3 +231,23 @@ TEST_CASE("tanh friction: the whirl → whip knee converges to the exact event a
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("an imbalanced rotor's branch set is the balanced rotor's", "[branches]") {
+  TwoPointParams params;
+  const auto balanced = ComputeRotatingWaveBranches(TwoPointStructure(params),
+                                                    FrictionLawKind::kExact, ThesisRange());
+  params.imbalance = 3.43e-5;  // case A(a)'s 3.43 g·cm
+  const auto imbalanced = ComputeRotatingWaveBranches(TwoPointStructure(params),
+                                                      FrictionLawKind::kExact, ThesisRange());
+  REQUIRE(imbalanced.size() == balanced.size());
+  for (std::size_t i = 0; i < balanced.size(); ++i) {
+    CHECK(imbalanced[i].branch.Size() == balanced[i].branch.Size());
+    CHECK(imbalanced[i].branch.Lambda() == balanced[i].branch.Lambda());
+  }
+}
+
+}  // namespace
+}  // namespace rubcont
