@@ -62,7 +62,7 @@ void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingW
       type.push_back(ToString(p.type));
       label.push_back(p.label);
       sp_speed.push_back(p.lambda * kRpmPerRadPerSecond);
-      sp_precession.push_back(b.special_precession_hz[i]);
+      sp_precession.push_back(b.SpecialPrecessionHz(i));
       residual.push_back(p.residual_norm);
       correction.push_back(p.last_correction);
       note.push_back(p.note);

@@ -336,7 +336,7 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
     for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
       const SpecialPoint& p = b.branch.special_points[i];
       fmt::print(out, "    {:<36} {:9.3f} rpm {:9.3f} Hz{}\n", p.Name(),
-                 p.lambda / kRadPerSecondPerRpm, b.special_precession_hz[i],
+                 p.lambda / kRadPerSecondPerRpm, b.SpecialPrecessionHz(i),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }
     if (IsFailure(b.branch.status)) {

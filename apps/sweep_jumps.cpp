@@ -175,7 +175,7 @@ std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubS
       const SpecialPoint& p = match.branch->branch.special_points[static_cast<std::size_t>(k)];
       row.bifurcation = p.Name();
       row.bifurcation_speed_rpm = p.lambda * kRpmPerRadPerSecond;
-      row.bifurcation_precession_hz = match.branch->special_precession_hz[static_cast<std::size_t>(k)];
+      row.bifurcation_precession_hz = match.branch->SpecialPrecessionHz(static_cast<std::size_t>(k));
       row.difference_rpm = 0.5 * (lo + hi) - row.bifurcation_speed_rpm;
       break;
     }

@@ -244,7 +244,7 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
           MapPoint point;
           point.eta = eta;
           point.speed = sp.lambda;
-          point.precession_hz = branches[b].special_precession_hz[s];
+          point.precession_hz = branches[b].SpecialPrecessionHz(s);
           point.type = sp.type;
           point.label = sp.label;
           point.nonsmooth_fold = sp.nonsmooth_fold;

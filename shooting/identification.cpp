@@ -198,7 +198,7 @@ std::vector<double> PredictTargets(const TwoPointParams& params,
         if (!p.converged || p.label.find(t.event_label) == std::string::npos) continue;
         const double value = t.quantity == TargetQuantity::kSpeedRpm
                                  ? p.lambda / kRadPerSecondPerRpm
-                                 : b.special_precession_hz[s];
+                                 : b.SpecialPrecessionHz(s);
         if (std::abs(value - t.value) < best) {
           best = std::abs(value - t.value);
           predicted[i] = value;

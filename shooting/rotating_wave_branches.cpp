@@ -135,9 +135,6 @@ std::vector<RotatingWaveBranch> ComputeRotatingWaveBranches(
     result.branch = backward.points.empty() ? forward
                     : forward.points.empty() ? backward
                                              : JoinAtStart(backward, forward);
-    for (const SpecialPoint& point : result.branch.special_points) {
-      result.special_precession_hz.push_back(problem.Precession(point.u) / (2.0 * M_PI));
-    }
     branches.push_back(std::move(result));
     if (progress) progress(static_cast<int>(branches.size()), tried, static_cast<int>(starts.size()));
   }

@@ -41,7 +41,10 @@ struct RotatingWaveBranch {
   std::string family;          // how its start was found (RotatingWaveStart::family)
   std::vector<double> normals;  // closed-form pattern of the start (+1, −1, 0 per contact)
   Branch branch;
-  std::vector<double> special_precession_hz;  // Ω/2π of each special point [Hz]
+  // Ω/2π of special point i [Hz] (its measure "precession_hz").
+  double SpecialPrecessionHz(std::size_t i) const {
+    return branch.special_points[i].measures(branch.MeasureIndex("precession_hz"));
+  }
 };
 
 // "mode1", "mode2", "left_only", "right_only" (two contacts) or "single" (one contact): the
