@@ -1,0 +1,155 @@
+#include "shooting/rub_orbits.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace rubcont {
+
+namespace {
+
+// The fixed-frame state of every sample, and the contact quantities there.
+struct FixedFrameOrbit {
+  std::vector<Vector> states;
+  std::vector<std::vector<ContactEvaluation>> contacts;
+};
+
+class OrbitInFixedFrame {
+ public:
+  explicit OrbitInFixedFrame(const RubRotatingFrame& frame)
+      : frame_(frame), fixed_(frame.structure()) {}
+
+  FixedFrameOrbit Evaluate(const OrbitSamples& orbit) {
+    FixedFrameOrbit out;
+    fixed_.SetParameter(orbit.parameter);
+    for (Index j = 0; j < orbit.times.size(); ++j) {
+      out.states.push_back(frame_.ToFixedFrame(orbit.times(j), orbit.states.col(j)));
+      out.contacts.push_back(fixed_.Contacts(out.states.back()));
+    }
+    return out;
+  }
+  double FrameRate() const { return frame_.frame_rate(); }
+  const RubStructure& structure() const { return frame_.structure(); }
+
+ private:
+  RubRotatingFrame frame_;
+  RubFixedFrame fixed_;
+};
+
+// Backward precession rate −Im(ḋ/d) [rad/s] of contact c's relative displacement at a fixed-frame
+// state; 0 at d = 0.
+double Precession(const RubStructure& structure, std::size_t c, const Vector& x) {
+  const Index n = structure.Coordinates();
+  const Index r = 2 * structure.contacts[c].rotor, s = 2 * structure.contacts[c].stator;
+  const std::complex<double> d(x(r) - x(s), x(r + 1) - x(s + 1));
+  const std::complex<double> v(x(2 * n + r) - x(2 * n + s), x(2 * n + r + 1) - x(2 * n + s + 1));
+  return std::abs(d) > 0.0 ? -(v / d).imag() : 0.0;
+}
+
+OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t c, bool maximum,
+                            bool precession, std::string name) {
+  return {std::move(name), [view, c, maximum, precession](const OrbitSamples& orbit) {
+            const FixedFrameOrbit fixed = view->Evaluate(orbit);
+            double extreme = maximum ? -HUGE_VAL : HUGE_VAL;
+            for (std::size_t j = 0; j < fixed.states.size(); ++j) {
+              const double value =
+                  precession ? Precession(view->structure(), c, fixed.states[j]) / (2.0 * M_PI)
+                             : fixed.contacts[j][c].normal_force;
+              extreme = maximum ? std::max(extreme, value) : std::min(extreme, value);
+            }
+            return extreme;
+          }};
+}
+
+}  // namespace
+
+std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
+  auto view = std::make_shared<OrbitInFixedFrame>(frame);
+  std::vector<OrbitMeasure> measures;
+  measures.push_back({"carrier_hz", [view](const OrbitSamples& orbit) {
+                        return (view->FrameRate() - orbit.rotation / orbit.period) / (2.0 * M_PI);
+                      }});
+  measures.push_back(
+      {"modulation_hz", [](const OrbitSamples& orbit) { return 1.0 / orbit.period; }});
+  const auto& contacts = frame.structure().contacts;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const std::string& name = contacts[c].name;
+    measures.push_back(ContactExtreme(view, c, false, true, "min_precession_hz_" + name));
+    measures.push_back(ContactExtreme(view, c, true, true, "max_precession_hz_" + name));
+    measures.push_back(ContactExtreme(view, c, false, false, "min_normal_force_" + name));
+    measures.push_back(ContactExtreme(view, c, true, false, "max_normal_force_" + name));
+  }
+  return measures;
+}
+
+std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWaveBranch>& branches,
+                                                   Index coordinates) {
+  std::vector<RubHopfStart> starts;
+  for (const RotatingWaveBranch& b : branches) {
+    const std::vector<BranchPoint>& points = b.branch.points;
+    for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
+      const SpecialPoint& p = b.branch.special_points[i];
+      if (p.type != SpecialPointType::kHopf || !p.converged) continue;
+      // The special point lies between points[index] and points[index + 1].
+      const auto k = static_cast<std::size_t>(p.index);
+      if (p.index < 0 || k + 1 >= points.size()) continue;
+      const BranchPoint *low = &points[k], *high = &points[k + 1];
+      if (low->lambda > high->lambda) std::swap(low, high);
+      if (low->num_unstable < 0 || high->num_unstable < 0) continue;
+      if ((low->num_unstable == 0) == (high->num_unstable == 0)) continue;
+      RubHopfStart start;
+      start.branch = b.name;
+      start.special_point = i;
+      start.speed = p.lambda;
+      start.precession = p.u(2 * coordinates);
+      start.modulation = p.frequency;
+      start.stable_below = low->num_unstable == 0;
+      const bool mirror = std::any_of(starts.begin(), starts.end(), [&](const RubHopfStart& s) {
+        return std::abs(s.speed - start.speed) <= 1e-9 * start.speed &&
+               std::abs(s.precession - start.precession) <= 1e-9 * start.precession &&
+               std::abs(s.modulation - start.modulation) <= 1e-9 * start.modulation;
+      });
+      if (!mirror) starts.push_back(start);
+    }
+  }
+  std::sort(starts.begin(), starts.end(),
+            [](const RubHopfStart& a, const RubHopfStart& b) { return a.speed < b.speed; });
+  return starts;
+}
+
+RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
+                                           const std::vector<RotatingWaveBranch>& branches,
+                                           const RubHopfStart& start, HopfOrbitOptions options) {
+  if (structure.imbalance != 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueModulatedOrbits: imbalance = {} kg·m: the co-rotating frame needs a balanced "
+        "rotor (the imbalance turns forward, the frame backward)", structure.imbalance));
+  }
+  const auto branch = std::find_if(branches.begin(), branches.end(),
+                                   [&](const RotatingWaveBranch& b) { return b.name == start.branch; });
+  if (branch == branches.end() || start.special_point >= branch->branch.special_points.size() ||
+      branch->branch.special_points[start.special_point].type != SpecialPointType::kHopf) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueModulatedOrbits: no Hopf point {} on a branch named \"{}\"", start.special_point,
+        start.branch));
+  }
+  const SpecialPoint& p = branch->branch.special_points[start.special_point];
+  const Index nc = structure.Coordinates();
+  RubRotatingFrame frame(structure, start.precession, start.speed);
+  // The rotating wave as an equilibrium of the frame: its positions, at rest.
+  SpecialPoint hopf = p;
+  hopf.u = Vector::Zero(4 * nc);
+  hopf.u.head(2 * nc) = p.u.head(2 * nc);
+  options.kind = OrbitKind::kRelative;
+  options.orbits.measures = RubOrbitMeasures(frame);
+  RubModulatedOrbits result;
+  result.hopf = start;
+  result.orbits = ContinueOrbitsFromHopf(frame, hopf, options);
+  return result;
+}
+
+}  // namespace rubcont

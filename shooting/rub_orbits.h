@@ -1,0 +1,66 @@
+// The modulated whirl and whip of a rub structure: periodic orbits of the frame co-rotating with a
+// rotating wave (relative periodic orbits, design.md §2), born at the Hopf points of the tanh-law
+// rotating-wave branches and continued against running speed with Floquet stability (level L2).
+//
+// A rotating wave is an equilibrium of the frame precessing backward at its precession Ω_H; at a
+// Hopf point a pair of its eigenvalues crosses ±iω_H and a family of orbits is born that, in that
+// frame, is periodic up to a rotation: p(T) = R_φ p(0). In the fixed frame the motion is
+// quasi-periodic with a carrier (the mean backward precession Ω_H − φ/T) and a modulation 1/T:
+// the whip "with sidebands" of a waterfall. Single-frequency shooting in the fixed frame cannot
+// converge on it (tests/shooting/rub_orbits_test.cpp); here it is one more continuation problem.
+//
+// Which Hopf points: those that bound a stable piece of a rotating wave (stable on one side,
+// unstable on the other), in order of speed — where a sweep leaves or reaches a circular state.
+// Mirror images (the left-only and right-only branches of a symmetric rotor) are followed once.
+//
+// Cost (bench/modulated_whip_bench.cpp): the contact mode (√(k1/m) ≈ 1.3e5 rad/s for the thesis's
+// k1 = 1.75e11 N/m) is almost undamped and lives in every column of the state-transition matrix,
+// so the sensitivities take ~3e4 steps per modulation period: ~15 s per orbit of case A(a) at
+// tolerance 1e-7, against ~2.4 s with k1 = 1.75e8 N/m.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "models/rub_model.h"
+#include "shooting/hopf_orbits.h"
+#include "shooting/rotating_wave_branches.h"
+
+namespace rubcont {
+
+// Measures of a relative periodic orbit of RubRotatingFrame, evaluated in the fixed frame:
+//   carrier_hz                     mean backward precession (Ω_f − φ/T)/2π
+//   modulation_hz                  1/T
+//   min_/max_precession_hz_<c>     instantaneous backward precession −Im(ḋ/d)/2π of the contact's
+//                                  relative displacement d = u_rotor − u_stator
+//   min_/max_normal_force_<c>      N [N] (0 while the contact is open)
+// for each contact <c> ("left", "right" or "contact"). The frame is copied.
+std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
+
+// The Hopf points of `branches` that bound a stable piece, sorted by speed, mirror images once.
+struct RubHopfStart {
+  std::string branch;   // RotatingWaveBranch::name
+  std::size_t special_point = 0;  // index into its special_points
+  double speed = 0.0;       // ω_H [rad/s]
+  double precession = 0.0;  // Ω_H [rad/s]
+  double modulation = 0.0;  // ω of the critical pair [rad/s]
+  bool stable_below = false;  // the rotating wave is stable on the lower-speed side
+};
+std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWaveBranch>& branches,
+                                                   Index coordinates);
+
+struct RubModulatedOrbits {
+  RubHopfStart hopf;
+  PeriodicOrbitBranch orbits;
+};
+
+// The orbits born at `start` (a point of StableBoundaryHopfPoints(branches, ...)) of the tanh-law
+// branches of `structure`, continued in speed with `options` (kind is set to kRelative and the
+// measures to RubOrbitMeasures). Throws std::invalid_argument when the structure has an imbalance
+// or the start names no Hopf point of `branches`; numerical failures end the branch with a status.
+RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
+                                           const std::vector<RotatingWaveBranch>& branches,
+                                           const RubHopfStart& start, HopfOrbitOptions options);
+
+}  // namespace rubcont

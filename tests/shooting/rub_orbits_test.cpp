@@ -1,0 +1,172 @@
+// The modulated whip of case A(a): relative periodic orbits born at the Hopf point where the tanh
+// Mode 1 whirl loses stability, continued in speed (shooting/rub_orbits.h). The contact stiffness
+// is lowered to k1 = 1.75e8 N/m (from 1.75e11) to keep the test at a few seconds: the nearly
+// undamped contact mode sets the cost of the sensitivities (bench/modulated_whip_bench.cpp); the
+// whirl, its Hopf point and the orbits born there are qualitatively the same (53.66 rpm instead
+// of 51.68 rpm, modulation 1508 rad/s instead of 1520 rad/s).
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+#include "models/rub_model.h"
+#include "shooting/rub_orbits.h"
+#include "solvers/newton.h"
+#include "solvers/ode.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kRpm = 2.0 * M_PI / 60.0;
+
+struct ModulatedWhip {
+  RubStructure structure;
+  RubModulatedOrbits result;
+};
+
+const ModulatedWhip& CaseAaModulatedWhip() {
+  static const ModulatedWhip whip = [] {
+    TwoPointParams params;  // case A(a)
+    params.friction_law.kind = FrictionLawKind::kTanh;
+    params.contact_stiffness = 1.75e8;
+    ModulatedWhip w;
+    w.structure = TwoPointStructure(params);
+    RotatingWaveBranchOptions options;
+    options.search.speed_min = 40 * kRpm;
+    options.search.speed_max = 70 * kRpm;
+    options.search.precession_max = 2 * M_PI * 200;
+    const auto branches = ComputeRotatingWaveBranches(w.structure, FrictionLawKind::kTanh, options);
+    const auto starts = StableBoundaryHopfPoints(branches, w.structure.Coordinates());
+    REQUIRE_FALSE(starts.empty());
+    HopfOrbitOptions hopf;
+    hopf.amplitude = 1e-3;
+    hopf.orbits.lambda_min = 40 * kRpm;
+    hopf.orbits.lambda_max = 70 * kRpm;
+    hopf.orbits.shooting.segments = 4;
+    hopf.orbits.shooting.integrator.relative_tolerance = 1e-7;
+    hopf.orbits.shooting.integrator.absolute_tolerance = 1e-7;
+    hopf.orbits.shooting.integrator.max_steps = 2000000;
+    hopf.orbits.shooting.sensitivities_in_residual = true;
+    hopf.orbits.continuation.bounds.max_steps = 3;
+    hopf.orbits.continuation.step.target_iterations = 5;
+    w.result = ContinueModulatedOrbits(w.structure, branches, starts.front(), hopf);
+    return w;
+  }();
+  return whip;
+}
+
+TEST_CASE("case A(a): the modulated whip is born at the Mode 1 whirl's Hopf point with the whirl's "
+          "precession as carrier and the critical frequency as modulation",
+          "[rub_orbits][shooting][relative]") {
+  const ModulatedWhip& whip = CaseAaModulatedWhip();
+  const RubHopfStart& hopf = whip.result.hopf;
+  // The first Hopf point bounding a stable piece: the Mode 1 whirl, stable below it.
+  CHECK(hopf.stable_below);
+  CHECK(hopf.speed / kRpm == Approx(53.66).margin(0.05));
+  CHECK(hopf.precession / (2 * M_PI) == Approx(84.48).margin(0.05));
+  const Branch& branch = whip.result.orbits.branch;
+  INFO(branch.BriefReport() << " — " << branch.message);
+  REQUIRE(branch.Size() == 4);
+  const Vector period = branch.Measure("period"), carrier = branch.Measure("carrier_hz");
+  const Vector modulation = branch.Measure("modulation_hz");
+  const Vector n_min = branch.Measure("min_normal_force_left");
+  const Vector n_max = branch.Measure("max_normal_force_left");
+  for (Index i = 0; i < branch.Size(); ++i) {
+    const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
+    CAPTURE(i, p.lambda / kRpm);
+    // Supercritical: the orbits exist where the whirl is unstable and are stable themselves.
+    CHECK(p.lambda > hopf.speed);
+    REQUIRE(p.spectrum.valid);
+    CHECK(p.spectrum.trivial_removed == 2);
+    CHECK(p.num_unstable == 0);
+    CHECK(p.spectrum.values.cwiseAbs().maxCoeff() < 1.0);
+    CHECK(modulation(i) == Approx(1.0 / period(i)).epsilon(1e-14));
+    CHECK(n_max(i) > n_min(i));
+    if (i > 0) CHECK(n_max(i) - n_min(i) > n_max(i - 1) - n_min(i - 1));
+  }
+  // At the Hopf point the period is 2π/ω of the critical pair and the carrier the whirl's
+  // precession: both extrapolated linearly in speed from the first two orbits (period and carrier
+  // change in proportion to the squared amplitude, i.e. to the speed past the Hopf point; the first
+  // orbit alone is 0.25 % off in period).
+  const double l0 = branch.points[0].lambda, l1 = branch.points[1].lambda;
+  const auto at_hopf = [&](const Vector& y) {
+    return y(0) + (hopf.speed - l0) * (y(1) - y(0)) / (l1 - l0);
+  };
+  CHECK(at_hopf(period) == Approx(2 * M_PI / hopf.modulation).epsilon(5e-4));
+  CHECK(at_hopf(carrier) == Approx(hopf.precession / (2 * M_PI)).epsilon(1e-8));
+}
+
+TEST_CASE("case A(a): integrated in the fixed frame, the modulated whip returns after one "
+          "modulation period turned by the carrier's angle, as the relative orbit says",
+          "[rub_orbits][shooting][relative]") {
+  const ModulatedWhip& whip = CaseAaModulatedWhip();
+  const Branch& branch = whip.result.orbits.branch;
+  REQUIRE(branch.Size() == 4);
+  const BranchPoint& p = branch.points.back();
+  const Index n = whip.structure.States();
+  const double T = branch.Measure("period")(3), phi = branch.Measure("rotation")(3);
+  // x_0 of the first segment is the co-rotating state at t = 0, which is also the fixed-frame one.
+  RubRotatingFrame frame(whip.structure, whip.result.hopf.precession, p.lambda);
+  const Vector x0 = frame.ToFixedFrame(0.0, p.u.head(n));
+  RubFixedFrame fixed(whip.structure, p.lambda);
+  IntegratorOptions options;
+  options.relative_tolerance = 1e-10;
+  options.absolute_tolerance = 1e-10;
+  options.max_steps = 2000000;
+  OdeIntegrator integrator(fixed, options);
+  Vector x(n);
+  const IntegrationResult run = integrator.Integrate(0.0, x0, T, x);
+  REQUIRE(run.status == IntegrationStatus::kSuccess);
+  // u(T) = e^{−jΩ_f T} R_φ p(0): the fixed-frame state turned by φ − Ω_f T.
+  Vector expected = x0;
+  fixed.Rotate(phi - whip.result.hopf.precession * T, expected);
+  const Vector scale = fixed.StateScale();
+  CHECK((x - expected).cwiseQuotient(scale).lpNorm<Eigen::Infinity>() < 1e-5);
+  // …and not back where it started: the carrier has turned it by ≈ 2.25 rad.
+  CHECK((x - x0).cwiseQuotient(scale).lpNorm<Eigen::Infinity>() > 0.5);
+}
+
+TEST_CASE("case A(a): fixed-frame single-frequency shooting cannot converge on the modulated whip "
+          "that relative-orbit shooting finds",
+          "[rub_orbits][shooting][relative][failure]") {
+  // x(T) = x(0) in the fixed frame, from a point of the modulated whip and its modulation period
+  // (the carrier turns the state by ≈ 2.25 rad per period, so the motion is quasi-periodic):
+  // Newton finds no periodic orbit near it and says so. Measured: the scaled residual goes 6.7,
+  // 0.16, 0.79, 0.018, 1.2e-3, then the period turns negative and the backward integration of the
+  // stiff contact blows up (a non-finite residual, with the integrator's reason); the relative
+  // orbit it starts from solves its own problem to the integration tolerance (1e-7).
+  const ModulatedWhip& whip = CaseAaModulatedWhip();
+  const Branch& branch = whip.result.orbits.branch;
+  REQUIRE(branch.Size() == 4);
+  const BranchPoint& p = branch.points.back();
+  const Index n = whip.structure.States();
+  RubFixedFrame fixed(whip.structure, p.lambda);
+  ShootingOptions options;
+  options.segments = 4;
+  options.integrator.relative_tolerance = 1e-7;
+  options.integrator.absolute_tolerance = 1e-7;
+  options.integrator.max_steps = 2000000;
+  ShootingProblem problem(fixed, OrbitKind::kAutonomous, options);
+  Vector u = problem.InitialGuess(p.u.head(n), branch.Measure("period")(3), p.lambda);
+  NewtonOptions newton_options;
+  newton_options.max_iterations = 10;
+  double smallest_residual = INFINITY;
+  const Vector residual_scale = problem.ResidualScale();
+  const NewtonResult newton = NewtonSolve(
+      [&](const Vector& v, Vector& F) {
+        problem.Residual(v, p.lambda, F);
+        const double norm = F.cwiseQuotient(residual_scale).lpNorm<Eigen::Infinity>();
+        if (norm < smallest_residual) smallest_residual = norm;
+      },
+      [&](const Vector& v, Matrix& J) { problem.Jacobian(v, p.lambda, J); }, u, newton_options,
+      problem.Scale(), residual_scale);
+  INFO(newton.BriefReport());
+  CHECK_FALSE(newton.Converged());
+  if (newton.status == NewtonStatus::kNonFinite) {
+    CHECK_FALSE(problem.LastFailure().Succeeded());
+    CHECK_FALSE(problem.LastFailure().message.empty());
+  }
+  CHECK(smallest_residual > 1e-4);
+}
+
+}  // namespace
+}  // namespace rubcont
