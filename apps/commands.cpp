@@ -351,7 +351,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   const bool quiet = options.quiet;
   Progress progress(quiet, err);
   for (Stage stage : stages) {
-    if (IsTextbook(scene.model) != (stage == Stage::kOrbits)) {
+    if (!StageApplies(scene.model, stage)) {
       throw std::invalid_argument(fmt::format("stage \"{}\" does not apply to model \"{}\"",
                                               ToString(stage), ToString(scene.model)));
     }
@@ -438,10 +438,10 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         break;
       }
       case Stage::kOrbits: {
-        level = "L2";
+        if (level != "L3") level = "L2";
         RunOrbitsStage(scene, writer, [&](const std::string& line) { progress("{}", line); }, out,
                        failures);
-        scripts.push_back("orbits.py");
+        scripts.push_back(scene.model == ModelKind::kTwoPoint ? "rub_orbits.py" : "orbits.py");
         break;
       }
     }

@@ -21,12 +21,13 @@ const char* OrbitKindName(OrbitKind kind) {
 }  // namespace
 
 void WritePeriodicOrbitBranch(ResultWriter& writer, const std::string& name,
-                              const PeriodicOrbitBranch& orbits, const ParameterColumn& parameter) {
+                              const PeriodicOrbitBranch& orbits, const ParameterColumn& parameter,
+                              const std::string& root) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  writer.CreateGroup("/branches");
-  writer.SetAttribute("/branches", "level", "L2");
-  writer.SetAttribute("/branches", "parameter_name", parameter.name);
-  const std::string group = "/branches/" + name;
+  writer.CreateGroup(root);
+  writer.SetAttribute(root, "level", "L2");
+  writer.SetAttribute(root, "parameter_name", parameter.name);
+  const std::string group = root + "/" + name;
   const Branch& branch = orbits.branch;
   writer.CreateGroup(group);
   writer.SetAttribute(group, "kind", "periodic_orbit");

@@ -1,7 +1,7 @@
 // Periodic-orbit branches in a result file, in the layout of the rotating-wave branches
 // (design.md §4, apps/branch_output.h):
 //
-//   /branches                     attrs level ("L2": periodic orbits by shooting), parameter_name
+//   /branches (or /orbits)        attrs level ("L2": periodic orbits by shooting), parameter_name
 //   /branches/<name>              attrs kind ("periodic_orbit"), orbit_kind ("forced",
 //                                 "autonomous", "relative"), level, parameter_name, segments,
 //                                 status, message, summary (Branch::BriefReport())
@@ -29,8 +29,10 @@ struct ParameterColumn {
   double factor = 1.0;
 };
 
-// Writes /branches/<name>; creates /branches with its attributes if needed.
+// Writes <root>/<name>; creates <root> with its attributes if needed. `root`: "/branches" (the
+// textbook scenes) or "/orbits" (the modulated orbits of the rotor, apps/orbits_stage.h).
 void WritePeriodicOrbitBranch(ResultWriter& writer, const std::string& name,
-                              const PeriodicOrbitBranch& orbits, const ParameterColumn& parameter);
+                              const PeriodicOrbitBranch& orbits, const ParameterColumn& parameter,
+                              const std::string& root = "/branches");
 
 }  // namespace rubcont

@@ -9,9 +9,12 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/branch_output.h"
 #include "apps/orbit_output.h"
+#include "apps/sweep_jumps.h"
 #include "models/textbook.h"
 #include "shooting/orbit_branches.h"
+#include "shooting/rub_orbits.h"
 
 namespace rubcont {
 
@@ -138,11 +141,96 @@ StageSetup Setup(const Scene& scene) {
   return setup;
 }
 
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
+// orbits born at the first scene.orbits.hopf_points Hopf points that bound a stable piece of them.
+void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
+                        const std::function<void(const std::string&)>& progress, std::ostream& out,
+                        std::vector<std::string>& failures) {
+  constexpr double kRpm = 2.0 * M_PI / 60.0;
+  const Clock::time_point begin = Clock::now();
+  RubStructure structure = TwoPointStructure(scene.two_point);
+  const double imbalance = structure.imbalance;
+  structure.imbalance = 0.0;  // not stationary in the co-rotating frame (as for the branches)
+  const std::vector<RotatingWaveBranch> waves =
+      ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+  WriteRotatingWaveBranches(writer, waves, FrictionLawKind::kTanh, scene.analysis.speed_range_rpm,
+                            "/orbits/rotating_waves");
+  const std::vector<RubHopfStart> starts = StableBoundaryHopfPoints(waves, structure.Coordinates());
+  const std::size_t followed =
+      std::min(starts.size(), static_cast<std::size_t>(scene.orbits.hopf_points));
+  writer.SetAttribute("/orbits", "friction_law", "tanh");
+  writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
+  fmt::print(out, "[orbits] L2 modulated orbits (relative periodic orbits in the co-rotating frame, "
+                  "{} segment{}, tolerance {:g}) from {} of the {} Hopf points bounding a stable "
+                  "rotating wave (tanh friction, ε = {:g} m/s; {} rotating waves in {:.3f} s)\n",
+             scene.orbits.segments, scene.orbits.segments == 1 ? "" : "s", scene.orbits.tolerance,
+             followed, starts.size(), structure.law.velocity_scale, waves.size(),
+             SecondsSince(begin));
+  if (imbalance != 0.0) {
+    const std::string note = fmt::format(
+        "the imbalance ({} kg·m) is left out: the co-rotating frame needs a balanced rotor",
+        imbalance);
+    writer.SetAttribute("/orbits", "note", note);
+    fmt::print(out, "[orbits] note: {}\n", note);
+  }
+  for (const RubHopfStart& s : starts) {
+    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, whirl stable {}\n",
+               s.branch, s.speed / kRpm, s.precession / (2.0 * M_PI),
+               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above");
+  }
+  HopfOrbitOptions options;
+  options.amplitude = scene.orbits.amplitude;
+  options.orbits.lambda_min = scene.analysis.speed_range_rpm[0] * kRpm;
+  options.orbits.lambda_max = scene.analysis.speed_range_rpm[1] * kRpm;
+  // CVODES BDF with the analytic Jacobian; the sensitivities under error control (without it
+  // Newton stalls: the nearly undamped contact mode of the STM is damped numerically,
+  // bench/modulated_whip_bench.cpp).
+  options.orbits.shooting = StageShootingOptions(scene, IntegrationMethod::kBdf);
+  options.orbits.shooting.integrator.max_steps = 2000000;
+  options.orbits.continuation = StageContinuationOptions(scene);
+  for (std::size_t k = 0; k < followed; ++k) {
+    const RubHopfStart& start = starts[k];
+    const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
+    const Clock::time_point t0 = Clock::now();
+    options.on_step = [&](const Branch& b) {
+      progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name, k + 1,
+                           followed, b.Size(), b.points.empty() ? 0.0 : b.points.back().lambda / kRpm,
+                           SecondsSince(t0)));
+      return true;
+    };
+    const RubModulatedOrbits orbits = ContinueModulatedOrbits(structure, waves, start, options);
+    WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", 1.0 / kRpm}, "/orbits");
+    const std::string group = "/orbits/" + name;
+    writer.SetAttribute(group, "hopf_branch", start.branch);
+    writer.SetAttribute(group, "hopf_speed_rpm", start.speed / kRpm);
+    writer.SetAttribute(group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
+    writer.SetAttribute(group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
+    const Branch& branch = orbits.orbits.branch;
+    fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
+               SecondsSince(t0), orbits.orbits.work.steps);
+    for (const SpecialPoint& p : branch.special_points) {
+      fmt::print(out, "    {:<28} {:9.4f} rpm  carrier {:.4f} Hz  modulation {:.2f} Hz{}\n", p.Name(),
+                 p.lambda / kRpm, p.measures(branch.MeasureIndex("carrier_hz")),
+                 p.measures(branch.MeasureIndex("modulation_hz")),
+                 p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
+    }
+    if (IsFailure(branch.status)) failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
+  }
+}
+
 }  // namespace
 
 void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
                     const std::function<void(const std::string&)>& progress, std::ostream& out,
                     std::vector<std::string>& failures) {
+  if (scene.model == ModelKind::kTwoPoint) {
+    RunModulatedOrbits(scene, writer, progress, out, failures);
+    return;
+  }
   const Clock::time_point begin = Clock::now();
   StageSetup setup = Setup(scene);
   if (!setup.start.valid) {

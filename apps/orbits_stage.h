@@ -1,7 +1,16 @@
-// The "orbits" stage of `rubcont run` for the textbook models (Duffing, Stuart–Landau, van der
-// Pol): their periodic orbits continued in the model's parameter by shooting, with Floquet
-// stability and special points (shooting/orbit_branches.h), written to /branches/periodic_orbits
-// (apps/orbit_output.h) and summarized on `out`.
+// The "orbits" stage of `rubcont run` (level L2), summarized on `out`:
+//   textbook models (Duffing, Stuart–Landau, van der Pol): their periodic orbits continued in the
+//     model's parameter by shooting, with Floquet stability and special points
+//     (shooting/orbit_branches.h), written to /branches/periodic_orbits (apps/orbit_output.h);
+//   model two_point: the modulated whirl and whip (shooting/rub_orbits.h) —
+//     /orbits                        attrs level, parameter_name, friction_law ("tanh"),
+//                                    velocity_scale, note (imbalance left out)
+//     /orbits/rotating_waves/<name>  the tanh-law rotating waves (layout of apps/branch_output.h)
+//     /orbits/<branch>_hopf<k>       the orbits born at special point k of that rotating wave
+//                                    (layout of apps/orbit_output.h, parameter speed_rpm), attrs
+//                                    hopf_branch, hopf_speed_rpm, hopf_precession_hz,
+//                                    hopf_modulation_hz; measures carrier_hz, modulation_hz,
+//                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>.
 #pragma once
 
 #include <functional>

@@ -389,8 +389,10 @@ std::vector<KeySpec> BuildSchema() {
     stages.default_value = std::vector<std::string>{"analytic", "branches"};
     stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
                  "\"branches\" (L1 rotating waves continued in speed) — models two_point and "
-                 "jeffcott; \"orbits\" (periodic orbits by shooting, continued in the parameter, "
-                 "Floquet stability) — the textbook models; \"sweep\" (L3: the speed-up and "
+                 "jeffcott; \"orbits\" (L2 periodic orbits by shooting with Floquet stability: the "
+                 "textbook models continued in their parameter; for model two_point the modulated "
+                 "whirl and whip born at the Hopf points of the tanh-law rotating waves, continued "
+                 "in speed, [analysis.orbits]); \"sweep\" (L3: the speed-up and "
                  "speed-down sweeps of [analysis.sweep]) — model two_point.";
     stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
     stages.choices = kImplementedStages;
@@ -494,6 +496,32 @@ std::vector<KeySpec> BuildSchema() {
               "Between successive speeds, a BP change larger than this from both trends (BP "
               "constant, BP ∝ speed) is a jump even when the regime stays the same.",
               [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
+
+  // [analysis.orbits]: the modulated whirl and whip (level L2, shooting/rub_orbits.h).
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.hopf_points", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      std::int64_t{2},
+      "How many Hopf points to follow: those that bound a stable piece of a tanh-law rotating "
+      "wave, in order of speed (mirror images once).",
+      [](Scene& x) -> int& { return x.orbits.hopf_points; }));
+  s.push_back(Float("analysis.orbits.amplitude", "-", Rule::kOpenUnit,
+                    "Amplitude of the first orbit off the rotating wave (scaled state units).",
+                    [](Scene& x) -> double& { return x.orbits.amplitude; }, Presence::kOptional,
+                    1e-3));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      std::int64_t{4}, "Shooting segments per modulation period (1: single shooting).",
+      [](Scene& x) -> int& { return x.orbits.segments; }));
+  s.push_back(Float("analysis.orbits.tolerance", "-", Rule::kOpenUnit,
+                    "CVODES BDF tolerance (relative = absolute, on scaled states) of every segment.",
+                    [](Scene& x) -> double& { return x.orbits.tolerance; }, Presence::kOptional,
+                    1e-7));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
+      std::int64_t{40},
+      "Continuation steps from each Hopf point (about 15 s each with the thesis's contact "
+      "stiffness).",
+      [](Scene& x) -> int& { return x.orbits.max_steps; }));
   return s;
 }
 
@@ -847,8 +875,8 @@ class Loader {
     return fmt::format("{}:{}:{}", source_, begin.line, begin.column);
   }
 
-  // The textbook models have stage "orbits" only (their default); the rotor models have no
-  // "orbits" stage yet.
+  // The textbook models have stage "orbits" only (their default); the Jeffcott model has no
+  // "orbits" stage.
   void CheckStagesFitModel(Scene& scene) {
     const bool textbook = IsTextbook(scene.model);
     const bool defaulted = nodes_.count("analysis.stages") == 0;
@@ -857,8 +885,7 @@ class Loader {
       return;
     }
     for (Stage stage : scene.analysis.stages) {
-      const bool fits = textbook ? stage == Stage::kOrbits : stage != Stage::kOrbits;
-      if (fits) continue;
+      if (StageApplies(scene.model, stage)) continue;
       const std::string given = nodes_.count("analysis.stages")
                                     ? FormatNode(*nodes_.at("analysis.stages"))
                                     : FormatValue(FindKey("analysis.stages")->get(scene));
@@ -866,8 +893,8 @@ class Loader {
           "{}: analysis.stages = {}: {} does not apply to model {}; {}", Where("analysis.stages"),
           given, Quote(ToString(stage)), Quote(ToString(scene.model)),
           textbook ? "the textbook models have the stage \"orbits\""
-                   : "\"orbits\" is implemented for the textbook models (\"duffing\", "
-                     "\"stuart_landau\", \"van_der_pol\")"));
+                   : "\"orbits\" is implemented for model \"two_point\" and the textbook "
+                     "models (\"duffing\", \"stuart_landau\", \"van_der_pol\")"));
       return;
     }
   }
@@ -1090,6 +1117,11 @@ const char* ToString(ModelKind model) {
 bool IsTextbook(ModelKind model) {
   return model == ModelKind::kDuffing || model == ModelKind::kStuartLandau ||
          model == ModelKind::kVanDerPol;
+}
+
+bool StageApplies(ModelKind model, Stage stage) {
+  if (IsTextbook(model)) return stage == Stage::kOrbits;
+  return stage != Stage::kOrbits || model == ModelKind::kTwoPoint;
 }
 
 const char* ToString(Stage stage) {

@@ -44,10 +44,14 @@ enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
   kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (models/rub_sweep.h)
   kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
-  kOrbits,    // "orbits": periodic orbits of a textbook model continued in its parameter, by shooting
-              // with Floquet stability (shooting/orbit_branches.h)
+  kOrbits,    // "orbits": level L2, periodic orbits by shooting with Floquet stability: of a textbook
+              // model continued in its parameter (shooting/orbit_branches.h), or the modulated
+              // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)
 };
 const char* ToString(Stage stage);
+// The textbook models have the stage "orbits" only; "orbits" applies to model two_point as well
+// (not to the Jeffcott rotor).
+bool StageApplies(ModelKind model, Stage stage);
 
 // [analysis.sweep]: the time-marching sweeps (Kumar 2010 §3.5). Units and rules in the schema.
 struct SweepSettings {
@@ -86,6 +90,9 @@ struct OrbitsOptions {
   int segments = 1;             // shooting segments (1: single shooting)
   double tolerance = 1e-10;     // integrator rtol = atol (scaled states)
   int max_steps = 1000;         // continuation steps each way
+  // Model two_point ([analysis.orbits]): the modulated orbits born at Hopf points.
+  int hopf_points = 2;          // Hopf points followed, in order of speed
+  double amplitude = 1e-3;      // first orbit's amplitude (scaled state units)
 };
 
 struct Scene {
@@ -97,7 +104,7 @@ struct Scene {
   DuffingParams duffing;            // when model == kDuffing (frequency: see orbits)
   StuartLandauParams stuart_landau; // when model == kStuartLandau (lambda: see orbits)
   VanDerPolParams van_der_pol;      // when model == kVanDerPol (mu: see orbits)
-  OrbitsOptions orbits;             // textbook models: the parameter range and shooting numerics
+  OrbitsOptions orbits;             // "orbits" stage: parameter range (textbook models), numerics
   AnalysisOptions analysis;
 
   // Provenance, not part of the scene's content: where it was read from, and which keys the file

@@ -126,7 +126,7 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   result.segments = segments;
   result.start_lambda = lambda;
   stepper.StartWithTangent(u0, lambda, du, 0.0);
-  result.branch = RunToEnd(stepper);
+  result.branch = RunToEnd(stepper, options.on_step);
   result.work = problem.statistics();
   return result;
 }

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "continuation/branch.h"
+#include "continuation/continuation.h"
 #include "continuation/problem.h"
 #include "shooting/orbit_branches.h"
 
@@ -53,6 +54,8 @@ struct HopfOrbitOptions {
   // Range, shooting and engine options as for ContinuePeriodicOrbits (direction is ignored: the
   // branch leaves the Hopf point towards growing amplitude).
   PeriodicOrbitBranchOptions orbits;
+  // Called after every continuation step (progress of long runs); returning false stops the branch.
+  StepCallback on_step;
 };
 
 // The periodic orbits born at `hopf` (a kHopf special point of an EquilibriumProblem branch of

@@ -108,10 +108,11 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
       start.precession = p.u(2 * coordinates);
       start.modulation = p.frequency;
       start.stable_below = low->num_unstable == 0;
+      // Mirror images are located separately: equal to the location's precision, not bit for bit.
+      const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); };
       const bool mirror = std::any_of(starts.begin(), starts.end(), [&](const RubHopfStart& s) {
-        return std::abs(s.speed - start.speed) <= 1e-9 * start.speed &&
-               std::abs(s.precession - start.precession) <= 1e-9 * start.precession &&
-               std::abs(s.modulation - start.modulation) <= 1e-9 * start.modulation;
+        return near(s.speed, start.speed) && near(s.precession, start.precession) &&
+               near(s.modulation, start.modulation);
       });
       if (!mirror) starts.push_back(start);
     }

@@ -1,6 +1,7 @@
-// The "orbits" stage of the textbook scenes, run as a user runs it: `rubcont run scenes/<model>.toml`
-// writes /branches/periodic_orbits with Floquet stability and special points, and a bad scene exits
-// with code 2 naming the key, the value and the rule.
+// The "orbits" stage, run as a user runs it: `rubcont run scenes/<model>.toml` of the textbook
+// scenes writes /branches/periodic_orbits with Floquet stability and special points; of a rotor
+// scene, /orbits with the modulated whirl and whip; a bad scene exits with code 2 naming the key,
+// the value and the rule.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -152,6 +153,73 @@ TEST_CASE("a bad textbook scene exits with code 2, naming the key, the value and
                                    (dir.path / "b.h5").string());
   CHECK(branches.exit_code == 2);
   CHECK_THAT(branches.err, Contains("stage \"analytic\" does not apply to model \"duffing\""));
+}
+
+// Case A(a) with the contact stiffness lowered to 1.75e8 N/m (seconds instead of minutes; see
+// tests/shooting/rub_orbits_test.cpp), over 40–70 rpm, with `extra` appended to [analysis].
+std::string SoftCaseAa(const std::string& extra) {
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  text = text.substr(0, text.find("[analysis]"));
+  const std::string k1 = "stiffness = 1.75e11";
+  REQUIRE(text.find(k1) != std::string::npos);
+  text.replace(text.find(k1), k1.size(), "stiffness = 1.75e8");
+  return text + "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [40.0, 70.0]\n" + extra;
+}
+
+TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating waves and the "
+          "modulated orbits born at the Mode 1 whirl's Hopf point",
+          "[orbits][cli][rub_orbits]") {
+  TempDir dir;
+  const fs::path scene = dir.path / "soft.toml";
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\nmax_steps = 2\n");
+  const Outcome run =
+      testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("[orbits] L2 modulated orbits"));
+  CHECK_THAT(run.out, Contains("from 1 of the 2 Hopf points bounding a stable rotating wave"));
+  const ResultReader file(dir.path / "soft" / "soft.h5");
+  CHECK(file.ReadStringAttribute("/", "level") == "L2");
+  CHECK(file.ReadStringAttribute("/orbits", "friction_law") == "tanh");
+  CHECK_FALSE(file.Children("/orbits/rotating_waves").empty());
+  std::vector<std::string> orbits;
+  for (const std::string& name : file.Children("/orbits")) {
+    if (name != "rotating_waves") orbits.push_back(name);
+  }
+  REQUIRE(orbits.size() == 1);
+  const std::string group = "/orbits/" + orbits.front();
+  CHECK(file.ReadStringAttribute(group, "orbit_kind") == "relative");
+  CHECK(file.ReadStringAttribute(group, "parameter_name") == "speed_rpm");
+  const double hopf_rpm = file.ReadDoubleAttribute(group, "hopf_speed_rpm");
+  const double hopf_hz = file.ReadDoubleAttribute(group, "hopf_precession_hz");
+  CHECK(hopf_rpm == Approx(53.66).margin(0.05));
+  const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+  const auto carrier = file.ReadDoubles(group + "/carrier_hz");
+  const auto stable = file.ReadInts(group + "/stable");
+  REQUIRE(rpm.size() == 3);
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    CHECK(rpm[i] > hopf_rpm);
+    CHECK(carrier[i] == Approx(hopf_hz).epsilon(1e-4));
+    CHECK(stable[i] == 1);
+  }
+  // The branch the Hopf point lies on is one of the rotating waves written beside the orbits.
+  CHECK(file.Exists("/orbits/rotating_waves/" + file.ReadStringAttribute(group, "hopf_branch")));
+}
+
+TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
+          "[orbits][cli]") {
+  TempDir dir;
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 0\n");
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("analysis.orbits.hopf_points = 0: must be from 1 to 1000"));
+  std::string jeffcott = Slurp("scenes/jeffcott.toml");
+  jeffcott = jeffcott.substr(0, jeffcott.find("[analysis]"));
+  std::ofstream(scene) << jeffcott << "[analysis]\nstages = [\"orbits\"]\n";
+  const Outcome wrong = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(wrong.exit_code == 2);
+  CHECK_THAT(wrong.err, Contains("\"orbits\" does not apply to model \"jeffcott\""));
 }
 
 }  // namespace

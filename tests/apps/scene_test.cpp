@@ -111,7 +111,7 @@ TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene
              Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
   // Nothing close: the section's keys are listed.
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
-             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm, [analysis.sweep])"));
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm, [analysis.sweep], [analysis.orbits])"));
 }
 
 TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
@@ -264,9 +264,16 @@ TEST_CASE("Textbook models: their own sections, the orbits stage by default, sta
   CHECK_THAT(OnlyProblem(kDuffing + "[analysis]\nstages = [\"branches\"]\n"),
              Contains("analysis.stages = [\"branches\"]: \"branches\" does not apply to model "
                       "\"duffing\"; the textbook models have the stage \"orbits\""));
-  CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"orbits\"]\n"),
-             Contains("analysis.stages = [\"orbits\"]: \"orbits\" does not apply to model "
-                      "\"two_point\""));
+  // Model two_point has it too (the modulated orbits), with [analysis.orbits]; the Jeffcott
+  // rotor does not (tests/apps/orbits_stage_test.cpp).
+  const Scene rotor = Parse(kValid + "[analysis]\nstages = [\"orbits\"]\n[analysis.orbits]\n"
+                                     "hopf_points = 3\nmax_steps = 7\n");
+  REQUIRE(rotor.analysis.stages.size() == 1);
+  CHECK(rotor.analysis.stages[0] == Stage::kOrbits);
+  CHECK(rotor.orbits.hopf_points == 3);
+  CHECK(rotor.orbits.max_steps == 7);
+  CHECK(rotor.orbits.segments == 4);
+  CHECK(rotor.orbits.tolerance == 1e-7);
 
   const Scene stuart_landau =
       Parse("model = \"stuart_landau\"\n[stuart_landau]\nomega = 1.0\nlambda_range = [0.1, 1.0]\n");

@@ -1,0 +1,153 @@
+#!/usr/bin/python3
+"""Figure of the modulated whirl and whip (L2, shooting) over the rotating waves they are born from.
+
+Usage: /usr/bin/python3 plots/rub_orbits.py RESULT.h5 OUTDIR
+Writes, from the HDF5 file only (layout: apps/orbits_stage.h):
+  OUTDIR/orbits.png  against running speed, over the speeds around the orbits:
+                     top: precession frequency (±25 Hz around the orbits) — the tanh-law
+                     rotating waves (stable solid,
+                     unstable dashed, special points marked) and, for each family of modulated
+                     orbits, its carrier (thick) and the band of instantaneous precession at the
+                     first contact (thin);
+                     middle: normal force at the first contact — rotating waves, and the min/max
+                     over each orbit;
+                     bottom: the largest Floquet multiplier modulus of the orbits, |mu| = 1 drawn.
+Exit status 3 when numpy, h5py or matplotlib cannot be imported.
+"""
+import os
+import sys
+
+try:
+    import h5py
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+except ImportError as error:
+    print(f"rub_orbits.py: {error}", file=sys.stderr)
+    sys.exit(3)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from branches import (MARKERS, MODE_COLORS, contacts_of, mark, plot_lines,  # noqa: E402
+                      special_points, stable_runs, text)
+
+ORBIT_COLORS = ["#000000", "#7b2cbf", "#b8860b", "#008b8b"]
+ORBIT_MARKERS = {"fold": "^", "period doubling": "v", "Neimark-Sacker": "*",
+                 "branch point": "X", "multiplier +1": "D"}
+
+
+def orbit_special_points(group):
+    sp = group["special_points"]
+    if "type" not in sp or len(sp["type"]) == 0:
+        return []
+    return [(text(t), float(r), k) for k, (t, r) in enumerate(zip(sp["type"][()], sp["speed_rpm"][()]))]
+
+
+def main(argv):
+    if len(argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    h5_file, out_dir = argv[1], argv[2]
+    with h5py.File(h5_file, "r") as result:
+        if "orbits" not in result or "rotating_waves" not in result["orbits"]:
+            print(f"rub_orbits.py: {h5_file} has no /orbits/rotating_waves", file=sys.stderr)
+            return 1
+        group = result["orbits"]
+        waves = [(n, g) for n, g in group["rotating_waves"].items()
+                 if isinstance(g, h5py.Group) and "speed_rpm" in g]
+        orbits = [(n, g) for n, g in group.items()
+                  if isinstance(g, h5py.Group) and text(g.attrs.get("kind", "")) == "periodic_orbit"]
+        contact = contacts_of(waves[0][1])[0] if waves else "left"
+
+        # Speeds shown: around the Hopf points followed and the orbits.
+        speeds = [float(g.attrs["hopf_speed_rpm"]) for _, g in orbits]
+        speeds += [v for _, g in orbits for v in g["speed_rpm"][()]]
+        lo, hi = (min(speeds) - 10.0, max(speeds) + 10.0) if speeds else (None, None)
+
+        fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(9, 10), sharex=True,
+                                                  gridspec_kw={"height_ratios": [3, 2, 1.2]})
+        modes, types = set(), set()
+        for _, g in waves:
+            mode = text(g.attrs.get("mode", "mode1"))
+            color = MODE_COLORS.get(mode, "#1f5fa8")
+            modes.add(mode)
+            rpm, stable = g["speed_rpm"][()], g["stable"][()]
+            plot_lines(top, rpm, g["precession_hz"][()], stable, color)
+            plot_lines(middle, rpm, g[f"normal_force_{contact}"][()], stable, color)
+            points = special_points(g)
+            types.update(p["type"] for p in points)
+            mark(top, points, "rpm", lambda p: p["hz"], color)
+
+        handles = []
+        for k, (name, g) in enumerate(sorted(orbits, key=lambda item: item[1].attrs["hopf_speed_rpm"])):
+            color = ORBIT_COLORS[k % len(ORBIT_COLORS)]
+            rpm, stable = g["speed_rpm"][()], g["stable"][()]
+            plot_lines(top, rpm, g["carrier_hz"][()], stable, color)
+            for side in ("min", "max"):
+                for start, end, is_stable in stable_runs(stable):
+                    top.plot(rpm[start:end + 1], g[f"{side}_precession_hz_{contact}"][()][start:end + 1],
+                             color=color, lw=0.7, alpha=0.6, ls="-" if is_stable else (0, (2, 2)))
+                plot_lines(middle, rpm, g[f"{side}_normal_force_{contact}"][()], stable, color)
+            bottom.semilogy(rpm, g["max_multiplier_modulus"][()], color=color, lw=1.2)
+            hopf = float(g.attrs["hopf_speed_rpm"])
+            top.plot(hopf, float(g.attrs["hopf_precession_hz"]), "o", ms=7, mfc=color, mec=color)
+            for t, r, i in orbit_special_points(g):
+                y = g["special_points"]["carrier_hz"][()][i]
+                top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
+                bottom.axvline(r, color=color, lw=0.8, ls=":")
+                types.add(t)
+            handles.append(Line2D([], [], color=color, lw=1.6,
+                                  label=f"modulated orbits from the Hopf point at {hopf:.2f} rpm "
+                                        f"({g['speed_rpm'][()].size} orbits)"))
+
+        handles += [Line2D([], [], color=MODE_COLORS[m], lw=1.6, label=f"rotating wave ({m})")
+                    for m in sorted(modes)]
+        handles += [Line2D([], [], color="0.2", lw=1.6, label="stable"),
+                    Line2D([], [], color="0.2", lw=1.0, ls=(0, (4, 2)), label="unstable")]
+        for t in sorted(types):
+            marker = ORBIT_MARKERS.get(t) or MARKERS.get(t, ("P", t))[0]
+            handles.append(Line2D([], [], ls="none", marker=marker, mfc="white", mec="0.2", label=t))
+        top.legend(handles=handles, loc="best", fontsize=7)
+        scene = text(result.attrs.get("scene_name", ""))
+        eps = group.attrs.get("velocity_scale", float("nan"))
+        top.set_title(f"{scene}: rotating waves and modulated orbits (tanh friction, ε = {eps:g} m/s)")
+        top.set_ylabel(f"precession [Hz] (band: {contact} contact)")
+        middle.set_ylabel(f"normal force, {contact} contact [N]")
+        bottom.axhline(1.0, color="black", lw=0.8)
+        bottom.set_ylabel("max |Floquet multiplier|")
+        bottom.set_xlabel("running speed [rpm]")
+        if lo is not None:
+            bottom.set_xlim(lo, hi)
+            band = [v for _, g in orbits for key in (f"min_precession_hz_{contact}",
+                                                     f"max_precession_hz_{contact}")
+                    for v in g[key][()] if np.isfinite(v)]
+            band += [float(g.attrs["hopf_precession_hz"]) for _, g in orbits]
+            top.set_ylim(min(band) - 25.0, max(band) + 25.0)
+            _fit_y(middle, waves, orbits, lo, hi, f"normal_force_{contact}",
+                   [f"min_normal_force_{contact}", f"max_normal_force_{contact}"])
+        for ax in (top, middle, bottom):
+            ax.grid(alpha=0.3, which="both")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out_dir, "orbits.png"), dpi=130)
+    return 0
+
+
+def _fit_y(ax, waves, orbits, lo, hi, wave_key, orbit_keys):
+    """y-limits from what lies in [lo, hi] only."""
+    values = []
+    for _, g in waves:
+        rpm = g["speed_rpm"][()]
+        values.extend(g[wave_key][()][(rpm >= lo) & (rpm <= hi)])
+    for _, g in orbits:
+        for key in orbit_keys:
+            values.extend(g[key][()])
+    values = np.asarray([v for v in values if np.isfinite(v)])
+    if values.size:
+        pad = 0.05 * (values.max() - values.min() + 1e-9)
+        ax.set_ylim(values.min() - pad, values.max() + pad)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
