@@ -213,8 +213,8 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
                SecondsSince(t0), orbits.orbits.work.steps);
     for (const SpecialPoint& p : branch.special_points) {
-      fmt::print(out, "    {:<28} {:9.4f} rpm  carrier {:.4f} Hz  modulation {:.2f} Hz{}\n", p.Name(),
-                 p.lambda / kRpm, p.measures(branch.MeasureIndex("carrier_hz")),
+      fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation {:.2f} Hz{}\n", p.Name(),
+                 p.lambda / kRpm, p.measures(branch.MeasureIndex("precession_hz")),
                  p.measures(branch.MeasureIndex("modulation_hz")),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }

@@ -9,7 +9,7 @@
 //     /orbits/<branch>_hopf<k>       the orbits born at special point k of that rotating wave
 //                                    (layout of apps/orbit_output.h, parameter speed_rpm), attrs
 //                                    hopf_branch, hopf_speed_rpm, hopf_precession_hz,
-//                                    hopf_modulation_hz; measures carrier_hz, modulation_hz,
+//                                    hopf_modulation_hz; measures precession_hz (the carrier), modulation_hz,
 //                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>.
 #pragma once
 

@@ -59,7 +59,7 @@ int Main(int argc, char** argv) {
   const Branch& branch = result.orbits.branch;
   std::printf("%s — %s (%.1f s, %ld integrator steps)\n", branch.BriefReport().c_str(),
               branch.message.c_str(), s, result.orbits.work.steps);
-  const Vector period = branch.Measure("period"), carrier = branch.Measure("carrier_hz");
+  const Vector period = branch.Measure("period"), carrier = branch.Measure("precession_hz");
   const Vector n_min = branch.Measure("min_normal_force_left");
   const Vector n_max = branch.Measure("max_normal_force_left");
   for (Index i = 0; i < branch.Size(); ++i) {

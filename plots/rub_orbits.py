@@ -84,7 +84,7 @@ def main(argv):
         for k, (name, g) in enumerate(sorted(orbits, key=lambda item: item[1].attrs["hopf_speed_rpm"])):
             color = ORBIT_COLORS[k % len(ORBIT_COLORS)]
             rpm, stable = g["speed_rpm"][()], g["stable"][()]
-            plot_lines(top, rpm, g["carrier_hz"][()], stable, color)
+            plot_lines(top, rpm, g["precession_hz"][()], stable, color)
             for side in ("min", "max"):
                 for start, end, is_stable in stable_runs(stable):
                     top.plot(rpm[start:end + 1], g[f"{side}_precession_hz_{contact}"][()][start:end + 1],
@@ -94,7 +94,7 @@ def main(argv):
             hopf = float(g.attrs["hopf_speed_rpm"])
             top.plot(hopf, float(g.attrs["hopf_precession_hz"]), "o", ms=7, mfc=color, mec=color)
             for t, r, i in orbit_special_points(g):
-                y = g["special_points"]["carrier_hz"][()][i]
+                y = g["special_points"]["precession_hz"][()][i]
                 top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
                 bottom.axvline(r, color=color, lw=0.8, ls=":")
                 types.add(t)

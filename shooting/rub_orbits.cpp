@@ -70,7 +70,7 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   auto view = std::make_shared<OrbitInFixedFrame>(frame);
   std::vector<OrbitMeasure> measures;
-  measures.push_back({"carrier_hz", [view](const OrbitSamples& orbit) {
+  measures.push_back({"precession_hz", [view](const OrbitSamples& orbit) {
                         return (view->FrameRate() - orbit.rotation / orbit.period) / (2.0 * M_PI);
                       }});
   measures.push_back(

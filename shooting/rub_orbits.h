@@ -30,7 +30,7 @@
 namespace rubcont {
 
 // Measures of a relative periodic orbit of RubRotatingFrame, evaluated in the fixed frame:
-//   carrier_hz                     mean backward precession (Ω_f − φ/T)/2π
+//   precession_hz                  the carrier: mean backward precession (Ω_f − φ/T)/2π
 //   modulation_hz                  1/T
 //   min_/max_precession_hz_<c>     instantaneous backward precession −Im(ḋ/d)/2π of the contact's
 //                                  relative displacement d = u_rotor − u_stator

@@ -194,7 +194,7 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   const double hopf_hz = file.ReadDoubleAttribute(group, "hopf_precession_hz");
   CHECK(hopf_rpm == Approx(53.66).margin(0.05));
   const auto rpm = file.ReadDoubles(group + "/speed_rpm");
-  const auto carrier = file.ReadDoubles(group + "/carrier_hz");
+  const auto carrier = file.ReadDoubles(group + "/precession_hz");
   const auto stable = file.ReadInts(group + "/stable");
   REQUIRE(rpm.size() == 3);
   for (std::size_t i = 0; i < rpm.size(); ++i) {

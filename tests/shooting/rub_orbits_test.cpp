@@ -66,7 +66,7 @@ TEST_CASE("case A(a): the modulated whip is born at the Mode 1 whirl's Hopf poin
   const Branch& branch = whip.result.orbits.branch;
   INFO(branch.BriefReport() << " — " << branch.message);
   REQUIRE(branch.Size() == 4);
-  const Vector period = branch.Measure("period"), carrier = branch.Measure("carrier_hz");
+  const Vector period = branch.Measure("period"), carrier = branch.Measure("precession_hz");
   const Vector modulation = branch.Measure("modulation_hz");
   const Vector n_min = branch.Measure("min_normal_force_left");
   const Vector n_max = branch.Measure("max_normal_force_left");
