@@ -12,6 +12,7 @@
 #include "shooting/rub_orbits.h"
 #include "solvers/newton.h"
 #include "solvers/ode.h"
+#include "tests/shooting/traced_newton.h"
 
 namespace rubcont {
 namespace {
@@ -147,25 +148,15 @@ TEST_CASE("case A(a): fixed-frame single-frequency shooting cannot converge on t
   options.integrator.max_steps = 2000000;
   ShootingProblem problem(fixed, OrbitKind::kAutonomous, options);
   Vector u = problem.InitialGuess(p.u.head(n), branch.Measure("period")(3), p.lambda);
-  NewtonOptions newton_options;
-  newton_options.max_iterations = 10;
-  double smallest_residual = INFINITY;
-  const Vector residual_scale = problem.ResidualScale();
-  const NewtonResult newton = NewtonSolve(
-      [&](const Vector& v, Vector& F) {
-        problem.Residual(v, p.lambda, F);
-        const double norm = F.cwiseQuotient(residual_scale).lpNorm<Eigen::Infinity>();
-        if (norm < smallest_residual) smallest_residual = norm;
-      },
-      [&](const Vector& v, Matrix& J) { problem.Jacobian(v, p.lambda, J); }, u, newton_options,
-      problem.Scale(), residual_scale);
-  INFO(newton.BriefReport());
-  CHECK_FALSE(newton.Converged());
-  if (newton.status == NewtonStatus::kNonFinite) {
+  const testing::TracedNewton traced =
+      testing::NewtonWithSmallestResidual(problem, u, p.lambda, 10);
+  INFO(traced.result.BriefReport());
+  CHECK_FALSE(traced.result.Converged());
+  if (traced.result.status == NewtonStatus::kNonFinite) {
     CHECK_FALSE(problem.LastFailure().Succeeded());
     CHECK_FALSE(problem.LastFailure().message.empty());
   }
-  CHECK(smallest_residual > 1e-4);
+  CHECK(traced.smallest_residual > 1e-4);
 }
 
 }  // namespace

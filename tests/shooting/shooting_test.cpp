@@ -7,6 +7,7 @@
 #include "models/textbook.h"
 #include "solvers/finite_difference.h"
 #include "solvers/newton.h"
+#include "tests/shooting/traced_newton.h"
 
 namespace rubcont {
 namespace {
@@ -400,21 +401,11 @@ TEST_CASE("fixed-frame shooting cannot converge on the quasi-periodic motion tha
   Vector x0(4);
   x0 << 1.0, 0.0, 1.9, 0.1;
   Vector u = problem.InitialGuess(x0, 6.66, system.mu);
-  NewtonOptions options;
-  options.max_iterations = 12;
-  double smallest_residual = INFINITY;
-  const Vector residual_scale = problem.ResidualScale();
-  const NewtonResult newton = NewtonSolve(
-      [&](const Vector& v, Vector& F) {
-        problem.Residual(v, system.mu, F);
-        const double norm = F.cwiseQuotient(residual_scale).lpNorm<Eigen::Infinity>();
-        if (norm < smallest_residual) smallest_residual = norm;
-      },
-      [&](const Vector& v, Matrix& J) { problem.Jacobian(v, system.mu, J); }, u, options,
-      problem.Scale(), residual_scale);
-  INFO(newton.BriefReport());
-  CHECK_FALSE(newton.Converged());
-  CHECK(smallest_residual > 0.1);
+  const testing::TracedNewton traced =
+      testing::NewtonWithSmallestResidual(problem, u, system.mu, 12);
+  INFO(traced.result.BriefReport());
+  CHECK_FALSE(traced.result.Converged());
+  CHECK(traced.smallest_residual > 0.1);
 }
 
 }  // namespace
