@@ -655,6 +655,9 @@ int Main(int argc, char** argv) {
   // The summary: references with their convergence, then the ratios.
   summary << fmt::format("work_precision_bench: scene {} (ε = {:g} m/s), q1 at {:g} rpm\n",
                          scene.name, epsilon, q1_rpm);
+  summary << fmt::format("L1 tanh rows flag a regularization bias (status bias_flagged) when the "
+                         "limit moves by more than {:g} rpm from ε to ε/10\n",
+                         RadPerSecondToRpm(bias_tolerance));
   const char* units[] = {"Hz", "rpm", "rpm"};
   const char* questions[] = {"q1", "q2", "q3"};
   for (int i = 0; i < 3; ++i) {

@@ -157,6 +157,11 @@ BranchReading PrecessionBeyond(const std::vector<RotatingWaveBranch>& branches,
     reading.reason = "no limit: " + limit.reason;
     return reading;
   }
+  if ((omega - limit.speed) * limit.direction < 0.0) {
+    reading.reason = fmt::format("{:.3f} rpm lies before the limit at {:.3f} rpm: the whirl is still "
+                                 "stable there", RadPerSecondToRpm(omega), RadPerSecondToRpm(limit.speed));
+    return reading;
+  }
   const RotatingWaveBranch& b = branches.at(static_cast<std::size_t>(limit.branch));
   const Index precession = b.branch.MeasureIndex("precession_hz");
   const auto& p = b.branch.points;

@@ -63,7 +63,8 @@ struct BranchReading {
 // The precession [Hz] at speed ω [rad/s] of the state the branch goes on to beyond a speed-up
 // limit (the circular whip the speed-up jump leads to): the branch followed from the limit's
 // special point on, in the same direction, interpolated linearly between points of one piece.
-// Not found when the limit was not found, or the branch turns back or ends before ω.
+// Not found when the limit was not found, ω lies before it, or the branch turns back or ends
+// before ω.
 BranchReading PrecessionBeyond(const std::vector<RotatingWaveBranch>& branches,
                                const WhirlLimit& limit, double omega);
 

@@ -70,6 +70,9 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
   REQUIRE(whirl.size() > 8);
   CHECK(whirl(8) == Approx(100.0 * RpmToRadPerSecond(40.0)).epsilon(1e-4));
   CHECK(WhirlStateAt(branches, up, RpmToRadPerSecond(55.0)).size() == 0);
+  const BranchReading before = PrecessionBeyond(branches, up, RpmToRadPerSecond(45.0));
+  CHECK_FALSE(before.found);
+  CHECK(before.reason.find("before the limit") != std::string::npos);
 }
 
 TEST_CASE("tanh law: the speed-up limit is the Hopf point between the last stable point and the "
