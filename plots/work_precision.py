@@ -13,6 +13,7 @@ import csv
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -108,8 +109,8 @@ def main(out_dir):
             for r in missing:
                 lines.setdefault(f"{r['level']} {r['method']}: {r['status']}", 0)
                 lines[f"{r['level']} {r['method']}: {r['status']}"] += 1
-            text = "no answer: " + "; ".join(f"{k} ({n})" for k, n in lines.items())
-            ax.text(0.0, -0.13, text, transform=ax.transAxes, fontsize=7, va="top", wrap=True)
+            text = textwrap.fill("no answer: " + "; ".join(f"{k} ({n})" for k, n in lines.items()), 70)
+            ax.text(0.0, -0.13, text, transform=ax.transAxes, fontsize=7, va="top")
     labels = sorted(legend)
     fig.legend([legend[k] for k in labels], labels, loc="lower center", ncol=4, fontsize=8)
     fig.suptitle(f"Work-precision, {scene}: error against the reference, CPU time of one answer "
