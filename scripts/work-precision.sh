@@ -3,7 +3,7 @@
 # bench/work_precision_bench if needed, runs it for the default scene (case A(a) physics) and for
 # the overhung thesis case C(a), and plots each. Writes results/bench/<scene>/work_precision.csv,
 # summary.txt, log.txt (the harness's progress: every answer with its note) and work_precision.png.
-# About 10–15 min on this shared 2-core machine (results/README.md gives the measured time).
+# 8–12 min on this shared 2-core machine (measured 464 s and 696 s of wall time; results/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
