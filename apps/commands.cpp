@@ -235,9 +235,10 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                RadPerSecondToRpm(stepper.options().parameters.back()), settled, unsettled, w.dwell,
                simulated, steps, wall);
     for (const RubSweepJump& j : run.Regimes().jumps) {
-      fmt::print(out, "    {:<5}  {:<16}  {:6.1f} → {:6.1f} rpm   BP {} → {} Hz\n",
+      fmt::print(out, "    {:<5}  {:<16}  {:6.1f} → {:6.1f} rpm   BP {} → {} Hz{}\n",
                  run.structure().contacts[static_cast<std::size_t>(j.contact)].name, ToString(j.kind),
-                 j.speed_from_rpm, j.speed_to_rpm, Hz(j.precession_from_hz), Hz(j.precession_to_hz));
+                 j.speed_from_rpm, j.speed_to_rpm, Hz(j.precession_from_hz), Hz(j.precession_to_hz),
+                 j.settled ? "" : "  (not settled: a speed ran to its dwell)");
     }
     if (stepper.Failed()) {
       failures.push_back(fmt::format("[sweep {}] at {:.1f} rpm: {}", ToString(run.direction()),

@@ -198,7 +198,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
                       "middle of the interval minus the bifurcation speed");
   std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
   std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
-  std::vector<int> stable;
+  std::vector<int> stable, settled;
   for (const PredictedJump& r : rows) {
     direction.push_back(r.direction);
     contact.push_back(r.contact);
@@ -207,6 +207,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
     to_rpm.push_back(r.jump.speed_to_rpm);
     from_hz.push_back(r.jump.precession_from_hz);
     to_hz.push_back(r.jump.precession_to_hz);
+    settled.push_back(r.jump.settled ? 1 : 0);
     side.push_back(r.matched_side);
     branch.push_back(r.branch);
     stable.push_back(r.branch_stable);
@@ -222,6 +223,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
   writer.WriteDoubles(g + "/speed_to_rpm", to_rpm);
   writer.WriteDoubles(g + "/precession_from_hz", from_hz);
   writer.WriteDoubles(g + "/precession_to_hz", to_hz);
+  writer.WriteInts(g + "/settled", settled);
   writer.WriteStrings(g + "/matched_side", side);
   writer.WriteStrings(g + "/branch", branch);
   writer.WriteInts(g + "/branch_stable", stable);

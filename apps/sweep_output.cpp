@@ -154,6 +154,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
   const std::string jumps = group + "/jumps";
   std::vector<std::string> contact, kind;
   std::vector<double> from_rpm, to_rpm, from_hz, to_hz;
+  std::vector<int> settled;
   for (const RubSweepJump& j : regimes.jumps) {
     contact.push_back(structure.contacts[static_cast<std::size_t>(j.contact)].name);
     kind.push_back(ToString(j.kind));
@@ -161,6 +162,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
     to_rpm.push_back(j.speed_to_rpm);
     from_hz.push_back(j.precession_from_hz);
     to_hz.push_back(j.precession_to_hz);
+    settled.push_back(j.settled ? 1 : 0);
   }
   writer.WriteStrings(jumps + "/contact", contact);
   writer.WriteStrings(jumps + "/kind", kind);
@@ -168,6 +170,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
   writer.WriteDoubles(jumps + "/speed_to_rpm", to_rpm);
   writer.WriteDoubles(jumps + "/precession_from_hz", from_hz);
   writer.WriteDoubles(jumps + "/precession_to_hz", to_hz);
+  writer.WriteInts(jumps + "/settled", settled);
 }
 
 SweepPointStatus ParseStatus(const std::string& text) {

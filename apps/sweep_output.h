@@ -21,7 +21,8 @@
 //     newton_iterations (= dense linear solves), error_test_failures, convergence_failures, message
 //     spectrum_frequency_hz         [m] two-sided, |f| ≤ spectrum_max_hz
 //     spectrum_magnitude_left|right [speeds × m] amplitude spectra [m] (the waterfall)
-//     jumps/{contact, kind, speed_from_rpm, speed_to_rpm, precession_from_hz, precession_to_hz}
+//     jumps/{contact, kind, speed_from_rpm, speed_to_rpm, precession_from_hz, precession_to_hz,
+//            settled}
 //
 // The sweep stage also writes /sweeps/branches (the L1 branches of the tanh law the sweeps
 // integrate, layout of apps/branch_output.h) and /sweeps/jump_table (apps/sweep_jumps.h).

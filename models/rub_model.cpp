@@ -364,4 +364,16 @@ Vector RubRotatingFrame::ToFixedFrame(double t, ConstVectorRef x) const {
   return u;
 }
 
+Vector RubRotatingFrame::ToRotatingFrame(double t, ConstVectorRef u) const {
+  const Index n2 = u.size() / 2;
+  const double W = frame_rate_;
+  Vector x = u;
+  fixed_.Rotate(W * t, x);
+  for (Index i = 0; i < n2; i += 2) {
+    x(n2 + i) -= W * x(i + 1);
+    x(n2 + i + 1) += W * x(i);
+  }
+  return x;
+}
+
 }  // namespace rubcont

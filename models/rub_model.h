@@ -157,6 +157,9 @@ class RubRotatingFrame : public OdeSystem {
   const RubStructure& structure() const { return fixed_.structure(); }
   // Fixed-frame state at time t from a rotating-frame state: u = e^{−jΩ_f t} p, u̇ = e^{−jΩ_f t}(ṗ − jΩ_f p).
   Vector ToFixedFrame(double t, ConstVectorRef x) const;
+  // The inverse: the co-rotating state at time t of a fixed-frame state, p = e^{jΩ_f t} u,
+  // ṗ = e^{jΩ_f t}(u̇ + jΩ_f u).
+  Vector ToRotatingFrame(double t, ConstVectorRef u) const;
 
  private:
   RubFixedFrame fixed_;

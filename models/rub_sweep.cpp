@@ -152,6 +152,8 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
         jump.speed_to_rpm = RadPerSecondToRpm(points[i].parameter);
         jump.precession_from_hz = before == RubRegime::kNoContact ? kNaN : out.precession_hz[k][last];
         jump.precession_to_hz = now == RubRegime::kNoContact ? kNaN : out.precession_hz[k][i];
+        jump.settled = points[last].status == SweepPointStatus::kSettled &&
+                       points[i].status == SweepPointStatus::kSettled;
         bool found = true;
         if (before == now) {
           found = false;

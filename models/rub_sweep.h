@@ -97,6 +97,10 @@ struct RubSweepJump {
   double speed_to_rpm = 0.0;      // the first speed after it
   double precession_from_hz = 0.0;  // BP at those speeds (NaN where there is no contact)
   double precession_to_hz = 0.0;
+  // Both speeds settled (SweepPointStatus::kSettled). When one ran to its dwell instead, the
+  // response there was still changing: the jump may belong to a transient (a dwell too short for
+  // the speed step's kick to die out), and the speed it is read at may be off by more than a step.
+  bool settled = true;
 };
 
 struct RubSweepRegimes {

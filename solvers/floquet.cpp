@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -223,6 +224,16 @@ ComplexVector PeriodicSchurEigenvalues(const std::vector<Matrix>& factors) {
   return values;
 }
 
+// FloquetResult::resolution: ε·Π‖M_i‖_F for the methods that form the product (or are measured to
+// lose as much), summed in logarithms so that 40 factors of 1e8 do not overflow on the way.
+double Resolution(const std::vector<Matrix>& factors, FloquetMethod method) {
+  if (method == FloquetMethod::kPeriodicSchur) return 0.0;
+  double log_norm = std::log(std::numeric_limits<double>::epsilon());
+  for (const Matrix& M : factors) log_norm += std::log(M.norm());
+  return log_norm > std::log(std::numeric_limits<double>::max()) ? std::numeric_limits<double>::infinity()
+                                                                   : std::exp(log_norm);
+}
+
 }  // namespace
 
 ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMethod method) {
@@ -240,6 +251,12 @@ ComplexVector ProductEigenvalues(const std::vector<Matrix>& factors, FloquetMeth
     return SortedByModulus(StandardEigenvalues(product));
   }
   return SortedByModulus(PencilEigenvalues(factors));
+}
+
+int FloquetResult::Unresolved() const {
+  int count = 0;
+  for (Index i = 0; i < multipliers.size(); ++i) count += std::abs(multipliers(i)) < resolution ? 1 : 0;
+  return count;
 }
 
 FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
@@ -270,6 +287,7 @@ FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
   }
   if (k == 0) {
     result.multipliers = ProductEigenvalues(factors, method);
+    result.resolution = Resolution(factors, method);
     result.valid = result.multipliers.allFinite();
     return result;
   }
@@ -301,6 +319,7 @@ FloquetResult FloquetMultipliers(const std::vector<Matrix>& factors,
   }
   result.trivial = ProductEigenvalues(trivial_factors, method);
   result.multipliers = ProductEigenvalues(reduced_factors, method);
+  result.resolution = Resolution(reduced_factors, method);
   result.valid = result.multipliers.allFinite() && result.trivial.allFinite();
   return result;
 }

@@ -72,7 +72,16 @@ struct FloquetResult {
   ComplexVector trivial;
   // max_i ‖E_i‖_F / ‖M_i‖_F: 0 when the trivial subspace is exactly invariant.
   double invariance_defect = 0.0;
+  // The smallest modulus the method resolves: a nontrivial multiplier below it is round-off, not a
+  // value. kProduct and kPencil: ε·Π_i ‖C_i‖_F (C_i the factors after deflation; ε = 2.2e-16),
+  // the error of forming the product, which every eigenvalue of it carries (measured: QZ on the
+  // pencil loses graded multipliers like the product). kPeriodicSchur: 0, each multiplier keeps
+  // its relative accuracy. +∞ when the bound overflows.
+  double resolution = 0.0;
   bool valid = false;  // false when a factor was not finite
+  // Nontrivial multipliers with |μ| below `resolution`: a stability verdict that rests on them is
+  // not one (e.g. a unit-circle pair beside a multiplier of 1e20, kProduct).
+  int Unresolved() const;
 };
 
 // Floquet multipliers of the cycle M_{N−1} ⋯ M_0 with trivial directions deflated.

@@ -155,6 +155,11 @@ TEST_CASE("rotating frame: Jacobian, equivariance and agreement with the fixed f
   Vector f_fixed(16);
   fixed.Rhs(t, rotating.ToFixedFrame(t, y), f_fixed);
   CHECK((fixed_derivative - f_fixed).norm() <= 1e-5 * f_fixed.norm());
+
+  // ToRotatingFrame inverts ToFixedFrame at any time.
+  for (double time : {0.0, t}) {
+    CHECK((rotating.ToRotatingFrame(time, rotating.ToFixedFrame(time, y)) - y).norm() <= 1e-14 * y.norm());
+  }
 }
 
 TEST_CASE("rigid-contact orbit of the general structure equals the analytic Mode 1/2 closed form",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@
 
 #include "models/analytic.h"
 #include "shooting/rotating_wave_branches.h"
+#include "shooting/whirl_limits.h"
 
 namespace rubcont {
 namespace {
@@ -279,6 +281,116 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
     tight_steps += tight.points[i].statistics.steps;
   }
   CHECK(tight_steps > loose_steps);
+}
+
+// The first whirl → whip jump of a classified segment at contact k (nullptr when there is none).
+const RubSweepJump* FirstWhirlToWhip(const RubSweepRegimes& regimes, int k) {
+  for (const RubSweepJump& j : regimes.jumps) {
+    if (j.contact == k && j.kind == RubJumpKind::kWhirlToWhip) return &j;
+  }
+  return nullptr;
+}
+
+TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a speed at its ends "
+          "ran to its dwell", "[rub_sweep][failure]") {
+  // The stability limit the sweep looks for: where the tanh-law whirl it follows stops being
+  // stable (shooting/whirl_limits.h; measured: a Hopf point at 51.685 rpm).
+  TwoPointParams params;
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = RpmToRadPerSecond(20.0);
+  options.search.speed_max = RpmToRadPerSecond(260.0);
+  options.search.precession_max = 2.0 * M_PI * 200.0;
+  const WhirlLimit limit = FindWhirlLimit(
+      ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kTanh, options), +1,
+      options.search.speed_min);
+  REQUIRE(limit.found);
+  const double hopf_rpm = RadPerSecondToRpm(limit.speed);
+  REQUIRE(hopf_rpm == Approx(51.685).margin(0.01));
+
+  // 4 rpm steps: the jump lies between two speeds 4 rpm apart, and the whip at 55 rpm, just
+  // entered, has not settled within its 0.75 s (measured): the jump is flagged.
+  const SegmentResult coarse = Segment({47.0, 51.0, 55.0}, 2, 1e-6);
+  // 0.5 rpm steps around the same point: a bracket of 0.5 rpm.
+  const SegmentResult fine = Segment({51.0, 51.5, 52.0}, 2, 1e-6);
+  for (int k = 0; k < 2; ++k) {
+    CAPTURE(k);
+    for (const auto& [segment, step] : {std::pair{&coarse, 4.0}, {&fine, 0.5}}) {
+      const RubSweepJump* jump = FirstWhirlToWhip(segment->regimes, k);
+      REQUIRE(jump != nullptr);
+      CAPTURE(step, jump->speed_from_rpm, jump->speed_to_rpm);
+      CHECK(jump->speed_to_rpm - jump->speed_from_rpm == Approx(step));
+      CHECK(jump->speed_from_rpm <= hopf_rpm);
+      CHECK(jump->speed_to_rpm >= hopf_rpm);
+      // The flag is exactly "both speeds settled".
+      const auto status_at = [&](double rpm) {
+        for (const SweepPoint& p : segment->points)
+          if (std::abs(RadPerSecondToRpm(p.parameter) - rpm) < 1e-9) return p.status;
+        return SweepPointStatus::kIntegrationFailure;
+      };
+      CHECK(jump->settled == (status_at(jump->speed_from_rpm) == SweepPointStatus::kSettled &&
+                              status_at(jump->speed_to_rpm) == SweepPointStatus::kSettled));
+    }
+    CHECK_FALSE(FirstWhirlToWhip(coarse.regimes, k)->settled);
+  }
+}
+
+TEST_CASE("Explicit Runge-Kutta on the stiff contact: a loose tolerance lets the step outrun "
+          "stability and the sweep stops with the reason, a tight one costs 3x the steps of BDF",
+          "[rub_sweep][failure]") {
+  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  // The Mode 1 whirl at 40 rpm from the rigid-contact closed form, in the fixed frame.
+  const double omega = RpmToRadPerSecond(40.0);
+  const double precession = 100.0 * omega;
+  const RigidContactOrbit whirl = SolveRigidContactOrbit(s, precession, {1.0, 1.0});
+  const Index nc = s.Coordinates();
+  Vector x0(4 * nc);
+  for (Index i = 0; i < nc; ++i) {
+    const std::complex<double> u = whirl.amplitude[static_cast<std::size_t>(i)];
+    const std::complex<double> v = std::complex<double>(0.0, -precession) * u;
+    x0.segment(2 * i, 2) << u.real(), u.imag();
+    x0.segment(2 * nc + 2 * i, 2) << v.real(), v.imag();
+  }
+  RubFixedFrame system(s, omega);
+  auto integrate = [&](IntegrationMethod method, double tolerance) {
+    IntegratorOptions o;
+    o.method = method;
+    o.max_order = method == IntegrationMethod::kBdf ? 2 : 0;
+    o.relative_tolerance = o.absolute_tolerance = tolerance;
+    o.max_steps = 10000000;
+    OdeIntegrator integrator(system, o);
+    Vector x1(x0.size());
+    return integrator.Integrate(0.0, x0, 0.05, x1);
+  };
+  // rtol 1e-6 (the sweeps'): both succeed; Dormand-Prince takes 25 484 steps (169 702 f
+  // evaluations) where BDF order 2 takes 8086 (11 134) (measured).
+  const IntegrationResult bdf = integrate(IntegrationMethod::kBdf, 1e-6);
+  const IntegrationResult erk = integrate(IntegrationMethod::kExplicitRungeKutta, 1e-6);
+  REQUIRE(bdf.Succeeded());
+  REQUIRE(erk.Succeeded());
+  CHECK(erk.statistics.steps > 3 * bdf.statistics.steps);
+  CHECK(erk.statistics.rhs_evaluations > 10 * bdf.statistics.rhs_evaluations);
+  // rtol 1e-2: the explicit method's step grows past its stability limit on the contact modes and
+  // the state explodes within a few hundred steps; the state bound ends it with a status.
+  const IntegrationResult loose = integrate(IntegrationMethod::kExplicitRungeKutta, 1e-2);
+  INFO(loose.BriefReport());
+  CHECK(loose.status == IntegrationStatus::kStateBound);
+  CHECK(loose.statistics.steps < 1000);
+
+  // In a sweep the same failure ends the sweep with the integrator's reason, and it stays stopped.
+  RubSweepObservables observables(system);
+  SweepOptions o;
+  o.parameters = {omega, RpmToRadPerSecond(44.0)};
+  o.integrator.method = IntegrationMethod::kExplicitRungeKutta;
+  o.integrator.relative_tolerance = o.integrator.absolute_tolerance = 1e-2;
+  SweepStepper stepper(system, observables, o, x0);
+  CHECK(stepper.Step() == SweepStepOutcome::kFailed);
+  CHECK(stepper.Failed());
+  REQUIRE(stepper.points().size() == 1);
+  CHECK(stepper.points()[0].status == SweepPointStatus::kIntegrationFailure);
+  CHECK_THAT(stepper.points()[0].message, Contains("state bound"));
+  CHECK(ClassifySweep(s, stepper.points()).regime[0][0] == RubRegime::kUnknown);
+  CHECK(stepper.Step() == SweepStepOutcome::kFailed);
 }
 
 }  // namespace

@@ -147,6 +147,32 @@ TEST_CASE("the three methods agree on a well-conditioned cycle, and on a single 
   }
 }
 
+TEST_CASE("an ill-conditioned product reports the multipliers it cannot resolve; periodic Schur "
+          "resolves them all", "[floquet][failure]") {
+  // The graded cycle above: 10^20, a unit-circle pair, 10^-40. The product's answer for the pair
+  // is round-off (the test above); here it is also said to be.
+  const Index N = 20;
+  const GradedCycle cycle = MakeGradedCycle(N, 10.0, 1.0, 0.3, 0.01);
+  const FloquetResult product = FloquetMultipliers(cycle.factors, {}, FloquetMethod::kProduct);
+  REQUIRE(product.valid);
+  CAPTURE(product.resolution);
+  CHECK(product.resolution > 1.0);  // ε·Π‖M_i‖ ≥ ε·10^20
+  CHECK(product.Unresolved() == 3);  // the pair and 10^-40; the dominant 10^20 stands
+  CHECK(std::abs(product.multipliers(0)) > product.resolution);
+  const FloquetResult pencil = FloquetMultipliers(cycle.factors, {}, FloquetMethod::kPencil);
+  CHECK(pencil.Unresolved() == 3);
+  const FloquetResult schur = FloquetMultipliers(cycle.factors, {}, FloquetMethod::kPeriodicSchur);
+  CHECK(schur.resolution == 0.0);
+  CHECK(schur.Unresolved() == 0);
+  // A well-conditioned cycle: nothing unresolved by any method.
+  std::vector<Matrix> mild(5, (Matrix(2, 2) << 0.9, 0.1, -0.2, 0.8).finished());
+  for (FloquetMethod method : {FloquetMethod::kProduct, FloquetMethod::kPencil, FloquetMethod::kPeriodicSchur}) {
+    const FloquetResult r = FloquetMultipliers(mild, {}, method);
+    CHECK(r.resolution < 1e-15);
+    CHECK(r.Unresolved() == 0);
+  }
+}
+
 TEST_CASE("deflation removes the trivial direction exactly, even when another multiplier is 1",
           "[floquet]") {
   // Cores with e_0 invariant (trivial multiplier Π 1 = 1) and a nontrivial multiplier that is

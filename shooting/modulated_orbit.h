@@ -1,0 +1,76 @@
+// A modulated whirl or whip of the rub model at one running speed (level L2): a relative periodic
+// orbit (design.md §2), periodic in a frame that turns by φ per period T, found by shooting
+// (ShootingProblem, kRelative) from a point near it — the end of a settled transient — and read
+// the way a time-marching sweep reads a precession. Where ContinueOrbitsFromHopf reaches such an
+// orbit by continuation from its Hopf point (small steps in speed, minutes), this solves it at
+// the speed asked for, from where a transient ended.
+//
+// The start. The transient's fixed-frame state is taken into the frame precessing backward at
+// Ω_f (the transient's precession; RubRotatingFrame::ToRotatingFrame at t = 0) and integrated on
+// over a short stretch, sampled. The modulation shows in the slip velocity V of the first contact,
+// which the rotation of the frame does not change (the contact radius barely moves while the
+// contact holds: its penetration is ~1e-8 m): the dominant frequency of V over the stretch
+// (TwoSidedSpectrum, DominantPeak: Hann window, refined below the bin width) is the modulation
+// frequency 1/T. The start x_0 is the state at the end of the stretch, and φ the turn of the first
+// contact's d = u_rotor − u_stator over one more period T from there (x(T) = R_φ x(0) with
+// R_φ = e^{jφ} as OdeSystem::Rotate).
+//
+// The precession. With x(T) = R_φ x(0), p(t) = e^{jφt/T} q(t) with q T-periodic, so the
+// fixed-frame motion u = e^{−jΩ_f t} p is a sum of backward precessions
+//     Ω_k = Ω_f − φ/T − 2πk/T,   k ∈ Z,
+// with the amplitudes |c_k| of the Fourier coefficients of q over one period (at the first
+// contact's d). k = 0 is the carrier: φ continues from 0 at the Hopf point where the orbit is born,
+// and the transient's own precession is Ω_f. The component of largest amplitude among the
+// backward ones (Ω_k > 0) is what a sweep reports as its precession (the dominant negative
+// frequency of d, models/rub_sweep.h).
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include "models/rub_model.h"
+#include "shooting/shooting.h"
+#include "solvers/newton.h"
+
+namespace rubcont {
+
+struct ModulatedOrbitOptions {
+  // Segments and integrator (the kind is kRelative). The integrator also runs the search for the
+  // period guess.
+  ShootingOptions shooting;
+  // Tolerances above the integration error: the residual is only as smooth as the integration
+  // (about 100·rtol; tests/shooting/van_der_pol_test.cpp).
+  NewtonOptions newton;
+  double search_duration = 0.05;   // the sampled stretch [s] > 0: 1/T to about 1/(duration·N)
+  double search_rate = 20000.0;    // its samples per second [1/s], ≥ 16/search_duration
+  int harmonics = 3;              // Fourier components |k| ≤ harmonics examined (≥ 0)
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const ModulatedOrbitOptions& options);
+
+struct ModulatedOrbit {
+  bool converged = false;
+  std::string message;       // how the search and Newton went, one sentence with numbers
+  NewtonResult newton;
+  double frame_rate = 0.0;   // Ω_f [rad/s]
+  double period = std::numeric_limits<double>::quiet_NaN();    // T [s]
+  double rotation = std::numeric_limits<double>::quiet_NaN();  // φ [rad]
+  double carrier_hz = std::numeric_limits<double>::quiet_NaN();   // Ω_0 / 2π [Hz]
+  double dominant_hz = std::numeric_limits<double>::quiet_NaN();  // the largest backward Ω_k / 2π [Hz]
+  int dominant_harmonic = 0;  // its k
+  // The largest other component over the dominant one, |c_k| / |c_dominant| (modulation depth).
+  double sideband_ratio = std::numeric_limits<double>::quiet_NaN();
+  Vector u;                   // the shooting unknowns (ShootingProblem::Pack layout)
+  ShootingStatistics work;    // integrations of Newton (the search adds one more)
+};
+
+// The orbit near `fixed_state` (RubFixedFrame layout, 4 n_c entries) at running speed ω [rad/s],
+// with the frame precessing at `frame_rate` Ω_f [rad/s] > 0. The structure must be balanced (no
+// imbalance). Throws std::invalid_argument for wrong sizes, a non-positive Ω_f or ω, an imbalance,
+// or invalid options; numerical outcomes (no modulation in the stretch, an integration failure,
+// Newton not converged) are `converged = false` with the message.
+ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, double frame_rate,
+                                   const Vector& fixed_state, const ModulatedOrbitOptions& options);
+
+}  // namespace rubcont
