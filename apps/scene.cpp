@@ -486,9 +486,14 @@ std::vector<KeySpec> BuildSchema() {
               "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
               "fastest support frequency).",
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
+  sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit, 0.005,
+              "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
+              "surface speed) and its BP passes the whirl_tolerance check; otherwise it whips "
+              "(slips). Needs velocity_scale ≪ this·R·ω.",
+              [](Scene& x) -> double& { return x.analysis.sweep.rolling_slip_tolerance; });
   sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
-              "A contact whirls (rolls) when |BP − f_roll| ≤ this·f_roll, f_roll = RCI·(speed in "
-              "rev/s); otherwise it whips (slips).",
+              "The frequency check of a rolling contact: |BP − f_roll| ≤ this·f_roll, f_roll = "
+              "RCI·(speed in rev/s).",
               [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
   sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive, 3.0,
               "Between successive speeds, a BP change larger than this from both trends (BP "

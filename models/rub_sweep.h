@@ -52,21 +52,42 @@ std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rp
 constexpr double RpmToRadPerSecond(double rpm) { return rpm * 0.10471975511965977; }  // 2π/60
 constexpr double RadPerSecondToRpm(double omega) { return omega / 0.10471975511965977; }
 
-// What each contact does at one speed of the sweep. With rolling precession f_roll,k = RCI_k·ω/2π
-// (backward precession at which contact k rolls without slipping, models/contact.h):
+// What each contact does at one speed of the sweep. Rolling is decided by the slip the sweep
+// measures, the frequency is a check: with V̄_k the mean slip velocity over the analysed samples
+// in contact (models/contact.h: V = ωR + tᵀḋ), R_k ω the rotor's surface speed and
+// f_roll,k = RCI_k·ω/2π the backward precession at which contact k rolls,
+//   whirl (rolls)  ⇔  |V̄_k| ≤ rolling_slip_tolerance · R_k ω  and  |BP − f_roll,k| ≤ whirl_tolerance · f_roll,k.
+// For a circular orbit both sides measure the same thing (V = ωR − Ω(C + δ), so |V|/(ωR) ≈
+// |1 − BP/f_roll|), but the slip is measured directly and the precession is read off a spectral
+// peak; they part where a whip locks next to the rolling line (case C(a) at 48 rpm: BP 79.18 Hz,
+// 1.0 % below rolling, yet slipping at 1.0 % of ωR) or where the precession sits on the rolling
+// line while the contact slips back and forth (C(a)'s left contact at 132 rpm, 22 % in contact:
+// BP 0.25 % from rolling, mean slip 8.6 % of ωR).
 enum class RubRegime {
   kUnknown,    // the integration failed at this speed
   kNoContact,  // the contact touched for less than min_contact_fraction of the analysed time
-  kWhirl,      // |BP − f_roll,k| ≤ whirl_tolerance·f_roll,k: the contact rolls
+  kWhirl,      // the contact rolls: small slip and BP on the rolling line (above)
   kWhip,       // otherwise: the contact slips (BP locked elsewhere, usually below f_roll,k)
 };
 const char* ToString(RubRegime regime);
 
 struct RubRegimeOptions {
-  // Relative distance of the precession from rolling within which a contact whirls (for a
-  // circular orbit, normalized slip |V|/(ωR_k)). In [0, 1). The tanh friction law rolls with a
-  // micro-slip V ≈ ε·atanh(μ_req/μ) (≈ 2.6ε at μ_req = 0.99μ): far below 2 % of ωR at the
-  // thesis's speeds for ε = 1e-3 m/s.
+  // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In
+  // (0, 1). Measured (results/README.md, section "Sweeps"; ε = 1e-3 m/s): the circular whirls of
+  // the A(a) and C(a) sweeps slip by at most 0.15 % of ωR (A(a) at 48 rpm, 3.7 rpm below its
+  // Hopf point; 0.21 % at C(a)'s first speed, still settling from the impulse), the whips by at
+  // least 1.0 % (C(a) at 48 rpm; A(a) 2.5 % at 52 rpm, its first speed past the jump). 0.5 % lies
+  // in that gap, 3.3× above the settled whirls and 2× below the whips. Only modulated states fall
+  // inside it: C(a)'s left contact at 140–152 rpm (in full contact, BP on the rolling line to
+  // 0.4–0.7 %, mean slip 0.41–0.70 % of ωR swinging up to 15 %, while the right whips); their
+  // label depends on this value. The tanh law rolls with a micro-slip V ≈ ε·atanh(μ_req/μ), so
+  // the rule needs ε ≪ 0.005·ωR (ε = 1e-3 m/s: μ_req up to 0.76 μ at 50 rpm still counts as
+  // rolling, up to 0.38 μ at 20 rpm); with ε = 1e-2 m/s a whirl near its knee counts as whip.
+  double rolling_slip_tolerance = 0.005;
+  // The frequency check: largest relative distance |BP − f_roll|/f_roll of a rolling contact.
+  // In [0, 1). The rolling contacts of the A(a) and C(a) sweeps lie within 0.41 % of rolling; a
+  // contact barely in touch can slip little on average and still precess far off the line (C(a)'s
+  // left contact at 188–204 rpm, 2 % in contact: 8–19 % off), which this check calls whip.
   double whirl_tolerance = 0.02;
   // A jump within one regime: between successive speeds the precession moves by more than this
   // from both trends, whip-like (BP constant) and whirl-like (BP ∝ ω). > 0. The thesis's whip
@@ -102,10 +123,13 @@ struct RubSweepJump {
 struct RubSweepRegimes {
   std::vector<std::vector<RubRegime>> regime;       // [contact][point]
   std::vector<std::vector<double>> precession_hz;   // [contact][point]: BP > 0 backward; NaN: none
+  std::vector<std::vector<double>> slip_ratio;      // [contact][point]: |V̄_k|/(R_k ω); NaN: no contact
   std::vector<RubSweepJump> jumps;                  // in schedule order, then by contact
 };
 
-// Reads regimes and jumps off a sweep of the rub model (parameter ω in rad/s).
+// Reads regimes and jumps off a sweep of the rub model (parameter ω in rad/s). Every point that
+// did not fail needs the slip-velocity measure (RubSweepObservables) on each channel; throws
+// std::invalid_argument otherwise.
 RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<SweepPoint>& points,
                               const RubRegimeOptions& options = {});
 
