@@ -18,6 +18,25 @@ scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --parallel "$(nproc)"
 
+# The sweeps first: `rubcont sweep` also draws the branches next to its file without the closed
+# form (its file has no /analytic), and `rubcont run` below draws them again with it.
+sweep_scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b
+              thesis_C_c thesis_A_a_imbalance)
+case "${1:-}" in
+  --sweeps) resume=() ;;
+  --sweep-tables) resume=(--resume) ;;
+  *) sweep_scenes=() ;;
+esac
+for scene in "${sweep_scenes[@]}"; do
+  if [[ ${#resume[@]} -gt 0 && ! -f "results/$scene/sweep.h5" ]]; then
+    echo "results/$scene/sweep.h5 is missing: --sweep-tables would integrate it; use --sweeps" >&2
+    exit 1
+  fi
+  build/rubcont sweep "scenes/$scene.toml" "${resume[@]}" --quiet \
+    --out "results/$scene/sweep.h5" > "results/$scene/sweep_summary.txt"
+  echo "results/$scene: sweeps"
+done
+
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
         overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
 for scene in "${scenes[@]}"; do
@@ -47,19 +66,3 @@ build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_
 echo "results/design: $(ls results/design | tr '\n' ' ')"
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
-sweep_scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b
-              thesis_C_c thesis_A_a_imbalance)
-case "${1:-}" in
-  --sweeps) resume=() ;;
-  --sweep-tables) resume=(--resume) ;;
-  *) exit 0 ;;
-esac
-for scene in "${sweep_scenes[@]}"; do
-  if [[ ${#resume[@]} -gt 0 && ! -f "results/$scene/sweep.h5" ]]; then
-    echo "results/$scene/sweep.h5 is missing: --sweep-tables would integrate it; use --sweeps" >&2
-    exit 1
-  fi
-  build/rubcont sweep "scenes/$scene.toml" "${resume[@]}" --quiet \
-    --out "results/$scene/sweep.h5" > "results/$scene/sweep_summary.txt"
-  echo "results/$scene: sweeps"
-done
