@@ -488,9 +488,14 @@ std::vector<KeySpec> BuildSchema() {
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
   sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit, 0.005,
               "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
-              "surface speed) and its BP passes the whirl_tolerance check; otherwise it whips "
-              "(slips). Needs velocity_scale ≪ this·R·ω.",
+              "surface speed) or ≤ rolling_micro_slip·velocity_scale, and its BP passes the "
+              "whirl_tolerance check; otherwise it whips (slips).",
               [](Scene& x) -> double& { return x.analysis.sweep.rolling_slip_tolerance; });
+  sweep_float("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative, 1.0,
+              "The tanh law's micro-slip of rolling, in units of velocity_scale ε (V = "
+              "ε·atanh(μ_req/μ) ≤ ε while μ_req ≤ 0.76 μ): |V| up to this·ε counts as rolling at "
+              "any speed. 0: the surface-speed rule alone.",
+              [](Scene& x) -> double& { return x.analysis.sweep.rolling_micro_slip; });
   sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
               "The frequency check of a rolling contact: |BP − f_roll| ≤ this·f_roll, f_roll = "
               "RCI·(speed in rev/s).",

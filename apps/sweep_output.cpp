@@ -34,6 +34,7 @@ bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
   }
   SweepSettings& rules = stored.analysis.sweep;
   rules.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
+  rules.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
   rules.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
   rules.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
   return SceneBody(stored) == SceneBody(scene);
@@ -84,6 +85,7 @@ void WriteAttributes(ResultWriter& writer, const std::string& group, const Sweep
   writer.SetAttribute(group, "spectrum_max_hz", s.spectrum_max_hz);
   writer.SetAttribute(group, "impulse", s.impulse);
   writer.SetAttribute(group, "rolling_slip_tolerance", s.rolling_slip_tolerance);
+  writer.SetAttribute(group, "rolling_micro_slip", s.rolling_micro_slip);
   writer.SetAttribute(group, "whirl_tolerance", s.whirl_tolerance);
   writer.SetAttribute(group, "frequency_jump_hz", s.frequency_jump_hz);
   writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
@@ -235,6 +237,7 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
 RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
   RubRegimeOptions o;
   o.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
+  o.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
   o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
   o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
   return o;

@@ -106,9 +106,9 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // scene or other settings. A one-direction run carries the other direction over from it, and
 // --resume takes a complete direction from it instead of running it again.
 // "Same settings" (here and for checkpoints) leaves out the keys that only classify the finished
-// speeds (rolling_slip_tolerance, whirl_tolerance, frequency_jump_hz): `rubcont sweep --resume`
-// on a complete file re-derives its regimes, jump table and figures under the scene's current
-// rules (and the current code's) without integrating again.
+// speeds (rolling_slip_tolerance, rolling_micro_slip, whirl_tolerance, frequency_jump_hz):
+// `rubcont sweep --resume` on a complete file re-derives its regimes, jump table and figures
+// under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
                                                          const Scene& scene, SweepDirection direction);
 

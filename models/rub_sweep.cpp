@@ -102,6 +102,10 @@ void Validate(const RubRegimeOptions& o) {
     throw std::invalid_argument(fmt::format(
         "RubRegimeOptions.rolling_slip_tolerance = {}: must lie in (0, 1)", o.rolling_slip_tolerance));
   }
+  if (!(o.rolling_micro_slip >= 0.0) || !std::isfinite(o.rolling_micro_slip)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.rolling_micro_slip = {}: must be finite and non-negative", o.rolling_micro_slip));
+  }
   if (!(o.whirl_tolerance >= 0.0 && o.whirl_tolerance < 1.0)) {
     throw std::invalid_argument(fmt::format(
         "RubRegimeOptions.whirl_tolerance = {}: must lie in [0, 1)", o.whirl_tolerance));
@@ -146,7 +150,10 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
       const double slip_ratio =
           std::abs(c.measures[kSlipVelocityMeasure].mean) / (g.radius * std::abs(p.parameter));
       out.slip_ratio[k][i] = slip_ratio;
-      const bool rolls = slip_ratio <= options.rolling_slip_tolerance &&
+      const double largest_rolling_slip =
+          std::max(options.rolling_slip_tolerance * g.radius * std::abs(p.parameter),
+                   options.rolling_micro_slip * structure.law.velocity_scale);
+      const bool rolls = std::abs(c.measures[kSlipVelocityMeasure].mean) <= largest_rolling_slip &&
                          std::abs(bp - rolling_hz) <= options.whirl_tolerance * rolling_hz;
       out.regime[k][i] = rolls ? RubRegime::kWhirl : RubRegime::kWhip;
     }

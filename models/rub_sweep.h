@@ -54,9 +54,10 @@ constexpr double RadPerSecondToRpm(double omega) { return omega / 0.104719755119
 
 // What each contact does at one speed of the sweep. Rolling is decided by the slip the sweep
 // measures, the frequency is a check: with V̄_k the mean slip velocity over the analysed samples
-// in contact (models/contact.h: V = ωR + tᵀḋ), R_k ω the rotor's surface speed and
-// f_roll,k = RCI_k·ω/2π the backward precession at which contact k rolls,
-//   whirl (rolls)  ⇔  |V̄_k| ≤ rolling_slip_tolerance · R_k ω  and  |BP − f_roll,k| ≤ whirl_tolerance · f_roll,k.
+// in contact (models/contact.h: V = ωR + tᵀḋ), R_k ω the rotor's surface speed, ε the tanh law's
+// velocity scale and f_roll,k = RCI_k·ω/2π the backward precession at which contact k rolls,
+//   whirl (rolls)  ⇔  |V̄_k| ≤ max(rolling_slip_tolerance · R_k ω, rolling_micro_slip · ε)
+//                     and  |BP − f_roll,k| ≤ whirl_tolerance · f_roll,k.
 // For a circular orbit both sides measure the same thing (V = ωR − Ω(C + δ), so |V|/(ωR) ≈
 // |1 − BP/f_roll|), but the slip is measured directly and the precession is read off a spectral
 // peak; they part where a whip locks next to the rolling line (case C(a) at 48 rpm: BP 79.18 Hz,
@@ -80,10 +81,16 @@ struct RubRegimeOptions {
   // in that gap, 3.3× above the settled whirls and 2× below the whips. Only modulated states fall
   // inside it: C(a)'s left contact at 140–152 rpm (in full contact, BP on the rolling line to
   // 0.4–0.7 %, mean slip 0.41–0.70 % of ωR swinging up to 15 %, while the right whips); their
-  // label depends on this value. The tanh law rolls with a micro-slip V ≈ ε·atanh(μ_req/μ), so
-  // the rule needs ε ≪ 0.005·ωR (ε = 1e-3 m/s: μ_req up to 0.76 μ at 50 rpm still counts as
-  // rolling, up to 0.38 μ at 20 rpm); with ε = 1e-2 m/s a whirl near its knee counts as whip.
+  // label depends on this value.
   double rolling_slip_tolerance = 0.005;
+  // The regularized law's share, in units of its ε: a contact with |V̄_k| ≤ this·ε rolls whatever
+  // the surface speed. ≥ 0 (0: the surface-speed rule alone). The tanh law rolls with a
+  // micro-slip V = ε·atanh(μ_req/μ), independent of the speed: ≤ ε while μ_req ≤ tanh(1)·μ =
+  // 0.76 μ. Below about 50 rpm (ε = 1e-3 m/s, R = 38.1 mm) 0.5 % of ωR is less than ε, and such a
+  // whirl would read as whip: case B(b)'s right contact at 20 rpm rolls with V = 0.44ε = 0.56 %
+  // of ωR (BP 0.6 % below its rolling line, the other contact slipping by 24 %). The whips above
+  // slip by ≥ 1.9ε (C(a) at 48 rpm), the rolling whirls of A(a) and C(a) by ≤ 0.29ε.
+  double rolling_micro_slip = 1.0;
   // The frequency check: largest relative distance |BP − f_roll|/f_roll of a rolling contact.
   // In [0, 1). The rolling contacts of the A(a) and C(a) sweeps lie within 0.41 % of rolling; a
   // contact barely in touch can slip little on average and still precess far off the line (C(a)'s

@@ -92,9 +92,9 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   }
 
   // Other rules for reading the finished speeds are not other sweeps: --resume classifies them
-  // again without integrating. With a rolling threshold below the whirl's micro-slip (about
-  // 2e-4 of ωR at 40–44 rpm) the same speeds read as whip.
-  ShortSweepScene(dir.path, kTwoSpeeds + "rolling_slip_tolerance = 1e-6\n");
+  // again without integrating. With rolling thresholds below the whirl's micro-slip (about
+  // 2e-4 of ωR, 0.04ε at 40–44 rpm) the same speeds read as whip.
+  ShortSweepScene(dir.path, kTwoSpeeds + "rolling_slip_tolerance = 1e-6\nrolling_micro_slip = 0.0\n");
   const Outcome reread = testing::RubcontNoPython("sweep " + scene.string() + " --resume --out " + h5.string());
   INFO(reread.out << reread.err);
   REQUIRE(reread.exit_code == 0);

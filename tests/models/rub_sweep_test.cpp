@@ -229,6 +229,33 @@ TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the r
   CHECK(w.slip_ratio[0][0] == Approx(0.00149).epsilon(0.01));
 }
 
+TEST_CASE("A tanh-law contact rolls with its micro-slip at low speed, below ε but above 0.5 % of ωR",
+          "[rub_sweep]") {
+  TwoPointParams params;  // case B(b): disk at ¾, RCI 100 / 125, ε = 1e-3 m/s
+  params.rotor_inertia = 0.04;
+  params.rotor_mass_center = 0.22;
+  params.clearance = {3.81e-4, 3.048e-4};
+  const RubStructure s = TwoPointStructure(params);
+  // Its speed-down sweep at 20 rpm (results/thesis_B_b/sweep.h5): the right contact (RCI 125,
+  // rolling at 41.67 Hz) precesses 0.6 % below its rolling line with V = 0.44 mm/s = 0.44ε,
+  // 0.56 % of ωR; the left contact (rolling at 33.3 Hz) slips by 24 % of ωR.
+  const std::vector<SweepPoint> points = {
+      Point(20.0, {41.432, -1.9394e-2}, {41.432, 4.4464e-4})};
+  const RubSweepRegimes r = ClassifySweep(s, points);
+  CHECK(r.regime[0][0] == RubRegime::kWhip);
+  CHECK(r.regime[1][0] == RubRegime::kWhirl);
+  CHECK(r.slip_ratio[1][0] > 0.005);
+  // By the surface speed alone it would whip.
+  RubRegimeOptions surface_speed_only;
+  surface_speed_only.rolling_micro_slip = 0.0;
+  CHECK(ClassifySweep(s, points, surface_speed_only).regime[1][0] == RubRegime::kWhip);
+  surface_speed_only.rolling_micro_slip = -1.0;
+  CHECK_THROWS_WITH(ClassifySweep(s, points, surface_speed_only), Contains("rolling_micro_slip = -1"));
+  // The allowance scales with the law's ε: at ε = 1e-4 m/s the same slip is 4.4ε.
+  params.friction_law.velocity_scale = 1e-4;
+  CHECK(ClassifySweep(TwoPointStructure(params), points).regime[1][0] == RubRegime::kWhip);
+}
+
 }  // namespace
 }  // namespace rubcont
 
