@@ -74,27 +74,26 @@ const char* ToString(RubRegime regime);
 
 struct RubRegimeOptions {
   // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In
-  // (0, 1). Measured (results/README.md, section "Sweeps"; ε = 1e-3 m/s): the circular whirls of
-  // the A(a) and C(a) sweeps slip by at most 0.15 % of ωR (A(a) at 48 rpm, 3.7 rpm below its
-  // Hopf point; 0.21 % at C(a)'s first speed, still settling from the impulse), the whips by at
-  // least 1.0 % (C(a) at 48 rpm; A(a) 2.5 % at 52 rpm, its first speed past the jump). 0.5 % lies
-  // in that gap, 3.3× above the settled whirls and 2× below the whips. Only modulated states fall
-  // inside it: C(a)'s left contact at 140–152 rpm (in full contact, BP on the rolling line to
-  // 0.4–0.7 %, mean slip 0.41–0.70 % of ωR swinging up to 15 %, while the right whips); their
-  // label depends on this value.
+  // (0, 1). Measured over the nine thesis sweeps (results/README.md, section "Sweeps"; ε = 1e-3
+  // m/s, settled speeds in full contact): where both contacts roll they slip by at most 0.27 % of
+  // ωR (0.46ε; B(a) at 48 rpm, C(c) at 40 rpm), the whips by at least 0.97 % (1.85ε: the 79.2 Hz
+  // whip of C(a), C(b), C(c) at 48 rpm, 1 % below rolling at 80 Hz). 0.5 % lies in that gap,
+  // about 2× above the one and 2× below the other. Inside it fall only states whose slip changes
+  // continuously or is modulated (A(b)'s left contact at 36–40 rpm, C(a)'s left at 140–152 rpm
+  // while the right whips); their label depends on this value.
   double rolling_slip_tolerance = 0.005;
   // The regularized law's share, in units of its ε: a contact with |V̄_k| ≤ this·ε rolls whatever
   // the surface speed. ≥ 0 (0: the surface-speed rule alone). The tanh law rolls with a
   // micro-slip V = ε·atanh(μ_req/μ), independent of the speed: ≤ ε while μ_req ≤ tanh(1)·μ =
   // 0.76 μ. Below about 50 rpm (ε = 1e-3 m/s, R = 38.1 mm) 0.5 % of ωR is less than ε, and such a
   // whirl would read as whip: case B(b)'s right contact at 20 rpm rolls with V = 0.44ε = 0.56 %
-  // of ωR (BP 0.6 % below its rolling line, the other contact slipping by 24 %). The whips above
-  // slip by ≥ 1.9ε (C(a) at 48 rpm), the rolling whirls of A(a) and C(a) by ≤ 0.29ε.
+  // of ωR (BP 0.6 % below its rolling line, the other contact slipping by 24 %). ε is 2.2× the
+  // two-rolling-contact whirls' 0.46ε and about half the whips' 1.85ε.
   double rolling_micro_slip = 1.0;
   // The frequency check: largest relative distance |BP − f_roll|/f_roll of a rolling contact.
-  // In [0, 1). The rolling contacts of the A(a) and C(a) sweeps lie within 0.41 % of rolling; a
-  // contact barely in touch can slip little on average and still precess far off the line (C(a)'s
-  // left contact at 188–204 rpm, 2 % in contact: 8–19 % off), which this check calls whip.
+  // In [0, 1). The rolling contacts of the thesis sweeps lie within 0.56 % of rolling; a contact
+  // barely in touch can slip little on average and still precess far off the line (C(a)'s left
+  // contact at 188–204 rpm, 2 % in contact: 8–19 % off), which this check calls whip.
   double whirl_tolerance = 0.02;
   // A jump within one regime: between successive speeds the precession moves by more than this
   // from both trends, whip-like (BP constant) and whirl-like (BP ∝ ω). > 0. The thesis's whip
