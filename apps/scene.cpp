@@ -488,9 +488,19 @@ std::vector<KeySpec> BuildSchema() {
               "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
               "fastest support frequency).",
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
+  sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit, 0.005,
+              "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
+              "surface speed) or ≤ rolling_micro_slip·velocity_scale, and its BP passes the "
+              "whirl_tolerance check; otherwise it whips (slips).",
+              [](Scene& x) -> double& { return x.analysis.sweep.rolling_slip_tolerance; });
+  sweep_float("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative, 1.0,
+              "The tanh law's micro-slip of rolling, in units of velocity_scale ε (V = "
+              "ε·atanh(μ_req/μ) ≤ ε while μ_req ≤ 0.76 μ): |V| up to this·ε counts as rolling at "
+              "any speed. 0: the surface-speed rule alone.",
+              [](Scene& x) -> double& { return x.analysis.sweep.rolling_micro_slip; });
   sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
-              "A contact whirls (rolls) when |BP − f_roll| ≤ this·f_roll, f_roll = RCI·(speed in "
-              "rev/s); otherwise it whips (slips).",
+              "The frequency check of a rolling contact: |BP − f_roll| ≤ this·f_roll, f_roll = "
+              "RCI·(speed in rev/s).",
               [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
   sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive, 3.0,
               "Between successive speeds, a BP change larger than this from both trends (BP "
@@ -519,8 +529,8 @@ std::vector<KeySpec> BuildSchema() {
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
       std::int64_t{40},
-      "Continuation steps from each Hopf point (about 15 s each with the thesis's contact "
-      "stiffness).",
+      "Continuation steps from each Hopf point (20–30 s each for case A(a) with the thesis's "
+      "contact stiffness).",
       [](Scene& x) -> int& { return x.orbits.max_steps; }));
   return s;
 }

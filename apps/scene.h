@@ -69,7 +69,9 @@ struct SweepSettings {
   double impulse = 1.0;               // [N·s] at t = 0 of each direction
   double relative_tolerance = 1e-6;   // CVODES BDF
   double absolute_tolerance = 1e-6;   // in units of each state's scale
-  double whirl_tolerance = 0.02;
+  double rolling_slip_tolerance = 0.005;  // largest |V̄|/(Rω) of a rolling contact
+  double rolling_micro_slip = 1.0;        // … or largest |V̄|/ε (the tanh law's micro-slip)
+  double whirl_tolerance = 0.02;          // largest |BP − f_roll|/f_roll of a rolling contact
   double frequency_jump_hz = 3.0;
 };
 

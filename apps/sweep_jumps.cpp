@@ -113,19 +113,27 @@ SweepState StateAt(double speed_rpm, const RubStructure& structure,
 }
 
 // The special point of `b` nearest the speed interval [lo, hi] (distance 0 inside it; the first
-// one of the branch among equals), if within `max_distance`; −1 otherwise.
-int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance) {
+// one of the branch among equals), if within `max_distance`; −1 otherwise. A test function marks
+// a corner of a smooth branch, not a change of existence or stability, and does not count, with
+// one exception: `knee` (the tanh law's "<contact> knee", where rolling rounds into slipping;
+// empty for none) for a whirl ↔ whip change at that contact, since the regime rule reads the slip
+// (models/rub_sweep.h) and the knee is where the slip sets in. It wins among equals: a Hopf point
+// in the same interval is where the circular whip then gives way to the modulated one.
+int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance,
+                        const std::string& knee) {
   int best = -1;
   double best_distance = std::numeric_limits<double>::infinity();
+  bool best_knee = false;
   for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
     const SpecialPoint& p = b.branch.special_points[i];
-    // A test function (the tanh law's "knee", where rolling rounds into slipping) marks a corner
-    // of a smooth branch, not a change of existence or stability.
-    if (p.type == SpecialPointType::kTestFunction) continue;
+    const bool is_knee = p.type == SpecialPointType::kTestFunction && !knee.empty() && p.label == knee;
+    if (p.type == SpecialPointType::kTestFunction && !is_knee) continue;
     const double rpm = p.lambda * kRpmPerRadPerSecond;
     const double distance = rpm < lo ? lo - rpm : rpm > hi ? rpm - hi : 0.0;
-    if (distance <= max_distance && distance < best_distance) {
+    if (distance > max_distance) continue;
+    if (distance < best_distance || (distance == best_distance && is_knee && !best_knee)) {
       best_distance = distance;
+      best_knee = is_knee;
       best = static_cast<int>(i);
     }
   }
@@ -158,13 +166,15 @@ std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubS
     row.difference_rpm = kNaN;
     const double lo = std::min(j.speed_from_rpm, j.speed_to_rpm);
     const double hi = std::max(j.speed_from_rpm, j.speed_to_rpm);
+    const bool regime_change = j.kind == RubJumpKind::kWhirlToWhip || j.kind == RubJumpKind::kWhipToWhirl;
+    const std::string knee = regime_change ? row.contact + " knee" : std::string();
     bool first_match = true;
     for (const char* side : {"departure", "landing"}) {
       const double speed = side[0] == 'd' ? j.speed_from_rpm : j.speed_to_rpm;
       const BranchMatch match =
           MatchState(StateAt(speed, structure, points, regimes), structure, branches, options);
       if (match.branch == nullptr) continue;
-      const int k = NearestSpecialPoint(*match.branch, lo, hi, options.max_distance_rpm);
+      const int k = NearestSpecialPoint(*match.branch, lo, hi, options.max_distance_rpm, knee);
       if (first_match || k >= 0) {
         row.matched_side = side;
         row.branch = match.branch->name;
@@ -194,8 +204,9 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
                       "at its speed (stable branches first, then the closest normal forces); the "
                       "departure state is tried first, then the "
                       "landing state; the predicting bifurcation is that branch's special point "
-                      "nearest the jump's speed interval, within 10 rpm of it; difference_rpm = "
-                      "middle of the interval minus the bifurcation speed");
+                      "nearest the jump's speed interval, within 10 rpm of it (for a whirl <-> "
+                      "whip change the contact's tanh knee counts too and wins among equals); "
+                      "difference_rpm = middle of the interval minus the bifurcation speed");
   std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
   std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
   std::vector<int> stable, settled;

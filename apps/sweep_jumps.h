@@ -21,9 +21,10 @@
 // settles on attractors), then the smallest relative normal-force mismatch. The departure state (before the jump) is tried
 // first: the jump happens where that state stops existing or being stable, which is one of its
 // branch's special points (event: stick ↔ slip or contact loss, fold, Hopf, branch point; not
-// test functions such as the tanh law's knee, which is a corner, not a bifurcation). The
+// test functions, which mark corners, not bifurcations, except for a whirl ↔ whip change the
+// contact's tanh knee: the regime rule reads the slip, and the knee is where it sets in). The
 // special point nearest to the speed interval of the jump is taken, if it lies within
-// max_distance_rpm of it. When the departure state is on no branch (a non-circular motion, or no
+// max_distance_rpm of it (a knee wins among equals). When the departure state is on no branch (a non-circular motion, or no
 // contact) or its branch has no special point near the jump, the landing state is tried the same
 // way. A jump neither side of which is predicted keeps the matched branch (if any) and no
 // bifurcation: the branches do not explain it.

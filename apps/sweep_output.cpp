@@ -21,6 +21,25 @@ std::string SceneBody(const Scene& scene) {
   return resolved.substr(resolved.find('\n') + 1);
 }
 
+// Whether the resolved scene `stored_toml` of an earlier file describes the same sweeps as
+// `scene`: the same scene apart from the keys that only read the finished speeds (the regime and
+// jump rules of models/rub_sweep.h), so that finished speeds can be classified again by other
+// rules without integrating them again. A stored scene the current schema rejects is not the same.
+bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
+  Scene stored;
+  try {
+    stored = ParseScene(stored_toml, "stored scene_toml", scene.name);
+  } catch (const SceneError&) {
+    return false;
+  }
+  SweepSettings& rules = stored.analysis.sweep;
+  rules.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
+  rules.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
+  rules.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
+  rules.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
+  return SceneBody(stored) == SceneBody(scene);
+}
+
 template <class Function>
 std::vector<double> PerPoint(const std::vector<SweepPoint>& points, Function&& value) {
   std::vector<double> out;
@@ -65,6 +84,8 @@ void WriteAttributes(ResultWriter& writer, const std::string& group, const Sweep
   writer.SetAttribute(group, "sample_rate_hz", s.sample_rate_hz);
   writer.SetAttribute(group, "spectrum_max_hz", s.spectrum_max_hz);
   writer.SetAttribute(group, "impulse", s.impulse);
+  writer.SetAttribute(group, "rolling_slip_tolerance", s.rolling_slip_tolerance);
+  writer.SetAttribute(group, "rolling_micro_slip", s.rolling_micro_slip);
   writer.SetAttribute(group, "whirl_tolerance", s.whirl_tolerance);
   writer.SetAttribute(group, "frequency_jump_hz", s.frequency_jump_hz);
   writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
@@ -99,6 +120,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[V].min; }));
     writer.WriteDoubles(group + "/slip_velocity_max" + side,
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[V].max; }));
+    writer.WriteDoubles(group + "/slip_ratio" + side, regimes.slip_ratio[k]);
     writer.WriteDoubles(group + "/normal_force" + side,
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].mean; }));
     writer.WriteDoubles(group + "/normal_force_min" + side,
@@ -217,6 +239,8 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
 
 RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
   RubRegimeOptions o;
+  o.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
+  o.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
   o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
   o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
   return o;
@@ -333,8 +357,7 @@ std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::
   if (!std::filesystem::exists(file, ec)) return std::nullopt;
   ResultReader reader(file);
   if (!reader.Exists("/sweeps/" + std::string(ToString(direction)))) return std::nullopt;
-  const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
-  if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) return std::nullopt;
+  if (!SameSweeps(reader.ReadStringAttribute("/", "scene_toml"), scene)) return std::nullopt;
   return ReadSweepPoints(reader, direction);
 }
 
@@ -363,8 +386,7 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) return std::nullopt;
   ResultReader reader(file);
-  const std::string stored = reader.ReadStringAttribute("/", "scene_toml");
-  if (stored.substr(stored.find('\n') + 1) != SceneBody(scene)) {
+  if (!SameSweeps(reader.ReadStringAttribute("/", "scene_toml"), scene)) {
     throw std::invalid_argument(fmt::format(
         "checkpoint {} was written for another scene (or other settings) than {}: delete it or run "
         "without --resume", file.string(), scene.source));

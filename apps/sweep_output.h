@@ -11,10 +11,12 @@
 //     precession_amplitude_left|right   its amplitude [m]
 //     slip_velocity_left|right      mean slip velocity V [m/s] over the samples in contact (NaN: none)
 //     slip_velocity_min_left|right, slip_velocity_max_left|right
+//     slip_ratio_left|right         |mean V| / (R ω): the input of the rolling rule (NaN: no contact)
 //     normal_force_left|right       mean N [N] over the samples in contact; normal_force_max_*
 //     contact_fraction_left|right   share of the analysed samples in contact
 //     orbit_radius_left|right       mean |d_k| [m]
-//     regime_left|right             "whirl" | "whip" | "no_contact" | "unknown" (models/rub_sweep.h)
+//     regime_left|right             "whirl" | "whip" | "no_contact" | "unknown": rolling decided by
+//                                   slip_ratio, BP as the check (models/rub_sweep.h)
 //     status                        "settled" | "not settled" | "integration failure"; settled (0/1)
 //     windows, simulated_time [s], spectrum_change, frequency_change [Hz] (the last settle test),
 //     wall_seconds, steps, rhs_evaluations, jacobian_evaluations, linear_solver_setups,
@@ -104,6 +106,10 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // settings): nothing when the file does not exist, holds no such group, or was written for another
 // scene or other settings. A one-direction run carries the other direction over from it, and
 // --resume takes a complete direction from it instead of running it again.
+// "Same settings" (here and for checkpoints) leaves out the keys that only classify the finished
+// speeds (rolling_slip_tolerance, rolling_micro_slip, whirl_tolerance, frequency_jump_hz):
+// `rubcont sweep --resume` on a complete file re-derives its regimes, jump table and figures
+// under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
                                                          const Scene& scene, SweepDirection direction);
 

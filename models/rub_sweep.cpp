@@ -98,6 +98,14 @@ const char* ToString(RubJumpKind kind) {
 }
 
 void Validate(const RubRegimeOptions& o) {
+  if (!(o.rolling_slip_tolerance > 0.0 && o.rolling_slip_tolerance < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.rolling_slip_tolerance = {}: must lie in (0, 1)", o.rolling_slip_tolerance));
+  }
+  if (!(o.rolling_micro_slip >= 0.0) || !std::isfinite(o.rolling_micro_slip)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.rolling_micro_slip = {}: must be finite and non-negative", o.rolling_micro_slip));
+  }
   if (!(o.whirl_tolerance >= 0.0 && o.whirl_tolerance < 1.0)) {
     throw std::invalid_argument(fmt::format(
         "RubRegimeOptions.whirl_tolerance = {}: must lie in [0, 1)", o.whirl_tolerance));
@@ -119,23 +127,35 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   RubSweepRegimes out;
   out.regime.assign(m, std::vector<RubRegime>(points.size(), RubRegime::kUnknown));
   out.precession_hz.assign(m, std::vector<double>(points.size(), kNaN));
+  out.slip_ratio.assign(m, std::vector<double>(points.size(), kNaN));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& p = points[i];
     if (p.status == SweepPointStatus::kIntegrationFailure || p.channels.size() != m) continue;
     const double rotation_hz = p.parameter / kTwoPi;
     for (std::size_t k = 0; k < m; ++k) {
       const ChannelSummary& c = p.channels[k];
+      if (c.measures.size() <= static_cast<std::size_t>(kSlipVelocityMeasure)) {
+        throw std::invalid_argument(fmt::format(
+            "ClassifySweep: point {} ({} rpm), contact {}: {} measures, the slip velocity (measure {}) "
+            "is missing", i, RadPerSecondToRpm(p.parameter), k, c.measures.size(), kSlipVelocityMeasure));
+      }
       const double bp = c.peak.found ? -c.peak.frequency : kNaN;
       out.precession_hz[k][i] = bp;
       const ContactGeometry& g = structure.contacts[k].geometry;
       const double rolling_hz = g.radius / g.clearance * rotation_hz;
       if (c.active_fraction < options.min_contact_fraction || !(bp > 0.0)) {
         out.regime[k][i] = RubRegime::kNoContact;
-      } else if (std::abs(bp - rolling_hz) <= options.whirl_tolerance * rolling_hz) {
-        out.regime[k][i] = RubRegime::kWhirl;
-      } else {
-        out.regime[k][i] = RubRegime::kWhip;
+        continue;
       }
+      const double slip_ratio =
+          std::abs(c.measures[kSlipVelocityMeasure].mean) / (g.radius * std::abs(p.parameter));
+      out.slip_ratio[k][i] = slip_ratio;
+      const double largest_rolling_slip =
+          std::max(options.rolling_slip_tolerance * g.radius * std::abs(p.parameter),
+                   options.rolling_micro_slip * structure.law.velocity_scale);
+      const bool rolls = std::abs(c.measures[kSlipVelocityMeasure].mean) <= largest_rolling_slip &&
+                         std::abs(bp - rolling_hz) <= options.whirl_tolerance * rolling_hz;
+      out.regime[k][i] = rolls ? RubRegime::kWhirl : RubRegime::kWhip;
     }
   }
   // Jumps between successive classified speeds.

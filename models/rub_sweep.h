@@ -52,21 +52,48 @@ std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rp
 constexpr double RpmToRadPerSecond(double rpm) { return rpm * 0.10471975511965977; }  // 2π/60
 constexpr double RadPerSecondToRpm(double omega) { return omega / 0.10471975511965977; }
 
-// What each contact does at one speed of the sweep. With rolling precession f_roll,k = RCI_k·ω/2π
-// (backward precession at which contact k rolls without slipping, models/contact.h):
+// What each contact does at one speed of the sweep. Rolling is decided by the slip the sweep
+// measures, the frequency is a check: with V̄_k the mean slip velocity over the analysed samples
+// in contact (models/contact.h: V = ωR + tᵀḋ), R_k ω the rotor's surface speed, ε the tanh law's
+// velocity scale and f_roll,k = RCI_k·ω/2π the backward precession at which contact k rolls,
+//   whirl (rolls)  ⇔  |V̄_k| ≤ max(rolling_slip_tolerance · R_k ω, rolling_micro_slip · ε)
+//                     and  |BP − f_roll,k| ≤ whirl_tolerance · f_roll,k.
+// For a circular orbit both sides measure the same thing (V = ωR − Ω(C + δ), so |V|/(ωR) ≈
+// |1 − BP/f_roll|), but the slip is measured directly and the precession is read off a spectral
+// peak; they part where a whip locks next to the rolling line (case C(a) at 48 rpm: BP 79.18 Hz,
+// 1.0 % below rolling, yet slipping at 1.0 % of ωR) or where the precession sits on the rolling
+// line while the contact slips back and forth (C(a)'s left contact at 132 rpm, 22 % in contact:
+// BP 0.25 % from rolling, mean slip 8.6 % of ωR).
 enum class RubRegime {
   kUnknown,    // the integration failed at this speed
   kNoContact,  // the contact touched for less than min_contact_fraction of the analysed time
-  kWhirl,      // |BP − f_roll,k| ≤ whirl_tolerance·f_roll,k: the contact rolls
+  kWhirl,      // the contact rolls: small slip and BP on the rolling line (above)
   kWhip,       // otherwise: the contact slips (BP locked elsewhere, usually below f_roll,k)
 };
 const char* ToString(RubRegime regime);
 
 struct RubRegimeOptions {
-  // Relative distance of the precession from rolling within which a contact whirls (for a
-  // circular orbit, normalized slip |V|/(ωR_k)). In [0, 1). The tanh friction law rolls with a
-  // micro-slip V ≈ ε·atanh(μ_req/μ) (≈ 2.6ε at μ_req = 0.99μ): far below 2 % of ωR at the
-  // thesis's speeds for ε = 1e-3 m/s.
+  // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In
+  // (0, 1). Measured over the nine thesis sweeps (results/README.md, section "Sweeps"; ε = 1e-3
+  // m/s, settled speeds in full contact): where both contacts roll they slip by at most 0.27 % of
+  // ωR (0.46ε; B(a) at 48 rpm, C(c) at 40 rpm), the whips by at least 0.97 % (1.85ε: the 79.2 Hz
+  // whip of C(a), C(b), C(c) at 48 rpm, 1 % below rolling at 80 Hz). 0.5 % lies in that gap,
+  // about 2× above the one and 2× below the other. Inside it fall only states whose slip changes
+  // continuously or is modulated (A(b)'s left contact at 36–40 rpm, C(a)'s left at 140–152 rpm
+  // while the right whips); their label depends on this value.
+  double rolling_slip_tolerance = 0.005;
+  // The regularized law's share, in units of its ε: a contact with |V̄_k| ≤ this·ε rolls whatever
+  // the surface speed. ≥ 0 (0: the surface-speed rule alone). The tanh law rolls with a
+  // micro-slip V = ε·atanh(μ_req/μ), independent of the speed: ≤ ε while μ_req ≤ tanh(1)·μ =
+  // 0.76 μ. Below about 50 rpm (ε = 1e-3 m/s, R = 38.1 mm) 0.5 % of ωR is less than ε, and such a
+  // whirl would read as whip: case B(b)'s right contact at 20 rpm rolls with V = 0.44ε = 0.56 %
+  // of ωR (BP 0.6 % below its rolling line, the other contact slipping by 24 %). ε is 2.2× the
+  // two-rolling-contact whirls' 0.46ε and about half the whips' 1.85ε.
+  double rolling_micro_slip = 1.0;
+  // The frequency check: largest relative distance |BP − f_roll|/f_roll of a rolling contact.
+  // In [0, 1). The rolling contacts of the thesis sweeps lie within 0.56 % of rolling; a contact
+  // barely in touch can slip little on average and still precess far off the line (C(a)'s left
+  // contact at 188–204 rpm, 2 % in contact: 8–19 % off), which this check calls whip.
   double whirl_tolerance = 0.02;
   // A jump within one regime: between successive speeds the precession moves by more than this
   // from both trends, whip-like (BP constant) and whirl-like (BP ∝ ω). > 0. The thesis's whip
@@ -106,10 +133,13 @@ struct RubSweepJump {
 struct RubSweepRegimes {
   std::vector<std::vector<RubRegime>> regime;       // [contact][point]
   std::vector<std::vector<double>> precession_hz;   // [contact][point]: BP > 0 backward; NaN: none
+  std::vector<std::vector<double>> slip_ratio;      // [contact][point]: |V̄_k|/(R_k ω); NaN: no contact
   std::vector<RubSweepJump> jumps;                  // in schedule order, then by contact
 };
 
-// Reads regimes and jumps off a sweep of the rub model (parameter ω in rad/s).
+// Reads regimes and jumps off a sweep of the rub model (parameter ω in rad/s). Every point that
+// did not fail needs the slip-velocity measure (RubSweepObservables) on each channel; throws
+// std::invalid_argument otherwise.
 RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<SweepPoint>& points,
                               const RubRegimeOptions& options = {});
 

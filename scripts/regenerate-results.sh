@@ -4,14 +4,38 @@
 # eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
 # textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol), and the
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
-# build (most of it is matplotlib). With --sweeps it also re-runs the time-marching sweeps (L3) of
-# the scenes that have them: about 8 min per scene on 2 cores (results/README.md).
+# build (most of it is matplotlib).
+#   --sweeps        also re-runs the time-marching sweeps (L3) of the eight thesis scenes and of
+#                   thesis_A_a_imbalance: 8–40 min per scene on 2 cores (results/README.md).
+#   --sweep-tables  instead re-derives the regimes, jump tables and figures of the committed
+#                   results/<scene>/sweep.h5 from their finished speeds, without integrating
+#                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
+#                   the figures). Use it after a change of the regime rules.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --parallel "$(nproc)"
+
+# The sweeps first: `rubcont sweep` also draws the branches next to its file without the closed
+# form (its file has no /analytic), and `rubcont run` below draws them again with it.
+sweep_scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b
+              thesis_C_c thesis_A_a_imbalance)
+case "${1:-}" in
+  --sweeps) resume=() ;;
+  --sweep-tables) resume=(--resume) ;;
+  *) sweep_scenes=() ;;
+esac
+for scene in "${sweep_scenes[@]}"; do
+  if [[ ${#resume[@]} -gt 0 && ! -f "results/$scene/sweep.h5" ]]; then
+    echo "results/$scene/sweep.h5 is missing: --sweep-tables would integrate it; use --sweeps" >&2
+    exit 1
+  fi
+  build/rubcont sweep "scenes/$scene.toml" "${resume[@]}" --quiet \
+    --out "results/$scene/sweep.h5" > "results/$scene/sweep_summary.txt"
+  echo "results/$scene: sweeps"
+done
 
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
         overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
@@ -42,9 +66,3 @@ build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_
 echo "results/design: $(ls results/design | tr '\n' ' ')"
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
-if [[ "${1:-}" == "--sweeps" ]]; then
-  for scene in thesis_A_a thesis_C_a thesis_A_a_imbalance; do
-    build/rubcont sweep "scenes/$scene.toml" --quiet > "results/$scene/sweep_summary.txt"
-    echo "results/$scene: sweeps"
-  done
-fi

@@ -15,8 +15,8 @@
 //
 // Cost (bench/modulated_whip_bench.cpp): the contact mode (√(k1/m) ≈ 1.3e5 rad/s for the thesis's
 // k1 = 1.75e11 N/m) is almost undamped and lives in every column of the state-transition matrix,
-// so the sensitivities take ~3e4 steps per modulation period: ~15 s per orbit of case A(a) at
-// tolerance 1e-7, against ~2.4 s with k1 = 1.75e8 N/m.
+// so the sensitivities take ~3e4 steps per modulation period: 15–30 s per orbit of case A(a) at
+// tolerance 1e-7, against ~1 s with k1 = 1.75e8 N/m.
 #pragma once
 
 #include <functional>

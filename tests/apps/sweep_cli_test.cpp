@@ -85,8 +85,29 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   REQUIRE(again.exit_code == 0);
   CHECK_THAT(again.err, Contains("[sweep up] complete in"));
   CHECK_THAT(again.err, Contains("[sweep down] complete in"));
+  {
+    ResultReader r(h5);
+    CHECK(r.ReadDoubles("/sweeps/up/precession_hz_left") == up_bp);
+    CHECK(r.ReadStrings("/sweeps/up/regime_left") == std::vector<std::string>{"whirl", "whirl"});
+  }
+
+  // Other rules for reading the finished speeds are not other sweeps: --resume classifies them
+  // again without integrating. With rolling thresholds below the whirl's micro-slip (about
+  // 2e-4 of ωR, 0.04ε at 40–44 rpm) the same speeds read as whip.
+  ShortSweepScene(dir.path, kTwoSpeeds + "rolling_slip_tolerance = 1e-6\nrolling_micro_slip = 0.0\n");
+  const Outcome reread = testing::RubcontNoPython("sweep " + scene.string() + " --resume --out " + h5.string());
+  INFO(reread.out << reread.err);
+  REQUIRE(reread.exit_code == 0);
+  CHECK_THAT(reread.err, Contains("[sweep up] complete in"));
+  CHECK_THAT(reread.err, Contains("[sweep down] complete in"));
   ResultReader r(h5);
   CHECK(r.ReadDoubles("/sweeps/up/precession_hz_left") == up_bp);
+  CHECK(r.ReadStrings("/sweeps/up/regime_left") == std::vector<std::string>{"whip", "whip"});
+  CHECK(r.ReadDoubleAttribute("/sweeps/up", "rolling_slip_tolerance") == 1e-6);
+  const std::vector<double> ratio = r.ReadDoubles("/sweeps/up/slip_ratio_left");
+  REQUIRE(ratio.size() == 2);
+  CHECK(ratio[0] > 1e-6);
+  CHECK(ratio[0] < 0.005);
 }
 
 TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the balanced branches",

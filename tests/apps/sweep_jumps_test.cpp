@@ -72,6 +72,33 @@ TEST_CASE("Jump table: the speed-up sweep leaves the Mode 1 whirl at its stick-s
   CHECK(rows[0].contact == "left");
   CHECK(rows[1].contact == "right");
 
+  // With the law the sweep integrates (tanh, ε = 1e-3 m/s) the Mode 1 whirl has no event: the slip
+  // sets in at its knee (50.96 rpm), and the circular whip it rounds into loses stability at a Hopf
+  // point (51.68 rpm). Both lie in the jump's interval; the regime rule reads the slip, so the knee
+  // predicts the whirl → whip change, while any other kind of jump there is left to the Hopf point.
+  RotatingWaveBranchOptions o;
+  o.search.speed_min = RpmToRadPerSecond(20.0);
+  o.search.speed_max = RpmToRadPerSecond(80.0);
+  o.search.precession_max = 2.0 * M_PI * 200.0;
+  const std::vector<RotatingWaveBranch> tanh_branches =
+      ComputeRotatingWaveBranches(a.structure, FrictionLawKind::kTanh, o);
+  const std::vector<PredictedJump> smooth =
+      PredictJumps("up", a.structure, sweep.points, sweep.regimes, tanh_branches);
+  REQUIRE(smooth.size() == 2);
+  for (const PredictedJump& r : smooth) {
+    CAPTURE(r.contact, r.branch, r.bifurcation);
+    CHECK(r.branch_stable == 1);
+    CHECK_THAT(r.bifurcation, Catch::Matchers::Contains(r.contact + " knee"));
+    CHECK(r.bifurcation_speed_rpm == Approx(50.963).margin(0.01));
+  }
+  RubSweepRegimes other = sweep.regimes;
+  for (RubSweepJump& jump : other.jumps) jump.kind = RubJumpKind::kFrequencyJump;
+  for (const PredictedJump& r : PredictJumps("up", a.structure, sweep.points, other, tanh_branches)) {
+    CAPTURE(r.contact, r.branch, r.bifurcation);
+    CHECK(r.bifurcation == "Hopf");
+    CHECK(r.bifurcation_speed_rpm == Approx(51.685).margin(0.01));
+  }
+
   // The same whip left at 70 rpm (into a state on no branch): it lies on the circular Mode 1 whip,
   // whose only special point (50.69 rpm) is more than 10 rpm away to predict anything.
   std::vector<SweepPoint> far = {sweep.points[2], sweep.points[0]};

@@ -89,19 +89,37 @@ TEST_CASE("The observables are the contacts' relative motion, slip velocity and 
   CHECK(o.measures(1, kNormalForceMeasure) == 0.0);
 }
 
-// A synthetic sweep point: BP [Hz] and contact fraction per contact, at `rpm`.
-SweepPoint Point(double rpm, double bp_left, double bp_right, double contact_left = 1.0,
-                 double contact_right = 1.0) {
+// A synthetic sweep point at `rpm`: per contact its BP [Hz], mean slip velocity [m/s] and
+// contact fraction.
+struct ContactReading {
+  double bp_hz;
+  double slip_velocity;
+  double contact_fraction = 1.0;
+};
+SweepPoint Point(double rpm, ContactReading left, ContactReading right) {
   SweepPoint p;
   p.parameter = RpmToRadPerSecond(rpm);
-  for (auto [bp, contact] : {std::pair{bp_left, contact_left}, std::pair{bp_right, contact_right}}) {
+  for (const ContactReading& r : {left, right}) {
     ChannelSummary c;
-    c.peak.found = !std::isnan(bp);
-    c.peak.frequency = -bp;
-    c.active_fraction = contact;
+    c.peak.found = !std::isnan(r.bp_hz);
+    c.peak.frequency = -r.bp_hz;
+    c.active_fraction = r.contact_fraction;
+    c.measures.resize(2);
+    c.measures[kSlipVelocityMeasure].mean = r.slip_velocity;
     p.channels.push_back(c);
   }
   return p;
+}
+
+// The same for a circular orbit: its slip velocity follows from the precession,
+// V_k = ωR_k − 2π·BP·C_k (models/contact.h, penetration neglected).
+SweepPoint CircularPoint(const RubStructure& s, double rpm, double bp_left, double bp_right,
+                         double contact_left = 1.0, double contact_right = 1.0) {
+  const auto slip = [&](int k, double bp) {
+    const ContactGeometry& g = s.contacts[static_cast<std::size_t>(k)].geometry;
+    return RpmToRadPerSecond(rpm) * g.radius - 2.0 * M_PI * bp * g.clearance;
+  };
+  return Point(rpm, {bp_left, slip(0, bp_left), contact_left}, {bp_right, slip(1, bp_right), contact_right});
 }
 
 TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub_sweep]") {
@@ -110,15 +128,15 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
   const RubStructure s = TwoPointStructure(params);
   // Rolling: 100·rpm/60 Hz at the left contact, 125·rpm/60 at the right.
   std::vector<SweepPoint> points = {
-      Point(48.0, 80.0, 83.0),            // left whirls, right whips (83 < 0.98·100)
-      Point(50.0, 83.33, 83.33),          // same trend: no jump
-      Point(52.0, 84.5, 84.5),            // left: whirl → whip
-      Point(54.0, 84.6, 84.6),
-      Point(56.0, 111.0, 84.7),           // left jumps to another whip frequency
-      Point(58.0, 111.2, 84.7, 0.0, 0.5), // left loses contact
-      Point(60.0, kNaN, 84.8, 0.5, 0.5),  // no peak: no contact either
-      Point(62.0, 103.3, 129.2),          // left regains contact in whirl; right whip → whirl
-      Point(64.0, 106.7, 133.3),
+      CircularPoint(s, 48.0, 80.0, 83.0),            // left whirls, right whips (83 < 0.98·100)
+      CircularPoint(s, 50.0, 83.33, 83.33),          // same trend: no jump
+      CircularPoint(s, 52.0, 84.5, 84.5),            // left: whirl → whip
+      CircularPoint(s, 54.0, 84.6, 84.6),
+      CircularPoint(s, 56.0, 111.0, 84.7),           // left jumps to another whip frequency
+      CircularPoint(s, 58.0, 111.2, 84.7, 0.0, 0.5), // left loses contact
+      CircularPoint(s, 60.0, kNaN, 84.8, 0.5, 0.5),  // no peak: no contact either
+      CircularPoint(s, 62.0, 103.3, 129.2),          // left regains contact in whirl; right whip → whirl
+      CircularPoint(s, 64.0, 106.7, 133.3),
   };
   points.insert(points.begin() + 8, SweepPoint{});  // a failed speed between 62 and 64 rpm
   points[8].parameter = RpmToRadPerSecond(63.0);
@@ -154,10 +172,90 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
   CHECK(ClassifySweep(s, points, strict).jumps.size() > 5);
   strict.whirl_tolerance = 1.5;
   CHECK_THROWS_WITH(ClassifySweep(s, points, strict), Contains("whirl_tolerance = 1.5"));
-  strict.whirl_tolerance = 0.2;  // 111 Hz at 56 rpm (rolling 93.3 Hz) now counts as whirl
+  // 111 Hz at 56 rpm (rolling 93.3 Hz) slips by 19 % of ωR: whip unless both rules let it roll.
+  strict.whirl_tolerance = 0.2;
+  CHECK(ClassifySweep(s, points, strict).regime[0][4] == RubRegime::kWhip);
+  strict.rolling_slip_tolerance = 0.2;
   CHECK(ClassifySweep(s, points, strict).regime[0][4] == RubRegime::kWhirl);
-  strict.whirl_tolerance = 1.5;
-  CHECK_THROWS_WITH(ClassifySweep(s, points, strict), Contains("whirl_tolerance = 1.5"));
+  strict.rolling_slip_tolerance = 0.0;
+  CHECK_THROWS_WITH(ClassifySweep(s, points, strict), Contains("rolling_slip_tolerance = 0"));
+
+  // A point without the slip velocity cannot be classified.
+  points[0].channels[1].measures.clear();
+  CHECK_THROWS_WITH(ClassifySweep(s, points), Contains("slip velocity"));
+}
+
+TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the rolling line is whip",
+          "[rub_sweep]") {
+  TwoPointParams params;  // case C(a)
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  const RubStructure s = TwoPointStructure(params);
+  // Readings of the C(a) speed-up sweep (results/thesis_C_a/sweep.h5, ε = 1e-3 m/s), left and
+  // right: BP [Hz], mean slip velocity [m/s], contact fraction. Rolling is 100·rpm/60 Hz.
+  const std::vector<SweepPoint> points = {
+      Point(44.0, {73.254, 1.853e-4}, {73.238, 2.211e-4}),   // rolling whirl (slip 0.11–0.13 % of ωR)
+      Point(48.0, {79.179, 1.992e-3}, {79.180, 1.972e-3}),   // whip: 1.0 % below rolling, slip 1.0 %
+      Point(52.0, {79.266, 1.774e-2}, {79.262, 1.772e-2}),   // whip
+      // The left contact 22 % in touch, precessing 0.25 % from rolling but slipping by 8.6 % of ωR;
+      // then 2 % in touch, slipping by 0.24 % on average, precessing 13 % off the rolling line.
+      Point(132.0, {219.442, 4.537e-2, 0.22}, {79.328, 3.306e-1, 0.84}),
+      Point(196.0, {369.660, -1.872e-3, 0.0195}, {79.801, 4.821e-1, 0.10}),
+  };
+  const RubSweepRegimes r = ClassifySweep(s, points);
+  using R = RubRegime;
+  CHECK(r.regime[0] == std::vector<R>{R::kWhirl, R::kWhip, R::kWhip, R::kWhip, R::kWhip});
+  CHECK(r.regime[1] == std::vector<R>{R::kWhirl, R::kWhip, R::kWhip, R::kWhip, R::kWhip});
+  CHECK(r.slip_ratio[0][1] == Approx(1.992e-3 / (0.0381 * RpmToRadPerSecond(48.0))).epsilon(1e-12));
+  // The speed-up jump lies between 44 and 48 rpm (the L1 Hopf point of the tanh Mode 1 whirl is
+  // at 48.49 rpm); by the frequency alone (the former rule) 48 rpm was whirl and the jump one step
+  // late.
+  REQUIRE_FALSE(r.jumps.empty());
+  CHECK(r.jumps[0].kind == RubJumpKind::kWhirlToWhip);
+  CHECK(r.jumps[0].speed_from_rpm == Approx(44.0));
+  CHECK(r.jumps[0].speed_to_rpm == Approx(48.0));
+  RubRegimeOptions frequency_only;
+  frequency_only.rolling_slip_tolerance = 0.999;
+  const RubSweepRegimes f = ClassifySweep(s, points, frequency_only);
+  CHECK(f.regime[0][1] == R::kWhirl);
+  CHECK(f.regime[0][3] == R::kWhirl);
+  CHECK(f.regime[0][4] == R::kWhip);  // the frequency check alone still calls this one whip
+
+  // A rolling whirl close to its jump is still whirl: case A(a) at 48 rpm (speed-up sweep,
+  // results/thesis_A_a/sweep.h5), 3.7 rpm below the Hopf point of its tanh Mode 1 whirl.
+  const RubStructure a = TwoPointStructure(TwoPointParams{});
+  const RubSweepRegimes w =
+      ClassifySweep(a, {Point(48.0, {79.878, 2.856e-4}, {79.878, 2.856e-4})});
+  CHECK(w.regime[0][0] == R::kWhirl);
+  CHECK(w.regime[1][0] == R::kWhirl);
+  CHECK(w.slip_ratio[0][0] == Approx(0.00149).epsilon(0.01));
+}
+
+TEST_CASE("A tanh-law contact rolls with its micro-slip at low speed, below ε but above 0.5 % of ωR",
+          "[rub_sweep]") {
+  TwoPointParams params;  // case B(b): disk at ¾, RCI 100 / 125, ε = 1e-3 m/s
+  params.rotor_inertia = 0.04;
+  params.rotor_mass_center = 0.22;
+  params.clearance = {3.81e-4, 3.048e-4};
+  const RubStructure s = TwoPointStructure(params);
+  // Its speed-down sweep at 20 rpm (results/thesis_B_b/sweep.h5): the right contact (RCI 125,
+  // rolling at 41.67 Hz) precesses 0.6 % below its rolling line with V = 0.44 mm/s = 0.44ε,
+  // 0.56 % of ωR; the left contact (rolling at 33.3 Hz) slips by 24 % of ωR.
+  const std::vector<SweepPoint> points = {
+      Point(20.0, {41.432, -1.9394e-2}, {41.432, 4.4464e-4})};
+  const RubSweepRegimes r = ClassifySweep(s, points);
+  CHECK(r.regime[0][0] == RubRegime::kWhip);
+  CHECK(r.regime[1][0] == RubRegime::kWhirl);
+  CHECK(r.slip_ratio[1][0] > 0.005);
+  // By the surface speed alone it would whip.
+  RubRegimeOptions surface_speed_only;
+  surface_speed_only.rolling_micro_slip = 0.0;
+  CHECK(ClassifySweep(s, points, surface_speed_only).regime[1][0] == RubRegime::kWhip);
+  surface_speed_only.rolling_micro_slip = -1.0;
+  CHECK_THROWS_WITH(ClassifySweep(s, points, surface_speed_only), Contains("rolling_micro_slip = -1"));
+  // The allowance scales with the law's ε: at ε = 1e-4 m/s the same slip is 4.4ε.
+  params.friction_law.velocity_scale = 1e-4;
+  CHECK(ClassifySweep(TwoPointStructure(params), points).regime[1][0] == RubRegime::kWhip);
 }
 
 }  // namespace
