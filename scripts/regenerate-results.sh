@@ -11,6 +11,8 @@
 #                   results/<scene>/sweep.h5 from their finished speeds, without integrating
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
 #                   the figures). Use it after a change of the regime rules.
+#   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
+#                   scenes/thesis_A_a_modulated_whip.toml): about 20 min on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -39,6 +41,7 @@ done
 
 scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
         overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
+if [[ "${1:-}" == "--orbits" ]]; then scenes+=(thesis_A_a_modulated_whip); fi
 for scene in "${scenes[@]}"; do
   summary=$(build/rubcont run "scenes/$scene.toml" --out results --quiet)
   # The summary names files by path; keep it relative so results/ reads the same anywhere.
