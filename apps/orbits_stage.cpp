@@ -178,7 +178,7 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "[orbits] note: {}\n", note);
   }
   for (const RubHopfStart& s : starts) {
-    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, whirl stable {}\n",
+    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}\n",
                s.branch, s.speed / kRpm, s.precession / (2.0 * M_PI),
                s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above");
   }
@@ -213,12 +213,15 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
                SecondsSince(t0), orbits.orbits.work.steps);
     for (const SpecialPoint& p : branch.special_points) {
-      fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation {:.2f} Hz{}\n", p.Name(),
-                 p.lambda / kRpm, p.measures(branch.MeasureIndex("precession_hz")),
+      fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation "
+                      "{:.2f} Hz{}\n",
+                 p.Name(), p.lambda / kRpm, p.measures(branch.MeasureIndex("precession_hz")),
                  p.measures(branch.MeasureIndex("modulation_hz")),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }
-    if (IsFailure(branch.status)) failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
+    if (IsFailure(branch.status)) {
+      failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
+    }
   }
 }
 
@@ -240,7 +243,7 @@ void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
   }
   const PeriodicOrbitBranch orbits =
       ContinuePeriodicOrbits(*setup.system, setup.kind, setup.start, setup.options);
-  const double seconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  const double seconds = SecondsSince(begin);
   progress(fmt::format("[orbits] {} points in {:.2f} s", orbits.branch.Size(), seconds));
   WritePeriodicOrbitBranch(writer, "periodic_orbits", orbits, {setup.parameter_name, 1.0});
 
