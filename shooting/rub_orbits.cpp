@@ -99,6 +99,8 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
       if (p.index < 0 || k + 1 >= points.size()) continue;
       const BranchPoint *low = &points[k], *high = &points[k + 1];
       if (low->lambda > high->lambda) std::swap(low, high);
+      const double slack = 1e-9 * std::max(1.0, std::abs(p.lambda));
+      if (p.lambda < low->lambda - slack || p.lambda > high->lambda + slack) continue;
       if (low->num_unstable < 0 || high->num_unstable < 0) continue;
       if ((low->num_unstable == 0) == (high->num_unstable == 0)) continue;
       RubHopfStart start;
