@@ -303,14 +303,10 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
                  std::vector<std::string>& failures) {
   const Clock::time_point start = Clock::now();
   constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
-  options.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
-  options.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
   const FrictionLawKind law = FrictionLawOf(scene);
   // The imbalance is left out of the rotating waves (note below).
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      StructureOf(scene), law, options, [&](int done, int tried, int starts) {
+      StructureOf(scene), law, BranchOptionsOf(scene), [&](int done, int tried, int starts) {
         progress("[branches] {} branches from {} of {} starts ({:.1f} s)", done, tried, starts,
                  SecondsSince(start));
       });

@@ -155,6 +155,11 @@ class RubRotatingFrame : public OdeSystem {
   double frame_rate() const { return frame_rate_; }
   void set_frame_rate(double frame_rate) { frame_rate_ = frame_rate; }
   const RubStructure& structure() const { return fixed_.structure(); }
+  // Mean backward precession [rad/s] in the fixed frame of a relative periodic orbit of this frame,
+  // p(T) = R_φ p(0) (R_φ = e^{jφ}, Rotate): Ω_f − φ/T, the carrier of the modulated motion.
+  double CarrierPrecession(double period, double rotation) const {
+    return frame_rate_ - rotation / period;
+  }
   // Fixed-frame state at time t from a rotating-frame state: u = e^{−jΩ_f t} p, u̇ = e^{−jΩ_f t}(ṗ − jΩ_f p).
   Vector ToFixedFrame(double t, ConstVectorRef x) const;
   // The inverse: the co-rotating state at time t of a fixed-frame state, p = e^{jΩ_f t} u,

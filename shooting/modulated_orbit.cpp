@@ -108,7 +108,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   }
   orbit.period = problem.Period(orbit.u, omega);
   orbit.rotation = problem.Rotation(orbit.u);
-  orbit.carrier_hz = (frame_rate - orbit.rotation / orbit.period) / kTwoPi;
+  orbit.carrier_hz = frame.CarrierPrecession(orbit.period, orbit.rotation) / kTwoPi;
 
   // Fourier coefficients of q = e^{−jφt/T} d over one period (trapezoidal rule on the samples).
   const OrbitSamples samples = problem.Orbit(orbit.u, omega);

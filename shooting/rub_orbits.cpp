@@ -32,7 +32,9 @@ class OrbitInFixedFrame {
     }
     return out;
   }
-  double FrameRate() const { return frame_.frame_rate(); }
+  double CarrierHz(const OrbitSamples& orbit) const {
+    return frame_.CarrierPrecession(orbit.period, orbit.rotation) / (2.0 * M_PI);
+  }
   const RubStructure& structure() const { return frame_.structure(); }
 
  private:
@@ -70,9 +72,8 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   auto view = std::make_shared<OrbitInFixedFrame>(frame);
   std::vector<OrbitMeasure> measures;
-  measures.push_back({"precession_hz", [view](const OrbitSamples& orbit) {
-                        return (view->FrameRate() - orbit.rotation / orbit.period) / (2.0 * M_PI);
-                      }});
+  measures.push_back(
+      {"precession_hz", [view](const OrbitSamples& orbit) { return view->CarrierHz(orbit); }});
   measures.push_back(
       {"modulation_hz", [](const OrbitSamples& orbit) { return 1.0 / orbit.period; }});
   const auto& contacts = frame.structure().contacts;
