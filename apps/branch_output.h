@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "apps/hdf5_file.h"
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 

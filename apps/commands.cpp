@@ -24,7 +24,7 @@
 #include "apps/sweep_output.h"
 #include "apps/version.h"
 #include "models/analytic.h"
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {

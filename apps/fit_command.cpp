@@ -17,7 +17,7 @@
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/version.h"
-#include "shooting/identification.h"
+#include "studies/identification.h"
 
 namespace rubcont {
 

@@ -1,5 +1,5 @@
 // `rubcont fit SCENE --targets TARGETS.toml`: identification of design parameters from target
-// jump speeds and whip frequencies (shooting/identification.h), written atomically to HDF5 under
+// jump speeds and whip frequencies (studies/identification.h), written atomically to HDF5 under
 // /fit/.
 //
 // Targets file (TOML; every key checked, unknown keys rejected, errors name key, value and rule):

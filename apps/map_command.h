@@ -1,5 +1,5 @@
 // `rubcont map SCENE --parameter NAME`: the hysteresis map of a two-point scene in (running speed,
-// design parameter) (shooting/hysteresis_map.h), written atomically to HDF5 under
+// design parameter) (studies/hysteresis_map.h), written atomically to HDF5 under
 // /maps/<parameter>/ with a figure (plots/map.py).
 //
 // Kept free of Eigen so that main.cpp stays light; the writer is in apps/map_output.h.

@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "apps/hdf5_file.h"
-#include "shooting/hysteresis_map.h"
+#include "studies/hysteresis_map.h"
 
 namespace rubcont {
 

@@ -430,7 +430,7 @@ std::vector<KeySpec> BuildSchema() {
       "[low, high]: running-speed range of the continuation branches.",
       [](Scene& x) -> std::array<double, 2>& { return x.analysis.speed_range_rpm; }, kCommon));
 
-  // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; models/rub_sweep.h).
+  // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; sweeps/rub_sweep.h).
   auto sweep_pair = [&](const char* key, std::array<double, 2> value, const char* doc,
                         Field<std::array<double, 2>> field) {
     s.push_back(Make<std::array<double, 2>>(key, ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,

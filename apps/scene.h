@@ -42,8 +42,8 @@ bool IsTextbook(ModelKind model);
 // The stages `rubcont run` can perform, in the order the scene lists them.
 enum class Stage {
   kAnalytic,  // "analytic": level L0, closed-form Mode 1 / Mode 2 (models/analytic.h)
-  kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (models/rub_sweep.h)
-  kBranches,  // "branches": level L1, rotating waves continued in speed (shooting/rotating_wave_branches.h)
+  kSweep,     // "sweep": level L3, time-marching speed-up and speed-down sweeps (sweeps/rub_sweep.h)
+  kBranches,  // "branches": level L1, rotating waves continued in speed (waves/rotating_wave_branches.h)
   kOrbits,    // "orbits": level L2, periodic orbits by shooting with Floquet stability: of a textbook
               // model continued in its parameter (shooting/orbit_branches.h), or the modulated
               // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)

@@ -117,7 +117,7 @@ SweepState StateAt(double speed_rpm, const RubStructure& structure,
 // a corner of a smooth branch, not a change of existence or stability, and does not count, with
 // one exception: `knee` (the tanh law's "<contact> knee", where rolling rounds into slipping;
 // empty for none) for a whirl ↔ whip change at that contact, since the regime rule reads the slip
-// (models/rub_sweep.h) and the knee is where the slip sets in. It wins among equals: a Hopf point
+// (sweeps/rub_sweep.h) and the knee is where the slip sets in. It wins among equals: a Hopf point
 // in the same interval is where the circular whip then gives way to the modulated one.
 int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance,
                         const std::string& knee) {

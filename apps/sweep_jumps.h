@@ -3,7 +3,7 @@
 //
 //   /sweeps/jump_table   one row per jump, speed-up jumps first (attrs level "L3 with L1", rule)
 //     direction ("up" | "down"), contact, kind (RubJumpKind), speed_from_rpm, speed_to_rpm,
-//     precession_from_hz, precession_to_hz       the jump as the sweep saw it (models/rub_sweep.h)
+//     precession_from_hz, precession_to_hz       the jump as the sweep saw it (sweeps/rub_sweep.h)
 //     settled            1 when both speeds settled, 0 when one ran to its dwell (RubSweepJump)
 //     matched_side       "departure" | "landing" | "none": the state whose branch predicts the jump
 //                        (without a prediction: the state that lies on a branch, if any)
@@ -35,8 +35,8 @@
 
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
-#include "models/rub_sweep.h"
-#include "shooting/rotating_wave_branches.h"
+#include "sweeps/rub_sweep.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 

@@ -23,7 +23,7 @@ std::string SceneBody(const Scene& scene) {
 
 // Whether the resolved scene `stored_toml` of an earlier file describes the same sweeps as
 // `scene`: the same scene apart from the keys that only read the finished speeds (the regime and
-// jump rules of models/rub_sweep.h), so that finished speeds can be classified again by other
+// jump rules of sweeps/rub_sweep.h), so that finished speeds can be classified again by other
 // rules without integrating them again. A stored scene the current schema rejects is not the same.
 bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
   Scene stored;

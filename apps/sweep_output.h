@@ -16,7 +16,7 @@
 //     contact_fraction_left|right   share of the analysed samples in contact
 //     orbit_radius_left|right       mean |d_k| [m]
 //     regime_left|right             "whirl" | "whip" | "no_contact" | "unknown": rolling decided by
-//                                   slip_ratio, BP as the check (models/rub_sweep.h)
+//                                   slip_ratio, BP as the check (sweeps/rub_sweep.h)
 //     status                        "settled" | "not settled" | "integration failure"; settled (0/1)
 //     windows, simulated_time [s], spectrum_change, frequency_change [Hz] (the last settle test),
 //     wall_seconds, steps, rhs_evaluations, jacobian_evaluations, linear_solver_setups,
@@ -41,7 +41,7 @@
 
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 

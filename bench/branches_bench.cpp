@@ -23,7 +23,7 @@
 
 #include "apps/scene.h"
 #include "models/rub_model.h"
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {

@@ -26,7 +26,7 @@
 #include "continuation/fold.h"
 #include "models/rub_model.h"
 #include "models/two_point_params.h"
-#include "shooting/rotating_wave.h"
+#include "waves/rotating_wave.h"
 #include "solvers/newton.h"
 
 namespace rubcont {

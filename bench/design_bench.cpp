@@ -9,8 +9,8 @@
 
 #include "continuation/fold_optimization.h"
 #include "models/rub_model.h"
-#include "shooting/hysteresis_map.h"
-#include "shooting/identification.h"
+#include "studies/hysteresis_map.h"
+#include "studies/identification.h"
 
 namespace {
 

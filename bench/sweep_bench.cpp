@@ -20,7 +20,7 @@
 #include "apps/scene.h"
 #include "apps/sweep_jumps.h"
 #include "apps/sweep_output.h"
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 namespace {
 

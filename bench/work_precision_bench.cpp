@@ -10,8 +10,8 @@
 //   L0  closed form (models/analytic.h): the whirl of the first family (Mode 1, then Mode 2) that
 //       rolls at the bottom of the speed range ends at its first transition going up (q2) and, from
 //       the top, going down (q3); its whip turns at the μ crossing whatever the speed (q1).
-//   L1  rotating-wave branch sets (shooting/rotating_wave_branches.h) read by
-//       shooting/whirl_limits.h: exact friction; tanh at ε = 1e-1 … 1e-6 m/s; tanh at the scene's ε
+//   L1  rotating-wave branch sets (waves/rotating_wave_branches.h) read by
+//       studies/whirl_limits.h: exact friction; tanh at ε = 1e-1 … 1e-6 m/s; tanh at the scene's ε
 //       with the location tolerance of the special points from "not located" to 1e-12.
 //   L2  the modulated whip at the q1 speed (shooting/modulated_orbit.h), single and multiple
 //       shooting at several tolerances, started from the end of one L3 q1 run (3 s, 0.5 s
@@ -54,9 +54,9 @@
 #include "apps/sweep_jumps.h"
 #include "apps/sweep_output.h"
 #include "models/analytic.h"
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 #include "shooting/modulated_orbit.h"
-#include "shooting/whirl_limits.h"
+#include "studies/whirl_limits.h"
 
 namespace rubcont {
 namespace {
@@ -443,7 +443,7 @@ int Main(int argc, char** argv) {
   // The sweeps read a jump where the BP leaves the rolling line, as a waterfall does: a slip
   // tolerance of 99.9 % of ωR lets the frequency check alone decide whirl or whip. That is the
   // jump in the motion, at the whirl's loss of stability (the reference). The scenes' slip rule
-  // (models/rub_sweep.h) asks whether the contact rolls, which the tanh law gives up at its knee,
+  // (sweeps/rub_sweep.h) asks whether the contact rolls, which the tanh law gives up at its knee,
   // 0.72 rpm before the Hopf point in A(a) (both tend to the exact law's event as ε → 0).
   scene.analysis.sweep.rolling_slip_tolerance = 0.999;
   const std::filesystem::path out_dir = argv[2];

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "solvers/sweep.h"
+#include "sweeps/sweep.h"
 
 namespace rubcont {
 namespace {

@@ -22,7 +22,7 @@
 // contact's d). k = 0 is the carrier: φ continues from 0 at the Hopf point where the orbit is born,
 // and the transient's own precession is Ω_f. The component of largest amplitude among the
 // backward ones (Ω_k > 0) is what a sweep reports as its precession (the dominant negative
-// frequency of d, models/rub_sweep.h).
+// frequency of d, sweeps/rub_sweep.h).
 #pragma once
 
 #include <limits>

@@ -25,7 +25,7 @@
 
 #include "models/rub_model.h"
 #include "shooting/hopf_orbits.h"
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 

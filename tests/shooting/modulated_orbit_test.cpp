@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 namespace {

@@ -106,7 +106,7 @@ namespace {
 
 // Balancing is an exact similarity (powers of two): it must change no eigenvalue. Where it matters
 // (the close pair of the rub whip's state matrix, scattered by ±2.5 s⁻¹ without it) is tested in
-// tests/shooting/rotating_wave_branches_test.cpp.
+// tests/waves/rotating_wave_branches_test.cpp.
 TEST_CASE("balanced eigenvalues of a graded matrix are its eigenvalues", "[linear_algebra]") {
   // Known spectrum: pairs −0.5 ± 700i, −4 ± 276i, −13 ± 1320i and reals 730, −2e5, −3e5, mixed
   // by an orthogonal similarity, then scaled by D = diag(10^k), k from −6 to 6: the spread of a

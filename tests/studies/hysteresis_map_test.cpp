@@ -1,4 +1,4 @@
-#include "shooting/hysteresis_map.h"
+#include "studies/hysteresis_map.h"
 
 #include <algorithm>
 #include <cmath>

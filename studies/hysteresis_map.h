@@ -30,8 +30,8 @@
 
 #include "continuation/branch.h"
 #include "continuation/fold_optimization.h"
-#include "shooting/rotating_wave_branches.h"
-#include "shooting/rotating_wave_parameters.h"
+#include "waves/rotating_wave_branches.h"
+#include "waves/rotating_wave_parameters.h"
 
 namespace rubcont {
 

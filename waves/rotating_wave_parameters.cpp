@@ -1,4 +1,4 @@
-#include "shooting/rotating_wave_parameters.h"
+#include "waves/rotating_wave_parameters.h"
 
 #include <algorithm>
 #include <cmath>

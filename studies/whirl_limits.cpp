@@ -1,4 +1,4 @@
-#include "shooting/whirl_limits.h"
+#include "studies/whirl_limits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 namespace {

@@ -1,4 +1,4 @@
-#include "solvers/sweep.h"
+#include "sweeps/sweep.h"
 
 #include <algorithm>
 #include <chrono>

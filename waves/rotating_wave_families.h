@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "shooting/rotating_wave.h"
+#include "waves/rotating_wave.h"
 
 namespace rubcont {
 

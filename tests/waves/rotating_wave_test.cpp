@@ -1,4 +1,4 @@
-#include "shooting/rotating_wave.h"
+#include "waves/rotating_wave.h"
 
 #include <cmath>
 #include <complex>

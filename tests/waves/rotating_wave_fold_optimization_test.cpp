@@ -7,7 +7,7 @@
 
 #include "continuation/fold_optimization.h"
 #include "models/rub_model.h"
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
@@ -56,7 +56,7 @@ TEST_CASE("Ipopt and the engine locate the folds of the tanh-friction whirl bran
 }  // namespace
 }  // namespace rubcont
 
-#include "shooting/hysteresis_map.h"
+#include "studies/hysteresis_map.h"
 
 namespace rubcont {
 namespace {

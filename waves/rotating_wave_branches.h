@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "continuation/continuation.h"
-#include "shooting/rotating_wave_families.h"
+#include "waves/rotating_wave_families.h"
 
 namespace rubcont {
 

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "shooting/rotating_wave_branches.h"
-#include "shooting/rotating_wave_parameters.h"
+#include "waves/rotating_wave_branches.h"
+#include "waves/rotating_wave_parameters.h"
 
 namespace rubcont {
 

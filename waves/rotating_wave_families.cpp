@@ -1,4 +1,4 @@
-#include "shooting/rotating_wave_families.h"
+#include "waves/rotating_wave_families.h"
 
 #include <algorithm>
 #include <cmath>

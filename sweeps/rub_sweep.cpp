@@ -1,4 +1,4 @@
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 #include <algorithm>
 #include <cmath>

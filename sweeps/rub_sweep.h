@@ -2,7 +2,7 @@
 // observes at each contact, the impulse that starts the rub, the speed schedule, and the reading
 // of whirl, whip and the jumps between them off the sweep's result.
 //
-// The generic sweep (solvers/sweep.h) knows no model; this file is the rub side of it:
+// The generic sweep (sweeps/sweep.h) knows no model; this file is the rub side of it:
 //   channel k (one per contact)  signal d_k = u_rk − u_sk (complex, m): its dominant negative
 //                                frequency is the backward precession (BP) at contact k;
 //                                active while the contact touches (N_k > 0);
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "models/rub_model.h"
-#include "solvers/sweep.h"
+#include "sweeps/sweep.h"
 
 namespace rubcont {
 

@@ -1,4 +1,4 @@
-#include "shooting/identification.h"
+#include "studies/identification.h"
 
 #include <algorithm>
 #include <chrono>

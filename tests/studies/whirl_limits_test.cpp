@@ -1,4 +1,4 @@
-#include "shooting/whirl_limits.h"
+#include "studies/whirl_limits.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 namespace {

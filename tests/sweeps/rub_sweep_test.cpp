@@ -1,4 +1,4 @@
-#include "models/rub_sweep.h"
+#include "sweeps/rub_sweep.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
-#include "shooting/rotating_wave_branches.h"
-#include "shooting/whirl_limits.h"
+#include "waves/rotating_wave_branches.h"
+#include "studies/whirl_limits.h"
 
 namespace rubcont {
 namespace {
@@ -393,7 +393,7 @@ const RubSweepJump* FirstWhirlToWhip(const RubSweepRegimes& regimes, int k) {
 TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a speed at its ends "
           "ran to its dwell", "[rub_sweep][failure]") {
   // The stability limit the sweep looks for: where the tanh-law whirl it follows stops being
-  // stable (shooting/whirl_limits.h; measured: a Hopf point at 51.685 rpm).
+  // stable (studies/whirl_limits.h; measured: a Hopf point at 51.685 rpm).
   TwoPointParams params;
   params.friction_law.kind = FrictionLawKind::kTanh;
   RotatingWaveBranchOptions options;

@@ -107,7 +107,7 @@ class RotatingWaveProblem : public Problem {
   StartResult SolveConsistent(Vector& u, double omega, const NewtonOptions& options = {});
 
   // Replaces the structure's parameters (masses, stiffness, damping, contact law and geometry) for
-  // design and identification studies (shooting/rotating_wave_parameters.h), keeping the contact
+  // design and identification studies (waves/rotating_wave_parameters.h), keeping the contact
   // modes, the phase reference and the scales: the scales describe typical magnitudes and stay
   // fixed so that a two-parameter continuation sees one scaled problem. Throws
   // std::invalid_argument when the new structure is invalid or has other coordinates or contacts.

@@ -8,7 +8,7 @@
 // branch that is stable at that end of the range with every contact touching (N > 0). When
 // several are (case A(a) at 20 rpm: the Mode 1 and the Mode 2 whirl), the first of `patterns`
 // (PatternName) wins: Mode 1 first, because a translation impulse puts the contact normals in
-// phase (models/rub_sweep.h, RubImpulseIncrement), then Mode 2 (the truly overhung disk's
+// phase (sweeps/rub_sweep.h, RubImpulseIncrement), then Mode 2 (the truly overhung disk's
 // two-contact whirl belongs to that family).
 //
 // The limit. From that end the branch is walked in its own point order while its points stay
@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 

@@ -1,6 +1,6 @@
 // Design parameters of the two-point rub model as a second continuation parameter η of its
-// rotating waves, for hysteresis maps (shooting/hysteresis_map.h), fold location as an optimization
-// and identification (shooting/identification.h).
+// rotating waves, for hysteresis maps (studies/hysteresis_map.h), fold location as an optimization
+// and identification (studies/identification.h).
 //
 // A design parameter is one scalar of TwoPointParams, or one scalar that moves several of them
 // together, with its physical range:
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "models/two_point_params.h"
-#include "shooting/rotating_wave.h"
+#include "waves/rotating_wave.h"
 
 namespace rubcont {
 

@@ -5,7 +5,7 @@
 // until the response has settled or the dwell limit is reached; it then summarizes the last part
 // of the run: the two-sided spectrum of each observed complex signal, its dominant peak (refined
 // below the bin width), and statistics of real measures over the samples where the channel is
-// active. Nothing here knows a model: models/rub_sweep.h supplies the rub observables (relative
+// active. Nothing here knows a model: sweeps/rub_sweep.h supplies the rub observables (relative
 // motion and slip velocity at each contact) and reads regimes and jumps off the result.
 //
 // Settled (the criterion, per parameter value): the run is cut into consecutive windows of

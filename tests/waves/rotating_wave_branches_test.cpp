@@ -1,4 +1,4 @@
-#include "shooting/rotating_wave_branches.h"
+#include "waves/rotating_wave_branches.h"
 
 #include <algorithm>
 #include <cmath>
