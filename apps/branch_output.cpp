@@ -1,18 +1,76 @@
 #include "apps/branch_output.h"
 
 #include <cmath>
+#include <limits>
+
+#include "models/units.h"
 
 namespace rubcont {
 
 namespace {
 
-constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * M_PI);
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
+
+void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
+                             const ParameterColumn& parameter) {
+  const std::size_t n = branch.points.size();
+  std::vector<double> lambda(n), arclength(n);
+  std::vector<int> stable(n), unstable(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const BranchPoint& p = branch.points[i];
+    lambda[i] = p.lambda * parameter.factor;
+    arclength[i] = p.arclength;
+    unstable[i] = p.num_unstable;
+    stable[i] = p.num_unstable < 0 ? -1 : (p.num_unstable == 0 ? 1 : 0);
+  }
+  writer.WriteDoubles(group + "/" + parameter.name, lambda);
+  writer.WriteInts(group + "/stable", stable);
+  writer.WriteInts(group + "/unstable_count", unstable);
+  writer.WriteDoubles(group + "/arclength", arclength);
+  for (const std::string& name : branch.measure_names) {
+    writer.WriteDoubles(group + "/" + name, branch.Measure(name));
+  }
+}
+
+void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
+                              const ParameterColumn& parameter) {
+  std::vector<std::string> type, label, note;
+  std::vector<double> lambda, residual, correction;
+  std::vector<int> converged, index;
+  for (const SpecialPoint& p : branch.special_points) {
+    type.push_back(ToString(p.type));
+    label.push_back(p.label);
+    note.push_back(p.note);
+    lambda.push_back(p.lambda * parameter.factor);
+    residual.push_back(p.residual_norm);
+    correction.push_back(p.last_correction);
+    converged.push_back(p.converged ? 1 : 0);
+    index.push_back(static_cast<int>(p.index));
+  }
+  writer.CreateGroup(group);
+  writer.WriteStrings(group + "/type", type);
+  writer.WriteStrings(group + "/label", label);
+  writer.WriteDoubles(group + "/" + parameter.name, lambda);
+  writer.WriteInts(group + "/converged", converged);
+  writer.WriteDoubles(group + "/residual_norm", residual);
+  writer.WriteDoubles(group + "/last_correction", correction);
+  writer.WriteStrings(group + "/note", note);
+  writer.WriteInts(group + "/point_index", index);
+  for (std::size_t m = 0; m < branch.measure_names.size(); ++m) {
+    std::vector<double> column;
+    for (const SpecialPoint& p : branch.special_points) {
+      column.push_back(static_cast<Index>(m) < p.measures.size() ? p.measures(m) : kNaN);
+    }
+    writer.WriteDoubles(group + "/" + branch.measure_names[m], column);
+  }
+}
 
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,
                                FrictionLawKind law, const std::array<double, 2>& speed_range_rpm,
                                const std::string& root) {
+  const ParameterColumn speed{"speed_rpm", kRpmPerRadPerSecond};
   writer.CreateGroup(root);
   writer.SetAttribute(root, "level", "L1");
   writer.SetAttribute(root, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
@@ -30,67 +88,26 @@ void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingW
     writer.SetAttribute(group, "message", branch.message);
     writer.SetAttribute(group, "summary", branch.BriefReport());
 
-    const std::size_t n = branch.points.size();
-    std::vector<double> speed(n), arclength(n), growth(n);
-    std::vector<int> stable(n), unstable(n);
-    std::vector<std::string> piece(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const BranchPoint& p = branch.points[i];
-      speed[i] = p.lambda * kRpmPerRadPerSecond;
-      arclength[i] = p.arclength;
-      unstable[i] = p.num_unstable;
-      stable[i] = p.num_unstable < 0 ? -1 : (p.num_unstable == 0 ? 1 : 0);
-      growth[i] = p.spectrum.values.size() > 0 ? p.spectrum.values.real().maxCoeff() : std::nan("");
-      piece[i] = p.piece;
+    WriteBranchPointColumns(writer, group, branch, speed);
+    std::vector<double> growth;
+    std::vector<std::string> piece;
+    for (const BranchPoint& p : branch.points) {
+      growth.push_back(p.spectrum.values.size() > 0 ? p.spectrum.values.real().maxCoeff() : kNaN);
+      piece.push_back(p.piece);
     }
-    writer.WriteDoubles(group + "/speed_rpm", speed);
-    writer.WriteInts(group + "/stable", stable);
-    writer.WriteInts(group + "/unstable_count", unstable);
     writer.WriteDoubles(group + "/leading_growth_rate", growth);
-    writer.WriteDoubles(group + "/arclength", arclength);
     writer.WriteStrings(group + "/piece", piece);
-    for (const std::string& name : branch.measure_names) {
-      writer.WriteDoubles(group + "/" + name, branch.Measure(name));
-    }
 
     const std::string sp = group + "/special_points";
-    std::vector<std::string> type, label, note;
-    std::vector<double> sp_speed, sp_precession, residual, correction, frequency;
-    std::vector<int> converged, non_smooth, index;
-    for (std::size_t i = 0; i < branch.special_points.size(); ++i) {
-      const SpecialPoint& p = branch.special_points[i];
-      type.push_back(ToString(p.type));
-      label.push_back(p.label);
-      sp_speed.push_back(p.lambda * kRpmPerRadPerSecond);
-      sp_precession.push_back(b.SpecialPrecessionHz(i));
-      residual.push_back(p.residual_norm);
-      correction.push_back(p.last_correction);
-      note.push_back(p.note);
-      frequency.push_back(p.frequency / (2.0 * M_PI));
-      converged.push_back(p.converged ? 1 : 0);
+    WriteSpecialPointColumns(writer, sp, branch, speed);
+    std::vector<double> frequency;
+    std::vector<int> non_smooth;
+    for (const SpecialPoint& p : branch.special_points) {
+      frequency.push_back(RadPerSecondToHz(p.frequency));
       non_smooth.push_back(p.nonsmooth_fold ? 1 : 0);
-      index.push_back(static_cast<int>(p.index));
     }
-    writer.CreateGroup(sp);
-    writer.WriteStrings(sp + "/type", type);
-    writer.WriteStrings(sp + "/label", label);
-    writer.WriteDoubles(sp + "/speed_rpm", sp_speed);
-    writer.WriteDoubles(sp + "/precession_hz", sp_precession);
-    writer.WriteInts(sp + "/converged", converged);
-    writer.WriteDoubles(sp + "/residual_norm", residual);
-    writer.WriteDoubles(sp + "/last_correction", correction);
-    writer.WriteStrings(sp + "/note", note);
     writer.WriteDoubles(sp + "/frequency_hz", frequency);
     writer.WriteInts(sp + "/nonsmooth_fold", non_smooth);
-    writer.WriteInts(sp + "/point_index", index);
-    for (std::size_t m = 0; m < branch.measure_names.size(); ++m) {
-      if (branch.measure_names[m] == "precession_hz") continue;  // written above
-      std::vector<double> column;
-      for (const SpecialPoint& p : branch.special_points) {
-        column.push_back(static_cast<Index>(m) < p.measures.size() ? p.measures(m) : std::nan(""));
-      }
-      writer.WriteDoubles(sp + "/" + branch.measure_names[m], column);
-    }
   }
 }
 

@@ -26,6 +26,22 @@
 
 namespace rubcont {
 
+// The continuation parameter as written: dataset name and factor from the problem's λ (e.g.
+// "speed_rpm" with 60/2π for a running speed in rad/s).
+struct ParameterColumn {
+  std::string name = "parameter";
+  double factor = 1.0;
+};
+
+// The columns every branch group has, whatever its kind (rotating waves here, periodic orbits in
+// apps/orbit_output.h): in <group>, the parameter, stable, unstable_count, arclength and every
+// measure of the problem by name; in <group>/special_points, type, label, the parameter,
+// converged, residual_norm, last_correction, note, point_index and every measure at the point.
+void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
+                             const ParameterColumn& parameter);
+void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
+                              const ParameterColumn& parameter);
+
 // `root`: the group to write ("/branches"; the sweeps keep the branches of their own friction law
 // in "/sweeps/branches").
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,

@@ -1,6 +1,5 @@
 #include "apps/commands.h"
 
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -20,20 +19,16 @@
 #include "apps/hdf5_file.h"
 #include "apps/orbits_stage.h"
 #include "apps/scene.h"
-#include "apps/sweep_jumps.h"
+#include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "apps/version.h"
 #include "models/analytic.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Progress lines on stderr, silenced by --quiet.
 class Progress {
@@ -50,7 +45,6 @@ class Progress {
   bool quiet_;
   std::ostream& err_;
 };
-
 
 std::string Describe(const Transition& t) {
   switch (t.type) {
@@ -178,7 +172,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
              w.speed_step_rpm, w.dwell, w.settle_windows + 1, w.settle_window, w.spectrum_tolerance,
              w.frequency_tolerance_hz, w.impulse);
 
-  const Clock::time_point start = Clock::now();
+  const SteadyClock::time_point start = SteadyClock::now();
   std::size_t done = 0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     SweepRun& run = *runs[r];
@@ -250,7 +244,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   // branches are those of the law the sweeps integrate (tanh, ε = velocity_scale): with exact
   // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
   // they can, and the sweeps do.
-  const Clock::time_point branches_start = Clock::now();
+  const SteadyClock::time_point branches_start = SteadyClock::now();
   const RubStructure structure = TwoPointStructure(scene.two_point);
   const std::vector<RotatingWaveBranch> branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
@@ -288,21 +282,10 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   }
 }
 
-RubStructure StructureOf(const Scene& scene) {
-  return scene.model == ModelKind::kJeffcott ? JeffcottStructure(scene.jeffcott)
-                                             : TwoPointStructure(scene.two_point);
-}
-
-FrictionLawKind FrictionLawOf(const Scene& scene) {
-  return scene.model == ModelKind::kJeffcott ? scene.jeffcott.friction_law.kind
-                                             : scene.two_point.friction_law.kind;
-}
-
 // Level L1: every rotating-wave family of the scene continued over its speed range.
 void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, std::ostream& out,
                  std::vector<std::string>& failures) {
-  const Clock::time_point start = Clock::now();
-  constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
+  const SteadyClock::time_point start = SteadyClock::now();
   const FrictionLawKind law = FrictionLawOf(scene);
   // The imbalance is left out of the rotating waves (note below).
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
@@ -333,7 +316,7 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
     for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
       const SpecialPoint& p = b.branch.special_points[i];
       fmt::print(out, "    {:<36} {:9.3f} rpm {:9.3f} Hz{}\n", p.Name(),
-                 p.lambda / kRadPerSecondPerRpm, b.SpecialPrecessionHz(i),
+                 RadPerSecondToRpm(p.lambda), b.SpecialPrecessionHz(i),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }
     if (IsFailure(b.branch.status)) {
@@ -370,7 +353,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
     switch (stage) {
       case Stage::kAnalytic: {
         if (scene.model == ModelKind::kJeffcott) {
-          const Clock::time_point start = Clock::now();
+          const SteadyClock::time_point start = SteadyClock::now();
           const AnalyticOptions options = AnalyticOptionsOf(scene);
           const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
           WriteJeffcottAnalytic(writer, scene.jeffcott, curve);
@@ -388,7 +371,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
           scripts.push_back("analytic.py");
           break;
         }
-        const Clock::time_point start = Clock::now();
+        const SteadyClock::time_point start = SteadyClock::now();
         const TwoPointParams& p = scene.two_point;
         const AnalyticOptions options = AnalyticOptionsOf(scene);
         const AnalyticResult result = ComputeAnalytic(p, options);
@@ -400,7 +383,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
           without_damper = ComputeAnalytic(q, options);
         }
         const double compute_ms = 1e3 * SecondsSince(start);
-        const Clock::time_point write_start = Clock::now();
+        const SteadyClock::time_point write_start = SteadyClock::now();
         WriteAnalytic(writer, p, result, without_damper ? &*without_damper : nullptr);
         progress("[analytic] L0 closed form, 2 modes × {} frequencies{}: computed in {:.1f} ms, "
                  "written in {:.1f} ms", options.precession_points,
@@ -454,7 +437,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   }
 
   for (const std::string& script : scripts) {
-    const Clock::time_point start = Clock::now();
+    const SteadyClock::time_point start = SteadyClock::now();
     progress("figures: {} {} ...", PythonInterpreter(), (PlotsDirectory() / script).string());
     const FigureOutcome figures = MakeFigures(script, h5_file, out_dir);
     if (figures.made) {

@@ -16,6 +16,7 @@
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
+#include "apps/stage_options.h"
 #include "apps/version.h"
 #include "studies/identification.h"
 
@@ -295,10 +296,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
           request.scene_file));
     }
     FitSpec spec = LoadTargets(request.targets_file);
-    constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
-    spec.options.branches.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
-    spec.options.branches.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
-    spec.options.branches.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
+    spec.options.branches = BranchOptionsOf(scene);
 
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)

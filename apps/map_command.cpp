@@ -1,6 +1,5 @@
 #include "apps/map_command.h"
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <ostream>
@@ -11,18 +10,19 @@
 #include <fmt/ostream.h>
 
 #include "apps/commands.h"
-#include "apps/guarded.h"
 #include "apps/figures.h"
+#include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/map_output.h"
 #include "apps/scene.h"
+#include "apps/stage_options.h"
 #include "apps/version.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
-
-constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * M_PI);
 
 std::string SpecialPointName(SpecialPointType type, bool nonsmooth_fold) {
   if (type == SpecialPointType::kEvent && nonsmooth_fold) return "non_smooth_fold";
@@ -80,7 +80,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
   std::vector<int> nonsmooth, branch, before, after;
   for (const MapPoint& p : map.points) {
     eta.push_back(p.eta);
-    speed.push_back(p.speed * kRpmPerRadPerSecond);
+    speed.push_back(RadPerSecondToRpm(p.speed));
     precession.push_back(p.precession_hz);
     type.push_back(SpecialPointName(p.type, p.nonsmooth_fold));
     label.push_back(p.label);
@@ -111,7 +111,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     writer.SetAttribute(g, "status", ToString(c.curve.status));
     writer.SetAttribute(g, "message", c.curve.message);
     writer.SetAttribute(g, "start_eta", c.start_eta);
-    writer.SetAttribute(g, "start_speed_rpm", c.start_speed * kRpmPerRadPerSecond);
+    writer.SetAttribute(g, "start_speed_rpm", RadPerSecondToRpm(c.start_speed));
     writer.SetAttribute(g, "start_nonsmooth_fold", c.start_nonsmooth_fold ? 1.0 : 0.0);
     writer.SetAttribute(g, "fold_sense", static_cast<double>(c.fold_sense));
     writer.SetAttribute(g, "partner_margins", fmt::format("{}", fmt::join(c.partner_margins, "; ")));
@@ -130,7 +130,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       sp_eta.push_back(sp.lambda);
       double speed_rpm = std::nan("");
       if (!names.empty() && names[0] == "lambda" && sp.measures.size() > 0) {
-        speed_rpm = sp.measures(0) * kRpmPerRadPerSecond;
+        speed_rpm = RadPerSecondToRpm(sp.measures(0));
       }
       sp_speed.push_back(speed_rpm);
     }
@@ -138,9 +138,9 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     std::vector<std::string> x_status;
     for (const CurveExtremum& e : c.extrema) {
       x_eta.push_back(e.engine_eta);
-      x_speed.push_back(e.engine_speed * kRpmPerRadPerSecond);
+      x_speed.push_back(RadPerSecondToRpm(e.engine_speed));
       x_ipopt_eta.push_back(e.ipopt.lambda);
-      x_ipopt_speed.push_back(e.ipopt_speed * kRpmPerRadPerSecond);
+      x_ipopt_speed.push_back(RadPerSecondToRpm(e.ipopt_speed));
       x_status.push_back(ToString(e.ipopt.status));
     }
     writer.CreateGroup(g + "/extrema");
@@ -159,7 +159,6 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
 }
 
 int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) {
-  using Clock = std::chrono::steady_clock;
   return Guarded(err, [&] {
     const DesignParameter parameter = [&] {
       try {
@@ -200,10 +199,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     options.eta_points = request.eta_points;
     options.speed_points = request.speed_points;
-    constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
-    options.branches.search.speed_min = scene.analysis.speed_range_rpm[0] * kRadPerSecondPerRpm;
-    options.branches.search.speed_max = scene.analysis.speed_range_rpm[1] * kRadPerSecondPerRpm;
-    options.branches.search.precession_max = 2.0 * M_PI * scene.analysis.precession_range_hz[1];
+    options.branches = BranchOptionsOf(scene);
 
     const std::filesystem::path file =
         request.out_file ? std::filesystem::path(*request.out_file)
@@ -212,12 +208,12 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
     std::filesystem::create_directories(out_dir);
 
-    const Clock::time_point start = Clock::now();
+    const SteadyClock::time_point start = SteadyClock::now();
     const HysteresisMap map = ComputeHysteresisMap(
         scene.two_point, options, [&](const std::string& stage, int done, int total) {
           if (request.quiet) return;
           fmt::print(err, "rubcont: [map] {} {}/{} ({:.1f} s)\n", stage, done, total,
-                     std::chrono::duration<double>(Clock::now() - start).count());
+                     SecondsSince(start));
           err.flush();
         });
 
@@ -242,19 +238,19 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
       }
       fmt::print(out, "  {} {} \"{}\" from {:.3f} rpm at {} = {:g}: {} points, {} ∈ [{:g}, {:g}], "
                       "ended: {}\n",
-                 c.name, c.kind, c.label, c.start_speed * kRpmPerRadPerSecond, ToString(parameter),
+                 c.name, c.kind, c.label, RadPerSecondToRpm(c.start_speed), ToString(parameter),
                  c.start_eta, b.points.size(), ToString(parameter), lo, hi, b.message);
       for (const SpecialPoint& sp : b.special_points) {
         if (sp.type == SpecialPointType::kFold) continue;  // printed with Ipopt's below
         fmt::print(out, "    {} at {} = {:.6g}, {:.3f} rpm\n", sp.Name(), ToString(parameter),
-                   sp.lambda, sp.measures.size() > 0 ? sp.measures(0) * kRpmPerRadPerSecond : 0.0);
+                   sp.lambda, sp.measures.size() > 0 ? RadPerSecondToRpm(sp.measures(0)) : 0.0);
       }
       for (const CurveExtremum& e : c.extrema) {
         fmt::print(out, "    turning point ({} {}): engine {} = {:.10g} at {:.6f} rpm; Ipopt {} = "
                         "{:.10g} at {:.6f} rpm ({}, {} iterations)\n",
                    e.sense > 0 ? "largest" : "smallest", ToString(parameter), ToString(parameter),
-                   e.engine_eta, e.engine_speed * kRpmPerRadPerSecond, ToString(parameter),
-                   e.ipopt.lambda, e.ipopt_speed * kRpmPerRadPerSecond, ToString(e.ipopt.status),
+                   e.engine_eta, RadPerSecondToRpm(e.engine_speed), ToString(parameter),
+                   e.ipopt.lambda, RadPerSecondToRpm(e.ipopt_speed), ToString(e.ipopt.status),
                    e.ipopt.iterations);
         if (!e.ipopt.Solved()) fmt::print(out, "      Ipopt: {}\n", e.ipopt.message);
       }

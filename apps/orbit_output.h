@@ -17,17 +17,11 @@
 
 #include <string>
 
+#include "apps/branch_output.h"
 #include "apps/hdf5_file.h"
 #include "shooting/orbit_branches.h"
 
 namespace rubcont {
-
-// The continuation parameter as written: dataset name and factor from the problem's λ (e.g.
-// "speed_rpm" with 60/2π for a running speed in rad/s).
-struct ParameterColumn {
-  std::string name = "parameter";
-  double factor = 1.0;
-};
 
 // Writes <root>/<name>; creates <root> with its attributes if needed. `root`: "/branches" (the
 // textbook scenes) or "/orbits" (the modulated orbits of the rotor, apps/orbits_stage.h).

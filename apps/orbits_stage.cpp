@@ -1,7 +1,6 @@
 #include "apps/orbits_stage.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <ostream>
@@ -11,16 +10,16 @@
 
 #include "apps/branch_output.h"
 #include "apps/orbit_output.h"
-#include "apps/sweep_jumps.h"
+#include "apps/stage_options.h"
 #include "models/textbook.h"
+#include "models/units.h"
 #include "shooting/orbit_branches.h"
 #include "shooting/rub_orbits.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // The engine's step controller with the settings measured in bench/duffing_branch_bench.cpp:
 // Newton needs 3 iterations even on tiny steps (the last one confirms the step tolerance), so a
@@ -141,17 +140,12 @@ StageSetup Setup(const Scene& scene) {
   return setup;
 }
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
 // orbits born at the first scene.orbits.hopf_points Hopf points that bound a stable piece of them.
 void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                         const std::function<void(const std::string&)>& progress, std::ostream& out,
                         std::vector<std::string>& failures) {
-  constexpr double kRpm = 2.0 * M_PI / 60.0;
-  const Clock::time_point begin = Clock::now();
+  const SteadyClock::time_point begin = SteadyClock::now();
   RubStructure structure = TwoPointStructure(scene.two_point);
   const double imbalance = structure.imbalance;
   structure.imbalance = 0.0;  // not stationary in the co-rotating frame (as for the branches)
@@ -179,13 +173,13 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
   }
   for (const RubHopfStart& s : starts) {
     fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}\n",
-               s.branch, s.speed / kRpm, s.precession / (2.0 * M_PI),
+               s.branch, RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession),
                s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above");
   }
   HopfOrbitOptions options;
   options.amplitude = scene.orbits.amplitude;
-  options.orbits.lambda_min = scene.analysis.speed_range_rpm[0] * kRpm;
-  options.orbits.lambda_max = scene.analysis.speed_range_rpm[1] * kRpm;
+  options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
+  options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
   // CVODES BDF with the analytic Jacobian; the sensitivities under error control (without it
   // Newton stalls: the nearly undamped contact mode of the STM is damped numerically,
   // bench/modulated_whip_bench.cpp).
@@ -195,18 +189,19 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
   for (std::size_t k = 0; k < followed; ++k) {
     const RubHopfStart& start = starts[k];
     const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
-    const Clock::time_point t0 = Clock::now();
+    const SteadyClock::time_point t0 = SteadyClock::now();
     options.on_step = [&](const Branch& b) {
+      const double rpm = b.points.empty() ? 0.0 : RadPerSecondToRpm(b.points.back().lambda);
       progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name, k + 1,
-                           followed, b.Size(), b.points.empty() ? 0.0 : b.points.back().lambda / kRpm,
-                           SecondsSince(t0)));
+                           followed, b.Size(), rpm, SecondsSince(t0)));
       return true;
     };
     const RubModulatedOrbits orbits = ContinueModulatedOrbits(structure, waves, start, options);
-    WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", 1.0 / kRpm}, "/orbits");
+    WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", kRpmPerRadPerSecond},
+                             "/orbits");
     const std::string group = "/orbits/" + name;
     writer.SetAttribute(group, "hopf_branch", start.branch);
-    writer.SetAttribute(group, "hopf_speed_rpm", start.speed / kRpm);
+    writer.SetAttribute(group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
     writer.SetAttribute(group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
     writer.SetAttribute(group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
     const Branch& branch = orbits.orbits.branch;
@@ -215,7 +210,8 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     for (const SpecialPoint& p : branch.special_points) {
       fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation "
                       "{:.2f} Hz{}\n",
-                 p.Name(), p.lambda / kRpm, p.measures(branch.MeasureIndex("precession_hz")),
+                 p.Name(), RadPerSecondToRpm(p.lambda),
+                 p.measures(branch.MeasureIndex("precession_hz")),
                  p.measures(branch.MeasureIndex("modulation_hz")),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }
@@ -234,7 +230,7 @@ void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
     RunModulatedOrbits(scene, writer, progress, out, failures);
     return;
   }
-  const Clock::time_point begin = Clock::now();
+  const SteadyClock::time_point begin = SteadyClock::now();
   StageSetup setup = Setup(scene);
   if (!setup.start.valid) {
     failures.push_back(fmt::format("[orbits] no periodic orbit found at {} = {}: {}",

@@ -1232,12 +1232,4 @@ std::string SceneKeysMarkdown() {
   return out;
 }
 
-AnalyticOptions AnalyticOptionsOf(const Scene& scene) {
-  AnalyticOptions options;
-  options.min_precession_hz = scene.analysis.precession_range_hz[0];
-  options.max_precession_hz = scene.analysis.precession_range_hz[1];
-  options.precession_points = scene.analysis.precession_points;
-  return options;
-}
-
 }  // namespace rubcont

@@ -150,7 +150,4 @@ std::string DescribeScene(const Scene& scene);
 // type, unit, rule, required/default and meaning. scenes/README.md embeds it verbatim.
 std::string SceneKeysMarkdown();
 
-// The analytic grid the scene asks for.
-AnalyticOptions AnalyticOptionsOf(const Scene& scene);
-
 }  // namespace rubcont

@@ -204,61 +204,9 @@ SweepPointStatus ParseStatus(const std::string& text) {
 
 }  // namespace
 
-const char* ToString(SweepDirection direction) {
-  return direction == SweepDirection::kUp ? "up" : "down";
-}
-
-SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
-  const SweepSettings& s = scene.analysis.sweep;
-  SweepOptions o;
-  const std::vector<double> rpm =
-      direction == SweepDirection::kUp
-          ? SpeedSchedule(s.up_range_rpm[0], s.up_range_rpm[1], s.speed_step_rpm)
-          : SpeedSchedule(s.down_range_rpm[1], s.down_range_rpm[0], s.speed_step_rpm);
-  for (double v : rpm) o.parameters.push_back(RpmToRadPerSecond(v));
-  o.dwell = s.dwell;
-  o.window = s.settle_window;
-  o.settle_windows = s.settle_windows;
-  o.spectrum_tolerance = s.spectrum_tolerance;
-  o.frequency_tolerance = s.frequency_tolerance_hz;
-  o.analysis_length = s.analysis_length;
-  o.sample_rate = s.sample_rate_hz;
-  o.band = s.spectrum_max_hz;
-  o.peak_side = PeakSide::kNegative;
-  o.rotate_forcing_phase = scene.two_point.imbalance > 0.0;
-  o.integrator.method = IntegrationMethod::kBdf;
-  // Orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11 N/m)
-  // cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took 3×
-  // the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
-  o.integrator.max_order = 2;
-  o.integrator.relative_tolerance = s.relative_tolerance;
-  o.integrator.absolute_tolerance = s.absolute_tolerance;
-  o.integrator.max_steps = 100000000;  // per window; the dwell bounds the work
-  return o;
-}
-
-RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
-  RubRegimeOptions o;
-  o.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
-  o.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
-  o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
-  o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
-  return o;
-}
-
-namespace {
-RubStructure StructureOf(const Scene& scene) {
-  if (scene.model != ModelKind::kTwoPoint) {
-    throw std::invalid_argument(fmt::format("the sweep stage needs model = \"two_point\" (scene {} has {})",
-                                            scene.name, ToString(scene.model)));
-  }
-  return TwoPointStructure(scene.two_point);
-}
-}  // namespace
-
 SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<SweepOptions> options)
     : scene_(scene), direction_(direction) {
-  system_ = std::make_unique<RubFixedFrame>(StructureOf(scene));
+  system_ = std::make_unique<RubFixedFrame>(SweepStructureOf(scene));
   observables_ = std::make_unique<RubSweepObservables>(*system_);
   const Vector x0 = RubImpulseIncrement(system_->structure(), scene.analysis.sweep.impulse);
   stepper_ = std::make_unique<SweepStepper>(
@@ -268,7 +216,7 @@ SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<S
 SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::vector<SweepPoint> finished,
                    const Vector& state, std::optional<SweepOptions> options)
     : scene_(scene), direction_(direction) {
-  system_ = std::make_unique<RubFixedFrame>(StructureOf(scene));
+  system_ = std::make_unique<RubFixedFrame>(SweepStructureOf(scene));
   observables_ = std::make_unique<RubSweepObservables>(*system_);
   stepper_ = std::make_unique<SweepStepper>(
       *system_, *observables_, options ? std::move(*options) : SweepOptionsOf(scene, direction),
@@ -400,6 +348,56 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
   const std::vector<double> state = reader.ReadDoubles("/checkpoint/state");
   checkpoint.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
   return checkpoint;
+}
+
+void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {
+  const std::string g = "/sweeps/jump_table";
+  writer.CreateGroup(g);
+  writer.SetAttribute(g, "level", "L3 jumps, L1 bifurcations");
+  writer.SetAttribute(g, "rule",
+                      "a sweep state lies on a branch when the same contacts touch and each "
+                      "touching contact's BP is within max(1 Hz, 1 %) of the branch's precession "
+                      "at its speed (stable branches first, then the closest normal forces); the "
+                      "departure state is tried first, then the "
+                      "landing state; the predicting bifurcation is that branch's special point "
+                      "nearest the jump's speed interval, within 10 rpm of it (for a whirl <-> "
+                      "whip change the contact's tanh knee counts too and wins among equals); "
+                      "difference_rpm = middle of the interval minus the bifurcation speed");
+  std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
+  std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
+  std::vector<int> stable, settled;
+  for (const PredictedJump& r : rows) {
+    direction.push_back(r.direction);
+    contact.push_back(r.contact);
+    kind.push_back(ToString(r.jump.kind));
+    from_rpm.push_back(r.jump.speed_from_rpm);
+    to_rpm.push_back(r.jump.speed_to_rpm);
+    from_hz.push_back(r.jump.precession_from_hz);
+    to_hz.push_back(r.jump.precession_to_hz);
+    settled.push_back(r.jump.settled ? 1 : 0);
+    side.push_back(r.matched_side);
+    branch.push_back(r.branch);
+    stable.push_back(r.branch_stable);
+    bifurcation.push_back(r.bifurcation);
+    b_rpm.push_back(r.bifurcation_speed_rpm);
+    b_hz.push_back(r.bifurcation_precession_hz);
+    difference.push_back(r.difference_rpm);
+  }
+  writer.WriteStrings(g + "/direction", direction);
+  writer.WriteStrings(g + "/contact", contact);
+  writer.WriteStrings(g + "/kind", kind);
+  writer.WriteDoubles(g + "/speed_from_rpm", from_rpm);
+  writer.WriteDoubles(g + "/speed_to_rpm", to_rpm);
+  writer.WriteDoubles(g + "/precession_from_hz", from_hz);
+  writer.WriteDoubles(g + "/precession_to_hz", to_hz);
+  writer.WriteInts(g + "/settled", settled);
+  writer.WriteStrings(g + "/matched_side", side);
+  writer.WriteStrings(g + "/branch", branch);
+  writer.WriteInts(g + "/branch_stable", stable);
+  writer.WriteStrings(g + "/bifurcation", bifurcation);
+  writer.WriteDoubles(g + "/bifurcation_speed_rpm", b_rpm);
+  writer.WriteDoubles(g + "/bifurcation_precession_hz", b_hz);
+  writer.WriteDoubles(g + "/difference_rpm", difference);
 }
 
 }  // namespace rubcont

@@ -27,7 +27,21 @@
 //            settled}
 //
 // The sweep stage also writes /sweeps/branches (the L1 branches of the tanh law the sweeps
-// integrate, layout of apps/branch_output.h) and /sweeps/jump_table (apps/sweep_jumps.h).
+// integrate, layout of apps/branch_output.h) and the jump table:
+//
+//   /sweeps/jump_table   one row per jump (studies/jump_prediction.h), speed-up jumps first
+//                        (attrs level "L3 with L1", rule)
+//     direction ("up" | "down"), contact, kind (RubJumpKind), speed_from_rpm, speed_to_rpm,
+//     precession_from_hz, precession_to_hz       the jump as the sweep saw it (sweeps/rub_sweep.h)
+//     settled            1 when both speeds settled, 0 when one ran to its dwell (RubSweepJump)
+//     matched_side       "departure" | "landing" | "none": the state whose branch predicts the jump
+//                        (without a prediction: the state that lies on a branch, if any)
+//     branch             the branch it lies on ("" for none); branch_stable: 1 / 0 / −1 unknown,
+//                        at that speed
+//     bifurcation        SpecialPoint::Name() of the predicting point ("" for none)
+//     bifurcation_speed_rpm, bifurcation_precession_hz   where the branches put it (NaN for none)
+//     difference_rpm     jump speed − bifurcation speed, the jump speed being the middle of
+//                        [speed_from, speed_to] (± half a step); NaN for none
 //
 // A checkpoint file holds the same group for the finished speeds plus /checkpoint/state (the state
 // to continue from) and the resolved scene; it is rewritten atomically after every speed.
@@ -41,16 +55,11 @@
 
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
+#include "apps/stage_options.h"
+#include "studies/jump_prediction.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
-
-enum class SweepDirection { kUp, kDown };
-const char* ToString(SweepDirection direction);  // "up", "down"
-
-// The library options of one direction of the scene's sweep (speeds in rad/s).
-SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction);
-RubRegimeOptions RegimeOptionsOf(const Scene& scene);
 
 // One direction of a scene's sweep: the model, its observables and the stepper. Throws
 // std::invalid_argument when the scene's model is not the two-point rotor.
@@ -112,6 +121,9 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
                                                          const Scene& scene, SweepDirection direction);
+
+// Writes /sweeps/jump_table (layout above).
+void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows);
 
 // `<stem>.<direction>.checkpoint.h5` next to the result file `h5_file`.
 std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, SweepDirection direction);

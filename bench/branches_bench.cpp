@@ -12,7 +12,6 @@
 //
 //   build/bench/branches_bench [scenes-dir] [repetitions] [out.csv]
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,26 +21,15 @@
 #include <vector>
 
 #include "apps/scene.h"
+#include "apps/stage_options.h"
 #include "models/rub_model.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
 
-constexpr double kTwoPi = 2.0 * M_PI;
-constexpr double kRpmPerRadPerSecond = 60.0 / kTwoPi;
-
-RotatingWaveBranchOptions OptionsOf(const Scene& scene) {
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = scene.analysis.speed_range_rpm[0] / kRpmPerRadPerSecond;
-  options.search.speed_max = scene.analysis.speed_range_rpm[1] / kRpmPerRadPerSecond;
-  options.search.precession_max = kTwoPi * scene.analysis.precession_range_hz[1];
-  return options;
-}
-
-double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 struct Timed {
   std::vector<RotatingWaveBranch> branches;
@@ -53,9 +41,9 @@ Timed Time(const RubStructure& structure, FrictionLawKind law,
   Timed out;
   std::vector<double> times;
   for (int r = 0; r < repetitions; ++r) {
-    const auto start = std::chrono::steady_clock::now();
+    const SteadyClock::time_point start = SteadyClock::now();
     out.branches = ComputeRotatingWaveBranches(structure, law, options);
-    times.push_back(Seconds(start));
+    times.push_back(SecondsSince(start));
   }
   std::sort(times.begin(), times.end());
   out.median_s = times[times.size() / 2];
@@ -86,7 +74,7 @@ int Main(int argc, char** argv) {
                            "thesis_C_a", "thesis_C_b", "thesis_C_c"}) {
     const Scene scene = LoadScene(dir / (std::string(name) + ".toml"));
     const Timed t = Time(TwoPointStructure(scene.two_point), FrictionLawKind::kExact,
-                         OptionsOf(scene), repetitions);
+                         BranchOptionsOf(scene), repetitions);
     long points = 0, special = 0;
     for (const RotatingWaveBranch& b : t.branches) {
       points += b.branch.Size();
@@ -101,7 +89,7 @@ int Main(int argc, char** argv) {
   // Part 2: ε → 0 on case A(a).
   const Scene scene = LoadScene(dir / "thesis_A_a.toml");
   TwoPointParams params = scene.two_point;
-  const RotatingWaveBranchOptions options = OptionsOf(scene);
+  const RotatingWaveBranchOptions options = BranchOptionsOf(scene);
   const Timed exact = Time(TwoPointStructure(params), FrictionLawKind::kExact, options, repetitions);
   const SpecialPoint* event = Find(exact.branches, "left stick to slip+", 84.5);
   if (event == nullptr) {
@@ -110,7 +98,7 @@ int Main(int argc, char** argv) {
   }
   const double w_exact = event->lambda, hz_exact = event->measures(0);
   std::printf("case A(a), Mode 1 whirl → whip. Exact: %.9f rpm, %.9f Hz (%.1f ms per branch set)\n",
-              w_exact * kRpmPerRadPerSecond, hz_exact, 1e3 * exact.median_s);
+              RadPerSecondToRpm(w_exact), hz_exact, 1e3 * exact.median_s);
   std::printf("%10s %14s %14s %12s %12s %10s\n", "eps [m/s]", "speed [rpm]", "precession [Hz]",
               "speed err", "freq err", "time [ms]");
   std::ofstream out;
@@ -119,7 +107,7 @@ int Main(int argc, char** argv) {
     out.open(csv);
     out << "# case A(a) Mode 1 whirl -> whip: tanh(V/eps) transition (knee: dW/dw = R/(2C), left contact) "
            "against the exact stick -> slip event\n"
-        << "# exact: speed_rpm " << w_exact * kRpmPerRadPerSecond << ", precession_hz " << hz_exact
+        << "# exact: speed_rpm " << RadPerSecondToRpm(w_exact) << ", precession_hz " << hz_exact
         << ", time_ms " << 1e3 * exact.median_s << "\n"
         << "eps_m_per_s,speed_rpm,precession_hz,speed_rel_error,precession_rel_error,time_ms\n";
   }
@@ -133,10 +121,10 @@ int Main(int argc, char** argv) {
     }
     const double e_w = (p->lambda - w_exact) / w_exact;
     const double e_hz = (p->measures(0) - hz_exact) / hz_exact;
-    std::printf("%10.0e %14.6f %14.6f %12.3e %12.3e %10.1f\n", eps, p->lambda * kRpmPerRadPerSecond,
+    std::printf("%10.0e %14.6f %14.6f %12.3e %12.3e %10.1f\n", eps, RadPerSecondToRpm(p->lambda),
                 p->measures(0), e_w, e_hz, 1e3 * tanh.median_s);
     if (out) {
-      out << eps << ',' << p->lambda * kRpmPerRadPerSecond << ',' << p->measures(0) << ',' << e_w
+      out << eps << ',' << RadPerSecondToRpm(p->lambda) << ',' << p->measures(0) << ',' << e_w
           << ',' << e_hz << ',' << 1e3 * tanh.median_s << '\n';
     }
   }

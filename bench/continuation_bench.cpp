@@ -26,13 +26,12 @@
 #include "continuation/fold.h"
 #include "models/rub_model.h"
 #include "models/two_point_params.h"
-#include "waves/rotating_wave.h"
+#include "models/units.h"
 #include "solvers/newton.h"
+#include "waves/rotating_wave.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
 
 double RadPerSecond(double rpm) { return rpm * kTwoPi / 60.0; }
 

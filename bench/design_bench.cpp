@@ -1,7 +1,6 @@
 // Design and identification (issue 8) on case A(a): Ipopt against the engine's located folds,
 // hysteresis-map timings, and the identification of hidden parameters from synthetic targets.
 // Prints measured numbers; not part of the test suite.
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -9,25 +8,23 @@
 
 #include "continuation/fold_optimization.h"
 #include "models/rub_model.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
 #include "studies/hysteresis_map.h"
 #include "studies/identification.h"
 
 namespace {
 
 using namespace rubcont;
-constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
 
 RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
   RotatingWaveBranchOptions options;
-  options.search.speed_min = rpm_min * kRadPerSecondPerRpm;
-  options.search.speed_max = rpm_max * kRadPerSecondPerRpm;
+  options.search.speed_min = RpmToRadPerSecond(rpm_min);
+  options.search.speed_max = RpmToRadPerSecond(rpm_max);
   options.search.precession_max = 2.0 * M_PI * 200.0;
   return options;
 }
 
-double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 void FoldsByIpopt() {
   std::printf("== Ipopt vs the engine's located folds (tanh friction, ε = 1e-3 m/s, case A(a)) ==\n");
@@ -45,12 +42,12 @@ void FoldsByIpopt() {
       problem.SetPhaseReference(before.u);
       FoldOptimizationOptions nlp;
       nlp.sense = before.lambda < fold.lambda ? +1 : -1;
-      const auto start = std::chrono::steady_clock::now();
+      const SteadyClock::time_point start = SteadyClock::now();
       const FoldOptimizationResult r = LocateFoldByOptimization(problem, before.u, before.lambda, nlp);
       std::printf("  %s (%s): engine %.12f rpm, Ipopt %.12f rpm (%s, %d it, %.1f ms), rel. diff %.2e\n",
-                  b.name.c_str(), PatternName(b.normals).c_str(), fold.lambda / kRadPerSecondPerRpm,
-                  r.lambda / kRadPerSecondPerRpm, ToString(r.status), r.iterations,
-                  1e3 * Seconds(start), std::abs(r.lambda - fold.lambda) / fold.lambda);
+                  b.name.c_str(), PatternName(b.normals).c_str(), RadPerSecondToRpm(fold.lambda),
+                  RadPerSecondToRpm(r.lambda), ToString(r.status), r.iterations,
+                  1e3 * SecondsSince(start), std::abs(r.lambda - fold.lambda) / fold.lambda);
     }
   }
 }

@@ -4,13 +4,14 @@
 // "orbits" does, with the numerics on the command line, to measure their cost.
 // Usage: modulated_whip_bench [AMPLITUDE [SEGMENTS [TOLERANCE [STEPS [MAX_ORDER [ERROR_CONTROL
 //                             [CONTACT_STIFFNESS]]]]]]]
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "shooting/rub_orbits.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 namespace {
@@ -22,27 +23,26 @@ int Main(int argc, char** argv) {
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
   const int max_order = argc > 5 ? std::atoi(argv[5]) : 0;
   const bool error_control = argc > 6 ? std::atoi(argv[6]) != 0 : true;
-  constexpr double kRpm = 2.0 * M_PI / 60.0;
   TwoPointParams params;  // case A(a)
   params.friction_law.kind = FrictionLawKind::kTanh;
   if (argc > 7) params.contact_stiffness = std::atof(argv[7]);
   const RubStructure structure = TwoPointStructure(params);
   RotatingWaveBranchOptions options;
-  options.search.speed_min = 20 * kRpm;
-  options.search.speed_max = 260 * kRpm;
+  options.search.speed_min = RpmToRadPerSecond(20);
+  options.search.speed_max = RpmToRadPerSecond(260);
   options.search.precession_max = 2 * M_PI * 200;
   const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options, {});
   const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
   for (const RubHopfStart& s : starts) {
     std::printf("%s: Hopf at %.4f rpm, precession %.4f Hz, modulation %.3f rad/s, stable %s\n",
-                s.branch.c_str(), s.speed / kRpm, s.precession / (2 * M_PI), s.modulation,
+                s.branch.c_str(), RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession), s.modulation,
                 s.stable_below ? "below" : "above");
   }
   if (starts.empty()) return 1;
   HopfOrbitOptions hopf_options;
   hopf_options.amplitude = amplitude;
-  hopf_options.orbits.lambda_min = 20 * kRpm;
-  hopf_options.orbits.lambda_max = 260 * kRpm;
+  hopf_options.orbits.lambda_min = RpmToRadPerSecond(20);
+  hopf_options.orbits.lambda_max = RpmToRadPerSecond(260);
   hopf_options.orbits.shooting.segments = segments;
   hopf_options.orbits.shooting.integrator.relative_tolerance = tolerance;
   hopf_options.orbits.shooting.integrator.absolute_tolerance = tolerance;
@@ -52,10 +52,10 @@ int Main(int argc, char** argv) {
   hopf_options.orbits.shooting.sensitivities_in_residual = true;
   hopf_options.orbits.continuation.bounds.max_steps = steps;
   hopf_options.orbits.continuation.step.target_iterations = 5;
-  const auto t0 = std::chrono::steady_clock::now();
+  const SteadyClock::time_point t0 = SteadyClock::now();
   const RubModulatedOrbits result =
       ContinueModulatedOrbits(structure, branches, starts.front(), hopf_options);
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double s = SecondsSince(t0);
   const Branch& branch = result.orbits.branch;
   std::printf("%s — %s (%.1f s, %ld integrator steps)\n", branch.BriefReport().c_str(),
               branch.message.c_str(), s, result.orbits.work.steps);
@@ -66,7 +66,7 @@ int Main(int argc, char** argv) {
     const BranchPoint& q = branch.points[static_cast<std::size_t>(i)];
     std::printf("  %9.4f rpm  T = %.6e s  carrier %.4f Hz  N_left %.1f–%.1f N  unstable %d  "
                 "max|mu| %.4f\n",
-                q.lambda / kRpm, period(i), carrier(i), n_min(i), n_max(i), q.num_unstable,
+                RadPerSecondToRpm(q.lambda), period(i), carrier(i), n_min(i), n_max(i), q.num_unstable,
                 q.spectrum.values.size() ? q.spectrum.values.cwiseAbs().maxCoeff() : NAN);
   }
   return 0;

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "apps/scene.h"
-#include "apps/sweep_jumps.h"
+#include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "sweeps/rub_sweep.h"
 

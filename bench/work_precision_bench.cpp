@@ -51,18 +51,18 @@
 #include <fmt/format.h>
 
 #include "apps/scene.h"
-#include "apps/sweep_jumps.h"
+#include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/analytic.h"
-#include "sweeps/rub_sweep.h"
+#include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "studies/whirl_limits.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kTwoPi = 6.283185307179586;
 
 double CpuSeconds() {
   rusage usage{};

@@ -1,5 +1,6 @@
 #include "models/analytic.h"
 
+#include "models/units.h"
 #include "solvers/scalar_root.h"
 
 #include <algorithm>
@@ -16,8 +17,6 @@ namespace {
 
 using Complex = std::complex<double>;
 using ComplexMatrix2 = Eigen::Matrix2cd;
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 // m [[(1−c)², c(1−c)], [c(1−c), c²]] + (I/L²) [[1, −1], [−1, 1]]: a rigid body of mass m and
 // transverse inertia I about its mass centre, described by its displacements at two planes L apart,

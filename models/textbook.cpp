@@ -1,4 +1,5 @@
 #include "models/textbook.h"
+#include "models/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 void RequireFinite(const char* type, const char* field, double value) {
   if (!std::isfinite(value)) {

@@ -6,12 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "models/units.h"
 #include "sweeps/sweep.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 // d = u_rotor − u_stator of contact 0, from a state [q; v] (real pairs).
 std::complex<double> FirstContact(const RubStructure& structure, ConstVectorRef x) {

@@ -1,7 +1,6 @@
 #include "studies/hysteresis_map.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,16 +10,11 @@
 #include "continuation/event_curve.h"
 #include "continuation/fold.h"
 #include "models/rub_model.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 int StableFlag(const BranchPoint& p) {
   if (p.num_unstable < 0) return -1;
@@ -205,7 +199,7 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
   map.stable_count = Eigen::MatrixXi::Zero(m, k);
 
   // 1. The grid.
-  const Clock::time_point grid_start = Clock::now();
+  const SteadyClock::time_point grid_start = SteadyClock::now();
   for (Index i = 0; i < m; ++i) {
     const double eta = map.eta(i);
     try {
@@ -273,7 +267,7 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
   }
 
   // 2. Curves through the events and folds of the branch set at the base η.
-  const Clock::time_point curve_start = Clock::now();
+  const SteadyClock::time_point curve_start = SteadyClock::now();
   const std::vector<RotatingWaveBranch> base = ComputeRotatingWaveBranches(
       TwoPointStructure(WithoutImbalance(params)), law, branch_options);
   RotatingWaveDesignProblem problem(params, options.parameter);

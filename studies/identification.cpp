@@ -1,7 +1,6 @@
 #include "studies/identification.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,12 +10,12 @@
 #include <nlopt.hpp>
 
 #include "models/rub_model.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
-
-constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
 
 TwoPointParams Apply(TwoPointParams params, const std::vector<FitParameter>& parameters,
                      const std::vector<double>& theta) {
@@ -197,7 +196,7 @@ std::vector<double> PredictTargets(const TwoPointParams& params,
         if (p.type != SpecialPointType::kEvent && p.type != SpecialPointType::kTestFunction) continue;
         if (!p.converged || p.label.find(t.event_label) == std::string::npos) continue;
         const double value = t.quantity == TargetQuantity::kSpeedRpm
-                                 ? p.lambda / kRadPerSecondPerRpm
+                                 ? RadPerSecondToRpm(p.lambda)
                                  : b.SpecialPrecessionHz(s);
         if (std::abs(value - t.value) < best) {
           best = std::abs(value - t.value);
@@ -215,7 +214,7 @@ IdentificationResult Identify(const TwoPointParams& params,
                               const IdentificationOptions& options) {
   Validate(targets, parameters, options);
   Validate(params);
-  const auto start = std::chrono::steady_clock::now();
+  const SteadyClock::time_point start = SteadyClock::now();
   const unsigned d = static_cast<unsigned>(parameters.size());
   IdentificationResult result;
   ObjectiveData data{&params, &targets, &parameters, &options.branches};
@@ -304,7 +303,7 @@ IdentificationResult Identify(const TwoPointParams& params,
       }
     }
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
 
   double worst = 0.0;
   std::size_t worst_index = 0;

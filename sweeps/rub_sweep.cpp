@@ -1,4 +1,5 @@
 #include "sweeps/rub_sweep.h"
+#include "models/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,6 @@ namespace rubcont {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kTwoPi = 6.283185307179586;
 }  // namespace
 
 RubSweepObservables::RubSweepObservables(RubFixedFrame& system) : system_(system) {}

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "sweeps/sweep.h"
 
 namespace rubcont {
@@ -48,9 +49,6 @@ Vector RubImpulseIncrement(const RubStructure& structure, double impulse);
 // …, up to and including `to_rpm` when it lies on the grid (within 1e-9 steps), otherwise the
 // last value before it. Throws std::invalid_argument for non-finite or non-positive inputs.
 std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm);
-
-constexpr double RpmToRadPerSecond(double rpm) { return rpm * 0.10471975511965977; }  // 2π/60
-constexpr double RadPerSecondToRpm(double omega) { return omega / 0.10471975511965977; }
 
 // What each contact does at one speed of the sweep. Rolling is decided by the slip the sweep
 // measures, the frequency is a check: with V̄_k the mean slip velocity over the analysed samples

@@ -1,7 +1,7 @@
 #include "sweeps/sweep.h"
+#include "solvers/stopwatch.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -303,7 +303,7 @@ ChannelSummary SweepStepper::Summarize(int channel, Index first, Index count) co
 SweepStepOutcome SweepStepper::Step() {
   if (failed_) return SweepStepOutcome::kFailed;
   if (Done()) return SweepStepOutcome::kDone;
-  const auto wall_start = std::chrono::steady_clock::now();
+  const SteadyClock::time_point wall_start = SteadyClock::now();
   const SweepOptions& o = options_;
   const int channels = observables_.Channels();
   const int measures = observables_.Measures();
@@ -386,8 +386,7 @@ SweepStepOutcome SweepStepper::Step() {
       system_.Rotate(-std::remainder(phase, 2.0 * kPi), x_);
     }
   }
-  point.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  point.wall_seconds = SecondsSince(wall_start);
   points_.push_back(std::move(point));
   if (failed) {
     failed_ = true;

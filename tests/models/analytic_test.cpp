@@ -1,4 +1,5 @@
 #include "models/analytic.h"
+#include "models/units.h"
 
 #include <cmath>
 #include <complex>
@@ -12,7 +13,6 @@ namespace rubcont {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 // Thesis data, disk at centre (Eq. 31, Table 1 case A): the TwoPointParams defaults.
 TwoPointParams DiskAtCenter(double center_damping = 0.0) {

@@ -1,4 +1,5 @@
 #include "models/jeffcott.h"
+#include "models/units.h"
 
 #include <cmath>
 
@@ -6,8 +7,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
 
 TEST_CASE("Jeffcott closed form equals the general circular-orbit solve", "[jeffcott]") {
   const JeffcottParams params;

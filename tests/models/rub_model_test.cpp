@@ -6,12 +6,11 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "models/units.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
 
 // A state of the two-point model with both contacts penetrating slightly and moving.
 Vector TouchingState(const RubStructure& s) {

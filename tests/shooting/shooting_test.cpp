@@ -5,14 +5,13 @@
 #include <catch2/catch.hpp>
 
 #include "models/textbook.h"
+#include "models/units.h"
 #include "solvers/finite_difference.h"
 #include "solvers/newton.h"
 #include "tests/shooting/traced_newton.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 NewtonResult Solve(ShootingProblem& problem, Vector& u, double lambda,
                    const NewtonOptions& options = {}) {

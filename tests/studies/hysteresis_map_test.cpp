@@ -9,12 +9,10 @@
 #include "continuation/event_curve.h"
 #include "models/analytic.h"
 #include "models/rub_model.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
-constexpr double kRadPerSecondPerRpm = kTwoPi / 60.0;
 
 TwoPointParams ExactThesisA() {
   TwoPointParams params;  // case A(a): disk at centre, RCI 100/100
@@ -271,7 +269,6 @@ TEST_CASE("an event curve stops where the parameter leaves its physical range",
   CHECK_THROWS_WITH(ContinueEventCurve(problem, fold), Catch::Contains("not an event"));
 }
 
-
 TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engine and by Ipopt",
           "[design][map][fold_optimization]") {
   // The Mode 2 whirl's stick → slip event (79.9 rpm) and its whip's slip → stick event (89.9 rpm)
@@ -306,7 +303,6 @@ TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engi
   CHECK(mode2[0]->engine_eta > 1000.0);
   CHECK(mode2[0]->engine_eta < 1500.0);
 }
-
 
 TEST_CASE("the design problem at eta equals a rotating-wave problem built with that parameter",
           "[design][parameters]") {

@@ -8,12 +8,10 @@
 
 #include "models/analytic.h"
 #include "models/jeffcott.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
-constexpr double kRadPerSecondPerRpm = kTwoPi / 60.0;
 
 RotatingWaveBranchOptions ThesisRange() {
   RotatingWaveBranchOptions options;

@@ -7,11 +7,10 @@
 
 #include "models/analytic.h"
 #include "models/jeffcott.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
 
 double PrecessionHz(const RotatingWaveProblem& problem, const RotatingWaveStart& start) {
   return problem.Precession(start.u) / kTwoPi;

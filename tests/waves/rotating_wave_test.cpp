@@ -6,12 +6,11 @@
 
 #include <catch2/catch.hpp>
 
+#include "models/units.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kTwoPi = 2.0 * M_PI;
 
 double Rpm(double omega) { return omega * 60.0 / kTwoPi; }
 

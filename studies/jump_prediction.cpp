@@ -1,4 +1,5 @@
-#include "apps/sweep_jumps.h"
+#include "studies/jump_prediction.h"
+#include "models/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@ namespace rubcont {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kRpmPerRadPerSecond = 30.0 / 3.14159265358979323846;
 
 struct BranchMatch {
   const RotatingWaveBranch* branch = nullptr;
@@ -57,8 +57,8 @@ BranchMatch MatchState(const SweepState& state, const RubStructure& structure,
     if (!complete) continue;
     const auto& points = b.branch.points;
     for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-      const double r0 = points[i].lambda * kRpmPerRadPerSecond;
-      const double r1 = points[i + 1].lambda * kRpmPerRadPerSecond;
+      const double r0 = RadPerSecondToRpm(points[i].lambda);
+      const double r1 = RadPerSecondToRpm(points[i + 1].lambda);
       if (state.speed_rpm < std::min(r0, r1) || state.speed_rpm > std::max(r0, r1)) continue;
       if (points[i].piece != points[i + 1].piece) continue;  // no interpolation across a switch
       const double s = r1 == r0 ? 0.0 : (state.speed_rpm - r0) / (r1 - r0);
@@ -128,7 +128,7 @@ int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, doubl
     const SpecialPoint& p = b.branch.special_points[i];
     const bool is_knee = p.type == SpecialPointType::kTestFunction && !knee.empty() && p.label == knee;
     if (p.type == SpecialPointType::kTestFunction && !is_knee) continue;
-    const double rpm = p.lambda * kRpmPerRadPerSecond;
+    const double rpm = RadPerSecondToRpm(p.lambda);
     const double distance = rpm < lo ? lo - rpm : rpm > hi ? rpm - hi : 0.0;
     if (distance > max_distance) continue;
     if (distance < best_distance || (distance == best_distance && is_knee && !best_knee)) {
@@ -141,14 +141,6 @@ int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, doubl
 }
 
 }  // namespace
-
-RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = scene.analysis.speed_range_rpm[0] / kRpmPerRadPerSecond;
-  options.search.speed_max = scene.analysis.speed_range_rpm[1] / kRpmPerRadPerSecond;
-  options.search.precession_max = 2.0 * 3.14159265358979323846 * scene.analysis.precession_range_hz[1];
-  return options;
-}
 
 std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,
                                         const std::vector<SweepPoint>& points,
@@ -184,7 +176,7 @@ std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubS
       if (k < 0) continue;
       const SpecialPoint& p = match.branch->branch.special_points[static_cast<std::size_t>(k)];
       row.bifurcation = p.Name();
-      row.bifurcation_speed_rpm = p.lambda * kRpmPerRadPerSecond;
+      row.bifurcation_speed_rpm = RadPerSecondToRpm(p.lambda);
       row.bifurcation_precession_hz = match.branch->SpecialPrecessionHz(static_cast<std::size_t>(k));
       row.difference_rpm = 0.5 * (lo + hi) - row.bifurcation_speed_rpm;
       break;
@@ -192,56 +184,6 @@ std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubS
     rows.push_back(row);
   }
   return rows;
-}
-
-void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {
-  const std::string g = "/sweeps/jump_table";
-  writer.CreateGroup(g);
-  writer.SetAttribute(g, "level", "L3 jumps, L1 bifurcations");
-  writer.SetAttribute(g, "rule",
-                      "a sweep state lies on a branch when the same contacts touch and each "
-                      "touching contact's BP is within max(1 Hz, 1 %) of the branch's precession "
-                      "at its speed (stable branches first, then the closest normal forces); the "
-                      "departure state is tried first, then the "
-                      "landing state; the predicting bifurcation is that branch's special point "
-                      "nearest the jump's speed interval, within 10 rpm of it (for a whirl <-> "
-                      "whip change the contact's tanh knee counts too and wins among equals); "
-                      "difference_rpm = middle of the interval minus the bifurcation speed");
-  std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
-  std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
-  std::vector<int> stable, settled;
-  for (const PredictedJump& r : rows) {
-    direction.push_back(r.direction);
-    contact.push_back(r.contact);
-    kind.push_back(ToString(r.jump.kind));
-    from_rpm.push_back(r.jump.speed_from_rpm);
-    to_rpm.push_back(r.jump.speed_to_rpm);
-    from_hz.push_back(r.jump.precession_from_hz);
-    to_hz.push_back(r.jump.precession_to_hz);
-    settled.push_back(r.jump.settled ? 1 : 0);
-    side.push_back(r.matched_side);
-    branch.push_back(r.branch);
-    stable.push_back(r.branch_stable);
-    bifurcation.push_back(r.bifurcation);
-    b_rpm.push_back(r.bifurcation_speed_rpm);
-    b_hz.push_back(r.bifurcation_precession_hz);
-    difference.push_back(r.difference_rpm);
-  }
-  writer.WriteStrings(g + "/direction", direction);
-  writer.WriteStrings(g + "/contact", contact);
-  writer.WriteStrings(g + "/kind", kind);
-  writer.WriteDoubles(g + "/speed_from_rpm", from_rpm);
-  writer.WriteDoubles(g + "/speed_to_rpm", to_rpm);
-  writer.WriteDoubles(g + "/precession_from_hz", from_hz);
-  writer.WriteDoubles(g + "/precession_to_hz", to_hz);
-  writer.WriteInts(g + "/settled", settled);
-  writer.WriteStrings(g + "/matched_side", side);
-  writer.WriteStrings(g + "/branch", branch);
-  writer.WriteInts(g + "/branch_stable", stable);
-  writer.WriteStrings(g + "/bifurcation", bifurcation);
-  writer.WriteDoubles(g + "/bifurcation_speed_rpm", b_rpm);
-  writer.WriteDoubles(g + "/bifurcation_precession_hz", b_hz);
-  writer.WriteDoubles(g + "/difference_rpm", difference);
 }
 
 }  // namespace rubcont

@@ -1,4 +1,4 @@
-#include "apps/sweep_jumps.h"
+#include "studies/jump_prediction.h"
 
 #include <cmath>
 #include <limits>
@@ -47,7 +47,7 @@ struct ShortSweep {
 };
 
 TEST_CASE("Jump table: the speed-up sweep leaves the Mode 1 whirl at its stick-slip event",
-          "[sweep_jumps]") {
+          "[jump_prediction]") {
   const CaseAa a;
   const ShortSweep sweep(a.structure);
   // Both contacts jump whirl → whip between 50 and 52 rpm; the Mode 1 whirl's contacts reach μ at
@@ -121,7 +121,7 @@ TEST_CASE("Jump table: the speed-up sweep leaves the Mode 1 whirl at its stick-s
 }
 
 TEST_CASE("Jump table: a state on no branch is reported as such, the landing state is tried next",
-          "[sweep_jumps]") {
+          "[jump_prediction]") {
   const CaseAa a;
   // Two speeds: a made-up state precessing at 40 Hz at 70 rpm with both contacts touching (on no
   // rotating wave), then the rotor free at 66 rpm; then regaining contact into rolling.

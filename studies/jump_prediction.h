@@ -1,18 +1,6 @@
-// The jump table of a scene's sweeps: each jump a time-marching sweep makes (level L3) next to the
-// bifurcation of the continuation branches (level L1) that predicts it.
-//
-//   /sweeps/jump_table   one row per jump, speed-up jumps first (attrs level "L3 with L1", rule)
-//     direction ("up" | "down"), contact, kind (RubJumpKind), speed_from_rpm, speed_to_rpm,
-//     precession_from_hz, precession_to_hz       the jump as the sweep saw it (sweeps/rub_sweep.h)
-//     settled            1 when both speeds settled, 0 when one ran to its dwell (RubSweepJump)
-//     matched_side       "departure" | "landing" | "none": the state whose branch predicts the jump
-//                        (without a prediction: the state that lies on a branch, if any)
-//     branch             the branch it lies on ("" for none); branch_stable: 1 / 0 / −1 unknown,
-//                        at that speed
-//     bifurcation        SpecialPoint::Name() of the predicting point ("" for none)
-//     bifurcation_speed_rpm, bifurcation_precession_hz   where the branches put it (NaN for none)
-//     difference_rpm     jump speed − bifurcation speed, the jump speed being the middle of
-//                        [speed_from, speed_to] (± half a step); NaN for none
+// Jump prediction: each jump a time-marching sweep makes (level L3) next to the bifurcation of the
+// continuation branches (level L1) that predicts it — the rows of a scene's jump table
+// (apps/sweep_output.h writes them to /sweeps/jump_table).
 //
 // The rule (PredictJumps): a state of the sweep lies on a branch when, at its speed, the same
 // contacts touch (sweep: in contact ≥ half the analysed time; branch: N > 0) and each touching
@@ -33,8 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "apps/hdf5_file.h"
-#include "apps/scene.h"
 #include "sweeps/rub_sweep.h"
 #include "waves/rotating_wave_branches.h"
 
@@ -61,10 +47,6 @@ struct PredictedJump {
   double difference_rpm;              // middle of the jump's interval − bifurcation speed
 };
 
-// The continuation options `rubcont branches` uses for a scene: its speed_range_rpm and the top of
-// its precession_range_hz.
-RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene);
-
 // The prediction of every jump of one direction's classified sweep.
 // `points` and `regimes` are one direction's sweep (SweepStepper::points(), ClassifySweep).
 std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,
@@ -72,8 +54,5 @@ std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubS
                                         const RubSweepRegimes& regimes,
                                         const std::vector<RotatingWaveBranch>& branches,
                                         const JumpMatchOptions& options = {});
-
-// Writes /sweeps/jump_table (layout above).
-void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows);
 
 }  // namespace rubcont

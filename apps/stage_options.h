@@ -1,0 +1,36 @@
+// What a scene asks of each stage, as the library's options: one function per stage, used by the
+// commands, the benchmarks and the tests, so that a stage runs the same way wherever it is called.
+#pragma once
+
+#include "apps/scene.h"
+#include "models/analytic.h"
+#include "models/rub_model.h"
+#include "sweeps/rub_sweep.h"
+#include "waves/rotating_wave_branches.h"
+
+namespace rubcont {
+
+// The closed form's precession grid: [analysis] precession_range_hz and precession_points.
+AnalyticOptions AnalyticOptionsOf(const Scene& scene);
+
+// The rub structure of a rub scene (model two_point or jeffcott). Throws std::invalid_argument for
+// any other model.
+RubStructure StructureOf(const Scene& scene);
+// The friction law a rub scene's rotating waves use ([contact.friction_law] kind).
+FrictionLawKind FrictionLawOf(const Scene& scene);
+
+// The rotating-wave branch set's options: its speed_range_rpm and the top of its
+// precession_range_hz.
+RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene);
+
+enum class SweepDirection { kUp, kDown };
+const char* ToString(SweepDirection direction);  // "up", "down"
+
+// The structure a sweep integrates: the two-point rotor's. Throws std::invalid_argument naming the
+// scene's model for any other.
+RubStructure SweepStructureOf(const Scene& scene);
+// The library options of one direction of the scene's sweep (speeds in rad/s), and its regime rule.
+SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction);
+RubRegimeOptions RegimeOptionsOf(const Scene& scene);
+
+}  // namespace rubcont

@@ -1,0 +1,16 @@
+// Units at the edges: scenes and results give running speed in rpm and frequencies in Hz, the
+// models take rad/s. Every conversion goes through these functions.
+#pragma once
+
+namespace rubcont {
+
+inline constexpr double kTwoPi = 6.283185307179586;              // 2π
+inline constexpr double kRadPerSecondPerRpm = kTwoPi / 60.0;    // 1 rpm = 2π/60 rad/s
+inline constexpr double kRpmPerRadPerSecond = 60.0 / kTwoPi;
+
+constexpr double RpmToRadPerSecond(double rpm) { return rpm * kRadPerSecondPerRpm; }
+constexpr double RadPerSecondToRpm(double omega) { return omega * kRpmPerRadPerSecond; }
+constexpr double HzToRadPerSecond(double hz) { return hz * kTwoPi; }
+constexpr double RadPerSecondToHz(double omega) { return omega / kTwoPi; }
+
+}  // namespace rubcont
