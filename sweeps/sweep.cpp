@@ -203,12 +203,16 @@ SweepStepper::SweepStepper(OdeSystem& system, SweepObservables& observables, Swe
         options_.parameters.size()));
   }
   for (std::size_t i = 0; i < finished.size(); ++i) {
-    const SweepPoint& p = finished[i];
-    if (p.parameter != options_.parameters[i]) {
+    SweepPoint& p = finished[i];
+    // Finished points come back from a file in other units (rpm): equal to 1e-12, they take the
+    // schedule's own value.
+    const double scheduled = options_.parameters[i];
+    if (!(std::abs(p.parameter - scheduled) <= 1e-12 * std::max(std::abs(scheduled), 1.0))) {
       throw std::invalid_argument(fmt::format(
           "SweepStepper: finished point {} has parameter {}, the schedule {}", i, p.parameter,
-          options_.parameters[i]));
+          scheduled));
     }
+    p.parameter = scheduled;
     if (p.status == SweepPointStatus::kIntegrationFailure) {
       throw std::invalid_argument(fmt::format(
           "SweepStepper: finished point {} (parameter {}) is an integration failure: a sweep "

@@ -186,9 +186,10 @@ class SweepStepper {
                const Vector& x0);
 
   // Resumes a sweep: `finished` are the points already done (the first finished.size() values of
-  // the schedule, in order), `x` the state after the last of them (already rotated when
-  // rotate_forcing_phase is set). Throws std::invalid_argument when the points do not match the
-  // schedule or the spectra do not match the band.
+  // the schedule, in order; their parameters equal to 1e-12 relative, then set to the schedule's
+  // values), `x` the state after the last of them (already rotated when rotate_forcing_phase is
+  // set). Throws std::invalid_argument when the points do not match the schedule or the spectra do
+  // not match the band.
   SweepStepper(OdeSystem& system, SweepObservables& observables, SweepOptions options,
                std::vector<SweepPoint> finished, const Vector& x);
 

@@ -333,6 +333,14 @@ TEST_CASE("A resumed sweep continues exactly where the interrupted one stopped",
   wrong[0].parameter = 3.0;
   CHECK_THROWS_WITH(SweepStepper(resumed_system, resumed_observables, StuartLandauOptions(), wrong, x0),
                     Contains("finished point 0 has parameter 3"));
+  // A parameter that went through a file in another unit (rpm) and back is a few ulps off: it is
+  // accepted and takes the schedule's exact value, so the resumed sweep continues bit for bit.
+  std::vector<SweepPoint> rounded = part.points();
+  const double scheduled = rounded[0].parameter;
+  rounded[0].parameter = std::nextafter(std::nextafter(scheduled, 1e300), 1e300);
+  SweepStepper from_file(resumed_system, resumed_observables, StuartLandauOptions(), rounded,
+                         part.state());
+  CHECK(from_file.points()[0].parameter == scheduled);
 }
 
 // Blows up in finite time for p > 0: ẋ = p x².
