@@ -1,0 +1,186 @@
+#!/usr/bin/python3
+"""Compares result files: what a run produces now against what is committed.
+
+    scripts/compare_results.py OLD NEW [OLD NEW ...] [--rtol R] [--atol A]
+    scripts/compare_results.py --git REV PATH...   each PATH against its committed version at REV
+
+HDF5 files (.h5): every group, dataset and attribute on both sides; numbers equal within
+|a − b| ≤ atol + rtol·|b| (NaN equals NaN), strings and integers exactly. Text files (.txt, .csv):
+line by line, numbers within the same tolerance. Wall-clock times are not results: datasets and
+attributes named *seconds* (grid_seconds, wall_seconds, ...) are skipped; in text and string
+attributes a number followed by "s", "ms" or "min" is not compared, nor the columns of a CSV file
+whose header names a time (time_ms, *_seconds) or a number after "time_ms".
+
+Exit code 0 when everything matches, 1 with one line per difference otherwise.
+"""
+import argparse
+import math
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
+# A duration in a printed line: "0.053 s", "1.08 s", "12 ms", "3 min 20 s" (the unit ends it).
+DURATION = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?\s*(?:ms|s|min)\b")
+TIMING_NAME = re.compile(r"seconds|time_ms")
+
+
+def mask_durations(line):
+    return TIMING_NAME.sub("<time>", DURATION.sub("<time>", re.sub(r"time_ms[ =:,]*" + NUMBER.pattern,
+                                                                   "<time>", line)))
+
+
+def close(a, b, rtol, atol):
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    if math.isinf(a) or math.isinf(b):
+        return a == b
+    return abs(a - b) <= atol + rtol * abs(b)
+
+
+def flatten_h5(path):
+    import h5py  # Debian's python3-h5py: run as /usr/bin/python3
+    items = {}
+    with h5py.File(path, "r") as f:
+        def attributes(name, obj):
+            for key, value in obj.attrs.items():
+                items[f"{name}@{key}"] = value
+
+        attributes("/", f)
+
+        def visit(name, obj):
+            attributes("/" + name, obj)
+            if isinstance(obj, h5py.Dataset):
+                items["/" + name] = obj[()]
+
+        f.visititems(visit)
+    return items
+
+
+def as_text(value):
+    if isinstance(value, bytes):
+        return value.decode()
+    return value
+
+
+def compare_values(key, a, b, rtol, atol):
+    import numpy as np
+    a, b = as_text(a), as_text(b)
+    if isinstance(a, str) or isinstance(b, str):
+        if not isinstance(a, str) or not isinstance(b, str) or mask_durations(a) != mask_durations(b):
+            return [f"{key}: text differs"]
+        return []
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape:
+        return [f"{key}: shape {a.shape} → {b.shape}"]
+    if a.dtype.kind in "OSU" or b.dtype.kind in "OSU":
+        left = [as_text(x) for x in a.ravel()]
+        right = [as_text(x) for x in b.ravel()]
+        n = sum(x != y for x, y in zip(left, right))
+        return [f"{key}: {n} of {len(left)} strings differ"] if n else []
+    if a.dtype.kind in "iub" and b.dtype.kind in "iub":
+        n = int((a != b).sum())
+        return [f"{key}: {n} of {a.size} integers differ"] if n else []
+    a, b = a.astype(float).ravel(), b.astype(float).ravel()
+    bad = [i for i in range(a.size) if not close(a[i], b[i], rtol, atol)]
+    if not bad:
+        return []
+    worst = max(bad, key=lambda i: abs(a[i] - b[i]) / max(abs(b[i]), 1e-300)
+                if math.isfinite(a[i]) and math.isfinite(b[i]) else math.inf)
+    return [f"{key}: {len(bad)} of {a.size} values differ, e.g. [{worst}] {a[worst]!r} → {b[worst]!r}"]
+
+
+def compare_h5(old, new, rtol, atol):
+    a, b = flatten_h5(old), flatten_h5(new)
+    keys = {k for k in set(a) | set(b) if not TIMING_NAME.search(k.rsplit("/", 1)[-1])}
+    problems = []
+    for key in sorted(keys):
+        if key not in a:
+            problems.append(f"{key}: only in the new file")
+        elif key not in b:
+            problems.append(f"{key}: only in the old file")
+        else:
+            problems += compare_values(key, a[key], b[key], rtol, atol)
+    return problems
+
+
+def drop_time_columns(lines):
+    """CSV: blanks the columns whose header names a time."""
+    header = next((i for i, l in enumerate(lines) if not l.startswith("#") and "," in l), None)
+    if header is None:
+        return lines
+    names = lines[header].split(",")
+    timed = {k for k, name in enumerate(names) if TIMING_NAME.search(name)}
+    if not timed:
+        return lines
+    out = lines[:header + 1]
+    for line in lines[header + 1:]:
+        cells = line.split(",")
+        out.append(",".join("<time>" if k in timed else c for k, c in enumerate(cells)))
+    return out
+
+
+def compare_text(old, new, rtol, atol):
+    left = Path(old).read_text().splitlines()
+    right = Path(new).read_text().splitlines()
+    if str(new).endswith(".csv"):
+        left, right = drop_time_columns(left), drop_time_columns(right)
+    problems = []
+    if len(left) != len(right):
+        problems.append(f"{len(left)} lines → {len(right)} lines")
+    for i, (x, y) in enumerate(zip(left, right), 1):
+        x, y = mask_durations(x), mask_durations(y)
+        if NUMBER.sub("#", x) != NUMBER.sub("#", y):
+            problems.append(f"line {i}: text differs:\n    {x}\n    {y}")
+            continue
+        for p, q in zip(NUMBER.findall(x), NUMBER.findall(y)):
+            if not close(float(p), float(q), rtol, atol):
+                problems.append(f"line {i}: {p} → {q}")
+                break
+    return problems
+
+
+def compare(old, new, rtol, atol):
+    if str(new).endswith(".h5"):
+        return compare_h5(old, new, rtol, atol)
+    return compare_text(old, new, rtol, atol)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("paths", nargs="+")
+    parser.add_argument("--git", metavar="REV", help="compare each PATH with its version at REV")
+    parser.add_argument("--rtol", type=float, default=1e-9)
+    parser.add_argument("--atol", type=float, default=1e-12)
+    args = parser.parse_args()
+    pairs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        if args.git:
+            for i, path in enumerate(args.paths):
+                old = Path(tmp) / f"{i}_{Path(path).name}"
+                blob = subprocess.run(["git", "show", f"{args.git}:{path}"], check=True,
+                                      capture_output=True).stdout
+                old.write_bytes(blob)
+                pairs.append((old, path))
+        else:
+            if len(args.paths) % 2:
+                parser.error("give OLD NEW pairs")
+            pairs = list(zip(args.paths[0::2], args.paths[1::2]))
+        failed = 0
+        for old, new in pairs:
+            problems = compare(old, new, args.rtol, args.atol)
+            label = new if args.git else f"{old} → {new}"
+            if problems:
+                failed += 1
+                print(f"DIFFERS {label}")
+                for p in problems:
+                    print(f"  {p}")
+            else:
+                print(f"same    {label}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
