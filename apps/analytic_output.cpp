@@ -1,4 +1,5 @@
 #include "apps/analytic_output.h"
+#include "apps/level.h"
 
 #include <stdexcept>
 #include <vector>
@@ -59,7 +60,7 @@ Vector ToVector(const std::vector<double>& values) {
 void WriteAnalytic(ResultWriter& writer, const TwoPointParams& params, const AnalyticResult& result,
                    const AnalyticResult* without_damper) {
   writer.CreateGroup("/analytic");
-  writer.SetAttribute("/analytic", "level", "L0");
+  writer.SetAttribute("/analytic", "level", ToString(Level::kL0));
   writer.SetAttribute("/analytic", "friction", params.friction);
   writer.SetAttribute("/analytic", "center_damping", params.center_damping);
   const std::string nf = "/analytic/natural_frequencies";
@@ -83,7 +84,7 @@ void WriteAnalytic(ResultWriter& writer, const TwoPointParams& params, const Ana
 void WriteJeffcottAnalytic(ResultWriter& writer, const JeffcottParams& params,
                            const AnalyticCurve& curve) {
   writer.CreateGroup("/analytic");
-  writer.SetAttribute("/analytic", "level", "L0");
+  writer.SetAttribute("/analytic", "level", ToString(Level::kL0));
   writer.SetAttribute("/analytic", "friction", params.mu);
   const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
   const std::string nf = "/analytic/natural_frequencies";

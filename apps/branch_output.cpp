@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "apps/level.h"
 #include "models/units.h"
 
 namespace rubcont {
@@ -72,7 +73,7 @@ void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingW
                                const std::string& root) {
   const ParameterColumn speed{"speed_rpm", kRpmPerRadPerSecond};
   writer.CreateGroup(root);
-  writer.SetAttribute(root, "level", "L1");
+  writer.SetAttribute(root, "level", ToString(Level::kL1));
   writer.SetAttribute(root, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
   writer.WriteDoubles(root + "/speed_range_rpm",
                       std::vector<double>{speed_range_rpm[0], speed_range_rpm[1]});
@@ -82,7 +83,7 @@ void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingW
     writer.CreateGroup(group);
     writer.SetAttribute(group, "kind", "rotating_wave");
     writer.SetAttribute(group, "mode", PatternName(b.normals));
-    writer.SetAttribute(group, "level", "L1");
+    writer.SetAttribute(group, "level", ToString(Level::kL1));
     writer.SetAttribute(group, "family", b.family);
     writer.SetAttribute(group, "status", ToString(branch.status));
     writer.SetAttribute(group, "message", branch.message);

@@ -343,7 +343,6 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   writer.SetAttribute("/", "rubcont_version", Version());
   writer.SetAttribute("/", "scene_name", scene.name);
   writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
-  std::string level = "L0";
   std::vector<std::string> failures;
   std::vector<std::string> scripts;
   std::vector<std::filesystem::path> checkpoints;
@@ -408,17 +407,14 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       case Stage::kSweep: {
         SweepStage(scene, options, h5_file, writer, progress, out, err, failures, checkpoints);
         scripts.push_back("sweep.py");
-        level = "L3";  // the highest level a stage of this file used
         break;
       }
       case Stage::kBranches: {
-        if (level != "L3") level = "L1";
         RunBranches(scene, writer, progress, out, failures);
         scripts.push_back("branches.py");
         break;
       }
       case Stage::kOrbits: {
-        if (level != "L3") level = "L2";
         RunOrbitsStage(scene, writer, [&](const std::string& line) { progress("{}", line); }, out,
                        failures);
         scripts.push_back(scene.model == ModelKind::kTwoPoint ? "rub_orbits.py" : "orbits.py");
@@ -426,7 +422,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       }
     }
   }
-  writer.SetAttribute("/", "level", level);
+  writer.SetAttribute("/", "level", ToString(HighestLevel(stages)));
   writer.SetAttribute("/", "status", failures.empty() ? "success" : "failure");
   writer.Commit();
   fmt::print(out, "wrote {}\n", h5_file.string());

@@ -314,7 +314,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     writer.SetAttribute("/", "rubcont_version", Version());
     writer.SetAttribute("/", "scene_name", scene.name);
     writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
-    writer.SetAttribute("/", "level", "L1");
+    writer.SetAttribute("/", "level", ToString(Level::kL1));
     writer.SetAttribute("/", "status", r.Fitted() ? "success" : "failure");
     writer.CreateGroup("/fit");
     writer.SetAttribute("/fit", "status", ToString(r.status));

@@ -48,7 +48,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
   writer.SetAttribute(group, "parameter", ToString(map.parameter));
   writer.SetAttribute(group, "unit", UnitOf(map.parameter));
   writer.SetAttribute(group, "base_value", map.base_value);
-  writer.SetAttribute(group, "level", "L1");
+  writer.SetAttribute(group, "level", ToString(Level::kL1));
   writer.SetAttribute(group, "friction_law", law == FrictionLawKind::kExact ? "exact" : "tanh");
   writer.SetAttribute(group, "summary", map.BriefReport());
   writer.SetAttribute(group, "note", map.note);
@@ -221,7 +221,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     writer.SetAttribute("/", "rubcont_version", Version());
     writer.SetAttribute("/", "scene_name", scene.name);
     writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
-    writer.SetAttribute("/", "level", "L1");
+    writer.SetAttribute("/", "level", ToString(Level::kL1));
     writer.SetAttribute("/", "status", map.failures.empty() ? "success" : "failure");
     WriteHysteresisMap(writer, map, scene.two_point.friction_law.kind);
     writer.Commit();

@@ -1,4 +1,5 @@
 #include "apps/orbit_output.h"
+#include "apps/level.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,14 +26,14 @@ void WritePeriodicOrbitBranch(ResultWriter& writer, const std::string& name,
                               const std::string& root) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   writer.CreateGroup(root);
-  writer.SetAttribute(root, "level", "L2");
+  writer.SetAttribute(root, "level", ToString(Level::kL2));
   writer.SetAttribute(root, "parameter_name", parameter.name);
   const std::string group = root + "/" + name;
   const Branch& branch = orbits.branch;
   writer.CreateGroup(group);
   writer.SetAttribute(group, "kind", "periodic_orbit");
   writer.SetAttribute(group, "orbit_kind", OrbitKindName(orbits.kind));
-  writer.SetAttribute(group, "level", "L2");
+  writer.SetAttribute(group, "level", ToString(Level::kL2));
   writer.SetAttribute(group, "parameter_name", parameter.name);
   writer.SetAttribute(group, "segments", static_cast<double>(orbits.segments));
   writer.SetAttribute(group, "status", ToString(branch.status));

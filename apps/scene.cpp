@@ -1144,6 +1144,22 @@ const char* ToString(Stage stage) {
   return "?";
 }
 
+Level LevelOf(Stage stage) {
+  switch (stage) {
+    case Stage::kAnalytic: return Level::kL0;
+    case Stage::kBranches: return Level::kL1;
+    case Stage::kOrbits: return Level::kL2;
+    case Stage::kSweep: return Level::kL3;
+  }
+  return Level::kL0;
+}
+
+Level HighestLevel(const std::vector<Stage>& stages) {
+  Level highest = Level::kL0;
+  for (Stage stage : stages) highest = std::max(highest, LevelOf(stage));
+  return highest;
+}
+
 SceneError::SceneError(std::vector<std::string> problems)
     : std::invalid_argument(Join(problems)), problems_(std::move(problems)) {}
 

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "apps/level.h"
 #include "models/analytic.h"
 #include "models/jeffcott.h"
 #include "models/textbook.h"
@@ -49,6 +50,11 @@ enum class Stage {
               // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)
 };
 const char* ToString(Stage stage);
+
+// The level a stage computes at (apps/level.h).
+Level LevelOf(Stage stage);
+// The highest level among `stages` (L0 for none).
+Level HighestLevel(const std::vector<Stage>& stages);
 // The textbook models have the stage "orbits" only; "orbits" applies to model two_point as well
 // (not to the Jeffcott rotor).
 bool StageApplies(ModelKind model, Stage stage);

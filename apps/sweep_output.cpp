@@ -68,7 +68,7 @@ void WriteAttributes(ResultWriter& writer, const std::string& group, const Sweep
   const SweepSettings& s = run.scene().analysis.sweep;
   const SweepOptions& o = run.stepper().options();
   writer.SetAttribute(group, "direction", ToString(run.direction()));
-  writer.SetAttribute(group, "level", "L3");
+  writer.SetAttribute(group, "level", ToString(Level::kL3));
   writer.SetAttribute(group, "speeds_planned", static_cast<double>(o.parameters.size()));
   writer.SetAttribute(group, "integrator", ToString(o.integrator.method));
   writer.SetAttribute(group, "max_order", static_cast<double>(o.integrator.max_order));
@@ -353,7 +353,8 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {
   const std::string g = "/sweeps/jump_table";
   writer.CreateGroup(g);
-  writer.SetAttribute(g, "level", "L3 jumps, L1 bifurcations");
+  writer.SetAttribute(g, "level",
+                      fmt::format("{} jumps, {} bifurcations", ToString(Level::kL3), ToString(Level::kL1)));
   writer.SetAttribute(g, "rule",
                       "a sweep state lies on a branch when the same contacts touch and each "
                       "touching contact's BP is within max(1 Hz, 1 %) of the branch's precession "

@@ -379,5 +379,15 @@ TEST_CASE("scene check prints every resolved value with its unit", "[scene]") {
   CHECK_THAT(text, Contains("RCI_L = R_L/C_L = 100"));
 }
 
+TEST_CASE("The result's level is the highest of its stages, in whatever order the scene lists them",
+          "[scene]") {
+  CHECK(HighestLevel({}) == Level::kL0);
+  CHECK(HighestLevel({Stage::kAnalytic}) == Level::kL0);
+  CHECK(HighestLevel({Stage::kAnalytic, Stage::kBranches}) == Level::kL1);
+  // Orbits (L2) listed before branches (L1): the branches do not lower the level.
+  CHECK(HighestLevel({Stage::kOrbits, Stage::kBranches}) == Level::kL2);
+  CHECK(HighestLevel({Stage::kSweep, Stage::kOrbits, Stage::kBranches}) == Level::kL3);
+  CHECK(std::string(ToString(HighestLevel({Stage::kOrbits, Stage::kAnalytic}))) == "L2");
+}
 }  // namespace
 }  // namespace rubcont

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <catch2/catch.hpp>
@@ -245,6 +246,44 @@ TEST_CASE("an imbalanced rotor's branch set is the balanced rotor's", "[branches
     CHECK(imbalanced[i].branch.Size() == balanced[i].branch.Size());
     CHECK(imbalanced[i].branch.Lambda() == balanced[i].branch.Lambda());
   }
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// RotatingWaveProblem::StabilityTolerance decides what is called stable. Its 0.1 s⁻¹ must sit in
+// the gap results/README.md reports between the compliance-driven phase drift of two rolling
+// contacts (≤ 0.010 s⁻¹) and the slowest real instability (the 1.65 Hz whips, ≥ 5.19 s⁻¹), with a
+// margin of 5 on each side, so that no measured growth rate is classified by the last digits.
+TEST_CASE("the rotating waves' stability tolerance, 0.1 s⁻¹, lies in the gap of the growth rates",
+          "[branches]") {
+  const double tolerance = 0.1;
+  TwoPointParams symmetric;  // case A(a): the drift of two rolling contacts
+  TwoPointParams unequal;    // case A(b), RCI 100/125: its 1.65 Hz whip is the slowest instability
+  unequal.clearance[1] = unequal.radius[1] / 125.0;
+  double largest_marginal = 0.0, smallest_unstable = std::numeric_limits<double>::infinity();
+  for (const TwoPointParams& params : {symmetric, unequal}) {
+    const RubStructure structure = TwoPointStructure(params);
+    RotatingWaveProblem problem(structure, FrictionLawKind::kExact);
+    CHECK(problem.StabilityTolerance() == tolerance);
+    for (const RotatingWaveBranch& b :
+         ComputeRotatingWaveBranches(structure, FrictionLawKind::kExact, ThesisRange())) {
+      for (const BranchPoint& p : b.branch.points) {
+        if (p.spectrum.values.size() == 0) continue;
+        const double growth = p.spectrum.values.real().maxCoeff();
+        if (growth <= 0.0) continue;
+        if (growth < 1.0) largest_marginal = std::max(largest_marginal, growth);
+        else smallest_unstable = std::min(smallest_unstable, growth);
+      }
+    }
+  }
+  CAPTURE(largest_marginal, smallest_unstable);
+  CHECK(largest_marginal > 0.0);  // the drift is there to be tolerated
+  CHECK(5.0 * largest_marginal <= tolerance);
+  CHECK(tolerance <= smallest_unstable / 5.0);
 }
 
 }  // namespace
