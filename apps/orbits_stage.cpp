@@ -24,24 +24,29 @@ namespace {
 // The engine's step controller with the settings measured in bench/duffing_branch_bench.cpp:
 // Newton needs 3 iterations even on tiny steps (the last one confirms the step tolerance), so a
 // target of 3 would never let the step grow.
-ContinuationOptions StageContinuationOptions(const Scene& scene) {
+ContinuationOptions StageContinuationOptions(int max_steps) {
   ContinuationOptions options;
   options.step.max = 1.0;
   options.step.target_angle = 0.3;
   options.step.target_iterations = 5;
-  options.bounds.max_steps = scene.orbits.max_steps;
+  options.bounds.max_steps = max_steps;
   return options;
 }
 
-ShootingOptions StageShootingOptions(const Scene& scene, IntegrationMethod method) {
+// `tolerance`: the integrator's rtol = atol on scaled states.
+ShootingOptions StageShootingOptions(int segments, double tolerance, IntegrationMethod method) {
   ShootingOptions options;
-  options.segments = scene.orbits.segments;
+  options.segments = segments;
   options.integrator.method = method;
   if (method == IntegrationMethod::kExplicitRungeKutta) options.integrator.explicit_order = 8;
-  options.integrator.relative_tolerance = scene.orbits.tolerance;
-  options.integrator.absolute_tolerance = scene.orbits.tolerance;
+  options.integrator.relative_tolerance = tolerance;
+  options.integrator.absolute_tolerance = tolerance;
   options.sensitivities_in_residual = true;
   return options;
+}
+
+ShootingOptions TextbookShootingOptions(const Scene& scene, IntegrationMethod method) {
+  return StageShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
 }
 
 // Mean of √(x₀² + x₁²) over the orbit (trapezoidal rule): the radius of a circular orbit.
@@ -71,7 +76,7 @@ StageSetup Setup(const Scene& scene) {
   const double lambda = scene.orbits.start;
   setup.options.lambda_min = scene.orbits.parameter_range[0];
   setup.options.lambda_max = scene.orbits.parameter_range[1];
-  setup.options.continuation = StageContinuationOptions(scene);
+  setup.options.continuation = StageContinuationOptions(scene.orbits.max_steps);
   switch (scene.model) {
     case ModelKind::kDuffing: {
       DuffingParams p = scene.duffing;
@@ -82,7 +87,7 @@ StageSetup Setup(const Scene& scene) {
       setup.parameter_name = "frequency";
       // Duffing is not stiff: an explicit 8th-order Runge–Kutta pair is the cheapest accurate
       // integrator (bench/duffing_branch_bench.cpp).
-      setup.options.shooting = StageShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
       setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                                 StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v"),
                                 StateMinimum(1, "min_v")};
@@ -105,7 +110,7 @@ StageSetup Setup(const Scene& scene) {
       setup.system = std::make_unique<StuartLandauOscillator>(p);
       setup.kind = OrbitKind::kAutonomous;
       setup.parameter_name = "lambda";
-      setup.options.shooting = StageShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
       setup.options.measures = {MeanRadius(), StateMaximum(0, "max_x"), StateMinimum(0, "min_x")};
       // From (1, 0): the radius relaxes at rate 2λ, the phase turns at about ω.
       const double turn = std::max(std::abs(p.omega), 1e-3);
@@ -122,7 +127,7 @@ StageSetup Setup(const Scene& scene) {
       setup.kind = OrbitKind::kAutonomous;
       setup.parameter_name = "mu";
       // Stiff for large μ: BDF.
-      setup.options.shooting = StageShootingOptions(scene, IntegrationMethod::kBdf);
+      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
       setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                                 StateMaximum(1, "max_v"), StateMinimum(1, "min_v")};
       // Period ≈ 2π for small μ, ≈ (3 − 2 ln 2) μ for large μ; the cycle attracts within a few
@@ -141,7 +146,7 @@ StageSetup Setup(const Scene& scene) {
 }
 
 // Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
-// orbits born at the first scene.orbits.hopf_points Hopf points that bound a stable piece of them.
+// orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece of them.
 void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                         const std::function<void(const std::string&)>& progress, std::ostream& out,
                         std::vector<std::string>& failures) {
@@ -155,13 +160,14 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                             "/orbits/rotating_waves");
   const std::vector<RubHopfStart> starts = StableBoundaryHopfPoints(waves, structure.Coordinates());
   const std::size_t followed =
-      std::min(starts.size(), static_cast<std::size_t>(scene.orbits.hopf_points));
+      std::min(starts.size(), static_cast<std::size_t>(scene.analysis.orbits.hopf_points));
   writer.SetAttribute("/orbits", "friction_law", "tanh");
   writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
   fmt::print(out, "[orbits] L2 modulated orbits (relative periodic orbits in the co-rotating frame, "
                   "{} segment{}, tolerance {:g}) from {} of the {} Hopf points bounding a stable "
                   "rotating wave (tanh friction, ε = {:g} m/s; {} rotating waves in {:.3f} s)\n",
-             scene.orbits.segments, scene.orbits.segments == 1 ? "" : "s", scene.orbits.tolerance,
+             scene.analysis.orbits.segments, scene.analysis.orbits.segments == 1 ? "" : "s",
+             scene.analysis.orbits.tolerance,
              followed, starts.size(), structure.law.velocity_scale, waves.size(),
              SecondsSince(begin));
   if (imbalance != 0.0) {
@@ -177,15 +183,17 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above");
   }
   HopfOrbitOptions options;
-  options.amplitude = scene.orbits.amplitude;
+  options.amplitude = scene.analysis.orbits.amplitude;
   options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
   options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
   // CVODES BDF with the analytic Jacobian; the sensitivities under error control (without it
   // Newton stalls: the nearly undamped contact mode of the STM is damped numerically,
   // bench/modulated_whip_bench.cpp).
-  options.orbits.shooting = StageShootingOptions(scene, IntegrationMethod::kBdf);
+  const RubOrbitsSettings& settings = scene.analysis.orbits;
+  options.orbits.shooting =
+      StageShootingOptions(settings.segments, settings.tolerance, IntegrationMethod::kBdf);
   options.orbits.shooting.integrator.max_steps = 2000000;
-  options.orbits.continuation = StageContinuationOptions(scene);
+  options.orbits.continuation = StageContinuationOptions(settings.max_steps);
   for (std::size_t k = 0; k < followed; ++k) {
     const RubHopfStart& start = starts[k];
     const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);

@@ -65,7 +65,7 @@ struct KeySpec {
   std::string unit;       // SI unit; "-" dimensionless; "" not a quantity
   Rule rule;
   Presence presence;
-  Value default_value;    // for kOptional / kRequiredInSection
+  Value default_value;    // kOptional / kRequiredInSection: the field's value in Scene{}
   std::string default_text;  // how the docs state the default when it is not a literal
   std::string doc;        // one line: symbol and meaning
   std::vector<std::string> choices;       // kChoice
@@ -84,17 +84,17 @@ struct KeySpec {
 template <class T>
 using Field = T& (*)(Scene&);
 
+// A key bound to a field of the Scene. Its default (Presence::kOptional, kRequiredInSection) is the
+// field's initializer: BuildSchema reads them from a default-constructed Scene.
 template <class T, class Stored = T>
 KeySpec Make(std::string key, ValueType type, std::string unit, Rule rule, Presence presence,
-             Value default_value, std::string doc, Field<T> field,
-             std::optional<ModelKind> model = ModelKind::kTwoPoint) {
+             std::string doc, Field<T> field, std::optional<ModelKind> model = ModelKind::kTwoPoint) {
   KeySpec spec;
   spec.key = std::move(key);
   spec.type = type;
   spec.unit = std::move(unit);
   spec.rule = rule;
   spec.presence = presence;
-  spec.default_value = std::move(default_value);
   spec.doc = std::move(doc);
   spec.model = model;
   spec.set = [field](Scene& s, const Value& v) { field(s) = static_cast<T>(std::get<Stored>(v)); };
@@ -103,16 +103,15 @@ KeySpec Make(std::string key, ValueType type, std::string unit, Rule rule, Prese
 }
 
 KeySpec Float(std::string key, std::string unit, Rule rule, std::string doc, Field<double> field,
-              Presence presence = Presence::kRequired, double default_value = 0.0) {
+              Presence presence = Presence::kRequired) {
   return Make<double>(std::move(key), ValueType::kFloat, std::move(unit), rule, presence,
-                      default_value, std::move(doc), field);
+                      std::move(doc), field);
 }
 
 KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
              Field<std::array<double, 2>> field) {
   return Make<std::array<double, 2>>(std::move(key), ValueType::kFloatPair, std::move(unit), rule,
-                                     Presence::kRequired, std::array<double, 2>{}, std::move(doc),
-                                     field);
+                                     Presence::kRequired, std::move(doc), field);
 }
 
 const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
@@ -134,14 +133,14 @@ std::vector<KeySpec> BuildSchema() {
   // Top level.
   {
     KeySpec name = Make<std::string>("name", ValueType::kString, "", Rule::kSceneName,
-                                     Presence::kOptional, std::string(),
+                                     Presence::kOptional,
                                      "Scene name: the output goes to `<out>/<name>/`.",
                                      [](Scene& x) -> std::string& { return x.name; }, kCommon);
     name.default_text = "the file stem";
     s.push_back(name);
   }
   s.push_back(Make<std::string>("description", ValueType::kString, "", Rule::kText,
-                                Presence::kOptional, std::string(),
+                                Presence::kOptional,
                                 "Free text, kept in the result file.",
                                 [](Scene& x) -> std::string& { return x.description; }, kCommon));
   {
@@ -150,7 +149,6 @@ std::vector<KeySpec> BuildSchema() {
     model.type = ValueType::kString;
     model.rule = Rule::kChoice;
     model.presence = Presence::kOptional;
-    model.default_value = std::string("two_point");
     model.doc = "Which model the scene describes; each model has its own sections.";
     model.choices = kModelNames;
     model.set = [](Scene& x, const Value& v) { x.model = ModelFromName(std::get<std::string>(v)); };
@@ -217,7 +215,6 @@ std::vector<KeySpec> BuildSchema() {
     kind.type = ValueType::kString;
     kind.rule = Rule::kChoice;
     kind.presence = Presence::kOptional;
-    kind.default_value = std::string("exact");
     kind.doc = "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\" "
                "(μN tanh(V/ε)). Not used by the analytic stage.";
     kind.choices = {"exact", "tanh"};
@@ -235,28 +232,26 @@ std::vector<KeySpec> BuildSchema() {
                     "ε of tanh(V/ε): the friction regularization of time marching and shooting "
                     "(and of rotating waves when kind = \"tanh\"). Not used by the analytic stage.",
                     [](Scene& x) -> double& { return x.two_point.friction_law.velocity_scale; },
-                    Presence::kOptional, 1e-3));
+                    Presence::kOptional));
 
   // [imbalance], [center_damper]: optional components; an absent section means none.
   s.push_back(Float("imbalance.mass_radius", "kg·m", Rule::kNonNegative,
                     "m_u e: imbalance at the mass-centre plane (3.43 g·cm = 3.43e-5 kg·m). "
                     "Breaks the rotational symmetry; the analytic stage neglects it.",
                     [](Scene& x) -> double& { return x.two_point.imbalance; },
-                    Presence::kRequiredInSection, 0.0));
+                    Presence::kRequiredInSection));
   s.push_back(Float("center_damper.damping", "N·s/m", Rule::kNonNegative,
                     "c_d: viscous damper between the rotor and stator mid-points (weights ½, ½). "
                     "The analytic stage includes it exactly; 0 gives the thesis's closed form.",
                     [](Scene& x) -> double& { return x.two_point.center_damping; },
-                    Presence::kRequiredInSection, 0.0));
+                    Presence::kRequiredInSection));
 
   // [jeffcott]: the single-contact model, in Black's and Crandall's symbols.
   {
     const auto jeffcott = [&s](std::string key, std::string unit, Rule rule, std::string doc,
-                               Field<double> field, Presence presence = Presence::kRequired,
-                               double default_value = 0.0) {
+                               Field<double> field, Presence presence = Presence::kRequired) {
       s.push_back(Make<double>("jeffcott." + key, ValueType::kFloat, std::move(unit), rule,
-                               presence, default_value, std::move(doc), field,
-                               ModelKind::kJeffcott));
+                               presence, std::move(doc), field, ModelKind::kJeffcott));
     };
     jeffcott("m_r", "kg", Rule::kPositive, "Rotor mass.",
              [](Scene& x) -> double& { return x.jeffcott.m_r; });
@@ -281,17 +276,16 @@ std::vector<KeySpec> BuildSchema() {
              [](Scene& x) -> double& { return x.jeffcott.contact_stiffness; });
     jeffcott("contact_stiffness2", "N/m²", Rule::kNonNegative, "k2 of the normal force.",
              [](Scene& x) -> double& { return x.jeffcott.contact_stiffness2; },
-             Presence::kOptional, 0.0);
+             Presence::kOptional);
     jeffcott("contact_damping", "N·s/m²", Rule::kNonNegative, "c_nl of the normal force.",
              [](Scene& x) -> double& { return x.jeffcott.contact_damping; });
     jeffcott("imbalance", "kg·m", Rule::kNonNegative, "m_u e: imbalance on the rotor.",
-             [](Scene& x) -> double& { return x.jeffcott.imbalance; }, Presence::kOptional, 0.0);
+             [](Scene& x) -> double& { return x.jeffcott.imbalance; }, Presence::kOptional);
     KeySpec kind;
     kind.key = "jeffcott.friction_law";
     kind.type = ValueType::kString;
     kind.rule = Rule::kChoice;
     kind.presence = Presence::kOptional;
-    kind.default_value = std::string("exact");
     kind.doc = "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\".";
     kind.choices = {"exact", "tanh"};
     kind.model = ModelKind::kJeffcott;
@@ -307,7 +301,7 @@ std::vector<KeySpec> BuildSchema() {
              "ε of tanh(V/ε) (time marching, shooting, and rotating waves when friction_law = "
              "\"tanh\").",
              [](Scene& x) -> double& { return x.jeffcott.friction_law.velocity_scale; },
-             Presence::kOptional, 1e-3);
+             Presence::kOptional);
   }
 
   // Textbook models (models/textbook.h): [<model>] with the model's coefficients and the range of
@@ -315,21 +309,20 @@ std::vector<KeySpec> BuildSchema() {
   {
     const auto number = [&s](ModelKind model, std::string key, std::string unit, Rule rule,
                              std::string doc, Field<double> field,
-                             Presence presence = Presence::kRequired, double default_value = 0.0) {
+                             Presence presence = Presence::kRequired) {
       s.push_back(Make<double>(std::string(ToString(model)) + "." + key, ValueType::kFloat,
-                               std::move(unit), rule, presence, default_value, std::move(doc),
-                               field, model));
+                               std::move(unit), rule, presence, std::move(doc), field, model));
     };
     const auto range = [&s](ModelKind model, std::string key, std::string doc) {
       s.push_back(Make<std::array<double, 2>>(
           std::string(ToString(model)) + "." + key, ValueType::kFloatPair, "-",
-          Rule::kIncreasingPositive, Presence::kRequired, std::array<double, 2>{}, std::move(doc),
+          Rule::kIncreasingPositive, Presence::kRequired, std::move(doc),
           [](Scene& x) -> std::array<double, 2>& { return x.orbits.parameter_range; }, model));
     };
     const auto orbits = [&s](ModelKind model, const std::string& parameter) {
       const std::string prefix = std::string(ToString(model)) + ".orbits.";
       KeySpec start = Make<double>(
-          prefix + "start", ValueType::kFloat, "-", Rule::kPositive, Presence::kOptional, 0.0,
+          prefix + "start", ValueType::kFloat, "-", Rule::kPositive, Presence::kOptional,
           "Parameter of the first orbit; the branch is continued both ways from it to the ends "
           "of `" + parameter + "_range`.",
           [](Scene& x) -> double& { return x.orbits.start; }, model);
@@ -337,15 +330,15 @@ std::vector<KeySpec> BuildSchema() {
       s.push_back(start);
       s.push_back(Make<int, std::int64_t>(
           prefix + "segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
-          std::int64_t{1}, "Shooting segments: 1 single shooting, more for multiple shooting.",
+          "Shooting segments: 1 single shooting, more for multiple shooting.",
           [](Scene& x) -> int& { return x.orbits.segments; }, model));
       s.push_back(Make<double>(
           prefix + "tolerance", ValueType::kFloat, "-", Rule::kOpenUnit, Presence::kOptional,
-          1e-10, "Integrator tolerance (relative = absolute, on scaled states) of every segment.",
+          "Integrator tolerance (relative = absolute, on scaled states) of every segment.",
           [](Scene& x) -> double& { return x.orbits.tolerance; }, model));
       s.push_back(Make<int, std::int64_t>(
           prefix + "max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-          std::int64_t{1000}, "Continuation steps allowed each way from the start.",
+          "Continuation steps allowed each way from the start.",
           [](Scene& x) -> int& { return x.orbits.max_steps; }, model));
     };
     const ModelKind kDuffing = ModelKind::kDuffing;
@@ -367,7 +360,7 @@ std::vector<KeySpec> BuildSchema() {
            [](Scene& x) -> double& { return x.stuart_landau.omega; });
     number(kStuartLandau, "gamma", "-", Rule::kFinite,
            "γ: amplitude–frequency coupling; the orbit turns at ω − γλ.",
-           [](Scene& x) -> double& { return x.stuart_landau.gamma; }, Presence::kOptional, 0.0);
+           [](Scene& x) -> double& { return x.stuart_landau.gamma; }, Presence::kOptional);
     range(kStuartLandau, "lambda_range",
           "[low, high]: growth rate λ, the continuation parameter (the orbit r = √λ exists for "
           "λ > 0; Hopf point at 0).");
@@ -386,7 +379,6 @@ std::vector<KeySpec> BuildSchema() {
     stages.type = ValueType::kStringList;
     stages.rule = Rule::kStages;
     stages.presence = Presence::kOptional;
-    stages.default_value = std::vector<std::string>{"analytic", "branches"};
     stages.doc = "What `rubcont run` computes, in this order: \"analytic\" (L0 closed form), "
                  "\"branches\" (L1 rotating waves continued in speed) — models two_point and "
                  "jeffcott; \"orbits\" (L2 periodic orbits by shooting with Floquet stability: the "
@@ -413,96 +405,111 @@ std::vector<KeySpec> BuildSchema() {
     };
     s.push_back(stages);
   }
-  s.push_back(Make<std::array<double, 2>>(
-      "analysis.precession_range_hz", ValueType::kFloatPair, "Hz", Rule::kIncreasingPositive,
-      Presence::kOptional, std::array<double, 2>{1.0, 200.0},
-      "[low, high]: precession-frequency range of the analytic curves.",
-      [](Scene& x) -> std::array<double, 2>& { return x.analysis.precession_range_hz; }, kCommon));
+  // The analytic grid is the library's AnalyticOptions, held as such in the scene.
+  {
+    KeySpec range;
+    range.key = "analysis.precession_range_hz";
+    range.type = ValueType::kFloatPair;
+    range.unit = "Hz";
+    range.rule = Rule::kIncreasingPositive;
+    range.presence = Presence::kOptional;
+    range.doc = "[low, high]: precession-frequency range of the analytic curves.";
+    range.model = kCommon;
+    range.set = [](Scene& x, const Value& v) {
+      const auto& pair = std::get<std::array<double, 2>>(v);
+      x.analysis.analytic.min_precession_hz = pair[0];
+      x.analysis.analytic.max_precession_hz = pair[1];
+    };
+    range.get = [](const Scene& x) {
+      return Value(std::array<double, 2>{x.analysis.analytic.min_precession_hz,
+                                         x.analysis.analytic.max_precession_hz});
+    };
+    s.push_back(range);
+  }
   s.push_back(Make<int, std::int64_t>(
       "analysis.precession_points", ValueType::kInteger, "-", Rule::kGridPoints,
-      Presence::kOptional, std::int64_t{4000},
+      Presence::kOptional,
       "Grid points of the analytic curves; transitions are located to machine precision between "
       "them.",
-      [](Scene& x) -> int& { return x.analysis.precession_points; }, kCommon));
+      [](Scene& x) -> int& { return x.analysis.analytic.precession_points; }, kCommon));
   s.push_back(Make<std::array<double, 2>>(
       "analysis.speed_range_rpm", ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
-      Presence::kOptional, std::array<double, 2>{20.0, 260.0},
+      Presence::kOptional,
       "[low, high]: running-speed range of the continuation branches.",
       [](Scene& x) -> std::array<double, 2>& { return x.analysis.speed_range_rpm; }, kCommon));
 
   // [analysis.sweep]: time-marching sweeps (level L3, Kumar 2010 §3.5; sweeps/rub_sweep.h).
-  auto sweep_pair = [&](const char* key, std::array<double, 2> value, const char* doc,
-                        Field<std::array<double, 2>> field) {
-    s.push_back(Make<std::array<double, 2>>(key, ValueType::kFloatPair, "rpm", Rule::kIncreasingPositive,
-                                            Presence::kOptional, value, doc, field));
+  auto sweep_pair = [&](const char* key, const char* doc, Field<std::array<double, 2>> field) {
+    s.push_back(Make<std::array<double, 2>>(key, ValueType::kFloatPair, "rpm",
+                                            Rule::kIncreasingPositive, Presence::kOptional, doc,
+                                            field));
   };
-  auto sweep_float = [&](const char* key, const char* unit, Rule rule, double value, const char* doc,
+  auto sweep_float = [&](const char* key, const char* unit, Rule rule, const char* doc,
                          Field<double> field) {
-    s.push_back(Float(key, unit, rule, doc, field, Presence::kOptional, value));
+    s.push_back(Float(key, unit, rule, doc, field, Presence::kOptional));
   };
-  sweep_pair("analysis.sweep.up_range_rpm", {20.0, 258.0},
+  sweep_pair("analysis.sweep.up_range_rpm",
              "[low, high]: the speed-up sweep runs from low to high.",
              [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.up_range_rpm; });
-  sweep_pair("analysis.sweep.down_range_rpm", {20.0, 252.0},
+  sweep_pair("analysis.sweep.down_range_rpm",
              "[low, high]: the speed-down sweep runs from high to low.",
              [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.down_range_rpm; });
-  sweep_float("analysis.sweep.speed_step_rpm", "rpm", Rule::kPositive, 2.0,
+  sweep_float("analysis.sweep.speed_step_rpm", "rpm", Rule::kPositive,
               "Speed step; each speed continues from the state the previous one ended in.",
               [](Scene& x) -> double& { return x.analysis.sweep.speed_step_rpm; });
-  sweep_float("analysis.sweep.dwell", "s", Rule::kPositive, 1.5,
+  sweep_float("analysis.sweep.dwell", "s", Rule::kPositive,
               "Longest simulated time per speed (whole settle windows); ≥ (settle_windows + 1)·"
               "settle_window.", [](Scene& x) -> double& { return x.analysis.sweep.dwell; });
-  sweep_float("analysis.sweep.settle_window", "s", Rule::kPositive, 0.25,
+  sweep_float("analysis.sweep.settle_window", "s", Rule::kPositive,
               "Window length of the settle test: successive windows are compared.",
               [](Scene& x) -> double& { return x.analysis.sweep.settle_window; });
   s.push_back(Make<int, std::int64_t>(
       "analysis.sweep.settle_windows", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
-      std::int64_t{2},
       "A speed has settled when this many successive window pairs agree (spectra and dominant "
       "frequencies); else it runs to the dwell and is flagged.",
       [](Scene& x) -> int& { return x.analysis.sweep.settle_windows; }));
-  sweep_float("analysis.sweep.spectrum_tolerance", "-", Rule::kOpenUnit, 0.05,
+  sweep_float("analysis.sweep.spectrum_tolerance", "-", Rule::kOpenUnit,
               "Agreeing windows: relative L2 distance of their two-sided amplitude spectra.",
               [](Scene& x) -> double& { return x.analysis.sweep.spectrum_tolerance; });
-  sweep_float("analysis.sweep.frequency_tolerance_hz", "Hz", Rule::kPositive, 0.25,
+  sweep_float("analysis.sweep.frequency_tolerance_hz", "Hz", Rule::kPositive,
               "Agreeing windows: change of each contact's dominant (BP) frequency.",
               [](Scene& x) -> double& { return x.analysis.sweep.frequency_tolerance_hz; });
-  sweep_float("analysis.sweep.analysis_length", "s", Rule::kPositive, 0.5,
+  sweep_float("analysis.sweep.analysis_length", "s", Rule::kPositive,
               "The last stretch of each speed that is analysed (spectrum, BP, slip velocity); "
               "≤ (settle_windows + 1)·settle_window.",
               [](Scene& x) -> double& { return x.analysis.sweep.analysis_length; });
-  sweep_float("analysis.sweep.sample_rate_hz", "Hz", Rule::kPositive, 4096.0,
+  sweep_float("analysis.sweep.sample_rate_hz", "Hz", Rule::kPositive,
               "Sampling rate of the analysed signals (dense output of the integrator).",
               [](Scene& x) -> double& { return x.analysis.sweep.sample_rate_hz; });
-  sweep_float("analysis.sweep.spectrum_max_hz", "Hz", Rule::kPositive, 600.0,
+  sweep_float("analysis.sweep.spectrum_max_hz", "Hz", Rule::kPositive,
               "Spectra are stored for −this … +this (the waterfall); ≤ sample_rate_hz/2.",
               [](Scene& x) -> double& { return x.analysis.sweep.spectrum_max_hz; });
-  sweep_float("analysis.sweep.impulse", "N·s", Rule::kNonNegative, 1.0,
+  sweep_float("analysis.sweep.impulse", "N·s", Rule::kNonNegative,
               "Impulse on the rotor at its mass-centre plane along +x at the start of each "
               "direction (rotor centred and at rest): a translation at impulse/m_r.",
               [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
-  sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit, 1e-6,
+  sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit,
               "CVODES BDF (order ≤ 2, analytic Jacobian): relative local error tolerance.",
               [](Scene& x) -> double& { return x.analysis.sweep.relative_tolerance; });
-  sweep_float("analysis.sweep.absolute_tolerance", "-", Rule::kOpenUnit, 1e-6,
+  sweep_float("analysis.sweep.absolute_tolerance", "-", Rule::kOpenUnit,
               "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
               "fastest support frequency).",
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
-  sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit, 0.005,
+  sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit,
               "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
               "surface speed) or ≤ rolling_micro_slip·velocity_scale, and its BP passes the "
               "whirl_tolerance check; otherwise it whips (slips).",
               [](Scene& x) -> double& { return x.analysis.sweep.rolling_slip_tolerance; });
-  sweep_float("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative, 1.0,
+  sweep_float("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative,
               "The tanh law's micro-slip of rolling, in units of velocity_scale ε (V = "
               "ε·atanh(μ_req/μ) ≤ ε while μ_req ≤ 0.76 μ): |V| up to this·ε counts as rolling at "
               "any speed. 0: the surface-speed rule alone.",
               [](Scene& x) -> double& { return x.analysis.sweep.rolling_micro_slip; });
-  sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit, 0.02,
+  sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit,
               "The frequency check of a rolling contact: |BP − f_roll| ≤ this·f_roll, f_roll = "
               "RCI·(speed in rev/s).",
               [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
-  sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive, 3.0,
+  sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive,
               "Between successive speeds, a BP change larger than this from both trends (BP "
               "constant, BP ∝ speed) is a jump even when the regime stays the same.",
               [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
@@ -510,28 +517,28 @@ std::vector<KeySpec> BuildSchema() {
   // [analysis.orbits]: the modulated whirl and whip (level L2, shooting/rub_orbits.h).
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.hopf_points", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
-      std::int64_t{2},
       "How many Hopf points to follow: those that bound a stable piece of a tanh-law rotating "
       "wave, in order of speed (mirror images once).",
-      [](Scene& x) -> int& { return x.orbits.hopf_points; }));
+      [](Scene& x) -> int& { return x.analysis.orbits.hopf_points; }));
   s.push_back(Float("analysis.orbits.amplitude", "-", Rule::kOpenUnit,
                     "Amplitude of the first orbit off the rotating wave (scaled state units).",
-                    [](Scene& x) -> double& { return x.orbits.amplitude; }, Presence::kOptional,
-                    1e-3));
+                    [](Scene& x) -> double& { return x.analysis.orbits.amplitude; }, Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
-      "analysis.orbits.segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
-      std::int64_t{4}, "Shooting segments per modulation period (1: single shooting).",
-      [](Scene& x) -> int& { return x.orbits.segments; }));
+      "analysis.orbits.segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional, "Shooting segments per modulation period (1: single shooting).",
+      [](Scene& x) -> int& { return x.analysis.orbits.segments; }));
   s.push_back(Float("analysis.orbits.tolerance", "-", Rule::kOpenUnit,
                     "CVODES BDF tolerance (relative = absolute, on scaled states) of every segment.",
-                    [](Scene& x) -> double& { return x.orbits.tolerance; }, Presence::kOptional,
-                    1e-7));
+                    [](Scene& x) -> double& { return x.analysis.orbits.tolerance; }, Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-      std::int64_t{40},
       "Continuation steps from each Hopf point (20–30 s each for case A(a) with the thesis's "
       "contact stiffness).",
-      [](Scene& x) -> int& { return x.orbits.max_steps; }));
+      [](Scene& x) -> int& { return x.analysis.orbits.max_steps; }));
+
+  // Every default is the initializer of its Scene field (and the structs inside it): written once.
+  const Scene defaults;
+  for (KeySpec& spec : s)
+    if (spec.presence != Presence::kRequired) spec.default_value = spec.get(defaults);
   return s;
 }
 

@@ -59,6 +59,9 @@ Level HighestLevel(const std::vector<Stage>& stages);
 // (not to the Jeffcott rotor).
 bool StageApplies(ModelKind model, Stage stage);
 
+// Every section's defaults are the initializers below (and those of the model parameter structs):
+// the schema in scene.cpp documents and applies them from a default-constructed Scene.
+
 // [analysis.sweep]: the time-marching sweeps (Kumar 2010 §3.5). Units and rules in the schema.
 struct SweepSettings {
   std::array<double, 2> up_range_rpm{20.0, 258.0};    // speed-up sweep: low → high [rpm]
@@ -81,26 +84,33 @@ struct SweepSettings {
   double frequency_jump_hz = 3.0;
 };
 
-// [analysis]: what to compute. Defaults are documented in the schema (scenes/README.md).
+// [analysis.orbits]: the modulated whirl and whip of model two_point, born at Hopf points
+// (shooting/rub_orbits.h).
+struct RubOrbitsSettings {
+  int hopf_points = 2;        // Hopf points followed, in order of speed
+  double amplitude = 1e-3;    // first orbit's amplitude (scaled state units), 0 < x < 1
+  int segments = 4;           // shooting segments per modulation period (1: single shooting)
+  double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states), 0 < x < 1
+  int max_steps = 40;         // continuation steps from each Hopf point
+};
+
+// [analysis]: what to compute.
 struct AnalysisOptions {
-  std::vector<Stage> stages{Stage::kAnalytic};
-  std::array<double, 2> precession_range_hz{1.0, 200.0};  // [Hz] analytic curve grid, 0 < lo < hi
-  int precession_points = 4000;                          // grid points, 2 … 1 000 000
+  std::vector<Stage> stages{Stage::kAnalytic, Stage::kBranches};  // the textbook models: orbits
+  AnalyticOptions analytic;                              // precession_range_hz, precession_points
   SweepSettings sweep;
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
+  RubOrbitsSettings orbits;
 };
 
 // Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and
-// [<model>.shooting] (the model's own sections; see scenes/README.md).
-struct OrbitsOptions {
+// [<model>.orbits] (the model's own sections; see scenes/README.md).
+struct TextbookOrbitsSettings {
   std::array<double, 2> parameter_range{0.5, 2.5};  // continuation parameter, model units, lo < hi
   double start = 0.0;           // parameter of the first orbit, in the range; 0: the low end
   int segments = 1;             // shooting segments (1: single shooting)
   double tolerance = 1e-10;     // integrator rtol = atol (scaled states)
   int max_steps = 1000;         // continuation steps each way
-  // Model two_point ([analysis.orbits]): the modulated orbits born at Hopf points.
-  int hopf_points = 2;          // Hopf points followed, in order of speed
-  double amplitude = 1e-3;      // first orbit's amplitude (scaled state units)
 };
 
 struct Scene {
@@ -112,7 +122,7 @@ struct Scene {
   DuffingParams duffing;            // when model == kDuffing (frequency: see orbits)
   StuartLandauParams stuart_landau; // when model == kStuartLandau (lambda: see orbits)
   VanDerPolParams van_der_pol;      // when model == kVanDerPol (mu: see orbits)
-  OrbitsOptions orbits;             // "orbits" stage: parameter range (textbook models), numerics
+  TextbookOrbitsSettings orbits;    // "orbits" stage of a textbook model: parameter range, numerics
   AnalysisOptions analysis;
 
   // Provenance, not part of the scene's content: where it was read from, and which keys the file

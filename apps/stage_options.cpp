@@ -7,13 +7,7 @@
 
 namespace rubcont {
 
-AnalyticOptions AnalyticOptionsOf(const Scene& scene) {
-  AnalyticOptions options;
-  options.min_precession_hz = scene.analysis.precession_range_hz[0];
-  options.max_precession_hz = scene.analysis.precession_range_hz[1];
-  options.precession_points = scene.analysis.precession_points;
-  return options;
-}
+AnalyticOptions AnalyticOptionsOf(const Scene& scene) { return scene.analysis.analytic; }
 
 namespace {
 
@@ -43,7 +37,7 @@ RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
   options.search.speed_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
-  options.search.precession_max = HzToRadPerSecond(scene.analysis.precession_range_hz[1]);
+  options.search.precession_max = HzToRadPerSecond(scene.analysis.analytic.max_precession_hz);
   return options;
 }
 

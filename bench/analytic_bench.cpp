@@ -34,7 +34,8 @@ void Report(const char* what, const std::vector<double>& ms, int points) {
 
 int main(int argc, char** argv) {
   const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 101;
-  const rubcont::TwoPointParams p;  // thesis A(a): disk at centre, RCI 100/100, c_d = 52 N·s/m
+  // thesis A(a): disk at centre, RCI 100/100, c_d = 52 N·s/m
+  const rubcont::TwoPointParams p = rubcont::ThesisCaseAa();
   rubcont::AnalyticOptions options;  // 4000 points over 1–200 Hz
   std::size_t sink = 0;
   std::printf("analytic curve, thesis A(a), %d frequencies over %g–%g Hz, %d repetitions\n",

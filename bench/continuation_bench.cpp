@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
 
   // The rub model's rotating waves (thesis case A(a)): whirl from the analytic Mode 1 orbit at
   // 60 Hz precession, continued in running speed over the thesis range 20–258 rpm.
-  const TwoPointParams params;
+  const TwoPointParams params = ThesisCaseAa();
   const RubStructure structure = TwoPointStructure(params);
   const double precession = kTwoPi * 60.0;
   const double omega0 = precession / params.Rci(0);

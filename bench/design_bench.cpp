@@ -28,7 +28,7 @@ RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
 
 void FoldsByIpopt() {
   std::printf("== Ipopt vs the engine's located folds (tanh friction, ε = 1e-3 m/s, case A(a)) ==\n");
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   const RubStructure structure = TwoPointStructure(params);
   RotatingWaveBranchOptions options = Range(20, 260);
@@ -54,7 +54,7 @@ void FoldsByIpopt() {
 
 void Maps() {
   std::printf("== hysteresis maps of case A(a), exact law, 20-260 rpm, 31 values x 481 speeds ==\n");
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kExact;
   for (DesignParameter p : {DesignParameter::kFriction, DesignParameter::kStatorDamping,
                             DesignParameter::kRciRatio}) {
@@ -71,7 +71,7 @@ void Maps() {
 
 void Identification() {
   std::printf("== identification from synthetic targets (hidden parameters) ==\n");
-  TwoPointParams truth;
+  TwoPointParams truth = ThesisCaseAa();
   truth.friction_law.kind = FrictionLawKind::kExact;
   truth.friction = 0.42;
   truth.support_damping = {410.0, 410.0};
@@ -92,7 +92,7 @@ void Identification() {
     targets[i].value = made[i];
     std::printf("  target %-36s %.6f\n", targets[i].Name().c_str(), made[i]);
   }
-  TwoPointParams start;  // the fit sees the nominal thesis values only
+  TwoPointParams start = ThesisCaseAa();  // the fit sees the nominal thesis values only
   start.friction_law.kind = FrictionLawKind::kExact;
   for (const auto& fit : std::vector<std::vector<FitParameter>>{
            {{DesignParameter::kFriction, 0.2, 0.8}, {DesignParameter::kStatorDamping, 100.0, 800.0}},

@@ -23,7 +23,7 @@ int Main(int argc, char** argv) {
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
   const int max_order = argc > 5 ? std::atoi(argv[5]) : 0;
   const bool error_control = argc > 6 ? std::atoi(argv[6]) != 0 : true;
-  TwoPointParams params;  // case A(a)
+  TwoPointParams params = ThesisCaseAa();  // case A(a)
   params.friction_law.kind = FrictionLawKind::kTanh;
   if (argc > 7) params.contact_stiffness = std::atof(argv[7]);
   const RubStructure structure = TwoPointStructure(params);

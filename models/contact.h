@@ -33,7 +33,9 @@ enum class FrictionMode {
                   // formulation (its validity margin, penetration ≤ 0, is checked elsewhere)
 };
 
-// Material law shared by the contacts of a scene.
+// Material law shared by the contacts of a scene. The defaults are the thesis's contact (Kumar
+// 2010, Eq. 46 and §3.3; μ of Table 1) and the regularization ε rubcont uses; the model parameter
+// structs (TwoPointParams, JeffcottParams) take theirs from here.
 struct ContactLaw {
   double stiffness = 1.75e11;    // k1 [N/m] > 0
   double stiffness2 = 0.0;       // k2 [N/m²] ≥ 0
@@ -42,7 +44,7 @@ struct ContactLaw {
   double velocity_scale = 1e-3;  // ε [m/s] > 0, of tanh(V/ε) in kRegularized mode
 };
 
-// Geometry of one contact.
+// Geometry of one contact (defaults: the thesis's RCI 100, R = 38.1 mm).
 struct ContactGeometry {
   double clearance = 3.81e-4;  // C [m] > 0, radial
   double radius = 38.1e-3;     // R [m] > 0, rotor radius at the contact

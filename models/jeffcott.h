@@ -17,12 +17,13 @@ struct JeffcottParams {
   double m_s = 20.0;      // stator mass [kg] > 0
   double k_s = 5.0e6;     // stator support stiffness [N/m] > 0
   double c_s = 300.0;     // stator support damping [N·s/m] ≥ 0
-  double C = 3.81e-4;     // radial clearance [m] > 0
-  double R = 38.1e-3;     // rotor radius at the contact [m] > 0
+  double C = ContactGeometry{}.clearance;  // radial clearance [m] > 0
+  double R = ContactGeometry{}.radius;     // rotor radius at the contact [m] > 0
   double mu = 0.3;        // friction coefficient [-] ≥ 0
-  double contact_stiffness = 1.75e11;  // k1 [N/m] > 0 (Hunt–Crossley, as the two-point model)
-  double contact_stiffness2 = 0.0;     // k2 [N/m²] ≥ 0
-  double contact_damping = 1.75e5;     // c_nl [N·s/m²] ≥ 0
+  // Hunt–Crossley as the two-point model: k1 [N/m] > 0, k2 [N/m²] ≥ 0, c_nl [N·s/m²] ≥ 0.
+  double contact_stiffness = ContactLaw{}.stiffness;
+  double contact_stiffness2 = ContactLaw{}.stiffness2;
+  double contact_damping = ContactLaw{}.damping;
   FrictionLaw friction_law;
   double imbalance = 0.0;  // m_u e [kg·m] ≥ 0, on the rotor
 };

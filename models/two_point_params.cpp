@@ -6,6 +6,13 @@
 #include <string>
 
 namespace rubcont {
+
+TwoPointParams ThesisCaseAa() {
+  TwoPointParams params;
+  params.center_damping = 52.0;
+  return params;
+}
+
 namespace {
 
 enum class Sign { kPositive, kNonNegative, kAny };

@@ -1,9 +1,18 @@
-// Physical parameters of the two-point rub model (design.md §2): a rigid rotor touching a rigid,
-// elastically supported stator at two contact planes, L (z = 0) and R (z = l). SI units throughout.
-// Arrays indexed [0] = left contact / station, [1] = right.
+// Physical parameters of the two-point rub model (docs/theory.md §2): a rigid rotor touching a
+// rigid, elastically supported stator at two contact planes, L (z = 0) and R (z = l). SI units
+// throughout. Arrays indexed [0] = left contact / station, [1] = right.
+//
+// Defaults. The physical values default to the thesis's case A(a) (Kumar 2010, Eq. 31, Table 1;
+// the contact law's from models/contact.h), which a scene must nevertheless give in full; the
+// optional parts default to what a scene that leaves them out means: no imbalance, no centre
+// damper, the exact friction law for rotating waves. ThesisCaseAa() is the case as the thesis
+// simulated it, with its centre damper. The scene schema (apps/scene.cpp) takes its documented
+// defaults from these initializers: each default is written once.
 #pragma once
 
 #include <array>
+
+#include "models/contact.h"
 
 namespace rubcont {
 
@@ -13,8 +22,9 @@ enum class FrictionLawKind {
 };
 
 struct FrictionLaw {
-  FrictionLawKind kind = FrictionLawKind::kTanh;
-  double velocity_scale = 1e-3;  // ε [m/s] of tanh(V/ε); > 0; unused by kExact
+  // The law of the rotating waves (time marching and shooting always use tanh).
+  FrictionLawKind kind = FrictionLawKind::kExact;
+  double velocity_scale = ContactLaw{}.velocity_scale;  // ε [m/s] of tanh(V/ε); > 0
 };
 
 struct TwoPointParams {
@@ -33,22 +43,27 @@ struct TwoPointParams {
   std::array<double, 2> support_damping{324.9, 324.9};      // c_L, c_R [N·s/m] ≥ 0
 
   // Contacts (Hunt–Crossley normal force, Coulomb friction).
-  std::array<double, 2> clearance{3.81e-4, 3.81e-4};  // C_L, C_R [m] > 0, radial
-  std::array<double, 2> radius{38.1e-3, 38.1e-3};     // R_L, R_R [m] > 0, rotor radius at contact
-  double friction = 0.5;               // μ [-] ≥ 0
-  double contact_stiffness = 1.75e11;  // k1 [N/m] > 0:  N = k1 δ + k2 δ² + c_nl δ̇ δ
-  double contact_stiffness2 = 0.0;     // k2 [N/m²] ≥ 0
-  double contact_damping = 1.75e5;     // c_nl [N·s/m²] ≥ 0
+  // C_L, C_R [m] > 0, radial; R_L, R_R [m] > 0, rotor radius at contact (RCI 100/100).
+  std::array<double, 2> clearance{ContactGeometry{}.clearance, ContactGeometry{}.clearance};
+  std::array<double, 2> radius{ContactGeometry{}.radius, ContactGeometry{}.radius};
+  double friction = ContactLaw{}.friction;                   // μ [-] ≥ 0
+  double contact_stiffness = ContactLaw{}.stiffness;         // k1 [N/m] > 0: N = k1 δ + k2 δ² + c_nl δ̇ δ
+  double contact_stiffness2 = ContactLaw{}.stiffness2;       // k2 [N/m²] ≥ 0
+  double contact_damping = ContactLaw{}.damping;             // c_nl [N·s/m²] ≥ 0
   FrictionLaw friction_law;
 
-  double imbalance = 0.0;        // m_u e [kg·m] ≥ 0, at the mass-centre plane (3.43 g·cm = 3.43e-5)
-  double center_damping = 52.0;  // c_d [N·s/m] ≥ 0, between rotor and stator mid-points
+  double imbalance = 0.0;       // m_u e [kg·m] ≥ 0, at the mass-centre plane (3.43 g·cm = 3.43e-5)
+  double center_damping = 0.0;  // c_d [N·s/m] ≥ 0, between rotor and stator mid-points (thesis: 52)
 
   double a() const { return rotor_mass_center / contact_span; }
   double b() const { return stator_mass_center / stator_span; }
   // Radius-to-clearance ratio R_k / C_k of contact k.
   double Rci(int k) const { return radius[k] / clearance[k]; }
 };
+
+// The thesis's case A(a) as it simulated it (§3.7): the defaults above with the centre damper of
+// 52 N·s/m (scenes/thesis_A_a.toml).
+TwoPointParams ThesisCaseAa();
 
 // Throws std::invalid_argument naming the first field that breaks its rule above (e.g.
 // "TwoPointParams.rotor_mass = -1: must be positive (kg)"); every value must also be finite.

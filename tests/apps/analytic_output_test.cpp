@@ -34,7 +34,7 @@ void CheckSame(const AnalyticCurve& a, const AnalyticCurve& b) {
 TEST_CASE("The analytic result survives an HDF5 round trip bit for bit, in design.md's layout",
           "[hdf5][analytic]") {
   const fs::path file = fs::temp_directory_path() / ("rubcont_analytic_" + std::to_string(getpid()) + ".h5");
-  TwoPointParams p;  // thesis A(a) with the centre damper
+  TwoPointParams p = ThesisCaseAa();  // thesis A(a) with the centre damper
   p.clearance = {3.81e-4, 3.048e-4};  // unequal, so left and right differ
   AnalyticOptions options;
   options.precession_points = 500;

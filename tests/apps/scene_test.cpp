@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -88,8 +89,9 @@ TEST_CASE("A valid scene loads with its values and documented defaults", "[scene
   CHECK(scene.two_point.friction_law.kind == FrictionLawKind::kExact);
   CHECK(scene.two_point.friction_law.velocity_scale == 1e-3);
   CHECK(scene.analysis.stages == std::vector<Stage>({Stage::kAnalytic, Stage::kBranches}));
-  CHECK(scene.analysis.precession_range_hz == std::array<double, 2>{1.0, 200.0});
-  CHECK(scene.analysis.precession_points == 4000);
+  CHECK(scene.analysis.analytic.min_precession_hz == 1.0);
+  CHECK(scene.analysis.analytic.max_precession_hz == 200.0);
+  CHECK(scene.analysis.analytic.precession_points == 4000);
   for (const char* key : {"name", "model", "imbalance.mass_radius", "analysis.stages"})
     CHECK(std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(), key) != scene.defaulted_keys.end());
   CHECK(std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(), "rotor.mass") == scene.defaulted_keys.end());
@@ -270,10 +272,10 @@ TEST_CASE("Textbook models: their own sections, the orbits stage by default, sta
                                      "hopf_points = 3\nmax_steps = 7\n");
   REQUIRE(rotor.analysis.stages.size() == 1);
   CHECK(rotor.analysis.stages[0] == Stage::kOrbits);
-  CHECK(rotor.orbits.hopf_points == 3);
-  CHECK(rotor.orbits.max_steps == 7);
-  CHECK(rotor.orbits.segments == 4);
-  CHECK(rotor.orbits.tolerance == 1e-7);
+  CHECK(rotor.analysis.orbits.hopf_points == 3);
+  CHECK(rotor.analysis.orbits.max_steps == 7);
+  CHECK(rotor.analysis.orbits.segments == 4);
+  CHECK(rotor.analysis.orbits.tolerance == 1e-7);
 
   const Scene stuart_landau =
       Parse("model = \"stuart_landau\"\n[stuart_landau]\nomega = 1.0\nlambda_range = [0.1, 1.0]\n");
@@ -388,6 +390,74 @@ TEST_CASE("The result's level is the highest of its stages, in whatever order th
   CHECK(HighestLevel({Stage::kOrbits, Stage::kBranches}) == Level::kL2);
   CHECK(HighestLevel({Stage::kSweep, Stage::kOrbits, Stage::kBranches}) == Level::kL3);
   CHECK(std::string(ToString(HighestLevel({Stage::kOrbits, Stage::kAnalytic}))) == "L2");
+}
+
+// Every default is written once (the initializers of the Scene's structs, which the schema reads):
+// for every model, a scene that leaves an optional key out resolves it to the value the key
+// reference (scenes/README.md) documents.
+TEST_CASE("Every documented default is the value a scene without the key gets, for every model",
+          "[scene]") {
+  // The key reference: full key → its default literal, for the rows "optional; default `X`" and
+  // "required in [s]; section absent: `X`" (rows with a described default are left out).
+  std::map<std::string, std::string> documented;
+  std::istringstream keys(SceneKeysMarkdown());
+  std::string line, section;
+  while (std::getline(keys, line)) {
+    if (line.rfind("### [", 0) == 0) section = line.substr(5, line.size() - 6) + ".";
+    if (line.rfind("### Top level", 0) == 0) section.clear();
+    if (line.rfind("| `", 0) != 0) continue;
+    const std::string key = section + line.substr(3, line.find('`', 3) - 3);
+    for (const std::string marker : {"| optional; default `", "; section absent: `"}) {
+      const auto at = line.find(marker);
+      if (at == std::string::npos) continue;
+      const auto begin = at + marker.size(), end = line.find("` |", begin);
+      if (end != std::string::npos && line.find('`', begin) == end) documented[key] = line.substr(begin, end - begin);
+    }
+  }
+  REQUIRE(documented.size() > 30);
+
+  // One scene per model with only its required keys.
+  const std::string two_point = Replace(kValid, "[center_damper]\ndamping = 52.0\n", "");
+  const std::string jeffcott = R"(model = "jeffcott"
+[jeffcott]
+m_r = 10.0
+k_r = 1.0e6
+c_r = 100.0
+m_s = 20.0
+k_s = 5.0e6
+c_s = 300.0
+C = 3.81e-4
+R = 38.1e-3
+mu = 0.3
+contact_stiffness = 1.75e11
+contact_damping = 1.75e5
+)";
+  const std::string stuart_landau = "model = \"stuart_landau\"\n[stuart_landau]\nomega = 1.0\n"
+                                    "lambda_range = [0.1, 1.0]\n";
+  const std::string van_der_pol = "model = \"van_der_pol\"\n[van_der_pol]\nmu_range = [0.2, 2.0]\n";
+  int compared = 0;
+  for (const std::string& text : {two_point, jeffcott, kDuffing, stuart_landau, van_der_pol}) {
+    const Scene scene = Parse(text);
+    std::istringstream resolved(ResolvedSceneToml(scene));
+    std::string prefix;
+    while (std::getline(resolved, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (line[0] == '[') {
+        prefix = line.substr(1, line.size() - 2) + ".";
+        continue;
+      }
+      const auto eq = line.find(" = ");
+      const std::string key = prefix + line.substr(0, eq);
+      const auto found = documented.find(key);
+      if (found == documented.end()) continue;  // required, or a default described in words
+      const auto& defaulted = scene.defaulted_keys;
+      if (std::find(defaulted.begin(), defaulted.end(), key) == defaulted.end()) continue;  // given
+      CAPTURE(ToString(scene.model), key);
+      CHECK(line.substr(eq + 3) == found->second);
+      ++compared;
+    }
+  }
+  CHECK(compared > 60);
 }
 }  // namespace
 }  // namespace rubcont

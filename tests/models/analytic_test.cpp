@@ -16,7 +16,7 @@ using Complex = std::complex<double>;
 
 // Thesis data, disk at centre (Eq. 31, Table 1 case A): the TwoPointParams defaults.
 TwoPointParams DiskAtCenter(double center_damping = 0.0) {
-  TwoPointParams p;
+  TwoPointParams p = ThesisCaseAa();
   p.center_damping = center_damping;
   return p;
 }

@@ -84,7 +84,7 @@ TEST_CASE("contact law: no force in the gap, friction drives backward precession
 }
 
 TEST_CASE("two-point structure: fixed-frame Jacobian and parameter derivative", "[rub_model]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.velocity_scale = 0.05;
   params.imbalance = 3.43e-5;
   RubFixedFrame model(TwoPointStructure(params), kTwoPi * 60.0 / 60.0);
@@ -118,7 +118,7 @@ TEST_CASE("two-point structure: fixed-frame Jacobian and parameter derivative", 
 
 TEST_CASE("rotating frame: Jacobian, equivariance and agreement with the fixed frame",
           "[rub_model]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.velocity_scale = 0.05;
   const double frame_rate = kTwoPi * 80.0;
   RubRotatingFrame rotating(TwoPointStructure(params), frame_rate, kTwoPi * 0.9);
@@ -165,7 +165,7 @@ TEST_CASE("rigid-contact orbit of the general structure equals the analytic Mode
           "[rub_model]") {
   // Two independent derivations: the thesis-form W(Ω) receptance of models/analytic.h and the
   // bordered solve of the assembled structure (with the centre damper inside C).
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.rotor_mass_center = 0.22;  // asymmetric rotor, unequal clearances
   params.rotor_inertia = 0.04;
   params.clearance = {3.81e-4, 3.048e-4};

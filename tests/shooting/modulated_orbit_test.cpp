@@ -51,7 +51,7 @@ ModulatedOrbitOptions Options(double tolerance) {
 
 TEST_CASE("case A(a) at 60 rpm: the modulated whip is a relative periodic orbit whose dominant "
           "precession is the sweep's, 0.1 Hz below the circular whip's", "[modulated_orbit]") {
-  const TwoPointParams params;  // the tanh law at ε = 1e-3 m/s, as the sweeps
+  const TwoPointParams params = ThesisCaseAa();  // the tanh law at ε = 1e-3 m/s, as the sweeps
   const Transient transient = Settle(params, 60.0);
   REQUIRE(transient.settled);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
@@ -86,7 +86,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
           "shooting for one reports that it did not converge", "[modulated_orbit][failure]") {
   // Measured (sweep spectra at 49.5–60 rpm): the left contact carries lines at −79 ± 121 Hz, the
   // right at −79 ± 325 Hz; 325/121 is not an integer, so no period T fits both.
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.rotor_inertia = 0.07;
   params.rotor_mass_center = 0.26;
   const Transient transient = Settle(params, 60.0);
@@ -101,7 +101,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
 }
 
 TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[modulated_orbit]") {
-  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
   const Vector x = Vector::Zero(s.States());
   ModulatedOrbitOptions o;
   o.search_duration = 0.0;

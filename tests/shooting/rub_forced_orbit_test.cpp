@@ -17,7 +17,7 @@ namespace {
 TEST_CASE("case A(a) imbalance response without contact: the free-free rotor makes the forced "
           "orbit non-isolated, and forced shooting meets a singular Jacobian",
           "[shooting][rub]") {
-  TwoPointParams params;  // case A(a): disk at centre, RCI 100/100, centre damper 52 N·s/m
+  TwoPointParams params = ThesisCaseAa();  // case A(a): disk at centre, RCI 100/100, centre damper 52 N·s/m
   params.imbalance = 3.43e-5;
   const double omega = 200.0 * 2.0 * M_PI / 60.0;  // 200 rpm
   RubFixedFrame system(TwoPointStructure(params), omega);

@@ -26,7 +26,7 @@ struct ModulatedWhip {
 
 const ModulatedWhip& CaseAaModulatedWhip() {
   static const ModulatedWhip whip = [] {
-    TwoPointParams params;  // case A(a)
+    TwoPointParams params = ThesisCaseAa();  // case A(a)
     params.friction_law.kind = FrictionLawKind::kTanh;
     params.contact_stiffness = 1.75e8;
     ModulatedWhip w;

@@ -15,7 +15,7 @@ namespace rubcont {
 namespace {
 
 TwoPointParams ExactThesisA() {
-  TwoPointParams params;  // case A(a): disk at centre, RCI 100/100
+  TwoPointParams params = ThesisCaseAa();  // case A(a): disk at centre, RCI 100/100
   params.friction_law.kind = FrictionLawKind::kExact;
   return params;
 }

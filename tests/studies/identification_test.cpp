@@ -19,7 +19,7 @@ RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
 }
 
 TwoPointParams Nominal() {
-  TwoPointParams params;  // case A(a), the values the fit starts from
+  TwoPointParams params = ThesisCaseAa();  // case A(a), the values the fit starts from
   params.friction_law.kind = FrictionLawKind::kExact;
   return params;
 }

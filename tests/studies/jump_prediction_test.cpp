@@ -12,7 +12,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Case A(a) (the scene defaults are the thesis's): its L1 branches over 20–80 rpm.
 struct CaseAa {
-  RubStructure structure = TwoPointStructure(TwoPointParams{});
+  RubStructure structure = TwoPointStructure(ThesisCaseAa());
   std::vector<RotatingWaveBranch> branches;
   CaseAa() {
     RotatingWaveBranchOptions o;

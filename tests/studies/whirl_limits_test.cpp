@@ -22,7 +22,7 @@ RotatingWaveBranchOptions SpeedRange(double min_rpm, double max_rpm) {
 
 // The closed form's Mode 1 μ crossing of `direction` (+1 whirl → whip as Ω rises) nearest `near_hz`.
 double MuCrossingHz(int direction, double near_hz) {
-  const AnalyticCurve curve = ComputeAnalyticCurve(TwoPointParams{}, CircularMode::kMode1, {1.0, 200.0, 4000});
+  const AnalyticCurve curve = ComputeAnalyticCurve(ThesisCaseAa(), CircularMode::kMode1, {1.0, 200.0, 4000});
   double best = 0.0;
   for (const Transition& t : curve.transitions) {
     if (t.type == TransitionType::kMuCrossing && t.direction == direction &&
@@ -37,7 +37,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
           "beyond the speed-up limit the whip turns at the crossing frequency",
           "[whirl_limits]") {
   const RotatingWaveBranchOptions options = SpeedRange(20, 260);
-  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams{}),
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()),
                                                     FrictionLawKind::kExact, options);
   const WhirlLimit up = FindWhirlLimit(branches, +1, options.search.speed_min);
   INFO(up.reason);
@@ -77,7 +77,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
 
 TEST_CASE("tanh law: the speed-up limit is the Hopf point between the last stable point and the "
           "first unstable one, not the knee", "[whirl_limits]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   const RotatingWaveBranchOptions options = SpeedRange(20, 260);
   const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kTanh, options);
@@ -111,7 +111,7 @@ TEST_CASE("tanh law: the speed-up limit is the Hopf point between the last stabl
 
 TEST_CASE("a whirl stable to the end of the range is reported, not answered", "[whirl_limits]") {
   const RotatingWaveBranchOptions options = SpeedRange(20, 45);
-  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams{}),
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()),
                                                     FrictionLawKind::kExact, options);
   const WhirlLimit up = FindWhirlLimit(branches, +1, options.search.speed_min);
   CHECK_FALSE(up.found);
@@ -131,7 +131,7 @@ TEST_CASE("regularization bias: the shift to ε/10 flags ε = 0.1 m/s and estima
           "ε = 1e-5 m/s within a factor 1.5", "[whirl_limits][failure]") {
   const RotatingWaveBranchOptions options = SpeedRange(20, 260);
   const double tolerance = RpmToRadPerSecond(0.1);
-  RubStructure structure = TwoPointStructure(TwoPointParams{});
+  RubStructure structure = TwoPointStructure(ThesisCaseAa());
   const WhirlLimit exact = FindWhirlLimit(
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kExact, options), +1, options.search.speed_min);
   REQUIRE(exact.found);

@@ -20,7 +20,7 @@ using Catch::Matchers::Contains;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 TEST_CASE("The impulse translates the rotor at J/m_r and leaves everything else at rest", "[rub_sweep]") {
-  TwoPointParams p;
+  TwoPointParams p = ThesisCaseAa();
   for (double mass_center : {0.145, 0.22, 0.26, 0.35}) {
     CAPTURE(mass_center);
     p.rotor_mass_center = mass_center;
@@ -62,7 +62,7 @@ TEST_CASE("Speed schedules: the thesis's 120 up and 117 down speeds", "[rub_swee
 }
 
 TEST_CASE("The observables are the contacts' relative motion, slip velocity and normal force", "[rub_sweep]") {
-  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
   RubFixedFrame system(s, RpmToRadPerSecond(100.0));
   RubSweepObservables observables(system);
   REQUIRE(observables.Channels() == 2);
@@ -124,7 +124,7 @@ SweepPoint CircularPoint(const RubStructure& s, double rpm, double bp_left, doub
 }
 
 TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub_sweep]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.clearance = {3.81e-4, 3.048e-4};  // RCI 100 / 125
   const RubStructure s = TwoPointStructure(params);
   // Rolling: 100·rpm/60 Hz at the left contact, 125·rpm/60 at the right.
@@ -188,7 +188,7 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
 
 TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the rolling line is whip",
           "[rub_sweep]") {
-  TwoPointParams params;  // case C(a)
+  TwoPointParams params = ThesisCaseAa();  // case C(a)
   params.rotor_inertia = 0.07;
   params.rotor_mass_center = 0.26;
   const RubStructure s = TwoPointStructure(params);
@@ -224,7 +224,7 @@ TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the r
 
   // A rolling whirl close to its jump is still whirl: case A(a) at 48 rpm (speed-up sweep,
   // results/thesis_A_a/sweep.h5), 3.7 rpm below the Hopf point of its tanh Mode 1 whirl.
-  const RubStructure a = TwoPointStructure(TwoPointParams{});
+  const RubStructure a = TwoPointStructure(ThesisCaseAa());
   const RubSweepRegimes w =
       ClassifySweep(a, {Point(48.0, {79.878, 2.856e-4}, {79.878, 2.856e-4})});
   CHECK(w.regime[0][0] == R::kWhirl);
@@ -234,7 +234,7 @@ TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the r
 
 TEST_CASE("A tanh-law contact rolls with its micro-slip at low speed, below ε but above 0.5 % of ωR",
           "[rub_sweep]") {
-  TwoPointParams params;  // case B(b): disk at ¾, RCI 100 / 125, ε = 1e-3 m/s
+  TwoPointParams params = ThesisCaseAa();  // case B(b): disk at ¾, RCI 100 / 125, ε = 1e-3 m/s
   params.rotor_inertia = 0.04;
   params.rotor_mass_center = 0.22;
   params.clearance = {3.81e-4, 3.048e-4};
@@ -274,7 +274,7 @@ struct SegmentResult {
 // 1 N·s impulse at its first speed, with every speed run for the minimum three windows; CVODES BDF
 // of maximum order `order` with relative and (scaled) absolute tolerance `tolerance`.
 SegmentResult Segment(const std::vector<double>& rpm, int order, double tolerance) {
-  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
   RubFixedFrame system(s);
   RubSweepObservables observables(system);
   SweepOptions o;
@@ -300,7 +300,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
   const std::vector<double> rpm = {50.0, 52.0, 54.0};
   const SegmentResult loose = Segment(rpm, 2, 1e-6);
   const SegmentResult tight = Segment(rpm, 5, 1e-8);
-  const AnalyticCurve mode1 = ComputeAnalyticCurve(TwoPointParams{}, CircularMode::kMode1);
+  const AnalyticCurve mode1 = ComputeAnalyticCurve(ThesisCaseAa(), CircularMode::kMode1);
   double whip_onset_hz = kNaN;
   for (const Transition& t : mode1.transitions)
     if (t.type == TransitionType::kMuCrossing && t.direction > 0) {
@@ -343,7 +343,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
   branch_options.search.speed_max = RpmToRadPerSecond(60.0);
   branch_options.search.precession_max = 2.0 * M_PI * 200.0;
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      TwoPointStructure(TwoPointParams{}), FrictionLawKind::kExact, branch_options);
+      TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kExact, branch_options);
   double v_branch = kNaN;
   for (const RotatingWaveBranch& b : branches) {
     if (PatternName(b.normals) != "mode1") continue;
@@ -394,7 +394,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
           "ran to its dwell", "[rub_sweep][failure]") {
   // The stability limit the sweep looks for: where the tanh-law whirl it follows stops being
   // stable (studies/whirl_limits.h; measured: a Hopf point at 51.685 rpm).
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(20.0);
@@ -417,7 +417,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
   // rule reads the tanh knee instead, 0.72 rpm earlier (results/README.md, "Work-precision").
   RubRegimeOptions by_frequency;
   by_frequency.rolling_slip_tolerance = 0.999;
-  const RubStructure structure = TwoPointStructure(TwoPointParams{});
+  const RubStructure structure = TwoPointStructure(ThesisCaseAa());
   const RubSweepRegimes coarse_regimes = ClassifySweep(structure, coarse.points, by_frequency);
   const RubSweepRegimes fine_regimes = ClassifySweep(structure, fine.points, by_frequency);
   for (int k = 0; k < 2; ++k) {
@@ -446,7 +446,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
 TEST_CASE("Explicit Runge-Kutta on the stiff contact: a loose tolerance lets the step outrun "
           "stability and the sweep stops with the reason, a tight one costs 3x the steps of BDF",
           "[rub_sweep][failure]") {
-  const RubStructure s = TwoPointStructure(TwoPointParams{});
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
   // The Mode 1 whirl at 40 rpm from the rigid-contact closed form, in the fixed frame.
   const double omega = RpmToRadPerSecond(40.0);
   const double precession = 100.0 * omega;

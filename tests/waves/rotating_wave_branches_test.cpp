@@ -55,7 +55,7 @@ double MuCrossingHz(const AnalyticCurve& curve, int direction, double near_hz) {
 
 TEST_CASE("case A(a): whirl to whip where the closed form’s μ_req reaches μ, to 1e-9",
           "[branches]") {
-  const TwoPointParams params;
+  const TwoPointParams params = ThesisCaseAa();
   const auto branches =
       ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, ThesisRange());
   const AnalyticResult analytic = ComputeAnalytic(params, {1.0, 200.0, 4000});
@@ -111,7 +111,7 @@ TEST_CASE("a slipping rotating wave's spectrum does not depend on the running sp
   // involve ω, so along a whip piece the spectrum is constant. The whip of one contact has a
   // close pair near 675.8 rad/s (Re 0 and −4.57 s⁻¹); without balancing the eigenvalue solver
   // scattered it by ±2.5 s⁻¹ and the engine reported a dozen spurious Hopf points.
-  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams()),
+  const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()),
                                                     FrictionLawKind::kExact, ThesisRange());
   int pieces = 0;
   for (const RotatingWaveBranch& b : branches) {
@@ -138,7 +138,7 @@ TEST_CASE("a slipping rotating wave's spectrum does not depend on the running sp
 
 TEST_CASE("case A(b), unequal RCI: contact loss is located where the penetration vanishes",
           "[branches]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.clearance = {3.81e-4, 3.048e-4};  // RCI 100 / 125
   const auto branches =
       ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kExact, ThesisRange());
@@ -192,7 +192,7 @@ TEST_CASE("Jeffcott rotor: the whip branch meets the whirl at Black's μ crossin
 TEST_CASE("branch-set options are validated", "[branches]") {
   RotatingWaveBranchOptions options = ThesisRange();
   options.continuation.step.min = -1.0;
-  CHECK_THROWS_WITH(ComputeRotatingWaveBranches(TwoPointStructure(TwoPointParams()),
+  CHECK_THROWS_WITH(ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()),
                                                 FrictionLawKind::kExact, options),
                     Catch::Contains("step.min"));
 }
@@ -205,7 +205,7 @@ namespace {
 
 // The regularized whirl → whip transition: the knee (dΩ/dω = R/2C) of the Mode 1 branch.
 double KneePrecessionHz(double epsilon) {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.velocity_scale = epsilon;
   const auto branches = ComputeRotatingWaveBranches(TwoPointStructure(params),
                                                     FrictionLawKind::kTanh, ThesisRange());
@@ -235,7 +235,7 @@ namespace rubcont {
 namespace {
 
 TEST_CASE("an imbalanced rotor's branch set is the balanced rotor's", "[branches]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   const auto balanced = ComputeRotatingWaveBranches(TwoPointStructure(params),
                                                     FrictionLawKind::kExact, ThesisRange());
   params.imbalance = 3.43e-5;  // case A(a)'s 3.43 g·cm
@@ -261,8 +261,8 @@ namespace {
 TEST_CASE("the rotating waves' stability tolerance, 0.1 s⁻¹, lies in the gap of the growth rates",
           "[branches]") {
   const double tolerance = 0.1;
-  TwoPointParams symmetric;  // case A(a): the drift of two rolling contacts
-  TwoPointParams unequal;    // case A(b), RCI 100/125: its 1.65 Hz whip is the slowest instability
+  TwoPointParams symmetric = ThesisCaseAa();  // case A(a): the drift of two rolling contacts
+  TwoPointParams unequal = ThesisCaseAa();    // case A(b), RCI 100/125: its 1.65 Hz whip is the slowest instability
   unequal.clearance[1] = unequal.radius[1] / 125.0;
   double largest_marginal = 0.0, smallest_unstable = std::numeric_limits<double>::infinity();
   for (const TwoPointParams& params : {symmetric, unequal}) {

@@ -26,7 +26,7 @@ FamilySearchOptions ThesisRange() {
 
 TEST_CASE("families of case A(a): Mode 1 and Mode 2 whirl, whip at every μ_req = μ crossing",
           "[families]") {
-  const TwoPointParams params;
+  const TwoPointParams params = ThesisCaseAa();
   RotatingWaveProblem problem(TwoPointStructure(params), FrictionLawKind::kExact);
   const auto starts = FindRotatingWaveStarts(problem, ThesisRange());
   auto count = [&](ContactMode mode, double normal_sign) {
@@ -100,7 +100,7 @@ TEST_CASE("families of the Jeffcott rotor: whirl below the μ crossing, whip at 
 }
 
 TEST_CASE("family search rejects an inverted speed range", "[families]") {
-  RotatingWaveProblem problem(TwoPointStructure(TwoPointParams()), FrictionLawKind::kExact);
+  RotatingWaveProblem problem(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kExact);
   FamilySearchOptions options = ThesisRange();
   std::swap(options.speed_min, options.speed_max);
   CHECK_THROWS_WITH(FindRotatingWaveStarts(problem, options), Catch::Contains("speed range"));

@@ -19,7 +19,7 @@ TEST_CASE("Ipopt and the engine locate the folds of the tanh-friction whirl bran
   // Case A(a) with regularized friction (ε = 1e-3 m/s): the rolling whirl's Mode 1 branch that
   // starts beyond the whip turns back in speed near 66.5 rpm. The knee test functions are off so
   // that the turning points are located as folds (otherwise the knee, at the same point, is kept).
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   const RubStructure structure = TwoPointStructure(params);
   RotatingWaveBranchOptions options;
@@ -63,7 +63,7 @@ namespace {
 
 TEST_CASE("along a fold curve in friction (tanh law) Ipopt finds the same fold at each friction",
           "[design][fold_optimization][map]") {
-  TwoPointParams params;
+  TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   HysteresisMapOptions options;
   options.parameter = DesignParameter::kFriction;

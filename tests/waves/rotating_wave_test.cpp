@@ -15,7 +15,7 @@ namespace {
 double Rpm(double omega) { return omega * 60.0 / kTwoPi; }
 
 // Case A(a) of the thesis (disk at centre, RCI 100/100), centre damper included.
-TwoPointParams CaseAa() { return TwoPointParams(); }
+TwoPointParams CaseAa() { return ThesisCaseAa(); }
 
 // Compares the analytic Jacobian and ∂F/∂ω with central differences. `tolerance` applies to
 // entries relative to max(|J_ij|, floor × max_j |J_ij|).
