@@ -85,7 +85,7 @@ void WriteJeffcottAnalytic(ResultWriter& writer, const JeffcottParams& params,
                            const AnalyticCurve& curve) {
   writer.CreateGroup("/analytic");
   writer.SetAttribute("/analytic", "level", ToString(Level::kL0));
-  writer.SetAttribute("/analytic", "friction", params.mu);
+  writer.SetAttribute("/analytic", "friction", params.friction);
   const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
   const std::string nf = "/analytic/natural_frequencies";
   writer.CreateGroup(nf);

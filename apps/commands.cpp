@@ -360,7 +360,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
                    options.precession_points, 1e3 * SecondsSince(start));
           const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
           fmt::print(out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",
-                     scene.jeffcott.mu, options.precession_points, options.min_precession_hz,
+                     scene.jeffcott.friction, options.precession_points, options.min_precession_hz,
                      options.max_precession_hz);
           fmt::print(out, "  natural frequencies: rotor {:.3f} Hz, stator {:.3f} Hz, "
                           "pinned together {:.3f} Hz\n",

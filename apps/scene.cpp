@@ -270,7 +270,7 @@ std::vector<KeySpec> BuildSchema() {
     jeffcott("R", "m", Rule::kPositive, "Rotor radius at the contact; RCI = R/C.",
              [](Scene& x) -> double& { return x.jeffcott.R; });
     jeffcott("mu", "-", Rule::kNonNegative, "μ: Coulomb friction coefficient.",
-             [](Scene& x) -> double& { return x.jeffcott.mu; });
+             [](Scene& x) -> double& { return x.jeffcott.friction; });
     jeffcott("contact_stiffness", "N/m", Rule::kPositive,
              "k1 of the Hunt–Crossley normal force N = k1 δ + k2 δ² + c_nl δ̇ δ.",
              [](Scene& x) -> double& { return x.jeffcott.contact_stiffness; });

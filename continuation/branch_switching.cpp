@@ -8,13 +8,13 @@
 #include <fmt/core.h>
 
 #include "continuation/scaled_system.h"
+#include "solvers/finite_difference.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
 
 namespace {
 
-constexpr double kRelativeStep = 6.0e-6;
 // Smallest singular value of DF̂ relative to ‖DF̂‖ below which the kernel is taken as 2-D.
 constexpr double kKernelTolerance = 1e-6;
 
@@ -62,7 +62,7 @@ BranchSwitch ComputeBranchSwitch(Problem& problem, const SpecialPoint& branch_po
   phi /= phi.norm();
 
   // ψᵀ D²F̂(p, q) by central differences of DF̂ along q.
-  const double h = kRelativeStep * std::max(1.0, x.lpNorm<Eigen::Infinity>());
+  const double h = CentralDifferenceStep(x.lpNorm<Eigen::Infinity>(), 1.0);
   auto second = [&](const Vector& p, const Vector& q) {
     Matrix DF_plus, DF_minus;
     system.Jacobian(x + h * q, DF_plus);

@@ -7,12 +7,12 @@
 
 #include <fmt/core.h>
 
+#include "solvers/finite_difference.h"
+
 namespace rubcont {
 
 namespace {
 
-// Central differences: h = ∛ε-order relative step in scaled variables (as fold.cpp).
-constexpr double kRelativeStep = 6.0e-6;
 // Other margins within this of zero at the start vanish with m_k (simultaneous events): the inner
 // problems' margins are scaled, and their location error is ~1e-10.
 constexpr double kPartnerTolerance = 1e-7;
@@ -104,7 +104,7 @@ void EventCurveProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
   const Vector scale = Scale();
   Vector V = U;
   for (Index i = 0; i <= n_; ++i) {
-    const double h = kRelativeStep * std::max(1.0, std::abs(U(i) / scale(i))) * scale(i);
+    const double h = CentralDifferenceStep(U(i) / scale(i), 1.0) * scale(i);
     V(i) = U(i) + h;
     const double plus = Margin(V, eta);
     V(i) = U(i) - h;
@@ -124,7 +124,7 @@ void EventCurveProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
     SetEta(eta);
     return;
   }
-  const double h = kRelativeStep * std::max(std::abs(eta), inner_.SecondParameterScale());
+  const double h = CentralDifferenceStep(eta, inner_.SecondParameterScale());
   const double plus = Margin(U, eta + h);
   const double minus = Margin(U, eta - h);
   SetEta(eta);

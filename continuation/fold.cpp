@@ -6,15 +6,12 @@
 
 #include <fmt/core.h>
 
+#include "solvers/finite_difference.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
 
 namespace {
-
-// Central differences of an analytic derivative along a direction: truncation O(h²), round-off
-// O(ε/h); h = ∛ε relative to the scaled point balances them (as FiniteDifferenceOptions).
-constexpr double kRelativeStep = 6.0e-6;
 
 }  // namespace
 
@@ -78,7 +75,7 @@ void FoldProblem::Evaluate(const Vector& U, double eta) {
 double FoldProblem::DifferenceStep(const Vector& U, const Vector& direction) const {
   // U ± h·(s .* direction) moves the scaled state by ±h·direction.
   const double scaled_size = U.head(n_).cwiseQuotient(s_).lpNorm<Eigen::Infinity>();
-  return kRelativeStep * std::max(1.0, scaled_size) /
+  return CentralDifferenceStep(scaled_size, 1.0) /
          std::max(direction.lpNorm<Eigen::Infinity>(), 1e-300);
 }
 

@@ -11,6 +11,8 @@
 #include <IpTNLP.hpp>
 #include <fmt/core.h>
 
+#include "solvers/finite_difference.h"
+
 namespace rubcont {
 
 namespace {
@@ -19,8 +21,6 @@ using Ipopt::Index;
 using Ipopt::Number;
 
 constexpr double kInfinity = 1e19;  // Ipopt's "no bound"
-// Central differences of the Jacobian for the Hessian: h ~ ∛ε in scaled variables.
-constexpr double kRelativeStep = 6.0e-6;
 
 // The NLP in scaled variables x̂ = (û, λ̂) ∈ Rⁿ⁺¹ with n equality constraints F̂ = 0.
 class FoldNlp : public Ipopt::TNLP {
@@ -137,7 +137,7 @@ class FoldNlp : public Ipopt::TNLP {
       for (Index i = 0; i < n; ++i) xs(i) = x[i];
       Matrix H(n, n);
       for (Index j = 0; j < n; ++j) {
-        const double h = kRelativeStep * std::max(1.0, std::abs(xs(j)));
+        const double h = CentralDifferenceStep(xs(j), 1.0);
         Vector xp = xs, xm = xs;
         xp(j) += h;
         xm(j) -= h;

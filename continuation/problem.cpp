@@ -42,7 +42,7 @@ void Problem::Jacobian(const Vector& u, double lambda, Matrix& J) {
 }
 
 void Problem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
-  const double h = 6.0e-6 * std::max(std::abs(lambda), LambdaScale());
+  const double h = CentralDifferenceStep(lambda, LambdaScale());
   Vector F_plus, F_minus;
   Residual(u, lambda + h, F_plus);
   Residual(u, lambda - h, F_minus);
@@ -64,7 +64,7 @@ void Problem::SetSecondParameter(double /*eta*/) {
 
 void Problem::DfDeta(const Vector& u, double lambda, Vector& dF) {
   const double eta = SecondParameter();
-  const double h = 6.0e-6 * std::max(std::abs(eta), SecondParameterScale());
+  const double h = CentralDifferenceStep(eta, SecondParameterScale());
   Vector F_plus, F_minus;
   SetSecondParameter(eta + h);
   Residual(u, lambda, F_plus);

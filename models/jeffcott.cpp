@@ -11,11 +11,7 @@ RubStructure JeffcottStructure(const JeffcottParams& p) {
   s.damping = Eigen::Vector2d(p.c_r, p.c_s).asDiagonal();
   s.imbalance_weights = Eigen::Vector2d(1.0, 0.0);
   s.imbalance = p.imbalance;
-  s.law.stiffness = p.contact_stiffness;
-  s.law.stiffness2 = p.contact_stiffness2;
-  s.law.damping = p.contact_damping;
-  s.law.friction = p.mu;
-  s.law.velocity_scale = p.friction_law.velocity_scale;
+  s.law = ContactLawOf(p);
   s.contacts = {RubContact{0, 1, {p.C, p.R}, "contact"}};
   s.coordinate_names = {"rotor", "stator"};
   s.Validate();
@@ -43,7 +39,7 @@ AnalyticCurve ComputeJeffcottCurve(const JeffcottParams& params, const AnalyticO
       [&](double precession) {
         return ComplexVector2(JeffcottContactForce(params, precession), 0.0);
       },
-      1, params.mu, CircularMode::kSingleContact, options);
+      1, params.friction, CircularMode::kSingleContact, options);
 }
 
 }  // namespace rubcont

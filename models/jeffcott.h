@@ -19,7 +19,7 @@ struct JeffcottParams {
   double c_s = 300.0;     // stator support damping [N·s/m] ≥ 0
   double C = ContactGeometry{}.clearance;  // radial clearance [m] > 0
   double R = ContactGeometry{}.radius;     // rotor radius at the contact [m] > 0
-  double mu = 0.3;        // friction coefficient [-] ≥ 0
+  double friction = 0.3;  // μ [-] ≥ 0
   // Hunt–Crossley as the two-point model: k1 [N/m] > 0, k2 [N/m²] ≥ 0, c_nl [N·s/m²] ≥ 0.
   double contact_stiffness = ContactLaw{}.stiffness;
   double contact_stiffness2 = ContactLaw{}.stiffness2;

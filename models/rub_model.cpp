@@ -6,24 +6,9 @@
 #include <fmt/core.h>
 
 #include "models/analytic.h"
+#include "solvers/linear_algebra.h"
 
 namespace rubcont {
-
-namespace {
-
-// kron(A, I₂): the real 2n × 2n form of a real matrix acting on n complex coordinates.
-Matrix KronIdentity2(const Matrix& A) {
-  Matrix out = Matrix::Zero(2 * A.rows(), 2 * A.cols());
-  for (Index i = 0; i < A.rows(); ++i) {
-    for (Index j = 0; j < A.cols(); ++j) {
-      out(2 * i, 2 * j) = A(i, j);
-      out(2 * i + 1, 2 * j + 1) = A(i, j);
-    }
-  }
-  return out;
-}
-
-}  // namespace
 
 void RubStructure::Validate() const {
   const Index n = mass.rows();
@@ -67,11 +52,7 @@ RubStructure TwoPointStructure(const TwoPointParams& p) {
   s.damping += p.center_damping * w * w.transpose();
   s.imbalance_weights = Eigen::Vector4d(1.0 - p.a(), p.a(), 0.0, 0.0);
   s.imbalance = p.imbalance;
-  s.law.stiffness = p.contact_stiffness;
-  s.law.stiffness2 = p.contact_stiffness2;
-  s.law.damping = p.contact_damping;
-  s.law.friction = p.friction;
-  s.law.velocity_scale = p.friction_law.velocity_scale;
+  s.law = ContactLawOf(p);
   s.contacts = {RubContact{0, 2, {p.clearance[0], p.radius[0]}, "left"},
                 RubContact{1, 3, {p.clearance[1], p.radius[1]}, "right"}};
   s.coordinate_names = {"rotor_left", "rotor_right", "stator_left", "stator_right"};

@@ -44,6 +44,19 @@ struct RubStructure {
   void Validate() const;
 };
 
+// The contact law of a model's parameters: TwoPointParams and JeffcottParams name its fields alike
+// (friction, contact_stiffness, contact_stiffness2, contact_damping, friction_law.velocity_scale).
+template <class Params>
+ContactLaw ContactLawOf(const Params& p) {
+  ContactLaw law;
+  law.stiffness = p.contact_stiffness;
+  law.stiffness2 = p.contact_stiffness2;
+  law.damping = p.contact_damping;
+  law.friction = p.friction;
+  law.velocity_scale = p.friction_law.velocity_scale;
+  return law;
+}
+
 // The two-point model of design.md §2: coordinates (rotor L, rotor R, stator L, stator R),
 // M = blkdiag(M_r, M_s), K = blkdiag(0, K_s), C = blkdiag(0, C_s) + c_d w wᵀ with
 // w = (½, ½, −½, −½) (centre damper between the mid-points), imbalance b = ((1−a), a, 0, 0).

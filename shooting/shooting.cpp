@@ -7,6 +7,8 @@
 
 #include <fmt/core.h>
 
+#include "solvers/finite_difference.h"
+
 namespace rubcont {
 
 const char* ToString(OrbitKind kind) {
@@ -256,7 +258,7 @@ double ShootingProblem::ForcingPeriodAt(double lambda) {
 }
 
 double ShootingProblem::ForcingPeriodDerivative(double lambda) {
-  const double h = 6.0e-6 * std::max(std::abs(lambda), lambda_scale_);
+  const double h = CentralDifferenceStep(lambda, lambda_scale_);
   const double plus = ForcingPeriodAt(lambda + h);
   const double minus = ForcingPeriodAt(lambda - h);
   system_.SetParameter(lambda);
@@ -488,7 +490,7 @@ void ShootingProblem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
   const Index N = segments_, n = n_;
   if (options_.lambda_derivative == LambdaDerivative::kFiniteDifference) {
     // Central differences; the scratch data keep the cache at (u, λ) intact.
-    const double h = 6.0e-6 * std::max(std::abs(lambda), lambda_scale_);
+    const double h = CentralDifferenceStep(lambda, lambda_scale_);
     Vector F_plus, F_minus;
     if (!has_reference_ && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
     const bool ok = IntegrateSegments(u, lambda + h, Need::kState, scratch_, integrator_);

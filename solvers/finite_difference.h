@@ -1,20 +1,33 @@
 // Finite-difference Jacobians and the CheckJacobian test utility. This is the one place in rubcont
-// where derivatives are approximated by differences; every analytic Jacobian is tested against it.
+// where the difference step is chosen (kCentralDifferenceStep, CentralDifferenceStep); every
+// analytic Jacobian is tested against these differences.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "solvers/types.h"
 
 namespace rubcont {
 
+// The relative step of every central difference in rubcont: of order ∛ε, where the truncation
+// error O(h²) balances the round-off O(ε/h). Use √ε ≈ 1.5e-8 for forward differences.
+inline constexpr double kCentralDifferenceStep = 6.0e-6;
+
+// The central-difference step at x whose magnitude is at least `scale` (> 0): h = kCentral-
+// DifferenceStep · max(|x|, scale). `scale` keeps the step meaningful where x ≈ 0 and when the
+// unknowns have very different units (metres ~1e-4 beside forces ~1e3).
+inline double CentralDifferenceStep(double x, double scale) {
+  return kCentralDifferenceStep * std::max(std::abs(x), scale);
+}
+
 // f: R^n -> R^m, writing f(x) into its second argument (already sized m by the caller).
 using VectorFunction = std::function<void(const Vector& x, Vector& f)>;
 
 struct FiniteDifferenceOptions {
-  // Relative step: h_i = relative_step · max(|x_i|, typical_i). The default is ∛ε for central
-  // differences (truncation O(h²) balances round-off O(ε/h)); use √ε ≈ 1.5e-8 for forward ones.
-  double relative_step = 6.0e-6;
+  // Relative step: h_i = relative_step · max(|x_i|, typical_i).
+  double relative_step = kCentralDifferenceStep;
   bool central = true;  // central (2n evaluations, O(h²)) or forward (n evaluations, O(h))
 };
 

@@ -157,4 +157,15 @@ bool BalancedEigenvalues(const Matrix& A, ComplexVector& values) {
   return true;
 }
 
+Matrix KronIdentity2(const Matrix& A) {
+  Matrix out = Matrix::Zero(2 * A.rows(), 2 * A.cols());
+  for (Index i = 0; i < A.rows(); ++i) {
+    for (Index j = 0; j < A.cols(); ++j) {
+      out(2 * i, 2 * j) = A(i, j);
+      out(2 * i + 1, 2 * j + 1) = A(i, j);
+    }
+  }
+  return out;
+}
+
 }  // namespace rubcont

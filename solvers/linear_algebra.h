@@ -72,4 +72,8 @@ NullVectors SmallestSingularVectors(const Matrix& A, Index count);
 // the QR iteration did not converge.
 bool BalancedEigenvalues(const Matrix& A, ComplexVector& values);
 
+// kron(A, I₂): the real 2n × 2n form of a real n × n matrix acting on n complex coordinates
+// stored as (x, y) pairs.
+Matrix KronIdentity2(const Matrix& A);
+
 }  // namespace rubcont

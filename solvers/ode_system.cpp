@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/finite_difference.h"
+
 namespace rubcont {
 
 void OdeSystem::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
@@ -11,7 +13,7 @@ void OdeSystem::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
   Vector xp = x;
   Vector f_plus(n), f_minus(n);
   for (Index j = 0; j < n; ++j) {
-    const double h = 6.0e-6 * std::max(std::abs(x(j)), scale(j));
+    const double h = CentralDifferenceStep(x(j), scale(j));
     xp(j) = x(j) + h;
     Rhs(t, xp, f_plus);
     xp(j) = x(j) - h;
@@ -23,7 +25,7 @@ void OdeSystem::JacobianX(double t, ConstVectorRef x, MatrixRef J) {
 
 void OdeSystem::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
   const double p = Parameter();
-  const double h = 6.0e-6 * std::max(std::abs(p), 1.0);
+  const double h = CentralDifferenceStep(p, 1.0);
   const Index n = Dimension();
   Vector f_plus(n), f_minus(n);
   SetParameter(p + h);

@@ -1,13 +1,13 @@
 #include "waves/rotating_wave.h"
 
-#include "solvers/linear_algebra.h"
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
 
 #include <fmt/core.h>
+
+#include "solvers/linear_algebra.h"
 
 namespace rubcont {
 
@@ -29,17 +29,6 @@ Vector JTimes(const Vector& p) {
   for (Index i = 0; i + 1 < p.size(); i += 2) {
     out(i) = -p(i + 1);
     out(i + 1) = p(i);
-  }
-  return out;
-}
-
-Matrix KronIdentity2(const Matrix& A) {
-  Matrix out = Matrix::Zero(2 * A.rows(), 2 * A.cols());
-  for (Index i = 0; i < A.rows(); ++i) {
-    for (Index j = 0; j < A.cols(); ++j) {
-      out(2 * i, 2 * j) = A(i, j);
-      out(2 * i + 1, 2 * j + 1) = A(i, j);
-    }
   }
   return out;
 }

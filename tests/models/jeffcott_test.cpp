@@ -48,7 +48,7 @@ TEST_CASE("Jeffcott curve: transitions are roots of the closed form", "[jeffcott
     const std::complex<double> P = JeffcottContactForce(params, kTwoPi * t.precession_hz);
     if (t.type == TransitionType::kMuCrossing) {
       if (t.precession_hz > f.rotor_hz && t.precession_hz < f.combined_hz) ++mu_crossings;
-      CHECK(P.imag() / P.real() == Approx(params.mu).epsilon(1e-10));
+      CHECK(P.imag() / P.real() == Approx(params.friction).epsilon(1e-10));
     }
     if (t.type == TransitionType::kContactLoss || t.type == TransitionType::kContactRegain) {
       ++contact_changes;

@@ -73,7 +73,7 @@ TEST_CASE("families of the Jeffcott rotor: whirl below the μ crossing, whip at 
   const JeffcottFrequencies f = JeffcottNaturalFrequencies(params);
   auto excess = [&](double W) {
     const auto P = JeffcottContactForce(params, W);
-    return P.imag() / P.real() - params.mu;
+    return P.imag() / P.real() - params.friction;
   };
   double lo = 0.0, hi = 0.0;
   const double a = kTwoPi * f.rotor_hz * 1.001, b = kTwoPi * f.combined_hz * 0.999;
