@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "models/units.h"
-#include "sweeps/sweep.h"
+#include "solvers/spectrum.h"
 
 namespace rubcont {
 namespace {

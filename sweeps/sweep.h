@@ -4,7 +4,7 @@
 // the system, continuing from the state the previous value ended in, in windows of fixed length,
 // until the response has settled or the dwell limit is reached; it then summarizes the last part
 // of the run: the two-sided spectrum of each observed complex signal, its dominant peak (refined
-// below the bin width), and statistics of real measures over the samples where the channel is
+// below the bin width; solvers/spectrum.h), and statistics of real measures over the samples where the channel is
 // active. Nothing here knows a model: sweeps/rub_sweep.h supplies the rub observables (relative
 // motion and slip velocity at each contact) and reads regimes and jumps off the result.
 //
@@ -16,18 +16,6 @@
 // settle_windows + 1 windows are integrated); otherwise the run stops, unsettled, when another
 // window would pass `dwell`. A steady modulated response (sidebands that do not change) settles;
 // a drifting, beating or chaotic one does not, and says so.
-//
-// AmplitudeSpectrum: the complex samples z_0 … z_{N−1} of the analysed stretch, minus their Hann-weighted
-// mean (so the static offset does not leak), times the periodic Hann window w_n = ½ − ½cos(2πn/N),
-// Fourier transformed (Eigen's FFT, kissfft) and scaled by 1/Σw: a tone a·e^{j2πft} with f on a
-// bin gives amplitude |a| there. Bins are ordered by frequency, −fs/2 … fs/2 − fs/N.
-//
-// Peak refinement (below the bin width Δf = fs/N): for the Hann window the transform of a tone at
-// f = (k + δ)Δf has |X_{k±1}| / |X_k| = (1 ± δ)/(2 ∓ δ) (continuous-window limit, error O(1/N²)),
-// so from the larger neighbour ratio r, |δ| = (2r − 1)/(1 + r), signed towards that neighbour.
-// It is exact for a single complex tone up to O(N⁻²) and needs no fit; the amplitude follows
-// from the window's transform |W(δ)| = sinc(δ)/(1 − δ²) (Harris 1978; the ratio form is the
-// classical two-point interpolation for the Hann window, e.g. Grandke 1983).
 //
 // Forcing phase: each parameter value restarts the time at 0. For a forced system whose forcing
 // rotates (e^{j2πt/T_f}, T_f = ForcingPeriod()) and whose unforced part commutes with
@@ -42,43 +30,9 @@
 
 #include "solvers/ode.h"
 #include "solvers/ode_system.h"
+#include "solvers/spectrum.h"
 
 namespace rubcont {
-
-// ---------------------------------------------------------------------------------------------
-// Spectral tools.
-
-struct AmplitudeSpectrum {
-  double sample_rate = 0.0;  // fs [samples per time unit]
-  Vector frequency;          // N bin frequencies, ascending: −fs/2 … fs/2 − fs/N [cycles per time unit]
-  Vector magnitude;          // N amplitudes (Hann, scaled by 1/Σw: a tone on a bin gives its amplitude)
-  double BinWidth() const { return frequency.size() > 0 ? sample_rate / frequency.size() : 0.0; }
-};
-
-// The two-sided amplitude spectrum of uniform complex samples (N ≥ 4 of them) at rate fs > 0.
-// Throws std::invalid_argument for fewer than 4 samples or a non-positive rate.
-AmplitudeSpectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_rate);
-
-enum class PeakSide {
-  kNegative,  // f < 0: clockwise rotation of x + jy (backward precession for the rub model)
-  kPositive,  // f > 0
-  kAny,
-};
-
-struct SpectralPeak {
-  bool found = false;      // false: no bin on that side at |f| ≥ the minimum
-  double frequency = 0.0;  // refined frequency [cycles per time unit], signed
-  double amplitude = 0.0;  // refined amplitude (same unit as the samples)
-  Index bin = 0;           // index of the largest bin in AmplitudeSpectrum::frequency
-  double offset = 0.0;     // δ: refined offset from that bin, in bins, |δ| ≤ ½
-};
-
-// The largest bin on `side` with |f| ≥ max(min_frequency, 2Δf) (the two bins nearest 0 hold the
-// Hann leakage of what is left of the mean), refined as in the header comment.
-SpectralPeak DominantPeak(const AmplitudeSpectrum& spectrum, PeakSide side, double min_frequency = 0.0);
-
-// ‖|A| − |B|‖₂ / max(‖A‖₂, ‖B‖₂) over all bins (0 when both are zero). Same length required.
-double SpectralDistance(const AmplitudeSpectrum& a, const AmplitudeSpectrum& b);
 
 // ---------------------------------------------------------------------------------------------
 // What a sweep observes.
