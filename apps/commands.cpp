@@ -91,6 +91,7 @@ void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
 struct ExecuteOptions {
   bool quiet = false;
   bool resume = false;  // sweeps continue from their checkpoints
+  bool figures = true;  // draw the figures after the file is complete
   std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
 };
 
@@ -432,6 +433,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
     std::filesystem::remove(checkpoint, ignored);
   }
 
+  if (!options.figures) scripts.clear();
   for (const std::string& script : scripts) {
     const SteadyClock::time_point start = SteadyClock::now();
     progress("figures: {} {} ...", PythonInterpreter(), (PlotsDirectory() / script).string());
@@ -456,6 +458,7 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.figures = request.figures;
     return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
 }
@@ -477,6 +480,7 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.figures = request.figures;
     if (request.direction == "up") {
       options.directions = {SweepDirection::kUp};
     } else if (request.direction == "down") {

@@ -18,6 +18,7 @@ struct RunRequest {
   std::string out_dir = "results";        // results go to <out_dir>/<scene name>/
   bool quiet = false;                     // no progress on stderr (warnings and errors still)
   bool resume = false;                    // sweeps continue from their checkpoints, if any
+  bool figures = true;                    // draw the figures after the HDF5 file (--no-figures)
 };
 
 // `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
@@ -40,6 +41,7 @@ struct SweepRequest {
   // Continue from `<out stem>.<direction>.checkpoint.h5` (written after every finished speed)
   // instead of starting again; a checkpoint of another scene or settings is an error.
   bool resume = false;
+  bool figures = true;  // draw the figures after the HDF5 file (--no-figures)
 };
 
 // `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);

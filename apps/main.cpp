@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
   run->add_flag("--resume", run_request.resume,
                 "sweeps continue from the checkpoints of an interrupted run");
+  run->add_flag("!--no-figures", run_request.figures,
+                "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
   rubcont::AnalyticRequest analytic_request;
   std::string analytic_out;
@@ -56,6 +58,8 @@ int main(int argc, char** argv) {
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
+  sweep->add_flag("!--no-figures", sweep_request.figures,
+                  "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;
   std::string branches_out;
   CLI::App* branches = app.add_subcommand(

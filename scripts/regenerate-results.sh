@@ -22,8 +22,9 @@ cmake --build build --parallel "$(nproc)"
 
 # The sweeps first: `rubcont sweep` also draws the branches next to its file without the closed
 # form (its file has no /analytic), and `rubcont run` below draws them again with it.
-sweep_scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b
-              thesis_C_c thesis_A_a_imbalance)
+# The scenes: scripts/result_scenes.txt (scripts/check_results.sh checks the same list).
+scenes_of() { awk -v k="$1" '$1 == k { print $2 }' scripts/result_scenes.txt; }
+mapfile -t sweep_scenes < <(scenes_of sweep)
 case "${1:-}" in
   --sweeps) resume=() ;;
   --sweep-tables) resume=(--resume) ;;
@@ -39,9 +40,8 @@ for scene in "${sweep_scenes[@]}"; do
   echo "results/$scene: sweeps"
 done
 
-scenes=(thesis_A_a thesis_A_b thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c
-        overhung_beyond_right jeffcott duffing stuart_landau van_der_pol)
-if [[ "${1:-}" == "--orbits" ]]; then scenes+=(thesis_A_a_modulated_whip); fi
+mapfile -t scenes < <(scenes_of quick)
+if [[ "${1:-}" == "--orbits" ]]; then mapfile -t -O "${#scenes[@]}" scenes < <(scenes_of orbits); fi
 for scene in "${scenes[@]}"; do
   summary=$(build/rubcont run "scenes/$scene.toml" --out results --quiet)
   # The summary names files by path; keep it relative so results/ reads the same anywhere.

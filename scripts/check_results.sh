@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Checks that the committed results are what the code makes now (results/README.md, "Reproducing").
+#   scripts/check_results.sh BUILD_DIR quick|sweep|orbits [SCENE ...]
+# re-runs the scenes of that kind (scripts/result_scenes.txt; all of them when none is named) into a
+# temporary directory with BUILD_DIR/rubcont, no figures, and compares with results/<scene>/:
+#   quick   <scene>.h5 and summary.txt      (`rubcont run`; under a second per scene)
+#   sweep   sweep.h5 and sweep_summary.txt  (`rubcont sweep`; 8–40 min per scene on 2 cores)
+#   orbits  <scene>.h5 and summary.txt      (`rubcont run` with the rub's orbits; about 20 min)
+# Numbers must agree within |a − b| ≤ 1e-12 + 1e-9·|b| (the runs are deterministic; the margin is
+# for another CPU's last digits), strings exactly — the stored scene text (`scene_toml`) included —
+# and wall-clock times are not compared (scripts/compare_results.py). The summaries' "wrote ..."
+# lines name the output paths and are left out. Exit code 0 when everything matches, 1 otherwise.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [[ $# -lt 2 ]]; then
+  sed -n '2,12p' "$0" >&2
+  exit 2
+fi
+build=$1 kind=$2
+shift 2
+case "$kind" in
+  quick|sweep|orbits) ;;
+  *) echo "check_results.sh: kind = '$kind': must be quick, sweep or orbits" >&2; exit 2 ;;
+esac
+scenes=("$@")
+if [[ ${#scenes[@]} -eq 0 ]]; then
+  mapfile -t scenes < <(awk -v k="$kind" '$1 == k { print $2 }' scripts/result_scenes.txt)
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+without_paths() { grep -v '^wrote ' "$1" > "$2" || true; }
+
+failed=0
+for scene in "${scenes[@]}"; do
+  committed=results/$scene
+  case "$kind" in
+    sweep)
+      "$build/rubcont" sweep "scenes/$scene.toml" --quiet --no-figures --out "$tmp/$scene/sweep.h5" \
+        > "$tmp/$scene.summary" || true
+      files=(sweep.h5) summary=sweep_summary.txt ;;
+    *)
+      "$build/rubcont" run "scenes/$scene.toml" --quiet --no-figures --out "$tmp" \
+        > "$tmp/$scene.summary" || true
+      files=("$scene.h5") summary=summary.txt ;;
+  esac
+  without_paths "$committed/$summary" "$tmp/$scene.committed_summary.txt"
+  without_paths "$tmp/$scene.summary" "$tmp/$scene.summary.txt"
+  pairs=("$tmp/$scene.committed_summary.txt" "$tmp/$scene.summary.txt")
+  for f in "${files[@]}"; do pairs+=("$committed/$f" "$tmp/$scene/$f"); done
+  if ! /usr/bin/python3 scripts/compare_results.py "${pairs[@]}" --rtol 1e-9 --atol 1e-12 \
+       > "$tmp/$scene.compare"; then
+    failed=1
+    echo "results/$scene: differs from what the code makes now (scripts/regenerate-results.sh):"
+    grep -v '^same' "$tmp/$scene.compare" | sed "s|$tmp/||g"
+  else
+    echo "results/$scene: $kind results reproduce"
+  fi
+done
+exit $failed
