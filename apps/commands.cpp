@@ -17,7 +17,7 @@
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
-#include "apps/orbits_stage.h"
+#include "apps/models.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
@@ -46,47 +46,6 @@ class Progress {
   std::ostream& err_;
 };
 
-std::string Describe(const Transition& t) {
-  switch (t.type) {
-    case TransitionType::kMuCrossing:
-      return t.direction > 0 ? "μ_req rises through μ: rolling → slipping (whirl → whip)"
-                             : "μ_req falls through μ: slipping → rolling (whip → whirl)";
-    case TransitionType::kNegativeMuCrossing:
-      return t.direction > 0 ? "μ_req rises through −μ" : "μ_req falls through −μ";
-    case TransitionType::kZeroMuCrossing:
-      return t.direction > 0 ? "μ_req rises through 0 (friction turns to drive the precession)"
-                             : "μ_req falls through 0 (friction would have to oppose the precession)";
-    case TransitionType::kContactLoss:
-      return t.through_pole ? "N: + → − through a pole (undamped resonance): contact lost"
-                            : "N falls through 0: contact lost";
-    case TransitionType::kContactRegain:
-      return t.through_pole ? "N: − → + through a pole (undamped resonance): contact regained"
-                            : "N rises through 0: contact regained";
-  }
-  return "";
-}
-
-void PrintCurve(std::ostream& out, const AnalyticCurve& curve) {
-  fmt::print(out, "  {} ({}):\n", ToString(curve.mode),
-             curve.mode == CircularMode::kMode1   ? "normals in phase"
-             : curve.mode == CircularMode::kMode2 ? "normals in antiphase"
-                                                  : "one contact");
-  if (curve.transitions.empty()) fmt::print(out, "    no transitions in range\n");
-  const auto& t = curve.transitions;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    // Symmetric rotors give the same transition at both contacts: print it once.
-    const bool both = i + 1 < t.size() && t[i + 1].type == t[i].type &&
-                      t[i + 1].direction == t[i].direction && t[i + 1].contact != t[i].contact &&
-                      std::abs(t[i + 1].precession_hz - t[i].precession_hz) <= 1e-9 * t[i].precession_hz;
-    const char* where = curve.mode == CircularMode::kSingleContact ? ""
-                        : both                                      ? "both"
-                        : t[i].contact == 0                         ? "left"
-                                                                    : "right";
-    fmt::print(out, "    {:10.4f} Hz  {:<5}  {}\n", t[i].precession_hz, where, Describe(t[i]));
-    if (both) ++i;
-  }
-  if (!curve.Succeeded()) fmt::print(out, "    status {}: {}\n", ToString(curve.status), curve.message);
-}
 
 struct ExecuteOptions {
   bool quiet = false;
@@ -296,8 +255,7 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
       });
   const double compute_s = SecondsSince(start);
   WriteRotatingWaveBranches(writer, branches, law, scene.analysis.speed_range_rpm);
-  const double imbalance = scene.model == ModelKind::kJeffcott ? scene.jeffcott.imbalance
-                                                               : scene.two_point.imbalance;
+  const double imbalance = StructureOf(scene).imbalance;
   if (imbalance != 0.0) {
     // A rotating wave is an equilibrium of the frame precessing backward at Ω; the imbalance
     // turns forward at ω, so it is not stationary there: the branches are those of the balanced
@@ -331,8 +289,9 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
             const ExecuteOptions& options, std::ostream& out, std::ostream& err) {
   const bool quiet = options.quiet;
   Progress progress(quiet, err);
+  const ModelEntry& model = ModelOf(scene);
   for (Stage stage : stages) {
-    if (!StageApplies(scene.model, stage)) {
+    if (!model.Has(stage)) {
       throw std::invalid_argument(fmt::format("stage \"{}\" does not apply to model \"{}\"",
                                               ToString(stage), ToString(scene.model)));
     }
@@ -348,60 +307,13 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   std::vector<std::string> scripts;
   std::vector<std::filesystem::path> checkpoints;
 
-  fmt::print(out, "scene {} (model {}) from {}\n", scene.name, ToString(scene.model), scene.source);
+  fmt::print(out, "scene {} (model {}) from {}\n", scene.name, model.name, scene.source);
+  StageContext context{writer, [&](const std::string& line) { progress("{}", line); }, out,
+                       failures};
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
-        if (scene.model == ModelKind::kJeffcott) {
-          const SteadyClock::time_point start = SteadyClock::now();
-          const AnalyticOptions options = AnalyticOptionsOf(scene);
-          const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
-          WriteJeffcottAnalytic(writer, scene.jeffcott, curve);
-          progress("[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
-                   options.precession_points, 1e3 * SecondsSince(start));
-          const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
-          fmt::print(out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",
-                     scene.jeffcott.friction, options.precession_points, options.min_precession_hz,
-                     options.max_precession_hz);
-          fmt::print(out, "  natural frequencies: rotor {:.3f} Hz, stator {:.3f} Hz, "
-                          "pinned together {:.3f} Hz\n",
-                     f.rotor_hz, f.stator_hz, f.combined_hz);
-          PrintCurve(out, curve);
-          if (!curve.Succeeded()) failures.push_back("[analytic] " + curve.message);
-          scripts.push_back("analytic.py");
-          break;
-        }
-        const SteadyClock::time_point start = SteadyClock::now();
-        const TwoPointParams& p = scene.two_point;
-        const AnalyticOptions options = AnalyticOptionsOf(scene);
-        const AnalyticResult result = ComputeAnalytic(p, options);
-        // The thesis's closed form (no centre damper) beside the scene's, when they differ.
-        std::optional<AnalyticResult> without_damper;
-        if (p.center_damping > 0.0) {
-          TwoPointParams q = p;
-          q.center_damping = 0.0;
-          without_damper = ComputeAnalytic(q, options);
-        }
-        const double compute_ms = 1e3 * SecondsSince(start);
-        const SteadyClock::time_point write_start = SteadyClock::now();
-        WriteAnalytic(writer, p, result, without_damper ? &*without_damper : nullptr);
-        progress("[analytic] L0 closed form, 2 modes × {} frequencies{}: computed in {:.1f} ms, "
-                 "written in {:.1f} ms", options.precession_points,
-                 without_damper ? ", with and without the centre damper" : "", compute_ms,
-                 1e3 * SecondsSince(write_start));
-
-        const NaturalFrequencies& nf = result.natural_frequencies;
-        fmt::print(out, "[analytic] L0 closed form, μ = {}, c_d = {} N·s/m, {} points over {}–{} Hz\n",
-                   p.friction, p.center_damping, options.precession_points,
-                   options.min_precession_hz, options.max_precession_hz);
-        fmt::print(out, "  natural frequencies: stator bounce {:.3f} Hz, pitch {:.3f} Hz; "
-                        "rotor and stator pinned: bounce {:.3f} Hz, pitch {:.3f} Hz\n",
-                   nf.stator_bounce.frequency_hz, nf.stator_pitch.frequency_hz,
-                   nf.pinned_bounce.frequency_hz, nf.pinned_pitch.frequency_hz);
-        PrintCurve(out, result.mode1);
-        PrintCurve(out, result.mode2);
-        for (const AnalyticCurve* curve : {&result.mode1, &result.mode2})
-          if (!curve->Succeeded()) failures.push_back("[analytic] " + curve->message);
+        model.analytic(scene, context);
         scripts.push_back("analytic.py");
         break;
       }
@@ -416,9 +328,8 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
         break;
       }
       case Stage::kOrbits: {
-        RunOrbitsStage(scene, writer, [&](const std::string& line) { progress("{}", line); }, out,
-                       failures);
-        scripts.push_back(scene.model == ModelKind::kTwoPoint ? "rub_orbits.py" : "orbits.py");
+        model.orbits(scene, context);
+        scripts.push_back(model.orbits_figure);
         break;
       }
     }

@@ -290,11 +290,7 @@ FitSpec LoadTargets(const std::string& file) {
 int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
-    if (scene.model != ModelKind::kTwoPoint) {
-      throw std::invalid_argument(fmt::format(
-          "model = \"{}\" in {}: rubcont fit needs the two_point model", ToString(scene.model),
-          request.scene_file));
-    }
+    TwoPointParamsOf(scene, "rubcont fit");
     FitSpec spec = LoadTargets(request.targets_file);
     spec.options.branches = BranchOptionsOf(scene);
 

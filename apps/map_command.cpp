@@ -168,12 +168,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
       }
     }();
     const Scene scene = LoadScene(request.scene_file);
-    if (scene.model != ModelKind::kTwoPoint) {
-      throw std::invalid_argument(fmt::format(
-          "model = \"{}\" in {}: rubcont map needs the two_point model", ToString(scene.model),
-          request.scene_file));
-    }
-    const double base = GetDesignParameter(scene.two_point, parameter);
+    const double base = GetDesignParameter(TwoPointParamsOf(scene, "rubcont map"), parameter);
     const auto [default_min, default_max] = DefaultMapRange(parameter, base);
     HysteresisMapOptions options;
     options.parameter = parameter;

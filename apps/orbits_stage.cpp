@@ -69,79 +69,111 @@ struct StageSetup {
   OrbitStart start;
   PeriodicOrbitBranchOptions options;
   std::string parameter_name;
+  // Compares the branch with a closed form, when the model has one: writes and prints the errors.
+  std::function<void(const Scene&, const Branch&, ResultWriter&, std::ostream&)> check;
 };
 
-StageSetup Setup(const Scene& scene) {
+// What every textbook model's stage shares: the parameter range and the continuation's steps.
+StageSetup CommonSetup(const Scene& scene) {
   StageSetup setup;
-  const double lambda = scene.orbits.start;
   setup.options.lambda_min = scene.orbits.parameter_range[0];
   setup.options.lambda_max = scene.orbits.parameter_range[1];
   setup.options.continuation = StageContinuationOptions(scene.orbits.max_steps);
-  switch (scene.model) {
-    case ModelKind::kDuffing: {
-      DuffingParams p = scene.duffing;
-      p.frequency = lambda;
-      Validate(p);
-      setup.system = std::make_unique<DuffingOscillator>(p);
-      setup.kind = OrbitKind::kForced;
-      setup.parameter_name = "frequency";
-      // Duffing is not stiff: an explicit 8th-order Runge–Kutta pair is the cheapest accurate
-      // integrator (bench/duffing_branch_bench.cpp).
-      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
-      setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
-                                StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v"),
-                                StateMinimum(1, "min_v")};
-      // The linear response x = A cos(wt − ψ) as the first guess, then a transient of about
-      // 20/c time units to settle onto the attracting orbit there.
-      const double d = p.stiffness - lambda * lambda, cw = p.damping * lambda;
-      const double A = p.force / std::max(std::hypot(d, cw), 1e-12), psi = std::atan2(cw, d);
-      const Vector x0 = (Vector(2) << A * std::cos(psi), A * lambda * std::sin(psi)).finished();
-      const double T = 2.0 * M_PI / lambda;
-      const int periods =
-          p.damping > 0.0 ? static_cast<int>(std::min(2000.0, std::ceil(20.0 / (p.damping * T))))
-                          : 0;
-      setup.start = SettleForced(*setup.system, x0, periods, setup.options.shooting.integrator);
-      break;
-    }
-    case ModelKind::kStuartLandau: {
-      StuartLandauParams p = scene.stuart_landau;
-      p.lambda = lambda;
-      Validate(p);
-      setup.system = std::make_unique<StuartLandauOscillator>(p);
-      setup.kind = OrbitKind::kAutonomous;
-      setup.parameter_name = "lambda";
-      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
-      setup.options.measures = {MeanRadius(), StateMaximum(0, "max_x"), StateMinimum(0, "min_x")};
-      // From (1, 0): the radius relaxes at rate 2λ, the phase turns at about ω.
-      const double turn = std::max(std::abs(p.omega), 1e-3);
-      const double duration = 20.0 / lambda + 40.0 * 2.0 * M_PI / turn;
-      setup.start = SettleOnCycle(*setup.system, (Vector(2) << 1.0, 0.0).finished(), duration, 1,
-                                  setup.options.shooting.integrator);
-      break;
-    }
-    case ModelKind::kVanDerPol: {
-      VanDerPolParams p;
-      p.mu = lambda;
-      Validate(p);
-      setup.system = std::make_unique<VanDerPolOscillator>(p);
-      setup.kind = OrbitKind::kAutonomous;
-      setup.parameter_name = "mu";
-      // Stiff for large μ: BDF.
-      setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
-      setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
-                                StateMaximum(1, "max_v"), StateMinimum(1, "min_v")};
-      // Period ≈ 2π for small μ, ≈ (3 − 2 ln 2) μ for large μ; the cycle attracts within a few
-      // periods for μ ≳ 1 and at rate ≈ μ for small μ.
-      const double period = std::max(2.0 * M_PI, (3.0 - 2.0 * std::log(2.0)) * lambda);
-      const double duration = 40.0 * period + 20.0 / lambda;
-      setup.start = SettleOnCycle(*setup.system, (Vector(2) << 2.0, 0.0).finished(), duration, 1,
-                                  setup.options.shooting.integrator);
-      break;
-    }
-    default:
-      throw std::invalid_argument(fmt::format("the \"orbits\" stage needs a textbook model, not {}",
-                                              ToString(scene.model)));
+  return setup;
+}
+
+StageSetup DuffingSetup(const Scene& scene) {
+  StageSetup setup = CommonSetup(scene);
+  const double lambda = scene.orbits.start;
+  DuffingParams p = scene.duffing;
+  p.frequency = lambda;
+  Validate(p);
+  setup.system = std::make_unique<DuffingOscillator>(p);
+  setup.kind = OrbitKind::kForced;
+  setup.parameter_name = "frequency";
+  // Duffing is not stiff: an explicit 8th-order Runge–Kutta pair is the cheapest accurate
+  // integrator (bench/duffing_branch_bench.cpp).
+  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+  setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
+                            StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v"),
+                            StateMinimum(1, "min_v")};
+  // The linear response x = A cos(wt − ψ) as the first guess, then a transient of about
+  // 20/c time units to settle onto the attracting orbit there.
+  const double d = p.stiffness - lambda * lambda, cw = p.damping * lambda;
+  const double A = p.force / std::max(std::hypot(d, cw), 1e-12), psi = std::atan2(cw, d);
+  const Vector x0 = (Vector(2) << A * std::cos(psi), A * lambda * std::sin(psi)).finished();
+  const double T = 2.0 * M_PI / lambda;
+  const int periods =
+      p.damping > 0.0 ? static_cast<int>(std::min(2000.0, std::ceil(20.0 / (p.damping * T))))
+                      : 0;
+  setup.start = SettleForced(*setup.system, x0, periods, setup.options.shooting.integrator);
+  return setup;
+}
+
+// Stuart–Landau's closed form (models/textbook.h): r = √λ, T = 2π/|ω − γλ|, multiplier e^{−2λT}.
+void CompareWithStuartLandauClosedForm(const Scene& scene, const Branch& branch,
+                                       ResultWriter& writer, std::ostream& out) {
+  const Vector lambda = branch.Lambda(), radius = branch.Measure("mean_radius"),
+               period = branch.Measure("period");
+  Vector radius_error(lambda.size()), period_error(lambda.size()),
+      multiplier_error(lambda.size());
+  for (Index i = 0; i < lambda.size(); ++i) {
+    const double w = scene.stuart_landau.omega - scene.stuart_landau.gamma * lambda(i);
+    const double T = 2.0 * M_PI / std::abs(w);
+    radius_error(i) = radius(i) - std::sqrt(lambda(i));
+    period_error(i) = period(i) - T;
+    const ComplexVector& mu = branch.points[static_cast<std::size_t>(i)].spectrum.values;
+    multiplier_error(i) = mu.size() > 0 ? std::abs(mu(0) - std::exp(-2.0 * lambda(i) * T))
+                                        : std::nan("");
   }
+  writer.WriteDoubles("/branches/periodic_orbits/closed_form_radius_error", radius_error);
+  writer.WriteDoubles("/branches/periodic_orbits/closed_form_period_error", period_error);
+  writer.WriteDoubles("/branches/periodic_orbits/closed_form_multiplier_error", multiplier_error);
+  fmt::print(out, "  against the closed form r = √λ, T = 2π/|ω − γλ|, μ = e^(−2λT): "
+                  "max |Δr| = {:.1e}, max |ΔT| = {:.1e}, max |Δμ| = {:.1e}\n",
+             radius_error.cwiseAbs().maxCoeff(), period_error.cwiseAbs().maxCoeff(),
+             multiplier_error.cwiseAbs().maxCoeff());
+}
+
+StageSetup StuartLandauSetup(const Scene& scene) {
+  StageSetup setup = CommonSetup(scene);
+  const double lambda = scene.orbits.start;
+  StuartLandauParams p = scene.stuart_landau;
+  p.lambda = lambda;
+  Validate(p);
+  setup.system = std::make_unique<StuartLandauOscillator>(p);
+  setup.kind = OrbitKind::kAutonomous;
+  setup.parameter_name = "lambda";
+  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+  setup.options.measures = {MeanRadius(), StateMaximum(0, "max_x"), StateMinimum(0, "min_x")};
+  // From (1, 0): the radius relaxes at rate 2λ, the phase turns at about ω.
+  const double turn = std::max(std::abs(p.omega), 1e-3);
+  const double duration = 20.0 / lambda + 40.0 * 2.0 * M_PI / turn;
+  setup.start = SettleOnCycle(*setup.system, (Vector(2) << 1.0, 0.0).finished(), duration, 1,
+                              setup.options.shooting.integrator);
+  setup.check = CompareWithStuartLandauClosedForm;
+  return setup;
+}
+
+StageSetup VanDerPolSetup(const Scene& scene) {
+  StageSetup setup = CommonSetup(scene);
+  const double lambda = scene.orbits.start;
+  VanDerPolParams p;
+  p.mu = lambda;
+  Validate(p);
+  setup.system = std::make_unique<VanDerPolOscillator>(p);
+  setup.kind = OrbitKind::kAutonomous;
+  setup.parameter_name = "mu";
+  // Stiff for large μ: BDF.
+  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
+  setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
+                            StateMaximum(1, "max_v"), StateMinimum(1, "min_v")};
+  // Period ≈ 2π for small μ, ≈ (3 − 2 ln 2) μ for large μ; the cycle attracts within a few
+  // periods for μ ≳ 1 and at rate ≈ μ for small μ.
+  const double period = std::max(2.0 * M_PI, (3.0 - 2.0 * std::log(2.0)) * lambda);
+  const double duration = 40.0 * period + 20.0 / lambda;
+  setup.start = SettleOnCycle(*setup.system, (Vector(2) << 2.0, 0.0).finished(), duration, 1,
+                              setup.options.shooting.integrator);
   return setup;
 }
 
@@ -229,17 +261,11 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
   }
 }
 
-}  // namespace
-
-void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
-                    const std::function<void(const std::string&)>& progress, std::ostream& out,
-                    std::vector<std::string>& failures) {
-  if (scene.model == ModelKind::kTwoPoint) {
-    RunModulatedOrbits(scene, writer, progress, out, failures);
-    return;
-  }
+// A textbook model: its periodic orbits continued in its parameter from the first one.
+void RunTextbookOrbits(const Scene& scene, StageSetup setup, ResultWriter& writer,
+                       const std::function<void(const std::string&)>& progress, std::ostream& out,
+                       std::vector<std::string>& failures) {
   const SteadyClock::time_point begin = SteadyClock::now();
-  StageSetup setup = Setup(scene);
   if (!setup.start.valid) {
     failures.push_back(fmt::format("[orbits] no periodic orbit found at {} = {}: {}",
                                    setup.parameter_name, scene.orbits.start, setup.start.message));
@@ -265,32 +291,31 @@ void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "    {:<28} {} = {:.10g}{}\n", p.Name(), setup.parameter_name, p.lambda,
                p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
   }
-  if (scene.model == ModelKind::kStuartLandau && branch.Size() > 0) {
-    // The closed form (models/textbook.h): r = √λ, T = 2π/|ω − γλ|, multiplier e^{−2λT}.
-    const Vector lambda = branch.Lambda(), radius = branch.Measure("mean_radius"),
-                 period = branch.Measure("period");
-    Vector radius_error(lambda.size()), period_error(lambda.size()),
-        multiplier_error(lambda.size());
-    for (Index i = 0; i < lambda.size(); ++i) {
-      const double w = scene.stuart_landau.omega - scene.stuart_landau.gamma * lambda(i);
-      const double T = 2.0 * M_PI / std::abs(w);
-      radius_error(i) = radius(i) - std::sqrt(lambda(i));
-      period_error(i) = period(i) - T;
-      const ComplexVector& mu = branch.points[static_cast<std::size_t>(i)].spectrum.values;
-      multiplier_error(i) = mu.size() > 0 ? std::abs(mu(0) - std::exp(-2.0 * lambda(i) * T))
-                                          : std::nan("");
-    }
-    writer.WriteDoubles("/branches/periodic_orbits/closed_form_radius_error", radius_error);
-    writer.WriteDoubles("/branches/periodic_orbits/closed_form_period_error", period_error);
-    writer.WriteDoubles("/branches/periodic_orbits/closed_form_multiplier_error", multiplier_error);
-    fmt::print(out, "  against the closed form r = √λ, T = 2π/|ω − γλ|, μ = e^(−2λT): "
-                    "max |Δr| = {:.1e}, max |ΔT| = {:.1e}, max |Δμ| = {:.1e}\n",
-               radius_error.cwiseAbs().maxCoeff(), period_error.cwiseAbs().maxCoeff(),
-               multiplier_error.cwiseAbs().maxCoeff());
-  }
+  if (setup.check && branch.Size() > 0) setup.check(scene, branch, writer, out);
   if (IsFailure(branch.status)) {
     failures.push_back(fmt::format("[orbits] periodic_orbits: {}", branch.message));
   }
+}
+
+}  // namespace
+
+void RunRubOrbits(const Scene& scene, StageContext& context) {
+  RunModulatedOrbits(scene, context.writer, context.progress, context.out, context.failures);
+}
+
+void RunDuffingOrbits(const Scene& scene, StageContext& context) {
+  RunTextbookOrbits(scene, DuffingSetup(scene), context.writer, context.progress, context.out,
+                    context.failures);
+}
+
+void RunStuartLandauOrbits(const Scene& scene, StageContext& context) {
+  RunTextbookOrbits(scene, StuartLandauSetup(scene), context.writer, context.progress, context.out,
+                    context.failures);
+}
+
+void RunVanDerPolOrbits(const Scene& scene, StageContext& context) {
+  RunTextbookOrbits(scene, VanDerPolSetup(scene), context.writer, context.progress, context.out,
+                    context.failures);
 }
 
 }  // namespace rubcont

@@ -13,20 +13,15 @@
 //                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>.
 #pragma once
 
-#include <functional>
-#include <iosfwd>
-#include <string>
-#include <vector>
-
-#include "apps/hdf5_file.h"
-#include "apps/scene.h"
+#include "apps/models.h"
 
 namespace rubcont {
 
-// Appends a line to `failures` when the branch ends on a numerical failure or cannot start.
-// `progress` receives one line per finished run (stderr, unless --quiet).
-void RunOrbitsStage(const Scene& scene, ResultWriter& writer,
-                    const std::function<void(const std::string&)>& progress, std::ostream& out,
-                    std::vector<std::string>& failures);
+// Each appends a line to the context's failures when a branch ends on a numerical failure or
+// cannot start, and sends one progress line per finished run.
+void RunRubOrbits(const Scene& scene, StageContext& context);           // model two_point
+void RunDuffingOrbits(const Scene& scene, StageContext& context);       // model duffing
+void RunStuartLandauOrbits(const Scene& scene, StageContext& context);  // model stuart_landau
+void RunVanDerPolOrbits(const Scene& scene, StageContext& context);     // model van_der_pol
 
 }  // namespace rubcont

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "apps/models.h"
 #include "apps/version.h"
 
 namespace rubcont {
@@ -115,14 +116,16 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
 }
 
 const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
-const std::vector<std::string> kModelNames = {"two_point", "jeffcott", "duffing", "stuart_landau",
-                                              "van_der_pol"};
+std::vector<std::string> ModelNames() {
+  std::vector<std::string> names;
+  for (const ModelEntry& m : Models()) names.push_back(m.name);
+  return names;
+}
 
+// `name` is one of ModelNames() (the schema's choice rule checked it).
 ModelKind ModelFromName(const std::string& name) {
-  if (name == "jeffcott") return ModelKind::kJeffcott;
-  if (name == "duffing") return ModelKind::kDuffing;
-  if (name == "stuart_landau") return ModelKind::kStuartLandau;
-  if (name == "van_der_pol") return ModelKind::kVanDerPol;
+  for (const ModelEntry& m : Models())
+    if (m.name == name) return m.kind;
   return ModelKind::kTwoPoint;
 }
 
@@ -150,7 +153,7 @@ std::vector<KeySpec> BuildSchema() {
     model.rule = Rule::kChoice;
     model.presence = Presence::kOptional;
     model.doc = "Which model the scene describes; each model has its own sections.";
-    model.choices = kModelNames;
+    model.choices = ModelNames();
     model.set = [](Scene& x, const Value& v) { x.model = ModelFromName(std::get<std::string>(v)); };
     model.get = [](const Scene& x) { return Value(std::string(ToString(x.model))); };
     s.push_back(model);
@@ -313,13 +316,16 @@ std::vector<KeySpec> BuildSchema() {
       s.push_back(Make<double>(std::string(ToString(model)) + "." + key, ValueType::kFloat,
                                std::move(unit), rule, presence, std::move(doc), field, model));
     };
-    const auto range = [&s](ModelKind model, std::string key, std::string doc) {
+    // <model>.<parameter>_range and [<model>.orbits], the parameter as its entry names it.
+    const auto range = [&s](ModelKind model, std::string doc) {
       s.push_back(Make<std::array<double, 2>>(
-          std::string(ToString(model)) + "." + key, ValueType::kFloatPair, "-",
+          std::string(ToString(model)) + "." + ModelOf(model).parameter + "_range",
+          ValueType::kFloatPair, "-",
           Rule::kIncreasingPositive, Presence::kRequired, std::move(doc),
           [](Scene& x) -> std::array<double, 2>& { return x.orbits.parameter_range; }, model));
     };
-    const auto orbits = [&s](ModelKind model, const std::string& parameter) {
+    const auto orbits = [&s](ModelKind model) {
+      const std::string& parameter = ModelOf(model).parameter;
       const std::string prefix = std::string(ToString(model)) + ".orbits.";
       KeySpec start = Make<double>(
           prefix + "start", ValueType::kFloat, "-", Rule::kPositive, Presence::kOptional,
@@ -350,9 +356,9 @@ std::vector<KeySpec> BuildSchema() {
            [](Scene& x) -> double& { return x.duffing.cubic; });
     number(kDuffing, "force", "-", Rule::kFinite, "F: forcing amplitude.",
            [](Scene& x) -> double& { return x.duffing.force; });
-    range(kDuffing, "frequency_range",
+    range(kDuffing,
           "[low, high]: forcing frequency w, the continuation parameter (forcing period 2π/w).");
-    orbits(kDuffing, "frequency");
+    orbits(kDuffing);
 
     const ModelKind kStuartLandau = ModelKind::kStuartLandau;
     number(kStuartLandau, "omega", "-", Rule::kFinite,
@@ -361,15 +367,15 @@ std::vector<KeySpec> BuildSchema() {
     number(kStuartLandau, "gamma", "-", Rule::kFinite,
            "γ: amplitude–frequency coupling; the orbit turns at ω − γλ.",
            [](Scene& x) -> double& { return x.stuart_landau.gamma; }, Presence::kOptional);
-    range(kStuartLandau, "lambda_range",
+    range(kStuartLandau,
           "[low, high]: growth rate λ, the continuation parameter (the orbit r = √λ exists for "
           "λ > 0; Hopf point at 0).");
-    orbits(kStuartLandau, "lambda");
+    orbits(kStuartLandau);
 
-    range(ModelKind::kVanDerPol, "mu_range",
+    range(ModelKind::kVanDerPol,
           "[low, high]: μ of ẍ − μ (1 − x²) ẋ + x = 0, the continuation parameter (relaxation "
           "oscillations for μ ≫ 1: use several segments).");
-    orbits(ModelKind::kVanDerPol, "mu");
+    orbits(ModelKind::kVanDerPol);
   }
 
   // [analysis]
@@ -877,7 +883,7 @@ class Loader {
       scene.defaulted_keys.push_back(spec.key);
     }
     CheckStagesFitModel(scene);
-    if (IsTextbook(scene.model)) CheckOrbitsStart(scene);
+    if (!ModelOf(scene).parameter.empty()) CheckOrbitsStart(scene);
     if (problems_.empty()) CheckSweep(scene.analysis.sweep);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
@@ -892,26 +898,25 @@ class Loader {
     return fmt::format("{}:{}:{}", source_, begin.line, begin.column);
   }
 
-  // The textbook models have stage "orbits" only (their default); the Jeffcott model has no
-  // "orbits" stage.
+  // A scene without analysis.stages runs its model's default stages; one with it may list the
+  // model's stages only (apps/models.cpp).
   void CheckStagesFitModel(Scene& scene) {
-    const bool textbook = IsTextbook(scene.model);
-    const bool defaulted = nodes_.count("analysis.stages") == 0;
-    if (textbook && defaulted) {
-      scene.analysis.stages = {Stage::kOrbits};
+    const ModelEntry& model = ModelOf(scene);
+    if (nodes_.count("analysis.stages") == 0) {
+      scene.analysis.stages = model.default_stages;
       return;
     }
     for (Stage stage : scene.analysis.stages) {
-      if (StageApplies(scene.model, stage)) continue;
+      if (model.Has(stage)) continue;
       const std::string given = nodes_.count("analysis.stages")
                                     ? FormatNode(*nodes_.at("analysis.stages"))
                                     : FormatValue(FindKey("analysis.stages")->get(scene));
+      std::vector<std::string> own;
+      for (Stage s : model.stages) own.push_back(ToString(s));
       problems_.push_back(fmt::format(
-          "{}: analysis.stages = {}: {} does not apply to model {}; {}", Where("analysis.stages"),
-          given, Quote(ToString(stage)), Quote(ToString(scene.model)),
-          textbook ? "the textbook models have the stage \"orbits\""
-                   : "\"orbits\" is implemented for model \"two_point\" and the textbook "
-                     "models (\"duffing\", \"stuart_landau\", \"van_der_pol\")"));
+          "{}: analysis.stages = {}: {} does not apply to model {}, whose stages are {}; {} is a "
+          "stage of {}", Where("analysis.stages"), given, Quote(ToString(stage)),
+          Quote(model.name), JoinQuoted(own), Quote(ToString(stage)), ModelsWith(stage)));
       return;
     }
   }
@@ -926,10 +931,7 @@ class Loader {
       return;
     }
     if (scene.orbits.start < range[0] || scene.orbits.start > range[1]) {
-      const std::string range_key =
-          scene.model == ModelKind::kDuffing        ? "frequency_range"
-          : scene.model == ModelKind::kStuartLandau ? "lambda_range"
-                                                    : "mu_range";
+      const std::string range_key = ModelOf(scene).parameter + "_range";
       problems_.push_back(fmt::format("{}: {} = {}: must lie in {}.{} = [{}, {}]", Where(key), key,
                                       FormatNode(*nodes_.at(key)), model, range_key,
                                       FormatFloat(range[0]), FormatFloat(range[1])));
@@ -1120,27 +1122,6 @@ std::string EscapeTable(std::string text) {
 
 // ---------------------------------------------------------------------------------------------
 
-const char* ToString(ModelKind model) {
-  switch (model) {
-    case ModelKind::kTwoPoint: return "two_point";
-    case ModelKind::kJeffcott: return "jeffcott";
-    case ModelKind::kDuffing: return "duffing";
-    case ModelKind::kStuartLandau: return "stuart_landau";
-    case ModelKind::kVanDerPol: return "van_der_pol";
-  }
-  return "?";
-}
-
-bool IsTextbook(ModelKind model) {
-  return model == ModelKind::kDuffing || model == ModelKind::kStuartLandau ||
-         model == ModelKind::kVanDerPol;
-}
-
-bool StageApplies(ModelKind model, Stage stage) {
-  if (IsTextbook(model)) return stage == Stage::kOrbits;
-  return stage != Stage::kOrbits || model == ModelKind::kTwoPoint;
-}
-
 const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
@@ -1217,20 +1198,7 @@ std::string DescribeScene(const Scene& scene) {
     out += defaulted ? fmt::format("  {:<38} = {:<28}  (default)\n", spec.key, value)
                      : fmt::format("  {:<38} = {}\n", spec.key, value);
   }
-  if (scene.model == ModelKind::kJeffcott) {
-    const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
-    out += fmt::format(
-        "derived:\n  RCI = R/C = {:.6g}\n  rotor alone {:.6g} Hz, stator alone {:.6g} Hz, "
-        "pinned together {:.6g} Hz\n",
-        scene.jeffcott.R / scene.jeffcott.C, f.rotor_hz, f.stator_hz, f.combined_hz);
-  }
-  if (scene.model == ModelKind::kTwoPoint) {
-    const TwoPointParams& p = scene.two_point;
-    out += fmt::format(
-        "derived:\n  a = l_g/l = {:.6g}{}\n  b = l_sg/l_s = {:.6g}\n  RCI_L = R_L/C_L = {:.6g}, "
-        "RCI_R = R_R/C_R = {:.6g}\n",
-        p.a(), p.a() > 1.0 || p.a() < 0.0 ? " (overhung)" : "", p.b(), p.Rci(0), p.Rci(1));
-  }
+  if (const ModelEntry& model = ModelOf(scene); model.derived) out += model.derived(scene);
   return out;
 }
 

@@ -7,9 +7,10 @@
 //   scene.toml:4:8: rotor.mass = -1: must be positive (kg)
 // and all problems of a file are reported at once (SceneError).
 //
-// Adding a model (issues 4–5: "jeffcott", "duffing", ...): add a ModelKind, its params struct to
-// Scene, and its rows (with `model` set) to the schema table; the loader rejects the keys of
-// other models. Adding a stage or an [analysis] key: a row in the table and a field below.
+// Adding a model: a ModelKind, its params struct in Scene, its rows (with `model` set) in the
+// schema table, and its entry in apps/models.cpp (the model dispatch; README "Adding a model");
+// the loader rejects the keys of other models. Adding a stage or an [analysis] key: a row in the
+// table and a field below.
 #pragma once
 
 #include <array>
@@ -36,9 +37,8 @@ enum class ModelKind {
   kStuartLandau,  // "stuart_landau": Hopf normal form, continued in the growth rate λ
   kVanDerPol,     // "van_der_pol": van der Pol oscillator, continued in μ
 };
+// The scene's name of a model (apps/models.h holds what else each model has).
 const char* ToString(ModelKind model);
-// Duffing, Stuart–Landau, van der Pol.
-bool IsTextbook(ModelKind model);
 
 // The stages `rubcont run` can perform, in the order the scene lists them.
 enum class Stage {
@@ -55,9 +55,6 @@ const char* ToString(Stage stage);
 Level LevelOf(Stage stage);
 // The highest level among `stages` (L0 for none).
 Level HighestLevel(const std::vector<Stage>& stages);
-// The textbook models have the stage "orbits" only; "orbits" applies to model two_point as well
-// (not to the Jeffcott rotor).
-bool StageApplies(ModelKind model, Stage stage);
 
 // Every section's defaults are the initializers below (and those of the model parameter structs):
 // the schema in scene.cpp documents and applies them from a default-constructed Scene.

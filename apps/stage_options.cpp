@@ -1,9 +1,11 @@
 #include "apps/stage_options.h"
-#include "models/units.h"
 
 #include <stdexcept>
 
 #include <fmt/core.h>
+
+#include "apps/models.h"
+#include "models/units.h"
 
 namespace rubcont {
 
@@ -11,27 +13,23 @@ AnalyticOptions AnalyticOptionsOf(const Scene& scene) { return scene.analysis.an
 
 namespace {
 
-void RequireRubModel(const Scene& scene) {
-  if (scene.model != ModelKind::kTwoPoint && scene.model != ModelKind::kJeffcott) {
+const ModelEntry& RubModelOf(const Scene& scene) {
+  const ModelEntry& model = ModelOf(scene);
+  if (!model.IsRub()) {
+    std::string rub;
+    for (const ModelEntry& m : Models()) rub += m.IsRub() ? (rub.empty() ? "" : ", ") + m.name : "";
     throw std::invalid_argument(fmt::format(
-        "model = \"{}\" in scene {}: rotating waves need a rub model (two_point or jeffcott)",
-        ToString(scene.model), scene.name));
+        "model = \"{}\" in scene {}: rotating waves need a rub model ({})", model.name,
+        scene.name, rub));
   }
+  return model;
 }
 
 }  // namespace
 
-RubStructure StructureOf(const Scene& scene) {
-  RequireRubModel(scene);
-  return scene.model == ModelKind::kJeffcott ? JeffcottStructure(scene.jeffcott)
-                                             : TwoPointStructure(scene.two_point);
-}
+RubStructure StructureOf(const Scene& scene) { return RubModelOf(scene).structure(scene); }
 
-FrictionLawKind FrictionLawOf(const Scene& scene) {
-  RequireRubModel(scene);
-  return scene.model == ModelKind::kJeffcott ? scene.jeffcott.friction_law.kind
-                                             : scene.two_point.friction_law.kind;
-}
+FrictionLawKind FrictionLawOf(const Scene& scene) { return RubModelOf(scene).wave_friction(scene); }
 
 RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
   RotatingWaveBranchOptions options;
@@ -39,6 +37,14 @@ RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
   options.search.speed_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
   options.search.precession_max = HzToRadPerSecond(scene.analysis.analytic.max_precession_hz);
   return options;
+}
+
+const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user) {
+  if (scene.model != ModelKind::kTwoPoint) {
+    throw std::invalid_argument(fmt::format("model = \"{}\" in scene {}: {} needs the two_point "
+                                            "model", ToString(scene.model), scene.name, user));
+  }
+  return scene.two_point;
 }
 
 const char* ToString(SweepDirection direction) {
@@ -62,7 +68,7 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
   o.sample_rate = s.sample_rate_hz;
   o.band = s.spectrum_max_hz;
   o.peak_side = PeakSide::kNegative;
-  o.rotate_forcing_phase = scene.two_point.imbalance > 0.0;
+  o.rotate_forcing_phase = StructureOf(scene).imbalance > 0.0;
   o.integrator.method = IntegrationMethod::kBdf;
   // Orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11 N/m)
   // cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took 3×
@@ -84,12 +90,12 @@ RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
 }
 
 RubStructure SweepStructureOf(const Scene& scene) {
-  if (scene.model != ModelKind::kTwoPoint) {
-    throw std::invalid_argument(fmt::format(
-        "the sweep stage needs model = \"two_point\" (scene {} has {})", scene.name,
-        ToString(scene.model)));
+  if (!ModelOf(scene).Has(Stage::kSweep)) {
+    throw std::invalid_argument(fmt::format("the sweep stage needs a model that has it ({}); scene "
+                                            "{} has \"{}\"", ModelsWith(Stage::kSweep),
+                                            scene.name, ToString(scene.model)));
   }
-  return TwoPointStructure(scene.two_point);
+  return StructureOf(scene);
 }
 
 }  // namespace rubcont

@@ -23,6 +23,11 @@ FrictionLawKind FrictionLawOf(const Scene& scene);
 // precession_range_hz.
 RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene);
 
+// The two-point parameters of a scene, for what is defined on them (`rubcont map` and `rubcont
+// fit` vary and identify TwoPointParams fields). Throws std::invalid_argument naming `user` and the
+// scene's model for any other model.
+const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user);
+
 enum class SweepDirection { kUp, kDown };
 const char* ToString(SweepDirection direction);  // "up", "down"
 

@@ -265,7 +265,8 @@ TEST_CASE("Textbook models: their own sections, the orbits stage by default, sta
   // Stages that do not fit the model.
   CHECK_THAT(OnlyProblem(kDuffing + "[analysis]\nstages = [\"branches\"]\n"),
              Contains("analysis.stages = [\"branches\"]: \"branches\" does not apply to model "
-                      "\"duffing\"; the textbook models have the stage \"orbits\""));
+                      "\"duffing\", whose stages are \"orbits\"; \"branches\" is a stage of "
+                      "\"two_point\", \"jeffcott\""));
   // Model two_point has it too (the modulated orbits), with [analysis.orbits]; the Jeffcott
   // rotor does not (tests/apps/orbits_stage_test.cpp).
   const Scene rotor = Parse(kValid + "[analysis]\nstages = [\"orbits\"]\n[analysis.orbits]\n"

@@ -1,0 +1,111 @@
+#include "apps/models.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "apps/analytic_stage.h"
+#include "apps/orbits_stage.h"
+#include "models/jeffcott.h"
+
+namespace rubcont {
+
+namespace {
+
+std::string TwoPointDerived(const Scene& scene) {
+  const TwoPointParams& p = scene.two_point;
+  return fmt::format(
+      "derived:\n  a = l_g/l = {:.6g}{}\n  b = l_sg/l_s = {:.6g}\n  RCI_L = R_L/C_L = {:.6g}, "
+      "RCI_R = R_R/C_R = {:.6g}\n",
+      p.a(), p.a() > 1.0 || p.a() < 0.0 ? " (overhung)" : "", p.b(), p.Rci(0), p.Rci(1));
+}
+
+std::string JeffcottDerived(const Scene& scene) {
+  const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
+  return fmt::format(
+      "derived:\n  RCI = R/C = {:.6g}\n  rotor alone {:.6g} Hz, stator alone {:.6g} Hz, "
+      "pinned together {:.6g} Hz\n",
+      scene.jeffcott.R / scene.jeffcott.C, f.rotor_hz, f.stator_hz, f.combined_hz);
+}
+
+// A textbook model with a known answer (models/textbook.h), for checking the tool: the stage
+// "orbits" only, continued in `parameter`.
+ModelEntry Textbook(ModelKind kind, std::string name, std::string parameter, StageRunner orbits) {
+  ModelEntry m;
+  m.kind = kind;
+  m.name = std::move(name);
+  m.stages = m.default_stages = {Stage::kOrbits};
+  m.orbits = std::move(orbits);
+  m.orbits_figure = "orbits.py";
+  m.parameter = std::move(parameter);
+  return m;
+}
+
+std::vector<ModelEntry> MakeModels() {
+  std::vector<ModelEntry> models;
+
+  ModelEntry two_point;  // rigid rotor and rigid stator touching at two planes (Kumar 2010)
+  two_point.kind = ModelKind::kTwoPoint;
+  two_point.name = "two_point";
+  two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kSweep};
+  two_point.default_stages = {Stage::kAnalytic, Stage::kBranches};
+  two_point.structure = [](const Scene& s) { return TwoPointStructure(s.two_point); };
+  two_point.wave_friction = [](const Scene& s) { return s.two_point.friction_law.kind; };
+  two_point.analytic = RunTwoPointAnalytic;
+  two_point.orbits = RunRubOrbits;
+  two_point.orbits_figure = "rub_orbits.py";
+  two_point.derived = TwoPointDerived;
+  models.push_back(two_point);
+
+  ModelEntry jeffcott;  // single-contact Jeffcott rotor with an elastic stator (Black, Crandall)
+  jeffcott.kind = ModelKind::kJeffcott;
+  jeffcott.name = "jeffcott";
+  jeffcott.stages = jeffcott.default_stages = {Stage::kAnalytic, Stage::kBranches};
+  jeffcott.structure = [](const Scene& s) { return JeffcottStructure(s.jeffcott); };
+  jeffcott.wave_friction = [](const Scene& s) { return s.jeffcott.friction_law.kind; };
+  jeffcott.analytic = RunJeffcottAnalytic;
+  jeffcott.derived = JeffcottDerived;
+  models.push_back(jeffcott);
+
+  models.push_back(Textbook(ModelKind::kDuffing, "duffing", "frequency", RunDuffingOrbits));
+  models.push_back(
+      Textbook(ModelKind::kStuartLandau, "stuart_landau", "lambda", RunStuartLandauOrbits));
+  models.push_back(Textbook(ModelKind::kVanDerPol, "van_der_pol", "mu", RunVanDerPolOrbits));
+  return models;
+}
+
+}  // namespace
+
+bool ModelEntry::Has(Stage stage) const {
+  return std::find(stages.begin(), stages.end(), stage) != stages.end();
+}
+
+const std::vector<ModelEntry>& Models() {
+  static const std::vector<ModelEntry> models = MakeModels();
+  return models;
+}
+
+const ModelEntry& ModelOf(ModelKind kind) {
+  for (const ModelEntry& m : Models())
+    if (m.kind == kind) return m;
+  // Every ModelKind has an entry (tests/apps/models_test.cpp): a missing one is a broken invariant.
+  fmt::print(stderr, "rubcont: internal error: model kind {} has no entry in Models()\n",
+             static_cast<int>(kind));
+  std::abort();
+}
+
+const ModelEntry& ModelOf(const Scene& scene) { return ModelOf(scene.model); }
+
+std::string ModelsWith(Stage stage) {
+  std::string names;
+  for (const ModelEntry& m : Models()) {
+    if (!m.Has(stage)) continue;
+    names += (names.empty() ? "\"" : ", \"") + m.name + "\"";
+  }
+  return names;
+}
+
+const char* ToString(ModelKind model) { return ModelOf(model).name.c_str(); }
+
+}  // namespace rubcont

@@ -1,0 +1,61 @@
+// The model dispatch: every model a scene can hold, one entry each. This is the one place in
+// apps/ that asks which model a scene holds; the scene loader, the stages, `rubcont scene check`
+// and the map / fit commands read the entry.
+//
+// Adding a model (README "Adding a model"): (1) its Params and vector field in models/; (2) its
+// ModelKind and its parameter struct as a field of Scene (apps/scene.h) and its section's keys in
+// the schema (apps/scene.cpp, rows tagged with the model); (3) one entry in Models()
+// (apps/models.cpp) saying which stages it has and what each of them runs.
+#pragma once
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "models/rub_model.h"
+
+namespace rubcont {
+
+// Where a stage writes: the result file, progress lines (stderr unless --quiet), the summary on
+// `out`, and one line per numerical failure.
+struct StageContext {
+  ResultWriter& writer;
+  std::function<void(const std::string&)> progress;
+  std::ostream& out;
+  std::vector<std::string>& failures;
+};
+using StageRunner = std::function<void(const Scene&, StageContext&)>;
+
+struct ModelEntry {
+  ModelKind kind = ModelKind::kTwoPoint;
+  std::string name;                    // the scene's `model = "<name>"`
+  std::vector<Stage> stages;           // the stages it has: analysis.stages may list these only
+  std::vector<Stage> default_stages;   // what a scene without analysis.stages runs
+  // A rub model (contacts): the structure its rotating waves and sweeps integrate, and the
+  // friction law of its rotating waves. Empty for the others.
+  std::function<RubStructure(const Scene&)> structure;
+  std::function<FrictionLawKind(const Scene&)> wave_friction;
+  StageRunner analytic;                // stage "analytic" (L0), when it has it
+  StageRunner orbits;                  // stage "orbits" (L2), when it has it
+  std::string orbits_figure;           // the plot script (plots/) of its orbits stage
+  // A textbook model: its continuation parameter, of the keys <model>.<parameter>_range and
+  // <model>.orbits.start.
+  std::string parameter;
+  // `rubcont scene check`: quantities derived from the parameters ("" for none).
+  std::function<std::string(const Scene&)> derived;
+  bool Has(Stage stage) const;
+  bool IsRub() const { return static_cast<bool>(structure); }
+};
+
+// Every model, in the order the documentation lists them.
+const std::vector<ModelEntry>& Models();
+// The entry of a model; of the model a scene holds.
+const ModelEntry& ModelOf(ModelKind kind);
+const ModelEntry& ModelOf(const Scene& scene);
+// The names of the models that have `stage`, quoted and comma-separated (for messages).
+std::string ModelsWith(Stage stage);
+
+}  // namespace rubcont
