@@ -72,6 +72,8 @@ std::vector<ModelEntry> MakeModels() {
   models.push_back(
       Textbook(ModelKind::kStuartLandau, "stuart_landau", "lambda", RunStuartLandauOrbits));
   models.push_back(Textbook(ModelKind::kVanDerPol, "van_der_pol", "mu", RunVanDerPolOrbits));
+  models.push_back(Textbook(ModelKind::kForcedVanDerPol, "forced_van_der_pol", "frequency",
+                            RunForcedVanDerPolOrbits));
   return models;
 }
 

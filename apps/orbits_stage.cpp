@@ -177,6 +177,27 @@ StageSetup VanDerPolSetup(const Scene& scene) {
   return setup;
 }
 
+StageSetup ForcedVanDerPolSetup(const Scene& scene) {
+  StageSetup setup = CommonSetup(scene);
+  ForcedVanDerPolParams p = scene.forced_van_der_pol;
+  p.frequency = scene.orbits.start;
+  Validate(p);
+  setup.system = std::make_unique<ForcedVanDerPolOscillator>(p);
+  setup.kind = OrbitKind::kForced;
+  setup.parameter_name = "frequency";
+  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
+  setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
+                            StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v")};
+  // From the free cycle's amplitude; a locked response attracts at a rate of order μ, so settle
+  // for about 40/μ time units (at most 2000 forcing periods).
+  const double T = 2.0 * M_PI / p.frequency;
+  const int periods = static_cast<int>(
+      std::min(2000.0, std::ceil(40.0 / (std::max(std::abs(p.mu), 1e-3) * T))));
+  setup.start = SettleForced(*setup.system, (Vector(2) << 2.0, 0.0).finished(), periods,
+                             setup.options.shooting.integrator);
+  return setup;
+}
+
 // Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
 // orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece of them.
 void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
@@ -316,6 +337,11 @@ void RunStuartLandauOrbits(const Scene& scene, StageContext& context) {
 void RunVanDerPolOrbits(const Scene& scene, StageContext& context) {
   RunTextbookOrbits(scene, VanDerPolSetup(scene), context.writer, context.progress, context.out,
                     context.failures);
+}
+
+void RunForcedVanDerPolOrbits(const Scene& scene, StageContext& context) {
+  RunTextbookOrbits(scene, ForcedVanDerPolSetup(scene), context.writer, context.progress,
+                    context.out, context.failures);
 }
 
 }  // namespace rubcont

@@ -23,5 +23,6 @@ void RunRubOrbits(const Scene& scene, StageContext& context);           // model
 void RunDuffingOrbits(const Scene& scene, StageContext& context);       // model duffing
 void RunStuartLandauOrbits(const Scene& scene, StageContext& context);  // model stuart_landau
 void RunVanDerPolOrbits(const Scene& scene, StageContext& context);     // model van_der_pol
+void RunForcedVanDerPolOrbits(const Scene& scene, StageContext& context);  // forced_van_der_pol
 
 }  // namespace rubcont

@@ -372,6 +372,17 @@ std::vector<KeySpec> BuildSchema() {
           "λ > 0; Hopf point at 0).");
     orbits(kStuartLandau);
 
+    const ModelKind kForcedVanDerPol = ModelKind::kForcedVanDerPol;
+    number(kForcedVanDerPol, "mu", "-", Rule::kFinite,
+           "μ of ẍ − μ (1 − x²) ẋ + x = F cos(w t): nonlinear damping.",
+           [](Scene& x) -> double& { return x.forced_van_der_pol.mu; });
+    number(kForcedVanDerPol, "force", "-", Rule::kFinite, "F: forcing amplitude.",
+           [](Scene& x) -> double& { return x.forced_van_der_pol.force; });
+    range(kForcedVanDerPol,
+          "[low, high]: forcing frequency w, the continuation parameter (forcing period 2π/w); the "
+          "free cycle turns at about 1.");
+    orbits(kForcedVanDerPol);
+
     range(ModelKind::kVanDerPol,
           "[low, high]: μ of ẍ − μ (1 − x²) ẋ + x = 0, the continuation parameter (relaxation "
           "oscillations for μ ≫ 1: use several segments).");

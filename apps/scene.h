@@ -36,6 +36,7 @@ enum class ModelKind {
   kDuffing,       // "duffing": forced Duffing oscillator, continued in the forcing frequency w
   kStuartLandau,  // "stuart_landau": Hopf normal form, continued in the growth rate λ
   kVanDerPol,     // "van_der_pol": van der Pol oscillator, continued in μ
+  kForcedVanDerPol,  // "forced_van_der_pol": entrainment and its loss, continued in w
 };
 // The scene's name of a model (apps/models.h holds what else each model has).
 const char* ToString(ModelKind model);
@@ -119,6 +120,7 @@ struct Scene {
   DuffingParams duffing;            // when model == kDuffing (frequency: see orbits)
   StuartLandauParams stuart_landau; // when model == kStuartLandau (lambda: see orbits)
   VanDerPolParams van_der_pol;      // when model == kVanDerPol (mu: see orbits)
+  ForcedVanDerPolParams forced_van_der_pol;  // when model == kForcedVanDerPol (frequency: orbits)
   TextbookOrbitsSettings orbits;    // "orbits" stage of a textbook model: parameter range, numerics
   AnalysisOptions analysis;
 

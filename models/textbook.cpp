@@ -146,4 +146,46 @@ Vector VanDerPolOscillator::StateScale() const {
   return scale;
 }
 
+void Validate(const ForcedVanDerPolParams& params) {
+  RequireFinite("ForcedVanDerPolParams", "mu", params.mu);
+  RequireFinite("ForcedVanDerPolParams", "force", params.force);
+  RequireFinite("ForcedVanDerPolParams", "frequency", params.frequency);
+  if (!(params.frequency > 0.0)) {
+    throw std::invalid_argument(
+        fmt::format("ForcedVanDerPolParams.frequency = {}: must be positive", params.frequency));
+  }
+}
+
+ForcedVanDerPolOscillator::ForcedVanDerPolOscillator(const ForcedVanDerPolParams& params)
+    : params_(params) {
+  Validate(params);
+}
+
+void ForcedVanDerPolOscillator::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  f(0) = x(1);
+  f(1) = params_.mu * (1.0 - x(0) * x(0)) * x(1) - x(0) +
+         params_.force * std::cos(params_.frequency * t);
+}
+
+void ForcedVanDerPolOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const double mu = params_.mu;
+  J(0, 0) = 0.0;
+  J(0, 1) = 1.0;
+  J(1, 0) = -2.0 * mu * x(0) * x(1) - 1.0;
+  J(1, 1) = mu * (1.0 - x(0) * x(0));
+}
+
+void ForcedVanDerPolOscillator::DfDparameter(double t, ConstVectorRef /*x*/, VectorRef df) {
+  df(0) = 0.0;
+  df(1) = -params_.force * t * std::sin(params_.frequency * t);
+}
+
+double ForcedVanDerPolOscillator::ForcingPeriod() const { return kTwoPi / params_.frequency; }
+
+Vector ForcedVanDerPolOscillator::StateScale() const {
+  Vector scale(2);
+  scale << 2.0, std::max(2.0, 4.0 * std::abs(params_.mu) / 3.0);
+  return scale;
+}
+
 }  // namespace rubcont

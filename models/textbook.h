@@ -3,6 +3,7 @@
 //   DuffingOscillator     ẍ + c ẋ + k x + β x³ = F cos(w t)      parameter w  (forced, period 2π/w)
 //   StuartLandauOscillator ż = (λ + iω) z − (1 + iγ)|z|² z        parameter λ  (Hopf normal form)
 //   VanDerPolOscillator   ẍ − μ (1 − x²) ẋ + x = 0               parameter μ  (stiff for large μ)
+//   ForcedVanDerPolOscillator ẍ − μ (1 − x²) ẋ + x = F cos(w t)  parameter w  (entrainment, tori)
 // All are dimensionless; "time" below means the model's time unit.
 #pragma once
 
@@ -118,6 +119,41 @@ class VanDerPolOscillator : public OdeSystem {
 
  private:
   VanDerPolParams params_;
+};
+
+struct ForcedVanDerPolParams {
+  double mu = 0.2;         // μ, nonlinear damping (the free cycle: amplitude ≈ 2, frequency ≈ 1)
+  double force = 0.1;      // F, forcing amplitude (length/time²)
+  double frequency = 1.0;  // w > 0, forcing frequency (rad/time): the continuation parameter
+};
+
+// Throws std::invalid_argument naming the field (non-finite values, frequency ≤ 0).
+void Validate(const ForcedVanDerPolParams& params);
+
+// State (x, ẋ); ForcingPeriod() = 2π/w. Near w = 1 the free cycle locks to the forcing (1:1
+// entrainment: a periodic orbit of period 2π/w); at the edges of the locking interval a pair of
+// Floquet multipliers leaves the unit circle (Neimark–Sacker) or the locked orbit meets a saddle
+// (fold), and outside it the response is quasi-periodic: an invariant torus, which no periodic
+// orbit describes. A small model of the two-frequency motion of the rub's modulated whips.
+class ForcedVanDerPolOscillator : public OdeSystem {
+ public:
+  explicit ForcedVanDerPolOscillator(const ForcedVanDerPolParams& params = {});
+  const ForcedVanDerPolParams& params() const { return params_; }
+
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.frequency; }
+  void SetParameter(double w) override { params_.frequency = w; }
+  // ∂f/∂w = (0, −F t sin(w t)).
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  double ForcingPeriod() const override;
+  Vector StateScale() const override;
+  std::string StateName(Index i) const override { return i == 0 ? "x" : "v"; }
+
+ private:
+  ForcedVanDerPolParams params_;
 };
 
 }  // namespace rubcont

@@ -2,7 +2,8 @@
 # Regenerates everything in results/: the result file (analytic L0, rotating-wave branches L1),
 # figures and summary of the
 # eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
-# textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol), and the
+# textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol, forced van
+# der Pol), and the
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib).
 #   --sweeps        also re-runs the time-marching sweeps (L3) of the eight thesis scenes and of

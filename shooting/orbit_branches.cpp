@@ -148,6 +148,11 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     result.branch = run(-1);
   } else {
     const Branch backward = run(-1);
+    // A closed curve (isola) followed round backwards already holds the forward run's points.
+    if (backward.status == BranchStatus::kClosed) {
+      result.branch = backward;
+      return result;
+    }
     const Branch forward = run(+1);
     if (backward.points.empty() || forward.points.empty()) {
       result.branch = forward.points.empty() ? backward : forward;

@@ -6,7 +6,8 @@
 //      ones), or from anything else close enough for Newton;
 //   2. ContinuePeriodicOrbits: a ShootingProblem (single or multiple shooting) started there and
 //      continued with the engine both ways to the ends of [lambda_min, lambda_max] (one way when
-//      the start is at an end), the two runs joined (JoinAtStart), Floquet stability at every
+//      the start is at an end), the two runs joined (JoinAtStart; a closed curve followed round
+//      by the first run is not followed again the other way), Floquet stability at every
 //      point, folds, period doubling and Neimark–Sacker points located (continuation.h).
 //
 // Use:

@@ -14,7 +14,7 @@ using Catch::Matchers::Contains;
 
 const std::vector<ModelKind> kEveryKind = {ModelKind::kTwoPoint, ModelKind::kJeffcott,
                                           ModelKind::kDuffing, ModelKind::kStuartLandau,
-                                          ModelKind::kVanDerPol};
+                                          ModelKind::kVanDerPol, ModelKind::kForcedVanDerPol};
 
 TEST_CASE("Every model kind has one entry, and every entry can run each stage it lists", "[models]") {
   REQUIRE(Models().size() == kEveryKind.size());
@@ -46,7 +46,8 @@ TEST_CASE("The scene of each model selects its entry, runs its default stages an
       {"scenes/jeffcott.toml", ModelKind::kJeffcott},
       {"scenes/duffing.toml", ModelKind::kDuffing},
       {"scenes/stuart_landau.toml", ModelKind::kStuartLandau},
-      {"scenes/van_der_pol.toml", ModelKind::kVanDerPol}};
+      {"scenes/van_der_pol.toml", ModelKind::kVanDerPol},
+      {"scenes/forced_van_der_pol.toml", ModelKind::kForcedVanDerPol}};
   for (const auto& [file, kind] : scenes) {
     CAPTURE(file);
     const Scene scene = LoadScene(file);
@@ -74,7 +75,8 @@ TEST_CASE("Sweeps and the two-point commands name the models they need", "[model
                     Contains("model = \"jeffcott\" in scene jeffcott: rubcont map needs the "
                              "two_point model"));
   CHECK(ModelsWith(Stage::kOrbits) ==
-        "\"two_point\", \"duffing\", \"stuart_landau\", \"van_der_pol\"");
+        "\"two_point\", \"duffing\", \"stuart_landau\", \"van_der_pol\", "
+        "\"forced_van_der_pol\"");
 }
 
 }  // namespace

@@ -92,5 +92,15 @@ TEST_CASE("van der Pol: derivatives and scales", "[textbook]") {
   CHECK_THROWS_WITH(VanDerPolOscillator({NAN}), Catch::Contains("mu"));
 }
 
+TEST_CASE("Forced van der Pol: derivatives, forcing period and scales", "[textbook]") {
+  ForcedVanDerPolOscillator oscillator({2.0, 0.3, 1.2});
+  CheckDerivatives(oscillator, 0.7, (Vector(2) << 1.3, -0.4).finished());
+  CheckDerivatives(oscillator, 5.3, (Vector(2) << -2.1, 3.0).finished());
+  CHECK(oscillator.ForcingPeriod() == Approx(2 * M_PI / 1.2).epsilon(1e-15));
+  CHECK(oscillator.StateScale()(1) == Approx(8.0 / 3.0));
+  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, 0.1, -1.0}), Catch::Contains("frequency"));
+  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, NAN, 1.0}), Catch::Contains("force"));
+}
+
 }  // namespace
 }  // namespace rubcont
