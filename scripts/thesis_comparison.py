@@ -1,12 +1,13 @@
 #!/usr/bin/python3
 """The thesis-vs-rubcont tables of results/README.md, computed from the result files.
 
-Usage: /usr/bin/python3 scripts/thesis_comparison.py RESULTS_DIR [--update README.md]
+Usage: /usr/bin/python3 scripts/thesis_comparison.py RESULTS_DIR [--update|--check README.md]
 
 Reads RESULTS_DIR/<scene>/<scene>.h5 (written by `rubcont run`) and prints two markdown tables:
 every number Kumar (2010) gives in §2.3, §2.5 and §5.1 beside rubcont's (thesis form c_d = 0,
 and with the scene's 52 N·s/m centre damper), and a summary of all eight scenes. With --update,
-replaces the text between the BEGIN/END markers in README.md instead of printing.
+replaces the text between the BEGIN/END markers in README.md instead of printing; with --check,
+exits 1 (saying so) when that text is not what the files give.
 """
 import os
 import sys
@@ -272,7 +273,7 @@ def summary_table(cases):
 
 
 def main(argv):
-    if len(argv) not in (2, 4) or (len(argv) == 4 and argv[2] != "--update"):
+    if len(argv) not in (2, 4) or (len(argv) == 4 and argv[2] not in ("--update", "--check")):
         print(__doc__, file=sys.stderr)
         return 2
     results = argv[1]
@@ -305,6 +306,11 @@ def main(argv):
         with open(argv[3]) as f:
             readme = f.read()
         start, end = readme.index(BEGIN) + len(BEGIN), readme.index(END)
+        if argv[2] == "--check":
+            same = readme[start:end] == "\n" + text
+            print(f"{'holds' if same else 'FAILS'}   thesis tables: {argv[3]} "
+                  f"{'holds' if same else 'does not hold'} what scripts/thesis_comparison.py computes")
+            return 0 if same else 1
         with open(argv[3], "w") as f:
             f.write(readme[:start] + "\n" + text + readme[end:])
     else:
