@@ -12,7 +12,6 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include "apps/analytic_output.h"
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
@@ -22,7 +21,6 @@
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "apps/version.h"
-#include "models/analytic.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
@@ -45,7 +43,6 @@ class Progress {
   bool quiet_;
   std::ostream& err_;
 };
-
 
 struct ExecuteOptions {
   bool quiet = false;

@@ -16,6 +16,21 @@ void RequireFinite(const char* type, const char* field, double value) {
   }
 }
 
+// ∂f/∂x of ẍ = μ (1 − x²) ẋ − x (+ forcing), state (x, ẋ).
+void VanDerPolJacobian(double mu, ConstVectorRef x, MatrixRef J) {
+  J(0, 0) = 0.0;
+  J(0, 1) = 1.0;
+  J(1, 0) = -2.0 * mu * x(0) * x(1) - 1.0;
+  J(1, 1) = mu * (1.0 - x(0) * x(0));
+}
+
+// The cycle's amplitude ≈ 2 and its largest |ẋ| ≈ 4|μ|/3 in the fast jumps (μ ≫ 1).
+Vector VanDerPolScale(double mu) {
+  Vector scale(2);
+  scale << 2.0, std::max(2.0, 4.0 * std::abs(mu) / 3.0);
+  return scale;
+}
+
 }  // namespace
 
 void Validate(const DuffingParams& params) {
@@ -128,11 +143,7 @@ void VanDerPolOscillator::Rhs(double /*t*/, ConstVectorRef x, VectorRef f) {
 }
 
 void VanDerPolOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
-  const double mu = params_.mu;
-  J(0, 0) = 0.0;
-  J(0, 1) = 1.0;
-  J(1, 0) = -2.0 * mu * x(0) * x(1) - 1.0;
-  J(1, 1) = mu * (1.0 - x(0) * x(0));
+  VanDerPolJacobian(params_.mu, x, J);
 }
 
 void VanDerPolOscillator::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef df) {
@@ -140,11 +151,7 @@ void VanDerPolOscillator::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef
   df(1) = (1.0 - x(0) * x(0)) * x(1);
 }
 
-Vector VanDerPolOscillator::StateScale() const {
-  Vector scale(2);
-  scale << 2.0, std::max(2.0, 4.0 * std::abs(params_.mu) / 3.0);
-  return scale;
-}
+Vector VanDerPolOscillator::StateScale() const { return VanDerPolScale(params_.mu); }
 
 void Validate(const ForcedVanDerPolParams& params) {
   RequireFinite("ForcedVanDerPolParams", "mu", params.mu);
@@ -168,11 +175,7 @@ void ForcedVanDerPolOscillator::Rhs(double t, ConstVectorRef x, VectorRef f) {
 }
 
 void ForcedVanDerPolOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
-  const double mu = params_.mu;
-  J(0, 0) = 0.0;
-  J(0, 1) = 1.0;
-  J(1, 0) = -2.0 * mu * x(0) * x(1) - 1.0;
-  J(1, 1) = mu * (1.0 - x(0) * x(0));
+  VanDerPolJacobian(params_.mu, x, J);  // the forcing does not depend on the state
 }
 
 void ForcedVanDerPolOscillator::DfDparameter(double t, ConstVectorRef /*x*/, VectorRef df) {
@@ -182,10 +185,6 @@ void ForcedVanDerPolOscillator::DfDparameter(double t, ConstVectorRef /*x*/, Vec
 
 double ForcedVanDerPolOscillator::ForcingPeriod() const { return kTwoPi / params_.frequency; }
 
-Vector ForcedVanDerPolOscillator::StateScale() const {
-  Vector scale(2);
-  scale << 2.0, std::max(2.0, 4.0 * std::abs(params_.mu) / 3.0);
-  return scale;
-}
+Vector ForcedVanDerPolOscillator::StateScale() const { return VanDerPolScale(params_.mu); }
 
 }  // namespace rubcont
