@@ -187,6 +187,20 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
   });
 }
 
+void ResultWriter::SetAttribute(const std::string& object, const std::string& name,
+                                const std::vector<double>& values) {
+  CheckAbsolute(object);
+  Guard(temporary_, object + "@" + name, [&] {
+    impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      if (target.attrExists(name)) target.removeAttr(name);
+      const hsize_t size = values.size();
+      target.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &size))
+          .write(H5::PredType::NATIVE_DOUBLE, values.data());
+    });
+  });
+}
+
 void ResultWriter::Commit() {
   if (!impl_->open) throw std::logic_error("ResultWriter::Commit called twice");
   Guard(temporary_, "close", [&] { impl_->file.close(); });

@@ -38,6 +38,8 @@ class ResultWriter {
   void WriteStrings(const std::string& path, const std::vector<std::string>& values);
   void SetAttribute(const std::string& object, const std::string& name, double value);
   void SetAttribute(const std::string& object, const std::string& name, const std::string& value);
+  void SetAttribute(const std::string& object, const std::string& name,
+                    const std::vector<double>& values);  // a 1-D attribute
   void SetAttribute(const std::string& object, const std::string& name, const char* value) {
     SetAttribute(object, name, std::string(value));
   }

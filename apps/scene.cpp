@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -71,6 +73,9 @@ struct KeySpec {
   std::string doc;        // one line: symbol and meaning
   std::vector<std::string> choices;       // kChoice
   std::optional<ModelKind> model;         // nullopt: common to every model
+  // [analysis.sweep] keys that only classify finished speeds (the regime and jump rules of
+  // sweeps/rub_sweep.h): a sweep file with other values holds the same integrations.
+  bool reclassifies = false;
   std::function<void(Scene&, const Value&)> set;
   std::function<Value(const Scene&)> get;
 
@@ -465,6 +470,11 @@ std::vector<KeySpec> BuildSchema() {
                          Field<double> field) {
     s.push_back(Float(key, unit, rule, doc, field, Presence::kOptional));
   };
+  auto sweep_rule = [&](const char* key, const char* unit, Rule rule, const char* doc,
+                        Field<double> field) {
+    sweep_float(key, unit, rule, doc, field);
+    s.back().reclassifies = true;
+  };
   sweep_pair("analysis.sweep.up_range_rpm",
              "[low, high]: the speed-up sweep runs from low to high.",
              [](Scene& x) -> std::array<double, 2>& { return x.analysis.sweep.up_range_rpm; });
@@ -512,21 +522,21 @@ std::vector<KeySpec> BuildSchema() {
               "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
               "fastest support frequency).",
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
-  sweep_float("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit,
+  sweep_rule("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit,
               "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
               "surface speed) or ≤ rolling_micro_slip·velocity_scale, and its BP passes the "
               "whirl_tolerance check; otherwise it whips (slips).",
               [](Scene& x) -> double& { return x.analysis.sweep.rolling_slip_tolerance; });
-  sweep_float("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative,
+  sweep_rule("analysis.sweep.rolling_micro_slip", "-", Rule::kNonNegative,
               "The tanh law's micro-slip of rolling, in units of velocity_scale ε (V = "
               "ε·atanh(μ_req/μ) ≤ ε while μ_req ≤ 0.76 μ): |V| up to this·ε counts as rolling at "
               "any speed. 0: the surface-speed rule alone.",
               [](Scene& x) -> double& { return x.analysis.sweep.rolling_micro_slip; });
-  sweep_float("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit,
+  sweep_rule("analysis.sweep.whirl_tolerance", "-", Rule::kOpenUnit,
               "The frequency check of a rolling contact: |BP − f_roll| ≤ this·f_roll, f_roll = "
               "RCI·(speed in rev/s).",
               [](Scene& x) -> double& { return x.analysis.sweep.whirl_tolerance; });
-  sweep_float("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive,
+  sweep_rule("analysis.sweep.frequency_jump_hz", "Hz", Rule::kPositive,
               "Between successive speeds, a BP change larger than this from both trends (BP "
               "constant, BP ∝ speed) is a jump even when the regime stays the same.",
               [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
@@ -1211,6 +1221,29 @@ std::string DescribeScene(const Scene& scene) {
   }
   if (const ModelEntry& model = ModelOf(scene); model.derived) out += model.derived(scene);
   return out;
+}
+
+std::vector<std::pair<std::string, std::vector<double>>> SweepKeyValues(const Scene& scene) {
+  std::vector<std::pair<std::string, std::vector<double>>> out;
+  for (const KeySpec& spec : Schema()) {
+    if (spec.Section() != "analysis.sweep") continue;
+    const Value value = spec.get(scene);
+    std::vector<double> numbers;
+    if (const auto* x = std::get_if<double>(&value)) numbers = {*x};
+    if (const auto* n = std::get_if<std::int64_t>(&value)) numbers = {static_cast<double>(*n)};
+    if (const auto* pair = std::get_if<std::array<double, 2>>(&value)) numbers = {(*pair)[0], (*pair)[1]};
+    if (numbers.empty()) {  // a broken invariant: every [analysis.sweep] key is a number or a pair
+      fmt::print(stderr, "rubcont: internal error: [analysis.sweep] key {} is not numeric\n", spec.key);
+      std::abort();
+    }
+    out.emplace_back(LastComponent(spec.key), std::move(numbers));
+  }
+  return out;
+}
+
+void CopySweepRules(const Scene& from, Scene& to) {
+  for (const KeySpec& spec : Schema())
+    if (spec.reclassifies) spec.set(to, spec.get(from));
 }
 
 std::string SceneKeysMarkdown() {

@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "apps/level.h"
@@ -160,6 +161,14 @@ std::string ResolvedSceneToml(const Scene& scene);
 // Human-readable listing of every resolved value with its unit (and "(default)" where the file
 // did not set it), followed by derived quantities (a, b, RCI). For `rubcont scene check`.
 std::string DescribeScene(const Scene& scene);
+
+// The keys of [analysis.sweep] (their last component) with their values in `scene`, in schema
+// order, pairs as two numbers: the attributes of /sweeps/<direction> (apps/sweep_output.cpp).
+std::vector<std::pair<std::string, std::vector<double>>> SweepKeyValues(const Scene& scene);
+// Copies the [analysis.sweep] keys that only classify finished speeds (the regime and jump rules)
+// from `from` into `to`: a sweep file that differs from a scene in these alone holds its
+// integrations (checkpoints, `rubcont sweep --resume`).
+void CopySweepRules(const Scene& from, Scene& to);
 
 // The key reference in markdown, generated from the schema: one table per section with key,
 // type, unit, rule, required/default and meaning. scenes/README.md embeds it verbatim.

@@ -32,11 +32,7 @@ bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
   } catch (const SceneError&) {
     return false;
   }
-  SweepSettings& rules = stored.analysis.sweep;
-  rules.rolling_slip_tolerance = scene.analysis.sweep.rolling_slip_tolerance;
-  rules.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
-  rules.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
-  rules.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
+  CopySweepRules(scene, stored);
   return SceneBody(stored) == SceneBody(scene);
 }
 
@@ -65,29 +61,17 @@ std::vector<double> PerChannel(const std::vector<SweepPoint>& points, std::size_
 }
 
 void WriteAttributes(ResultWriter& writer, const std::string& group, const SweepRun& run) {
-  const SweepSettings& s = run.scene().analysis.sweep;
   const SweepOptions& o = run.stepper().options();
   writer.SetAttribute(group, "direction", ToString(run.direction()));
   writer.SetAttribute(group, "level", ToString(Level::kL3));
   writer.SetAttribute(group, "speeds_planned", static_cast<double>(o.parameters.size()));
   writer.SetAttribute(group, "integrator", ToString(o.integrator.method));
   writer.SetAttribute(group, "max_order", static_cast<double>(o.integrator.max_order));
-  writer.SetAttribute(group, "relative_tolerance", o.integrator.relative_tolerance);
-  writer.SetAttribute(group, "absolute_tolerance", o.integrator.absolute_tolerance);
-  writer.SetAttribute(group, "speed_step_rpm", s.speed_step_rpm);
-  writer.SetAttribute(group, "dwell", s.dwell);
-  writer.SetAttribute(group, "settle_window", s.settle_window);
-  writer.SetAttribute(group, "settle_windows", static_cast<double>(s.settle_windows));
-  writer.SetAttribute(group, "spectrum_tolerance", s.spectrum_tolerance);
-  writer.SetAttribute(group, "frequency_tolerance_hz", s.frequency_tolerance_hz);
-  writer.SetAttribute(group, "analysis_length", s.analysis_length);
-  writer.SetAttribute(group, "sample_rate_hz", s.sample_rate_hz);
-  writer.SetAttribute(group, "spectrum_max_hz", s.spectrum_max_hz);
-  writer.SetAttribute(group, "impulse", s.impulse);
-  writer.SetAttribute(group, "rolling_slip_tolerance", s.rolling_slip_tolerance);
-  writer.SetAttribute(group, "rolling_micro_slip", s.rolling_micro_slip);
-  writer.SetAttribute(group, "whirl_tolerance", s.whirl_tolerance);
-  writer.SetAttribute(group, "frequency_jump_hz", s.frequency_jump_hz);
+  // Every [analysis.sweep] key under its own name (a range as two numbers).
+  for (const auto& [key, values] : SweepKeyValues(run.scene())) {
+    if (values.size() == 1) writer.SetAttribute(group, key, values[0]);
+    else writer.SetAttribute(group, key, values);
+  }
   writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
 }
 

@@ -396,6 +396,31 @@ TEST_CASE("The result's level is the highest of its stages, in whatever order th
 // Every default is written once (the initializers of the Scene's structs, which the schema reads):
 // for every model, a scene that leaves an optional key out resolves it to the value the key
 // reference (scenes/README.md) documents.
+TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and the rules a resume "
+          "may change", "[scene]") {
+  const Scene scene = ParseScene(kValid, "test.toml", "test");
+  const auto values = SweepKeyValues(scene);
+  REQUIRE(values.size() == 18);
+  CHECK(values.front().first == "up_range_rpm");
+  CHECK(values.front().second == std::vector<double>{20.0, 258.0});
+  CHECK(values[4].first == "settle_window");
+  CHECK(values[4].second == std::vector<double>{0.25});
+  // The four regime and jump rules, and nothing else, are copied.
+  Scene changed = scene;
+  changed.analysis.sweep.rolling_slip_tolerance = 0.1;
+  changed.analysis.sweep.rolling_micro_slip = 3.0;
+  changed.analysis.sweep.whirl_tolerance = 0.2;
+  changed.analysis.sweep.frequency_jump_hz = 9.0;
+  changed.analysis.sweep.dwell = 3.0;
+  Scene copy = scene;
+  CopySweepRules(changed, copy);
+  CHECK(copy.analysis.sweep.rolling_slip_tolerance == 0.1);
+  CHECK(copy.analysis.sweep.rolling_micro_slip == 3.0);
+  CHECK(copy.analysis.sweep.whirl_tolerance == 0.2);
+  CHECK(copy.analysis.sweep.frequency_jump_hz == 9.0);
+  CHECK(copy.analysis.sweep.dwell == scene.analysis.sweep.dwell);
+}
+
 TEST_CASE("Every documented default is the value a scene without the key gets, for every model",
           "[scene]") {
   // The key reference: full key → its default literal, for the rows "optional; default `X`" and

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "apps/hdf5_file.h"
+#include "apps/scene.h"
 
 namespace rubcont {
 namespace {
@@ -60,6 +61,14 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
     CHECK(r.Exists("/branches/branch1"));                 // the scene's law (exact)
     CHECK(r.ReadStringAttribute("/sweeps/branches", "friction_law") == "tanh");  // the sweeps' law
     CHECK(r.Exists("/sweeps/jump_table/difference_rpm"));
+    // Every numeric [analysis.sweep] key is an attribute of the direction's group, from the one list.
+    int scalars = 0;
+    for (const auto& [key, values] : SweepKeyValues(LoadScene(scene))) {
+      if (values.size() != 1) continue;
+      CHECK(r.ReadDoubleAttribute("/sweeps/up", key) == values[0]);
+      ++scalars;
+    }
+    CHECK(scalars == 16);
     up_bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
     REQUIRE(up_bp.size() == 2);
     // Rolling whirl at RCI 100: BP = 100 × speed / 60.
