@@ -1,4 +1,4 @@
-// Scene files (TOML): what a user asks rubcont to compute, in SI units (design.md §4).
+// Scene files (TOML): what a user asks rubcont to compute, in SI units (scenes/README.md).
 //
 // One schema table (scene.cpp: key, type, unit, rule, required/default, one-line doc) drives both
 // the validation of every scene and the key reference in scenes/README.md (`rubcont scene keys`),
@@ -30,7 +30,7 @@
 namespace rubcont {
 
 enum class ModelKind {
-  kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (design.md §2)
+  kTwoPoint,  // "two_point": rigid rotor and rigid stator touching at two planes (docs/theory.md §2)
   kJeffcott,  // "jeffcott": single-contact Jeffcott rotor with an elastic stator (Black, Crandall)
   // Textbook problems with known answers (models/textbook.h), for checking the tool: stage
   // "orbits" only.

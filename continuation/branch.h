@@ -1,6 +1,6 @@
 // Results of a continuation run: a copyable value type (Ceres Solver::Summary, BifurcationKit
 // ContResult) with a table of points, a list of special points, the options used, and how and why
-// the branch ended. apps/ writes it under /branches/<name>/ (design.md §4): the column accessors
+// the branch ended. apps/ writes it under /branches/<name>/ (README "Result files (HDF5)"): the column accessors
 // below flatten it without knowing the engine.
 #pragma once
 

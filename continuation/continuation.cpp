@@ -20,7 +20,7 @@ namespace rubcont {
 
 namespace {
 
-// Tier 1 of style.md: a broken internal invariant aborts, saying where and with which values.
+// Tier 1 of docs/conventions.md: a broken internal invariant aborts, saying where and with which values.
 [[noreturn]] void InvariantFailed(const char* file, int line, const char* condition,
                                   const std::string& values) {
   std::fprintf(stderr, "%s:%d: continuation invariant violated: %s (%s)\n", file, line, condition,

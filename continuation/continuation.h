@@ -55,7 +55,7 @@
 // start tangent, near the start and going the same way, the crossing is located on arclength; if
 // it is the start point within closure_tolerance the branch ends there (kClosed).
 //
-// Stepping API (style.md): Continuation::Start, then Step() until it returns kStop or kFailed;
+// Stepping API (docs/conventions.md): Continuation::Start, then Step() until it returns kStop or kFailed;
 // Continue() is the thin driver with a per-step callback. After every stored point the problem's
 // PointAccepted hook runs. Use:
 //     ContinuationOptions options;

@@ -1,5 +1,5 @@
 // Level L0: the closed-form Mode 1 / Mode 2 circular orbits of the two-point rub model
-// (Kumar 2010, §2.2–2.5, with the corrections of design.md §2), and the natural frequencies that
+// (Kumar 2010, §2.2–2.5, with the corrections of docs/theory.md §3), and the natural frequencies that
 // organise them.
 //
 // A circular backward orbit precesses at Ω > 0: every displacement is u(t) = u0·e^{−jΩt}. Both
@@ -70,7 +70,7 @@ int ContactSign(CircularMode mode);
 
 // Rotor mass matrix in the contact-plane coordinates u_r = (u_rL, u_rR) [kg]:
 // M_r = m_r [[(1−a)², a(1−a)], [a(1−a), a²]] + (I_r / l²) [[1, −1], [−1, 1]], a = l_g / l.
-// (The thesis prints +I/l² off the diagonal; −I/l² is correct: design.md §2.)
+// (The thesis prints +I/l² off the diagonal; −I/l² is correct: docs/theory.md §3.)
 Matrix2 RotorMassMatrix(const TwoPointParams& p);
 // Stator mass matrix in the station coordinates u_s = (u_sL, u_sR) [kg], same form with
 // m_s, I_s, b = l_sg / l_s, l_s.

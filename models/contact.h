@@ -1,4 +1,4 @@
-// One rub contact: Hunt–Crossley normal force and Coulomb friction (design.md §2, thesis Eqs. 43–45).
+// One rub contact: Hunt–Crossley normal force and Coulomb friction (docs/theory.md §4, thesis Eqs. 43–45).
 //
 // Planar vectors are (x, y) pairs of the complex coordinate x + j y. For relative position
 // d = u_r − u_s of the rotor axis with respect to the stator at the contact plane and its rate ḋ:

@@ -1,5 +1,5 @@
 // A linear rotor–stator structure on complex coordinates with rub contacts, and its equations of
-// motion in the fixed frame and in a frame precessing backwards at a rate Ω (design.md §2).
+// motion in the fixed frame and in a frame precessing backwards at a rate Ω (docs/theory.md §2, §6).
 //
 // The structure has n_c complex coordinates u (rotor and stator displacements at chosen planes):
 //     M ü + C u̇ + K u = Σ_k B_k f_k + b m_u e ω² e^{jωt}
@@ -57,7 +57,7 @@ ContactLaw ContactLawOf(const Params& p) {
   return law;
 }
 
-// The two-point model of design.md §2: coordinates (rotor L, rotor R, stator L, stator R),
+// The two-point model of docs/theory.md §2: coordinates (rotor L, rotor R, stator L, stator R),
 // M = blkdiag(M_r, M_s), K = blkdiag(0, K_s), C = blkdiag(0, C_s) + c_d w wᵀ with
 // w = (½, ½, −½, −½) (centre damper between the mid-points), imbalance b = ((1−a), a, 0, 0).
 RubStructure TwoPointStructure(const TwoPointParams& params);

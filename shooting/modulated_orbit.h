@@ -1,5 +1,5 @@
 // A modulated whirl or whip of the rub model at one running speed (level L2): a relative periodic
-// orbit (design.md §2), periodic in a frame that turns by φ per period T, found by shooting
+// orbit (docs/theory.md §7), periodic in a frame that turns by φ per period T, found by shooting
 // (ShootingProblem, kRelative) from a point near it — the end of a settled transient — and read
 // the way a time-marching sweep reads a precession. Where ContinueOrbitsFromHopf reaches such an
 // orbit by continuation from its Hopf point (small steps in speed, minutes), this solves it at

@@ -1,5 +1,5 @@
 // The modulated whirl and whip of a rub structure: periodic orbits of the frame co-rotating with a
-// rotating wave (relative periodic orbits, design.md §2), born at the Hopf points of the tanh-law
+// rotating wave (relative periodic orbits, docs/theory.md §7), born at the Hopf points of the tanh-law
 // rotating-wave branches and continued against running speed with Floquet stability (level L2).
 //
 // A rotating wave is an equilibrium of the frame precessing backward at its precession Ω_H; at a

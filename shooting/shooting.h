@@ -11,7 +11,7 @@
 //
 // Sign convention of the rotation: φ is the angle for which x(T) = R_φ x(0), R_φ being the model's
 // own Rotate(φ, ·) (OdeSystem's convention). If the model's Rotate multiplies complex coordinates by
-// e^{jφ}, design.md's p(T) = e^{−jφ_d} p(0) has φ_d = −φ.
+// e^{jφ}, docs/theory.md §7's p(T) = e^{−jφ_d} p(0) has φ_d = −φ.
 //
 // Unknowns (N segments, n states; mesh 0 = τ_0 < τ_1 < … < τ_N = 1, segment i covers
 // [T τ_i, T τ_{i+1}]):

@@ -1,7 +1,7 @@
 // Rotating waves (relative equilibria) of a rub structure: circular backward whirl and whip.
 //
 // In the frame precessing backwards at Ω, u = e^{−jΩt} p, a circular orbit is an equilibrium
-// p = const (design.md §2, "the co-rotating frame"):
+// p = const (docs/theory.md §6):
 //     (K − Ω²M − jΩC) p = Σ_k B_k f_k(d_k, ḋ_k = −jΩ d_k; ω),
 // 2 n_c real equations in the 2 n_c real unknowns of p and the unknown Ω, closed by a phase
 // condition that removes the rotational symmetry: Im(Σ_k conj(d_ref,k) d_k) = 0 with the contact

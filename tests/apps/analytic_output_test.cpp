@@ -31,7 +31,7 @@ void CheckSame(const AnalyticCurve& a, const AnalyticCurve& b) {
   }
 }
 
-TEST_CASE("The analytic result survives an HDF5 round trip bit for bit, in design.md's layout",
+TEST_CASE("The analytic result survives an HDF5 round trip bit for bit, in the README's layout",
           "[hdf5][analytic]") {
   const fs::path file = fs::temp_directory_path() / ("rubcont_analytic_" + std::to_string(getpid()) + ".h5");
   TwoPointParams p = ThesisCaseAa();  // thesis A(a) with the centre damper
@@ -54,7 +54,7 @@ TEST_CASE("The analytic result survives an HDF5 round trip bit for bit, in desig
   const NaturalFrequencies nf = ReadNaturalFrequencies(reader);
   CHECK(nf.stator_bounce.frequency_hz == result.natural_frequencies.stator_bounce.frequency_hz);
   CHECK(nf.pinned_pitch.frequency_hz == result.natural_frequencies.pinned_pitch.frequency_hz);
-  // The names users rely on (design.md §4).
+  // The names users rely on (README "Result files (HDF5)").
   for (const char* name : {"precession_hz", "normal_force_left", "normal_force_right",
                            "mu_required_left", "mu_required_right", "transitions/type",
                            "transitions/contact", "transitions/precession_hz"})

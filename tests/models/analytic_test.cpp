@@ -43,7 +43,7 @@ std::vector<Transition> OfType(const AnalyticCurve& curve, TransitionType type, 
   return out;
 }
 
-// The matrices written out again from design.md §2, independently of the library's helpers.
+// The matrices written out again from docs/theory.md §2, independently of the library's helpers.
 Eigen::Matrix2d MassMatrix(double m, double I, double span, double c) {
   Eigen::Matrix2d M;
   M << m * (1 - c) * (1 - c) + I / (span * span), m * c * (1 - c) - I / (span * span),

@@ -1,5 +1,5 @@
 // Where forced-orbit shooting fails on the rub model: the imbalance response of thesis case A(a)
-// (3.43 g·cm) in the fixed frame, away from contact. The rotor is free–free (design.md §2: no
+// (3.43 g·cm) in the fixed frame, away from contact. The rotor is free–free (docs/theory.md §2: no
 // rotor supports; only the contacts and the centre damper hold it), so its position is neutral:
 // every rotor offset carries the same forced response, the forced orbit is not isolated, and the
 // shooting Jacobian M − I is singular. The multipliers say so: several equal 1.
