@@ -15,8 +15,10 @@
 //     normal_force_left|right       mean N [N] over the samples in contact; normal_force_max_*
 //     contact_fraction_left|right   share of the analysed samples in contact
 //     orbit_radius_left|right       mean |d_k| [m]
-//     regime_left|right             "whirl" | "whip" | "no_contact" | "unknown": rolling decided by
-//                                   slip_ratio, BP as the check (sweeps/rub_sweep.h)
+//     regime_left|right             "whirl" | "whip" | "intermittent" | "no_contact" | "unknown":
+//                                   rolling decided by slip_ratio, BP as the check; intermittent:
+//                                   in contact for less than min_contact_fraction of the time
+//                                   (sweeps/rub_sweep.h)
 //     status                        "settled" | "not settled" | "integration failure"; settled (0/1)
 //     windows, simulated_time [s], spectrum_change, frequency_change [Hz] (the last settle test),
 //     wall_seconds, steps, rhs_evaluations, jacobian_evaluations, linear_solver_setups,

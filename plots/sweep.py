@@ -183,7 +183,7 @@ def draw_sweeps(f, ax):
         for side in (["left"] if both else SIDES):
             bp = g["precession_hz_" + side][()].copy()
             regime = texts(g["regime_" + side])
-            bp[[r in ("no_contact", "unknown") for r in regime]] = np.nan
+            bp[[r in ("no_contact", "intermittent", "unknown") for r in regime]] = np.nan
             line, = ax.plot(speed, bp, MARKERS[direction], color=COLORS[direction],
                             ms=6 if side == "left" else 8,
                             mfc=COLORS[direction] if side == "left" else "none", alpha=0.85, zorder=7,

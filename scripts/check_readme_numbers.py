@@ -86,7 +86,21 @@ def modulated_whip(results):
             f"{bp[0]:.1f} rpm")
 
 
-CLAIMS = [stability_gap, whip_contact_fraction, duffing_folds, stuart_landau_errors,
+def intermittent_speeds(results):
+    """The sweep speeds whose contact touched for less than 1 % of the time."""
+    count = 0
+    for scene in ["thesis_A_a", "thesis_A_b", "thesis_B_a", "thesis_B_b", "thesis_B_c",
+                  "thesis_C_a", "thesis_C_b", "thesis_C_c"]:
+        with h5(results, f"{scene}/sweep.h5") as f:
+            for direction in ("up", "down"):
+                for side in ("left", "right"):
+                    count += int(sum(r == b"intermittent"
+                                     for r in f[f"sweeps/{direction}/regime_{side}"][()]))
+    words = {7: "Seven"}
+    return f"{words.get(count, count)} speeds of the committed sweeps are intermittent"
+
+
+CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
           forced_van_der_pol_folds, modulated_whip]
 
 

@@ -80,6 +80,7 @@ const char* ToString(RubRegime regime) {
   switch (regime) {
     case RubRegime::kUnknown: return "unknown";
     case RubRegime::kNoContact: return "no_contact";
+    case RubRegime::kIntermittent: return "intermittent";
     case RubRegime::kWhirl: return "whirl";
     case RubRegime::kWhip: return "whip";
   }
@@ -143,13 +144,17 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
       out.precession_hz[k][i] = bp;
       const ContactGeometry& g = structure.contacts[k].geometry;
       const double rolling_hz = g.radius / g.clearance * rotation_hz;
-      if (c.active_fraction < options.min_contact_fraction || !(bp > 0.0)) {
+      if (!(c.active_fraction > 0.0) || !(bp > 0.0)) {
         out.regime[k][i] = RubRegime::kNoContact;
         continue;
       }
       const double slip_ratio =
           std::abs(c.measures[kSlipVelocityMeasure].mean) / (g.radius * std::abs(p.parameter));
       out.slip_ratio[k][i] = slip_ratio;
+      if (c.active_fraction < options.min_contact_fraction) {
+        out.regime[k][i] = RubRegime::kIntermittent;
+        continue;
+      }
       const double largest_rolling_slip =
           std::max(options.rolling_slip_tolerance * g.radius * std::abs(p.parameter),
                    options.rolling_micro_slip * structure.law.velocity_scale);
@@ -174,22 +179,23 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
         jump.precession_to_hz = now == RubRegime::kNoContact ? kNaN : out.precession_hz[k][i];
         jump.settled = points[last].status == SweepPointStatus::kSettled &&
                        points[i].status == SweepPointStatus::kSettled;
+        // Intermittent contact counts as lost contact for the jumps.
+        const auto lost = [](RubRegime r) {
+          return r == RubRegime::kNoContact || r == RubRegime::kIntermittent;
+        };
         bool found = true;
-        if (before == now) {
+        if (lost(before) && lost(now)) {
           found = false;
-          if (now != RubRegime::kNoContact) {
-            const double before_hz = out.precession_hz[k][last], now_hz = out.precession_hz[k][i];
-            const double off_whip_trend = std::abs(now_hz - before_hz);
-            const double off_whirl_trend =
-                std::abs(now_hz - before_hz * points[i].parameter / points[last].parameter);
-            if (std::min(off_whip_trend, off_whirl_trend) > options.frequency_jump_hz) {
-              jump.kind = RubJumpKind::kFrequencyJump;
-              found = true;
-            }
-          }
-        } else if (before == RubRegime::kNoContact) {
+        } else if (before == now) {  // whirl → whirl or whip → whip: off both trends?
+          const double before_hz = out.precession_hz[k][last], now_hz = out.precession_hz[k][i];
+          const double off_whip_trend = std::abs(now_hz - before_hz);
+          const double off_whirl_trend =
+              std::abs(now_hz - before_hz * points[i].parameter / points[last].parameter);
+          found = std::min(off_whip_trend, off_whirl_trend) > options.frequency_jump_hz;
+          jump.kind = RubJumpKind::kFrequencyJump;
+        } else if (lost(before)) {
           jump.kind = RubJumpKind::kContactRegained;
-        } else if (now == RubRegime::kNoContact) {
+        } else if (lost(now)) {
           jump.kind = RubJumpKind::kContactLost;
         } else {
           jump.kind = now == RubRegime::kWhip ? RubJumpKind::kWhirlToWhip : RubJumpKind::kWhipToWhirl;

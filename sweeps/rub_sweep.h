@@ -64,7 +64,12 @@ std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rp
 // BP 0.25 % from rolling, mean slip 8.6 % of ωR).
 enum class RubRegime {
   kUnknown,    // the integration failed at this speed
-  kNoContact,  // the contact touched for less than min_contact_fraction of the analysed time
+  kNoContact,  // the contact did not touch in the analysed time, or shows no backward precession
+  // The contact touched, for less than min_contact_fraction of the analysed time (impacts,
+  // grazing): too little contact for rolling or slipping to mean anything. Its BP (the spectrum of
+  // the relative motion over the whole stretch) and its slip velocity (over its contact time) are
+  // measured and kept; for the jumps it counts as contact lost, like kNoContact.
+  kIntermittent,
   kWhirl,      // the contact rolls: small slip and BP on the rolling line (above)
   kWhip,       // otherwise: the contact slips (BP locked elsewhere, usually below f_roll,k)
 };
@@ -98,7 +103,8 @@ struct RubRegimeOptions {
   // frequency wanders by < 2 Hz between speeds (82.6 → 83 → 84.66 Hz, case B(a)); whirl-like
   // precession at unequal RCIs (both contacts slipping) follows BP ∝ ω without counting as jumps.
   double frequency_jump_hz = 3.0;
-  // Below this share of the analysed time in contact, the contact counts as lost. In [0, 1].
+  // Below this share of the analysed time in contact (and above 0), the contact is intermittent
+  // (RubRegime::kIntermittent). In [0, 1].
   double min_contact_fraction = 0.01;
 };
 
@@ -108,8 +114,8 @@ void Validate(const RubRegimeOptions& options);
 enum class RubJumpKind {
   kWhirlToWhip,
   kWhipToWhirl,
-  kContactLost,      // whirl or whip → no contact
-  kContactRegained,  // no contact → whirl or whip
+  kContactLost,      // whirl or whip → no contact or intermittent contact
+  kContactRegained,  // no contact or intermittent contact → whirl or whip
   kFrequencyJump,    // same regime, precession off both trends (e.g. whip at another mode)
 };
 const char* ToString(RubJumpKind kind);

@@ -138,6 +138,8 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
       CircularPoint(s, 60.0, kNaN, 84.8, 0.5, 0.5),  // no peak: no contact either
       CircularPoint(s, 62.0, 103.3, 129.2),          // left regains contact in whirl; right whip → whirl
       CircularPoint(s, 64.0, 106.7, 133.3),
+      CircularPoint(s, 66.0, 120.0, 137.5, 0.005),   // left touches 0.5 % of the time: intermittent
+      CircularPoint(s, 68.0, 121.0, 141.7, 0.0),     // then not at all: still lost, no jump
   };
   points.insert(points.begin() + 8, SweepPoint{});  // a failed speed between 62 and 64 rpm
   points[8].parameter = RpmToRadPerSecond(63.0);
@@ -145,12 +147,18 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
   const RubSweepRegimes r = ClassifySweep(s, points);
   using R = RubRegime;
   CHECK(r.regime[0] == std::vector<R>{R::kWhirl, R::kWhirl, R::kWhip, R::kWhip, R::kWhip,
-                                      R::kNoContact, R::kNoContact, R::kWhirl, R::kUnknown, R::kWhirl});
+                                      R::kNoContact, R::kNoContact, R::kWhirl, R::kUnknown, R::kWhirl,
+                                      R::kIntermittent, R::kNoContact});
   CHECK(r.regime[1] == std::vector<R>{R::kWhip, R::kWhip, R::kWhip, R::kWhip, R::kWhip, R::kWhip,
-                                      R::kWhip, R::kWhirl, R::kUnknown, R::kWhirl});
+                                      R::kWhip, R::kWhirl, R::kUnknown, R::kWhirl, R::kWhirl,
+                                      R::kWhirl});
   CHECK(r.precession_hz[0][2] == 84.5);
   CHECK(std::isnan(r.precession_hz[0][8]));
-  REQUIRE(r.jumps.size() == 5);
+  // Intermittent contact keeps what was measured: its BP and its slip over the contact time.
+  CHECK(r.precession_hz[0][10] == 120.0);
+  CHECK(r.slip_ratio[0][10] == Approx(std::abs(1.0 - 120.0 / (100.0 * 66.0 / 60.0))).epsilon(1e-12));
+  CHECK(std::isnan(r.slip_ratio[0][11]));
+  REQUIRE(r.jumps.size() == 6);
   auto check = [&](std::size_t i, int contact, RubJumpKind kind, double from, double to) {
     CAPTURE(i);
     CHECK(r.jumps[i].contact == contact);
@@ -163,6 +171,8 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
   check(2, 0, RubJumpKind::kContactLost, 56.0, 58.0);
   check(3, 0, RubJumpKind::kContactRegained, 60.0, 62.0);
   check(4, 1, RubJumpKind::kWhipToWhirl, 60.0, 62.0);
+  check(5, 0, RubJumpKind::kContactLost, 64.0, 66.0);  // whirl → intermittent, then nothing
+  CHECK(r.jumps[5].precession_to_hz == 120.0);
   CHECK(r.jumps[0].precession_from_hz == 83.33);
   CHECK(r.jumps[0].precession_to_hz == 84.5);
   CHECK(std::isnan(r.jumps[2].precession_to_hz));
