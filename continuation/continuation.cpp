@@ -9,6 +9,7 @@
 
 #include <fmt/core.h>
 
+#include "continuation/branch_point.h"
 #include "continuation/branch_switching.h"
 #include "continuation/fold.h"
 #include "continuation/scaled_system.h"
@@ -390,9 +391,9 @@ struct Continuation::Impl {
           value = p.det.sign == 0 ? 0.0 : p.det.sign * std::exp(p.det.log_abs - reference);
           return std::isfinite(value);
         };
+        const double fa = det0.sign;
         const double fb = to.point.det.sign * std::exp(to.point.det.log_abs - reference);
-        found.push_back(FromArc(SpecialPointType::kBranchPoint, sampler, psi,
-                                static_cast<double>(det0.sign), fb, to, sigma_end, locate));
+        found.push_back(LocateBranchPointIn(sampler, psi, fa, fb, from, to, sigma_end, locate));
       }
     }
 
@@ -482,6 +483,44 @@ struct Continuation::Impl {
     sp.test_value = at_end ? fb : fa;
     sp.note = locate ? "location failed: the nearer end of the step" : "detected, not located";
     return {at_end ? sigma_end : 0.0, sp};
+  }
+
+  // A simple branch point between from and to: Newton on the branch-point system
+  // (continuation/branch_point.h) from where the normalized det [DF̂; τ̂ᵀ] interpolates to 0, else
+  // Illinois on that determinant along arclength (which stalls short of the point: the corrector
+  // is singular there).
+  std::pair<double, SpecialPoint> LocateBranchPointIn(Sampler& sampler, const ArcFunction& det,
+                                                      double fa, double fb, const PointData& from,
+                                                      const PointData& to, double sigma_end,
+                                                      bool locate) {
+    if (locate && system.n() + 1 <= options.location.branch_point_newton_max_unknowns) {
+      const double theta = fa / (fa - fb);
+      const Vector guess = from.point.x + theta * (to.point.x - from.point.x);
+      const BranchPointLocation located = LocateBranchPoint(system, guess, options.location);
+      const double sigma = from.point.tangent.dot(located.x - from.point.x);
+      const bool inside = sigma >= -0.25 * sigma_end && sigma <= 1.25 * sigma_end &&
+                          (located.x - guess).norm() <= 2.0 * sigma_end;
+      if (located.converged && inside &&
+          std::abs(located.beta) <= options.location.residual_tolerance) {
+        CorrectedPoint at;
+        at.x = located.x;
+        at.tangent = from.point.tangent;  // the incoming branch's; branch switching projects it
+        at.residual_norm = located.residual_norm;
+        SpecialPoint sp = MakeSpecialPoint(SpecialPointType::kBranchPoint, at);
+        sp.converged = true;
+        sp.iterations = located.iterations;
+        sp.last_correction = located.last_correction;
+        sp.test_value = located.beta;
+        return {sigma, sp};
+      }
+      auto entry = FromArc(SpecialPointType::kBranchPoint, sampler, det, fa, fb, to, sigma_end, locate);
+      entry.second.note += (entry.second.note.empty() ? "" : "; ") +
+                           fmt::format("located on det (the branch-point Newton: {})",
+                                       located.converged ? "converged outside the step"
+                                                         : located.message);
+      return entry;
+    }
+    return FromArc(SpecialPointType::kBranchPoint, sampler, det, fa, fb, to, sigma_end, locate);
   }
 
   std::pair<double, SpecialPoint> LocateFoldIn(Sampler& sampler, const PointData& from,

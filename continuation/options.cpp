@@ -110,6 +110,10 @@ void Validate(const LocationOptions& options) {
   }
   RequirePositive("location.residual_tolerance", options.residual_tolerance);
   RequirePositive("location.step_tolerance", options.step_tolerance);
+  if (options.branch_point_newton_max_unknowns < 0) {
+    Reject("location.branch_point_newton_max_unknowns", options.branch_point_newton_max_unknowns,
+           "must be non-negative");
+  }
 }
 
 void Validate(const SwitchOptions& options) {

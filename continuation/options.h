@@ -80,6 +80,12 @@ struct LocationOptions {
   double residual_tolerance = 1e-11;  // fold Newton: ‖[F̂; g]‖∞ ≤ this (> 0) ...
   double step_tolerance = 1e-10;      // ... and last correction ‖Δx̂‖∞ ≤ this; Illinois: bracket
                                       // width in scaled arclength ≤ this (> 0)
+  // Branch points are located by Newton on the branch-point system (continuation/branch_point.h)
+  // when the problem has at most this many unknowns n + 1 (≥ 0): each iteration costs 2(n + 1)
+  // Jacobians, which is cheap for rotating waves (n + 1 ≤ 20) and not for shooting problems whose
+  // Jacobian is an integration with sensitivities (a 4-segment relative orbit of the rub: 67
+  // unknowns, ~1 s per Jacobian); above it, Illinois on det [DF̂; τ̂ᵀ] along arclength.
+  int branch_point_newton_max_unknowns = 64;
 };
 
 // Piecewise-smooth problems: what happens at a located event (Problem::SwitchAt).

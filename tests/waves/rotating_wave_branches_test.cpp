@@ -105,6 +105,28 @@ TEST_CASE("case A(a): whirl to whip where the closed form’s μ_req reaches μ,
   }
 }
 
+TEST_CASE("case A(a): the four branch points of the Mode 1 and Mode 2 families are located by "
+          "Newton, each a point where DF loses rank", "[branches]") {
+  const TwoPointParams params = ThesisCaseAa();
+  const RubStructure structure = TwoPointStructure(params);
+  const auto branches =
+      ComputeRotatingWaveBranches(structure, FrictionLawKind::kExact, ThesisRange());
+  int located = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kBranchPoint) continue;
+      CAPTURE(b.name, RadPerSecondToRpm(p.lambda), p.note);
+      CHECK(p.converged);
+      CHECK(p.note.empty());
+      CHECK(p.last_correction <= 1e-10);  // the Newton correction, scaled
+      ++located;
+    }
+  }
+  // 91.364 and 76.578 rpm on the Mode 1 whip, 76.577 on the Mode 2 whirl, 91.363 on the Mode 2
+  // whip (results/thesis_A_a/summary.txt).
+  CHECK(located == 4);
+}
+
 TEST_CASE("a slipping rotating wave's spectrum does not depend on the running speed",
           "[branches]") {
   // With exact Coulomb slip, F = μN whatever V: the slipping orbit and its linearization do not
