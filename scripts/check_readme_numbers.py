@@ -104,6 +104,78 @@ CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_fol
           forced_van_der_pol_folds, modulated_whip]
 
 
+CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",
+         "B(c)": "thesis_B_c", "C(a)": "thesis_C_a", "C(b)": "thesis_C_b", "C(c)": "thesis_C_c"}
+CHAIN = re.compile(r"\d+(?: → \d+)+")
+BPS = re.compile(r"\d+\.\d\d(?: / \d+\.\d\d)?(?: → \d+\.\d\d)+ Hz")
+DIFFERENCE = re.compile(r"^([−+-]?\d+\.\d\d) rpm")
+
+
+def jump_table_rows(results, readme_text):
+    """Each row of the README's sweep jump table against /sweeps/jump_table of its case's file: the
+    row's BP before → after (either contact's, "x / y → z"; each step of a chain "x → y → z") must
+    be that of a jump of its direction whose speeds are a step of a chain "a → b (→ c)" in the row's
+    jump cell (any step, when the cell has none), and a numeric difference must be that jump's
+    difference to its predictor."""
+    problems, checked = [], 0
+    for line in readme_text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) != 7 or cells[0] not in CASES or cells[1] not in ("up", "down"):
+            continue
+        bps = BPS.search(cells[3])
+        if not bps:
+            problems.append(f"jump table row {cells[0]} {cells[1]}: no 'BP → BP Hz' in it")
+            continue
+        chain = bps.group(0)[:-3].split(" → ")
+        pairs = [(before.split(" / "), after) for before, after in zip(chain, chain[1:])]
+        steps = set()
+        for chain in CHAIN.findall(cells[2]):
+            speeds = chain.split(" → ")
+            steps |= set(zip(speeds, speeds[1:]))
+        with h5(results, f"{CASES[cells[0]]}/sweep.h5") as f:
+            t = f["sweeps/jump_table"]
+            rows = [dict(d=t["direction"][i].decode(), a=f"{t['speed_from_rpm'][i]:.0f}",
+                         b=f"{t['speed_to_rpm'][i]:.0f}", p=f"{t['precession_from_hz'][i]:.2f}",
+                         q=f"{t['precession_to_hz'][i]:.2f}", diff=t["difference_rpm"][i])
+                    for i in range(len(t["direction"][()]))]
+        difference = DIFFERENCE.search(cells[5].replace("−", "-"))
+        def matches(befores, after):
+            return [r for r in rows if r["d"] == cells[1] and r["p"] in befores and r["q"] == after
+                    and (not steps or (r["a"], r["b"]) in steps)
+                    and (not difference or abs(r["diff"] - float(difference.group(1))) <= 0.005)]
+        checked += 1
+        if not all(matches(befores, after) for befores, after in pairs):
+            problems.append(f"jump table row {cells[0]} {cells[1]}, BP '{bps.group(0)}'"
+                            f"{', difference ' + difference.group(1) if difference else ''}: no such "
+                            f"jump in results/{CASES[cells[0]]}/sweep.h5")
+    return checked, problems
+
+
+COST = re.compile(r"^\| ([ABC]\([abc]\)) \| ([\d.]+) s, ([\d.e+]+), (\d+)(?: of \d+)? \| "
+                  r"([\d.]+) s, ([\d.e+]+), (\d+)(?: of \d+)? \|")
+
+
+def sweep_cost_rows(results, readme_text):
+    """The sweeps' cost table: integration wall time, BDF steps and unsettled speeds per direction,
+    from /sweeps/<direction> of each case's file."""
+    problems, checked = [], 0
+    for line in readme_text.splitlines():
+        row = COST.match(line)
+        if not row:
+            continue
+        checked += 1
+        with h5(results, f"{CASES[row.group(1)]}/sweep.h5") as f:
+            for k, direction in ((2, "up"), (5, "down")):
+                g = f[f"sweeps/{direction}"]
+                wall = f"{g.attrs['wall_seconds']:.1f}"
+                steps = f"{g['steps'][()].sum():.2e}".replace("e+0", "e")
+                unsettled = str(int((g["settled"][()] == 0).sum()))
+                if (wall, steps, unsettled) != (row.group(k), row.group(k + 1), row.group(k + 2)):
+                    problems.append(f"cost table row {row.group(1)} {direction}: the file gives "
+                                    f"{wall} s, {steps}, {unsettled}")
+    return checked, problems
+
+
 def normalized(text):
     return re.sub(r"\s+", " ", text)
 
@@ -120,6 +192,18 @@ def main():
             else:
                 failed += 1
                 print(f"FAILS   {claim.__name__}: results/README.md should say: {sentence}")
+    checked, problems = jump_table_rows(results, open(os.path.join(results, "README.md")).read())
+    for p in problems:
+        failed += 1
+        print(f"FAILS   {p}")
+    print(f"{'holds' if not problems else 'FAILS'}   jump table: {checked - len(problems)} of "
+          f"{checked} rows are jumps of their sweep files")
+    checked, problems = sweep_cost_rows(results, open(os.path.join(results, "README.md")).read())
+    for p in problems:
+        failed += 1
+        print(f"FAILS   {p}")
+    print(f"{'holds' if not problems else 'FAILS'}   sweep cost table: {checked - len(problems)} of "
+          f"{checked} rows are their files' wall times, steps and unsettled speeds")
     tables = subprocess.run([sys.executable, "scripts/thesis_comparison.py", results, "--check",
                              os.path.join(results, "README.md")], capture_output=True, text=True)
     print(tables.stdout, end="")
