@@ -297,6 +297,10 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   std::filesystem::create_directories(out_dir);
 
   ResultWriter writer(h5_file);
+  if (writer.replaces_leftover()) {
+    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is overwritten\n",
+               writer.temporary().string());
+  }
   writer.SetAttribute("/", "rubcont_version", Version());
   writer.SetAttribute("/", "scene_name", scene.name);
   writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));

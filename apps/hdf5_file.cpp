@@ -104,6 +104,8 @@ struct ResultWriter::Impl {
 ResultWriter::ResultWriter(std::filesystem::path target)
     : target_(std::move(target)), temporary_(target_.string() + ".tmp") {
   H5::Exception::dontPrint();
+  std::error_code ec;
+  replaces_leftover_ = std::filesystem::exists(temporary_, ec);
   impl_ = Guard(temporary_, "create", [&] {
     return std::unique_ptr<Impl>(new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC)});
   });

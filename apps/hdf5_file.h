@@ -48,12 +48,16 @@ class ResultWriter {
   void Commit();
 
   const std::filesystem::path& target() const { return target_; }
+  // Whether `<target>.tmp` existed when this writer was made (left by a run that was killed before
+  // it committed): it is truncated and written anew, and the caller says so.
+  bool replaces_leftover() const { return replaces_leftover_; }
   const std::filesystem::path& temporary() const { return temporary_; }
 
  private:
   struct Impl;
   std::filesystem::path target_;
   std::filesystem::path temporary_;
+  bool replaces_leftover_ = false;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1178,6 +1178,10 @@ Scene ParseScene(std::string_view toml_text, const std::string& source,
 }
 
 Scene LoadScene(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    throw SceneError({fmt::format("{}: is a directory, not a scene file", file.string())});
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     std::error_code ec;

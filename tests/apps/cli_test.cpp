@@ -51,6 +51,22 @@ TEST_CASE("CLI: a bad scene is exit code 2 with key, value and rule", "[cli]") {
   CHECK(syntax.exit_code == 2);
   CHECK_THAT(syntax.err, Contains("syntax.toml:1:"));
   CHECK(Rubcont("scene check " + (dir.path / "missing.toml").string()).exit_code == 2);
+  const Outcome directory = Rubcont("scene check " + dir.path.string());
+  CHECK(directory.exit_code == 2);
+  CHECK_THAT(directory.err, Contains("is a directory, not a scene file"));
+}
+
+TEST_CASE("CLI: a temporary file left by an interrupted run is overwritten, and said so", "[cli]") {
+  TempDir dir;
+  const fs::path h5 = dir.path / "a.h5";
+  std::ofstream(dir.path / "a.h5.tmp") << "half a file";
+  const Outcome o = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
+  CHECK(o.exit_code == 0);
+  CHECK_THAT(o.err, Contains("a.h5.tmp was left by an interrupted run; it is overwritten"));
+  CHECK(fs::exists(h5));
+  CHECK_FALSE(fs::exists(dir.path / "a.h5.tmp"));
+  const Outcome again = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
+  CHECK_THAT(again.err, !Contains("interrupted run"));
 }
 
 TEST_CASE("CLI: bad arguments are exit code 2; help is 0", "[cli]") {
