@@ -121,12 +121,22 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   }
   const SweepSettings& w = scene.analysis.sweep;
   const SweepOptions& used = runs.front()->stepper().options();
-  fmt::print(out, "[sweep] L3 time marching (Kumar 2010 §3.5): {} order ≤ {}, rtol {:g}, atol {:g}; "
+  auto describe = [](const IntegratorOptions& o) {
+    return o.method == IntegrationMethod::kExplicitRungeKutta
+               ? fmt::format("{} order {}, rtol = atol {:g}", ToString(o.method), o.explicit_order,
+                             o.relative_tolerance)
+               : fmt::format("{} order ≤ {}, rtol {:g}, atol {:g}", ToString(o.method), o.max_order,
+                             o.relative_tolerance, o.absolute_tolerance);
+  };
+  std::string integrators = describe(used.integrator);
+  if (used.intermittent_integrator) {
+    integrators += fmt::format(" ({} after a window with intermittent contact)",
+                               describe(*used.intermittent_integrator));
+  }
+  fmt::print(out, "[sweep] L3 time marching (Kumar 2010 §3.5): {}; "
                   "{:g} rpm steps, dwell ≤ {:g} s, settled when {} successive {:g} s windows agree "
                   "(spectra to {:g}, BP to {:g} Hz); impulse {:g} N·s\n",
-             ToString(used.integrator.method), used.integrator.max_order,
-             used.integrator.relative_tolerance, used.integrator.absolute_tolerance,
-             w.speed_step_rpm, w.dwell, w.settle_windows + 1, w.settle_window, w.spectrum_tolerance,
+             integrators, w.speed_step_rpm, w.dwell, w.settle_windows + 1, w.settle_window, w.spectrum_tolerance,
              w.frequency_tolerance_hz, w.impulse);
 
   const SteadyClock::time_point start = SteadyClock::now();

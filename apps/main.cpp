@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "apps/ensemble_command.h"
 #include "apps/fit_command.h"
 #include "apps/map_command.h"
 #include "apps/version.h"
@@ -100,6 +101,37 @@ int main(int argc, char** argv) {
   fit->add_option("--out", fit_request.out_file, "HDF5 file; default results/<scene>/fit.h5");
   fit->add_flag("-q,--quiet", fit_request.quiet, "no progress on stderr");
 
+  rubcont::EnsembleRequest ensemble_request;
+  std::string ensemble_out;
+  CLI::App* ensemble = app.add_subcommand(
+      "ensemble", "level L3: how long the state a sweep reaches lasts at the next speed: perturbed "
+                  "copies run in parallel until every contact is in one regime");
+  ensemble->add_option("SCENE", ensemble_request.scene_file, "scene file (TOML)")->required();
+  ensemble->add_option("--speed", ensemble_request.speed_rpm,
+                       "running speed of the copies [rpm]; the scene's sweep reaches the state "
+                       "at the speed before it")->required();
+  ensemble->add_option("--direction", ensemble_request.direction, "the sweep that reaches it: up or down")
+      ->capture_default_str();
+  ensemble->add_option("--copies", ensemble_request.copies, "number of copies")->capture_default_str();
+  ensemble->add_option("--duration", ensemble_request.duration, "simulated time per copy [s]")
+      ->capture_default_str();
+  ensemble->add_option("--window", ensemble_request.window,
+                       "window [s]; each stretch of two is classified as a sweep speed")
+      ->capture_default_str();
+  ensemble->add_option("--perturbation", ensemble_request.perturbation,
+                       "normal perturbation of the start, in units of each state's scale")
+      ->capture_default_str();
+  ensemble->add_option("--seed", ensemble_request.seed, "seed of copy 0 (copy i: seed + i)")
+      ->capture_default_str();
+  ensemble->add_option("--threads", ensemble_request.threads, "threads (0: one per core)")
+      ->capture_default_str();
+  ensemble->add_option("--until", ensemble_request.until,
+                       "the regime every contact must reach: whirl, whip, intermittent, no_contact")
+      ->capture_default_str();
+  ensemble->add_option("--out", ensemble_out,
+                       "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
+  ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
+
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
   std::string check_file;
@@ -138,6 +170,10 @@ int main(int argc, char** argv) {
     return rubcont::MapCommand(map_request, std::cout, std::cerr);
   }
   if (*fit) return rubcont::FitCommand(fit_request, std::cout, std::cerr);
+  if (*ensemble) {
+    if (!ensemble_out.empty()) ensemble_request.out_file = ensemble_out;
+    return rubcont::EnsembleCommand(ensemble_request, std::cout, std::cerr);
+  }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
   return rubcont::kExitBadInput;

@@ -515,6 +515,27 @@ std::vector<KeySpec> BuildSchema() {
               "Impulse on the rotor at its mass-centre plane along +x at the start of each "
               "direction (rotor centred and at rest): a translation at impulse/m_r.",
               [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
+  {
+    KeySpec integrator;
+    integrator.key = "analysis.sweep.integrator";
+    integrator.type = ValueType::kString;
+    integrator.rule = Rule::kChoice;
+    integrator.presence = Presence::kOptional;
+    integrator.doc = "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (ARKODE Dormand–Prince "
+                     "5(4)) or \"auto\" (BDF while every contact touches continuously, "
+                     "Dormand–Prince after a window in which a contact touched 0–90 % of the "
+                     "time): results/README.md, \"Sweep integrators\".";
+    integrator.choices = {"bdf", "explicit", "auto"};
+    integrator.model = ModelKind::kTwoPoint;
+    integrator.set = [](Scene& x, const Value& v) {
+      const std::string& name = std::get<std::string>(v);
+      x.analysis.sweep.integrator = name == "explicit" ? SweepIntegrator::kExplicit
+                                    : name == "auto"   ? SweepIntegrator::kAuto
+                                                       : SweepIntegrator::kBdf;
+    };
+    integrator.get = [](const Scene& x) { return Value(std::string(ToString(x.analysis.sweep.integrator))); };
+    s.push_back(integrator);
+  }
   sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit,
               "CVODES BDF (order ≤ 2, analytic Jacobian): relative local error tolerance.",
               [](Scene& x) -> double& { return x.analysis.sweep.relative_tolerance; });
@@ -522,6 +543,12 @@ std::vector<KeySpec> BuildSchema() {
               "Absolute tolerance, in units of each state's scale (clearance; clearance × the "
               "fastest support frequency).",
               [](Scene& x) -> double& { return x.analysis.sweep.absolute_tolerance; });
+  sweep_float("analysis.sweep.explicit_tolerance", "-", Rule::kOpenUnit,
+              "rtol = atol (scaled states) of Dormand–Prince where integrator is \"explicit\" or "
+              "\"auto\". An explicit pair at its stability limit keeps up contact chatter that has "
+              "died out unless the tolerance is tight: measured on A(a) from 20 rpm, chatter to "
+              "32 rpm at 1e-7, none from 24 rpm at 1e-8 (as BDF and ERK at 1e-9).",
+              [](Scene& x) -> double& { return x.analysis.sweep.explicit_tolerance; });
   sweep_rule("analysis.sweep.rolling_slip_tolerance", "-", Rule::kOpenUnit,
               "A contact whirls (rolls) when its mean slip velocity in contact |V| ≤ this·R·ω (the "
               "surface speed) or ≤ rolling_micro_slip·velocity_scale, and its BP passes the "
@@ -1143,6 +1170,15 @@ std::string EscapeTable(std::string text) {
 
 // ---------------------------------------------------------------------------------------------
 
+const char* ToString(SweepIntegrator integrator) {
+  switch (integrator) {
+    case SweepIntegrator::kBdf: return "bdf";
+    case SweepIntegrator::kExplicit: return "explicit";
+    case SweepIntegrator::kAuto: return "auto";
+  }
+  return "unknown";
+}
+
 const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kAnalytic: return "analytic";
@@ -1227,17 +1263,21 @@ std::string DescribeScene(const Scene& scene) {
   return out;
 }
 
-std::vector<std::pair<std::string, std::vector<double>>> SweepKeyValues(const Scene& scene) {
-  std::vector<std::pair<std::string, std::vector<double>>> out;
+std::vector<std::pair<std::string, SweepKeyValue>> SweepKeyValues(const Scene& scene) {
+  std::vector<std::pair<std::string, SweepKeyValue>> out;
   for (const KeySpec& spec : Schema()) {
     if (spec.Section() != "analysis.sweep") continue;
     const Value value = spec.get(scene);
+    if (const auto* text = std::get_if<std::string>(&value)) {
+      out.emplace_back(LastComponent(spec.key), *text);
+      continue;
+    }
     std::vector<double> numbers;
     if (const auto* x = std::get_if<double>(&value)) numbers = {*x};
     if (const auto* n = std::get_if<std::int64_t>(&value)) numbers = {static_cast<double>(*n)};
     if (const auto* pair = std::get_if<std::array<double, 2>>(&value)) numbers = {(*pair)[0], (*pair)[1]};
-    if (numbers.empty()) {  // a broken invariant: every [analysis.sweep] key is a number or a pair
-      fmt::print(stderr, "rubcont: internal error: [analysis.sweep] key {} is not numeric\n", spec.key);
+    if (numbers.empty()) {  // a broken invariant: every [analysis.sweep] key is a number, a pair or text
+      fmt::print(stderr, "rubcont: internal error: [analysis.sweep] key {} has no attribute form\n", spec.key);
       std::abort();
     }
     out.emplace_back(LastComponent(spec.key), std::move(numbers));

@@ -19,6 +19,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "apps/level.h"
@@ -61,6 +62,12 @@ Level HighestLevel(const std::vector<Stage>& stages);
 // Every section's defaults are the initializers below (and those of the model parameter structs):
 // the schema in scene.cpp documents and applies them from a default-constructed Scene.
 
+// How the sweeps integrate (key `integrator`): CVODES BDF of order ≤ 2 throughout; ARKODE's
+// explicit Dormand–Prince 5(4) throughout; or BDF where the contacts touch continuously and
+// Dormand–Prince where a contact touches part of the time (SweepOptions::intermittent_integrator).
+enum class SweepIntegrator { kBdf, kExplicit, kAuto };
+const char* ToString(SweepIntegrator integrator);
+
 // [analysis.sweep]: the time-marching sweeps (Kumar 2010 §3.5). Units and rules in the schema.
 struct SweepSettings {
   std::array<double, 2> up_range_rpm{20.0, 258.0};    // speed-up sweep: low → high [rpm]
@@ -75,8 +82,10 @@ struct SweepSettings {
   double sample_rate_hz = 4096.0;
   double spectrum_max_hz = 600.0;     // spectra kept for |f| ≤ this
   double impulse = 1.0;               // [N·s] at t = 0 of each direction
+  SweepIntegrator integrator = SweepIntegrator::kBdf;
   double relative_tolerance = 1e-6;   // CVODES BDF
   double absolute_tolerance = 1e-6;   // in units of each state's scale
+  double explicit_tolerance = 1e-8;   // Dormand–Prince rtol = atol (scaled states)
   double rolling_slip_tolerance = 0.005;  // largest |V̄|/(Rω) of a rolling contact
   double rolling_micro_slip = 1.0;        // … or largest |V̄|/ε (the tanh law's micro-slip)
   double whirl_tolerance = 0.02;          // largest |BP − f_roll|/f_roll of a rolling contact
@@ -163,8 +172,10 @@ std::string ResolvedSceneToml(const Scene& scene);
 std::string DescribeScene(const Scene& scene);
 
 // The keys of [analysis.sweep] (their last component) with their values in `scene`, in schema
-// order, pairs as two numbers: the attributes of /sweeps/<direction> (apps/sweep_output.cpp).
-std::vector<std::pair<std::string, std::vector<double>>> SweepKeyValues(const Scene& scene);
+// order, numbers as one or two numbers, choices as text: the attributes of /sweeps/<direction>
+// (apps/sweep_output.cpp).
+using SweepKeyValue = std::variant<std::vector<double>, std::string>;
+std::vector<std::pair<std::string, SweepKeyValue>> SweepKeyValues(const Scene& scene);
 // Copies the [analysis.sweep] keys that only classify finished speeds (the regime and jump rules)
 // from `from` into `to`: a sweep file that differs from a scene in these alone holds its
 // integrations (checkpoints, `rubcont sweep --resume`).

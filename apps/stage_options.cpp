@@ -69,14 +69,24 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
   o.band = s.spectrum_max_hz;
   o.peak_side = PeakSide::kNegative;
   o.rotate_forcing_phase = StructureOf(scene).imbalance > 0.0;
-  o.integrator.method = IntegrationMethod::kBdf;
-  // Orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11 N/m)
-  // cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took 3×
-  // the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
-  o.integrator.max_order = 2;
-  o.integrator.relative_tolerance = s.relative_tolerance;
-  o.integrator.absolute_tolerance = s.absolute_tolerance;
-  o.integrator.max_steps = 100000000;  // per window; the dwell bounds the work
+  // BDF orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11
+  // N/m) cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took
+  // 3× the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
+  IntegratorOptions bdf;
+  bdf.method = IntegrationMethod::kBdf;
+  bdf.max_order = 2;
+  // Dormand–Prince 5(4): of ARKODE's explicit pairs the only one that is both right and cheapest
+  // on the contact at the sweeps' tolerance; Verner 6(5) reports a wrong contact fraction in
+  // continuous contact, Fehlberg 8(7) fails (bench/sweep_integrators_bench.cpp).
+  IntegratorOptions explicit_rk;
+  explicit_rk.method = IntegrationMethod::kExplicitRungeKutta;
+  explicit_rk.explicit_order = 5;
+  bdf.relative_tolerance = s.relative_tolerance;
+  bdf.absolute_tolerance = s.absolute_tolerance;
+  explicit_rk.relative_tolerance = explicit_rk.absolute_tolerance = s.explicit_tolerance;
+  bdf.max_steps = explicit_rk.max_steps = 100000000;  // per window; the dwell bounds the work
+  o.integrator = s.integrator == SweepIntegrator::kExplicit ? explicit_rk : bdf;
+  if (s.integrator == SweepIntegrator::kAuto) o.intermittent_integrator = explicit_rk;
   return o;
 }
 

@@ -65,12 +65,22 @@ void WriteAttributes(ResultWriter& writer, const std::string& group, const Sweep
   writer.SetAttribute(group, "direction", ToString(run.direction()));
   writer.SetAttribute(group, "level", ToString(Level::kL3));
   writer.SetAttribute(group, "speeds_planned", static_cast<double>(o.parameters.size()));
-  writer.SetAttribute(group, "integrator", ToString(o.integrator.method));
+  // Every [analysis.sweep] key under its own name (a range as two numbers; `integrator` the
+  // scene's choice), then the methods it stands for.
+  for (const auto& [key, value] : SweepKeyValues(run.scene())) {
+    if (const auto* text = std::get_if<std::string>(&value)) {
+      writer.SetAttribute(group, key, *text);
+    } else if (const auto& values = std::get<std::vector<double>>(value); values.size() == 1) {
+      writer.SetAttribute(group, key, values[0]);
+    } else {
+      writer.SetAttribute(group, key, values);
+    }
+  }
+  writer.SetAttribute(group, "integrator_method", ToString(o.integrator.method));
   writer.SetAttribute(group, "max_order", static_cast<double>(o.integrator.max_order));
-  // Every [analysis.sweep] key under its own name (a range as two numbers).
-  for (const auto& [key, values] : SweepKeyValues(run.scene())) {
-    if (values.size() == 1) writer.SetAttribute(group, key, values[0]);
-    else writer.SetAttribute(group, key, values);
+  if (o.intermittent_integrator) {
+    writer.SetAttribute(group, "intermittent_integrator_method",
+                        ToString(o.intermittent_integrator->method));
   }
   writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
 }
@@ -140,6 +150,8 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
     return p.status == SweepPointStatus::kSettled ? 1 : 0;
   }));
   writer.WriteInts(group + "/windows", PerPointInt(points, [](const SweepPoint& p) { return p.windows; }));
+  writer.WriteInts(group + "/intermittent_windows",
+                   PerPointInt(points, [](const SweepPoint& p) { return p.intermittent_windows; }));
   writer.WriteDoubles(group + "/simulated_time", PerPoint(points, [](const SweepPoint& p) { return p.simulated_time; }));
   writer.WriteDoubles(group + "/spectrum_change", PerPoint(points, [](const SweepPoint& p) { return p.spectrum_change; }));
   writer.WriteDoubles(group + "/frequency_change", PerPoint(points, [](const SweepPoint& p) { return p.frequency_change; }));
@@ -228,7 +240,12 @@ std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirecti
   const std::vector<std::string> status = reader.ReadStrings(group + "/status");
   const std::vector<std::string> message = reader.ReadStrings(group + "/message");
   const std::vector<int> windows = reader.ReadInts(group + "/windows");
-  if (status.size() != n || message.size() != n || windows.size() != n)
+  // Files written before the intermittent integrator existed used one integrator throughout.
+  const std::vector<int> intermittent_windows =
+      reader.Exists(group + "/intermittent_windows") ? reader.ReadInts(group + "/intermittent_windows")
+                                                     : std::vector<int>(n, 0);
+  if (status.size() != n || message.size() != n || windows.size() != n ||
+      intermittent_windows.size() != n)
     throw std::runtime_error("sweep result: " + group + ": per-speed lists of different lengths");
   const auto simulated = doubles("simulated_time"), spectrum_change = doubles("spectrum_change"),
              frequency_change = doubles("frequency_change"), wall = doubles("wall_seconds"),
@@ -243,6 +260,7 @@ std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirecti
     p.status = ParseStatus(status[i]);
     p.message = message[i];
     p.windows = windows[i];
+    p.intermittent_windows = intermittent_windows[i];
     p.simulated_time = simulated[i];
     p.spectrum_change = spectrum_change[i];
     p.frequency_change = frequency_change[i];

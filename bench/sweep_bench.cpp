@@ -6,9 +6,11 @@
 // sweep stage runs it for its jump table; best of 5) and the ratio sweep / continuation.
 //
 // Usage: sweep_bench [SCENE] [--from RPM --to RPM] [--step RPM] [--dwell S] [--rtol X] [--order K]
-//                    [--direction up|down|both] [--verbose]
+//                    [--method bdf|adams|erk|dirk] [--direction up|down|both] [--verbose]
+// --order is the method's order (BDF/Adams: largest order; ERK/DIRK: the table's order).
 // Default: scenes/thesis_A_a.toml with its [analysis.sweep] settings, both directions.
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
   std::string direction = "both";
   double from = -1, to = -1, step = -1, dwell = -1, rtol = -1;
   int order = -1;
+  std::string method;
   bool verbose = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -73,6 +76,7 @@ int main(int argc, char** argv) {
     else if (a == "--rtol") rtol = next();
     else if (a == "--order") order = static_cast<int>(next());
     else if (a == "--direction" && i + 1 < argc) direction = argv[++i];
+    else if (a == "--method" && i + 1 < argc) method = argv[++i];
     else if (a == "--verbose") verbose = true;
     else scene_file = a;
   }
@@ -99,6 +103,13 @@ int main(int argc, char** argv) {
     const rubcont::SweepDirection dir = d == "up" ? rubcont::SweepDirection::kUp : rubcont::SweepDirection::kDown;
     rubcont::SweepOptions options = rubcont::SweepOptionsOf(scene, dir);
     options.integrator.max_order = max_order;
+    if (method == "adams") options.integrator.method = rubcont::IntegrationMethod::kAdams;
+    if (method == "erk" || method == "dirk") {
+      options.integrator.method = method == "erk" ? rubcont::IntegrationMethod::kExplicitRungeKutta
+                                                  : rubcont::IntegrationMethod::kDiagonallyImplicitRungeKutta;
+      options.integrator.max_order = 0;
+      if (order > 0) options.integrator.explicit_order = options.integrator.implicit_order = order;
+    }
     rubcont::SweepRun run(scene, dir, options);
     std::map<std::string, Totals> by_regime;
     Totals total;

@@ -4,7 +4,7 @@
 # re-runs the scenes of that kind (scripts/result_scenes.txt; all of them when none is named) into a
 # temporary directory with BUILD_DIR/rubcont, no figures, and compares with results/<scene>/:
 #   quick   <scene>.h5 and summary.txt      (`rubcont run`; under a second per scene)
-#   sweep   sweep.h5 and sweep_summary.txt  (`rubcont sweep`; 8–40 min per scene on 2 cores)
+#   sweep   sweep.h5 and sweep_summary.txt  (`rubcont sweep`; 2–16 min per scene)
 #   orbits  <scene>.h5 and summary.txt      (`rubcont run` with the rub's orbits; about 20 min)
 # Numbers must agree within |a − b| ≤ 1e-12 + 1e-9·|b| (the runs are deterministic; the margin is
 # for another CPU's last digits), strings exactly — the stored scene text (`scene_toml`) included —

@@ -7,7 +7,7 @@
 # thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib).
 #   --sweeps        also re-runs the time-marching sweeps (L3) of the eight thesis scenes and of
-#                   thesis_A_a_imbalance: 8–40 min per scene on 2 cores (results/README.md).
+#                   thesis_A_a_imbalance: 2–16 min per scene (results/README.md).
 #   --sweep-tables  instead re-derives the regimes, jump tables and figures of the committed
 #                   results/<scene>/sweep.h5 from their finished speeds, without integrating
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus

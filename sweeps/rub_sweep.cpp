@@ -214,4 +214,30 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   return out;
 }
 
+std::vector<RubArrival> RubArrivals(const RubStructure& structure,
+                                    const std::vector<EnsembleCopy>& copies, RubRegime target,
+                                    const RubRegimeOptions& options) {
+  std::vector<RubArrival> out;
+  out.reserve(copies.size());
+  for (const EnsembleCopy& copy : copies) {
+    RubArrival a;
+    a.failed = copy.failed;
+    a.regimes = ClassifySweep(structure, copy.points, options);
+    double t = 0.0;
+    for (std::size_t i = 0; i < copy.points.size(); ++i) {
+      t += copy.points[i].simulated_time;
+      if (copy.points[i].status == SweepPointStatus::kIntegrationFailure) break;
+      bool all = true;
+      for (const std::vector<RubRegime>& contact : a.regimes.regime) all = all && contact[i] == target;
+      if (all && !a.reached) {
+        a.reached = true;
+        a.time = t;
+      }
+    }
+    a.simulated = t;
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
 }  // namespace rubcont

@@ -11,11 +11,13 @@
 // of the rotor over the stator while they rub (V = ωR + tᵀḋ, models/contact.h).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "models/rub_model.h"
 #include "models/units.h"
+#include "sweeps/ensemble.h"
 #include "sweeps/sweep.h"
 
 namespace rubcont {
@@ -146,5 +148,20 @@ struct RubSweepRegimes {
 // std::invalid_argument otherwise.
 RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<SweepPoint>& points,
                               const RubRegimeOptions& options = {});
+
+// How long an ensemble's copies (sweeps/ensemble.h) take to reach a regime: for each copy, its
+// points classified as a sweep (ClassifySweep); the copy reaches `target` at the end of the first
+// point in which every contact is in it (e.g. kWhirl: the end of a whip). The copies' points are
+// consecutive stretches of one run, so the time is the sum of their simulated times.
+struct RubArrival {
+  bool reached = false;  // false: not within the run (censored at `simulated`), or failed
+  bool failed = false;   // the copy's integration failed (its points end with the failure)
+  double time = std::numeric_limits<double>::quiet_NaN();  // [s] when reached
+  double simulated = 0.0;  // [s] the copy's whole run
+  RubSweepRegimes regimes;  // of the copy's points
+};
+std::vector<RubArrival> RubArrivals(const RubStructure& structure,
+                                    const std::vector<EnsembleCopy>& copies, RubRegime target,
+                                    const RubRegimeOptions& options = {});
 
 }  // namespace rubcont

@@ -90,6 +90,20 @@ void Validate(const SweepOptions& o) {
                                      0.5 * o.sample_rate));
   }
   Validate(o.integrator);
+  if (o.intermittent_integrator) Validate(*o.intermittent_integrator);
+  if (!(o.intermittent_fraction > 0.0 && o.intermittent_fraction < 1.0)) {
+    fail("intermittent_fraction", o.intermittent_fraction, "must lie in (0, 1)");
+  }
+}
+
+bool SweepStepper::Intermittent(double active_fraction) const {
+  return active_fraction > 0.0 && active_fraction <= options_.intermittent_fraction;
+}
+
+void SweepStepper::SetIntermittent(const SweepPoint& point) {
+  intermittent_ = false;
+  for (const ChannelSummary& c : point.channels)
+    intermittent_ = intermittent_ || Intermittent(c.active_fraction);
 }
 
 SweepStepper::SweepStepper(OdeSystem& system, SweepObservables& observables, SweepOptions options,
@@ -99,6 +113,9 @@ SweepStepper::SweepStepper(OdeSystem& system, SweepObservables& observables, Swe
       options_((Validate(options), std::move(options))),
       integrator_(system, options_.integrator),
       x_(x0) {
+  if (options_.intermittent_integrator) {
+    intermittent_integrator_.emplace(system, *options_.intermittent_integrator);
+  }
   if (x0.size() != system.Dimension()) {
     throw std::invalid_argument(fmt::format("SweepStepper: x0 has {} entries, the system {}",
                                             x0.size(), system.Dimension()));
@@ -145,6 +162,7 @@ SweepStepper::SweepStepper(OdeSystem& system, SweepObservables& observables, Swe
   }
   points_ = std::move(finished);
   next_ = points_.size();
+  if (!points_.empty()) SetIntermittent(points_.back());
 }
 
 void SweepStepper::Setup() {
@@ -237,7 +255,10 @@ SweepStepOutcome SweepStepper::Step() {
   for (int w = 0; w < max_windows_; ++w) {
     const double t0 = w * window;
     for (Index k = 0; k < window_samples_; ++k) window_times_(k) = t0 + static_cast<double>(k + 1) * dt;
-    const IntegrationResult result = integrator_.Sample(t0, x_, window_times_, window_states_);
+    const bool intermittent = intermittent_integrator_ && intermittent_;
+    OdeIntegrator& integrator = intermittent ? *intermittent_integrator_ : integrator_;
+    const IntegrationResult result = integrator.Sample(t0, x_, window_times_, window_states_);
+    point.intermittent_windows += intermittent ? 1 : 0;
     Accumulate(point.statistics, result.statistics);
     if (!result.Succeeded()) {
       point.status = SweepPointStatus::kIntegrationFailure;
@@ -259,6 +280,11 @@ SweepStepOutcome SweepStepper::Step() {
         for (int m = 0; m < measures; ++m)
           measures_[static_cast<std::size_t>(m)](c, offset + k) = observation_.measures(c, m);
       }
+    }
+    intermittent_ = false;
+    for (int c = 0; c < channels; ++c) {
+      const double active = static_cast<double>(active_.row(c).segment(offset, window_samples_).count());
+      intermittent_ = intermittent_ || Intermittent(active / static_cast<double>(window_samples_));
     }
     // Compare this window with the previous one.
     double distance = 0.0, shift = 0.0;
@@ -296,6 +322,7 @@ SweepStepOutcome SweepStepper::Step() {
     const Index total = static_cast<Index>(point.windows) * window_samples_;
     const Index first = total - analysis_samples_;
     for (int c = 0; c < channels; ++c) point.channels.push_back(Summarize(c, first, analysis_samples_));
+    SetIntermittent(point);
     if (o.rotate_forcing_phase && system_.ForcingPeriod() > 0.0) {
       // Continue the forcing from where it is: rotate the state back by the phase it advanced.
       const double phase = 2.0 * kPi * point.simulated_time / system_.ForcingPeriod();

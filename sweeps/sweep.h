@@ -25,6 +25,7 @@
 #pragma once
 
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,15 @@ struct SweepOptions {
   bool rotate_forcing_phase = false;  // see the header comment
   // The integrator for every run (each window is one OdeIntegrator::Sample call).
   IntegratorOptions integrator;
+  // An integrator for intermittent activity (e.g. a contact that impacts): when set, a window is
+  // integrated with it if, in the window before it, some channel was active for a share of the
+  // samples in (0, intermittent_fraction]; otherwise with `integrator`. A speed's first window
+  // looks at the previous speed's analysed stretch (ChannelSummary::active_fraction), so a resumed
+  // sweep chooses as an uninterrupted one. On the rub's stiff contact an explicit Runge–Kutta
+  // pair costs a third of BDF's CPU time in the impacting whip and four times it in continuous
+  // contact (bench/sweep_integrators_bench.cpp, results/README.md "Sweep integrators").
+  std::optional<IntegratorOptions> intermittent_integrator;
+  double intermittent_fraction = 0.9;  // in (0, 1)
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -115,6 +125,7 @@ struct SweepPoint {
   double frequency_change = 0.0; // the last window-to-window |Δf| (max over channels)
   double wall_seconds = 0.0;     // wall-clock time of this value
   IntegrationStatistics statistics;  // summed over the windows
+  int intermittent_windows = 0;  // windows integrated by SweepOptions::intermittent_integrator
   std::string message;           // the integrator's report on failure
   std::vector<ChannelSummary> channels;
 };
@@ -162,18 +173,23 @@ class SweepStepper {
 
  private:
   void Setup();
+  bool Intermittent(double active_fraction) const;
+  void SetIntermittent(const SweepPoint& point);  // from a finished speed's summary
   ChannelSummary Summarize(int channel, Index first_sample, Index count) const;
 
   OdeSystem& system_;
   SweepObservables& observables_;
   SweepOptions options_;
   OdeIntegrator integrator_;
+  std::optional<OdeIntegrator> intermittent_integrator_;
   std::vector<SweepPoint> points_;
   std::size_t next_ = 0;
   bool failed_ = false;
   Vector x_;
   Index window_samples_ = 0;
   Index analysis_samples_ = 0;
+  // Whether the last window (or the last finished speed) had intermittent activity.
+  bool intermittent_ = false;
   int max_windows_ = 0;
   Vector band_frequencies_;
   Index band_first_ = 0;  // first analysis-grid bin inside the band

@@ -400,11 +400,14 @@ TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and th
           "may change", "[scene]") {
   const Scene scene = ParseScene(kValid, "test.toml", "test");
   const auto values = SweepKeyValues(scene);
-  REQUIRE(values.size() == 18);
+  REQUIRE(values.size() == 20);
   CHECK(values.front().first == "up_range_rpm");
-  CHECK(values.front().second == std::vector<double>{20.0, 258.0});
+  CHECK(std::get<std::vector<double>>(values.front().second) == std::vector<double>{20.0, 258.0});
   CHECK(values[4].first == "settle_window");
-  CHECK(values[4].second == std::vector<double>{0.25});
+  CHECK(std::get<std::vector<double>>(values[4].second) == std::vector<double>{0.25});
+  CHECK(values[12].first == "integrator");
+  CHECK(std::get<std::string>(values[12].second) == "bdf");
+  CHECK(values[15].first == "explicit_tolerance");
   // The four regime and jump rules, and nothing else, are copied.
   Scene changed = scene;
   changed.analysis.sweep.rolling_slip_tolerance = 0.1;

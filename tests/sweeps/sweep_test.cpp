@@ -262,6 +262,53 @@ TEST_CASE("A resumed sweep continues exactly where the interrupted one stopped",
   CHECK(from_file.points()[0].parameter == scheduled);
 }
 
+TEST_CASE("A window after intermittent activity is integrated by the intermittent integrator",
+          "[sweep]") {
+  // Channel 0 is active on half of the Stuart–Landau orbit (x > 0): intermittent at 0.5.
+  SweepOptions o = StuartLandauOptions();
+  o.intermittent_integrator = o.integrator;
+  o.intermittent_integrator->method = IntegrationMethod::kExplicitRungeKutta;
+  const Vector x0 = Vector::Constant(2, 0.1);
+  StuartLandauOscillator system(Shear());
+  StuartLandauObservables observables(system);
+  SweepStepper stepper(system, observables, o, x0);
+  while (stepper.Step() == SweepStepOutcome::kContinue) {
+  }
+  REQUIRE(stepper.points().size() == 3);
+  // The first window of the sweep follows no activity; every later one follows a window in which
+  // the channel was active half of the time.
+  CHECK(stepper.points()[0].intermittent_windows == stepper.points()[0].windows - 1);
+  for (std::size_t i = 1; i < 3; ++i) CHECK(stepper.points()[i].intermittent_windows == stepper.points()[i].windows);
+  for (const SweepPoint& p : stepper.points()) {
+    CHECK(p.status == SweepPointStatus::kSettled);
+    CHECK(p.channels[0].peak.frequency == Approx(20.0 - p.parameter).margin(1e-4));
+  }
+  // Explicit windows build no Newton matrix: the last speed, all explicit, has none.
+  CHECK(stepper.points()[2].statistics.jacobian_evaluations == 0);
+
+  // A resumed sweep chooses as the uninterrupted one (from the stored active fractions).
+  StuartLandauOscillator part_system(Shear()), resumed_system(Shear());
+  StuartLandauObservables part_observables(part_system), resumed_observables(resumed_system);
+  SweepStepper part(part_system, part_observables, o, x0);
+  part.Step();
+  SweepStepper resumed(resumed_system, resumed_observables, o, part.points(), part.state());
+  while (resumed.Step() == SweepStepOutcome::kContinue) {
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    CHECK(resumed.points()[i].intermittent_windows == stepper.points()[i].intermittent_windows);
+    CHECK(resumed.points()[i].channels[0].spectrum == stepper.points()[i].channels[0].spectrum);
+  }
+
+  // Activity above intermittent_fraction is continuous: the main integrator throughout.
+  o.intermittent_fraction = 0.4;
+  StuartLandauOscillator continuous_system(Shear());
+  StuartLandauObservables continuous_observables(continuous_system);
+  SweepStepper continuous(continuous_system, continuous_observables, o, x0);
+  while (continuous.Step() == SweepStepOutcome::kContinue) {
+  }
+  for (const SweepPoint& p : continuous.points()) CHECK(p.intermittent_windows == 0);
+}
+
 // Blows up in finite time for p > 0: ẋ = p x².
 class BlowUp : public OdeSystem {
  public:
@@ -326,6 +373,13 @@ TEST_CASE("Sweep options are validated with field, value and rule", "[sweep]") {
              Contains("window = 0.01: must hold at least 16 samples"));
   CHECK_THAT(message([](SweepOptions& o) { o.integrator.relative_tolerance = 2.0; }),
              Contains("IntegratorOptions.relative_tolerance"));
+  CHECK_THAT(message([](SweepOptions& o) { o.intermittent_fraction = 1.0; }),
+             Contains("SweepOptions.intermittent_fraction = 1: must lie in (0, 1)"));
+  CHECK_THAT(message([](SweepOptions& o) {
+               o.intermittent_integrator = o.integrator;
+               o.intermittent_integrator->explicit_order = 7;
+             }),
+             Contains("IntegratorOptions.explicit_order = 7"));
   CHECK_THAT(message([](SweepOptions&) {}), Contains("no error"));
   CHECK_THROWS_WITH(SweepStepper(system, observables, StuartLandauOptions(), Vector::Zero(3)),
                     Contains("x0 has 3 entries"));

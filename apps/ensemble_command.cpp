@@ -1,0 +1,255 @@
+#include "apps/ensemble_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <ostream>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "apps/commands.h"
+#include "apps/figures.h"
+#include "apps/guarded.h"
+#include "apps/hdf5_file.h"
+#include "apps/level.h"
+#include "apps/scene.h"
+#include "apps/stage_options.h"
+#include "apps/sweep_output.h"
+#include "apps/version.h"
+#include "models/units.h"
+#include "solvers/stopwatch.h"
+#include "sweeps/ensemble.h"
+#include "sweeps/rub_sweep.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+RubRegime ParseRegime(const std::string& name) {
+  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip})
+    if (name == ToString(r)) return r;
+  throw std::invalid_argument(fmt::format(
+      "--until = {}: must be whirl, whip, intermittent or no_contact", name));
+}
+
+void Check(const EnsembleRequest& r) {
+  auto fail = [](const char* option, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
+  };
+  if (!(r.speed_rpm > 0.0) || !std::isfinite(r.speed_rpm)) fail("speed", r.speed_rpm, "must be positive");
+  if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
+  if (r.copies < 1 || r.copies > 100000) fail("copies", r.copies, "must be in 1 … 100000");
+  if (!(r.window > 0.0) || !std::isfinite(r.window)) fail("window", r.window, "must be positive");
+  if (!(r.duration >= 2.0 * r.window) || !std::isfinite(r.duration)) {
+    fail("duration", r.duration, "must be at least two windows");
+  }
+  if (!(r.perturbation >= 0.0) || !std::isfinite(r.perturbation)) {
+    fail("perturbation", r.perturbation, "must be finite and non-negative");
+  }
+  if (r.threads < 0) fail("threads", r.threads, "must be non-negative (0: one per core)");
+}
+
+// Quantile q of sorted values (linear interpolation).
+double Quantile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return kNaN;
+  const double at = q * static_cast<double>(sorted.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(std::floor(at));
+  const std::size_t j = std::min(i + 1, sorted.size() - 1);
+  return sorted[i] + (at - static_cast<double>(i)) * (sorted[j] - sorted[i]);
+}
+
+}  // namespace
+
+int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    Check(request);
+    const RubRegime target = ParseRegime(request.until);
+    const Scene scene = LoadScene(request.scene_file);
+    const RubStructure structure = SweepStructureOf(scene);
+    const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const double speed = RpmToRadPerSecond(request.speed_rpm);
+
+    // The approach: the scene's schedule in this direction, up to the last speed before `speed`.
+    SweepOptions approach = SweepOptionsOf(scene, direction);
+    const double sign = direction == SweepDirection::kUp ? 1.0 : -1.0;
+    std::vector<double> before;
+    for (double p : approach.parameters)
+      if (sign * (speed - p) > 1e-9 * speed) before.push_back(p);
+    const SteadyClock::time_point start = SteadyClock::now();
+    Vector x0 = RubImpulseIncrement(structure, scene.analysis.sweep.impulse);
+    std::vector<RubRegime> approach_regime(structure.contacts.size(), RubRegime::kUnknown);
+    if (!before.empty()) {
+      approach.parameters = before;
+      SweepRun run(scene, direction, approach);
+      while (!run.stepper().Done() && !run.stepper().Failed()) {
+        run.stepper().Step();
+        if (!request.quiet) {
+          fmt::print(err, "rubcont: [ensemble] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n",
+                     request.direction, RadPerSecondToRpm(run.stepper().points().back().parameter),
+                     run.stepper().points().size(), before.size(), SecondsSince(start));
+          err.flush();
+        }
+      }
+      if (run.stepper().Failed()) {
+        throw std::runtime_error("the approach sweep failed: " + run.stepper().points().back().message);
+      }
+      const RubSweepRegimes regimes = run.Regimes();
+      for (std::size_t k = 0; k < approach_regime.size(); ++k) approach_regime[k] = regimes.regime[k].back();
+      x0 = run.stepper().state();
+    }
+
+    // The copies: stretches of two windows at `speed`.
+    SweepOptions stretches = SweepOptionsOf(scene, direction);
+    const int count = static_cast<int>(std::ceil(request.duration / (2.0 * request.window) - 1e-9));
+    stretches.parameters.assign(static_cast<std::size_t>(count), speed);
+    stretches.window = request.window;
+    stretches.settle_windows = 1;
+    stretches.dwell = 2.0 * request.window;
+    stretches.analysis_length = 2.0 * request.window;
+    EnsembleOptions options;
+    options.copies = request.copies;
+    options.perturbation = request.perturbation;
+    options.seed = request.seed;
+    options.threads = request.threads;
+    const SteadyClock::time_point ensemble_start = SteadyClock::now();
+    const std::vector<EnsembleCopy> copies = RunEnsemble(
+        [&] { return std::make_unique<RubFixedFrame>(structure); },
+        [](OdeSystem& system) {
+          return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system));
+        },
+        stretches, x0, options, [&](int done, int total) {
+          if (request.quiet) return;
+          fmt::print(err, "rubcont: [ensemble] copy {}/{} ({:.1f} s)\n", done, total,
+                     SecondsSince(ensemble_start));
+          err.flush();
+        });
+    const double ensemble_wall = SecondsSince(ensemble_start);
+    const std::vector<RubArrival> arrivals =
+        RubArrivals(structure, copies, target, RegimeOptionsOf(scene));
+
+    // The file.
+    const std::filesystem::path file =
+        request.out_file ? std::filesystem::path(*request.out_file)
+                         : std::filesystem::path("results") / scene.name /
+                               fmt::format("ensemble_{:g}rpm.h5", request.speed_rpm);
+    std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    ResultWriter writer(file);
+    writer.SetAttribute("/", "rubcont_version", Version());
+    writer.SetAttribute("/", "scene_name", scene.name);
+    writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+    writer.SetAttribute("/", "level", ToString(Level::kL3));
+    const std::string g = "/ensemble";
+    writer.CreateGroup(g);
+    writer.SetAttribute(g, "speed_rpm", request.speed_rpm);
+    writer.SetAttribute(g, "direction", request.direction);
+    writer.SetAttribute(g, "copies", static_cast<double>(request.copies));
+    writer.SetAttribute(g, "duration", request.duration);
+    writer.SetAttribute(g, "window", request.window);
+    writer.SetAttribute(g, "perturbation", request.perturbation);
+    writer.SetAttribute(g, "seed", static_cast<double>(request.seed));
+    writer.SetAttribute(g, "until", request.until);
+    writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
+    writer.SetAttribute(g, "wall_seconds", ensemble_wall);
+    writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
+    writer.SetAttribute(g, "approach_to_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.back()));
+    std::vector<double> arrival, simulated, cpu;
+    std::vector<int> reached, failed;
+    for (std::size_t c = 0; c < copies.size(); ++c) {
+      arrival.push_back(arrivals[c].reached ? arrivals[c].time : kNaN);
+      reached.push_back(arrivals[c].reached ? 1 : 0);
+      failed.push_back(arrivals[c].failed ? 1 : 0);
+      simulated.push_back(arrivals[c].simulated);
+      cpu.push_back(copies[c].cpu_seconds);
+    }
+    writer.WriteDoubles(g + "/arrival_time_s", arrival);
+    writer.WriteInts(g + "/reached", reached);
+    writer.WriteInts(g + "/failed", failed);
+    writer.WriteDoubles(g + "/simulated_s", simulated);
+    writer.WriteDoubles(g + "/cpu_seconds", cpu);
+    // The end of each stretch: the simulated times of a copy that ran them all (a window is a
+    // whole number of samples, so a stretch is 2·round(window·rate)/rate).
+    std::vector<double> time;
+    for (const EnsembleCopy& copy : copies) {
+      if (copy.failed) continue;
+      double t = 0.0;
+      for (const SweepPoint& p : copy.points) time.push_back(t += p.simulated_time);
+      break;
+    }
+    writer.WriteDoubles(g + "/time_s", time);
+    for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+      const std::string side = structure.contacts[k].name;
+      writer.SetAttribute(g, "approach_regime_" + side, ToString(approach_regime[k]));
+      Matrix bp = Matrix::Constant(request.copies, count, kNaN), fraction = bp, slip = bp, regime = bp;
+      for (std::size_t c = 0; c < copies.size(); ++c) {
+        for (std::size_t i = 0; i < copies[c].points.size(); ++i) {
+          const SweepPoint& p = copies[c].points[i];
+          const Index r = static_cast<Index>(c), s = static_cast<Index>(i);
+          regime(r, s) = static_cast<double>(static_cast<int>(arrivals[c].regimes.regime[k][i]));
+          bp(r, s) = arrivals[c].regimes.precession_hz[k][i];
+          if (k >= p.channels.size()) continue;
+          fraction(r, s) = p.channels[k].active_fraction;
+          slip(r, s) = p.channels[k].measures[kSlipVelocityMeasure].mean;
+        }
+      }
+      writer.WriteMatrix(g + "/precession_hz_" + side, bp);
+      writer.WriteMatrix(g + "/contact_fraction_" + side, fraction);
+      writer.WriteMatrix(g + "/slip_velocity_" + side, slip);
+      writer.WriteMatrix(g + "/regime_" + side, regime);
+    }
+    writer.Commit();
+
+    // The summary.
+    std::vector<double> times;
+    int failures = 0;
+    for (const RubArrival& a : arrivals) {
+      if (a.reached) times.push_back(a.time);
+      failures += a.failed ? 1 : 0;
+    }
+    std::sort(times.begin(), times.end());
+    std::vector<double> sorted_cpu = cpu;
+    std::sort(sorted_cpu.begin(), sorted_cpu.end());
+    std::string from = "rest (the impulse)";
+    if (!before.empty()) {
+      from = fmt::format("the {} sweep {:g} → {:g} rpm (", request.direction,
+                         RadPerSecondToRpm(before.front()), RadPerSecondToRpm(before.back()));
+      for (std::size_t k = 0; k < approach_regime.size(); ++k) {
+        from += fmt::format("{}{} {}", k ? ", " : "", structure.contacts[k].name, ToString(approach_regime[k]));
+      }
+      from += ")";
+    }
+    fmt::print(out, "scene {} from {}\n[ensemble] L3: {} copies at {:g} rpm for {:.4g} s from {}, "
+                    "perturbed by {:g} × each state's scale (seed {}):\n",
+               scene.name, scene.source, request.copies, request.speed_rpm,
+               time.empty() ? request.duration : time.back(), from, request.perturbation, request.seed);
+    fmt::print(out, "  {} of {} reached {} on every contact", times.size(), copies.size(), request.until);
+    if (!times.empty()) {
+      fmt::print(out, ", after {:.2f} s (min) / {:.2f} / {:.2f} / {:.2f} (quartiles) / {:.2f} s (max), "
+                      "in stretches of {:.4g} s",
+                 times.front(), Quantile(times, 0.25), Quantile(times, 0.5), Quantile(times, 0.75),
+                 times.back(), time.empty() ? 2.0 * request.window : time.front());
+    }
+    fmt::print(out, "; {} failed\n  {:.1f} s wall, CPU per copy {:.1f} s (median)\nwrote {}\n",
+               failures, ensemble_wall, Quantile(sorted_cpu, 0.5), file.string());
+    const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
+    const FigureOutcome figures = MakeFigures("ensemble.py", file, out_dir);
+    if (figures.made) {
+      fmt::print(out, "wrote figures (ensemble.py) in {}\n", out_dir.string());
+    } else {
+      fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+    }
+    for (std::size_t c = 0; c < copies.size(); ++c) {
+      if (copies[c].failed) {
+        fmt::print(err, "rubcont: numerical failure: copy {}: {}\n", c, copies[c].points.back().message);
+      }
+    }
+    return failures == 0 ? kExitSuccess : kExitFailure;
+  });
+}
+
+}  // namespace rubcont

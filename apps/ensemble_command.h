@@ -1,0 +1,44 @@
+// `rubcont ensemble SCENE --speed RPM`: how long the state a sweep has reached lasts at the next
+// speed, as a distribution over perturbed copies (sweeps/ensemble.h, sweeps/rub_sweep.h
+// RubArrivals). The scene's sweep in `direction` is run from the impulse up to the last speed of
+// its schedule before RPM (the approach; none when RPM comes first); from its final state
+// `copies` copies, each perturbed by `perturbation` × each state's scale, run at RPM for
+// `duration` in stretches of two `window`s, each stretch classified as a sweep speed (the scene's
+// regime rules); a copy arrives when every contact is in the regime `until`. The copies run on
+// `threads` threads (0: one per core) and give the same numbers on any number.
+//
+// HDF5 layout (written atomically): root attributes as every result (scene_toml, level "L3", ...);
+// /ensemble attributes speed_rpm, direction, copies, duration, window, perturbation, seed, until,
+// approach_from_rpm / approach_to_rpm (NaN without an approach), approach_regime_left/_right,
+// wall_seconds, threads; datasets (one entry per copy) arrival_time_s (NaN: not reached),
+// reached, failed, simulated_s, cpu_seconds; time_s (the end of each stretch); matrices copies ×
+// stretches precession_hz_<contact>, contact_fraction_<contact>, slip_velocity_<contact> and
+// regime codes regime_<contact> (the RubRegime order: 0 unknown, 1 no_contact, 2 intermittent,
+// 3 whirl, 4 whip).
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace rubcont {
+
+struct EnsembleRequest {
+  std::string scene_file;
+  double speed_rpm = 0.0;               // required, > 0
+  std::string direction = "up";         // "up" or "down": the sweep that reaches the state
+  int copies = 16;
+  double duration = 2.0;                // [s] per copy
+  double window = 0.05;                 // [s]; a stretch is two windows
+  double perturbation = 1e-6;           // in units of each state's scale
+  std::uint64_t seed = 1;
+  int threads = 0;
+  std::string until = "whirl";          // whirl, whip, intermittent or no_contact
+  std::optional<std::string> out_file;  // default results/<scene>/ensemble_<rpm>rpm.h5
+  bool quiet = false;
+};
+
+int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err);
+
+}  // namespace rubcont

@@ -1,0 +1,116 @@
+#include "sweeps/ensemble.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// A uniform draw in (0, 1) from 53 random bits (never 0, so that log() is finite).
+double Uniform(std::mt19937_64& generator) {
+  return (static_cast<double>(generator() >> 11) + 0.5) * 0x1.0p-53;
+}
+
+}  // namespace
+
+void Validate(const EnsembleOptions& o) {
+  auto fail = [](const char* field, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("EnsembleOptions.{} = {}: {}", field, value, rule));
+  };
+  if (o.copies < 1) fail("copies", o.copies, "must be at least 1");
+  if (!(o.perturbation >= 0.0) || !std::isfinite(o.perturbation)) {
+    fail("perturbation", o.perturbation, "must be finite and non-negative");
+  }
+  if (o.threads < 0) fail("threads", o.threads, "must be non-negative (0: one per core)");
+}
+
+Vector PerturbedStart(const Vector& x0, const Vector& scale, const EnsembleOptions& options,
+                      int index) {
+  std::mt19937_64 generator(options.seed + static_cast<std::uint64_t>(index));
+  Vector x = x0;
+  for (Index i = 0; i < x.size(); i += 2) {
+    // Box–Muller: two independent standard normal draws per pair of uniforms.
+    const double radius = std::sqrt(-2.0 * std::log(Uniform(generator)));
+    const double angle = 2.0 * kPi * Uniform(generator);
+    x(i) += options.perturbation * scale(i) * radius * std::cos(angle);
+    if (i + 1 < x.size()) x(i + 1) += options.perturbation * scale(i + 1) * radius * std::sin(angle);
+  }
+  return x;
+}
+
+std::vector<EnsembleCopy> RunEnsemble(const SystemFactory& make_system,
+                                      const ObservablesFactory& make_observables,
+                                      const SweepOptions& sweep, const Vector& x0,
+                                      const EnsembleOptions& options,
+                                      const EnsembleProgress& progress) {
+  Validate(options);
+  Validate(sweep);
+  const Vector scale = make_system()->StateScale();
+  if (scale.size() != x0.size()) {
+    throw std::invalid_argument(fmt::format("RunEnsemble: x0 has {} entries, the system {}",
+                                            x0.size(), scale.size()));
+  }
+  std::vector<EnsembleCopy> copies(static_cast<std::size_t>(options.copies));
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = std::min(options.copies, options.threads > 0 ? options.threads : hardware);
+
+  std::atomic<int> next{0};
+  std::mutex mutex;  // guards `done`, `error` and the progress callback
+  int done = 0;
+  std::exception_ptr error;
+  auto work = [&]() {
+    for (;;) {
+      const int i = next.fetch_add(1);
+      if (i >= options.copies) return;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (error) return;
+      }
+      try {
+        EnsembleCopy& copy = copies[static_cast<std::size_t>(i)];
+        const double cpu_start = ThreadCpuSeconds();
+        copy.start = PerturbedStart(x0, scale, options, i);
+        std::unique_ptr<OdeSystem> system = make_system();
+        std::unique_ptr<SweepObservables> observables = make_observables(*system);
+        SweepStepper stepper(*system, *observables, sweep, copy.start);
+        while (stepper.Step() == SweepStepOutcome::kContinue) {
+        }
+        copy.failed = stepper.Failed();
+        copy.points = stepper.points();
+        copy.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+        std::lock_guard<std::mutex> lock(mutex);
+        ++done;
+        if (progress) progress(done, options.copies);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  return copies;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,100 @@
+// `rubcont ensemble`, run as a user runs it: the approach, the copies, the file, bad input.
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "apps/hdf5_file.h"
+#include "cli_support.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using testing::Outcome;
+using testing::Slurp;
+using testing::TempDir;
+
+// Case A(a) with a speed-up schedule 40, 44, 48 rpm (the whirl: it rolls from the impulse on).
+fs::path WhirlScene(const fs::path& dir) {
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  text = text.substr(0, text.find("[analysis.sweep]")) +
+         "[analysis.sweep]\nup_range_rpm = [40.0, 48.0]\nspeed_step_rpm = 4.0\ndwell = 0.75\n";
+  const fs::path file = dir / "thesis_A_a.toml";
+  std::ofstream(file) << text;
+  return file;
+}
+
+TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it or arrive at "
+          "once, the same on one thread and on two", "[ensemble_cli]") {
+  TempDir dir;
+  const fs::path scene = WhirlScene(dir.path);
+  auto run = [&](const std::string& until, int threads, const fs::path& h5) {
+    const Outcome o = testing::RubcontNoPython(
+        "ensemble " + scene.string() + " --speed 48 --copies 3 --duration 0.3 --until " + until +
+        " --threads " + std::to_string(threads) + " --quiet --out " + h5.string());
+    INFO(o.out << o.err);
+    REQUIRE(o.exit_code == 0);
+    return o;
+  };
+  // The approach runs 40 and 44 rpm; at 48 rpm the whirl rolls on: every copy is in the whirl
+  // in its first stretch (2 × 0.05 s), none reaches the whip in 0.3 s.
+  const Outcome whirl = run("whirl", 2, dir.path / "whirl.h5");
+  CHECK_THAT(whirl.out, Contains("from the up sweep 40 → 44 rpm (left whirl, right whirl)"));
+  CHECK_THAT(whirl.out, Contains("3 of 3 reached whirl on every contact, after 0.10 s (min)"));
+  run("whirl", 1, dir.path / "serial.h5");
+  const Outcome whip = run("whip", 2, dir.path / "whip.h5");
+  CHECK_THAT(whip.out, Contains("0 of 3 reached whip"));
+  {
+    ResultReader r(dir.path / "whirl.h5");
+    CHECK(r.ReadStringAttribute("/", "level") == "L3");
+    CHECK(r.ReadDoubleAttribute("/ensemble", "speed_rpm") == 48.0);
+    CHECK(r.ReadDoubleAttribute("/ensemble", "approach_to_rpm") == Approx(44.0));
+    CHECK(r.ReadStringAttribute("/ensemble", "approach_regime_left") == "whirl");
+    // A stretch is two windows of round(0.05 s × 4096 Hz) = 205 samples: 0.1000977 s.
+    const std::vector<double> time = r.ReadDoubles("/ensemble/time_s");
+    REQUIRE(time.size() == 3);
+    CHECK(time[0] == Approx(410.0 / 4096.0).epsilon(1e-12));
+    CHECK(time[2] == Approx(3.0 * 410.0 / 4096.0).epsilon(1e-12));
+    CHECK(r.ReadDoubles("/ensemble/arrival_time_s") == std::vector<double>(3, time[0]));
+    CHECK(r.ReadInts("/ensemble/reached") == std::vector<int>{1, 1, 1});
+    // Rolling at RCI 100: BP = 100 × 48 / 60 Hz in every stretch of every copy.
+    const Matrix bp = r.ReadMatrix("/ensemble/precession_hz_left");
+    REQUIRE(bp.rows() == 3);
+    REQUIRE(bp.cols() == 3);
+    CHECK((bp.array() - 80.0).abs().maxCoeff() < 0.8);
+    CHECK(r.ReadMatrix("/ensemble/regime_left") == Matrix::Constant(3, 3, 3.0));  // whirl
+    ResultReader serial(dir.path / "serial.h5");
+    CHECK(serial.ReadMatrix("/ensemble/precession_hz_right") == r.ReadMatrix("/ensemble/precession_hz_right"));
+    CHECK(serial.ReadMatrix("/ensemble/contact_fraction_left") == r.ReadMatrix("/ensemble/contact_fraction_left"));
+  }
+  {
+    ResultReader r(dir.path / "whip.h5");
+    CHECK(r.ReadInts("/ensemble/reached") == std::vector<int>{0, 0, 0});
+    for (double t : r.ReadDoubles("/ensemble/simulated_s")) CHECK(t == Approx(3.0 * 410.0 / 4096.0).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("rubcont ensemble: bad input names the option, the value and the rule, with exit code 2",
+          "[ensemble_cli]") {
+  TempDir dir;
+  const fs::path scene = WhirlScene(dir.path);
+  auto bad = [&](const std::string& args) {
+    const Outcome o = testing::RubcontNoPython("ensemble " + scene.string() + " " + args +
+                                               " --quiet --out " + (dir.path / "x.h5").string());
+    CHECK(o.exit_code == 2);
+    CHECK_FALSE(fs::exists(dir.path / "x.h5"));
+    return o.err;
+  };
+  CHECK_THAT(bad("--speed 48 --copies 0"), Contains("--copies = 0: must be in 1 … 100000"));
+  CHECK_THAT(bad("--speed 48 --until spin"), Contains("--until = spin: must be whirl, whip"));
+  CHECK_THAT(bad("--speed 48 --duration 0.05"), Contains("--duration = 0.05: must be at least two windows"));
+  CHECK_THAT(bad("--speed -3"), Contains("--speed = -3: must be positive"));
+  CHECK_THAT(bad("--speed 48 --direction sideways"), Contains("--direction = sideways"));
+}
+
+}  // namespace
+}  // namespace rubcont
