@@ -120,6 +120,24 @@ KeySpec Pair(std::string key, std::string unit, Rule rule, std::string doc,
                                      Presence::kRequired, std::move(doc), field);
 }
 
+// An optional key whose value is one of `choices` (text), read and written through `get`/`set`.
+KeySpec Choice(std::string key, std::string doc, std::vector<std::string> choices,
+               std::function<void(Scene&, const std::string&)> set,
+               std::function<std::string(const Scene&)> get,
+               std::optional<ModelKind> model = ModelKind::kTwoPoint) {
+  KeySpec spec;
+  spec.key = std::move(key);
+  spec.type = ValueType::kString;
+  spec.rule = Rule::kChoice;
+  spec.presence = Presence::kOptional;
+  spec.doc = std::move(doc);
+  spec.choices = std::move(choices);
+  spec.model = model;
+  spec.set = [set](Scene& x, const Value& v) { set(x, std::get<std::string>(v)); };
+  spec.get = [get](const Scene& x) { return Value(get(x)); };
+  return spec;
+}
+
 const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
 std::vector<std::string> ModelNames() {
   std::vector<std::string> names;
@@ -151,18 +169,10 @@ std::vector<KeySpec> BuildSchema() {
                                 Presence::kOptional,
                                 "Free text, kept in the result file.",
                                 [](Scene& x) -> std::string& { return x.description; }, kCommon));
-  {
-    KeySpec model;
-    model.key = "model";
-    model.type = ValueType::kString;
-    model.rule = Rule::kChoice;
-    model.presence = Presence::kOptional;
-    model.doc = "Which model the scene describes; each model has its own sections.";
-    model.choices = ModelNames();
-    model.set = [](Scene& x, const Value& v) { x.model = ModelFromName(std::get<std::string>(v)); };
-    model.get = [](const Scene& x) { return Value(std::string(ToString(x.model))); };
-    s.push_back(model);
-  }
+  s.push_back(Choice(
+      "model", "Which model the scene describes; each model has its own sections.", ModelNames(),
+      [](Scene& x, const std::string& name) { x.model = ModelFromName(name); },
+      [](const Scene& x) { return std::string(ToString(x.model)); }, kCommon));
 
   // [rotor]
   s.push_back(Float("rotor.mass", "kg", Rule::kPositive, "m_r: rotor mass.",
@@ -217,25 +227,17 @@ std::vector<KeySpec> BuildSchema() {
                     [](Scene& x) -> double& { return x.two_point.contact_damping; }));
 
   // [contact.friction_law]
-  {
-    KeySpec kind;
-    kind.key = "contact.friction_law.kind";
-    kind.type = ValueType::kString;
-    kind.rule = Rule::kChoice;
-    kind.presence = Presence::kOptional;
-    kind.doc = "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\" "
-               "(μN tanh(V/ε)). Not used by the analytic stage.";
-    kind.choices = {"exact", "tanh"};
-    kind.model = ModelKind::kTwoPoint;
-    kind.set = [](Scene& x, const Value& v) {
-      x.two_point.friction_law.kind =
-          std::get<std::string>(v) == "tanh" ? FrictionLawKind::kTanh : FrictionLawKind::kExact;
-    };
-    kind.get = [](const Scene& x) {
-      return Value(std::string(x.two_point.friction_law.kind == FrictionLawKind::kTanh ? "tanh" : "exact"));
-    };
-    s.push_back(kind);
-  }
+  s.push_back(Choice(
+      "contact.friction_law.kind",
+      "Friction law of the rotating waves: \"exact\" (stick/slip) or \"tanh\" (μN tanh(V/ε)). "
+      "Not used by the analytic stage.",
+      {"exact", "tanh"},
+      [](Scene& x, const std::string& name) {
+        x.two_point.friction_law.kind = name == "tanh" ? FrictionLawKind::kTanh : FrictionLawKind::kExact;
+      },
+      [](const Scene& x) {
+        return std::string(x.two_point.friction_law.kind == FrictionLawKind::kTanh ? "tanh" : "exact");
+      }));
   s.push_back(Float("contact.friction_law.velocity_scale", "m/s", Rule::kPositive,
                     "ε of tanh(V/ε): the friction regularization of time marching and shooting "
                     "(and of rotating waves when kind = \"tanh\"). Not used by the analytic stage.",
@@ -515,27 +517,18 @@ std::vector<KeySpec> BuildSchema() {
               "Impulse on the rotor at its mass-centre plane along +x at the start of each "
               "direction (rotor centred and at rest): a translation at impulse/m_r.",
               [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
-  {
-    KeySpec integrator;
-    integrator.key = "analysis.sweep.integrator";
-    integrator.type = ValueType::kString;
-    integrator.rule = Rule::kChoice;
-    integrator.presence = Presence::kOptional;
-    integrator.doc = "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (ARKODE Dormand–Prince "
-                     "5(4)) or \"auto\" (BDF while every contact touches continuously, "
-                     "Dormand–Prince after a window in which a contact touched 0–90 % of the "
-                     "time): results/README.md, \"Sweep integrators\".";
-    integrator.choices = {"bdf", "explicit", "auto"};
-    integrator.model = ModelKind::kTwoPoint;
-    integrator.set = [](Scene& x, const Value& v) {
-      const std::string& name = std::get<std::string>(v);
-      x.analysis.sweep.integrator = name == "explicit" ? SweepIntegrator::kExplicit
-                                    : name == "auto"   ? SweepIntegrator::kAuto
-                                                       : SweepIntegrator::kBdf;
-    };
-    integrator.get = [](const Scene& x) { return Value(std::string(ToString(x.analysis.sweep.integrator))); };
-    s.push_back(integrator);
-  }
+  s.push_back(Choice(
+      "analysis.sweep.integrator",
+      "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (ARKODE Dormand–Prince 5(4)) or \"auto\" "
+      "(BDF while every contact touches continuously, Dormand–Prince after a window in which a "
+      "contact touched 0–90 % of the time): results/README.md, \"Sweep integrators\".",
+      {"bdf", "explicit", "auto"},
+      [](Scene& x, const std::string& name) {
+        x.analysis.sweep.integrator = name == "explicit" ? SweepIntegrator::kExplicit
+                                      : name == "auto"   ? SweepIntegrator::kAuto
+                                                         : SweepIntegrator::kBdf;
+      },
+      [](const Scene& x) { return std::string(ToString(x.analysis.sweep.integrator)); }));
   sweep_float("analysis.sweep.relative_tolerance", "-", Rule::kOpenUnit,
               "CVODES BDF (order ≤ 2, analytic Jacobian): relative local error tolerance.",
               [](Scene& x) -> double& { return x.analysis.sweep.relative_tolerance; });
