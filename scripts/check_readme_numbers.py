@@ -100,8 +100,32 @@ def intermittent_speeds(results):
     return f"{words.get(count, count)} speeds of the committed sweeps are intermittent"
 
 
+def whip_lifetimes(results):
+    """The ensembles at the end of A(a)'s speed-up whip: one table row per committed file."""
+    rows = []
+    for rpm in (168, 172, 176, 180, 184):
+        with h5(results, f"thesis_A_a/ensemble_{rpm}rpm.h5") as f:
+            g = f["ensemble"]
+            arrival = g["arrival_time_s"][()]
+            reached = np.sort(arrival[np.isfinite(arrival)])
+            regime = g.attrs["approach_regime_left"]
+            regime = regime.decode() if isinstance(regime, bytes) else regime
+            if len(reached) == 0:
+                times = "–"
+            elif np.all(reached == reached[0]) and len(reached) == len(arrival):
+                times = f"{reached[0]:.2f} s, all in the first stretch"
+            else:
+                q = np.quantile(reached, [0.25, 0.5, 0.75])
+                times = (f"{reached[0]:.2f} / {q[0]:.2f} / {q[1]:.2f} / {q[2]:.2f} / "
+                         f"{reached[-1]:.2f} s")
+            rows.append(f"| {rpm} rpm | {g.attrs['approach_to_rpm']:g} rpm, {regime} | "
+                        f"{len(reached)} of {len(arrival)} | {times} | "
+                        f"{np.median(g['cpu_seconds'][()]):.1f} s |")
+    return tuple(rows)
+
+
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
-          forced_van_der_pol_folds, modulated_whip]
+          forced_van_der_pol_folds, modulated_whip, whip_lifetimes]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",
