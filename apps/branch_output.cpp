@@ -38,7 +38,7 @@ void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, con
 void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
                               const ParameterColumn& parameter) {
   std::vector<std::string> type, label, note;
-  std::vector<double> lambda, residual, correction;
+  std::vector<double> lambda, residual, correction, lyapunov;
   std::vector<int> converged, index;
   for (const SpecialPoint& p : branch.special_points) {
     type.push_back(ToString(p.type));
@@ -47,6 +47,7 @@ void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, co
     lambda.push_back(p.lambda * parameter.factor);
     residual.push_back(p.residual_norm);
     correction.push_back(p.last_correction);
+    lyapunov.push_back(p.lyapunov);
     converged.push_back(p.converged ? 1 : 0);
     index.push_back(static_cast<int>(p.index));
   }
@@ -57,6 +58,7 @@ void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, co
   writer.WriteInts(group + "/converged", converged);
   writer.WriteDoubles(group + "/residual_norm", residual);
   writer.WriteDoubles(group + "/last_correction", correction);
+  writer.WriteDoubles(group + "/lyapunov", lyapunov);
   writer.WriteStrings(group + "/note", note);
   writer.WriteInts(group + "/point_index", index);
   for (std::size_t m = 0; m < branch.measure_names.size(); ++m) {

@@ -59,6 +59,10 @@ struct SpecialPoint {
   // Events: λ turns back at the switch (the λ-components of the tangents on the old and the new
   // piece have opposite signs): a non-smooth fold, where a sweep in λ would jump.
   bool nonsmooth_fold = false;
+  // Hopf: the first Lyapunov coefficient (continuation/lyapunov.h), where the problem computes it
+  // (rotating waves: RotatingWaveProblem::FirstLyapunov); < 0 supercritical, > 0 subcritical.
+  // NaN where it is not computed or not trusted (the note says why).
+  double lyapunov = std::numeric_limits<double>::quiet_NaN();
   std::string note;     // a human sentence when there is more to say
 
   // "fold", "Hopf", "event: right stick to slip+", …: the type, and the label when it adds to it.

@@ -310,6 +310,11 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
           // μ_req − c = (F − cN)/N: with N > 0 it changes sign with F − cN. Out of contact
           // (N ≤ 0) μ_req means nothing; through a pole of P, μ_req = F/N stays finite.
           if (through_pole || !(t.normal_force > 0.0)) continue;
+          // Nor where N itself vanishes: with no friction force (undamped supports) F − cN
+          // changes sign with N, and rounding leaves N ≈ 1e-13 N > 0 at that root.
+          if (t.normal_force <= 1e-9 * (std::abs(forces[i](k).real()) + std::abs(forces[i + 1](k).real()))) {
+            continue;
+          }
           t.type = quantity == Quantity::kMuExcess    ? TransitionType::kMuCrossing
                    : quantity == Quantity::kMuDeficit ? TransitionType::kNegativeMuCrossing
                                                       : TransitionType::kZeroMuCrossing;

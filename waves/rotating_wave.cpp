@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -280,6 +281,52 @@ Vector RotatingWaveProblem::ResidualScale() const {
     }
   }
   return scale;
+}
+
+namespace {
+
+// The co-rotating field ẋ = f(x) of a RubRotatingFrame at its current frame rate and speed.
+class CorotatingField : public Problem {
+ public:
+  explicit CorotatingField(RubRotatingFrame& frame) : frame_(frame) {}
+  Index Dimension() const override { return frame_.Dimension(); }
+  void Residual(const Vector& x, double, Vector& F) override {
+    F.resize(x.size());
+    frame_.Rhs(0.0, x, F);
+  }
+  void Jacobian(const Vector& x, double, Matrix& J) override {
+    J.resize(x.size(), x.size());
+    frame_.JacobianX(0.0, x, J);
+  }
+  Vector Scale() const override { return frame_.StateScale(); }
+
+ private:
+  RubRotatingFrame& frame_;
+};
+
+}  // namespace
+
+LyapunovCoefficient RotatingWaveProblem::FirstLyapunov(const SpecialPoint& hopf) {
+  if (law_ == FrictionLawKind::kExact) {
+    LyapunovCoefficient out;
+    out.message = "the exact law is not smooth (a sticking contact is a constraint, slip a switch "
+                  "of the force law)";
+    return out;
+  }
+  const Index n2 = 2 * structure_.Coordinates();
+  Vector x0 = Vector::Zero(2 * n2);
+  x0.head(n2) = hopf.u.head(n2);
+  frame_.set_frame_rate(hopf.u(n2));
+  frame_.SetParameter(hopf.lambda);
+  frame_.SetFrictionModes(FrictionModes(), Vector::Zero(Contacts()));
+  CorotatingField field(frame_);
+  const std::function<Vector(const Vector&)> generator = [this](const Vector& x) {
+    Vector g(x.size());
+    frame_.RotationGenerator(x, g);
+    return g;
+  };
+  return FirstLyapunovCoefficientOfRelativeEquilibrium(field, x0, hopf.lambda, generator, 1e-4,
+                                                       hopf.critical_value);
 }
 
 Spectrum RotatingWaveProblem::Stability(const Vector& u, double omega) {

@@ -35,6 +35,8 @@
 #include <string>
 #include <vector>
 
+#include "continuation/branch.h"
+#include "continuation/lyapunov.h"
 #include "continuation/problem.h"
 #include "models/rub_model.h"
 #include "solvers/newton.h"
@@ -96,6 +98,13 @@ class RotatingWaveProblem : public Problem {
   Vector FromRigidContactOrbit(const RigidContactOrbit& orbit);
   // Sets the phase reference from the contact displacements of u.
   void SetPhaseReference(const Vector& u);
+
+  // The first Lyapunov coefficient at a Hopf point of a tanh-law branch: of the co-rotating
+  // field at the point's Ω and ω, on the slice of the rotation group (continuation/lyapunov.h),
+  // with finite-difference steps 1e-4 and 1e-5 of the state scale; negative: the modulated waves
+  // born there are stable (supercritical). The exact law is not smooth (a sticking contact is a
+  // constraint, slip a switch of the force law): not valid there, with that reason.
+  LyapunovCoefficient FirstLyapunov(const SpecialPoint& hopf);
 
   // Exact law: solves F(u, ω) = 0 by Newton, then checks every contact's validity margin; while
   // one is violated, switches that contact's mode and solves again (an active-set iteration, at

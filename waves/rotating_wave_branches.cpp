@@ -135,6 +135,15 @@ std::vector<RotatingWaveBranch> ComputeRotatingWaveBranches(
     result.branch = backward.points.empty() ? forward
                     : forward.points.empty() ? backward
                                              : JoinAtStart(backward, forward);
+    for (SpecialPoint& sp : result.branch.special_points) {
+      if (sp.type != SpecialPointType::kHopf) continue;
+      const LyapunovCoefficient c = problem.FirstLyapunov(sp);
+      if (c.valid) {
+        sp.lyapunov = c.l1;
+      } else {
+        sp.note += (sp.note.empty() ? "" : "; ") + ("first Lyapunov coefficient: " + c.message);
+      }
+    }
     branches.push_back(std::move(result));
     if (progress) progress(static_cast<int>(branches.size()), tried, static_cast<int>(starts.size()));
   }

@@ -69,7 +69,7 @@ TEST_CASE("CLI: a temporary file left by an interrupted run is overwritten, and 
   CHECK_THAT(again.err, !Contains("interrupted run"));
 }
 
-TEST_CASE("CLI: bad arguments are exit code 2; help is 0", "[cli]") {
+TEST_CASE("CLI: bad arguments are exit code 2, help is 0", "[cli]") {
   CHECK(Rubcont("").exit_code == 2);
   CHECK(Rubcont("frobnicate").exit_code == 2);
   CHECK(Rubcont("run --bogus").exit_code == 2);

@@ -199,7 +199,7 @@ TEST_CASE("Mode 1, disk at centre, with the 52 N·s/m centre damper", "[analytic
         OfType(without, TransitionType::kContactLoss, 0)[0].precession_hz);
 }
 
-TEST_CASE("A symmetric rotor has equal forces at both contacts; its Mode 1 excites no pitch",
+TEST_CASE("A symmetric rotor has equal forces at both contacts, and its Mode 1 excites no pitch",
           "[analytic]") {
   const TwoPointParams p = DiskAtCenter(52.0);
   for (CircularMode mode : {CircularMode::kMode1, CircularMode::kMode2}) {
@@ -285,7 +285,7 @@ TEST_CASE("r0 and s0 satisfy the rotor and stator equations of motion and r0 −
 }
 
 TEST_CASE("Undamped supports: contact is lost through the pinned pole and regained at the "
-          "stator frequency; no friction is needed", "[analytic]") {
+          "stator frequency, with no friction", "[analytic]") {
   TwoPointParams p = DiskAtCenter();
   p.support_damping = {0.0, 0.0};
   const NaturalFrequencies nf = ComputeNaturalFrequencies(p);

@@ -147,7 +147,7 @@ TEST_CASE("the three methods agree on a well-conditioned cycle, and on a single 
   }
 }
 
-TEST_CASE("an ill-conditioned product reports the multipliers it cannot resolve; periodic Schur "
+TEST_CASE("an ill-conditioned product reports the multipliers it cannot resolve, and periodic Schur "
           "resolves them all", "[floquet][failure]") {
   // The graded cycle above: 10^20, a unit-circle pair, 10^-40. The product's answer for the pair
   // is round-off (the test above); here it is also said to be.

@@ -240,6 +240,41 @@ double KneePrecessionHz(double epsilon) {
   return 0.0;
 }
 
+TEST_CASE("case A(a), tanh friction: the whirl's Hopf points at 51.68 and 51.90 rpm are "
+          "supercritical, and every other Hopf point says why it has no coefficient", "[branches]") {
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kTanh, ThesisRange());
+  int with_coefficient = 0, without = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kHopf) continue;
+      CAPTURE(b.name, RadPerSecondToRpm(p.lambda), p.note);
+      if (std::isfinite(p.lyapunov)) {
+        ++with_coefficient;
+        // The Mode 1 whirl loses stability to the modulated whip, which the orbits stage finds
+        // stable beyond the Hopf point (results/thesis_A_a_modulated_whip): supercritical.
+        CHECK(PatternName(b.normals) == "mode1");
+        CHECK(RadPerSecondToRpm(p.lambda) == Approx(51.8).margin(0.15));
+        CHECK(p.lyapunov < 0.0);
+      } else {
+        ++without;
+        CHECK_THAT(p.note, Catch::Matchers::Contains("first Lyapunov coefficient: not converged"));
+      }
+    }
+  }
+  CHECK(with_coefficient == 2);
+  CHECK(without >= 1);
+  // The exact law's Hopf points: no coefficient, and the reason.
+  for (const RotatingWaveBranch& b :
+       ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kExact, ThesisRange())) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kHopf) continue;
+      CHECK(std::isnan(p.lyapunov));
+      CHECK_THAT(p.note, Catch::Matchers::Contains("the exact law is not smooth"));
+    }
+  }
+}
+
 TEST_CASE("tanh friction: the whirl → whip knee converges to the exact event as ε → 0",
           "[branches]") {
   const double exact_hz = 84.47801334971142;  // the closed form's μ_req = μ crossing (A(a))

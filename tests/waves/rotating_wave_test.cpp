@@ -172,7 +172,7 @@ TEST_CASE("an inconsistent start is repaired by switching contact modes", "[rota
   CHECK(closed.force[0].imag() / closed.force[0].real() == Approx(0.4).epsilon(1e-8));
 }
 
-TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh; symmetry deflated",
+TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh, with the symmetry deflated",
           "[rotating_wave]") {
   TwoPointParams params = CaseAa();
   const RubStructure s = TwoPointStructure(params);
