@@ -19,30 +19,11 @@
 
 #include "continuation/branch.h"
 #include "continuation/continuation.h"
+#include "continuation/equilibrium_problem.h"
 #include "continuation/problem.h"
 #include "shooting/orbit_branches.h"
 
 namespace rubcont {
-
-// F(x, λ) = f(0, x; λ) of an autonomous system; stability = eigenvalues of ∂f/∂x.
-class EquilibriumProblem : public Problem {
- public:
-  // The system must outlive the problem; it must be autonomous (ForcingPeriod() = 0).
-  explicit EquilibriumProblem(OdeSystem& system);
-  Index Dimension() const override { return system_.Dimension(); }
-  void Residual(const Vector& u, double lambda, Vector& F) override;
-  void Jacobian(const Vector& u, double lambda, Matrix& J) override;
-  void DfDlambda(const Vector& u, double lambda, Vector& dF) override;
-  Vector Scale() const override { return system_.StateScale(); }
-  Vector ResidualScale() const override { return system_.StateScale(); }
-  double LambdaScale() const override { return lambda_scale_; }
-  bool HasStability() const override { return true; }
-  Spectrum Stability(const Vector& u, double lambda) override;
-
- private:
-  OdeSystem& system_;
-  double lambda_scale_;
-};
 
 struct HopfOrbitOptions {
   // kAutonomous, or kRelative for a Hopf point of a relative equilibrium (a rotating wave, an

@@ -8,6 +8,7 @@
 
 #include <fmt/core.h>
 
+#include "continuation/equilibrium_problem.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
@@ -283,29 +284,6 @@ Vector RotatingWaveProblem::ResidualScale() const {
   return scale;
 }
 
-namespace {
-
-// The co-rotating field ẋ = f(x) of a RubRotatingFrame at its current frame rate and speed.
-class CorotatingField : public Problem {
- public:
-  explicit CorotatingField(RubRotatingFrame& frame) : frame_(frame) {}
-  Index Dimension() const override { return frame_.Dimension(); }
-  void Residual(const Vector& x, double, Vector& F) override {
-    F.resize(x.size());
-    frame_.Rhs(0.0, x, F);
-  }
-  void Jacobian(const Vector& x, double, Matrix& J) override {
-    J.resize(x.size(), x.size());
-    frame_.JacobianX(0.0, x, J);
-  }
-  Vector Scale() const override { return frame_.StateScale(); }
-
- private:
-  RubRotatingFrame& frame_;
-};
-
-}  // namespace
-
 LyapunovCoefficient RotatingWaveProblem::FirstLyapunov(const SpecialPoint& hopf) {
   if (law_ == FrictionLawKind::kExact) {
     LyapunovCoefficient out;
@@ -317,9 +295,8 @@ LyapunovCoefficient RotatingWaveProblem::FirstLyapunov(const SpecialPoint& hopf)
   Vector x0 = Vector::Zero(2 * n2);
   x0.head(n2) = hopf.u.head(n2);
   frame_.set_frame_rate(hopf.u(n2));
-  frame_.SetParameter(hopf.lambda);
   frame_.SetFrictionModes(FrictionModes(), Vector::Zero(Contacts()));
-  CorotatingField field(frame_);
+  EquilibriumProblem field(frame_);  // the co-rotating field ẋ = f(x) at this Ω and ω
   const std::function<Vector(const Vector&)> generator = [this](const Vector& x) {
     Vector g(x.size());
     frame_.RotationGenerator(x, g);
