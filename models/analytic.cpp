@@ -308,13 +308,12 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
           t.through_pole = through_pole;
         } else {
           // μ_req − c = (F − cN)/N: with N > 0 it changes sign with F − cN. Out of contact
-          // (N ≤ 0) μ_req means nothing; through a pole of P, μ_req = F/N stays finite.
-          if (through_pole || !(t.normal_force > 0.0)) continue;
-          // Nor where N itself vanishes: with no friction force (undamped supports) F − cN
-          // changes sign with N, and rounding leaves N ≈ 1e-13 N > 0 at that root.
-          if (t.normal_force <= 1e-9 * (std::abs(forces[i](k).real()) + std::abs(forces[i + 1](k).real()))) {
-            continue;
-          }
+          // (N ≤ 0) μ_req means nothing, nor where N vanishes (with no friction force, on
+          // undamped supports, F − cN changes sign with N, and rounding leaves N ≈ 1e-13 N > 0
+          // at that root: N must exceed 1e-9 of its size at the neighbours); through a pole of
+          // P, μ_req = F/N stays finite.
+          const double n_scale = std::abs(forces[i](k).real()) + std::abs(forces[i + 1](k).real());
+          if (through_pole || !(t.normal_force > 1e-9 * n_scale)) continue;
           t.type = quantity == Quantity::kMuExcess    ? TransitionType::kMuCrossing
                    : quantity == Quantity::kMuDeficit ? TransitionType::kNegativeMuCrossing
                                                       : TransitionType::kZeroMuCrossing;
