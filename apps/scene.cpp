@@ -573,13 +573,30 @@ std::vector<KeySpec> BuildSchema() {
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.segments", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional, "Shooting segments per modulation period (1: single shooting).",
       [](Scene& x) -> int& { return x.analysis.orbits.segments; }));
+  s.push_back(Choice(
+      "analysis.orbits.integrator",
+      "\"gauss\" (Gauss–Legendre collocation of order 8 on a fixed mesh of collocation_intervals "
+      "per period, its state-transition matrix the exact derivative of the discrete map) or "
+      "\"bdf\" (CVODES BDF with sensitivities under error control, 50–70 times slower on the "
+      "thesis's contact): results/README.md, \"Cost of the modulated whip\".",
+      {"gauss", "bdf"},
+      [](Scene& x, const std::string& name) {
+        x.analysis.orbits.integrator = name == "bdf" ? OrbitIntegrator::kBdf : OrbitIntegrator::kGauss;
+      },
+      [](const Scene& x) { return std::string(ToString(x.analysis.orbits.integrator)); }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.collocation_intervals", ValueType::kInteger, "-", Rule::kSteps,
+      Presence::kOptional,
+      "Gauss collocation: mesh intervals per modulation period, shared evenly by the segments "
+      "(rounded up to a multiple of segments).",
+      [](Scene& x) -> int& { return x.analysis.orbits.collocation_intervals; }));
   s.push_back(Float("analysis.orbits.tolerance", "-", Rule::kOpenUnit,
-                    "CVODES BDF tolerance (relative = absolute, on scaled states) of every segment.",
+                    "CVODES BDF tolerance (relative = absolute, on scaled states) of every segment; "
+                    "with Gauss collocation its stage Newton stops at 1e-3 times this.",
                     [](Scene& x) -> double& { return x.analysis.orbits.tolerance; }, Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-      "Continuation steps from each Hopf point (20–30 s each for case A(a) with the thesis's "
-      "contact stiffness).",
+      "Continuation steps from each Hopf point.",
       [](Scene& x) -> int& { return x.analysis.orbits.max_steps; }));
 
   // Every default is the initializer of its Scene field (and the structs inside it): written once.
@@ -1162,6 +1179,14 @@ std::string EscapeTable(std::string text) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+
+const char* ToString(OrbitIntegrator integrator) {
+  switch (integrator) {
+    case OrbitIntegrator::kGauss: return "gauss";
+    case OrbitIntegrator::kBdf: return "bdf";
+  }
+  return "unknown";
+}
 
 const char* ToString(SweepIntegrator integrator) {
   switch (integrator) {

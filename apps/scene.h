@@ -92,13 +92,21 @@ struct SweepSettings {
   double frequency_jump_hz = 3.0;
 };
 
+// How the orbits stage integrates its shooting segments (key `integrator`): Gauss–Legendre
+// collocation of order 8 on a fixed mesh, or CVODES BDF with sensitivities under error control
+// (results/README.md, "Cost of the modulated whip").
+enum class OrbitIntegrator { kGauss, kBdf };
+const char* ToString(OrbitIntegrator integrator);
+
 // [analysis.orbits]: the modulated whirl and whip of model two_point, born at Hopf points
 // (shooting/rub_orbits.h).
 struct RubOrbitsSettings {
   int hopf_points = 2;        // Hopf points followed, in order of speed
   double amplitude = 1e-3;    // first orbit's amplitude (scaled state units), 0 < x < 1
   int segments = 4;           // shooting segments per modulation period (1: single shooting)
-  double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states), 0 < x < 1
+  OrbitIntegrator integrator = OrbitIntegrator::kGauss;
+  int collocation_intervals = 200;  // Gauss mesh intervals per modulation period (all segments)
+  double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states); Gauss: its Newton's 1e-3·x
   int max_steps = 40;         // continuation steps from each Hopf point
 };
 

@@ -123,6 +123,8 @@ struct Variant {
   int target_iterations = 3;   // StepOptions::target_iterations
   bool sensitivities_in_residual = false;
   int explicit_order = 8;      // ERK order (kExplicitRungeKutta)
+  int collocation_stages = 4;  // kGaussCollocation
+  long collocation_steps = 0;  // per segment (kGaussCollocation)
 };
 
 ContinuationOptions BranchOptions(const Variant& v) {
@@ -147,6 +149,10 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
   shooting.sensitivities_in_residual = v.sensitivities_in_residual;
   if (v.method == IntegrationMethod::kExplicitRungeKutta) {
     shooting.integrator.explicit_order = v.explicit_order;
+  }
+  if (v.method == IntegrationMethod::kGaussCollocation) {
+    shooting.integrator.collocation_stages = v.collocation_stages;
+    shooting.integrator.collocation_steps = v.collocation_steps;
   }
   const auto start = DuffingHarmonicBalance::OneTermSolutions(params)[0];
   const Vector x0 = (Vector(2) << start.first * std::cos(start.second),
@@ -188,13 +194,21 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
 int Main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   if (argc >= 8 && std::strcmp(argv[1], "custom") == 0) {
-    // custom METHOD(bdf|adams|erk8) TOL SEGMENTS STEP_MAX TARGET_ANGLE: one row.
+    // custom METHOD(bdf|adams|erk8|gaussS:STEPS) TOL SEGMENTS STEP_MAX TARGET_ANGLE BUDGET
+    // [TARGET_ITERATIONS [SENSITIVITIES_IN_RESIDUAL]]: one row (gauss4:40 = 4 stages, 40 steps
+    // per segment).
     Variant v;
     v.name = std::string(argv[2]) + " N=" + argv[4];
     v.method = std::strcmp(argv[2], "adams") == 0 ? IntegrationMethod::kAdams
                : std::strncmp(argv[2], "erk", 3) == 0 ? IntegrationMethod::kExplicitRungeKutta
-                                                    : IntegrationMethod::kBdf;
+               : std::strncmp(argv[2], "gauss", 5) == 0 ? IntegrationMethod::kGaussCollocation
+                                                      : IntegrationMethod::kBdf;
     if (v.method == IntegrationMethod::kExplicitRungeKutta) v.explicit_order = std::atoi(argv[2] + 3);
+    if (v.method == IntegrationMethod::kGaussCollocation) {
+      v.collocation_stages = std::atoi(argv[2] + 5);
+      const char* colon = std::strchr(argv[2], ':');
+      v.collocation_steps = colon != nullptr ? std::atol(colon + 1) : 0;
+    }
     v.tolerance = std::atof(argv[3]);
     v.segments = std::atoi(argv[4]);
     v.step_max = std::atof(argv[5]);
@@ -263,6 +277,19 @@ int Main(int argc, char** argv) {
         Row(tuned({name + ", sens. without EC", 1, method, tol, false, false}), params, ref,
             budget);
       }
+    }
+  }
+  header("4. Gauss collocation (solvers/ode_gauss.cpp) on a fixed mesh of STEPS per period, "
+         "single shooting, against ERK8 (tuned step control; tol: the stage Newton's only)");
+  Row(tuned({"single, ERK8", 1, kErk, 1e-10}), params, ref, budget);
+  for (int stages : {3, 4}) {
+    for (long steps : {20L, 30L, 40L, 60L}) {
+      Variant v = tuned({"single, Gauss s=" + std::to_string(stages) + ", " +
+                             std::to_string(steps) + " steps",
+                         1, IntegrationMethod::kGaussCollocation, 1e-10});
+      v.collocation_stages = stages;
+      v.collocation_steps = steps;
+      Row(v, params, ref, budget);
     }
   }
   std::printf("\nColumns: wall and process CPU time of the whole branch (medians), accepted continuation steps, "

@@ -3,7 +3,9 @@
 // co-rotating frame (shooting/rub_orbits.h) and continued in running speed — what the scene stage
 // "orbits" does, with the numerics on the command line, to measure their cost.
 // Usage: modulated_whip_bench [AMPLITUDE [SEGMENTS [TOLERANCE [STEPS [MAX_ORDER [ERROR_CONTROL
-//                             [CONTACT_STIFFNESS]]]]]]]
+//                             [CONTACT_STIFFNESS [COLLOCATION_STEPS [COLLOCATION_STAGES]]]]]]]]]
+// COLLOCATION_STEPS > 0 shoots with Gauss collocation of that many steps per segment instead of
+// CVODES BDF (CONTACT_STIFFNESS 0: the thesis's).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,7 +27,9 @@ int Main(int argc, char** argv) {
   const bool error_control = argc > 6 ? std::atoi(argv[6]) != 0 : true;
   TwoPointParams params = ThesisCaseAa();  // case A(a)
   params.friction_law.kind = FrictionLawKind::kTanh;
-  if (argc > 7) params.contact_stiffness = std::atof(argv[7]);
+  if (argc > 7 && std::atof(argv[7]) > 0) params.contact_stiffness = std::atof(argv[7]);
+  const long collocation_steps = argc > 8 ? std::atol(argv[8]) : 0;
+  const int collocation_stages = argc > 9 ? std::atoi(argv[9]) : 4;
   const RubStructure structure = TwoPointStructure(params);
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(20);
@@ -50,24 +54,33 @@ int Main(int argc, char** argv) {
   hopf_options.orbits.shooting.integrator.max_order = max_order;
   hopf_options.orbits.shooting.integrator.sensitivity_error_control = error_control;
   hopf_options.orbits.shooting.sensitivities_in_residual = true;
+  if (collocation_steps > 0) {
+    IntegratorOptions& integrator = hopf_options.orbits.shooting.integrator;
+    integrator.method = IntegrationMethod::kGaussCollocation;
+    integrator.collocation_steps = collocation_steps;
+    integrator.collocation_stages = collocation_stages;
+  }
   hopf_options.orbits.continuation.bounds.max_steps = steps;
   hopf_options.orbits.continuation.step.target_iterations = 5;
   const SteadyClock::time_point t0 = SteadyClock::now();
+  const double cpu0 = ProcessCpuSeconds();
   const RubModulatedOrbits result =
       ContinueModulatedOrbits(structure, branches, starts.front(), hopf_options);
   const double s = SecondsSince(t0);
+  const double cpu = CpuSecondsSince(cpu0);
   const Branch& branch = result.orbits.branch;
-  std::printf("%s — %s (%.1f s, %ld integrator steps)\n", branch.BriefReport().c_str(),
-              branch.message.c_str(), s, result.orbits.work.steps);
+  std::printf("%s — %s (%.1f s wall, %.1f s CPU, %ld integrator steps)\n",
+              branch.BriefReport().c_str(), branch.message.c_str(), s, cpu, result.orbits.work.steps);
   const Vector period = branch.Measure("period"), carrier = branch.Measure("precession_hz");
   const Vector n_min = branch.Measure("min_normal_force_left");
   const Vector n_max = branch.Measure("max_normal_force_left");
+  const Vector defect = branch.Measure("defect");
   for (Index i = 0; i < branch.Size(); ++i) {
     const BranchPoint& q = branch.points[static_cast<std::size_t>(i)];
     std::printf("  %9.4f rpm  T = %.6e s  carrier %.4f Hz  N_left %.1f–%.1f N  unstable %d  "
-                "max|mu| %.4f\n",
+                "max|mu| %.4f  defect %.1e\n",
                 RadPerSecondToRpm(q.lambda), period(i), carrier(i), n_min(i), n_max(i), q.num_unstable,
-                q.spectrum.values.size() ? q.spectrum.values.cwiseAbs().maxCoeff() : NAN);
+                q.spectrum.values.size() ? q.spectrum.values.cwiseAbs().maxCoeff() : NAN, defect(i));
   }
   return 0;
 }

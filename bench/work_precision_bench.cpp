@@ -392,14 +392,19 @@ PrecessionRun RunPrecession(const Scene& scene, const SweepSetting& s, double q1
 struct ShootingSetting {
   int segments = 1;
   double tolerance = 1e-7;
+  long collocation_intervals = 0;  // per period: Gauss collocation (order 8); 0: CVODES BDF
 };
 
 Row SolveL2(const Scene& scene, const ShootingSetting& s, double q1_speed, const PrecessionRun& start) {
   Row r;
   r.question = "q1";
   r.level = "L2";
-  r.method = s.segments == 1 ? "single shooting" : "multiple shooting";
-  r.setting = fmt::format("{} segment{}, rtol {:g}", s.segments, s.segments == 1 ? "" : "s", s.tolerance);
+  const bool gauss = s.collocation_intervals > 0;
+  r.method = gauss ? "shooting, Gauss collocation"
+                   : (s.segments == 1 ? "single shooting" : "multiple shooting");
+  r.setting = gauss ? fmt::format("{} segments, {} intervals", s.segments, s.collocation_intervals)
+                    : fmt::format("{} segment{}, rtol {:g}", s.segments, s.segments == 1 ? "" : "s",
+                                  s.tolerance);
   if (start.state.size() == 0 || !std::isfinite(start.bp_hz)) {
     r.status = "no_answer";
     r.note = "no transient to start from: " + start.row.note;
@@ -409,6 +414,10 @@ Row SolveL2(const Scene& scene, const ShootingSetting& s, double q1_speed, const
   o.shooting.segments = s.segments;
   o.shooting.integrator.relative_tolerance = o.shooting.integrator.absolute_tolerance = s.tolerance;
   o.shooting.integrator.max_steps = 2000000;
+  if (gauss) {
+    o.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+    o.shooting.integrator.collocation_steps = s.collocation_intervals / s.segments;
+  }
   o.shooting.sensitivities_in_residual = true;
   o.newton.residual_tolerance = o.newton.step_tolerance = 100 * s.tolerance;
   o.newton.max_iterations = 10;
@@ -600,8 +609,12 @@ int Main(int argc, char** argv) {
   }
 
   // L2.
-  std::vector<ShootingSetting> shooting_settings = {{1, 1e-6}, {4, 1e-7}, {1, 1e-7}, {1, 1e-8}, {1, 1e-9}};
-  if (quick) shooting_settings = {{1, 1e-6}, {1, 1e-7}};
+  // BDF first (the tightest two are q1's reference), then Gauss collocation on 4 segments.
+  std::vector<ShootingSetting> shooting_settings = {{1, 1e-6}, {4, 1e-7}, {1, 1e-7}, {1, 1e-8},
+                                                    {1, 1e-9}};
+  const std::size_t bdf_settings = shooting_settings.size();
+  for (long intervals : {100L, 200L, 400L}) shooting_settings.push_back({4, 1e-7, intervals});
+  if (quick) shooting_settings = {{1, 1e-6}, {1, 1e-7}, {4, 1e-7, 200}};
   std::vector<Row> l2_rows;
   for (const ShootingSetting& s : shooting_settings) {
     l2_rows.push_back(SolveL2(scene, s, q1_speed, l2_start));
@@ -609,24 +622,31 @@ int Main(int argc, char** argv) {
                          l2_rows.back().value, l2_rows.back().status, l2_rows.back().cpu_s,
                          l2_rows.back().note));
   }
-  // Single shooting: the change to the next tolerance is the estimate.
+  // The change to the next tolerance (BDF) or the next finer mesh (Gauss) is the estimate.
+  const auto finer = [](const ShootingSetting& a, const ShootingSetting& b) {
+    if (a.segments != b.segments || (a.collocation_intervals > 0) != (b.collocation_intervals > 0)) {
+      return false;
+    }
+    return a.collocation_intervals > 0 ? b.collocation_intervals > a.collocation_intervals
+                                       : b.tolerance < a.tolerance;
+  };
   for (std::size_t i = 0; i < l2_rows.size(); ++i) {
     for (std::size_t k = i + 1; k < l2_rows.size(); ++k) {
-      if (shooting_settings[k].segments == shooting_settings[i].segments &&
-          shooting_settings[k].tolerance < shooting_settings[i].tolerance) {
+      if (finer(shooting_settings[i], shooting_settings[k])) {
         l2_rows[i].error_estimate = std::abs(l2_rows[i].value - l2_rows[k].value);
         break;
       }
     }
   }
   rows.insert(rows.end(), l2_rows.begin(), l2_rows.end());
-  // q1's reference: the two tightest shooting settings; where shooting did not converge (a
+  // q1's reference: the two tightest BDF shooting settings; where shooting did not converge (a
   // modulation that is not a relative periodic orbit), the two tightest sweeps (the last two).
   const std::size_t n3 = rows.size() - l2_rows.size();  // the L3 q1 rows end here
-  Reference ref_q1 = l2_rows.back().status == "ok" && l2_rows[l2_rows.size() - 2].status == "ok"
-      ? Reference{l2_rows.back().value, l2_rows[l2_rows.size() - 2].value,
-                  "L2 " + l2_rows.back().method + ", " + l2_rows.back().setting,
-                  l2_rows[l2_rows.size() - 2].setting}
+  const std::size_t tightest_bdf = quick ? 1 : bdf_settings - 1;
+  Reference ref_q1 = l2_rows[tightest_bdf].status == "ok" && l2_rows[tightest_bdf - 1].status == "ok"
+      ? Reference{l2_rows[tightest_bdf].value, l2_rows[tightest_bdf - 1].value,
+                  "L2 " + l2_rows[tightest_bdf].method + ", " + l2_rows[tightest_bdf].setting,
+                  l2_rows[tightest_bdf - 1].setting}
       : Reference{rows[n3 - 1].value, rows[n3 - 2].value, "L3 sweep, " + rows[n3 - 1].setting,
                   rows[n3 - 2].setting};
   for (const char* q : {"q2", "q3"}) {

@@ -60,6 +60,8 @@ def color_of(key):
         return {"sweep: step": "tab:red", "sweep: dwell": "tab:red",
                 "sweep: longest windows": "tab:brown"}.get(label, "tab:orange")
     if level == "L2":
+        if "Gauss" in label:
+            return "tab:pink"
         return "tab:green" if "single" in label else "tab:olive"
     return STYLE[level][0]
 

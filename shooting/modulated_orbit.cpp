@@ -56,8 +56,14 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   RubRotatingFrame frame(structure, frame_rate, omega);
   const Vector x_start = frame.ToRotatingFrame(0.0, fixed_state);
 
-  // The modulation frequency: the dominant frequency of the slip velocity over the stretch.
-  OdeIntegrator integrator(frame, options.shooting.integrator);
+  // The modulation frequency: the dominant frequency of the slip velocity over the stretch, which
+  // needs an adaptive integrator: a fixed Gauss mesh is made for one segment, not the stretch.
+  IntegratorOptions search_options = options.shooting.integrator;
+  if (search_options.method == IntegrationMethod::kGaussCollocation) {
+    search_options.method = IntegrationMethod::kBdf;
+    search_options.max_order = 2;
+  }
+  OdeIntegrator integrator(frame, search_options);
   const Index samples_count =
       static_cast<Index>(std::llround(options.search_duration * options.search_rate));
   const Vector times = Vector::LinSpaced(samples_count, 0.0,

@@ -36,7 +36,7 @@ namespace rubcont {
 
 struct ModulatedOrbitOptions {
   // Segments and integrator (the kind is kRelative). The integrator also runs the search for the
-  // period guess.
+  // period guess (CVODES BDF ≤ 2 at its tolerances when it is Gauss collocation).
   ShootingOptions shooting;
   // Tolerances above the integration error: the residual is only as smooth as the integration
   // (about 100·rtol; tests/shooting/van_der_pol_test.cpp).

@@ -76,6 +76,13 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
       {"precession_hz", [view](const OrbitSamples& orbit) { return view->CarrierHz(orbit); }});
   measures.push_back(
       {"modulation_hz", [](const OrbitSamples& orbit) { return 1.0 / orbit.period; }});
+  // The orbit checked by CVODES BDF at 1e-9 (state only, no sensitivities: the contact mode it
+  // does not excite costs nothing): what a fixed collocation mesh cannot see in itself.
+  IntegratorOptions check;
+  check.relative_tolerance = check.absolute_tolerance = 1e-11;
+  check.max_order = 2;
+  check.max_steps = 2000000;
+  measures.push_back(PeriodicityDefect(std::make_shared<RubRotatingFrame>(frame), check));
   const auto& contacts = frame.structure().contacts;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const std::string& name = contacts[c].name;
@@ -150,6 +157,12 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
   options.orbits.measures = RubOrbitMeasures(frame);
+  const IntegratorOptions& integrator = options.orbits.shooting.integrator;
+  if (integrator.method == IntegrationMethod::kGaussCollocation) {
+    options.orbits.measures.push_back(UnresolvedMultiplier(
+        std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
+        integrator.collocation_steps * options.orbits.shooting.segments));
+  }
   RubModulatedOrbits result;
   result.hopf = start;
   result.orbits = ContinueOrbitsFromHopf(frame, hopf, options);

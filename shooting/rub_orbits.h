@@ -13,10 +13,11 @@
 // unstable on the other), in order of speed — where a sweep leaves or reaches a circular state.
 // Mirror images (the left-only and right-only branches of a symmetric rotor) are followed once.
 //
-// Cost (bench/modulated_whip_bench.cpp): the contact mode (√(k1/m) ≈ 1.3e5 rad/s for the thesis's
-// k1 = 1.75e11 N/m) is almost undamped and lives in every column of the state-transition matrix,
-// so the sensitivities take ~3e4 steps per modulation period: 15–30 s per orbit of case A(a) at
-// tolerance 1e-7, against ~1 s with k1 = 1.75e8 N/m.
+// Cost (bench/modulated_whip_methods_bench.cpp): the contact mode (√(k1/m) ≈ 1.3e5 rad/s for the
+// thesis's k1 = 1.75e11 N/m) is almost undamped and lives in every column of the state-transition
+// matrix: CVODES BDF with sensitivities under error control takes ~3e4 steps per modulation period
+// (11–17 s per orbit of case A(a) at tolerance 1e-7); Gauss collocation on a fixed mesh of 200–300
+// steps per period neither resolves nor damps it and costs ~0.15 s per orbit.
 #pragma once
 
 #include <functional>
@@ -35,6 +36,9 @@ namespace rubcont {
 //   min_/max_precession_hz_<c>     instantaneous backward precession −Im(ḋ/d)/2π of the contact's
 //                                  relative displacement d = u_rotor − u_stator
 //   min_/max_normal_force_<c>      N [N] (0 while the contact is open)
+//   defect                         PeriodicityDefect with CVODES BDF ≤ 2 at 1e-11, state only
+//   unresolved_multiplier          UnresolvedMultiplier, with Gauss collocation only (added by
+//                                  ContinueModulatedOrbits, which knows the mesh)
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/core.h>
 
 #include "solvers/finite_difference.h"
@@ -67,6 +68,8 @@ void Validate(const ShootingOptions& options) {
 // Measures
 
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Value at the extremum of the parabola through samples k−1, k, k+1 of row `state`, when the
 // extremum lies between them (sign = +1: maximum, −1: minimum); otherwise the sample itself.
@@ -137,6 +140,45 @@ OrbitMeasure StateMean(Index state, std::string name) {
           }};
 }
 
+OrbitMeasure PeriodicityDefect(std::shared_ptr<OdeSystem> system, const IntegratorOptions& options,
+                               std::string name) {
+  auto integrator = std::make_shared<OdeIntegrator>(*system, options);
+  return {std::move(name), [system, integrator](const OrbitSamples& orbit) {
+            if (!orbit.valid) return kNaN;
+            system->SetParameter(orbit.parameter);
+            const Vector x0 = orbit.states.col(0);
+            Vector end(x0.size());
+            if (!integrator->Integrate(orbit.times(0), x0, orbit.times(0) + orbit.period, end)
+                     .Succeeded()) {
+              return kNaN;
+            }
+            Vector start = x0;
+            if (orbit.rotation != 0.0) system->Rotate(orbit.rotation, start);
+            return (end - start).cwiseQuotient(system->StateScale()).cwiseAbs().maxCoeff();
+          }};
+}
+
+OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,
+                                  long steps_per_period, std::string name) {
+  return {std::move(name), [system, stages, steps_per_period](const OrbitSamples& orbit) {
+            if (!orbit.valid) return kNaN;
+            system->SetParameter(orbit.parameter);
+            const Index n = system->Dimension();
+            Matrix J(n, n);
+            system->JacobianX(orbit.times(0), orbit.states.col(0), J);
+            const auto N = static_cast<double>(steps_per_period);
+            const double h = orbit.period / N;
+            double largest = 0.0;
+            for (const std::complex<double>& lambda : J.eigenvalues()) {
+              const double discrete = std::pow(std::abs(GaussStabilityFunction(stages, lambda * h)), N);
+              if (std::abs(discrete - std::exp(lambda.real() * orbit.period)) > 1e-3) {
+                largest = std::max(largest, discrete);
+              }
+            }
+            return largest;
+          }};
+}
+
 // ---------------------------------------------------------------------------------------------
 // Construction
 
@@ -146,8 +188,6 @@ const ShootingOptions& Validated(const ShootingOptions& options) {
   Validate(options);
   return options;
 }
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 

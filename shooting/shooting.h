@@ -127,6 +127,25 @@ OrbitMeasure StateMinimum(Index state, std::string name);
 OrbitMeasure StateAmplitude(Index state, std::string name);
 OrbitMeasure StateMean(Index state, std::string name);
 
+// ‖(x(T) − R_φ x(0)) ./ StateScale‖∞ with x(T) integrated from the orbit's first sample by an
+// independent integrator (`options`, state only; R = I unless the orbit is relative): the orbit's
+// defect as a solution of the ODE rather than of the shooting integrator's discrete map — the
+// check of a fixed-mesh method (Gauss collocation). NaN when the integration fails. `system` is a
+// copy owned by the measure (its parameter is set to the orbit's).
+OrbitMeasure PeriodicityDefect(std::shared_ptr<OdeSystem> system, const IntegratorOptions& options,
+                               std::string name = "defect");
+
+// The modes a fixed Gauss mesh does not resolve, frozen at the orbit's first sample: for each
+// eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, |R(λ_k h)|^N (R the
+// stability function, GaussStabilityFunction; N = steps_per_period, h = T/N), against the exact
+// e^{Re λ_k T}. Returns the largest discrete modulus among the modes misplaced by more than 1e-3
+// (0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
+// lightly damped stiff mode it does not resolve (the thesis's contact at |λ|h = 11: 0.68 for
+// 0.33), so a value well below 1 means those modes cannot decide the orbit's stability; near 1
+// the mesh must be refined. `system` is a copy owned by the measure.
+OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,
+                                  long steps_per_period, std::string name = "unresolved_multiplier");
+
 // Work done, summed over calls (for benchmarks).
 struct ShootingStatistics {
   long residual_integrations = 0;     // segment integrations without sensitivities

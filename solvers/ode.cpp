@@ -16,6 +16,7 @@ const char* ToString(IntegrationMethod method) {
     case IntegrationMethod::kAdams: return "CVODES Adams";
     case IntegrationMethod::kExplicitRungeKutta: return "ARKODE ERK";
     case IntegrationMethod::kDiagonallyImplicitRungeKutta: return "ARKODE DIRK";
+    case IntegrationMethod::kGaussCollocation: return "Gauss collocation";
   }
   return "unknown";
 }
@@ -67,6 +68,12 @@ void Validate(const IntegratorOptions& options) {
   }
   if (options.implicit_order < 2 || options.implicit_order > 5) {
     fail("implicit_order", options.implicit_order, "must lie in [2, 5]");
+  }
+  if (options.collocation_stages < 1 || options.collocation_stages > 6) {
+    fail("collocation_stages", options.collocation_stages, "must lie in [1, 6]");
+  }
+  if (options.collocation_steps < 1) {
+    fail("collocation_steps", static_cast<double>(options.collocation_steps), "must be at least 1");
   }
   if (!(options.parameter_scale >= 0.0) || std::isinf(options.parameter_scale)) {
     fail("parameter_scale", options.parameter_scale,
@@ -225,6 +232,8 @@ class OdeIntegrator::Impl {
     context_.dfdp.resize(n);
     if (options.method == IntegrationMethod::kBdf || options.method == IntegrationMethod::kAdams) {
       cvodes_ = std::make_unique<detail::CvodesBackend>(context_, options);
+    } else if (options.method == IntegrationMethod::kGaussCollocation) {
+      gauss_ = std::make_unique<detail::GaussBackend>(context_, options);
     } else {
       arkode_ = std::make_unique<detail::ArkodeBackend>(context_, options);
     }
@@ -232,12 +241,19 @@ class OdeIntegrator::Impl {
 
   IntegrationResult Run(const detail::IntegrationRequest& request) {
     context_.BeginRun();
-    IntegrationResult result = cvodes_ ? cvodes_->Run(request) : arkode_->Run(request);
+    IntegrationResult result = cvodes_   ? cvodes_->Run(request)
+                               : gauss_ ? gauss_->Run(request)
+                                        : arkode_->Run(request);
     context_.RethrowIfAny();
     return result;
   }
 
   void SetEvents(const EventOptions& events) {
+    if (gauss_) {
+      throw std::invalid_argument(
+          "OdeIntegrator: events need an integrator with root finding (CVODES or ARKODE), not "
+          "Gauss collocation");
+    }
     if (!events.function || events.count < 1) {
       throw std::invalid_argument(fmt::format(
           "EventOptions: count = {} and function {}: need count ≥ 1 and a function", events.count,
@@ -280,6 +296,7 @@ class OdeIntegrator::Impl {
   Vector x_final_buffer_;
   std::unique_ptr<detail::CvodesBackend> cvodes_;
   std::unique_ptr<detail::ArkodeBackend> arkode_;
+  std::unique_ptr<detail::GaussBackend> gauss_;
 };
 
 OdeIntegrator::OdeIntegrator(OdeSystem& system, const IntegratorOptions& options)

@@ -22,6 +22,7 @@
 // after the first. It is not thread-safe; use one per thread.
 #pragma once
 
+#include <complex>
 #include <functional>
 #include <memory>
 #include <string>
@@ -36,6 +37,11 @@ enum class IntegrationMethod {
   kAdams,  // CVODES, Adams–Moulton (orders 1–12), Newton + dense LU: smooth, non-stiff systems
   kExplicitRungeKutta,             // ARKODE ERKStep, embedded pair of order `explicit_order`
   kDiagonallyImplicitRungeKutta,   // ARKODE ARKStep, DIRK of order `implicit_order`, dense LU
+  // Gauss–Legendre collocation (implicit Runge–Kutta of order 2·collocation_stages) on a fixed
+  // uniform mesh of collocation_steps steps per call, Newton + dense LU, the STM as the exact
+  // derivative of the discrete map (ode_gauss.cpp). No error estimate, no events: for shooting on
+  // stiff, nearly undamped modes, with the mesh's accuracy measured where it is used.
+  kGaussCollocation,
 };
 const char* ToString(IntegrationMethod method);
 
@@ -67,6 +73,11 @@ struct IntegratorOptions {
   // DIRK order: 2, 3, 4 (SDIRK 5-3-4) or 5 (ARK5(4)8L[2]SA's implicit table).
   int implicit_order = 4;
 
+  // Gauss collocation: stages s in [1, 6] (order 2s) and uniform steps per Integrate / Sample call
+  // (≥ 1). The tolerances only set its Newton's stopping test (1e-3·absolute_tolerance, scaled).
+  int collocation_stages = 4;
+  long collocation_steps = 200;
+
   // Forward sensitivities (CVODES only; ARKODE integrates the augmented system).
   SensitivityMethod sensitivity_method = SensitivityMethod::kStaggered;
   // Include the sensitivities in the local error test (CVodeSetSensErrCon). Without it the STM is
@@ -87,6 +98,10 @@ struct IntegratorOptions {
 
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const IntegratorOptions& options);
+
+// The stability function R(z) = 1 + z bᵀ(I − zA)⁻¹𝟙 of s-stage Gauss collocation (s in [1, 6]):
+// one step of ẋ = λx multiplies x by R(λh). |R(iy)| = 1, |R(z)| < 1 for Re z < 0, R(−∞) = (−1)^s.
+std::complex<double> GaussStabilityFunction(int stages, std::complex<double> z);
 
 enum class IntegrationStatus {
   kSuccess,

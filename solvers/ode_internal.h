@@ -5,6 +5,9 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <vector>
+
+#include <Eigen/LU>
 
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -130,6 +133,42 @@ class ArkodeBackend {
   SunContextPtr sun_context_;
   // One memory per augmented size: plain (n), with STM (n + n²), with STM and ∂x/∂p (n + n² + n).
   std::unique_ptr<Memory> memories_[3];
+};
+
+// The s-stage Gauss–Legendre collocation method on [0, 1] (ode_gauss.cpp).
+struct GaussCoefficients {
+  Vector c, b;      // nodes and weights
+  Matrix A;         // A_ij = ∫₀^{c_i} ℓ_j
+  Matrix A_inverse;
+  Vector d;         // dᵀ = bᵀ A⁻¹: x_{n+1} = x_n + Σ d_i Z_i
+  Matrix vandermonde_inverse;
+  static GaussCoefficients Make(int stages);
+  // γ(θ): the collocation polynomial u(t_n + θh) = x_n + Σ_j γ_j(θ) Z_j (θ = 1 + c_i extrapolates).
+  Vector Interpolation(double theta) const;
+};
+
+class GaussBackend {
+ public:
+  GaussBackend(CallbackContext& context, const IntegratorOptions& options);
+  IntegrationResult Run(const IntegrationRequest& request);
+
+ private:
+  bool SolveStages(double t, const Vector& x, double h, std::string& failure);
+  IntegrationResult Fail(IntegrationStatus status, double t, std::string message);
+
+  CallbackContext& context_;
+  IntegratorOptions options_;
+  GaussCoefficients coefficients_;
+  IntegrationStatistics statistics_;
+  Vector x_, previous_x_, stage_state_;
+  Matrix stages_, previous_stages_, derivatives_;  // n × s: Z, Z of the previous step, F
+  std::vector<Matrix> jacobians_;                   // J at each stage
+  std::vector<Vector> extrapolation_;               // γ(1 + c_i)
+  Vector output_weights_;
+  Matrix newton_matrix_;
+  Eigen::PartialPivLU<Matrix> lu_;
+  Vector residual_, increment_;
+  Matrix sensitivity_rhs_, blocks_;
 };
 
 }  // namespace detail

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace rubcont {
 
@@ -12,5 +13,9 @@ using SteadyClock = std::chrono::steady_clock;
 inline double SecondsSince(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
 }
+
+// CPU seconds of this process (all threads) since it started: the steadier figure on shared cores.
+inline double ProcessCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+inline double CpuSecondsSince(double start) { return ProcessCpuSeconds() - start; }
 
 }  // namespace rubcont

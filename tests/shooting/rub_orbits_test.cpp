@@ -4,7 +4,9 @@
 // undamped contact mode sets the cost of the sensitivities (bench/modulated_whip_bench.cpp); the
 // whirl, its Hopf point and the orbits born there are qualitatively the same (53.66 rpm instead
 // of 51.68 rpm, modulation 1508 rad/s instead of 1520 rad/s).
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <catch2/catch.hpp>
 
@@ -157,6 +159,65 @@ TEST_CASE("case A(a): fixed-frame single-frequency shooting cannot converge on t
     CHECK_FALSE(problem.LastFailure().message.empty());
   }
   CHECK(traced.smallest_residual > 1e-4);
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// At the thesis's stiffness, continued to 56 rpm (the engine places the last orbit on the bound),
+// Gauss collocation on 200 intervals per period (the stage's default) against CVODES BDF with
+// sensitivities at rtol 1e-9, whose numbers below were measured by
+// bench/modulated_whip_methods_bench (results/bench/orbits/modulated_whip_methods.txt, 416 s CPU):
+// modulation 211.935817185 Hz, carrier 84.4190240523 Hz, four largest multipliers of modulus
+// 0.951578, 0.939902, 0.894430, 0.894430.
+TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reproduces the BDF "
+          "reference orbit at 56 rpm, and its checks pass",
+          "[rub_orbits][shooting][relative][gauss]") {
+  TwoPointParams params = ThesisCaseAa();
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  const RubStructure structure = TwoPointStructure(params);
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = 40 * kRpm;
+  options.search.speed_max = 70 * kRpm;
+  options.search.precession_max = 2 * M_PI * 200;
+  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options);
+  const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
+  REQUIRE_FALSE(starts.empty());
+  HopfOrbitOptions hopf;
+  hopf.amplitude = 1e-3;
+  hopf.orbits.lambda_min = 40 * kRpm;
+  hopf.orbits.lambda_max = 56 * kRpm;
+  hopf.orbits.shooting.segments = 4;
+  hopf.orbits.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  hopf.orbits.shooting.integrator.collocation_steps = 50;
+  hopf.orbits.shooting.integrator.relative_tolerance = 1e-9;
+  hopf.orbits.shooting.integrator.absolute_tolerance = 1e-9;
+  hopf.orbits.shooting.sensitivities_in_residual = true;
+  hopf.orbits.continuation.bounds.max_steps = 200;
+  hopf.orbits.continuation.step.target_iterations = 5;
+  const RubModulatedOrbits whip = ContinueModulatedOrbits(structure, branches, starts.front(), hopf);
+  const Branch& b = whip.orbits.branch;
+  REQUIRE(b.status == BranchStatus::kReachedLambdaBound);
+  const Index last = b.Size() - 1;
+  CHECK(b.points.back().lambda == Approx(56 * kRpm).epsilon(1e-12));
+  // Measured differences: 2.5e-10 and 9e-13 relative, multipliers 1e-9 (largest) and 2e-7.
+  CHECK(b.Measure("modulation_hz")(last) == Approx(211.935817185).epsilon(1e-8));
+  CHECK(b.Measure("precession_hz")(last) == Approx(84.4190240523).epsilon(1e-10));
+  Vector moduli = b.points.back().spectrum.values.cwiseAbs();
+  std::sort(moduli.data(), moduli.data() + moduli.size(), std::greater<double>());
+  CHECK(moduli(0) == Approx(0.951578).margin(2e-6));
+  CHECK(moduli(1) == Approx(0.939902).margin(2e-6));
+  CHECK(moduli(2) == Approx(0.894430).margin(2e-6));
+  CHECK(b.points.back().num_unstable == 0);
+  // The independent BDF check and the unresolved contact modes (|λ|h ≈ 11 for the 85 kHz pair).
+  for (Index i = 0; i <= last; ++i) {
+    CHECK(b.Measure("defect")(i) < 1e-6);
+    CHECK(b.Measure("unresolved_multiplier")(i) > 0.3);
+    CHECK(b.Measure("unresolved_multiplier")(i) < 0.8);
+  }
 }
 
 }  // namespace

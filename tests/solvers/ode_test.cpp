@@ -75,7 +75,7 @@ TEST_CASE("state and state-transition matrix of a linear system match the matrix
       X0() / (2 * h);
   for (IntegrationMethod method :
        {IntegrationMethod::kBdf, IntegrationMethod::kAdams, IntegrationMethod::kExplicitRungeKutta,
-        IntegrationMethod::kDiagonallyImplicitRungeKutta}) {
+        IntegrationMethod::kDiagonallyImplicitRungeKutta, IntegrationMethod::kGaussCollocation}) {
     CAPTURE(ToString(method));
     OdeIntegrator integrator(system, Tight(method));
     Vector x(3), dxdp;

@@ -1,0 +1,291 @@
+// Gauss–Legendre collocation on a fixed uniform mesh (the implicit Runge–Kutta method of order 2s
+// with s stages; Hairer & Wanner, Solving ODEs II, §IV.5 and §IV.8). SUNDIALS has no fully implicit
+// Runge–Kutta method, and this one is what the stiff rub contact needs in shooting:
+//   - A-stable with |R(iy)| = 1: a nearly undamped stiff mode (the contact at √(k1/m) ≈ 1.3e5 rad/s)
+//     is neither amplified nor damped numerically, its multiplier keeps modulus ≈ 1 even where the
+//     mesh does not resolve its oscillation, and the solution on the slow manifold is collocated to
+//     stage order s;
+//   - on a fixed mesh the step map x_n ↦ x_{n+1} is a smooth function of x_n and p, so the
+//     state-transition matrix below is its exact derivative: Newton on a shooting residual built from
+//     it converges quadratically on the discrete problem, whatever the stiff modes do. An adaptive
+//     step sequence that does not see a mode the sensitivities do see cannot give that (ode.h).
+// It is orthogonal collocation of the segment with the interior unknowns eliminated step by step —
+// AUTO's condensation — closed by the shooting code's matching and periodicity conditions.
+//
+// Step n, stage increments Z_i = X_i − x_n, F_i = f(t_n + c_i h, x_n + Z_i):
+//   G(Z) = Z − h (A ⊗ I) F = 0,  solved by Newton with M = I − h (A ⊗ I) blockdiag(J_1 … J_s),
+//   x_{n+1} = x_n + Σ d_i Z_i,   dᵀ = bᵀ A⁻¹.
+// Differentiating G(Z(x_n, p), x_n, p) = 0:
+//   M W = h (A ⊗ I) [J_i Φ_n]_i,             Φ_{n+1} = Φ_n + Σ d_i W_i;
+//   M w = h (A ⊗ I) [J_i q_n + ∂f/∂p(X_i)]_i,  q_{n+1} = q_n + Σ d_i w_i,
+// with the factorisation of M from the last Newton iteration (its Jacobians one increment below
+// the converged stages: a relative error of the Newton tolerance in Φ).
+//
+// Errors are not estimated: the accuracy is the mesh's (collocation_steps per call), measured
+// against a tight CVODES reference where it is used (results/README.md). Events are not supported.
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <fmt/core.h>
+
+#include "solvers/ode_internal.h"
+
+namespace rubcont {
+namespace detail {
+namespace {
+
+// Newton on the stage equations stops when the scaled increment is below this fraction of the
+// absolute tolerance, or fails after kMaxNewtonIterations.
+constexpr double kNewtonFraction = 1e-3;
+constexpr double kNewtonFloor = 1e-14;
+constexpr int kMaxNewtonIterations = 12;
+
+}  // namespace
+
+GaussCoefficients GaussCoefficients::Make(int stages) {
+  GaussCoefficients g;
+  const int s = stages;
+  // Golub–Welsch: the nodes of Legendre P_s on [−1, 1] are the eigenvalues of the Jacobi matrix
+  // with off-diagonal k/√(4k² − 1); the weights are 2·(first eigenvector component)².
+  Matrix jacobi = Matrix::Zero(s, s);
+  for (int k = 1; k < s; ++k) {
+    jacobi(k, k - 1) = jacobi(k - 1, k) = k / std::sqrt(4.0 * k * k - 1.0);
+  }
+  Eigen::SelfAdjointEigenSolver<Matrix> eigen(jacobi);
+  g.c = (eigen.eigenvalues().array() + 1.0) / 2.0;
+  g.b = eigen.eigenvectors().row(0).transpose().array().square();  // (2 v₀²)/2 on [0, 1]
+  // A_ij = ∫₀^{c_i} ℓ_j: with V_jk = c_j^k, A V = C, C_ik = c_i^{k+1}/(k+1).
+  Matrix V(s, s), C(s, s);
+  for (int j = 0; j < s; ++j) {
+    for (int k = 0; k < s; ++k) {
+      V(j, k) = std::pow(g.c(j), k);
+      C(j, k) = std::pow(g.c(j), k + 1) / (k + 1);
+    }
+  }
+  g.vandermonde_inverse = V.inverse();
+  g.A = C * g.vandermonde_inverse;
+  g.A_inverse = g.A.inverse();
+  g.d = (g.b.transpose() * g.A_inverse).transpose();
+  return g;
+}
+
+Vector GaussCoefficients::Interpolation(double theta) const {
+  // u(t_n + θh) = x_n + Σ_j γ_j(θ) Z_j, γ(θ)ᵀ = β(θ)ᵀ A⁻¹, β_j(θ) = ∫₀^θ ℓ_j.
+  const Index s = c.size();
+  Vector powers(s);
+  for (Index k = 0; k < s; ++k) powers(k) = std::pow(theta, static_cast<double>(k + 1)) / (k + 1);
+  const Vector beta = vandermonde_inverse.transpose() * powers;
+  return A_inverse.transpose() * beta;
+}
+
+GaussBackend::GaussBackend(CallbackContext& context, const IntegratorOptions& options)
+    : context_(context),
+      options_(options),
+      coefficients_(GaussCoefficients::Make(options.collocation_stages)) {
+  const Index n = context.n;
+  const Index s = options.collocation_stages;
+  stages_.resize(n, s);
+  previous_stages_.resize(n, s);
+  derivatives_.resize(n, s);
+  jacobians_.assign(static_cast<std::size_t>(s), Matrix(n, n));
+  newton_matrix_.resize(n * s, n * s);
+  residual_.resize(n * s);
+  extrapolation_.resize(s);
+  for (Index i = 0; i < s; ++i) extrapolation_[static_cast<std::size_t>(i)] =
+      coefficients_.Interpolation(1.0 + coefficients_.c(i));
+  output_weights_.resize(s);
+  stage_state_.resize(n);
+}
+
+IntegrationResult GaussBackend::Fail(IntegrationStatus status, double t, std::string message) {
+  IntegrationResult result;
+  result.status = status;
+  result.t_reached = t;
+  if (context_.state_bound_exceeded) {
+    result.status = IntegrationStatus::kStateBound;
+    message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
+                          options_.state_bound, t);
+  } else if (context_.non_finite) {
+    result.status = IntegrationStatus::kNonFinite;
+    message = fmt::format("the right-hand side returned NaN or Inf near t = {:.9g}", t);
+  }
+  result.flag_name = "GAUSS_" + std::string(status == IntegrationStatus::kConvergenceFailures
+                                                ? "CONV_FAILURE"
+                                                : "RHS_FAILURE");
+  result.message = std::move(message);
+  result.statistics = statistics_;
+  return result;
+}
+
+// Newton on the stage equations of the step from (t, x) with step h; stages_ holds the guess.
+// Leaves the converged stages, F at them, the Jacobians and the factorised Newton matrix.
+bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string& failure) {
+  const Index n = context_.n;
+  const Index s = stages_.cols();
+  const Matrix& A = coefficients_.A;
+  const double tolerance = std::max(kNewtonFraction * options_.absolute_tolerance, kNewtonFloor);
+  double previous_norm = INFINITY;
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    for (Index i = 0; i < s; ++i) {
+      const double ti = t + coefficients_.c(i) * h;
+      stage_state_ = x + stages_.col(i);
+      ++statistics_.rhs_evaluations;
+      if (EvaluateRhs(context_, ti, stage_state_.data(), derivatives_.col(i).data()) != 0 ||
+          EvaluateJacobian(context_, ti, stage_state_.data(),
+                           jacobians_[static_cast<std::size_t>(i)].data()) != 0) {
+        failure = fmt::format("the right-hand side or its Jacobian failed at t = {:.9g}", ti);
+        return false;
+      }
+      ++statistics_.jacobian_evaluations;
+    }
+    // G = Z − h (A ⊗ I) F and M = I − h (A ⊗ I) blockdiag(J).
+    for (Index i = 0; i < s; ++i) {
+      residual_.segment(i * n, n) = stages_.col(i) - h * derivatives_ * A.row(i).transpose();
+      for (Index j = 0; j < s; ++j) {
+        newton_matrix_.block(i * n, j * n, n, n) = -h * A(i, j) * jacobians_[static_cast<std::size_t>(j)];
+      }
+    }
+    newton_matrix_.diagonal().array() += 1.0;
+    lu_.compute(newton_matrix_);
+    ++statistics_.linear_solver_setups;
+    ++statistics_.nonlinear_iterations;
+    increment_ = lu_.solve(residual_);
+    double norm = 0.0;
+    for (Index i = 0; i < s; ++i) {
+      stages_.col(i) -= increment_.segment(i * n, n);
+      norm = std::max(norm, increment_.segment(i * n, n).cwiseProduct(context_.inverse_scale)
+                                .cwiseAbs().maxCoeff());
+    }
+    if (!std::isfinite(norm)) break;
+    if (norm <= tolerance) return true;
+    // Rounding level reached: the increment stopped shrinking at a size the tolerance can't see.
+    if (iteration >= 2 && norm >= 0.5 * previous_norm && norm <= 1e3 * tolerance) return true;
+    previous_norm = norm;
+  }
+  ++statistics_.nonlinear_convergence_failures;
+  failure = fmt::format(
+      "Newton on the collocation equations did not converge in {} iterations at t = {:.9g} "
+      "(h = {:.3g}): refine the mesh (collocation_steps)",
+      kMaxNewtonIterations, t, h);
+  return false;
+}
+
+IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
+  const Index n = context_.n;
+  const Index s = stages_.cols();
+  statistics_ = IntegrationStatistics{};
+  const double t0 = request.t0;
+  const double t1 = request.times[request.count - 1];
+  Eigen::Map<const Vector> x0(request.x0, n);
+  Eigen::Map<Vector> x_final(request.x_final, n);
+  const bool with_stm = request.stm != nullptr;
+  const bool with_dxdp = request.dxdp != nullptr;
+  x_ = x0;
+  Eigen::Map<Matrix> stm(request.stm, with_stm ? n : 0, with_stm ? n : 0);
+  Eigen::Map<Vector> dxdp(request.dxdp, with_dxdp ? n : 0);
+  if (with_stm) stm.setIdentity();
+  if (with_dxdp) dxdp.setZero();
+  Index output = 0;
+  const auto emit_outputs_at_start = [&]() {
+    while (output < request.count && request.times[output] == t0) {
+      if (request.states != nullptr) Eigen::Map<Vector>(request.states + output * n, n) = x_;
+      ++output;
+    }
+  };
+  emit_outputs_at_start();
+  if (t1 == t0) {
+    x_final = x_;
+    IntegrationResult result;
+    result.t_reached = t1;
+    return result;
+  }
+  const long steps = options_.collocation_steps;
+  const double h = (t1 - t0) / static_cast<double>(steps);
+  std::string failure;
+  for (long step = 0; step < steps; ++step) {
+    const double t = t0 + static_cast<double>(step) * h;
+    const double t_next = step + 1 == steps ? t1 : t0 + static_cast<double>(step + 1) * h;
+    // Guess: the previous step's collocation polynomial extended over this step, or h·c_i·f(x).
+    if (step == 0) {
+      ++statistics_.rhs_evaluations;
+      if (EvaluateRhs(context_, t, x_.data(), stage_state_.data()) != 0) {
+        return Fail(IntegrationStatus::kRhsFailure, t, "the right-hand side failed at t0");
+      }
+      for (Index i = 0; i < s; ++i) stages_.col(i) = coefficients_.c(i) * h * stage_state_;
+    } else {
+      for (Index i = 0; i < s; ++i) {
+        stages_.col(i) = previous_x_ - x_ + previous_stages_ * extrapolation_[static_cast<std::size_t>(i)];
+      }
+    }
+    if (!SolveStages(t, x_, h, failure)) {
+      return Fail(IntegrationStatus::kConvergenceFailures, t, failure);
+    }
+    ++statistics_.steps;
+    // Outputs inside (t, t_next]: the collocation polynomial.
+    while (output < request.count &&
+           (h > 0 ? request.times[output] <= t_next : request.times[output] >= t_next)) {
+      if (request.states != nullptr) {
+        const double theta = step + 1 == steps && request.times[output] == t1
+                                 ? 1.0
+                                 : (request.times[output] - t) / h;
+        output_weights_ = coefficients_.Interpolation(theta);
+        Eigen::Map<Vector>(request.states + output * n, n) = x_ + stages_ * output_weights_;
+      }
+      ++output;
+    }
+    if (with_stm) {
+      // Right-hand sides h (A ⊗ I) [J_i Φ_n, J_i q_n + ∂f/∂p]: n (+1) columns.
+      const Index columns = with_dxdp ? n + 1 : n;
+      sensitivity_rhs_.resize(n * s, columns);
+      blocks_.resize(n * s, columns);
+      for (Index i = 0; i < s; ++i) {
+        const Matrix& J = jacobians_[static_cast<std::size_t>(i)];
+        blocks_.block(i * n, 0, n, n).noalias() = J * stm;
+        if (with_dxdp) {
+          stage_state_ = x_ + stages_.col(i);
+          if (EvaluateDfDparameter(context_, t + coefficients_.c(i) * h, stage_state_.data()) != 0) {
+            return Fail(IntegrationStatus::kRhsFailure, t, "∂f/∂p failed");
+          }
+          blocks_.block(i * n, n, n, 1).noalias() = J * dxdp + context_.dfdp;
+        }
+      }
+      for (Index i = 0; i < s; ++i) {
+        sensitivity_rhs_.middleRows(i * n, n).setZero();
+        for (Index j = 0; j < s; ++j) {
+          sensitivity_rhs_.middleRows(i * n, n) += (h * coefficients_.A(i, j)) * blocks_.middleRows(j * n, n);
+        }
+      }
+      blocks_ = lu_.solve(sensitivity_rhs_);
+      for (Index i = 0; i < s; ++i) {
+        stm += coefficients_.d(i) * blocks_.block(i * n, 0, n, n);
+        if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, n, n, 1);
+      }
+    }
+    previous_x_ = x_;
+    previous_stages_ = stages_;
+    x_ += stages_ * coefficients_.d;
+  }
+  x_final = x_;
+  IntegrationResult result;
+  result.t_reached = t1;
+  result.statistics = statistics_;
+  result.warnings = context_.warnings;
+  return result;
+}
+
+}  // namespace detail
+
+std::complex<double> GaussStabilityFunction(int stages, std::complex<double> z) {
+  if (stages < 1 || stages > 6) {
+    throw std::invalid_argument(fmt::format("GaussStabilityFunction: stages = {}: must lie in [1, 6]", stages));
+  }
+  const detail::GaussCoefficients g = detail::GaussCoefficients::Make(stages);
+  const Eigen::MatrixXcd M = Eigen::MatrixXcd::Identity(stages, stages) - z * g.A.cast<std::complex<double>>();
+  const Eigen::VectorXcd y = M.partialPivLu().solve(Eigen::VectorXcd::Ones(stages));
+  return 1.0 + z * g.b.cast<std::complex<double>>().dot(y);
+}
+
+}  // namespace rubcont

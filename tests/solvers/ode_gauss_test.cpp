@@ -1,0 +1,199 @@
+// Gauss–Legendre collocation (solvers/ode_gauss.cpp) against closed forms: its order, that its
+// state-transition matrix is the exact derivative of the discrete map, and that a stiff undamped
+// mode it does not resolve keeps its amplitude (|R(iy)| = 1), where BDF damps it.
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include <catch2/catch.hpp>
+
+#include "models/textbook.h"
+#include "solvers/ode.h"
+
+namespace rubcont {
+namespace {
+
+IntegratorOptions Gauss(int stages, long steps) {
+  IntegratorOptions options;
+  options.method = IntegrationMethod::kGaussCollocation;
+  options.collocation_stages = stages;
+  options.collocation_steps = steps;
+  options.relative_tolerance = 1e-12;
+  options.absolute_tolerance = 1e-12;
+  return options;
+}
+
+// Stuart–Landau ż = (λ + iω) z − (1 + iγ)|z|² z from z0 = r0 (real): r² = λ r0² e^{2λt} / D,
+// D = λ + r0²(e^{2λt} − 1), θ = ωt − (γ/2) ln(D/λ).
+Vector StuartLandauExact(const StuartLandauParams& p, double r0, double t) {
+  const double D = p.lambda + r0 * r0 * (std::exp(2 * p.lambda * t) - 1.0);
+  const double r = std::sqrt(p.lambda * r0 * r0 * std::exp(2 * p.lambda * t) / D);
+  const double theta = p.omega * t - 0.5 * p.gamma * std::log(D / p.lambda);
+  return (Vector(2) << r * std::cos(theta), r * std::sin(theta)).finished();
+}
+
+StuartLandauParams Shear() {
+  StuartLandauParams p;
+  p.lambda = 0.5;
+  p.omega = 2.0;
+  p.gamma = 0.7;
+  return p;
+}
+
+TEST_CASE("Gauss collocation with s stages converges with order 2s on Stuart-Landau", "[ode][gauss]") {
+  const StuartLandauParams p = Shear();
+  StuartLandauOscillator system(p);
+  const double r0 = 0.2, T = 4.0;
+  const Vector exact = StuartLandauExact(p, r0, T);
+  const Vector x0 = (Vector(2) << r0, 0.0).finished();
+  for (int s = 1; s <= 4; ++s) {
+    CAPTURE(s);
+    // Coarse enough that the error is far above rounding at the finer mesh.
+    const long coarse = s <= 2 ? 40 : 10;
+    double errors[2];
+    for (int k = 0; k < 2; ++k) {
+      OdeIntegrator integrator(system, Gauss(s, coarse << k));
+      Vector x(2);
+      REQUIRE(integrator.Integrate(0.0, x0, T, x).Succeeded());
+      errors[k] = (x - exact).norm();
+    }
+    const double order = std::log2(errors[0] / errors[1]);
+    CHECK(order == Approx(2.0 * s).margin(0.3));
+  }
+}
+
+TEST_CASE("Gauss collocation's STM and dx/dp are the derivatives of its discrete map",
+          "[ode][gauss]") {
+  DuffingOscillator system;  // forced, nonlinear, with ∂f/∂w
+  const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
+  const double T = 2 * M_PI / system.Parameter();
+  OdeIntegrator integrator(system, Gauss(3, 25));  // coarse: the map differs from the flow
+  Vector x(2), dxdp;
+  Matrix stm;
+  REQUIRE(integrator.Integrate(0.0, x0, T, x, &stm, &dxdp).Succeeded());
+  const double h = 1e-6;
+  Matrix fd(2, 2);
+  for (Index j = 0; j < 2; ++j) {
+    Vector plus = x0, minus = x0, x_plus(2), x_minus(2);
+    plus(j) += h;
+    minus(j) -= h;
+    REQUIRE(integrator.Integrate(0.0, plus, T, x_plus).Succeeded());
+    REQUIRE(integrator.Integrate(0.0, minus, T, x_minus).Succeeded());
+    fd.col(j) = (x_plus - x_minus) / (2 * h);
+  }
+  CHECK((stm - fd).norm() <= 1e-8 * stm.norm());
+  const double w = system.Parameter();
+  Vector x_plus(2), x_minus(2);
+  system.SetParameter(w + h);
+  REQUIRE(integrator.Integrate(0.0, x0, T, x_plus).Succeeded());
+  system.SetParameter(w - h);
+  REQUIRE(integrator.Integrate(0.0, x0, T, x_minus).Succeeded());
+  system.SetParameter(w);
+  CHECK((dxdp - (x_plus - x_minus) / (2 * h)).norm() <= 1e-7 * dxdp.norm());
+}
+
+// ẍ = −ω² x, ω = 1e5 — the stiff contact's scale — over steps with ωh = 20.
+class StiffOscillator : public OdeSystem {
+ public:
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override { f << x(1), -kOmega * kOmega * x(0); }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef, MatrixRef J) override { J << 0, 1, -kOmega * kOmega, 0; }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+  Vector StateScale() const override { return (Vector(2) << 1.0, kOmega).finished(); }
+  static constexpr double kOmega = 1e5;
+};
+
+TEST_CASE("an unresolved undamped stiff mode keeps its energy under Gauss collocation, not BDF",
+          "[ode][gauss]") {
+  StiffOscillator system;
+  const double T = 0.01;  // 159 oscillations
+  const Vector x0 = (Vector(2) << 1e-6, 0.0).finished();
+  const auto energy = [](const Vector& x) {
+    return x(1) * x(1) + StiffOscillator::kOmega * StiffOscillator::kOmega * x(0) * x(0);
+  };
+  OdeIntegrator gauss(system, Gauss(4, 50));  // ωh = 20
+  Vector x(2);
+  Matrix stm;
+  REQUIRE(gauss.Integrate(0.0, x0, T, x, &stm).Succeeded());
+  // Exact in exact arithmetic; rounding of 50 solves with cond(M) ~ (ωh)² leaves ~3e-12.
+  CHECK(energy(x) == Approx(energy(x0)).epsilon(1e-10));
+  const Eigen::VectorXcd multipliers = stm.eigenvalues();
+  CHECK(std::abs(multipliers(0)) == Approx(1.0).epsilon(1e-10));
+  CHECK(std::abs(multipliers(1)) == Approx(1.0).epsilon(1e-10));
+  // BDF ≤ 2 with its error control off the mode (loose tolerance): the energy is damped away.
+  IntegratorOptions bdf;
+  bdf.max_order = 2;
+  bdf.relative_tolerance = bdf.absolute_tolerance = 1e-2;
+  bdf.max_step = T / 50;
+  OdeIntegrator damped(system, bdf);
+  REQUIRE(damped.Integrate(0.0, x0, T, x).Succeeded());
+  CHECK(energy(x) < 1e-3 * energy(x0));
+}
+
+TEST_CASE("Gauss collocation's dense output is the collocation polynomial", "[ode][gauss]") {
+  const StuartLandauParams p = Shear();
+  StuartLandauOscillator system(p);
+  const Vector x0 = (Vector(2) << 0.2, 0.0).finished();
+  OdeIntegrator integrator(system, Gauss(4, 100));
+  const Vector times = Vector::LinSpaced(37, 0.0, 4.0);
+  Matrix states;
+  REQUIRE(integrator.Sample(0.0, x0, times, states).Succeeded());
+  for (Index k = 0; k < times.size(); ++k) {
+    CAPTURE(times(k));
+    // Stage order s = 4 between mesh points: h⁵ ≈ 1e-8.
+    CHECK((states.col(k) - StuartLandauExact(p, 0.2, times(k))).norm() <= 1e-8);
+  }
+  Vector x(2);
+  REQUIRE(integrator.Integrate(0.0, x0, 4.0, x).Succeeded());
+  CHECK((states.col(times.size() - 1) - x).norm() <= 1e-15);  // the same mesh, the same end
+}
+
+TEST_CASE("the Gauss stability function is the diagonal Padé approximant of the exponential",
+          "[ode][gauss]") {
+  using C = std::complex<double>;
+  for (const C z : {C(-0.7, 0.3), C(0.2, -1.5), C(-40.0, 3.0)}) {
+    CAPTURE(z);
+    CHECK(std::abs(GaussStabilityFunction(1, z) - (1.0 + z / 2.0) / (1.0 - z / 2.0)) < 1e-14);
+    const C p2 = 1.0 + z / 2.0 + z * z / 12.0, q2 = 1.0 - z / 2.0 + z * z / 12.0;
+    CHECK(std::abs(GaussStabilityFunction(2, z) - p2 / q2) < 1e-13);
+  }
+  for (int s = 1; s <= 6; ++s) {
+    CAPTURE(s);
+    // Rounding of the coefficients (a Vandermonde inverse) grows with s: 1e-12 covers s = 6.
+    CHECK(std::abs(GaussStabilityFunction(s, C(0.0, 7.3))) == Approx(1.0).epsilon(1e-12));
+    // Order 2s: the error constant of the (s, s) Padé approximant, (s!)²/((2s)!(2s+1)!), times
+    // 1 + O(z) (1.11 at z = 0.1 for s = 1).
+    double constant = 1.0;
+    for (int k = 1; k <= s; ++k) constant *= k * k;
+    for (int k = 1; k <= 2 * s; ++k) constant /= k;
+    for (int k = 1; k <= 2 * s + 1; ++k) constant /= k;
+    const double error = std::abs(GaussStabilityFunction(s, C(0.1, 0.0)) - std::exp(0.1));
+    CHECK(error <= 1.2 * constant * std::pow(0.1, 2 * s + 1) + 1e-15);
+    CHECK(error >= 0.9 * constant * std::pow(0.1, 2 * s + 1) - 1e-15);
+    CHECK(std::abs(GaussStabilityFunction(s, C(-1e-3, 50.0))) < 1.0);
+  }
+  CHECK_THROWS_AS(GaussStabilityFunction(0, 1.0), std::invalid_argument);
+}
+
+TEST_CASE("Gauss collocation refuses events and invalid meshes, and reports Newton failure",
+          "[ode][gauss]") {
+  StuartLandauOscillator system(Shear());
+  OdeIntegrator integrator(system, Gauss(2, 10));
+  EventOptions events;
+  events.count = 1;
+  events.function = [](double, ConstVectorRef x, VectorRef g) { g(0) = x(0); };
+  CHECK_THROWS_AS(integrator.SetEvents(events), std::invalid_argument);
+  CHECK_THROWS_AS(OdeIntegrator(system, Gauss(7, 10)), std::invalid_argument);
+  CHECK_THROWS_AS(OdeIntegrator(system, Gauss(2, 0)), std::invalid_argument);
+  // One step over a long time from a large amplitude: the cubic term defeats the stage Newton.
+  OdeIntegrator coarse(system, Gauss(2, 1));
+  Vector x(2);
+  const IntegrationResult result = coarse.Integrate(0.0, (Vector(2) << 30.0, 0.0).finished(), 50.0, x);
+  CHECK(result.status == IntegrationStatus::kConvergenceFailures);
+  CHECK(result.message.find("collocation_steps") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace rubcont
