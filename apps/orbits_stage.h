@@ -4,13 +4,16 @@
 //     (shooting/orbit_branches.h), written to /branches/periodic_orbits (apps/orbit_output.h);
 //   model two_point: the modulated whirl and whip (shooting/rub_orbits.h) —
 //     /orbits                        attrs level, parameter_name, friction_law ("tanh"),
-//                                    velocity_scale, note (imbalance left out)
+//                                    velocity_scale, numerics (segments, integrator and mesh or
+//                                    tolerance), note (imbalance left out)
 //     /orbits/rotating_waves/<name>  the tanh-law rotating waves (layout of apps/branch_output.h)
 //     /orbits/<branch>_hopf<k>       the orbits born at special point k of that rotating wave
 //                                    (layout of apps/orbit_output.h, parameter speed_rpm), attrs
 //                                    hopf_branch, hopf_speed_rpm, hopf_precession_hz,
-//                                    hopf_modulation_hz; measures precession_hz (the carrier), modulation_hz,
-//                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>.
+//                                    hopf_modulation_hz, check_note (when a check fails);
+//                                    measures precession_hz (the carrier), modulation_hz, defect,
+//                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>, and
+//                                    unresolved_multiplier with Gauss collocation.
 #pragma once
 
 #include "apps/models.h"

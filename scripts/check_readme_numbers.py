@@ -86,6 +86,23 @@ def modulated_whip(results):
             f"{bp[0]:.1f} rpm")
 
 
+def modulated_whip_table(results):
+    """The modulated whip's table: the first orbit and those nearest 53.6, 56.1, 57.9 and 62.8 rpm."""
+    with h5(results, "thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5") as f:
+        g = f["orbits/branch2_hopf2"]
+        rpm = g["speed_rpm"][()]
+        mu = np.hypot(g["multipliers_real"][()], g["multipliers_imag"][()])
+        rows = []
+        for target in (rpm[0], 53.6, 56.1, 57.9, 62.8):
+            i = int(np.argmin(np.abs(rpm - target)))
+            rows.append(
+                f"| {rpm[i]:.3f} | {g['modulation_hz'][i]:.2f} | {g['precession_hz'][i]:.4f} | "
+                f"{g['min_precession_hz_left'][i]:.2f} – {g['max_precession_hz_left'][i]:.2f} | "
+                f"{g['min_normal_force_left'][i]:.0f} – {g['max_normal_force_left'][i]:.0f} | "
+                f"{np.nanmax(mu[i]):.4f} |")
+    return tuple(rows)
+
+
 def intermittent_speeds(results):
     """The sweep speeds whose contact touched for less than 1 % of the time."""
     count = 0
@@ -125,7 +142,7 @@ def whip_lifetimes(results):
 
 
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
-          forced_van_der_pol_folds, modulated_whip, whip_lifetimes]
+          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",

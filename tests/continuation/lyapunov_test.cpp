@@ -81,7 +81,7 @@ class StuartLandauWithDamping : public Problem {
   }
 };
 
-TEST_CASE("First Lyapunov coefficient of Stuart-Landau with a stable direction: supercritical",
+TEST_CASE("First Lyapunov coefficient of Stuart-Landau with a stable direction is supercritical",
           "[lyapunov]") {
   StuartLandauWithDamping problem;
   const LyapunovCoefficient c = FirstLyapunovCoefficient(problem, Vector::Zero(3), 0.0);

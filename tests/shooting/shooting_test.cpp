@@ -1,6 +1,7 @@
 #include "shooting/shooting.h"
 
 #include <cmath>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -32,16 +33,22 @@ ShootingOptions Options(int segments, double tolerance = 1e-10) {
 // Stuart–Landau: orbit r = √λ, period 2π/(ω − γλ), multipliers 1 and e^{−2λT}, in closed form.
 
 TEST_CASE("Stuart–Landau orbit, period and multipliers in closed form, single and multiple "
-          "shooting",
+          "shooting, CVODES BDF and Gauss collocation",
           "[shooting]") {
   const double lambda = 0.5;
   StuartLandauOscillator oscillator({lambda, 1.0, 0.4});
   const double radius = oscillator.OrbitRadius();
   const double period = oscillator.Period();
   const double multiplier = oscillator.NontrivialMultiplier();
-  for (int segments : {1, 5}) {
-    CAPTURE(segments);
-    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, Options(segments));
+  // Segments, and Gauss steps per segment (0: BDF): 100 steps of order 8 over the 7.9 period.
+  for (const auto& [segments, gauss_steps] : {std::pair{1, 0L}, {5, 0L}, {1, 100L}, {5, 20L}}) {
+    CAPTURE(segments, gauss_steps);
+    ShootingOptions options = Options(segments);
+    if (gauss_steps > 0) {
+      options.integrator.method = IntegrationMethod::kGaussCollocation;
+      options.integrator.collocation_steps = gauss_steps;
+    }
+    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, options);
     REQUIRE(problem.Dimension() == 2 * segments + 1);
     // A guess off the orbit in radius (0.6 against 0.707) and period (10 %).
     Vector u = problem.InitialGuess((Vector(2) << 0.6, 0.1).finished(), 1.1 * period, lambda);
