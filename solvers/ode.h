@@ -1,5 +1,6 @@
 // Time integration of an OdeSystem with SUNDIALS: CVODES (BDF or Adams, dense LU, forward
-// sensitivities) and ARKODE (explicit or diagonally implicit Runge–Kutta).
+// sensitivities) and ARKODE (explicit or diagonally implicit Runge–Kutta); and Gauss collocation
+// on a fixed mesh (ode_gauss.cpp), the fully implicit method SUNDIALS does not have.
 //
 // What the shooting code needs from an integrator, and what this one gives:
 //   x(t1)                      the end state, from x(t0) = x0;
