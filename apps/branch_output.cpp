@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include "apps/level.h"
 #include "models/units.h"
 
@@ -68,6 +70,12 @@ void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, co
     }
     writer.WriteDoubles(group + "/" + branch.measure_names[m], column);
   }
+}
+
+std::string LyapunovText(const SpecialPoint& point) {
+  if (!std::isfinite(point.lyapunov)) return "";
+  return fmt::format("  l1 {:.3g}: {}", point.lyapunov,
+                     point.lyapunov < 0.0 ? "supercritical" : "subcritical");
 }
 
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,

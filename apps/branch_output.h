@@ -42,6 +42,10 @@ void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, con
 void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, const Branch& branch,
                               const ParameterColumn& parameter);
 
+// "  l1 <value>: supercritical|subcritical" for a Hopf point with a first Lyapunov coefficient,
+// "" otherwise: the summaries' one wording of it.
+std::string LyapunovText(const SpecialPoint& point);
+
 // `root`: the group to write ("/branches"; the sweeps keep the branches of their own friction law
 // in "/sweeps/branches").
 void WriteRotatingWaveBranches(ResultWriter& writer, const std::vector<RotatingWaveBranch>& branches,

@@ -281,12 +281,8 @@ void RunBranches(const Scene& scene, ResultWriter& writer, Progress& progress, s
                b.branch.BriefReport());
     for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
       const SpecialPoint& p = b.branch.special_points[i];
-      const std::string lyapunov =
-          std::isfinite(p.lyapunov)
-              ? fmt::format("  l1 {:.3g}: {}", p.lyapunov, p.lyapunov < 0.0 ? "supercritical" : "subcritical")
-              : "";
       fmt::print(out, "    {:<36} {:9.3f} rpm {:9.3f} Hz{}{}\n", p.Name(),
-                 RadPerSecondToRpm(p.lambda), b.SpecialPrecessionHz(i), lyapunov,
+                 RadPerSecondToRpm(p.lambda), b.SpecialPrecessionHz(i), LyapunovText(p),
                  p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
     }
     if (IsFailure(b.branch.status)) {

@@ -292,9 +292,12 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "[orbits] note: {}\n", note);
   }
   for (const RubHopfStart& s : starts) {
-    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}\n",
+    const auto wave = std::find_if(waves.begin(), waves.end(),
+                                   [&](const RotatingWaveBranch& b) { return b.name == s.branch; });
+    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}{}\n",
                s.branch, RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession),
-               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above");
+               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above",
+               LyapunovText(wave->branch.special_points[s.special_point]));
   }
   HopfOrbitOptions options;
   options.amplitude = scene.analysis.orbits.amplitude;

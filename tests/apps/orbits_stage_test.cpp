@@ -178,9 +178,17 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("[orbits] L2 modulated orbits"));
   CHECK_THAT(run.out, Contains("from 1 of the 2 Hopf points bounding a stable rotating wave"));
+  // The default numerics named, the followed Hopf point classified by its first Lyapunov
+  // coefficient (its orbits are born stable above it), and the orbits' checks printed.
+  CHECK_THAT(run.out, Contains("Gauss collocation of order 8 on 200 intervals per period"));
+  CHECK_THAT(run.out, Contains("stable below  l1 -"));
+  CHECK_THAT(run.out, Contains(": supercritical"));
+  CHECK_THAT(run.out, Contains("check: largest defect"));
   const ResultReader file(dir.path / "soft" / "soft.h5");
   CHECK(file.ReadStringAttribute("/", "level") == "L2");
   CHECK(file.ReadStringAttribute("/orbits", "friction_law") == "tanh");
+  CHECK(file.ReadStringAttribute("/orbits", "numerics") ==
+        "4 segments, Gauss collocation of order 8 on 200 intervals per period");
   CHECK_FALSE(file.Children("/orbits/rotating_waves").empty());
   std::vector<std::string> orbits;
   for (const std::string& name : file.Children("/orbits")) {
@@ -197,7 +205,10 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   const auto carrier = file.ReadDoubles(group + "/precession_hz");
   const auto stable = file.ReadInts(group + "/stable");
   REQUIRE(rpm.size() == 3);
+  const auto defect = file.ReadDoubles(group + "/defect");
+  REQUIRE(defect.size() == rpm.size());
   for (std::size_t i = 0; i < rpm.size(); ++i) {
+    CHECK(defect[i] < 1e-6);
     CHECK(rpm[i] > hopf_rpm);
     CHECK(carrier[i] == Approx(hopf_hz).epsilon(1e-4));
     CHECK(stable[i] == 1);
