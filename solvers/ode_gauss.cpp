@@ -188,14 +188,11 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
   Eigen::Map<Vector> dxdp(request.dxdp, with_dxdp ? n : 0);
   if (with_stm) stm.setIdentity();
   if (with_dxdp) dxdp.setZero();
-  Index output = 0;
-  const auto emit_outputs_at_start = [&]() {
-    while (output < request.count && request.times[output] == t0) {
-      if (request.states != nullptr) Eigen::Map<Vector>(request.states + output * n, n) = x_;
-      ++output;
-    }
-  };
-  emit_outputs_at_start();
+  Index output = 0;  // outputs at t0 are x0
+  while (output < request.count && request.times[output] == t0) {
+    if (request.states != nullptr) Eigen::Map<Vector>(request.states + output * n, n) = x_;
+    ++output;
+  }
   if (t1 == t0) {
     x_final = x_;
     IntegrationResult result;
