@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <utility>
 #include <cstring>
 #include <functional>
@@ -27,6 +26,7 @@
 #include "continuation/continuation.h"
 #include "models/textbook.h"
 #include "shooting/shooting.h"
+#include "solvers/stopwatch.h"
 #include "tests/shooting/duffing_harmonic_balance.h"
 
 namespace rubcont {
@@ -42,9 +42,9 @@ std::pair<double, double> MedianSeconds(const std::function<void()>& body, doubl
   const auto start = Clock::now();
   do {
     const auto t0 = Clock::now();
-    const std::clock_t c0 = std::clock();
+    const double c0 = ProcessCpuSeconds();
     body();
-    cpu.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    cpu.push_back(CpuSecondsSince(c0));
     wall.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   } while ((std::chrono::duration<double>(Clock::now() - start).count() < budget ||
             wall.size() < 3) &&

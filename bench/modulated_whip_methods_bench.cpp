@@ -112,7 +112,7 @@ int Main(int argc, char** argv) {
   const auto branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, wave_options, {});
   const RubHopfStart start = StableBoundaryHopfPoints(branches, structure.Coordinates()).at(0);
-  std::printf("Hopf point %.4f rpm, carrier %.4f Hz; 4 segments; CPU seconds (std::clock)\n\n",
+  std::printf("Hopf point %.4f rpm, carrier %.4f Hz; 4 segments; CPU seconds of the process\n\n",
               RadPerSecondToRpm(start.speed), RadPerSecondToHz(start.precession));
 
   std::printf("Part 1: from the Hopf point to 56 rpm\n");

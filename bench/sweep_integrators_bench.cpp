@@ -7,7 +7,7 @@
 // speed: sweeps/sweep.h), and is compared with the reference (ERK 5 at 1e-11; ERK 5 at 1e-10 shows
 // the reference's own accuracy) in what a sweep reports: the dominant backward precession
 // BP, the mean slip velocity V and the contact fraction, the worst of the two contacts. CPU time
-// is the process's (std::clock; one thread), the median of `--repeats` runs.
+// is the process's (solvers/stopwatch.h; one thread), the median of `--repeats` runs.
 //
 // A regime whose motion is chaotic (the impacting whip) has no trajectory to converge to in 0.5 s:
 // there the differences are those of statistics over 0.5 s, and the reference pair shows their
@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <string>
 #include <vector>
 
@@ -27,6 +26,7 @@
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
+#include "solvers/stopwatch.h"
 #include "sweeps/rub_sweep.h"
 
 namespace {
@@ -84,9 +84,9 @@ Outcome Run(const rubcont::Scene& scene, double rpm, const rubcont::Vector& x0, 
   for (int r = 0; r < repeats; ++r) {
     rubcont::SweepRun run(scene, rubcont::SweepDirection::kUp, {}, x0,
                           OneSpeed(scene, rpm, length, m.options));
-    const std::clock_t c0 = std::clock();
+    const double c0 = rubcont::ProcessCpuSeconds();
     run.stepper().Step();
-    cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC);
+    cpu.push_back(rubcont::CpuSecondsSince(c0));
     const rubcont::SweepPoint& p = run.stepper().points().back();
     out.ok = p.status != rubcont::SweepPointStatus::kIntegrationFailure;
     out.message = p.message;

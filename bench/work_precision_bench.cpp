@@ -1,6 +1,6 @@
 // Work-precision benchmark (issue 7): for one scene, three questions answered by every method,
-// each answer with its error against a reference and its CPU time (getrusage: user + system time
-// of this process, so that the other jobs on a shared machine do not count).
+// each answer with its error against a reference and its CPU time (user + system time of this
+// process, solvers/stopwatch.h, so that the other jobs on a shared machine do not count).
 //
 //   q1  the dominant precession [Hz] of the motion at a given speed (the whip);
 //   q2  the speed-up whirl → whip jump speed [rpm];
@@ -33,8 +33,6 @@
 // error_estimate, cpu_s, status, note) and OUTDIR/summary.txt (also printed): the references with
 // their convergence, and the ratios of CPU time at equal accuracy. --quick runs a few settings per
 // method (a smoke test of the harness, minutes instead of ten).
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -56,6 +54,7 @@
 #include "models/analytic.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
+#include "solvers/stopwatch.h"
 #include "studies/whirl_limits.h"
 #include "sweeps/rub_sweep.h"
 
@@ -63,13 +62,6 @@ namespace rubcont {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double CpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
 
 // One answer: a row of the CSV.
 struct Row {
@@ -159,12 +151,12 @@ L0Answers AnswerL0(const TwoPointParams& p, double speed_min, double speed_max, 
   };
   // The closed form takes about a millisecond: repeat it for a measurable CPU time.
   int runs = 0;
-  const double start = CpuSeconds();
+  const double start = ProcessCpuSeconds();
   do {
     answer();
     ++runs;
-  } while (CpuSeconds() - start < 0.2);
-  const double cpu = (CpuSeconds() - start) / runs;
+  } while (ProcessCpuSeconds() - start < 0.2);
+  const double cpu = (ProcessCpuSeconds() - start) / runs;
   for (Row* r : {&a.q1, &a.q2, &a.q3}) {
     r->cpu_s = cpu;
     if (!std::isfinite(r->value)) {
@@ -195,9 +187,9 @@ BranchSet ComputeBranchSet(const RubStructure& structure, FrictionLawKind law,
                            const RotatingWaveBranchOptions& options, double q1_speed, int repeats) {
   BranchSet set;
   for (int i = 0; i < repeats; ++i) {
-    const double start = CpuSeconds();
+    const double start = ProcessCpuSeconds();
     set.branches = ComputeRotatingWaveBranches(structure, law, options);
-    const double cpu = CpuSeconds() - start;
+    const double cpu = ProcessCpuSeconds() - start;
     if (!(cpu >= set.cpu_s)) set.cpu_s = cpu;
   }
   set.up = FindWhirlLimit(set.branches, +1, options.search.speed_min);
@@ -292,7 +284,7 @@ Row RunJumpWindow(const Scene& scene, SweepDirection direction, const SweepSetti
   r.level = "L3";
   r.method = "sweep";
   r.setting = s.name + ": " + Describe(s, true);
-  const double start = CpuSeconds();
+  const double start = ProcessCpuSeconds();
   const double anchor = direction == SweepDirection::kUp ? std::floor(reference_rpm) : std::ceil(reference_rpm);
   const double sign = direction == SweepDirection::kUp ? 1.0 : -1.0;
   const std::vector<double> rpm = SpeedSchedule(anchor - 4 * sign, anchor + 4 * sign, s.step_rpm);
@@ -318,7 +310,7 @@ Row RunJumpWindow(const Scene& scene, SweepDirection direction, const SweepSetti
       }
     }
   }
-  r.cpu_s = CpuSeconds() - start;
+  r.cpu_s = ProcessCpuSeconds() - start;
   const auto& points = run.stepper().points();
   double simulated = 0.0;
   int unsettled = 0;
@@ -362,10 +354,10 @@ PrecessionRun RunPrecession(const Scene& scene, const SweepSetting& s, double q1
   r.level = "L3";
   r.method = "sweep";
   r.setting = s.name + ": " + Describe(s, false);
-  const double start = CpuSeconds();
+  const double start = ProcessCpuSeconds();
   SweepRun run(scene, SweepDirection::kUp, OptionsFor(scene, SweepDirection::kUp, s, {q1_rpm}));
   run.stepper().Step();
-  r.cpu_s = CpuSeconds() - start;
+  r.cpu_s = ProcessCpuSeconds() - start;
   const SweepPoint& p = run.stepper().points().back();
   if (run.stepper().Failed()) {
     r.status = "failed";
@@ -421,10 +413,10 @@ Row SolveL2(const Scene& scene, const ShootingSetting& s, double q1_speed, const
   o.shooting.sensitivities_in_residual = true;
   o.newton.residual_tolerance = o.newton.step_tolerance = 100 * s.tolerance;
   o.newton.max_iterations = 10;
-  const double cpu = CpuSeconds();
+  const double cpu = ProcessCpuSeconds();
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(scene.two_point), q1_speed,
                                                    kTwoPi * start.bp_hz, start.state, o);
-  r.cpu_s = CpuSeconds() - cpu + start.row.cpu_s;
+  r.cpu_s = ProcessCpuSeconds() - cpu + start.row.cpu_s;
   r.note = orbit.message + fmt::format("; {} integrator steps; includes the L3 start ({:.2f} s)",
                                        orbit.work.steps, start.row.cpu_s);
   if (!orbit.converged) {

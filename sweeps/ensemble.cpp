@@ -1,7 +1,5 @@
 #include "sweeps/ensemble.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -13,16 +11,12 @@
 
 #include <fmt/core.h>
 
+#include "solvers/stopwatch.h"
+
 namespace rubcont {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double ThreadCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 // A uniform draw in (0, 1) from 53 random bits (never 0, so that log() is finite).
 double Uniform(std::mt19937_64& generator) {
