@@ -259,6 +259,80 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, ResultWri
   if (!notes.empty()) writer.SetAttribute(group, "check_note", fmt::format("{}", fmt::join(notes, "; ")));
 }
 
+// One line per special point of a family of modulated orbits.
+void PrintSpecialPoints(const Branch& branch, std::ostream& out) {
+  for (const SpecialPoint& p : branch.special_points) {
+    fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation {:.2f} Hz{}\n",
+               p.Name(), RadPerSecondToRpm(p.lambda),
+               p.measures(branch.MeasureIndex("precession_hz")),
+               p.measures(branch.MeasureIndex("modulation_hz")),
+               p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
+  }
+}
+
+// The branches followed from the located branch points of family `name`: /orbits/<name>_bp<k>
+// (k = 1, 2, … in the family's order; a second side "_bp<k>b"), with what the point breaks.
+void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& name,
+                         ResultWriter& writer, std::ostream& out,
+                         std::vector<std::string>& failures) {
+  const Branch& family = orbits.orbits.branch;
+  int count = 0;
+  for (std::size_t k = 0; k < family.special_points.size(); ++k) {
+    const SpecialPoint& point = family.special_points[k];
+    if (point.type != SpecialPointType::kBranchPoint) continue;
+    const double rpm = RadPerSecondToRpm(point.lambda);
+    const auto followed = std::find_if(orbits.switches.begin(), orbits.switches.end(),
+                                       [k](const OrbitBranchSwitch& s) { return s.special_point == k; });
+    if (followed == orbits.switches.end()) {
+      const auto reached = std::find_if(
+          orbits.switches.begin(), orbits.switches.end(),
+          [&](const OrbitBranchSwitch& s) { return s.RejoinedNear(point.lambda); });
+      if (reached != orbits.switches.end()) {
+        fmt::print(out, "    branch point {:.4f} rpm: the far end of the branch from {:.4f} rpm, "
+                        "which rejoins the family here\n",
+                   rpm, RadPerSecondToRpm(family.special_points[reached->special_point].lambda));
+      }
+      continue;
+    }
+    const OrbitBranchSwitch& change = *followed;
+    ++count;
+    std::string what;
+    if (!change.ok) {
+      what = "no other branch: " + change.message;
+    } else if (change.breaks_mirror_symmetry) {
+      what = fmt::format("breaks the left–right symmetry (the family's orbits are symmetric, the new "
+                         "direction {:.3f} odd): the other side is its mirror image",
+                         change.direction_odd_part);
+    } else if (change.mirror_symmetric_orbit) {
+      what = fmt::format("keeps the left–right symmetry (new direction {:.3f} odd)",
+                         change.direction_odd_part);
+    } else {
+      what = "no symmetry decides it";
+    }
+    fmt::print(out, "    branch point {:.4f} rpm: {}\n", rpm, what);
+    for (std::size_t side = 0; side < change.branches.size(); ++side) {
+      const std::string branch_name = fmt::format("{}_bp{}{}", name, count, side == 0 ? "" : "b");
+      const PeriodicOrbitBranch& other = change.branches[side];
+      WritePeriodicOrbitBranch(writer, branch_name, other, {"speed_rpm", kRpmPerRadPerSecond},
+                               "/orbits");
+      const std::string group = "/orbits/" + branch_name;
+      writer.SetAttribute(group, "parent", name);
+      writer.SetAttribute(group, "branch_point_speed_rpm", rpm);
+      writer.SetAttribute(group, "branch_point_precession_hz",
+                          point.measures(family.MeasureIndex("precession_hz")));
+      writer.SetAttribute(group, "branch_point_note", what);
+      writer.SetAttribute(group, "branch_angle", change.change.angle);
+      const Branch& b = other.branch;
+      fmt::print(out, "  {}: {}\n", branch_name, b.BriefReport());
+      PrintSpecialPoints(b, out);
+      ReportOrbitChecks(b, group, writer, out);
+      if (IsFailure(b.status)) {
+        failures.push_back(fmt::format("[orbits] {}: {}", branch_name, b.message));
+      }
+    }
+  }
+}
+
 // Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
 // orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece of them.
 void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
@@ -319,7 +393,8 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                            followed, b.Size(), rpm, SecondsSince(t0)));
       return true;
     };
-    const RubModulatedOrbits orbits = ContinueModulatedOrbits(structure, waves, start, options);
+    const RubModulatedOrbits orbits =
+        ContinueModulatedOrbits(structure, waves, start, options, settings.follow_branch_points);
     WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", kRpmPerRadPerSecond},
                              "/orbits");
     const std::string group = "/orbits/" + name;
@@ -330,18 +405,12 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     const Branch& branch = orbits.orbits.branch;
     fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
                SecondsSince(t0), orbits.orbits.work.steps);
-    for (const SpecialPoint& p : branch.special_points) {
-      fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation "
-                      "{:.2f} Hz{}\n",
-                 p.Name(), RadPerSecondToRpm(p.lambda),
-                 p.measures(branch.MeasureIndex("precession_hz")),
-                 p.measures(branch.MeasureIndex("modulation_hz")),
-                 p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
-    }
+    PrintSpecialPoints(branch, out);
     ReportOrbitChecks(branch, group, writer, out);
     if (IsFailure(branch.status)) {
       failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
     }
+    WriteBranchSwitches(orbits, name, writer, out, failures);
   }
 }
 

@@ -12,8 +12,14 @@
 //                                    hopf_branch, hopf_speed_rpm, hopf_precession_hz,
 //                                    hopf_modulation_hz, check_note (when a check fails);
 //                                    measures precession_hz (the carrier), modulation_hz, defect,
-//                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>, and
-//                                    unresolved_multiplier with Gauss collocation.
+//                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>,
+//                                    unresolved_multiplier with Gauss collocation, and asymmetry
+//                                    for a left–right symmetric rotor.
+//     /orbits/<family>_bp<k>[b]      the branch followed from the family's k-th branch point
+//                                    (branch_points = "follow"; "b": the other side, where the two
+//                                    are not mirror images), the same layout, attrs parent,
+//                                    branch_point_speed_rpm, branch_point_precession_hz,
+//                                    branch_point_note (the symmetry it breaks), branch_angle.
 #pragma once
 
 #include "apps/models.h"

@@ -596,8 +596,20 @@ std::vector<KeySpec> BuildSchema() {
                     [](Scene& x) -> double& { return x.analysis.orbits.tolerance; }, Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-      "Continuation steps from each Hopf point.",
+      "Continuation steps from each Hopf point, and from each branch point followed.",
       [](Scene& x) -> int& { return x.analysis.orbits.max_steps; }));
+  s.push_back(Choice(
+      "analysis.orbits.branch_points",
+      "\"follow\": the other branch through each located branch point of a family is followed "
+      "(one of the two mirror images where the point breaks a left–right symmetric rotor's "
+      "symmetry); \"mark\": located and reported only.",
+      {"follow", "mark"},
+      [](Scene& x, const std::string& name) {
+        x.analysis.orbits.follow_branch_points = name == "follow";
+      },
+      [](const Scene& x) {
+        return std::string(x.analysis.orbits.follow_branch_points ? "follow" : "mark");
+      }));
 
   // Every default is the initializer of its Scene field (and the structs inside it): written once.
   const Scene defaults;

@@ -105,9 +105,10 @@ struct RubOrbitsSettings {
   double amplitude = 1e-3;    // first orbit's amplitude (scaled state units), 0 < x < 1
   int segments = 4;           // shooting segments per modulation period (1: single shooting)
   OrbitIntegrator integrator = OrbitIntegrator::kGauss;
-  int collocation_intervals = 200;  // Gauss mesh intervals per modulation period (all segments)
+  int collocation_intervals = 400;  // Gauss mesh intervals per modulation period (all segments)
   double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states); Gauss: its Newton's 1e-3·x
-  int max_steps = 40;         // continuation steps from each Hopf point
+  int max_steps = 40;         // continuation steps from each Hopf point (and each branch point)
+  bool follow_branch_points = true;  // follow the other branch through each located branch point
 };
 
 // [analysis]: what to compute.

@@ -379,7 +379,6 @@ struct Continuation::Impl {
 
     // Simple branch points.
     if (options.detect.branch_points && from.point.det.sign * to.point.det.sign < 0) {
-      fold_or_branch_point = true;
       // det at σ = 0 with this step's border (the stored one used the previous tangent).
       Vector tangent0;
       LogDeterminant det0;
@@ -393,7 +392,12 @@ struct Continuation::Impl {
         };
         const double fa = det0.sign;
         const double fb = to.point.det.sign * std::exp(to.point.det.log_abs - reference);
-        found.push_back(LocateBranchPointIn(sampler, psi, fa, fb, from, to, sigma_end, locate));
+        // With this step's border the determinant may keep its sign: the change was the border's
+        // (met on A(a)'s modulated whip), not a branch point in this step.
+        if (fa * fb < 0.0) {
+          fold_or_branch_point = true;
+          found.push_back(LocateBranchPointIn(sampler, psi, fa, fb, from, to, sigma_end, locate));
+        }
       }
     }
 
@@ -518,9 +522,15 @@ struct Continuation::Impl {
                            fmt::format("located on det (the branch-point Newton: {})",
                                        located.converged ? "converged outside the step"
                                                          : located.message);
+      entry.second.tangent = from.point.tangent;
       return entry;
     }
-    return FromArc(SpecialPointType::kBranchPoint, sampler, det, fa, fb, to, sigma_end, locate);
+    // The tangent the corrector computes at a point ever closer to the branch point is any vector
+    // of the nearly two-dimensional kernel (measured on A(a)'s modulated whip: the other branch's);
+    // branch switching needs the incoming branch's.
+    auto entry = FromArc(SpecialPointType::kBranchPoint, sampler, det, fa, fb, to, sigma_end, locate);
+    entry.second.tangent = from.point.tangent;
+    return entry;
   }
 
   std::pair<double, SpecialPoint> LocateFoldIn(Sampler& sampler, const PointData& from,

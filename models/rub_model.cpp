@@ -35,6 +35,40 @@ void RubStructure::Validate() const {
   }
 }
 
+std::vector<Index> ContactExchange(const RubStructure& structure) {
+  if (structure.contacts.size() != 2) return {};
+  const RubContact& a = structure.contacts[0];
+  const RubContact& b = structure.contacts[1];
+  const Index n = structure.Coordinates();
+  std::vector<Index> exchange(static_cast<std::size_t>(n));
+  for (Index c = 0; c < n; ++c) exchange[c] = c;
+  const std::pair<int, int> pairs[] = {{a.rotor, b.rotor}, {a.stator, b.stator}};
+  for (const auto& [i, j] : pairs) {
+    if (i == j || exchange[i] != i || exchange[j] != j) return {};  // shared coordinates
+    exchange[i] = j;
+    exchange[j] = i;
+  }
+  const auto invariant = [&](const Matrix& m) {
+    Matrix p(n, n);
+    for (Index i = 0; i < n; ++i) {
+      for (Index j = 0; j < n; ++j) p(i, j) = m(exchange[i], exchange[j]);
+    }
+    return (p - m).norm() <= 1e-12 * m.norm();
+  };
+  Vector weights(n);
+  for (Index i = 0; i < n; ++i) weights(i) = structure.imbalance_weights(exchange[i]);
+  const bool same_geometry = a.geometry.clearance == b.geometry.clearance &&
+                             a.geometry.radius == b.geometry.radius;
+  if (!same_geometry || !invariant(structure.mass) || !invariant(structure.damping) ||
+      !invariant(structure.stiffness) ||
+      (structure.imbalance != 0.0 &&
+       !((weights - structure.imbalance_weights).norm() <=
+         1e-12 * structure.imbalance_weights.norm()))) {
+    return {};
+  }
+  return exchange;
+}
+
 RubStructure TwoPointStructure(const TwoPointParams& p) {
   RubStructure s;
   const Matrix M_r = RotorMassMatrix(p);
@@ -152,6 +186,7 @@ RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
   stiffness_ = KronIdentity2(structure_.stiffness);
   modes_.assign(structure_.contacts.size(), FrictionMode::kRegularized);
   stick_forces_.setZero(static_cast<Index>(structure_.contacts.size()));
+  exchange_ = ContactExchange(structure_);
 }
 
 void RubFixedFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
@@ -238,6 +273,16 @@ void RubFixedFrame::RotationGenerator(ConstVectorRef x, VectorRef g) const {
   for (Index i = 0; i + 1 < x.size(); i += 2) {
     g(i) = -x(i + 1);
     g(i + 1) = x(i);
+  }
+}
+
+void RubFixedFrame::Mirror(VectorRef x) const {
+  const Index n = structure_.Coordinates();
+  const Vector y = x;
+  for (Index half = 0; half < 2; ++half) {  // positions, then velocities
+    for (Index c = 0; c < n; ++c) {
+      x.segment(2 * (half * n + c), 2) = y.segment(2 * (half * n + exchange_[c]), 2);
+    }
   }
 }
 

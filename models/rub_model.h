@@ -62,6 +62,13 @@ ContactLaw ContactLawOf(const Params& p) {
 // w = (½, ½, −½, −½) (centre damper between the mid-points), imbalance b = ((1−a), a, 0, 0).
 RubStructure TwoPointStructure(const TwoPointParams& params);
 
+// The exchange of the structure's two contacts as a permutation of its coordinates (rotor and
+// stator coordinate of contact 0 with those of contact 1, every other coordinate fixed), when the
+// structure is invariant under it: M, C, K, the imbalance weights (to 1e-12 relative) and the two
+// contacts' geometries equal after the exchange. Empty otherwise, and for any number of contacts
+// but two. Case A(a) (a symmetric rotor, equal stator supports and RCIs) has it; A(b) does not.
+std::vector<Index> ContactExchange(const RubStructure& structure);
+
 // Planar helpers on the real layout.
 inline Vector2 PlanarAt(const Vector& q, Index coordinate) {
   return Vector2(q(2 * coordinate), q(2 * coordinate + 1));
@@ -114,6 +121,9 @@ class RubFixedFrame : public OdeSystem {
   bool HasRotationSymmetry() const override { return structure_.imbalance == 0.0; }
   void Rotate(double phi, VectorRef x) const override;
   void RotationGenerator(ConstVectorRef x, VectorRef g) const override;
+  // κ = the exchange of the two contacts (ContactExchange), on positions and velocities.
+  bool HasMirrorSymmetry() const override { return !exchange_.empty(); }
+  void Mirror(VectorRef x) const override;
 
   const RubStructure& structure() const { return structure_; }
   // Contact quantities (N, V, F, δ, ...) at state x for the current ω.
@@ -135,6 +145,7 @@ class RubFixedFrame : public OdeSystem {
   std::vector<FrictionMode> modes_;
   Vector stick_forces_;
   ContactForces forces_;  // workspace
+  std::vector<Index> exchange_;  // ContactExchange(structure_)
 };
 
 // The same equations in the frame precessing backwards at the constant rate Ω_f,
@@ -158,6 +169,9 @@ class RubRotatingFrame : public OdeSystem {
   void RotationGenerator(ConstVectorRef x, VectorRef g) const override {
     fixed_.RotationGenerator(x, g);
   }
+  // The frame rotates every coordinate alike, so the contact exchange commutes with it.
+  bool HasMirrorSymmetry() const override { return fixed_.HasMirrorSymmetry(); }
+  void Mirror(VectorRef x) const override { fixed_.Mirror(x); }
 
   void SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces) {
     fixed_.SetFrictionModes(std::move(modes), std::move(stick_forces));

@@ -11,7 +11,11 @@ Writes, from the HDF5 file only (layout: apps/orbits_stage.h):
                      first contact (thin);
                      middle: normal force at the first contact — rotating waves, and the min/max
                      over each orbit;
-                     bottom: the largest Floquet multiplier modulus of the orbits, |mu| = 1 drawn.
+                     then the largest Floquet multiplier modulus of the orbits, |mu| = 1 drawn;
+                     bottom (left–right symmetric rotors): the orbits' asymmetry (0 on orbits
+                     whose two contacts move alike, /orbits/<family>/asymmetry).
+                     Families from a Hopf point start at an open circle, the branches followed
+                     from a branch point (<family>_bp<k>) at a cross.
 Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import os
@@ -45,6 +49,11 @@ def orbit_special_points(group):
     return [(text(t), float(r), k) for k, (t, r) in enumerate(zip(sp["type"][()], sp["speed_rpm"][()]))]
 
 
+def start_speed(group):
+    """Where a family starts: its Hopf point, or the branch point it was followed from."""
+    return float(group.attrs.get("hopf_speed_rpm", group.attrs.get("branch_point_speed_rpm", 0.0)))
+
+
 def main(argv):
     if len(argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -62,12 +71,15 @@ def main(argv):
         contact = contacts_of(waves[0][1])[0] if waves else "left"
 
         # Speeds shown: around the Hopf points followed and the orbits.
-        speeds = [float(g.attrs["hopf_speed_rpm"]) for _, g in orbits]
+        speeds = [start_speed(g) for _, g in orbits]
         speeds += [v for _, g in orbits for v in g["speed_rpm"][()]]
         lo, hi = (min(speeds) - 10.0, max(speeds) + 10.0) if speeds else (None, None)
 
-        fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(9, 10), sharex=True,
-                                                  gridspec_kw={"height_ratios": [3, 2, 1.2]})
+        symmetric = any("asymmetry" in g for _, g in orbits)
+        ratios = [3, 2, 1.2] + ([1.2] if symmetric else [])
+        fig, axes = plt.subplots(len(ratios), 1, figsize=(9, 10 + 1.5 * symmetric), sharex=True,
+                                 gridspec_kw={"height_ratios": ratios})
+        top, middle, bottom = axes[:3]
         modes, types = set(), set()
         for _, g in waves:
             mode = text(g.attrs.get("mode", "mode1"))
@@ -81,7 +93,7 @@ def main(argv):
             mark(top, points, "rpm", lambda p: p["hz"], color)
 
         handles = []
-        for k, (name, g) in enumerate(sorted(orbits, key=lambda item: item[1].attrs["hopf_speed_rpm"])):
+        for k, (name, g) in enumerate(sorted(orbits, key=lambda item: start_speed(item[1]))):
             color = ORBIT_COLORS[k % len(ORBIT_COLORS)]
             rpm, stable = g["speed_rpm"][()], g["stable"][()]
             plot_lines(top, rpm, g["precession_hz"][()], stable, color)
@@ -91,15 +103,24 @@ def main(argv):
                              color=color, lw=0.7, alpha=0.6, ls="-" if is_stable else (0, (2, 2)))
                 plot_lines(middle, rpm, g[f"{side}_normal_force_{contact}"][()], stable, color)
             bottom.semilogy(rpm, g["max_multiplier_modulus"][()], color=color, lw=1.2)
-            hopf = float(g.attrs["hopf_speed_rpm"])
-            top.plot(hopf, float(g.attrs["hopf_precession_hz"]), "o", ms=7, mfc=color, mec=color)
+            if symmetric and "asymmetry" in g:
+                axes[3].semilogy(rpm, np.maximum(g["asymmetry"][()], 1e-16), color=color, lw=1.2)
+            start = start_speed(g)
+            from_hopf = "hopf_speed_rpm" in g.attrs
+            top.plot(start, float(g.attrs["hopf_precession_hz" if from_hopf else
+                                          "branch_point_precession_hz"]),
+                     "o" if from_hopf else "X", ms=7, mfc=color, mec=color)
             for t, r, i in orbit_special_points(g):
                 y = g["special_points"]["precession_hz"][()][i]
                 top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
                 bottom.axvline(r, color=color, lw=0.8, ls=":")
                 types.add(t)
+            origin = (f"the Hopf point at {start:.2f} rpm" if from_hopf else
+                      f"the branch point at {start:.2f} rpm"
+                      + (", one of two mirror images" if "mirror" in text(g.attrs.get("branch_point_note", ""))
+                         else ""))
             handles.append(Line2D([], [], color=color, lw=1.6,
-                                  label=f"modulated orbits from the Hopf point at {hopf:.2f} rpm "
+                                  label=f"modulated orbits from {origin} "
                                         f"({g['speed_rpm'][()].size} orbits)"))
 
         handles += [Line2D([], [], color=MODE_COLORS[m], lw=1.6, label=f"rotating wave ({m})")
@@ -117,17 +138,20 @@ def main(argv):
         middle.set_ylabel(f"normal force, {contact} contact [N]")
         bottom.axhline(1.0, color="black", lw=0.8)
         bottom.set_ylabel("max |Floquet multiplier|")
-        bottom.set_xlabel("running speed [rpm]")
+        if symmetric:
+            axes[3].set_ylabel("asymmetry\n(left–right)")
+            axes[3].set_ylim(1e-13, 1.0)
+        axes[-1].set_xlabel("running speed [rpm]")
         if lo is not None:
-            bottom.set_xlim(lo, hi)
+            axes[-1].set_xlim(lo, hi)
             band = [v for _, g in orbits for key in (f"min_precession_hz_{contact}",
                                                      f"max_precession_hz_{contact}")
                     for v in g[key][()] if np.isfinite(v)]
-            band += [float(g.attrs["hopf_precession_hz"]) for _, g in orbits]
+            band += [float(g.attrs["hopf_precession_hz"]) for _, g in orbits if "hopf_precession_hz" in g.attrs]
             top.set_ylim(min(band) - 25.0, max(band) + 25.0)
             _fit_y(middle, waves, orbits, lo, hi, f"normal_force_{contact}",
                    [f"min_normal_force_{contact}", f"max_normal_force_{contact}"])
-        for ax in (top, middle, bottom):
+        for ax in axes:
             ax.grid(alpha=0.3, which="both")
         fig.tight_layout()
         fig.savefig(os.path.join(out_dir, "orbits.png"), dpi=130)

@@ -82,18 +82,18 @@ def modulated_whip(results):
         hopf = g.attrs["hopf_speed_rpm"]
         bp = [s for t, s in zip(g["special_points/type"][()], g["special_points/speed_rpm"][()])
               if t == b"branch point"]
-    return (f"the Mode 1 whirl at {hopf:.4f} rpm", f"already unstable past its branch point at "
-            f"{bp[0]:.1f} rpm")
+    return (f"the Mode 1 whirl at {hopf:.4f} rpm", f"between its branch points at {bp[0]:.1f} "
+            f"and {bp[1]:.1f} rpm")
 
 
 def modulated_whip_table(results):
-    """The modulated whip's table: the first orbit and those nearest 53.6, 56.1, 57.9 and 62.8 rpm."""
+    """The modulated whip's table: the first orbit and those nearest 53.6 … 100 rpm."""
     with h5(results, "thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5") as f:
         g = f["orbits/branch2_hopf2"]
         rpm = g["speed_rpm"][()]
         mu = np.hypot(g["multipliers_real"][()], g["multipliers_imag"][()])
         rows = []
-        for target in (rpm[0], 53.6, 56.1, 57.9, 62.8):
+        for target in (rpm[0], 53.6, 56.1, 57.9, 62.8, 80.0, 100.0):
             i = int(np.argmin(np.abs(rpm - target)))
             rows.append(
                 f"| {rpm[i]:.3f} | {g['modulation_hz'][i]:.2f} | {g['precession_hz'][i]:.4f} | "

@@ -83,6 +83,8 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   result.state_dimension = n;
   result.segments = segments;
   result.start_lambda = lambda;
+  result.shooting = shooting;
+  result.shooting.lambda_scale = problem.LambdaScale();
   stepper.StartWithTangent(u0, lambda, du, 0.0);
   result.branch = RunToEnd(stepper, options.on_step);
   result.work = problem.statistics();

@@ -18,6 +18,26 @@ void Accumulate(ShootingStatistics& total, const ShootingStatistics& part) {
   total.cache_hits += part.cache_hits;
 }
 
+// κ applied to every segment start of u (T and φ are invariant).
+Vector MirrorStarts(const OdeSystem& system, const ShootingProblem& problem, const Vector& u) {
+  Vector mirrored = u;
+  const Index n = problem.StateDimension();
+  for (Index i = 0; i < problem.SegmentCount(); ++i) {
+    VectorRef block = mirrored.segment(i * n, n);
+    system.Mirror(block);
+  }
+  return mirrored;
+}
+
+// ‖S⁻¹(κu − u)‖∞ / ‖S⁻¹u‖∞ over the segment starts (S the problem's scale).
+double StartsAsymmetry(const OdeSystem& system, const ShootingProblem& problem, const Vector& u) {
+  const Index states = problem.StateDimension() * problem.SegmentCount();
+  const Vector scale = problem.Scale().head(states);
+  const Vector x = u.head(states).cwiseQuotient(scale);
+  const Vector difference = (MirrorStarts(system, problem, u) - u).head(states).cwiseQuotient(scale);
+  return difference.lpNorm<Eigen::Infinity>() / x.lpNorm<Eigen::Infinity>();
+}
+
 }  // namespace
 
 OrbitStart SettleOnCycle(OdeSystem& system, const Vector& x0, double duration, Index section_state,
@@ -132,6 +152,9 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     ShootingProblem problem(system, kind, shooting);
     if (!options.measures.empty()) problem.SetMeasures(options.measures);
     const Vector u0 = problem.InitialGuess(start.x0, start.period, start.lambda);
+    result.shooting = shooting;
+    result.shooting.period_scale = problem.PeriodScale();
+    result.shooting.lambda_scale = problem.LambdaScale();
     ContinuationOptions continuation = options.continuation;
     continuation.bounds.lambda_min = options.lambda_min;
     continuation.bounds.lambda_max = options.lambda_max;
@@ -159,6 +182,122 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     } else {
       result.branch = JoinAtStart(backward, forward);
     }
+  }
+  return result;
+}
+
+bool OrbitBranchSwitch::RejoinedNear(double lambda) const {
+  const double lo = std::min(rejoined_between[0], rejoined_between[1]);
+  const double hi = std::max(rejoined_between[0], rejoined_between[1]);
+  return lambda >= lo - (hi - lo) && lambda <= hi + (hi - lo);  // false for NaN
+}
+
+OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
+                                                const PeriodicOrbitBranch& family,
+                                                std::size_t special_point,
+                                                const PeriodicOrbitBranchOptions& options,
+                                                const StepCallback& on_step) {
+  Validate(options);
+  const Branch& branch = family.branch;
+  if (special_point >= branch.special_points.size() ||
+      branch.special_points[special_point].type != SpecialPointType::kBranchPoint) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueOrbitsFromBranchPoint: special point {} of {} is not a branch point",
+        special_point, branch.special_points.size()));
+  }
+  SpecialPoint point = branch.special_points[special_point];
+  const auto before = static_cast<std::size_t>(std::max<Index>(point.index, 0));
+  const std::size_t after = std::min(before + 1, branch.points.size() - 1);
+  OrbitBranchSwitch result;
+  result.special_point = special_point;
+
+  ShootingOptions shooting = family.shooting;
+  shooting.refresh_phase_reference = family.kind != OrbitKind::kForced;
+  system.SetParameter(point.lambda);
+  ShootingProblem problem(system, family.kind, shooting);
+  if (!options.measures.empty()) problem.SetMeasures(options.measures);
+  problem.SetPhaseReference(branch.points[before].u, branch.points[before].lambda);
+
+  if (system.HasMirrorSymmetry()) {
+    result.mirror_symmetric_orbit =
+        StartsAsymmetry(system, problem, branch.points[before].u) <= OrbitBranchSwitch::kSymmetricOrbit &&
+        StartsAsymmetry(system, problem, branch.points[after].u) <= OrbitBranchSwitch::kSymmetricOrbit;
+    if (result.mirror_symmetric_orbit) {
+      point.u = 0.5 * (point.u + MirrorStarts(system, problem, point.u));
+    }
+  }
+  result.change = ComputeBranchSwitch(problem, point);
+  if (!result.change.ok) {
+    result.message = result.change.message;
+    return result;
+  }
+  if (system.HasMirrorSymmetry()) {
+    const Index states = problem.StateDimension() * problem.SegmentCount();
+    const Vector direction = result.change.du.cwiseQuotient(problem.Scale());
+    const Vector odd =
+        0.5 * (result.change.du - MirrorStarts(system, problem, result.change.du))
+                  .head(states)
+                  .cwiseQuotient(problem.Scale().head(states));
+    result.direction_odd_part = odd.norm() / direction.norm();
+    result.breaks_mirror_symmetry = result.mirror_symmetric_orbit && result.direction_odd_part >= 0.9;
+  }
+  result.ok = true;
+
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.detect.stability = true;
+  for (int side : {+1, -1}) {
+    if (side < 0 && result.breaks_mirror_symmetry) break;
+    problem.ResetStatistics();
+    problem.SetPhaseReference(branch.points[before].u, branch.points[before].lambda);
+    PeriodicOrbitBranch other;
+    other.kind = family.kind;
+    other.state_dimension = family.state_dimension;
+    other.segments = family.segments;
+    other.start_lambda = point.lambda;
+    other.shooting = family.shooting;
+    // A branch that breaks the symmetry ends where it meets the symmetric subspace again (at
+    // another pitchfork, e.g. the far end of a bubble of asymmetric orbits): beyond it lies either
+    // the symmetric family, already known, or the mirror image of the branch. Met when the orbit
+    // is symmetric again, or when its odd part, projected on the switch direction's, changes sign.
+    const Index states = problem.StateDimension() * problem.SegmentCount();
+    const auto odd_part = [&](const Vector& u) -> Vector {
+      return 0.5 * (u - MirrorStarts(system, problem, u)).head(states).cwiseQuotient(
+                       problem.Scale().head(states));
+    };
+    const Vector odd_direction = odd_part(result.change.du);
+    Continuation stepper(problem, continuation);
+    stepper.StartFromBranchPoint(point, side);
+    double largest_asymmetry = 0.0, previous_projection = 0.0;
+    while (stepper.branch().status == BranchStatus::kRunning) {
+      stepper.Step();
+      const Branch& so_far = stepper.branch();
+      if (on_step && !on_step(so_far)) stepper.Stop("stopped by the per-step callback");
+      if (!result.breaks_mirror_symmetry || so_far.points.size() < 2) continue;
+      const BranchPoint& last = so_far.points.back();
+      const double asymmetry = StartsAsymmetry(system, problem, last.u);
+      const double projection = odd_direction.dot(odd_part(last.u));
+      largest_asymmetry = std::max(largest_asymmetry, asymmetry);
+      const bool symmetric_again = largest_asymmetry > 1e-3 &&
+                                   asymmetry <= OrbitBranchSwitch::kSymmetricOrbit;
+      const bool crossed = previous_projection * projection < 0.0;
+      previous_projection = projection;
+      if (so_far.status == BranchStatus::kRunning && (symmetric_again || crossed)) {
+        stepper.Stop(fmt::format(
+            "rejoined the symmetric orbits between λ = {:.10g} and {:.10g} ({}; largest "
+            "asymmetry {:.1e} on the way)",
+            so_far.points[so_far.points.size() - 2].lambda, last.lambda,
+            crossed ? "the odd part changed sign: beyond lies the mirror image"
+                    : fmt::format("asymmetry {:.1e}", asymmetry),
+            largest_asymmetry));
+        result.rejoined_between[0] = so_far.points[so_far.points.size() - 2].lambda;
+        result.rejoined_between[1] = last.lambda;
+      }
+    }
+    other.branch = stepper.TakeBranch();
+    other.work = problem.statistics();
+    result.branches.push_back(std::move(other));
   }
   return result;
 }

@@ -20,10 +20,13 @@
 //     // b.branch.Measure("period"), b.branch.points[i].spectrum, b.branch.special_points
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "continuation/branch.h"
+#include "continuation/branch_switching.h"
+#include "continuation/continuation.h"
 #include "continuation/options.h"
 #include "shooting/shooting.h"
 
@@ -73,6 +76,9 @@ struct PeriodicOrbitBranch {
   int segments = 1;
   double start_lambda = 0.0;
   ShootingStatistics work;   // integrations of both runs
+  // The shooting options the branch was computed with, its scales filled in (period_scale,
+  // lambda_scale): a branch switch continues in the same scaled variables.
+  ShootingOptions shooting;
 };
 
 // Throws std::invalid_argument for an invalid start (start.valid false: its message), a start
@@ -81,5 +87,47 @@ struct PeriodicOrbitBranch {
 PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
                                            const OrbitStart& start,
                                            const PeriodicOrbitBranchOptions& options);
+
+// The other branch through a located branch point of a periodic-orbit family: the direction from
+// the algebraic branching equation (continuation/branch_switching.h), followed with the family's
+// shooting (PeriodicOrbitBranch::shooting, the phase reference at the last orbit before the point)
+// over [options.lambda_min, options.lambda_max] with options.continuation and options.measures.
+//
+// With a mirror symmetry κ (OdeSystem::HasMirrorSymmetry) the point is classified. Where the
+// family's orbits on both sides of the point are symmetric (asymmetry ≤ kSymmetricOrbit) the
+// branch point lies in the symmetric subspace: the located point is projected onto it ((u + κu)/2;
+// located on the determinant it has drifted along the odd kernel direction, 8e-5 on A(a)), and
+// when the new direction is odd (its κ-odd part ≥ 0.9 of it) the point is a symmetry-breaking
+// pitchfork: the two sides of the new branch are each other's mirror images and only side +1 is
+// followed, up to where its orbits are symmetric again (asymmetry of the segment starts back to
+// kSymmetricOrbit after exceeding 1e-3: the branch has met the symmetric family at another
+// pitchfork; status kStoppedByCaller, the message says where). Otherwise both sides are followed.
+struct OrbitBranchSwitch {
+  static constexpr double kSymmetricOrbit = 1e-8;
+  std::size_t special_point = 0;   // index into the family's branch.special_points
+  bool ok = false;                 // false: no direction (message says why), no branches
+  std::string message;
+  BranchSwitch change;             // ABE coefficients, angle, direction (side +1)
+  bool mirror_symmetric_orbit = false;   // the family is κ-symmetric at the point
+  bool breaks_mirror_symmetry = false;   // ... and the new direction is κ-odd
+  double direction_odd_part = std::numeric_limits<double>::quiet_NaN();  // in [0, 1]
+  // Where side +1 rejoined the symmetric orbits: λ of its last two points (NaN if it did not).
+  double rejoined_between[2] = {std::numeric_limits<double>::quiet_NaN(),
+                                std::numeric_limits<double>::quiet_NaN()};
+  // Whether side +1 rejoined the symmetric orbits near λ: within the interval of its last two
+  // points widened by its length each way (the far pitchfork is a tip in λ, λ* − λ ∝ (odd part)²:
+  // both points may lie on one side of it).
+  bool RejoinedNear(double lambda) const;
+  std::vector<PeriodicOrbitBranch> branches;  // side +1, then side −1 unless mirror images
+};
+
+// Throws std::invalid_argument when special_point is not a branch point of the family or the
+// options are invalid.
+// on_step is called after every continuation step of each side (returning false stops it).
+OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
+                                                const PeriodicOrbitBranch& family,
+                                                std::size_t special_point,
+                                                const PeriodicOrbitBranchOptions& options,
+                                                const StepCallback& on_step = {});
 
 }  // namespace rubcont

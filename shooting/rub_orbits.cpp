@@ -83,6 +83,9 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   check.max_order = 2;
   check.max_steps = 2000000;
   measures.push_back(PeriodicityDefect(std::make_shared<RubRotatingFrame>(frame), check));
+  if (frame.HasMirrorSymmetry()) {
+    measures.push_back(MirrorAsymmetry(std::make_shared<RubRotatingFrame>(frame)));
+  }
   const auto& contacts = frame.structure().contacts;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const std::string& name = contacts[c].name;
@@ -134,7 +137,8 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
 
 RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
                                            const std::vector<RotatingWaveBranch>& branches,
-                                           const RubHopfStart& start, HopfOrbitOptions options) {
+                                           const RubHopfStart& start, HopfOrbitOptions options,
+                                           bool switch_at_branch_points) {
   if (structure.imbalance != 0.0) {
     throw std::invalid_argument(fmt::format(
         "ContinueModulatedOrbits: imbalance = {} kg·m: the co-rotating frame needs a balanced "
@@ -166,6 +170,25 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   RubModulatedOrbits result;
   result.hopf = start;
   result.orbits = ContinueOrbitsFromHopf(frame, hopf, options);
+  if (switch_at_branch_points) {
+    const std::vector<SpecialPoint>& special = result.orbits.branch.special_points;
+    for (std::size_t k = 0; k < special.size(); ++k) {
+      // A branch point not located to tolerance is still tried on a mirror-symmetric rotor: the
+      // symmetry fixes the new direction, and ComputeBranchSwitch says when the point is too far.
+      if (special[k].type != SpecialPointType::kBranchPoint ||
+          !(special[k].converged || frame.HasMirrorSymmetry())) {
+        continue;
+      }
+      // The far end of a bubble already followed from its near end: not again.
+      const double lambda = special[k].lambda;
+      const bool reached = std::any_of(
+          result.switches.begin(), result.switches.end(),
+          [lambda](const OrbitBranchSwitch& s) { return s.RejoinedNear(lambda); });
+      if (reached) continue;
+      result.switches.push_back(
+          ContinueOrbitsFromBranchPoint(frame, result.orbits, k, options.orbits, options.on_step));
+    }
+  }
   return result;
 }
 

@@ -39,6 +39,8 @@ namespace rubcont {
 //   defect                         PeriodicityDefect with CVODES BDF ≤ 2 at 1e-11, state only
 //   unresolved_multiplier          UnresolvedMultiplier, with Gauss collocation only (added by
 //                                  ContinueModulatedOrbits, which knows the mesh)
+//   asymmetry                      MirrorAsymmetry, for a left–right symmetric structure only
+//                                  (ContactExchange): ~1e-11 on symmetric orbits
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
 
@@ -57,14 +59,24 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
 struct RubModulatedOrbits {
   RubHopfStart hopf;
   PeriodicOrbitBranch orbits;
+  // The branches through its located branch points (ContinueModulatedOrbits with
+  // switch_at_branch_points), in the order of orbits.branch.special_points.
+  std::vector<OrbitBranchSwitch> switches;
 };
 
 // The orbits born at `start` (a point of StableBoundaryHopfPoints(branches, ...)) of the tanh-law
 // branches of `structure`, continued in speed with `options` (kind is set to kRelative and the
-// measures to RubOrbitMeasures). Throws std::invalid_argument when the structure has an imbalance
-// or the start names no Hopf point of `branches`; numerical failures end the branch with a status.
+// measures to RubOrbitMeasures). With switch_at_branch_points, the other branch through every
+// located branch point (converged; on a left–right symmetric rotor also one located only to a
+// bracket) is followed over the same range (ContinueOrbitsFromBranchPoint: of a symmetric rotor,
+// one of two mirror images where the point breaks the symmetry, up to where it rejoins it; a
+// branch point where an earlier switched branch rejoined is not followed again),
+// on_step called for its steps too. Throws std::invalid_argument when the structure has an
+// imbalance or the start names no Hopf point of `branches`; numerical failures end the branch
+// with a status.
 RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
                                            const std::vector<RotatingWaveBranch>& branches,
-                                           const RubHopfStart& start, HopfOrbitOptions options);
+                                           const RubHopfStart& start, HopfOrbitOptions options,
+                                           bool switch_at_branch_points = false);
 
 }  // namespace rubcont

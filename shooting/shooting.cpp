@@ -158,6 +158,28 @@ OrbitMeasure PeriodicityDefect(std::shared_ptr<OdeSystem> system, const Integrat
           }};
 }
 
+OrbitMeasure MirrorAsymmetry(std::shared_ptr<const OdeSystem> system, std::string name) {
+  if (!system->HasMirrorSymmetry()) {
+    throw std::invalid_argument("MirrorAsymmetry: the system has no mirror symmetry");
+  }
+  const Vector inverse_scale = system->StateScale().cwiseInverse();
+  return {std::move(name), [system, inverse_scale](const OrbitSamples& orbit) {
+            if (!orbit.valid) return kNaN;
+            double difference = 0.0, size = 0.0;
+            Vector mirrored;
+            for (Index j = 0; j < orbit.states.cols(); ++j) {
+              mirrored = orbit.states.col(j);
+              system->Mirror(mirrored);
+              difference = std::max(difference, (mirrored - orbit.states.col(j))
+                                                    .cwiseProduct(inverse_scale)
+                                                    .lpNorm<Eigen::Infinity>());
+              size = std::max(size, orbit.states.col(j).cwiseProduct(inverse_scale)
+                                        .lpNorm<Eigen::Infinity>());
+            }
+            return size > 0.0 ? difference / size : 0.0;
+          }};
+}
+
 OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,
                                   long steps_per_period, std::string name) {
   return {std::move(name), [system, stages, steps_per_period](const OrbitSamples& orbit) {

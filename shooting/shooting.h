@@ -135,6 +135,14 @@ OrbitMeasure StateMean(Index state, std::string name);
 OrbitMeasure PeriodicityDefect(std::shared_ptr<OdeSystem> system, const IntegratorOptions& options,
                                std::string name = "defect");
 
+// max_t ‖S⁻¹(κx(t) − x(t))‖∞ / max_t ‖S⁻¹x(t)‖∞ over the samples, κ the system's mirror symmetry
+// (OdeSystem::Mirror): 0 for an orbit in the symmetric subspace (to the solution's precision,
+// measured ~1e-11 on A(a)'s modulated whip), of order 1 for one that breaks the symmetry. An
+// orbit symmetric only up to a time shift (κx(t) = x(t + T/2)) counts as asymmetric. Throws
+// std::invalid_argument when the system has no mirror symmetry.
+OrbitMeasure MirrorAsymmetry(std::shared_ptr<const OdeSystem> system,
+                             std::string name = "asymmetry");
+
 // The modes a fixed Gauss mesh does not resolve, frozen at the orbit's first sample: for each
 // eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, |R(λ_k h)|^N (R the
 // stability function, GaussStabilityFunction; N = steps_per_period, h = T/N), against the exact
@@ -167,6 +175,9 @@ class ShootingProblem : public Problem {
   void DfDlambda(const Vector& u, double lambda, Vector& dF) override;
   Vector Scale() const override;
   double LambdaScale() const override { return lambda_scale_; }
+  // The period's scale in Scale(): options().period_scale, or |T| of the first phase reference
+  // (0 before it is set).
+  double PeriodScale() const { return period_scale_; }
   Vector ResidualScale() const override;
   bool HasStability() const override { return true; }
   // Nontrivial Floquet multipliers (1 removed for kAutonomous, 2 for kRelative).

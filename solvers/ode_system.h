@@ -54,6 +54,14 @@ class OdeSystem {
   virtual void Rotate(double /*phi*/, VectorRef /*x*/) const {}
   // g = d/dφ (R_φ x) at φ = 0, the infinitesimal generator applied to x.
   virtual void RotationGenerator(ConstVectorRef /*x*/, VectorRef /*g*/) const {}
+
+  // Optional mirror symmetry: a linear involution κ of the state (κ² = I) with f(t, κx) = κ f(t, x),
+  // commuting with Rotate — e.g. the exchange of the two contacts of a left–right symmetric rotor.
+  // An orbit in its fixed space (κx(t) = x(t)) can lose stability to a κ-odd perturbation: a
+  // symmetry-breaking pitchfork, whose two new branches are each other's mirror images.
+  virtual bool HasMirrorSymmetry() const { return false; }
+  // x ← κ x.
+  virtual void Mirror(VectorRef /*x*/) const {}
 };
 
 }  // namespace rubcont

@@ -180,7 +180,7 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   CHECK_THAT(run.out, Contains("from 1 of the 2 Hopf points bounding a stable rotating wave"));
   // The default numerics named, the followed Hopf point classified by its first Lyapunov
   // coefficient (its orbits are born stable above it), and the orbits' checks printed.
-  CHECK_THAT(run.out, Contains("Gauss collocation of order 8 on 200 intervals per period"));
+  CHECK_THAT(run.out, Contains("Gauss collocation of order 8 on 400 intervals per period"));
   CHECK_THAT(run.out, Contains("stable below  l1 -"));
   CHECK_THAT(run.out, Contains(": supercritical"));
   CHECK_THAT(run.out, Contains("check: largest defect"));
@@ -188,7 +188,7 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   CHECK(file.ReadStringAttribute("/", "level") == "L2");
   CHECK(file.ReadStringAttribute("/orbits", "friction_law") == "tanh");
   CHECK(file.ReadStringAttribute("/orbits", "numerics") ==
-        "4 segments, Gauss collocation of order 8 on 200 intervals per period");
+        "4 segments, Gauss collocation of order 8 on 400 intervals per period");
   CHECK_FALSE(file.Children("/orbits/rotating_waves").empty());
   std::vector<std::string> orbits;
   for (const std::string& name : file.Children("/orbits")) {

@@ -75,6 +75,54 @@ TEST_CASE("the pitchfork of x(λ − x²) is detected, located, and both new bra
   CHECK(end_x[1] == Approx(-1.0).margin(1e-9));
 }
 
+// x(λ − x²) = 0 in coordinates that mix the unknowns, (x, y) = (a + b, a − b), with y = λ/2 on
+// every branch, and a Jacobian that is off by 1e-6 (as a shooting Jacobian is consistent with
+// its residual only to the integration's accuracy): near the branch point the computed tangent
+// is any direction of the nearly two-dimensional kernel.
+LambdaProblem MixedPitchfork() {
+  return LambdaProblem(
+      2,
+      [](const Vector& u, double l, double, Vector& F) {
+        const double x = u(0) + u(1), y = u(0) - u(1);
+        F(0) = x * (l - x * x);
+        F(1) = y - 0.5 * l;
+      },
+      [](const Vector& u, double l, double, Matrix& J) {
+        const double x = u(0) + u(1), d = l - 3 * x * x;
+        J << d + 1e-6, d - 1e-6, 1, -1;
+      },
+      [](const Vector& u, double, double, Vector& dF) {
+        dF(0) = u(0) + u(1);
+        dF(1) = -0.5;
+      });
+}
+
+TEST_CASE("a branch point located on the determinant keeps the incoming tangent for switching",
+          "[continuation][branch_point]") {
+  LambdaProblem problem = MixedPitchfork();
+  ContinuationOptions options = Bounded();
+  options.location.branch_point_newton_max_unknowns = 0;  // Illinois on det, as for shooting
+  const Vector start = Vec({-0.25, 0.25});               // x = 0, y = λ/2 at λ = −1
+  const Branch trivial = Continue(problem, start, -1.0, options);
+  INFO(trivial.BriefReport());
+  REQUIRE(trivial.Count(SpecialPointType::kBranchPoint) == 1);
+  const SpecialPoint& bp = trivial.special_points.front();
+  CHECK(std::abs(bp.lambda) <= 1e-8);
+  // The stored tangent is the trivial branch's, x' = a' + b' = 0, up to the Jacobian's error over
+  // the distance of the last point before it (4.7e-5); the other branch's would give √2.
+  REQUIRE(bp.tangent.size() == 3);
+  CHECK(std::abs(bp.tangent(0) + bp.tangent(1)) <= 1e-3);
+  for (int side : {+1, -1}) {
+    const Branch other = ContinueFromBranchPoint(problem, bp, side, options);
+    INFO(other.BriefReport());
+    REQUIRE(other.status == BranchStatus::kReachedLambdaBound);
+    const BranchPoint& end = other.points.back();
+    const double x = end.u(0) + end.u(1);
+    CHECK(x * x == Approx(end.lambda).margin(1e-9));  // on the parabola, not on x = 0
+    CHECK(x * side > 0.5);
+  }
+}
+
 TEST_CASE("switching at a transcritical point follows the oblique branch x = λ",
           "[continuation][branch_point]") {
   LambdaProblem problem = Transcritical();

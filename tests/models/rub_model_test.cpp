@@ -161,6 +161,43 @@ TEST_CASE("rotating frame: Jacobian, equivariance and agreement with the fixed f
   }
 }
 
+TEST_CASE("contact exchange: a mirror symmetry of A(a) (f commutes with it), none with unequal "
+          "clearances or an off-centre mass",
+          "[rub_model]") {
+  TwoPointParams params = ThesisCaseAa();
+  params.friction_law.velocity_scale = 0.05;
+  const RubStructure structure = TwoPointStructure(params);
+  const std::vector<Index> exchange = ContactExchange(structure);
+  CHECK(exchange == std::vector<Index>{1, 0, 3, 2});  // rotor L ↔ R, stator L ↔ R
+  RubRotatingFrame rotating(structure, kTwoPi * 80.0, kTwoPi * 0.9);
+  RubFixedFrame fixed(structure, kTwoPi * 0.9);
+  REQUIRE(rotating.HasMirrorSymmetry());
+  REQUIRE(fixed.HasMirrorSymmetry());
+  // A state that is not symmetric: the right contact deeper than the left, different velocities.
+  Vector x = TouchingState(structure);
+  x(2) *= 1.001;
+  x(13) += 0.01;
+  for (OdeSystem* system : {static_cast<OdeSystem*>(&rotating), static_cast<OdeSystem*>(&fixed)}) {
+    Vector f(16), f_mirrored(16), y = x;
+    system->Mirror(y);
+    CHECK((y - x).norm() > 1e-3 * x.norm());
+    system->Rhs(0.0, x, f);
+    system->Rhs(0.0, y, f_mirrored);
+    system->Mirror(f);
+    CHECK((f_mirrored - f).norm() <= 1e-12 * f.norm());
+    system->Mirror(y);
+    CHECK(y == x);  // an involution
+  }
+
+  TwoPointParams unequal = params;
+  unequal.clearance[1] *= 2.0;  // case A(b)-like RCIs
+  CHECK(ContactExchange(TwoPointStructure(unequal)).empty());
+  CHECK_FALSE(RubFixedFrame(TwoPointStructure(unequal)).HasMirrorSymmetry());
+  TwoPointParams off_centre = params;
+  off_centre.rotor_mass_center = 0.2;
+  CHECK(ContactExchange(TwoPointStructure(off_centre)).empty());
+}
+
 TEST_CASE("rigid-contact orbit of the general structure equals the analytic Mode 1/2 closed form",
           "[rub_model]") {
   // Two independent derivations: the thesis-form W(Ω) receptance of models/analytic.h and the

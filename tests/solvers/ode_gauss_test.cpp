@@ -177,6 +177,43 @@ TEST_CASE("the Gauss stability function is the diagonal Padé approximant of the
   CHECK_THROWS_AS(GaussStabilityFunction(0, 1.0), std::invalid_argument);
 }
 
+// ẋ = −tanh(x/ε): the regularized dry friction of the rub, sliding at rate 1 until x ≈ 0, then
+// held there (x(t) = 1 − t for t < 1 − O(ε), then |x| = O(ε)).
+class TanhFriction : public OdeSystem {
+ public:
+  Index Dimension() const override { return 1; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override { f(0) = -std::tanh(x(0) / kEpsilon); }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override {
+    const double c = std::cosh(x(0) / kEpsilon);
+    J(0, 0) = -1.0 / (kEpsilon * c * c);
+  }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+  static constexpr double kEpsilon = 1e-3;
+};
+
+TEST_CASE("Gauss collocation's stage Newton backtracks through the steep tanh of friction",
+          "[ode][gauss]") {
+  // Steps of 0.1 (100 ε): the step that reaches x ≈ 0 starts its Newton from the extrapolated
+  // slide, far out on the flat of the tanh, where full Newton steps diverge.
+  TanhFriction system;
+  for (long steps : {20L, 13L}) {
+    CAPTURE(steps);
+    OdeIntegrator integrator(system, Gauss(4, steps));
+    Vector x(1);
+    const IntegrationResult result = integrator.Integrate(0.0, Vector::Ones(1), 2.0, x);
+    INFO(result.BriefReport());
+    REQUIRE(result.Succeeded());
+    // Held near 0: within 10 ε (Gauss does not damp the stiff decay there, |R(−∞)| = 1, so the
+    // arrival step's error stays: 1.4 ε with 13 steps), against 1 at the start.
+    CHECK(std::abs(x(0)) <= 10 * TanhFriction::kEpsilon);
+    Vector halfway(1);
+    OdeIntegrator(system, Gauss(4, steps)).Integrate(0.0, Vector::Ones(1), 0.5, halfway);
+    CHECK(halfway(0) == Approx(0.5).margin(1e-9));
+  }
+}
+
 TEST_CASE("Gauss collocation refuses events and invalid meshes, and reports Newton failure",
           "[ode][gauss]") {
   StuartLandauOscillator system(Shear());

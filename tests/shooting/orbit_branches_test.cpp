@@ -1,0 +1,179 @@
+// Branch switching on periodic orbits with a known answer: a limit cycle (the unit circle of
+// ẋ = (1 − r²)x − y, ẏ = (1 − r²)y + x, period 2π) times a pitchfork ż = z(λ − z²). The orbits
+// with z = 0 exist for every λ and lose stability at λ = 0 (multiplier e^{2πλ} through +1); the
+// new orbits have z = ±√λ and the multiplier e^{−4πλ}. The mirror z → −z maps one onto the other.
+// With ż = z(1 − λ² − z²) instead ("bubble"), the new orbits z² = 1 − λ² join pitchforks at λ = ±1.
+#include "shooting/orbit_branches.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+namespace rubcont {
+namespace {
+
+class CycleTimesPitchfork : public OdeSystem {
+ public:
+  explicit CycleTimesPitchfork(bool declare_mirror, bool bubble = false)
+      : declare_mirror_(declare_mirror), bubble_(bubble) {}
+  Index Dimension() const override { return 3; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const double g = 1.0 - x(0) * x(0) - x(1) * x(1);
+    f << g * x(0) - x(1), g * x(1) + x(0), x(2) * (Growth() - x(2) * x(2));
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override {
+    const double g = 1.0 - x(0) * x(0) - x(1) * x(1);
+    J << g - 2 * x(0) * x(0), -1 - 2 * x(0) * x(1), 0,  //
+        1 - 2 * x(0) * x(1), g - 2 * x(1) * x(1), 0,    //
+        0, 0, Growth() - 3 * x(2) * x(2);
+  }
+  double Parameter() const override { return lambda_; }
+  void SetParameter(double lambda) override { lambda_ = lambda; }
+  void DfDparameter(double, ConstVectorRef x, VectorRef df) override {
+    df << 0, 0, x(2) * (bubble_ ? -2 * lambda_ : 1.0);
+  }
+  bool HasMirrorSymmetry() const override { return declare_mirror_; }
+  void Mirror(VectorRef x) const override { x(2) = -x(2); }
+
+ private:
+  double Growth() const { return bubble_ ? 1 - lambda_ * lambda_ : lambda_; }
+  bool declare_mirror_;
+  bool bubble_;
+  double lambda_ = -0.5;
+};
+
+PeriodicOrbitBranchOptions Options() {
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = -0.5;
+  options.lambda_max = 0.5;
+  options.shooting.segments = 2;
+  options.shooting.integrator.method = IntegrationMethod::kExplicitRungeKutta;
+  options.shooting.integrator.explicit_order = 8;
+  options.shooting.sensitivities_in_residual = true;
+  options.continuation.step.max = 0.2;
+  return options;
+}
+
+PeriodicOrbitBranch SymmetricFamily(CycleTimesPitchfork& system) {
+  OrbitStart start;
+  start.x0 = Eigen::Vector3d(1.0, 0.0, 0.0);
+  start.period = 2 * M_PI;
+  start.lambda = -0.5;
+  start.valid = true;
+  return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
+}
+
+TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 breaks the mirror "
+          "symmetry, the new orbits have z^2 = lambda",
+          "[shooting][branch_point]") {
+  CycleTimesPitchfork system(true);
+  const PeriodicOrbitBranch family = SymmetricFamily(system);
+  INFO(family.branch.BriefReport());
+  REQUIRE(family.branch.status == BranchStatus::kReachedLambdaBound);
+  REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 1);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-6));
+
+  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, Options());
+  INFO(change.message);
+  REQUIRE(change.ok);
+  CHECK(change.mirror_symmetric_orbit);
+  CHECK(change.breaks_mirror_symmetry);
+  CHECK(change.direction_odd_part > 0.999);
+  // Mirror images: one side followed.
+  REQUIRE(change.branches.size() == 1);
+  const Branch& other = change.branches[0].branch;
+  INFO(other.BriefReport() << " — " << other.message);
+  REQUIRE(other.status == BranchStatus::kReachedLambdaBound);
+  REQUIRE(other.Size() > 3);
+  for (std::size_t i = 1; i < other.points.size(); ++i) {
+    const BranchPoint& p = other.points[i];
+    CAPTURE(p.lambda);
+    const double z = p.u(2);  // z is constant along the orbit
+    CHECK(z * z == Approx(p.lambda).margin(1e-8));
+    CHECK(p.u.size() == 2 * 3 + 1);
+    CHECK(p.u(6) == Approx(2 * M_PI).epsilon(1e-8));  // the period
+    // The nontrivial multipliers: e^{−4πλ} (the pitchfork) and e^{−4π} (the cycle's radius).
+    REQUIRE(p.spectrum.values.size() == 2);
+    const double largest = std::max(std::abs(p.spectrum.values(0)), std::abs(p.spectrum.values(1)));
+    CHECK(largest == Approx(std::exp(-4 * M_PI * p.lambda)).epsilon(1e-6));
+    CHECK(p.num_unstable == 0);
+  }
+  CHECK(other.points.back().lambda == Approx(0.5).margin(1e-9));
+}
+
+TEST_CASE("cycle times pitchfork without a declared mirror: both sides of the new branch are "
+          "followed, z > 0 and z < 0",
+          "[shooting][branch_point]") {
+  CycleTimesPitchfork system(false);
+  const PeriodicOrbitBranch family = SymmetricFamily(system);
+  REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 1);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
+  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, Options());
+  REQUIRE(change.ok);
+  CHECK_FALSE(change.breaks_mirror_symmetry);
+  REQUIRE(change.branches.size() == 2);
+  double end_z[2];
+  for (std::size_t side = 0; side < 2; ++side) {
+    const Branch& other = change.branches[side].branch;
+    INFO(other.BriefReport() << " — " << other.message);
+    REQUIRE(other.status == BranchStatus::kReachedLambdaBound);
+    end_z[side] = other.points.back().u(2);
+  }
+  CHECK(end_z[0] * end_z[1] == Approx(-0.5).epsilon(1e-8));
+  CHECK(std::abs(end_z[0]) == Approx(std::sqrt(0.5)).epsilon(1e-8));
+}
+
+TEST_CASE("cycle times bubble: the asymmetric orbits from lambda = -1 end where they rejoin "
+          "the symmetric ones, at lambda = +1",
+          "[shooting][branch_point]") {
+  CycleTimesPitchfork system(true, true);
+  PeriodicOrbitBranchOptions options = Options();
+  options.lambda_min = -1.5;
+  options.lambda_max = 1.5;
+  OrbitStart start;
+  start.x0 = Eigen::Vector3d(1.0, 0.0, 0.0);
+  start.period = 2 * M_PI;
+  start.lambda = -1.5;
+  start.valid = true;
+  system.SetParameter(-1.5);
+  const PeriodicOrbitBranch family = ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
+  INFO(family.branch.BriefReport());
+  REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 2);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
+  CHECK(family.branch.special_points[k].lambda == Approx(-1.0).margin(1e-6));
+  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, options);
+  REQUIRE(change.ok);
+  CHECK(change.breaks_mirror_symmetry);
+  REQUIRE(change.branches.size() == 1);
+  const Branch& bubble = change.branches[0].branch;
+  INFO(bubble.message);
+  CHECK(bubble.status == BranchStatus::kStoppedByCaller);
+  CHECK_THAT(bubble.message, Catch::Matchers::Contains("rejoined the symmetric orbits"));
+  // It stops at the far pitchfork (the last two points on either side of z = 0, both within
+  // 1e-3 of λ = 1), not at the near one; every point before lies on z² = 1 − λ².
+  CHECK(change.RejoinedNear(1.0));
+  CHECK_FALSE(change.RejoinedNear(-1.0));
+  CHECK(std::abs(change.rejoined_between[1] - 1.0) <= 1e-3);
+  for (std::size_t i = 1; i + 1 < bubble.points.size(); ++i) {
+    const BranchPoint& p = bubble.points[i];
+    CAPTURE(p.lambda);
+    CHECK(p.u(2) * p.u(2) == Approx(1 - p.lambda * p.lambda).margin(1e-8));
+  }
+}
+
+TEST_CASE("ContinueOrbitsFromBranchPoint refuses a special point that is not a branch point",
+          "[shooting][branch_point]") {
+  CycleTimesPitchfork system(true);
+  const PeriodicOrbitBranch family = SymmetricFamily(system);
+  CHECK_THROWS_AS(ContinueOrbitsFromBranchPoint(system, family, family.branch.special_points.size(),
+                                                Options()),
+                  std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rubcont
