@@ -1,5 +1,6 @@
 #include "shooting/orbit_branches.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
