@@ -30,13 +30,17 @@ Vector MirrorStarts(const OdeSystem& system, const ShootingProblem& problem, con
   return mirrored;
 }
 
-// ‖S⁻¹(κu − u)‖∞ / ‖S⁻¹u‖∞ over the segment starts (S the problem's scale).
+// MirrorAsymmetryOf the segment starts of u.
 double StartsAsymmetry(const OdeSystem& system, const ShootingProblem& problem, const Vector& u) {
+  return MirrorAsymmetryOf(system, Eigen::Map<const Matrix>(u.data(), problem.StateDimension(),
+                                                            problem.SegmentCount()));
+}
+
+// The κ-odd part (u − κu)/2 of the segment starts of u (or of a direction), scaled by the problem.
+Vector OddPart(const OdeSystem& system, const ShootingProblem& problem, const Vector& u) {
   const Index states = problem.StateDimension() * problem.SegmentCount();
-  const Vector scale = problem.Scale().head(states);
-  const Vector x = u.head(states).cwiseQuotient(scale);
-  const Vector difference = (MirrorStarts(system, problem, u) - u).head(states).cwiseQuotient(scale);
-  return difference.lpNorm<Eigen::Infinity>() / x.lpNorm<Eigen::Infinity>();
+  return 0.5 * (u - MirrorStarts(system, problem, u)).head(states).cwiseQuotient(
+                   problem.Scale().head(states));
 }
 
 }  // namespace
@@ -232,14 +236,11 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
     result.message = result.change.message;
     return result;
   }
+  Vector odd_direction;  // the new direction's odd part, where there is a mirror symmetry
   if (system.HasMirrorSymmetry()) {
-    const Index states = problem.StateDimension() * problem.SegmentCount();
-    const Vector direction = result.change.du.cwiseQuotient(problem.Scale());
-    const Vector odd =
-        0.5 * (result.change.du - MirrorStarts(system, problem, result.change.du))
-                  .head(states)
-                  .cwiseQuotient(problem.Scale().head(states));
-    result.direction_odd_part = odd.norm() / direction.norm();
+    odd_direction = OddPart(system, problem, result.change.du);
+    result.direction_odd_part =
+        odd_direction.norm() / result.change.du.cwiseQuotient(problem.Scale()).norm();
     result.breaks_mirror_symmetry = result.mirror_symmetric_orbit && result.direction_odd_part >= 0.9;
   }
   result.ok = true;
@@ -262,12 +263,6 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
     // another pitchfork, e.g. the far end of a bubble of asymmetric orbits): beyond it lies either
     // the symmetric family, already known, or the mirror image of the branch. Met when the orbit
     // is symmetric again, or when its odd part, projected on the switch direction's, changes sign.
-    const Index states = problem.StateDimension() * problem.SegmentCount();
-    const auto odd_part = [&](const Vector& u) -> Vector {
-      return 0.5 * (u - MirrorStarts(system, problem, u)).head(states).cwiseQuotient(
-                       problem.Scale().head(states));
-    };
-    const Vector odd_direction = odd_part(result.change.du);
     Continuation stepper(problem, continuation);
     stepper.StartFromBranchPoint(point, side);
     double largest_asymmetry = 0.0, previous_projection = 0.0;
@@ -278,7 +273,7 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
       if (!result.breaks_mirror_symmetry || so_far.points.size() < 2) continue;
       const BranchPoint& last = so_far.points.back();
       const double asymmetry = StartsAsymmetry(system, problem, last.u);
-      const double projection = odd_direction.dot(odd_part(last.u));
+      const double projection = odd_direction.dot(OddPart(system, problem, last.u));
       largest_asymmetry = std::max(largest_asymmetry, asymmetry);
       const bool symmetric_again = largest_asymmetry > 1e-3 &&
                                    asymmetry <= OrbitBranchSwitch::kSymmetricOrbit;

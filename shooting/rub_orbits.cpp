@@ -76,7 +76,7 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
       {"precession_hz", [view](const OrbitSamples& orbit) { return view->CarrierHz(orbit); }});
   measures.push_back(
       {"modulation_hz", [](const OrbitSamples& orbit) { return 1.0 / orbit.period; }});
-  // The orbit checked by CVODES BDF at 1e-9 (state only, no sensitivities: the contact mode it
+  // The orbit checked by CVODES BDF at 1e-11 (state only, no sensitivities: the contact mode it
   // does not excite costs nothing): what a fixed collocation mesh cannot see in itself.
   IntegratorOptions check;
   check.relative_tolerance = check.absolute_tolerance = 1e-11;

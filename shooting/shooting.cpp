@@ -162,22 +162,24 @@ OrbitMeasure MirrorAsymmetry(std::shared_ptr<const OdeSystem> system, std::strin
   if (!system->HasMirrorSymmetry()) {
     throw std::invalid_argument("MirrorAsymmetry: the system has no mirror symmetry");
   }
-  const Vector inverse_scale = system->StateScale().cwiseInverse();
-  return {std::move(name), [system, inverse_scale](const OrbitSamples& orbit) {
-            if (!orbit.valid) return kNaN;
-            double difference = 0.0, size = 0.0;
-            Vector mirrored;
-            for (Index j = 0; j < orbit.states.cols(); ++j) {
-              mirrored = orbit.states.col(j);
-              system->Mirror(mirrored);
-              difference = std::max(difference, (mirrored - orbit.states.col(j))
-                                                    .cwiseProduct(inverse_scale)
-                                                    .lpNorm<Eigen::Infinity>());
-              size = std::max(size, orbit.states.col(j).cwiseProduct(inverse_scale)
-                                        .lpNorm<Eigen::Infinity>());
-            }
-            return size > 0.0 ? difference / size : 0.0;
+  return {std::move(name), [system](const OrbitSamples& orbit) {
+            return orbit.valid ? MirrorAsymmetryOf(*system, orbit.states) : kNaN;
           }};
+}
+
+double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>& states) {
+  const Vector inverse_scale = system.StateScale().cwiseInverse();
+  double difference = 0.0, size = 0.0;
+  Vector mirrored;
+  for (Index j = 0; j < states.cols(); ++j) {
+    mirrored = states.col(j);
+    system.Mirror(mirrored);
+    difference = std::max(difference, (mirrored - states.col(j))
+                                          .cwiseProduct(inverse_scale)
+                                          .lpNorm<Eigen::Infinity>());
+    size = std::max(size, states.col(j).cwiseProduct(inverse_scale).lpNorm<Eigen::Infinity>());
+  }
+  return size > 0.0 ? difference / size : 0.0;
 }
 
 OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,

@@ -142,6 +142,9 @@ OrbitMeasure PeriodicityDefect(std::shared_ptr<OdeSystem> system, const Integrat
 // std::invalid_argument when the system has no mirror symmetry.
 OrbitMeasure MirrorAsymmetry(std::shared_ptr<const OdeSystem> system,
                              std::string name = "asymmetry");
+// The same quantity over the columns of `states` (samples of an orbit, or its segment starts):
+// max_j ‖S⁻¹(κx_j − x_j)‖∞ / max_j ‖S⁻¹x_j‖∞, 0 for all-zero states.
+double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>& states);
 
 // The modes a fixed Gauss mesh does not resolve, frozen at the orbit's first sample: for each
 // eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, |R(λ_k h)|^N (R the
