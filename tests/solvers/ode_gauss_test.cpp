@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/textbook.h"
+#include "flow_differences.h"
 #include "solvers/ode.h"
 
 namespace rubcont {
@@ -71,16 +72,9 @@ TEST_CASE("Gauss collocation's STM and dx/dp are the derivatives of its discrete
   Vector x(2), dxdp;
   Matrix stm;
   REQUIRE(integrator.Integrate(0.0, x0, T, x, &stm, &dxdp).Succeeded());
+  // Central differences of the map x0 ↦ x(T), steps 1e-6 (|x0_i| < 1).
   const double h = 1e-6;
-  Matrix fd(2, 2);
-  for (Index j = 0; j < 2; ++j) {
-    Vector plus = x0, minus = x0, x_plus(2), x_minus(2);
-    plus(j) += h;
-    minus(j) -= h;
-    REQUIRE(integrator.Integrate(0.0, plus, T, x_plus).Succeeded());
-    REQUIRE(integrator.Integrate(0.0, minus, T, x_minus).Succeeded());
-    fd.col(j) = (x_plus - x_minus) / (2 * h);
-  }
+  const Matrix fd = testing::FlowJacobianByDifferences(integrator, x0, T, h);
   CHECK((stm - fd).norm() <= 1e-8 * stm.norm());
   const double w = system.Parameter();
   Vector x_plus(2), x_minus(2);
