@@ -187,4 +187,31 @@ double ForcedVanDerPolOscillator::ForcingPeriod() const { return kTwoPi / params
 
 Vector ForcedVanDerPolOscillator::StateScale() const { return VanDerPolScale(params_.mu); }
 
+void Validate(const LorenzParams& params) {
+  RequireFinite("LorenzParams", "sigma", params.sigma);
+  RequireFinite("LorenzParams", "rho", params.rho);
+  RequireFinite("LorenzParams", "beta", params.beta);
+}
+
+LorenzSystem::LorenzSystem(const LorenzParams& params) : params_(params) { Validate(params); }
+
+void LorenzSystem::Rhs(double /*t*/, ConstVectorRef x, VectorRef f) {
+  f(0) = params_.sigma * (x(1) - x(0));
+  f(1) = x(0) * (params_.rho - x(2)) - x(1);
+  f(2) = x(0) * x(1) - params_.beta * x(2);
+}
+
+void LorenzSystem::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  J << -params_.sigma, params_.sigma, 0.0,
+       params_.rho - x(2), -1.0, -x(0),
+       x(1), x(0), -params_.beta;
+}
+
+void LorenzSystem::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef df) {
+  df << 0.0, x(0), 0.0;
+}
+
+Vector LorenzSystem::StateScale() const { return (Vector(3) << 10.0, 10.0, 20.0).finished(); }
+
 }  // namespace rubcont
+

@@ -4,6 +4,7 @@
 //   StuartLandauOscillator ż = (λ + iω) z − (1 + iγ)|z|² z        parameter λ  (Hopf normal form)
 //   VanDerPolOscillator   ẍ − μ (1 − x²) ẋ + x = 0               parameter μ  (stiff for large μ)
 //   ForcedVanDerPolOscillator ẍ − μ (1 − x²) ẋ + x = F cos(w t)  parameter w  (entrainment, tori)
+//   LorenzSystem          ẋ = σ(y − x), ẏ = x(ρ − z) − y, ż = xy − βz   parameter ρ  (chaos)
 // All are dimensionless; "time" below means the model's time unit.
 #pragma once
 
@@ -154,6 +155,35 @@ class ForcedVanDerPolOscillator : public OdeSystem {
 
  private:
   ForcedVanDerPolParams params_;
+};
+
+struct LorenzParams {
+  double sigma = 10.0;
+  double rho = 28.0;          // the parameter
+  double beta = 8.0 / 3.0;
+};
+
+// Throws std::invalid_argument naming a non-finite field.
+void Validate(const LorenzParams& params);
+
+// State (x, y, z). At the classic (10, 28, 8/3) the attractor is chaotic with Lyapunov exponents
+// 0.9056, 0, −14.5723 (Sprott, Chaos and Time-Series Analysis, 2003, Table A.1); their sum is the
+// constant trace −(σ + 1 + β) = −13.6667 for every trajectory. StateScale() is (10, 10, 20), the
+// attractor's size.
+class LorenzSystem : public OdeSystem {
+ public:
+  explicit LorenzSystem(const LorenzParams& params = {});
+  Index Dimension() const override { return 3; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.rho; }
+  void SetParameter(double rho) override { params_.rho = rho; }
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;  // (0, x, 0)
+  Vector StateScale() const override;
+
+ private:
+  LorenzParams params_;
 };
 
 }  // namespace rubcont

@@ -357,6 +357,37 @@ IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double 
   return impl_->Run(request);
 }
 
+IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0, double t1,
+                                                    VectorRef x1, const Matrix& directions,
+                                                    Matrix& images) {
+  const Index n = impl_->n();
+  CheckSize("x0", x0.size(), n);
+  CheckSize("x1", x1.size(), n);
+  CheckSize("directions' rows", directions.rows(), n);
+  CheckTime("t0", t0);
+  CheckTime("t1", t1);
+  if (directions.cols() < 1 || directions.cols() > n) {
+    throw std::invalid_argument(fmt::format(
+        "OdeIntegrator::IntegrateTangents: {} directions: must be 1 … {} (the dimension)",
+        directions.cols(), n));
+  }
+  const Matrix seeds = directions;  // images may alias directions
+  images.resize(n, seeds.cols());
+  Vector& x0_copy = impl_->x0_buffer();
+  x0_copy = x0;
+  detail::IntegrationRequest request;
+  request.t0 = t0;
+  request.x0 = x0_copy.data();
+  request.times = &t1;
+  request.count = 1;
+  request.x_final = x1.data();
+  request.stm = images.data();
+  request.seeds = seeds.data();
+  request.seed_count = seeds.cols();
+  request.parameter_scale = ParameterScale(impl_->options(), impl_->system().Parameter());
+  return impl_->Run(request);
+}
+
 IntegrationResult OdeIntegrator::Sample(double t0, ConstVectorRef x0, const Vector& times,
                                         Matrix& states) {
   const Index n = impl_->n();

@@ -187,6 +187,15 @@ class OdeIntegrator {
   IntegrationResult Integrate(double t0, ConstVectorRef x0, double t1, VectorRef x1,
                               Matrix* stm = nullptr, Vector* dxdp = nullptr);
 
+  // The tangent map along the trajectory: x(t1) from x0, and images = Φ(t1, t0)·directions for the
+  // n × k directions (1 ≤ k ≤ n; images resized to n × k, may alias directions): the variational
+  // equations for k columns only (CVODES: k forward sensitivities seeded with the directions;
+  // ARKODE: k columns appended; Gauss: its discrete map's exact derivative) — what Lyapunov
+  // exponents need, at a fraction of the full Φ's cost. Each column's absolute tolerance is the
+  // state's times ‖direction ./ scale‖₂.
+  IntegrationResult IntegrateTangents(double t0, ConstVectorRef x0, double t1, VectorRef x1,
+                                      const Matrix& directions, Matrix& images);
+
   // Dense output: states (resized to n × m) column k = x(times(k)), from x(t0) = x0. times has
   // m ≥ 1 entries, monotone in the direction of integration, none before t0 (in that direction).
   IntegrationResult Sample(double t0, ConstVectorRef x0, const Vector& times, Matrix& states);

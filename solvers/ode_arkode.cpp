@@ -24,7 +24,7 @@ namespace {
 // user_data of one ARKODE memory: the shared context plus how many variational columns follow x.
 struct ArkodeUserData {
   CallbackContext* context = nullptr;
-  int columns = 0;  // 0, n (Φ) or n + 1 (Φ and q)
+  int columns = 0;  // 0, n (Φ), n + 1 (Φ and q) or the number of seeds (Φ·seeds)
 };
 
 int ArkodeRhs(sunrealtype t, N_Vector z, N_Vector zdot, void* user_data) {
@@ -135,6 +135,8 @@ class ArkodeBackend::Memory {
     }
   }
 
+  int columns() const { return data_.columns; }
+
   IntegrationResult Run(const IntegrationRequest& request, bool& events_changed) {
     CallbackContext& context = *data_.context;
     const Index n = context.n;
@@ -142,17 +144,21 @@ class ArkodeBackend::Memory {
     result.t_reached = request.t0;
     auto z = MapVector(z_.get());
     z.head(n) = Eigen::Map<const Vector>(request.x0, n);
-    if (data_.columns > 0) {
-      Eigen::Map<Matrix> columns(z.data() + n, n, data_.columns);
-      columns.setZero();
-      columns.leftCols(n).setIdentity();
-    }
-    // Tolerances: atol ⊙ scale for x; ⊙ scale / scale_j for column j of Φ; / parameter scale for q.
+    // Tolerances: atol ⊙ scale for x; ⊙ scale · ‖v ./ scale‖₂ for the column started at v (e_j:
+    // / scale_j); / parameter scale for q.
     auto abstol = MapVector(abstol_.get());
     abstol.head(n) = options_.absolute_tolerance * context.scale;
-    for (int j = 0; j < data_.columns; ++j) {
-      const double denominator = j < n ? context.scale(j) : request.parameter_scale;
-      abstol.segment(n * (1 + j), n) = options_.absolute_tolerance * context.scale / denominator;
+    const Index stm_columns = request.StmColumns(n);
+    for (Index j = 0; j < data_.columns; ++j) {
+      auto column = z.segment(n * (1 + j), n);
+      if (j < stm_columns) {
+        column = request.InitialColumn(j, n);
+        abstol.segment(n * (1 + j), n) =
+            options_.absolute_tolerance * context.scale * column.cwiseQuotient(context.scale).norm();
+      } else {
+        column.setZero();
+        abstol.segment(n * (1 + j), n) = options_.absolute_tolerance * context.scale / request.parameter_scale;
+      }
     }
     const double t_final = request.times[request.count - 1];
     if (t_final == request.t0) {
@@ -301,8 +307,10 @@ class ArkodeBackend::Memory {
         Eigen::Map<Vector>(request.states + k * n, n) = z.head(n);
       }
     }
-    if (request.stm != nullptr) {
-      Eigen::Map<Matrix>(request.stm, n, n) = Eigen::Map<const Matrix>(z.data() + n, n, n);
+    const Index stm_columns = request.StmColumns(n);
+    if (stm_columns > 0) {
+      Eigen::Map<Matrix>(request.stm, n, stm_columns) =
+          Eigen::Map<const Matrix>(z.data() + n, n, stm_columns);
     }
     if (request.dxdp != nullptr) {
       Eigen::Map<Vector>(request.dxdp, n) = z.segment(n * (1 + n), n);
@@ -379,8 +387,12 @@ void ArkodeBackend::EventsChanged() {
 }
 
 IntegrationResult ArkodeBackend::Run(const IntegrationRequest& request) {
-  const int slot = request.stm == nullptr ? 0 : (request.dxdp == nullptr ? 1 : 2);
-  const int columns = slot == 0 ? 0 : static_cast<int>(context_.n) + (slot == 2 ? 1 : 0);
+  const int slot = request.stm == nullptr ? 0
+                   : request.seeds != nullptr ? 3
+                   : request.dxdp == nullptr  ? 1
+                                              : 2;
+  const int columns = static_cast<int>(request.StmColumns(context_.n)) + (request.dxdp != nullptr ? 1 : 0);
+  if (memories_[slot] && memories_[slot]->columns() != columns) memories_[slot].reset();
   if (!memories_[slot]) {
     memories_[slot] = std::make_unique<Memory>(context_, options_, sun_context_.get(), columns);
   }

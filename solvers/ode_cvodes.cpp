@@ -92,12 +92,6 @@ class CvodesBackend::State {
       sensitivities_.push_back(MakeNVector(n, ctx));
       sensitivity_abstol_.push_back(MakeNVector(n, ctx));
     }
-    for (Index j = 0; j < n; ++j) {
-      // A perturbation of x0_j of its typical size scale_j moves x by s_j·scale_j, to be resolved
-      // to the state's absolute tolerance: atol(s_j) = atol ⊙ scale / scale_j.
-      MapVector(sensitivity_abstol_[j].get()) =
-          options.absolute_tolerance * context.scale / context.scale(j);
-    }
     for (auto& v : sensitivities_) raw_sensitivities_.push_back(v.get());
     for (auto& v : sensitivity_abstol_) raw_sensitivity_abstol_.push_back(v.get());
     matrix_.reset(SUNDenseMatrix(n, n, ctx));
@@ -112,7 +106,7 @@ class CvodesBackend::State {
 
   IntegrationResult Run(const IntegrationRequest& request, bool& events_changed) {
     const Index n = context_.n;
-    const int Ns = request.stm == nullptr ? 0 : (request.dxdp != nullptr ? n + 1 : n);
+    const int Ns = static_cast<int>(request.StmColumns(n)) + (request.dxdp != nullptr ? 1 : 0);
     IntegrationResult result;
     result.t_reached = request.t0;
     MapVector(y_.get()) = Eigen::Map<const Vector>(request.x0, n);
@@ -128,7 +122,7 @@ class CvodesBackend::State {
       flag = InitializeEvents();
       if (flag == CV_SUCCESS) events_changed = false;
     }
-    if (flag == CV_SUCCESS) flag = InitializeSensitivities(Ns, request.parameter_scale);
+    if (flag == CV_SUCCESS) flag = InitializeSensitivities(Ns, request);
     if (flag == CV_SUCCESS) flag = CVodeSetStopTime(memory_, t_final);
     if (flag != CV_SUCCESS) return Failure(flag, request.t0, result);
 
@@ -213,8 +207,9 @@ class CvodesBackend::State {
     return CVodeSetNoInactiveRootWarn(memory_);
   }
 
-  // Ns = 0: sensitivities off. Otherwise s_j(t0) = e_j (j < n) and q(t0) = 0 (j = n).
-  int InitializeSensitivities(int Ns, double parameter_scale) {
+  // Ns = 0: sensitivities off. Otherwise s_j(t0) = e_j (j < n) and q(t0) = 0 (j = n), or
+  // s_j(t0) = the request's seeds.
+  int InitializeSensitivities(int Ns, const IntegrationRequest& request) {
     const Index n = context_.n;
     if (Ns == 0) {
       if (sensitivities_active_) {
@@ -223,13 +218,21 @@ class CvodesBackend::State {
       }
       return CV_SUCCESS;
     }
-    for (int j = 0; j < Ns; ++j) {
-      auto s = MapVector(sensitivities_[j].get());
-      s.setZero();
-      if (j < n) s(j) = 1.0;
+    const Index columns = request.StmColumns(n);
+    for (Index j = 0; j < columns; ++j) {
+      const Vector seed = request.InitialColumn(j, n);
+      MapVector(sensitivities_[j].get()) = seed;
+      // A perturbation of x0 by the seed v moves x by s·1, to be resolved to the state's absolute
+      // tolerance when v has the typical size of the state: atol(s) = atol ⊙ scale · ‖v ./ scale‖₂
+      // (for v = e_j: atol ⊙ scale / scale_j).
+      MapVector(sensitivity_abstol_[j].get()) = options_.absolute_tolerance * context_.scale *
+                                                seed.cwiseQuotient(context_.scale).norm();
     }
-    MapVector(sensitivity_abstol_[n].get()) =
-        options_.absolute_tolerance * context_.scale / parameter_scale;
+    if (request.dxdp != nullptr) {
+      MapVector(sensitivities_[n].get()).setZero();
+      MapVector(sensitivity_abstol_[n].get()) =
+          options_.absolute_tolerance * context_.scale / request.parameter_scale;
+    }
     const int method = options_.sensitivity_method == SensitivityMethod::kStaggered
                            ? CV_STAGGERED
                            : CV_SIMULTANEOUS;
@@ -272,8 +275,9 @@ class CvodesBackend::State {
     if (Ns > 0) {
       double t_sensitivity = t;
       CVodeGetSens(memory_, &t_sensitivity, raw_sensitivities_.data());
-      Eigen::Map<Matrix> stm(request.stm, n, n);
-      for (Index j = 0; j < n; ++j) stm.col(j) = MapVector(sensitivities_[j].get());
+      const Index columns = request.StmColumns(n);
+      Eigen::Map<Matrix> stm(request.stm, n, columns);
+      for (Index j = 0; j < columns; ++j) stm.col(j) = MapVector(sensitivities_[j].get());
       if (request.dxdp != nullptr) {
         Eigen::Map<Vector>(request.dxdp, n) = MapVector(sensitivities_[n].get());
       }
@@ -290,7 +294,9 @@ class CvodesBackend::State {
         Eigen::Map<Vector>(request.states + k * n, n) = Eigen::Map<const Vector>(request.x0, n);
       }
     }
-    if (request.stm != nullptr) Eigen::Map<Matrix>(request.stm, n, n).setIdentity();
+    for (Index j = 0; j < request.StmColumns(n); ++j) {
+      Eigen::Map<Vector>(request.stm + j * n, n) = request.InitialColumn(j, n);
+    }
     if (request.dxdp != nullptr) Eigen::Map<Vector>(request.dxdp, n).setZero();
   }
 

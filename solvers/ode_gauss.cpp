@@ -213,9 +213,10 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
   const bool with_stm = request.stm != nullptr;
   const bool with_dxdp = request.dxdp != nullptr;
   x_ = x0;
-  Eigen::Map<Matrix> stm(request.stm, with_stm ? n : 0, with_stm ? n : 0);
+  const Index stm_columns = request.StmColumns(n);
+  Eigen::Map<Matrix> stm(request.stm, with_stm ? n : 0, stm_columns);
   Eigen::Map<Vector> dxdp(request.dxdp, with_dxdp ? n : 0);
-  if (with_stm) stm.setIdentity();
+  for (Index j = 0; j < stm_columns; ++j) stm.col(j) = request.InitialColumn(j, n);
   if (with_dxdp) dxdp.setZero();
   Index output = 0;  // outputs at t0 are x0
   while (output < request.count && request.times[output] == t0) {
@@ -263,19 +264,19 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
       ++output;
     }
     if (with_stm) {
-      // Right-hand sides h (A ⊗ I) [J_i Φ_n, J_i q_n + ∂f/∂p]: n (+1) columns.
-      const Index columns = with_dxdp ? n + 1 : n;
+      // Right-hand sides h (A ⊗ I) [J_i Φ_n, J_i q_n + ∂f/∂p]: stm's columns (+1).
+      const Index columns = with_dxdp ? stm_columns + 1 : stm_columns;
       sensitivity_rhs_.resize(n * s, columns);
       blocks_.resize(n * s, columns);
       for (Index i = 0; i < s; ++i) {
         const Matrix& J = jacobians_[static_cast<std::size_t>(i)];
-        blocks_.block(i * n, 0, n, n).noalias() = J * stm;
+        blocks_.block(i * n, 0, n, stm_columns).noalias() = J * stm;
         if (with_dxdp) {
           stage_state_ = x_ + stages_.col(i);
           if (EvaluateDfDparameter(context_, t + coefficients_.c(i) * h, stage_state_.data()) != 0) {
             return Fail(IntegrationStatus::kRhsFailure, t, "∂f/∂p failed");
           }
-          blocks_.block(i * n, n, n, 1).noalias() = J * dxdp + context_.dfdp;
+          blocks_.block(i * n, stm_columns, n, 1).noalias() = J * dxdp + context_.dfdp;
         }
       }
       for (Index i = 0; i < s; ++i) {
@@ -286,8 +287,8 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
       }
       blocks_ = lu_.solve(sensitivity_rhs_);
       for (Index i = 0; i < s; ++i) {
-        stm += coefficients_.d(i) * blocks_.block(i * n, 0, n, n);
-        if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, n, n, 1);
+        stm += coefficients_.d(i) * blocks_.block(i * n, 0, n, stm_columns);
+        if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, stm_columns, n, 1);
       }
     }
     previous_x_ = x_;

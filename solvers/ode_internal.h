@@ -97,9 +97,21 @@ struct IntegrationRequest {
   Index count = 0;
   double* states = nullptr;       // n × count, column-major, or null
   double* x_final = nullptr;      // n
-  double* stm = nullptr;          // n × n, column-major, or null
-  double* dxdp = nullptr;         // n, or null (only with stm)
+  double* stm = nullptr;          // n × columns (below), column-major, or null
+  double* dxdp = nullptr;         // n, or null (only with stm and without seeds)
+  // The sensitivities' initial columns: null for the identity (stm is then Φ, n × n), otherwise
+  // n × seed_count (1 ≤ seed_count ≤ n) and stm receives Φ·seeds, n × seed_count.
+  const double* seeds = nullptr;
+  Index seed_count = 0;
   double parameter_scale = 1.0;   // for the tolerance on ∂x/∂p
+
+  // How many columns stm has (0 without stm).
+  Index StmColumns(Index n) const { return stm == nullptr ? 0 : (seeds != nullptr ? seed_count : n); }
+  // The initial value of stm's column j: the seed, or e_j.
+  Vector InitialColumn(Index j, Index n) const {
+    if (seeds != nullptr) return Eigen::Map<const Vector>(seeds + j * n, n);
+    return Vector::Unit(n, j);
+  }
 };
 
 class CvodesBackend {
@@ -132,7 +144,7 @@ class ArkodeBackend {
   IntegratorOptions options_;
   SunContextPtr sun_context_;
   // One memory per augmented size: plain (n), with STM (n + n²), with STM and ∂x/∂p (n + n² + n).
-  std::unique_ptr<Memory> memories_[3];
+  std::unique_ptr<Memory> memories_[4];  // plain, Φ, Φ and q, Φ·seeds
 };
 
 // The s-stage Gauss–Legendre collocation method on [0, 1] (ode_gauss.cpp).
