@@ -240,4 +240,59 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
   return out;
 }
 
+EventOptions RubPenetrationExtrema(RubFixedFrame& system) {
+  EventOptions events;
+  events.count = static_cast<int>(system.structure().contacts.size());
+  events.directions.assign(static_cast<std::size_t>(events.count), 0);
+  events.function = [&system](double /*t*/, ConstVectorRef x, VectorRef g) {
+    const std::vector<ContactEvaluation> contacts = system.Contacts(x);
+    for (std::size_t k = 0; k < contacts.size(); ++k) g(static_cast<Index>(k)) = contacts[k].penetration_rate;
+    // An exact zero at a located root makes CVODES stop ("root found at and very near t": the
+    // interpolated state, and so g, is the same a rounding step later); in full contact δ̇ is
+    // 1e-10 m/s of a 0.1 m/s relative velocity and n·ḋ cancels to exactly 0 now and then. A zero
+    // counts as positive: the crossing is then located where g first changes sign.
+    for (Index k = 0; k < g.size(); ++k) {
+      if (g(k) == 0.0) g(k) = std::numeric_limits<double>::denorm_min();
+    }
+  };
+  return events;
+}
+
+std::vector<RubSectionPoint> RubSectionMaxima(RubFixedFrame& system,
+                                              const std::vector<SectionCrossing>& crossings) {
+  const std::size_t contacts = system.structure().contacts.size();
+  std::vector<std::vector<RubSectionPoint>> extrema(contacts);
+  for (const SectionCrossing& c : crossings) {
+    const auto k = static_cast<std::size_t>(c.channel);
+    const ContactEvaluation contact = system.Contacts(c.x)[k];
+    extrema[k].push_back({c.channel, c.t, contact.penetration, contact.normal_force});
+  }
+  std::vector<RubSectionPoint> out;
+  for (std::size_t k = 0; k < contacts; ++k) {
+    std::vector<double> penetration;
+    for (const RubSectionPoint& p : extrema[k]) penetration.push_back(p.penetration);
+    for (std::size_t i : ExcursionMaxima(penetration, 0.0)) out.push_back(extrema[k][i]);
+  }
+  std::sort(out.begin(), out.end(), [](const RubSectionPoint& a, const RubSectionPoint& b) { return a.t < b.t; });
+  return out;
+}
+
+std::string RubMotion(const RubStructure& structure, const AttractorResult& result) {
+  if (result.status != AttractorStatus::kMeasured) return "unknown (integration failure)";
+  const int k = static_cast<int>(result.exponents.size());
+  if (result.positive > 0) return "chaotic";
+  if (result.zero == k) return fmt::format("at least {} frequencies (all {} exponents zero)", k, k);
+  if (structure.imbalance == 0.0) {
+    switch (result.zero) {
+      case 0: return "equilibrium";
+      case 1: return "rotating wave";
+      case 2: return "relative periodic orbit";
+      case 3: return "relative 2-torus";
+      default: break;
+    }
+  }
+  return fmt::format("{} frequencies", result.zero);
+}
+
 }  // namespace rubcont
+

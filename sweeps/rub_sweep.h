@@ -17,6 +17,7 @@
 
 #include "models/rub_model.h"
 #include "models/units.h"
+#include "sweeps/attractor.h"
 #include "sweeps/ensemble.h"
 #include "sweeps/sweep.h"
 
@@ -164,4 +165,41 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, RubRegime target,
                                     const RubRegimeOptions& options = {});
 
+// The rub's Poincaré section for MeasureAttractor (sweeps/attractor.h), in two steps.
+// RubPenetrationExtrema: channel k (one per contact) crosses where the penetration δ_k has an
+// extremum (δ̇_k = 0, both directions). The event functions evaluate the contacts through
+// `system`, which must outlive the options.
+// RubSectionMaxima: of those, one point per excursion of δ_k above the level
+// max(0, (min δ_k + max δ_k)/2) over the record — the largest maximum in it (ExcursionMaxima). In full contact that
+// is one point per modulation of the orbit's radius; in an impacting whip one per impact (each
+// contact, δ > 0). Local maxima that do not reach across the level (the contact's own ~kHz
+// oscillation and integration noise ride on the modulation: ~15 extrema per modulation in A(a)
+// at 80 rpm) are not points of the section. The normal force there is the elastic one (δ̇ = 0).
+EventOptions RubPenetrationExtrema(RubFixedFrame& system);
+
+struct RubSectionPoint {
+  int contact = 0;
+  double t = 0.0;            // from the start of the counted record
+  double penetration = 0.0;  // δ_k [m]
+  double normal_force = 0.0;  // N_k [N]
+};
+
+// Evaluates the crossings' states at `system`'s current parameter.
+std::vector<RubSectionPoint> RubSectionMaxima(RubFixedFrame& system,
+                                              const std::vector<SectionCrossing>& crossings);
+
+// What the motion is, read off its exponents (the largest k of MeasureAttractor) in the fixed
+// frame of a rotor without imbalance, whose symmetries are time shifts and rotations:
+//   a positive exponent                     chaotic
+//   no zero exponent                        an equilibrium (the centred rotor, out of contact)
+//   1 zero exponent, the rest negative      a rotating wave (a circular orbit: the rotation is the
+//                                           time shift)
+//   2 zero exponents                        a relative periodic orbit (one modulation frequency)
+//   3 zero exponents                        a relative 2-torus (two modulation frequencies)
+//   all k exponents zero                    "≥ k frequencies": more exponents are needed
+// With imbalance the rotation is a symmetry only together with a time shift: one zero fewer for
+// each (a synchronous orbit has 1, one modulation frequency 2, ...), named by frequency count.
+std::string RubMotion(const RubStructure& structure, const AttractorResult& result);
+
 }  // namespace rubcont
+

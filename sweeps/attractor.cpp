@@ -1,0 +1,205 @@
+#include "sweeps/attractor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <Eigen/QR>
+#include <fmt/core.h>
+
+#include "solvers/stopwatch.h"
+#include "sweeps/sweep.h"
+
+namespace rubcont {
+namespace {
+
+// Intervals of length τ that cover `time` (a last partial interval counts as a whole one).
+long IntervalsIn(double time, double tau) {
+  return static_cast<long>(std::ceil(time / tau - 1e-9));
+}
+
+// k directions with orthonormal scaled columns: a fixed pseudo-random draw (not the first unit
+// vectors, which may lie in an invariant subspace such as one contact's coordinates).
+Matrix InitialDirections(const Vector& scale, int k) {
+  std::mt19937_64 generator(1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Matrix draw(scale.size(), k);
+  for (Index j = 0; j < draw.cols(); ++j) {
+    for (Index i = 0; i < draw.rows(); ++i) draw(i, j) = uniform(generator);
+  }
+  const Eigen::HouseholderQR<Matrix> qr(draw);
+  return scale.asDiagonal() * (qr.householderQ() * Matrix::Identity(scale.size(), k));
+}
+
+}  // namespace
+
+const char* ToString(ExponentSign sign) {
+  switch (sign) {
+    case ExponentSign::kNegative: return "negative";
+    case ExponentSign::kZero: return "zero";
+    case ExponentSign::kPositive: return "positive";
+  }
+  return "?";
+}
+
+const char* ToString(AttractorStatus status) {
+  switch (status) {
+    case AttractorStatus::kMeasured: return "measured";
+    case AttractorStatus::kIntegrationFailure: return "integration failure";
+  }
+  return "?";
+}
+
+void Validate(const AttractorOptions& o) {
+  auto fail = [](const char* field, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("AttractorOptions.{} = {}: {}", field, value, rule));
+  };
+  if (!(o.discard >= 0.0) || !std::isfinite(o.discard)) fail("discard", o.discard, "must be finite and ≥ 0");
+  if (!(o.duration > 0.0) || !std::isfinite(o.duration)) fail("duration", o.duration, "must be positive");
+  if (o.blocks < 2) fail("blocks", o.blocks, "must be at least 2");
+  if (!(o.interval > 0.0) || !(o.interval <= o.duration / o.blocks)) {
+    fail("interval", o.interval, "must be positive and at most duration / blocks");
+  }
+  if (o.exponents < 1) fail("exponents", o.exponents, "must be at least 1");
+  if (!(o.zero_tolerance >= 0.0) || !std::isfinite(o.zero_tolerance)) {
+    fail("zero_tolerance", o.zero_tolerance, "must be finite and ≥ 0");
+  }
+  Validate(o.integrator);
+}
+
+std::vector<std::size_t> ExcursionMaxima(const std::vector<double>& extrema, double floor) {
+  std::vector<std::size_t> out;
+  if (extrema.empty()) return out;
+  const auto [low, high] = std::minmax_element(extrema.begin(), extrema.end());
+  const double level = std::max(floor, 0.5 * (*low + *high));
+  const double close = level - 0.25 * (*high - *low);
+  bool open = extrema.front() > close, cut = open;
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < extrema.size(); ++i) {
+    if (open && extrema[i] > extrema[best]) best = i;
+    if (!open && extrema[i] > level) {
+      open = true;
+      best = i;
+    } else if (open && extrema[i] < close) {
+      if (!cut) out.push_back(best);
+      open = cut = false;
+    }
+  }
+  return out;
+}
+
+AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,
+                                 const EventOptions* section, const AttractorProgress& progress) {
+  Validate(options);
+  const Index n = system.Dimension();
+  const int k = options.exponents;
+  if (k > n) {
+    throw std::invalid_argument(fmt::format(
+        "AttractorOptions.exponents = {}: must be at most the dimension {}", k, n));
+  }
+  if (x0.size() != n) {
+    throw std::invalid_argument(fmt::format("MeasureAttractor: x0 has {} entries, the system {}",
+                                            x0.size(), n));
+  }
+  if (section != nullptr && section->terminal) {
+    throw std::invalid_argument("MeasureAttractor: the section's events must not be terminal");
+  }
+  const double cpu_start = ThreadCpuSeconds();
+  const double tau = options.interval;
+  const long discarded = IntervalsIn(options.discard, tau);
+  const long counted = IntervalsIn(options.duration, tau);
+  const long total = discarded + counted;
+  const Vector scale = system.StateScale();
+
+  OdeIntegrator integrator(system, options.integrator);
+  if (section != nullptr) integrator.SetEvents(*section);
+  AttractorResult result;
+  result.running.resize(k, counted);
+  result.times.resize(counted);
+  Matrix directions = InitialDirections(scale, k), images;
+  Vector x = x0;
+  Vector sums = Vector::Zero(k);
+  Matrix block_sums = Matrix::Zero(k, options.blocks);
+  Vector block_times = Vector::Zero(options.blocks);
+  long done = 0;
+  for (long i = 0; i < total; ++i) {
+    const double t = static_cast<double>(i) * tau;
+    const IntegrationResult step = integrator.IntegrateTangents(t, x, t + tau, x, directions, images);
+    Accumulate(result.statistics, step.statistics);
+    if (!step.Succeeded()) {
+      result.status = AttractorStatus::kIntegrationFailure;
+      result.message = fmt::format("at t = {:.6g}: {}", step.t_reached, step.BriefReport());
+      break;
+    }
+    const Eigen::HouseholderQR<Matrix> qr(scale.cwiseInverse().asDiagonal() * images);
+    directions = scale.asDiagonal() * (qr.householderQ() * Matrix::Identity(n, k));
+    if (i < discarded) {
+      if (progress) progress(t + tau, static_cast<double>(total) * tau);
+      continue;
+    }
+    const long c = i - discarded;
+    const double t_counted = static_cast<double>(c + 1) * tau;
+    const int block = static_cast<int>(c * options.blocks / counted);
+    for (int j = 0; j < k; ++j) {
+      const double growth = std::log(std::abs(qr.matrixQR()(j, j)));
+      sums(j) += growth;
+      block_sums(j, block) += growth;
+    }
+    block_times(block) += tau;
+    result.running.col(c) = sums / t_counted;
+    result.times(c) = t_counted;
+    if (section != nullptr) {
+      const double start = static_cast<double>(discarded) * tau;
+      for (const IntegrationEvent& event : step.events) {
+        result.crossings.push_back({event.index, event.t - start, event.x});
+      }
+    }
+    done = c + 1;
+    if (progress) progress(t + tau, static_cast<double>(total) * tau);
+  }
+  result.running.conservativeResize(k, done);
+  result.times.conservativeResize(done);
+  result.counted_time = static_cast<double>(done) * tau;
+  result.state = x;
+  result.exponents = Vector::Constant(k, std::nan(""));
+  result.standard_errors = Vector::Constant(k, std::nan(""));
+  if (done > 0) result.exponents = sums / result.counted_time;
+  // Block estimates over the blocks that were completed (all of them after a full record): block
+  // b holds the intervals c with ⌊c·blocks/counted⌋ = b, and is complete once its last one is done.
+  int full_blocks = 0;
+  for (int b = 0; b < options.blocks; ++b) {
+    const long last = ((b + 1) * counted - 1) / options.blocks;
+    full_blocks += last < done ? 1 : 0;
+  }
+  if (full_blocks >= 2) {
+    for (int j = 0; j < k; ++j) {
+      double mean = 0.0, square = 0.0;
+      for (int b = 0; b < full_blocks; ++b) {
+        const double estimate = block_sums(j, b) / block_times(b);
+        mean += estimate;
+        square += estimate * estimate;
+      }
+      mean /= full_blocks;
+      const double variance = std::max(square / full_blocks - mean * mean, 0.0) *
+                              full_blocks / (full_blocks - 1.0);
+      result.standard_errors(j) = std::sqrt(variance / full_blocks);
+    }
+  }
+  for (int j = 0; j < k; ++j) {
+    const double lambda = result.exponents(j);
+    const double error = std::isfinite(result.standard_errors(j)) ? result.standard_errors(j) : 0.0;
+    const double band = std::max(3.0 * error, options.zero_tolerance);
+    const ExponentSign sign = lambda > band    ? ExponentSign::kPositive
+                              : lambda < -band ? ExponentSign::kNegative
+                                               : ExponentSign::kZero;
+    result.signs.push_back(sign);
+    result.positive += sign == ExponentSign::kPositive ? 1 : 0;
+    result.zero += sign == ExponentSign::kZero ? 1 : 0;
+    result.negative += sign == ExponentSign::kNegative ? 1 : 0;
+  }
+  result.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+  return result;
+}
+
+}  // namespace rubcont

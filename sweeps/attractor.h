@@ -1,0 +1,102 @@
+// What a long transient settles on (level L3): the leading Lyapunov exponents and a Poincaré
+// section, so that a motion can be called (relative) periodic, quasi-periodic or chaotic with
+// evidence rather than by the look of a spectrum.
+//
+// Lyapunov exponents (Benettin, Galgani, Giorgilli & Strelcyn 1980, the QR form of Eckmann &
+// Ruelle 1985): the state and k tangent directions Q (n × k) are integrated together over
+// intervals of length τ with the variational equations (OdeIntegrator::IntegrateTangents: CVODES
+// forward sensitivities seeded with Q, not differences of two trajectories), W = Φ(t + τ, t)·Q;
+// then S⁻¹W = Q̃R (Householder QR, S = diag(StateScale())), Q ← S·Q̃, and λ_i = Σ log|R_ii| / T.
+// The scaled norm makes metres and metres per second comparable; the exponents do not depend on
+// the norm (a fixed change of norm moves log-growths by a bounded amount, nothing per unit time).
+// The first `discard` time units are integrated the same way but not counted: the transient dies
+// and the directions align with the leading Lyapunov vectors.
+//
+// Uncertainty: the counted record is cut into `blocks` blocks of whole intervals; each block gives
+// its own exponents, and the standard error is their standard deviation over √blocks. An exponent
+// is called zero when |λ| ≤ max(3·standard error, zero_tolerance), positive or negative when it
+// lies beyond that on either side. Finite records bias a zero exponent by O(1/T) (the growth of a
+// neutral direction is bounded, not zero): zero_tolerance says how much is accepted.
+//
+// Poincaré section: zeros of event functions (EventOptions, one channel per component, not
+// terminal) recorded with the state along the whole counted record — e.g. the rub's successive
+// maxima of each contact's penetration, where the model reads the normal force (sweeps/rub_sweep.h). A periodic
+// motion gives one point per channel (or a few), a torus a closed curve in the return map
+// (value_k, value_k+1), chaos a cloud.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "solvers/ode.h"
+#include "solvers/ode_system.h"
+
+namespace rubcont {
+
+struct AttractorOptions {
+  double discard = 0.5;     // time integrated first and not counted (time units) ≥ 0
+  double duration = 2.0;    // counted time (time units) > 0
+  double interval = 0.005;  // τ: re-orthonormalization interval (time units), > 0, ≤ duration / blocks
+  int exponents = 4;        // k, in [1, n]
+  int blocks = 10;          // ≥ 2
+  double zero_tolerance = 1.0;  // ≥ 0, in 1/time units (see the header comment)
+  IntegratorOptions integrator;
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const AttractorOptions& options);
+
+// A crossing of the section: which event function (channel) crossed zero, when, and the state.
+struct SectionCrossing {
+  int channel = 0;
+  double t = 0.0;  // counted from the start of the counted record
+  Vector x;
+};
+
+enum class ExponentSign { kNegative, kZero, kPositive };
+const char* ToString(ExponentSign sign);
+
+enum class AttractorStatus {
+  kMeasured,            // the whole record was integrated
+  kIntegrationFailure,  // the integrator failed (message); exponents are those of the time reached
+};
+const char* ToString(AttractorStatus status);
+
+struct AttractorResult {
+  AttractorStatus status = AttractorStatus::kMeasured;
+  std::string message;
+  Vector exponents;        // k, descending, in 1/time units
+  Vector standard_errors;  // k
+  std::vector<ExponentSign> signs;  // k
+  int positive = 0;        // how many exponents are positive, zero, negative
+  int zero = 0;
+  int negative = 0;
+  Vector times;            // end of each counted interval (from the start of the counted record)
+  Matrix running;          // k × intervals: the running estimates λ_i(t)
+  std::vector<SectionCrossing> crossings;  // in time order
+  Vector state;            // the state at the end
+  double counted_time = 0.0;
+  double cpu_seconds = 0.0;  // CPU time of the calling thread
+  IntegrationStatistics statistics;  // summed over the intervals
+};
+
+// A section that counts one point per excursion of a noisy oscillating signal: given the values
+// of its successive extrema (maxima and minima in time order), the index of the largest value in
+// each excursion. An excursion opens at an extremum above the level max(floor, (min + max)/2)
+// and closes at the next one below the level minus a quarter of max − min: the hysteresis keeps
+// a fast small oscillation riding on the slow one (less than a quarter of the range) from opening
+// a second excursion where the slow one crosses the level. Excursions cut by either end of the
+// record (open at its first or last value) are left out.
+std::vector<std::size_t> ExcursionMaxima(const std::vector<double>& extrema, double floor);
+
+// Called after each interval: time done (including the discard), total time.
+using AttractorProgress = std::function<void(double done, double total)>;
+
+// Integrates `system` from x0 at its current parameter. `section` may be null. Throws
+// std::invalid_argument for invalid options or sizes; integration failures are a status.
+AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,
+                                 const EventOptions* section = nullptr,
+                                 const AttractorProgress& progress = {});
+
+}  // namespace rubcont
