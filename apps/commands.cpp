@@ -20,7 +20,6 @@
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
-#include "apps/version.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
@@ -311,9 +310,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
     fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is overwritten\n",
                writer.temporary().string());
   }
-  writer.SetAttribute("/", "rubcont_version", Version());
-  writer.SetAttribute("/", "scene_name", scene.name);
-  writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+  WriteSceneAttributes(writer, scene);
   std::vector<std::string> failures;
   std::vector<std::string> scripts;
   std::vector<std::filesystem::path> checkpoints;

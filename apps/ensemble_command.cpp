@@ -20,7 +20,6 @@
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
-#include "apps/version.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
 #include "sweeps/ensemble.h"
@@ -76,33 +75,18 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     const double speed = RpmToRadPerSecond(request.speed_rpm);
 
     // The approach: the scene's schedule in this direction, up to the last speed before `speed`.
-    SweepOptions approach = SweepOptionsOf(scene, direction);
-    const double sign = direction == SweepDirection::kUp ? 1.0 : -1.0;
-    std::vector<double> before;
-    for (double p : approach.parameters)
-      if (sign * (speed - p) > 1e-9 * speed) before.push_back(p);
     const SteadyClock::time_point start = SteadyClock::now();
-    Vector x0 = RubImpulseIncrement(structure, scene.analysis.sweep.impulse);
-    std::vector<RubRegime> approach_regime(structure.contacts.size(), RubRegime::kUnknown);
-    if (!before.empty()) {
-      approach.parameters = before;
-      SweepRun run(scene, direction, approach);
-      while (!run.stepper().Done() && !run.stepper().Failed()) {
-        run.stepper().Step();
-        if (!request.quiet) {
-          fmt::print(err, "rubcont: [ensemble] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n",
-                     request.direction, RadPerSecondToRpm(run.stepper().points().back().parameter),
-                     run.stepper().points().size(), before.size(), SecondsSince(start));
-          err.flush();
-        }
-      }
-      if (run.stepper().Failed()) {
-        throw std::runtime_error("the approach sweep failed: " + run.stepper().points().back().message);
-      }
-      const RubSweepRegimes regimes = run.Regimes();
-      for (std::size_t k = 0; k < approach_regime.size(); ++k) approach_regime[k] = regimes.regime[k].back();
-      x0 = run.stepper().state();
-    }
+    const SweepApproach approach = ApproachSweep(scene, direction, speed, [&](const SweepRun& run) {
+      if (request.quiet) return;
+      fmt::print(err, "rubcont: [ensemble] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n",
+                 request.direction, RadPerSecondToRpm(run.stepper().points().back().parameter),
+                 run.stepper().points().size(), run.stepper().options().parameters.size(),
+                 SecondsSince(start));
+      err.flush();
+    });
+    const std::vector<double>& before = approach.speeds;
+    const std::vector<RubRegime>& approach_regime = approach.regimes;
+    const Vector& x0 = approach.state;
 
     // The copies: stretches of two windows at `speed`.
     SweepOptions stretches = SweepOptionsOf(scene, direction);
@@ -140,9 +124,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
                                fmt::format("ensemble_{:g}rpm.h5", request.speed_rpm);
     std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
     ResultWriter writer(file);
-    writer.SetAttribute("/", "rubcont_version", Version());
-    writer.SetAttribute("/", "scene_name", scene.name);
-    writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+    WriteSceneAttributes(writer, scene);
     writer.SetAttribute("/", "level", ToString(Level::kL3));
     const std::string g = "/ensemble";
     writer.CreateGroup(g);

@@ -17,7 +17,6 @@
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/version.h"
 #include "studies/identification.h"
 
 namespace rubcont {
@@ -307,9 +306,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     const IdentificationResult r = Identify(scene.two_point, spec.targets, spec.parameters, spec.options);
 
     ResultWriter writer(file);
-    writer.SetAttribute("/", "rubcont_version", Version());
-    writer.SetAttribute("/", "scene_name", scene.name);
-    writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+    WriteSceneAttributes(writer, scene);
     writer.SetAttribute("/", "level", ToString(Level::kL1));
     writer.SetAttribute("/", "status", r.Fitted() ? "success" : "failure");
     writer.CreateGroup("/fit");

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.h"
+#include "apps/attractor_command.h"
 #include "apps/ensemble_command.h"
 #include "apps/fit_command.h"
 #include "apps/map_command.h"
@@ -132,6 +133,38 @@ int main(int argc, char** argv) {
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
 
+  rubcont::AttractorRequest attractor_request;
+  std::string attractor_out;
+  double attractor_to = 0.0, attractor_tolerance = 0.0;
+  CLI::App* attractor = app.add_subcommand(
+      "attractor", "level L3: what the motion is at each speed: Lyapunov exponents (variational "
+                   "equations) and Poincaré sections of long transients");
+  attractor->add_option("SCENE", attractor_request.scene_file, "scene file (TOML)")->required();
+  attractor->add_option("--from", attractor_request.from_rpm,
+                        "first speed [rpm]; the scene's sweep reaches the state at the speed before it")
+      ->required();
+  attractor->add_option("--to", attractor_to, "last speed [rpm]; default: --from alone");
+  attractor->add_option("--step", attractor_request.step_rpm, "speed step [rpm]")->capture_default_str();
+  attractor->add_option("--direction", attractor_request.direction,
+                        "up or down: the approach sweep and the order of the speeds")
+      ->capture_default_str();
+  attractor->add_option("--duration", attractor_request.duration, "counted time per speed [s]")
+      ->capture_default_str();
+  attractor->add_option("--discard", attractor_request.discard, "uncounted time first, per speed [s]")
+      ->capture_default_str();
+  attractor->add_option("--interval", attractor_request.interval,
+                        "re-orthonormalization interval of the tangents [s]")
+      ->capture_default_str();
+  attractor->add_option("--sample", attractor_request.sample_interval,
+                        "sampling interval of the section (penetration maxima) [s]")
+      ->capture_default_str();
+  attractor->add_option("--exponents", attractor_request.exponents, "number of Lyapunov exponents")
+      ->capture_default_str();
+  attractor->add_option("--tolerance", attractor_tolerance,
+                        "relative = absolute tolerance; default: the scene's sweep integrator's");
+  attractor->add_option("--out", attractor_out, "HDF5 file; default results/<scene>/attractor.h5");
+  attractor->add_flag("-q,--quiet", attractor_request.quiet, "no progress on stderr");
+
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
   std::string check_file;
@@ -173,6 +206,12 @@ int main(int argc, char** argv) {
   if (*ensemble) {
     if (!ensemble_out.empty()) ensemble_request.out_file = ensemble_out;
     return rubcont::EnsembleCommand(ensemble_request, std::cout, std::cerr);
+  }
+  if (*attractor) {
+    if (!attractor_out.empty()) attractor_request.out_file = attractor_out;
+    if (attractor->count("--to") > 0) attractor_request.to_rpm = attractor_to;
+    if (attractor->count("--tolerance") > 0) attractor_request.tolerance = attractor_tolerance;
+    return rubcont::AttractorCommand(attractor_request, std::cout, std::cerr);
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);

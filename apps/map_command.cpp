@@ -16,7 +16,6 @@
 #include "apps/map_output.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/version.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
 
@@ -213,9 +212,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
         });
 
     ResultWriter writer(file);
-    writer.SetAttribute("/", "rubcont_version", Version());
-    writer.SetAttribute("/", "scene_name", scene.name);
-    writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
+    WriteSceneAttributes(writer, scene);
     writer.SetAttribute("/", "level", ToString(Level::kL1));
     writer.SetAttribute("/", "status", map.failures.empty() ? "success" : "failure");
     WriteHysteresisMap(writer, map, scene.two_point.friction_law.kind);

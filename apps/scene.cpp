@@ -17,7 +17,9 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "apps/hdf5_file.h"
 #include "apps/models.h"
+#include "apps/version.h"
 #include "apps/version.h"
 
 namespace rubcont {
@@ -1339,6 +1341,12 @@ std::string SceneKeysMarkdown() {
     }
   }
   return out;
+}
+
+void WriteSceneAttributes(ResultWriter& writer, const Scene& scene) {
+  writer.SetAttribute("/", "rubcont_version", Version());
+  writer.SetAttribute("/", "scene_name", scene.name);
+  writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
 }
 
 }  // namespace rubcont

@@ -176,6 +176,11 @@ const char* DefaultSceneToml();
 // it again gives the same scene; result files store it (root attribute `scene_toml`).
 std::string ResolvedSceneToml(const Scene& scene);
 
+class ResultWriter;
+// The root attributes every result file carries: rubcont_version, scene_name, scene_toml (the
+// resolved scene, ResolvedSceneToml).
+void WriteSceneAttributes(ResultWriter& writer, const Scene& scene);
+
 // Human-readable listing of every resolved value with its unit (and "(default)" where the file
 // did not set it), followed by derived quantities (a, b, RCI). For `rubcont scene check`.
 std::string DescribeScene(const Scene& scene);

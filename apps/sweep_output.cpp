@@ -6,7 +6,6 @@
 
 #include <fmt/core.h>
 
-#include "apps/version.h"
 
 namespace rubcont {
 namespace {
@@ -200,6 +199,32 @@ SweepPointStatus ParseStatus(const std::string& text) {
 
 }  // namespace
 
+SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double speed,
+                            const std::function<void(const SweepRun& run)>& progress) {
+  SweepOptions options = SweepOptionsOf(scene, direction);
+  const double sign = direction == SweepDirection::kUp ? 1.0 : -1.0;
+  SweepApproach approach;
+  for (double p : options.parameters)
+    if (sign * (speed - p) > 1e-9 * speed) approach.speeds.push_back(p);
+  const RubStructure structure = SweepStructureOf(scene);
+  approach.state = RubImpulseIncrement(structure, scene.analysis.sweep.impulse);
+  approach.regimes.assign(structure.contacts.size(), RubRegime::kUnknown);
+  if (approach.speeds.empty()) return approach;
+  options.parameters = approach.speeds;
+  SweepRun run(scene, direction, options);
+  while (!run.stepper().Done() && !run.stepper().Failed()) {
+    run.stepper().Step();
+    if (progress) progress(run);
+  }
+  if (run.stepper().Failed()) {
+    throw std::runtime_error("the approach sweep failed: " + run.stepper().points().back().message);
+  }
+  const RubSweepRegimes regimes = run.Regimes();
+  for (std::size_t k = 0; k < approach.regimes.size(); ++k) approach.regimes[k] = regimes.regime[k].back();
+  approach.state = run.stepper().state();
+  return approach;
+}
+
 SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<SweepOptions> options)
     : scene_(scene), direction_(direction) {
   system_ = std::make_unique<RubFixedFrame>(SweepStructureOf(scene));
@@ -321,9 +346,7 @@ void WriteSweepCheckpoint(const std::filesystem::path& file, const SweepRun& run
   std::vector<SweepPoint> points = run.stepper().points();
   if (!points.empty() && points.back().status == SweepPointStatus::kIntegrationFailure) points.pop_back();
   ResultWriter writer(file);
-  writer.SetAttribute("/", "rubcont_version", Version());
-  writer.SetAttribute("/", "scene_name", run.scene().name);
-  writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(run.scene()));
+  WriteSceneAttributes(writer, run.scene());
   WritePoints(writer, Group(run.direction()), run, points);
   writer.WriteDoubles("/checkpoint/state", run.stepper().state());
   writer.SetAttribute("/checkpoint", "direction", ToString(run.direction()));

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -91,6 +92,18 @@ class SweepRun {
   std::unique_ptr<RubSweepObservables> observables_;
   std::unique_ptr<SweepStepper> stepper_;
 };
+
+// The state a sweep of the scene reaches before `speed` [rad/s]: the scene's schedule in
+// `direction` up to the last speed before `speed`, from the impulse (the impulse alone when no
+// speed of the schedule comes before). `progress` is called after each speed. Throws
+// std::runtime_error when the sweep fails.
+struct SweepApproach {
+  Vector state;
+  std::vector<double> speeds;      // [rad/s] the speeds swept (empty: none)
+  std::vector<RubRegime> regimes;  // per contact, at the last of them (kUnknown: none)
+};
+SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double speed,
+                            const std::function<void(const SweepRun& run)>& progress = {});
 
 // Writes /sweeps/<direction> for the points finished so far.
 void WriteSweep(ResultWriter& writer, const SweepRun& run);

@@ -359,7 +359,8 @@ IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double 
 
 IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0, double t1,
                                                     VectorRef x1, const Matrix& directions,
-                                                    Matrix& images) {
+                                                    Matrix& images, const Vector& times,
+                                                    Matrix* samples) {
   const Index n = impl_->n();
   CheckSize("x0", x0.size(), n);
   CheckSize("x1", x1.size(), n);
@@ -371,6 +372,22 @@ IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0,
         "OdeIntegrator::IntegrateTangents: {} directions: must be 1 … {} (the dimension)",
         directions.cols(), n));
   }
+  // The output times: the samples, then t1.
+  const Index m = samples != nullptr ? times.size() : 0;
+  Vector outputs(m + 1);
+  const double direction = t1 >= t0 ? 1.0 : -1.0;
+  for (Index k = 0; k < m; ++k) {
+    CheckTime("times(k)", times(k));
+    const double previous = k > 0 ? times(k - 1) : t0;
+    if (direction * (times(k) - previous) < 0.0 || direction * (t1 - times(k)) < 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator::IntegrateTangents: times({}) = {}: the sample times must be monotone "
+          "within [t0, t1] = [{}, {}]", k, times(k), t0, t1));
+    }
+    outputs(k) = times(k);
+  }
+  outputs(m) = t1;
+  Matrix states(n, m + 1);
   const Matrix seeds = directions;  // images may alias directions
   images.resize(n, seeds.cols());
   Vector& x0_copy = impl_->x0_buffer();
@@ -378,14 +395,17 @@ IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0,
   detail::IntegrationRequest request;
   request.t0 = t0;
   request.x0 = x0_copy.data();
-  request.times = &t1;
-  request.count = 1;
+  request.times = outputs.data();
+  request.count = outputs.size();
+  request.states = states.data();
   request.x_final = x1.data();
   request.stm = images.data();
   request.seeds = seeds.data();
   request.seed_count = seeds.cols();
   request.parameter_scale = ParameterScale(impl_->options(), impl_->system().Parameter());
-  return impl_->Run(request);
+  IntegrationResult result = impl_->Run(request);
+  if (samples != nullptr) *samples = states.leftCols(m);
+  return result;
 }
 
 IntegrationResult OdeIntegrator::Sample(double t0, ConstVectorRef x0, const Vector& times,

@@ -192,9 +192,11 @@ class OdeIntegrator {
   // equations for k columns only (CVODES: k forward sensitivities seeded with the directions;
   // ARKODE: k columns appended; Gauss: its discrete map's exact derivative) — what Lyapunov
   // exponents need, at a fraction of the full Φ's cost. Each column's absolute tolerance is the
-  // state's times ‖direction ./ scale‖₂.
+  // state's times ‖direction ./ scale‖₂. With `samples`, the state is also sampled at `times`
+  // (monotone, within [t0, t1]; samples resized to n × m) by the integrator's dense output.
   IntegrationResult IntegrateTangents(double t0, ConstVectorRef x0, double t1, VectorRef x1,
-                                      const Matrix& directions, Matrix& images);
+                                      const Matrix& directions, Matrix& images,
+                                      const Vector& times = Vector(), Matrix* samples = nullptr);
 
   // Dense output: states (resized to n × m) column k = x(times(k)), from x(t0) = x0. times has
   // m ≥ 1 entries, monotone in the direction of integration, none before t0 (in that direction).

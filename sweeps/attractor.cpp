@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -31,6 +32,46 @@ Matrix InitialDirections(const Vector& scale, int k) {
   const Eigen::HouseholderQR<Matrix> qr(draw);
   return scale.asDiagonal() * (qr.householderQ() * Matrix::Identity(scale.size(), k));
 }
+
+// The section's samples: the last two of each channel carried across intervals, extrema located
+// by the parabola through three successive samples.
+class SectionSampler {
+ public:
+  SectionSampler(const SampledSection& section, Index n)
+      : section_(section), values_(section.count, 3), states_(n, 3), times_(3) {}
+
+  // Adds the sample (t, x); records an extremum of any channel at the previous sample.
+  void Add(double t, const Vector& x, std::vector<SectionExtremum>& out) {
+    values_.col(0) = values_.col(1);
+    values_.col(1) = values_.col(2);
+    states_.col(0) = states_.col(1);
+    states_.col(1) = states_.col(2);
+    times_(0) = times_(1);
+    times_(1) = times_(2);
+    section_.function(x, values_.col(2));
+    states_.col(2) = x;
+    times_(2) = t;
+    if (++seen_ < 3) return;
+    for (int c = 0; c < section_.count; ++c) {
+      const double s0 = values_(c, 0), s1 = values_(c, 1), s2 = values_(c, 2);
+      const int kind = s0 < s1 && s1 >= s2 ? 1 : s0 > s1 && s1 <= s2 ? -1 : 0;
+      if (kind == 0) continue;
+      const double curvature = s0 - 2.0 * s1 + s2;
+      const double theta = curvature != 0.0 ? (s0 - s2) / (2.0 * curvature) : 0.0;  // in [−½, ½]
+      const Vector weights = (Vector(3) << 0.5 * theta * (theta - 1.0), 1.0 - theta * theta,
+                              0.5 * theta * (theta + 1.0)).finished();
+      out.push_back({c, kind, times_(1) + theta * (times_(2) - times_(1)),
+                     s1 - 0.5 * theta * theta * curvature, states_ * weights});
+    }
+  }
+
+ private:
+  const SampledSection& section_;
+  Matrix values_;  // count × 3: the last three samples
+  Matrix states_;  // n × 3
+  Vector times_;
+  long seen_ = 0;
+};
 
 }  // namespace
 
@@ -89,8 +130,21 @@ std::vector<std::size_t> ExcursionMaxima(const std::vector<double>& extrema, dou
   return out;
 }
 
+int SectionPeriod(const std::vector<double>& values, double tolerance, int max_period) {
+  const std::size_t first = values.size() / 2;
+  if (max_period < 1 || values.size() - first < 2 * static_cast<std::size_t>(max_period)) return 0;
+  for (int p = 1; p <= max_period; ++p) {
+    bool periodic = true;
+    for (std::size_t j = first; j + static_cast<std::size_t>(p) < values.size() && periodic; ++j) {
+      periodic = std::abs(values[j + static_cast<std::size_t>(p)] - values[j]) <= tolerance;
+    }
+    if (periodic) return p;
+  }
+  return 0;
+}
+
 AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,
-                                 const EventOptions* section, const AttractorProgress& progress) {
+                                 const SampledSection* section, const AttractorProgress& progress) {
   Validate(options);
   const Index n = system.Dimension();
   const int k = options.exponents;
@@ -102,8 +156,16 @@ AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const Attr
     throw std::invalid_argument(fmt::format("MeasureAttractor: x0 has {} entries, the system {}",
                                             x0.size(), n));
   }
-  if (section != nullptr && section->terminal) {
-    throw std::invalid_argument("MeasureAttractor: the section's events must not be terminal");
+  if (section != nullptr) {
+    if (section->count < 1 || !section->function) {
+      throw std::invalid_argument(fmt::format(
+          "SampledSection.count = {}: must be at least 1, with a function", section->count));
+    }
+    if (!(section->interval > 0.0) || !(section->interval <= options.interval)) {
+      throw std::invalid_argument(fmt::format(
+          "SampledSection.interval = {}: must be positive and at most AttractorOptions.interval = {}",
+          section->interval, options.interval));
+    }
   }
   const double cpu_start = ThreadCpuSeconds();
   const double tau = options.interval;
@@ -113,7 +175,12 @@ AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const Attr
   const Vector scale = system.StateScale();
 
   OdeIntegrator integrator(system, options.integrator);
-  if (section != nullptr) integrator.SetEvents(*section);
+  std::optional<SectionSampler> sampler;
+  if (section != nullptr) sampler.emplace(*section, n);
+  const double start = static_cast<double>(discarded) * tau;  // of the counted record
+  long next_sample = 0;  // samples at start + j·h, j = 0, 1, ...
+  Vector sample_times;
+  Matrix samples;
   AttractorResult result;
   result.running.resize(k, counted);
   result.times.resize(counted);
@@ -125,7 +192,19 @@ AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const Attr
   long done = 0;
   for (long i = 0; i < total; ++i) {
     const double t = static_cast<double>(i) * tau;
-    const IntegrationResult step = integrator.IntegrateTangents(t, x, t + tau, x, directions, images);
+    // The section's samples in (t, t + τ] (and at the start of the counted record).
+    sample_times.resize(0);
+    if (sampler && i >= discarded) {
+      const double h = section->interval;
+      const long last = static_cast<long>(std::floor((t + tau - start) / h * (1.0 + 1e-12)));
+      sample_times.resize(std::max(last - next_sample + 1, 0L));
+      for (Index j = 0; j < sample_times.size(); ++j) {
+        sample_times(j) = std::min(start + static_cast<double>(next_sample + j) * h, t + tau);
+      }
+      next_sample = last + 1;
+    }
+    const IntegrationResult step =
+        integrator.IntegrateTangents(t, x, t + tau, x, directions, images, sample_times, &samples);
     Accumulate(result.statistics, step.statistics);
     if (!step.Succeeded()) {
       result.status = AttractorStatus::kIntegrationFailure;
@@ -149,10 +228,9 @@ AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const Attr
     block_times(block) += tau;
     result.running.col(c) = sums / t_counted;
     result.times(c) = t_counted;
-    if (section != nullptr) {
-      const double start = static_cast<double>(discarded) * tau;
-      for (const IntegrationEvent& event : step.events) {
-        result.crossings.push_back({event.index, event.t - start, event.x});
+    if (sampler) {
+      for (Index j = 0; j < sample_times.size(); ++j) {
+        sampler->Add(sample_times(j) - start, samples.col(j), result.extrema);
       }
     }
     done = c + 1;

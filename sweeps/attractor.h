@@ -18,11 +18,14 @@
 // lies beyond that on either side. Finite records bias a zero exponent by O(1/T) (the growth of a
 // neutral direction is bounded, not zero): zero_tolerance says how much is accepted.
 //
-// Poincaré section: zeros of event functions (EventOptions, one channel per component, not
-// terminal) recorded with the state along the whole counted record — e.g. the rub's successive
-// maxima of each contact's penetration, where the model reads the normal force (sweeps/rub_sweep.h). A periodic
-// motion gives one point per channel (or a few), a torus a closed curve in the return map
-// (value_k, value_k+1), chaos a cloud.
+// Poincaré section: extrema of scalar signals of the state (e.g. the rub's penetrations,
+// sweeps/rub_sweep.h), sampled at a fixed interval by the integrator's dense output along the
+// whole counted record and located between samples by the parabola through three, the state
+// there by the same quadratic interpolation. Samples, not event functions: a signal whose
+// derivative hovers at rounding level (a contact's penetration rate in full contact) makes root
+// finding stall, and sampling leaves the steps alone. ExcursionMaxima then keeps one maximum per
+// excursion: a periodic motion gives one point per channel (or a few), a torus a closed curve in
+// the return map (value_j, value_j+1), chaos a cloud.
 #pragma once
 
 #include <functional>
@@ -47,10 +50,21 @@ struct AttractorOptions {
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const AttractorOptions& options);
 
-// A crossing of the section: which event function (channel) crossed zero, when, and the state.
-struct SectionCrossing {
+// Signals sampled for the section: `count` values of the state, every `interval` time units
+// (> 0, at most the re-orthonormalization interval).
+struct SampledSection {
+  int count = 0;
+  double interval = 0.0;
+  std::function<void(ConstVectorRef x, VectorRef values)> function;
+};
+
+// A local maximum or minimum of one signal: its channel, kind (+1 maximum, −1 minimum), time
+// (from the start of the counted record), value, and the state there (interpolated).
+struct SectionExtremum {
   int channel = 0;
-  double t = 0.0;  // counted from the start of the counted record
+  int kind = 0;
+  double t = 0.0;
+  double value = 0.0;
   Vector x;
 };
 
@@ -74,7 +88,7 @@ struct AttractorResult {
   int negative = 0;
   Vector times;            // end of each counted interval (from the start of the counted record)
   Matrix running;          // k × intervals: the running estimates λ_i(t)
-  std::vector<SectionCrossing> crossings;  // in time order
+  std::vector<SectionExtremum> extrema;  // in time order per channel
   Vector state;            // the state at the end
   double counted_time = 0.0;
   double cpu_seconds = 0.0;  // CPU time of the calling thread
@@ -93,10 +107,17 @@ std::vector<std::size_t> ExcursionMaxima(const std::vector<double>& extrema, dou
 // Called after each interval: time done (including the discard), total time.
 using AttractorProgress = std::function<void(double done, double total)>;
 
+// The period of a sequence of section values in returns: the smallest p in [1, max_period] with
+// |v_j+p − v_j| ≤ tolerance for every j of the second half of the sequence (the first half is
+// left to the transient), or 0 when there is none or the second half holds fewer than
+// 2·max_period values: a periodic motion shows period 1 (one point per channel), a
+// period-doubled one 2; a torus or chaos none.
+int SectionPeriod(const std::vector<double>& values, double tolerance, int max_period);
+
 // Integrates `system` from x0 at its current parameter. `section` may be null. Throws
-// std::invalid_argument for invalid options or sizes; integration failures are a status.
+// std::invalid_argument for invalid options, section or sizes; integration failures are a status.
 AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,
-                                 const EventOptions* section = nullptr,
+                                 const SampledSection* section = nullptr,
                                  const AttractorProgress& progress = {});
 
 }  // namespace rubcont

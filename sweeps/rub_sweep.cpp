@@ -240,54 +240,73 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
   return out;
 }
 
-EventOptions RubPenetrationExtrema(RubFixedFrame& system) {
-  EventOptions events;
-  events.count = static_cast<int>(system.structure().contacts.size());
-  events.directions.assign(static_cast<std::size_t>(events.count), 0);
-  events.function = [&system](double /*t*/, ConstVectorRef x, VectorRef g) {
+SampledSection RubPenetrations(RubFixedFrame& system, double interval) {
+  SampledSection section;
+  section.count = static_cast<int>(system.structure().contacts.size());
+  section.interval = interval;
+  section.function = [&system](ConstVectorRef x, VectorRef values) {
     const std::vector<ContactEvaluation> contacts = system.Contacts(x);
-    for (std::size_t k = 0; k < contacts.size(); ++k) g(static_cast<Index>(k)) = contacts[k].penetration_rate;
-    // An exact zero at a located root makes CVODES stop ("root found at and very near t": the
-    // interpolated state, and so g, is the same a rounding step later); in full contact δ̇ is
-    // 1e-10 m/s of a 0.1 m/s relative velocity and n·ḋ cancels to exactly 0 now and then. A zero
-    // counts as positive: the crossing is then located where g first changes sign.
-    for (Index k = 0; k < g.size(); ++k) {
-      if (g(k) == 0.0) g(k) = std::numeric_limits<double>::denorm_min();
-    }
+    for (std::size_t k = 0; k < contacts.size(); ++k) values(static_cast<Index>(k)) = contacts[k].penetration;
   };
-  return events;
+  return section;
 }
 
 std::vector<RubSectionPoint> RubSectionMaxima(RubFixedFrame& system,
-                                              const std::vector<SectionCrossing>& crossings) {
+                                              const std::vector<SectionExtremum>& extrema) {
   const std::size_t contacts = system.structure().contacts.size();
-  std::vector<std::vector<RubSectionPoint>> extrema(contacts);
-  for (const SectionCrossing& c : crossings) {
-    const auto k = static_cast<std::size_t>(c.channel);
-    const ContactEvaluation contact = system.Contacts(c.x)[k];
-    extrema[k].push_back({c.channel, c.t, contact.penetration, contact.normal_force});
-  }
+  std::vector<std::vector<const SectionExtremum*>> channels(contacts);
+  for (const SectionExtremum& e : extrema) channels[static_cast<std::size_t>(e.channel)].push_back(&e);
   std::vector<RubSectionPoint> out;
   for (std::size_t k = 0; k < contacts; ++k) {
     std::vector<double> penetration;
-    for (const RubSectionPoint& p : extrema[k]) penetration.push_back(p.penetration);
-    for (std::size_t i : ExcursionMaxima(penetration, 0.0)) out.push_back(extrema[k][i]);
+    for (const SectionExtremum* e : channels[k]) penetration.push_back(e->value);
+    for (std::size_t i : ExcursionMaxima(penetration, 0.0)) {
+      const SectionExtremum& e = *channels[k][i];
+      const ContactEvaluation contact = system.Contacts(e.x)[k];
+      out.push_back({e.channel, e.t, e.value, contact.normal_force});
+    }
   }
   std::sort(out.begin(), out.end(), [](const RubSectionPoint& a, const RubSectionPoint& b) { return a.t < b.t; });
   return out;
 }
 
-std::string RubMotion(const RubStructure& structure, const AttractorResult& result) {
+int RubSectionPeriod(const RubStructure& structure, const std::vector<RubSectionPoint>& section) {
+  constexpr int kMaxPeriod = 8;
+  int period = 0;
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    std::vector<double> force;
+    for (const RubSectionPoint& p : section) {
+      if (p.contact == static_cast<int>(k)) force.push_back(p.normal_force);
+    }
+    if (force.empty()) continue;
+    double mean = 0.0;
+    for (double f : force) mean += std::abs(f) / static_cast<double>(force.size());
+    const int p = SectionPeriod(force, kRubSectionTolerance * mean, kMaxPeriod);
+    if (p == 0) return 0;
+    period = std::max(period, p);
+  }
+  return period;
+}
+
+std::string RubMotion(const RubStructure& structure, const AttractorResult& result,
+                      const std::vector<RubSectionPoint>& section) {
   if (result.status != AttractorStatus::kMeasured) return "unknown (integration failure)";
+  const int period = RubSectionPeriod(structure, section);
   const int k = static_cast<int>(result.exponents.size());
-  if (result.positive > 0) return "chaotic";
+  if (result.positive > 0) {
+    return period > 0 ? "unsettled (a positive exponent on a periodic section: a transient)" : "chaotic";
+  }
   if (result.zero == k) return fmt::format("at least {} frequencies (all {} exponents zero)", k, k);
   if (structure.imbalance == 0.0) {
     switch (result.zero) {
       case 0: return "equilibrium";
       case 1: return "rotating wave";
-      case 2: return "relative periodic orbit";
-      case 3: return "relative 2-torus";
+      case 2:
+        return period > 1 ? fmt::format("relative periodic orbit, period {} in the section", period)
+                          : "relative periodic orbit";
+      case 3:
+        return period > 0 ? "relative periodic orbit near a bifurcation (a third exponent ≈ 0)"
+                          : "relative 2-torus";
       default: break;
     }
   }
@@ -295,4 +314,3 @@ std::string RubMotion(const RubStructure& structure, const AttractorResult& resu
 }
 
 }  // namespace rubcont
-

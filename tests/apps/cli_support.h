@@ -64,4 +64,15 @@ inline Outcome Rubcont(const std::string& args, const std::string& env = "") {
 // The same without figures.
 inline Outcome RubcontNoPython(const std::string& args) { return Rubcont(args, kNoPython); }
 
+// Case A(a) in `dir` with a speed-up schedule 40, 44, 48 rpm (the whirl: it rolls from the impulse
+// on), 0.75 s per speed.
+inline fs::path WhirlScene(const fs::path& dir) {
+  std::string text = Slurp("scenes/thesis_A_a.toml");
+  text = text.substr(0, text.find("[analysis.sweep]")) +
+         "[analysis.sweep]\nup_range_rpm = [40.0, 48.0]\nspeed_step_rpm = 4.0\ndwell = 0.75\n";
+  const fs::path file = dir / "thesis_A_a.toml";
+  std::ofstream(file) << text;
+  return file;
+}
+
 }  // namespace rubcont::testing

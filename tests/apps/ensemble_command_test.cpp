@@ -17,16 +17,7 @@ using Catch::Matchers::Contains;
 using testing::Outcome;
 using testing::Slurp;
 using testing::TempDir;
-
-// Case A(a) with a speed-up schedule 40, 44, 48 rpm (the whirl: it rolls from the impulse on).
-fs::path WhirlScene(const fs::path& dir) {
-  std::string text = Slurp("scenes/thesis_A_a.toml");
-  text = text.substr(0, text.find("[analysis.sweep]")) +
-         "[analysis.sweep]\nup_range_rpm = [40.0, 48.0]\nspeed_step_rpm = 4.0\ndwell = 0.75\n";
-  const fs::path file = dir / "thesis_A_a.toml";
-  std::ofstream(file) << text;
-  return file;
-}
+using testing::WhirlScene;
 
 TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it or arrive at "
           "once, the same on one thread and on two", "[ensemble_cli]") {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <unistd.h>
 
@@ -63,6 +64,10 @@ IntegratorOptions Tight(IntegrationMethod method) {
   return options;
 }
 
+const std::vector<IntegrationMethod> kEveryMethod = {
+    IntegrationMethod::kBdf, IntegrationMethod::kAdams, IntegrationMethod::kExplicitRungeKutta,
+    IntegrationMethod::kDiagonallyImplicitRungeKutta, IntegrationMethod::kGaussCollocation};
+
 TEST_CASE("state and state-transition matrix of a linear system match the matrix exponential",
           "[ode]") {
   LinearSystem system;
@@ -74,9 +79,7 @@ TEST_CASE("state and state-transition matrix of a linear system match the matrix
   const Vector expected_dxdp =
       (system.Exponential(T, system.Parameter() + h) - system.Exponential(T, system.Parameter() - h)) *
       X0() / (2 * h);
-  for (IntegrationMethod method :
-       {IntegrationMethod::kBdf, IntegrationMethod::kAdams, IntegrationMethod::kExplicitRungeKutta,
-        IntegrationMethod::kDiagonallyImplicitRungeKutta, IntegrationMethod::kGaussCollocation}) {
+  for (IntegrationMethod method : kEveryMethod) {
     CAPTURE(ToString(method));
     OdeIntegrator integrator(system, Tight(method));
     Vector x(3), dxdp;
@@ -102,9 +105,7 @@ TEST_CASE("tangents: Φ applied to k directions, by every method, between full-S
                 -2.0, 0.0,
                 0.5, 3.0;
   const Matrix expected = expected_stm * directions;
-  for (IntegrationMethod method :
-       {IntegrationMethod::kBdf, IntegrationMethod::kAdams, IntegrationMethod::kExplicitRungeKutta,
-        IntegrationMethod::kDiagonallyImplicitRungeKutta, IntegrationMethod::kGaussCollocation}) {
+  for (IntegrationMethod method : kEveryMethod) {
     CAPTURE(ToString(method));
     OdeIntegrator integrator(system, Tight(method));
     Vector x(3), dxdp;

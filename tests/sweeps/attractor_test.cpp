@@ -78,16 +78,12 @@ TEST_CASE("attractor: a limit cycle has one zero exponent, the radial one is -2 
   options.exponents = 2;
   options.zero_tolerance = 0.02;
   options.integrator = Tight();
-  // The section: maxima of x (ẋ falling through zero), once per period at x = r (at the maximum
-  // of x on the circle r = √λ).
-  EventOptions section;
+  // The section: x sampled every 0.01 (~314 samples a period): its maxima lie on the circle at
+  // x = √λ, once per period, its minima at −√λ.
+  SampledSection section;
   section.count = 1;
-  section.directions = {-1};
-  section.function = [&](double t, ConstVectorRef x, VectorRef g) {
-    Vector f(2);
-    system.Rhs(t, x, f);
-    g(0) = f(0);
-  };
+  section.interval = 0.01;
+  section.function = [](ConstVectorRef x, VectorRef values) { values(0) = x(0); };
   const AttractorResult result =
       MeasureAttractor(system, (Vector(2) << 0.1, 0.0).finished(), options, &section);
   REQUIRE(result.status == AttractorStatus::kMeasured);
@@ -97,11 +93,27 @@ TEST_CASE("attractor: a limit cycle has one zero exponent, the radial one is -2 
   CHECK(result.zero == 1);
   CHECK(result.negative == 1);
   const double period = system.Period();
-  CHECK(std::abs(static_cast<double>(result.crossings.size()) - 100.0 / period) <= 1.0);
-  for (const SectionCrossing& c : result.crossings) CHECK(c.x(0) == Approx(std::sqrt(0.8)).epsilon(1e-7));
-  for (std::size_t i = 1; i < result.crossings.size(); ++i) {
-    CHECK(result.crossings[i].t - result.crossings[i - 1].t == Approx(period).epsilon(1e-7));
+  std::vector<const SectionExtremum*> maxima;
+  double worst_value = 0.0, worst_spacing = 0.0;
+  for (const SectionExtremum& e : result.extrema) {
+    CHECK(e.x(0) == Approx(e.value).epsilon(1e-6));  // the interpolated state agrees
+    if (e.kind < 0) {
+      worst_value = std::max(worst_value, std::abs(e.value + std::sqrt(0.8)));
+      continue;
+    }
+    worst_value = std::max(worst_value, std::abs(e.value - std::sqrt(0.8)));
+    if (!maxima.empty()) worst_spacing = std::max(worst_spacing, std::abs(e.t - maxima.back()->t - period));
+    maxima.push_back(&e);
   }
+  CHECK(std::abs(static_cast<double>(maxima.size()) - 100.0 / period) <= 1.0);
+  CHECK(result.extrema.size() >= 2 * maxima.size() - 1);
+  CAPTURE(worst_value, worst_spacing);
+  CHECK(worst_value <= 1e-8);
+  CHECK(worst_spacing <= 1e-6);
+  // Every maximum is its own excursion.
+  std::vector<double> values;
+  for (const SectionExtremum& e : result.extrema) values.push_back(e.value);
+  CHECK(ExcursionMaxima(values, -1.0).size() >= maxima.size() - 2);
 }
 
 TEST_CASE("attractor: a 2-torus has two zero exponents", "[attractor]") {
@@ -153,6 +165,22 @@ TEST_CASE("attractor: one section point per slow excursion, none for the ripple 
   // A floor above the midline: only the excursions above it count (here none reach 2).
   CHECK(ExcursionMaxima(values, 2.0).empty());
   CHECK(ExcursionMaxima({}, 0.0).empty());
+}
+
+TEST_CASE("attractor: the section's period, after the first half's transient", "[attractor]") {
+  // A decaying transient, then the values alternate: period 2 (to 1e-9).
+  std::vector<double> values;
+  for (int j = 0; j < 40; ++j) values.push_back((j % 2 ? 1.0 : 3.0) + 5.0 * std::exp(-0.5 * j));
+  CHECK(SectionPeriod(values, 1e-3, 8) == 2);
+  CHECK(SectionPeriod(values, 1e-12, 8) == 0);  // the transient (e^{-10}) is still there
+  // Constant: period 1. Irrational rotation (a torus's section): none.
+  CHECK(SectionPeriod(std::vector<double>(20, 7.0), 0.0, 4) == 1);
+  std::vector<double> torus;
+  for (int j = 0; j < 200; ++j) torus.push_back(std::sin(2.0 * M_PI * 0.5 * (std::sqrt(5.0) - 1.0) * j));
+  CHECK(SectionPeriod(torus, 1e-3, 8) == 0);
+  // Too short a record to tell: its second half must hold two of the longest period.
+  CHECK(SectionPeriod(std::vector<double>(30, 7.0), 0.0, 8) == 0);
+  CHECK(SectionPeriod(std::vector<double>(32, 7.0), 0.0, 8) == 1);
 }
 
 TEST_CASE("attractor: invalid options name the field, a failing integration is a status",

@@ -511,5 +511,44 @@ TEST_CASE("Explicit Runge-Kutta on the stiff contact: a loose tolerance lets the
   CHECK(stepper.Step() == SweepStepOutcome::kFailed);
 }
 
+TEST_CASE("rub motion: named by the exponents and the section's period", "[rub_sweep]") {
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
+  auto result = [](int positive, int zero, int negative) {
+    AttractorResult r;
+    r.exponents = Vector::Zero(positive + zero + negative);
+    r.positive = positive;
+    r.zero = zero;
+    r.negative = negative;
+    return r;
+  };
+  // Normal forces at successive maxima: each contact alike, period 1, period 2 or none.
+  auto section = [](int period) {
+    std::vector<RubSectionPoint> points;
+    for (int j = 0; j < 40; ++j) {
+      const double force = period == 0 ? 3000.0 + 300.0 * std::sin(2.4 * j)
+                                       : 3000.0 + (period == 2 && j % 2 ? 300.0 : 0.0);
+      for (int k = 0; k < 2; ++k) points.push_back({k, 0.005 * j, 1e-8, force});
+    }
+    return points;
+  };
+  CHECK(RubSectionPeriod(s, section(1)) == 1);
+  CHECK(RubSectionPeriod(s, section(2)) == 2);
+  CHECK(RubSectionPeriod(s, section(0)) == 0);
+  CHECK(RubSectionPeriod(s, {}) == 0);
+  CHECK(RubMotion(s, result(0, 1, 3), {}) == "rotating wave");
+  CHECK(RubMotion(s, result(0, 0, 4), {}) == "equilibrium");
+  CHECK(RubMotion(s, result(0, 2, 2), section(1)) == "relative periodic orbit");
+  CHECK(RubMotion(s, result(0, 2, 2), section(2)) == "relative periodic orbit, period 2 in the section");
+  CHECK(RubMotion(s, result(0, 2, 2), section(0)) == "relative periodic orbit");  // the exponents decide
+  CHECK_THAT(RubMotion(s, result(0, 3, 1), section(1)), Contains("near a bifurcation"));
+  CHECK(RubMotion(s, result(0, 3, 1), section(0)) == "relative 2-torus");
+  CHECK(RubMotion(s, result(1, 2, 1), section(0)) == "chaotic");
+  CHECK_THAT(RubMotion(s, result(1, 2, 1), section(1)), Contains("unsettled"));
+  CHECK_THAT(RubMotion(s, result(0, 4, 0), section(0)), Contains("at least 4 frequencies"));
+  AttractorResult failed = result(0, 2, 2);
+  failed.status = AttractorStatus::kIntegrationFailure;
+  CHECK_THAT(RubMotion(s, failed, section(1)), Contains("integration failure"));
+}
+
 }  // namespace
 }  // namespace rubcont

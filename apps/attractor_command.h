@@ -1,0 +1,50 @@
+// `rubcont attractor SCENE --from RPM --to RPM --step RPM`: what the motion is at each speed of a
+// schedule, from long transients (sweeps/attractor.h): the leading Lyapunov exponents by the
+// variational equations, the verdict they give (sweeps/rub_sweep.h RubMotion: rotating wave,
+// relative periodic orbit, relative 2-torus, chaotic) and a Poincaré section of each contact's
+// successive penetration maxima, one per modulation or impact, with the normal force there
+// (sampled every `sample_interval` seconds: RubPenetrations, RubSectionMaxima). The scene's
+// sweep in `direction` is run from the impulse up to the last speed of its schedule before the
+// first speed (the approach, as `rubcont ensemble`); each speed then starts from the state the
+// previous one ended in, integrates `discard` seconds uncounted and `duration` seconds counted,
+// re-orthonormalizing the `exponents` tangent directions every `interval` seconds. The integrator
+// is the scene's sweep integrator (CVODES BDF), at `tolerance` when given.
+//
+// HDF5 layout (written atomically): root attributes as every result (scene_toml, level "L3", ...);
+// /attractor attributes direction, duration, discard, interval, sample_interval, exponents, blocks,
+// zero_tolerance, integrator, relative_tolerance, absolute_tolerance, approach_from_rpm /
+// approach_to_rpm (NaN without an approach), wall_seconds; datasets (one row per speed) speed_rpm, exponents and standard_errors
+// [speeds × k, 1/s], zero_exponents, positive_exponents, section_period (RubSectionPeriod, 0:
+// none), motion (RubMotion), status, message,
+// counted_s, cpu_seconds, steps; per contact the section, one entry per point in speed order:
+// section_speed_rpm_<contact>, section_time_s_<contact> (from the start of the counted record),
+// section_penetration_<contact> [m], section_normal_force_<contact> [N]; and per speed i
+// /attractor/running/<i> [k × intervals]: the running estimates, with running_time_s.
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace rubcont {
+
+struct AttractorRequest {
+  std::string scene_file;
+  double from_rpm = 0.0;               // required, > 0
+  std::optional<double> to_rpm;        // default: from_rpm (one speed)
+  double step_rpm = 4.0;               // > 0
+  std::string direction = "up";        // "up" or "down": the approach, and the order of speeds
+  double duration = 2.0;               // [s] counted per speed
+  double discard = 0.5;                // [s] uncounted per speed
+  double interval = 0.005;             // [s] re-orthonormalization
+  double sample_interval = 2e-6;       // [s] the section's samples: ~20 per period of the contact's
+                                       // ~20 kHz oscillation (see RubPenetrations)
+  int exponents = 4;
+  std::optional<double> tolerance;     // relative = absolute; default the scene's sweep integrator's
+  std::optional<std::string> out_file; // default results/<scene>/attractor.h5
+  bool quiet = false;
+};
+
+int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::ostream& err);
+
+}  // namespace rubcont

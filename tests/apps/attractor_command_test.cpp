@@ -1,0 +1,75 @@
+// `rubcont attractor`, run as a user runs it: the verdict on a whirl, the file, bad input.
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "apps/hdf5_file.h"
+#include "cli_support.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using testing::Outcome;
+using testing::TempDir;
+using testing::WhirlScene;
+
+TEST_CASE("rubcont attractor: the whirl is a rotating wave, one zero exponent, its section a "
+          "single force", "[attractor_cli]") {
+  TempDir dir;
+  const fs::path scene = WhirlScene(dir.path);
+  const fs::path h5 = dir.path / "whirl.h5";
+  const Outcome o = testing::RubcontNoPython(
+      "attractor " + scene.string() + " --from 48 --duration 0.2 --discard 0.05 --interval 0.01 "
+      "--exponents 3 --quiet --out " + h5.string());
+  INFO(o.out << o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("from the up sweep 40 → 44 rpm"));
+  CHECK_THAT(o.out, Contains("48.0 rpm: rotating wave: λ = "));
+  ResultReader r(h5);
+  CHECK(r.ReadStringAttribute("/", "level") == "L3");
+  CHECK(r.ReadDoubles("/attractor/speed_rpm") == std::vector<double>{48.0});
+  CHECK(r.ReadStrings("/attractor/motion") == std::vector<std::string>{"rotating wave"});
+  CHECK(r.ReadInts("/attractor/zero_exponents") == std::vector<int>{1});
+  const Matrix exponents = r.ReadMatrix("/attractor/exponents");
+  const Matrix errors = r.ReadMatrix("/attractor/standard_errors");
+  REQUIRE(exponents.cols() == 3);
+  CAPTURE(exponents, errors);
+  // The rotation (= the time shift) is neutral: zero within its error (measured −1.27 ± 1.79/s
+  // over 0.2 s); the next ones decay (−10.8, −11.3/s).
+  CHECK(std::abs(exponents(0, 0)) <= 3.0 * errors(0, 0));
+  CHECK(exponents(0, 1) < -3.0 * errors(0, 1));
+  CHECK(r.ReadDoubles("/attractor/counted_s").at(0) == Approx(0.2));
+  CHECK(r.ReadMatrix("/attractor/running/0").cols() == 20);
+  // Rolling in steady contact: the penetration is constant, so every point the section keeps (if
+  // any: the extrema are the integrator's noise) has the same normal force.
+  for (const std::string side : {"left", "right"}) {
+    const std::vector<double> force = r.ReadDoubles("/attractor/section_normal_force_" + side);
+    for (double f : force) CHECK(f == Approx(force.front()).epsilon(1e-4));
+  }
+}
+
+TEST_CASE("rubcont attractor: bad options are exit code 2 naming the option", "[attractor_cli]") {
+  TempDir dir;
+  const fs::path scene = WhirlScene(dir.path);
+  auto bad = [&](const std::string& args, const std::string& message) {
+    const Outcome o = testing::RubcontNoPython("attractor " + scene.string() + " " + args +
+                                               " --quiet --out " + (dir.path / "x.h5").string());
+    CHECK(o.exit_code == 2);
+    CHECK_THAT(o.err, Contains(message));
+    CHECK_FALSE(fs::exists(dir.path / "x.h5"));
+  };
+  bad("--from 48 --to 40", "--to = 40: must lie beyond --from in the direction of the schedule");
+  bad("--from 48 --direction sideways", "--direction = sideways: must be up or down");
+  bad("--from 48 --duration 0.1 --interval 0.05", "--interval = 0.05: must be positive and at most a tenth");
+  bad("--from 48 --sample 0.01", "--sample = 0.01: must be positive and at most --interval");
+  bad("--from 48 --exponents 99", "--exponents = 99: must be at most the model's");
+  bad("--from 48 --tolerance 2", "--tolerance = 2: must lie in (0, 1)");
+}
+
+}  // namespace
+}  // namespace rubcont
