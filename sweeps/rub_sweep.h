@@ -186,7 +186,7 @@ struct RubSectionPoint {
   double normal_force = 0.0;  // N_k [N]
 };
 
-// Evaluates the crossings' states at `system`'s current parameter.
+// Evaluates the extrema's (interpolated) states at `system`'s current parameter.
 std::vector<RubSectionPoint> RubSectionMaxima(RubFixedFrame& system,
                                               const std::vector<SectionExtremum>& extrema);
 
