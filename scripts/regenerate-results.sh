@@ -14,6 +14,9 @@
 #                   the figures). Use it after a change of the regime rules.
 #   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
 #                   scenes/thesis_A_a_modulated_whip.toml): about 20 min on 2 cores.
+#   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
+#                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
+#                   2 cores) and prints the table of results/README.md "What the whip is".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -68,5 +71,22 @@ build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml 
 build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_up_jump.toml \
   --quiet --out results/design/fit_thesis_A_a_jump.h5 > results/design/fit_thesis_A_a_jump.txt 2>&1 || true
 echo "results/design: $(ls results/design | tr '\n' ' ')"
+# What the whip is (results/README.md, "What the whip is, speed by speed"): three schedules side by
+# side, the impacting whip at a tighter tolerance and shorter records.
+if [[ "${1:-}" == "--attractor" ]]; then
+  attractor() {  # FROM TO then extra options
+    local name="results/thesis_A_a/attractor_$1_$2rpm"
+    build/rubcont attractor scenes/thesis_A_a.toml --from "$1" --to "$2" --step 4 "${@:3}" --quiet \
+      --out "$name.h5" > "$name.txt"
+  }
+  pids=()
+  attractor 52 128 --duration 2 --discard 1 --tolerance 1e-7 & pids+=($!)
+  attractor 132 144 --duration 1 --discard 1 --tolerance 1e-7 & pids+=($!)
+  attractor 148 184 --duration 0.2 --discard 0.1 --interval 0.002 --tolerance 1e-8 & pids+=($!)
+  for pid in "${pids[@]}"; do wait "$pid"; done  # a failing run stops the script (set -e)
+  /usr/bin/python3 scripts/attractor_table.py results/thesis_A_a/attractor_52_128rpm.h5 \
+    results/thesis_A_a/attractor_132_144rpm.h5 results/thesis_A_a/attractor_148_184rpm.h5 \
+    --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
+fi
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
