@@ -133,6 +133,42 @@ TEST_CASE("tangents: Φ applied to k directions, by every method, between full-S
                     Catch::Contains("0 directions: must be 1 … 3"));
 }
 
+TEST_CASE("tangents with samples: the states at the sample times, the same map", "[ode]") {
+  LinearSystem system;
+  const double T = 2.5;
+  const Vector times = (Vector(4) << 0.0, 0.7, 1.9, 2.5).finished();  // t0 and t1 included
+  Matrix directions(3, 2);
+  directions << 1.0, 0.2,
+                -2.0, 0.0,
+                0.5, 3.0;
+  for (IntegrationMethod method : kEveryMethod) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    Vector x(3);
+    Matrix images, samples;
+    REQUIRE(integrator.IntegrateTangents(0.0, X0(), T, x, directions, images, times, &samples)
+                .Succeeded());
+    REQUIRE(samples.cols() == 4);
+    for (Index k = 0; k < times.size(); ++k) {
+      const Vector expected = system.Exponential(times(k), system.Parameter()) * X0();
+      CAPTURE(k);
+      CHECK((samples.col(k) - expected).norm() <= 3e-9 * expected.norm());
+    }
+    const Matrix expected = system.Exponential(T, system.Parameter()) * directions;
+    CHECK((images - expected).norm() <= 1e-9 * expected.norm());
+    CHECK((samples.col(3) - x).norm() <= 1e-12 * x.norm());
+  }
+  OdeIntegrator integrator(system, Tight(IntegrationMethod::kBdf));
+  Vector x(3);
+  Matrix images, samples;
+  const Vector late = (Vector(2) << 1.0, 3.0).finished();  // past t1
+  CHECK_THROWS_WITH(integrator.IntegrateTangents(0.0, X0(), T, x, directions, images, late, &samples),
+                    Catch::Contains("times(1) = 3: the sample times must be monotone within [t0, t1]"));
+  const Vector backwards = (Vector(2) << 1.0, 0.5).finished();
+  CHECK_THROWS_WITH(integrator.IntegrateTangents(0.0, X0(), T, x, directions, images, backwards, &samples),
+                    Catch::Contains("times(1) = 0.5"));
+}
+
 TEST_CASE("CVODES without an analytic Jacobian gives the same STM", "[ode]") {
   LinearSystem system;
   system.analytic_jacobian = false;
