@@ -1,5 +1,6 @@
 #include "apps/attractor_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -93,14 +94,8 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
 
     const SteadyClock::time_point start = SteadyClock::now();
     const SweepApproach approach =
-        ApproachSweep(scene, direction, RpmToRadPerSecond(speeds_rpm.front()), [&](const SweepRun& run) {
-          if (request.quiet) return;
-          fmt::print(err, "rubcont: [attractor] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n",
-                     request.direction, RadPerSecondToRpm(run.stepper().points().back().parameter),
-                     run.stepper().points().size(), run.stepper().options().parameters.size(),
-                     SecondsSince(start));
-          err.flush();
-        });
+        ApproachSweep(scene, direction, RpmToRadPerSecond(speeds_rpm.front()),
+                      request.quiet ? nullptr : PrintApproachProgress(err, "attractor", start));
 
     RubFixedFrame system(structure);
     const SampledSection section = RubPenetrations(system, request.sample_interval);
@@ -108,6 +103,8 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     Vector x = approach.state;
     std::vector<AttractorResult> results;
     std::vector<std::vector<RubSectionPoint>> points;  // per speed
+    std::vector<int> period;                            // per speed: RubSectionPeriod
+    std::vector<std::string> motion;                    // per speed: RubMotion
     for (double rpm : speeds_rpm) {
       const double omega = RpmToRadPerSecond(rpm);
       system.SetParameter(omega);
@@ -123,9 +120,11 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
       AttractorResult& r = results.back();
       points.push_back(RubSectionMaxima(system, r.extrema));
       r.extrema = {};  // every ripple's extremum with its state: megabytes per second
+      period.push_back(RubSectionPeriod(structure, points.back()));
+      motion.push_back(RubMotion(structure, r, points.back()));
       if (!request.quiet) {
         fmt::print(err, "rubcont: [attractor] {:.1f} rpm: {} ({}; {:.1f} s CPU)\n", rpm,
-                   RubMotion(structure, r, points.back()), FormatExponents(r), r.cpu_seconds);
+                   motion.back(), FormatExponents(r), r.cpu_seconds);
         err.flush();
       }
       if (r.status != AttractorStatus::kMeasured) break;
@@ -162,8 +161,8 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     const Index count = static_cast<Index>(results.size());
     Matrix exponents(count, options.exponents), errors(count, options.exponents);
     std::vector<double> speed, counted, cpu, steps;
-    std::vector<int> zero, positive, period;
-    std::vector<std::string> motion, status, message;
+    std::vector<int> zero, positive;
+    std::vector<std::string> status, message;
     writer.CreateGroup(g + "/running");
     for (Index i = 0; i < count; ++i) {
       const AttractorResult& r = results[static_cast<std::size_t>(i)];
@@ -172,8 +171,6 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
       errors.row(i) = r.standard_errors.transpose();
       zero.push_back(r.zero);
       positive.push_back(r.positive);
-      period.push_back(RubSectionPeriod(structure, points[static_cast<std::size_t>(i)]));
-      motion.push_back(RubMotion(structure, r, points[static_cast<std::size_t>(i)]));
       status.push_back(ToString(r.status));
       message.push_back(r.message);
       counted.push_back(r.counted_time);
@@ -233,11 +230,10 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
       for (std::size_t k = 0; k < contacts; ++k) {
         std::size_t n = 0;
         double low = kNaN, high = kNaN;
-        for (std::size_t c = 0; c < crossing_speed[k].size(); ++c) {
-          if (crossing_speed[k][c] != speed[static_cast<std::size_t>(i)]) continue;
-          const double force = crossing_force[k][c];
-          low = n == 0 ? force : std::min(low, force);
-          high = n == 0 ? force : std::max(high, force);
+        for (const RubSectionPoint& p : points[static_cast<std::size_t>(i)]) {
+          if (p.contact != static_cast<int>(k)) continue;
+          low = n == 0 ? p.normal_force : std::min(low, p.normal_force);
+          high = n == 0 ? p.normal_force : std::max(high, p.normal_force);
           ++n;
         }
         if (n == 0) {

@@ -76,14 +76,8 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
 
     // The approach: the scene's schedule in this direction, up to the last speed before `speed`.
     const SteadyClock::time_point start = SteadyClock::now();
-    const SweepApproach approach = ApproachSweep(scene, direction, speed, [&](const SweepRun& run) {
-      if (request.quiet) return;
-      fmt::print(err, "rubcont: [ensemble] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n",
-                 request.direction, RadPerSecondToRpm(run.stepper().points().back().parameter),
-                 run.stepper().points().size(), run.stepper().options().parameters.size(),
-                 SecondsSince(start));
-      err.flush();
-    });
+    const SweepApproach approach = ApproachSweep(
+        scene, direction, speed, request.quiet ? nullptr : PrintApproachProgress(err, "ensemble", start));
     const std::vector<double>& before = approach.speeds;
     const std::vector<RubRegime>& approach_regime = approach.regimes;
     const Vector& x0 = approach.state;

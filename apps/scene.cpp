@@ -20,7 +20,6 @@
 #include "apps/hdf5_file.h"
 #include "apps/models.h"
 #include "apps/version.h"
-#include "apps/version.h"
 
 namespace rubcont {
 namespace {

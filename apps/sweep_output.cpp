@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include <fmt/core.h>
-
+#include <fmt/ostream.h>
 
 namespace rubcont {
 namespace {
@@ -223,6 +223,17 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
   for (std::size_t k = 0; k < approach.regimes.size(); ++k) approach.regimes[k] = regimes.regime[k].back();
   approach.state = run.stepper().state();
   return approach;
+}
+
+std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
+                                                               SteadyClock::time_point start) {
+  return [&err, tag, start](const SweepRun& run) {
+    fmt::print(err, "rubcont: [{}] approach {} {:.1f} rpm ({}/{}, {:.1f} s)\n", tag,
+               ToString(run.direction()), RadPerSecondToRpm(run.stepper().points().back().parameter),
+               run.stepper().points().size(), run.stepper().options().parameters.size(),
+               SecondsSince(start));
+    err.flush();
+  };
 }
 
 SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<SweepOptions> options)

@@ -51,6 +51,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -59,6 +60,7 @@
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "solvers/stopwatch.h"
 #include "studies/jump_prediction.h"
 #include "sweeps/rub_sweep.h"
 
@@ -104,6 +106,11 @@ struct SweepApproach {
 };
 SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double speed,
                             const std::function<void(const SweepRun& run)>& progress = {});
+
+// ApproachSweep's progress on `err`, one line per speed: "rubcont: [<tag>] approach <direction>
+// <rpm> rpm (<done>/<speeds>, <seconds since start> s)".
+std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
+                                                               SteadyClock::time_point start);
 
 // Writes /sweeps/<direction> for the points finished so far.
 void WriteSweep(ResultWriter& writer, const SweepRun& run);

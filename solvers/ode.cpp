@@ -325,6 +325,21 @@ void CheckTime(const char* what, double t) {
   }
 }
 
+// Output times: finite and monotone from t0 in `direction` (+1 or −1).
+void CheckOutputTimes(const char* caller, double t0, double direction, const Vector& times) {
+  double previous = t0;
+  for (Index k = 0; k < times.size(); ++k) {
+    CheckTime("times(k)", times(k));
+    if (direction * (times(k) - previous) < 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator::{}: times({}) = {} is out of order (previous {}, t0 = {}): times must "
+          "be monotone in the direction of integration",
+          caller, k, times(k), previous, t0));
+    }
+    previous = times(k);
+  }
+}
+
 double ParameterScale(const IntegratorOptions& options, double p) {
   return options.parameter_scale > 0.0 ? options.parameter_scale : std::max(std::abs(p), 1.0);
 }
@@ -375,18 +390,14 @@ IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0,
   // The output times: the samples, then t1.
   const Index m = samples != nullptr ? times.size() : 0;
   Vector outputs(m + 1);
-  const double direction = t1 >= t0 ? 1.0 : -1.0;
-  for (Index k = 0; k < m; ++k) {
-    CheckTime("times(k)", times(k));
-    const double previous = k > 0 ? times(k - 1) : t0;
-    if (direction * (times(k) - previous) < 0.0 || direction * (t1 - times(k)) < 0.0) {
-      throw std::invalid_argument(fmt::format(
-          "OdeIntegrator::IntegrateTangents: times({}) = {}: the sample times must be monotone "
-          "within [t0, t1] = [{}, {}]", k, times(k), t0, t1));
-    }
-    outputs(k) = times(k);
-  }
+  outputs.head(m) = times.head(m);
   outputs(m) = t1;
+  if (m > 0 && (t1 >= t0 ? times(m - 1) > t1 : times(m - 1) < t1)) {
+    throw std::invalid_argument(fmt::format(
+        "OdeIntegrator::IntegrateTangents: times({}) = {}: the sample times must be monotone "
+        "within [t0, t1] = [{}, {}]", m - 1, times(m - 1), t0, t1));
+  }
+  CheckOutputTimes("IntegrateTangents", t0, t1 >= t0 ? 1.0 : -1.0, outputs);  // t1 last
   Matrix states(n, m + 1);
   const Matrix seeds = directions;  // images may alias directions
   images.resize(n, seeds.cols());
@@ -416,18 +427,7 @@ IntegrationResult OdeIntegrator::Sample(double t0, ConstVectorRef x0, const Vect
   if (times.size() < 1) {
     throw std::invalid_argument("OdeIntegrator::Sample: times is empty");
   }
-  const double direction = times(times.size() - 1) >= t0 ? 1.0 : -1.0;
-  double previous = t0;
-  for (Index k = 0; k < times.size(); ++k) {
-    CheckTime("times(k)", times(k));
-    if (direction * (times(k) - previous) < 0.0) {
-      throw std::invalid_argument(fmt::format(
-          "OdeIntegrator::Sample: times({}) = {} is out of order (previous {}, t0 = {}): times must "
-          "be monotone in the direction of integration",
-          k, times(k), previous, t0));
-    }
-    previous = times(k);
-  }
+  CheckOutputTimes("Sample", t0, times(times.size() - 1) >= t0 ? 1.0 : -1.0, times);
   states.resize(n, times.size());
   Vector& x_final = impl_->x_final_buffer();
   x_final.resize(n);
