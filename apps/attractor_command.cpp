@@ -191,23 +191,23 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     writer.WriteDoubles(g + "/counted_s", counted);
     writer.WriteDoubles(g + "/cpu_seconds", cpu);
     writer.WriteDoubles(g + "/steps", steps);
-    std::vector<std::vector<double>> crossing_speed(contacts), crossing_time(contacts),
-        crossing_penetration(contacts), crossing_force(contacts);
+    std::vector<std::vector<double>> section_speed(contacts), section_time(contacts),
+        section_penetration(contacts), section_force(contacts);
     for (Index i = 0; i < count; ++i) {
       for (const RubSectionPoint& p : points[static_cast<std::size_t>(i)]) {
         const auto k = static_cast<std::size_t>(p.contact);
-        crossing_speed[k].push_back(speed[static_cast<std::size_t>(i)]);
-        crossing_time[k].push_back(p.t);
-        crossing_penetration[k].push_back(p.penetration);
-        crossing_force[k].push_back(p.normal_force);
+        section_speed[k].push_back(speed[static_cast<std::size_t>(i)]);
+        section_time[k].push_back(p.t);
+        section_penetration[k].push_back(p.penetration);
+        section_force[k].push_back(p.normal_force);
       }
     }
     for (std::size_t k = 0; k < contacts; ++k) {
       const std::string side = structure.contacts[k].name;
-      writer.WriteDoubles(g + "/section_speed_rpm_" + side, crossing_speed[k]);
-      writer.WriteDoubles(g + "/section_time_s_" + side, crossing_time[k]);
-      writer.WriteDoubles(g + "/section_penetration_" + side, crossing_penetration[k]);
-      writer.WriteDoubles(g + "/section_normal_force_" + side, crossing_force[k]);
+      writer.WriteDoubles(g + "/section_speed_rpm_" + side, section_speed[k]);
+      writer.WriteDoubles(g + "/section_time_s_" + side, section_time[k]);
+      writer.WriteDoubles(g + "/section_penetration_" + side, section_penetration[k]);
+      writer.WriteDoubles(g + "/section_normal_force_" + side, section_force[k]);
     }
     writer.Commit();
 
