@@ -35,6 +35,7 @@ namespace {
 // "fold" → "folds", "branch point" → "branch points", "Hopf" stays (as in "2 Hopf").
 std::string Plural(const std::string& name) {
   if (name == "Hopf" || name == "Neimark-Sacker" || name == "multiplier +1") return name;
+  if (name == "grazing") return "grazing points";
   if (name.back() == 's' || name.back() == 'h') return name + "es";
   return name + "s";
 }

@@ -20,6 +20,7 @@ const char* ToString(SpecialPointType type) {
     case SpecialPointType::kEvent: return "event";
     case SpecialPointType::kCusp: return "cusp";
     case SpecialPointType::kTestFunction: return "test function";
+    case SpecialPointType::kGrazing: return "grazing";
   }
   return "unknown";
 }

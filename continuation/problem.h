@@ -49,6 +49,9 @@ enum class SpecialPointType {
   kEvent,                   // an event function of a piecewise-smooth problem vanished; switched
   kCusp,                    // the fold normal-form coefficient vanishes on a fold curve
   kTestFunction,            // a problem-defined test function vanished (Problem::TestFunctions)
+  kGrazing,                 // an orbit became tangent to a switching surface (a contact's
+                            // penetration): past it the orbit crosses the surface twice per
+                            // period (shooting/shooting.h, Grazing)
 };
 
 const char* ToString(SpecialPointType type);

@@ -236,6 +236,15 @@ void RubFixedFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
   df.tail(n2).noalias() = mass_inverse_ * load;
 }
 
+void RubFixedFrame::SwitchingFunctions(double /*t*/, ConstVectorRef x, VectorRef h) const {
+  for (std::size_t c = 0; c < structure_.contacts.size(); ++c) {
+    const RubContact& contact = structure_.contacts[c];
+    const Index r = 2 * contact.rotor, s = 2 * contact.stator;
+    h(static_cast<Index>(c)) =
+        std::hypot(x(r) - x(s), x(r + 1) - x(s + 1)) - contact.geometry.clearance;
+  }
+}
+
 Vector RubFixedFrame::StateScale() const {
   // Positions scale with the largest clearance; velocities with clearance × the fastest
   // undamped frequency of the structure with the contacts pinned (or 2π·100 rad/s when free).

@@ -124,6 +124,10 @@ class RubFixedFrame : public OdeSystem {
   // κ = the exchange of the two contacts (ContactExchange), on positions and velocities.
   bool HasMirrorSymmetry() const override { return !exchange_.empty(); }
   void Mirror(VectorRef x) const override;
+  // One per contact: its penetration δ = |d| − C [m], where the normal force switches on (a kink
+  // of the vector field: N = k1 δ + … > 0 only for δ > 0). Invariant under Rotate.
+  int SwitchingCount() const override { return static_cast<int>(structure_.contacts.size()); }
+  void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override;
 
   const RubStructure& structure() const { return structure_; }
   // Contact quantities (N, V, F, δ, ...) at state x for the current ω.
@@ -172,6 +176,11 @@ class RubRotatingFrame : public OdeSystem {
   // The frame rotates every coordinate alike, so the contact exchange commutes with it.
   bool HasMirrorSymmetry() const override { return fixed_.HasMirrorSymmetry(); }
   void Mirror(VectorRef x) const override { fixed_.Mirror(x); }
+  // The penetrations, as in the fixed frame (|d| is the same in both).
+  int SwitchingCount() const override { return fixed_.SwitchingCount(); }
+  void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override {
+    fixed_.SwitchingFunctions(t, x, h);
+  }
 
   void SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces) {
     fixed_.SetFrictionModes(std::move(modes), std::move(stick_forces));

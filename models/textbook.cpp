@@ -213,5 +213,78 @@ void LorenzSystem::DfDparameter(double /*t*/, ConstVectorRef x, VectorRef df) {
 
 Vector LorenzSystem::StateScale() const { return (Vector(3) << 10.0, 10.0, 20.0).finished(); }
 
+void Validate(const SoftImpactParams& params) {
+  RequireFinite("SoftImpactParams", "damping", params.damping);
+  RequireFinite("SoftImpactParams", "stiffness", params.stiffness);
+  RequireFinite("SoftImpactParams", "gap", params.gap);
+  RequireFinite("SoftImpactParams", "force", params.force);
+  RequireFinite("SoftImpactParams", "frequency", params.frequency);
+  const auto require = [](bool ok, const char* field, double value, const char* rule) {
+    if (!ok) {
+      throw std::invalid_argument(
+          fmt::format("SoftImpactParams.{} = {}: {}", field, value, rule));
+    }
+  };
+  require(params.damping >= 0.0, "damping", params.damping, "must be non-negative");
+  require(params.stiffness >= 0.0, "stiffness", params.stiffness, "must be non-negative");
+  require(params.gap > 0.0, "gap", params.gap, "must be positive");
+  require(params.frequency > 0.0, "frequency", params.frequency, "must be positive");
+}
+
+SoftImpactOscillator::SoftImpactOscillator(const SoftImpactParams& params) : params_(params) {
+  Validate(params);
+}
+
+void SoftImpactOscillator::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  const SoftImpactParams& p = params_;
+  f(0) = x(1);
+  f(1) = -p.damping * x(1) - x(0) - p.stiffness * std::max(0.0, x(0) - p.gap) +
+         p.force * std::cos(p.frequency * t);
+}
+
+void SoftImpactOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const SoftImpactParams& p = params_;
+  J(0, 0) = 0.0;
+  J(0, 1) = 1.0;
+  J(1, 0) = -1.0 - (x(0) > p.gap ? p.stiffness : 0.0);
+  J(1, 1) = -p.damping;
+}
+
+void SoftImpactOscillator::DfDparameter(double t, ConstVectorRef /*x*/, VectorRef df) {
+  df(0) = 0.0;
+  df(1) = -params_.force * t * std::sin(params_.frequency * t);
+}
+
+double SoftImpactOscillator::ForcingPeriod() const { return kTwoPi / params_.frequency; }
+
+Vector SoftImpactOscillator::StateScale() const {
+  return Vector::Constant(2, params_.gap);
+}
+
+void SoftImpactOscillator::SwitchingFunctions(double /*t*/, ConstVectorRef x, VectorRef h) const {
+  h(0) = x(0) - params_.gap;
+}
+
+double SoftImpactOscillator::FreeAmplitude() const {
+  const SoftImpactParams& p = params_;
+  const double w = p.frequency;
+  return std::abs(p.force) / std::hypot(1.0 - w * w, p.damping * w);
+}
+
+std::vector<double> SoftImpactOscillator::GrazingFrequencies() const {
+  const SoftImpactParams& p = params_;
+  const double ratio = p.force / p.gap;
+  // s = w²: s² − (2 − c²) s + 1 − (F/g)² = 0.
+  const double b = 2.0 - p.damping * p.damping, c = 1.0 - ratio * ratio;
+  const double discriminant = b * b - 4.0 * c;
+  std::vector<double> result;
+  if (discriminant < 0.0) return result;
+  const double root = std::sqrt(discriminant);
+  for (const double s : {0.5 * (b - root), 0.5 * (b + root)}) {
+    if (s > 0.0) result.push_back(std::sqrt(s));
+  }
+  return result;
+}
+
 }  // namespace rubcont
 

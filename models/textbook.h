@@ -5,8 +5,11 @@
 //   VanDerPolOscillator   ẍ − μ (1 − x²) ẋ + x = 0               parameter μ  (stiff for large μ)
 //   ForcedVanDerPolOscillator ẍ − μ (1 − x²) ẋ + x = F cos(w t)  parameter w  (entrainment, tori)
 //   LorenzSystem          ẋ = σ(y − x), ẏ = x(ρ − z) − y, ż = xy − βz   parameter ρ  (chaos)
+//   SoftImpactOscillator  ẍ + c ẋ + x + k max(0, x − g) = F cos(w t)   parameter w  (grazing)
 // All are dimensionless; "time" below means the model's time unit.
 #pragma once
+
+#include <vector>
 
 #include "solvers/ode_system.h"
 
@@ -184,6 +187,54 @@ class LorenzSystem : public OdeSystem {
 
  private:
   LorenzParams params_;
+};
+
+struct SoftImpactParams {
+  double damping = 0.1;     // c ≥ 0 (1/time); the free natural frequency is 1
+  double stiffness = 10.0;  // k ≥ 0, of the one-sided spring (the stop), per unit mass (1/time²)
+  double gap = 1.0;         // g > 0, the stop's distance from the rest position (length)
+  double force = 0.5;       // F, forcing amplitude (length/time²)
+  double frequency = 0.5;   // w > 0, forcing frequency (rad/time): the continuation parameter
+};
+
+// Throws std::invalid_argument naming the field (non-finite values, damping or stiffness < 0,
+// gap or frequency ≤ 0).
+void Validate(const SoftImpactParams& params);
+
+// The impacting (soft-stop) oscillator, a one-degree-of-freedom model of a rotor that reaches its
+// stator: ẍ + c ẋ + x + k max(0, x − g) = F cos(w t). State (x, ẋ); ForcingPeriod() = 2π/w. The
+// vector field is continuous at the stop x = g with a jump k in its derivative, like the rub's
+// linear contact spring. While the motion stays off the stop it is the linear response
+// x = a cos(w t − ψ), a = F / √((1 − w²)² + (c w)²), so the periodic orbit grazes the stop where
+// a(w) = g: w² the roots of s² − (2 − c²) s + 1 − (F/g)² = 0 (FreeAmplitude, GrazingFrequencies).
+class SoftImpactOscillator : public OdeSystem {
+ public:
+  explicit SoftImpactOscillator(const SoftImpactParams& params = {});
+  const SoftImpactParams& params() const { return params_; }
+
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.frequency; }
+  void SetParameter(double w) override { params_.frequency = w; }
+  // ∂f/∂w = (0, −F t sin(w t)).
+  void DfDparameter(double t, ConstVectorRef x, VectorRef df) override;
+  double ForcingPeriod() const override;
+  Vector StateScale() const override;  // (g, g)
+  // h = x − g, the stop's penetration.
+  int SwitchingCount() const override { return 1; }
+  void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override;
+  std::string StateName(Index i) const override { return i == 0 ? "x" : "v"; }
+
+  // The amplitude a(w) of the linear response at the current w.
+  double FreeAmplitude() const;
+  // The forcing frequencies at which the linear response grazes the stop, ascending: none when
+  // F/g is below the response's smallest gain, else one or two.
+  std::vector<double> GrazingFrequencies() const;
+
+ private:
+  SoftImpactParams params_;
 };
 
 }  // namespace rubcont

@@ -27,7 +27,7 @@ except ImportError as error:
 
 MARKERS = {"fold": ("^", "fold"), "period doubling": ("v", "period doubling"),
            "Neimark-Sacker": ("*", "Neimark–Sacker"), "branch point": ("X", "branch point"),
-           "multiplier +1": ("D", "multiplier +1")}
+           "multiplier +1": ("D", "multiplier +1"), "grazing": ("s", "grazing")}
 
 
 def text(value):

@@ -39,7 +39,7 @@ from branches import (MARKERS, MODE_COLORS, contacts_of, mark, plot_lines,  # no
 
 ORBIT_COLORS = ["#000000", "#7b2cbf", "#b8860b", "#008b8b"]
 ORBIT_MARKERS = {"fold": "^", "period doubling": "v", "Neimark-Sacker": "*",
-                 "branch point": "X", "multiplier +1": "D"}
+                 "branch point": "X", "multiplier +1": "D", "grazing": "s"}
 
 
 def orbit_special_points(group):

@@ -59,6 +59,7 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   }
   ShootingProblem problem(system, options.kind, shooting);
   if (!options.orbits.measures.empty()) problem.SetMeasures(options.orbits.measures);
+  problem.SetTestFunctions(options.orbits.test_functions);
   const double period = 2.0 * M_PI / omega;
   const int segments = shooting.segments;
   Matrix starts(n, segments), directions(n, segments);

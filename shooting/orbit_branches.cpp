@@ -156,6 +156,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     shooting.refresh_phase_reference = kind != OrbitKind::kForced;
     ShootingProblem problem(system, kind, shooting);
     if (!options.measures.empty()) problem.SetMeasures(options.measures);
+    problem.SetTestFunctions(options.test_functions);
     const Vector u0 = problem.InitialGuess(start.x0, start.period, start.lambda);
     result.shooting = shooting;
     result.shooting.period_scale = problem.PeriodScale();
@@ -221,6 +222,7 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
   system.SetParameter(point.lambda);
   ShootingProblem problem(system, family.kind, shooting);
   if (!options.measures.empty()) problem.SetMeasures(options.measures);
+  problem.SetTestFunctions(options.test_functions);
   problem.SetPhaseReference(branch.points[before].u, branch.points[before].lambda);
 
   if (system.HasMirrorSymmetry()) {

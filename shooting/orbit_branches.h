@@ -64,6 +64,8 @@ struct PeriodicOrbitBranchOptions {
   ContinuationOptions continuation;
   // Replaces the default measures (max and min of every state) when not empty.
   std::vector<OrbitMeasure> measures;
+  // Located along the branch where they change sign (e.g. Grazing); none by default.
+  std::vector<OrbitTestFunction> test_functions;
 };
 
 // Throws std::invalid_argument naming the field (an empty or non-finite range).

@@ -97,6 +97,22 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   return measures;
 }
 
+std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure) {
+  auto fixed = std::make_shared<const RubFixedFrame>(structure);
+  std::vector<OrbitTestFunction> tests;
+  for (std::size_t c = 0; c < structure.contacts.size(); ++c) {
+    const auto penetration = [fixed, c](ConstVectorRef x) {
+      Vector h(fixed->SwitchingCount());
+      fixed->SwitchingFunctions(0.0, x, h);
+      return h(static_cast<Index>(c));
+    };
+    const std::string& name = structure.contacts[c].name;
+    tests.push_back(Grazing(penetration, GrazingSide::kLiftOff, "lift_off_" + name));
+    tests.push_back(Grazing(penetration, GrazingSide::kTouchdown, "touchdown_" + name));
+  }
+  return tests;
+}
+
 std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWaveBranch>& branches,
                                                    Index coordinates) {
   std::vector<RubHopfStart> starts;
@@ -161,6 +177,7 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
   options.orbits.measures = RubOrbitMeasures(frame);
+  options.orbits.test_functions = RubGrazingTests(structure);
   const IntegratorOptions& integrator = options.orbits.shooting.integrator;
   if (integrator.method == IntegrationMethod::kGaussCollocation) {
     options.orbits.measures.push_back(UnresolvedMultiplier(

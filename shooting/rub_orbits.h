@@ -44,6 +44,12 @@ namespace rubcont {
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
 
+// Grazing of each contact c along a family (Grazing, shooting/shooting.h, on its penetration
+// δ_c = |d_c| − C_c, which the co-rotating frame leaves unchanged): "lift_off_<c>" where an orbit
+// in permanent contact first opens the contact for part of each period (min δ_c = 0),
+// "touchdown_<c>" where an orbit that never touches first does (max δ_c = 0).
+std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure);
+
 // The Hopf points of `branches` that bound a stable piece, sorted by speed, mirror images once.
 struct RubHopfStart {
   std::string branch;   // RotatingWaveBranch::name
@@ -65,15 +71,15 @@ struct RubModulatedOrbits {
 };
 
 // The orbits born at `start` (a point of StableBoundaryHopfPoints(branches, ...)) of the tanh-law
-// branches of `structure`, continued in speed with `options` (kind is set to kRelative and the
-// measures to RubOrbitMeasures). With switch_at_branch_points, the other branch through every
-// located branch point (converged; on a left–right symmetric rotor also one located only to a
-// bracket) is followed over the same range (ContinueOrbitsFromBranchPoint: of a symmetric rotor,
-// one of two mirror images where the point breaks the symmetry, up to where it rejoins it; a
-// branch point where an earlier switched branch rejoined is not followed again),
-// on_step called for its steps too. Throws std::invalid_argument when the structure has an
-// imbalance or the start names no Hopf point of `branches`; numerical failures end the branch
-// with a status.
+// branches of `structure`, continued in speed with `options` (kind is set to kRelative, the
+// measures to RubOrbitMeasures and the test functions to RubGrazingTests). With
+// switch_at_branch_points, the other branch through every located branch point (converged; on a
+// left–right symmetric rotor also one located only to a bracket) is followed over the same range
+// (ContinueOrbitsFromBranchPoint: of a symmetric rotor, one of two mirror images where the point
+// breaks the symmetry, up to where it rejoins it; a branch point where an earlier switched branch
+// rejoined is not followed again), on_step called for its steps too. Throws
+// std::invalid_argument when the structure has an imbalance or the start names no Hopf point of
+// `branches`; numerical failures end the branch with a status.
 RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
                                            const std::vector<RotatingWaveBranch>& branches,
                                            const RubHopfStart& start, HopfOrbitOptions options,

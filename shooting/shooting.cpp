@@ -71,16 +71,17 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Value at the extremum of the parabola through samples k−1, k, k+1 of row `state`, when the
-// extremum lies between them (sign = +1: maximum, −1: minimum); otherwise the sample itself.
-// For a closed orbit (x(T) = x(0)) the neighbours wrap around the period.
-double RefinedExtremum(const OrbitSamples& orbit, Index state, double sign) {
-  const Index m = orbit.states.cols();
-  const auto row = orbit.states.row(state);
+// Value at the extremum of the parabola through samples k−1, k, k+1 of `values` (one per sample
+// of `orbit`), when the extremum lies between them (sign = +1: maximum, −1: minimum); otherwise
+// the sample itself. When `closed` (x(T) = x(0), or the values are invariant under the rotation
+// of a relative orbit) the neighbours wrap around the period.
+double RefinedExtremum(const OrbitSamples& orbit, const Eigen::Ref<const Vector>& values,
+                       double sign, bool closed) {
+  const Index m = values.size();
   Index k = 0;
-  (sign * row.array()).maxCoeff(&k);
-  const double b = row(k);
-  const bool closed = orbit.rotation == 0.0 && m >= 3;
+  (sign * values.array()).maxCoeff(&k);
+  const double b = values(k);
+  closed = closed && m >= 3;
   Index left = k - 1, right = k + 1;
   double t_left = 0.0, t_right = 0.0;
   if (k == 0 || k == m - 1) {
@@ -98,7 +99,7 @@ double RefinedExtremum(const OrbitSamples& orbit, Index state, double sign) {
     t_left = orbit.times(left) - orbit.times(k);
     t_right = orbit.times(right) - orbit.times(k);
   }
-  const double a = row(left), c = row(right);
+  const double a = values(left), c = values(right);
   // p(t) = b + B t + A t² through (t_left, a), (0, b), (t_right, c).
   const double slope_left = (a - b) / t_left, slope_right = (c - b) / t_right;
   const double A = (slope_left - slope_right) / (t_left - t_right);
@@ -107,6 +108,11 @@ double RefinedExtremum(const OrbitSamples& orbit, Index state, double sign) {
   const double t_star = -B / (2.0 * A);
   if (t_star < t_left || t_star > t_right) return b;
   return b - B * B / (4.0 * A);
+}
+
+double RefinedExtremum(const OrbitSamples& orbit, Index state, double sign) {
+  return RefinedExtremum(orbit, orbit.states.row(state).transpose(), sign,
+                         orbit.rotation == 0.0);
 }
 
 }  // namespace
@@ -119,6 +125,18 @@ OrbitMeasure StateMaximum(Index state, std::string name) {
 OrbitMeasure StateMinimum(Index state, std::string name) {
   return {std::move(name),
           [state](const OrbitSamples& orbit) { return RefinedExtremum(orbit, state, -1.0); }};
+}
+
+OrbitTestFunction Grazing(std::function<double(ConstVectorRef)> surface, GrazingSide side,
+                          std::string name) {
+  const double sign = side == GrazingSide::kTouchdown ? +1.0 : -1.0;
+  OrbitMeasure measure{std::move(name), [surface = std::move(surface), sign](
+                                            const OrbitSamples& orbit) {
+                         Vector h(orbit.states.cols());
+                         for (Index j = 0; j < h.size(); ++j) h(j) = surface(orbit.states.col(j));
+                         return RefinedExtremum(orbit, h, sign, true);
+                       }};
+  return {std::move(measure), SpecialPointType::kGrazing};
 }
 
 OrbitMeasure StateAmplitude(Index state, std::string name) {
@@ -262,6 +280,17 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     IntegratorOptions accurate = options.integrator;
     accurate.sensitivity_error_control = true;
     stability_integrator_ = std::make_unique<OdeIntegrator>(system, accurate);
+  }
+  if (options.restart_at_switches && system.SwitchingCount() > 0 &&
+      options.integrator.method != IntegrationMethod::kGaussCollocation) {
+    EventOptions events;
+    events.count = system.SwitchingCount();
+    events.restart = true;
+    events.function = [&system](double t, ConstVectorRef x, VectorRef h) {
+      system.SwitchingFunctions(t, x, h);
+    };
+    integrator_.SetEvents(events);
+    if (stability_integrator_) stability_integrator_->SetEvents(events);
   }
   for (SegmentData* data : {&cache_, &scratch_, &stability_}) {
     data->ends.assign(segments_, Vector::Zero(n_));
@@ -667,9 +696,14 @@ Spectrum ShootingProblem::Stability(const Vector& u, double lambda) {
   return spectrum;
 }
 
-OrbitSamples ShootingProblem::Orbit(const Vector& u, double lambda) {
+const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   CheckUnknowns(u, "Orbit");
-  OrbitSamples orbit;
+  if (samples_valid_ && lambda == samples_lambda_ && u == samples_u_) return samples_;
+  samples_valid_ = true;
+  samples_u_ = u;
+  samples_lambda_ = lambda;
+  samples_ = OrbitSamples();
+  OrbitSamples& orbit = samples_;
   orbit.parameter = lambda;
   orbit.rotation = Rotation(u);
   system_.SetParameter(lambda);
@@ -713,7 +747,7 @@ std::vector<std::string> ShootingProblem::MeasureNames() const {
 
 Vector ShootingProblem::Measures(const Vector& u, double lambda) {
   CheckUnknowns(u, "Measures");
-  const OrbitSamples orbit = Orbit(u, lambda);
+  const OrbitSamples& orbit = Orbit(u, lambda);
   Vector values(MeasureNames().size());
   Index k = 0;
   values(k++) = orbit.period;
@@ -722,6 +756,37 @@ Vector ShootingProblem::Measures(const Vector& u, double lambda) {
     values(k++) = orbit.valid ? measure.evaluate(orbit) : kNaN;
   }
   return values;
+}
+
+void ShootingProblem::SetTestFunctions(std::vector<OrbitTestFunction> tests) {
+  for (const OrbitTestFunction& test : tests) {
+    if (test.measure.name.empty() || !test.measure.evaluate) {
+      throw std::invalid_argument(
+          "ShootingProblem::SetTestFunctions: every test function needs a name and a function");
+    }
+  }
+  tests_ = std::move(tests);
+}
+
+std::vector<std::string> ShootingProblem::TestFunctionNames() const {
+  std::vector<std::string> names;
+  for (const OrbitTestFunction& test : tests_) names.push_back(test.measure.name);
+  return names;
+}
+
+Vector ShootingProblem::TestFunctions(const Vector& u, double lambda) {
+  CheckUnknowns(u, "TestFunctions");
+  Vector values(static_cast<Index>(tests_.size()));
+  if (tests_.empty()) return values;
+  const OrbitSamples& orbit = Orbit(u, lambda);
+  for (std::size_t k = 0; k < tests_.size(); ++k) {
+    values(static_cast<Index>(k)) = orbit.valid ? tests_[k].measure.evaluate(orbit) : kNaN;
+  }
+  return values;
+}
+
+SpecialPointType ShootingProblem::TestFunctionType(int k) const {
+  return tests_.at(static_cast<std::size_t>(k)).type;
 }
 
 Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double lambda,

@@ -92,6 +92,13 @@ struct ShootingOptions {
   double period_scale = 0.0;
   // Typical |λ| for LambdaScale(); 0: max(|λ|, 1) with λ the system's parameter at construction.
   double lambda_scale = 0.0;
+  // Stop and restart the integrator where the system's switching functions vanish
+  // (OdeSystem::SwitchingFunctions: contacts opening and closing; EventOptions::restart), so that
+  // CVODES never steps across a kink of the vector field: across one, its error control makes the
+  // segment ends a rough function of the unknowns and Newton stalls (measured on the soft impact
+  // oscillator, tests/shooting/grazing_test.cpp). No effect with Gauss collocation (a fixed mesh
+  // has no events) or for a system without switching functions.
+  bool restart_at_switches = true;
   // Samples per segment for measures and Orbit() (≥ 2).
   int samples_per_segment = 64;
   // Move the phase conditions' reference to every accepted continuation point (PointAccepted),
@@ -157,6 +164,35 @@ double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>
 OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,
                                   long steps_per_period, std::string name = "unresolved_multiplier");
 
+// A scalar of an orbit whose sign changes along a family are special points of `type` labelled
+// with the measure's name: the engine locates them along arclength as it locates folds
+// (Problem::TestFunctions, continuation/continuation.h). It must vary continuously along the
+// family; nothing switches at its zeros.
+struct OrbitTestFunction {
+  OrbitMeasure measure;
+  SpecialPointType type = SpecialPointType::kTestFunction;
+};
+
+// Grazing of a switching surface h(x) = 0 of a piecewise-smooth system, h > 0 on the side where
+// the other law applies (a contact's penetration δ = |d| − C: the contact force acts for δ > 0).
+//   kLiftOff    min_t h(x(t)): turns negative where an orbit that stays on the positive side (a
+//               contact that never opens) first leaves it — the contact opens once per period;
+//   kTouchdown  max_t h(x(t)): turns positive where an orbit that stays on the negative side first
+//               touches it — impacts begin.
+// At either zero the orbit is tangent to the surface (SpecialPointType::kGrazing); past it the
+// orbit crosses the surface twice per period. Where the vector field is continuous across the
+// surface with a jump in its derivative (a linear contact spring, N = k1 δ + …), the family goes on
+// through the point (the flow stays C¹ at transversal crossings, Filippov/di Bernardo), but its
+// orbits past it are smooth only piecewise, which a fixed collocation mesh resolves at a lower
+// order (tests/shooting/grazing_test.cpp measures it). The extremum is taken over the orbit's
+// samples and refined by a parabola through the extreme sample and its neighbours, so it is as
+// accurate as ShootingOptions::samples_per_segment makes it (the test measures that too). h must
+// be a function of the state alone and, for relative orbits, invariant under the system's
+// rotation (a contact's penetration is): the samples then wrap round the period.
+enum class GrazingSide { kLiftOff, kTouchdown };
+OrbitTestFunction Grazing(std::function<double(ConstVectorRef)> surface, GrazingSide side,
+                          std::string name);
+
 // Work done, summed over calls (for benchmarks).
 struct ShootingStatistics {
   long residual_integrations = 0;     // segment integrations without sensitivities
@@ -189,6 +225,10 @@ class ShootingProblem : public Problem {
   // of every state, "max_<StateName(i)>", "min_<StateName(i)>").
   std::vector<std::string> MeasureNames() const override;
   Vector Measures(const Vector& u, double lambda) override;
+  // The test functions of SetTestFunctions (none by default), by their measures' names.
+  std::vector<std::string> TestFunctionNames() const override;
+  Vector TestFunctions(const Vector& u, double lambda) override;
+  SpecialPointType TestFunctionType(int k) const override;
   // SetPhaseReference(u, λ) when options().refresh_phase_reference.
   void PointAccepted(const Vector& u, double lambda) override;
 
@@ -216,9 +256,12 @@ class ShootingProblem : public Problem {
 
   // Replaces the default state min/max measures (period and rotation always come first).
   void SetMeasures(std::vector<OrbitMeasure> measures);
+  // Test functions located along a family (e.g. Grazing).
+  void SetTestFunctions(std::vector<OrbitTestFunction> tests);
 
-  // The orbit sampled with samples_per_segment points per segment.
-  OrbitSamples Orbit(const Vector& u, double lambda);
+  // The orbit sampled with samples_per_segment points per segment (kept for the last (u, λ):
+  // measures and test functions at one point sample it once).
+  const OrbitSamples& Orbit(const Vector& u, double lambda);
 
   // Full Floquet information at (u, λ): nontrivial and trivial multipliers, invariance defect.
   FloquetResult Floquet(const Vector& u, double lambda);
@@ -269,6 +312,12 @@ class ShootingProblem : public Problem {
   double period_scale_ = 0.0;
   double lambda_scale_ = 1.0;
   std::vector<OrbitMeasure> measures_;
+  std::vector<OrbitTestFunction> tests_;
+  // The samples of Orbit at (samples_u_, samples_lambda_).
+  bool samples_valid_ = false;
+  Vector samples_u_;
+  double samples_lambda_ = 0.0;
+  OrbitSamples samples_;
 
   // Phase reference.
   bool has_reference_ = false;

@@ -128,6 +128,7 @@ struct IntegrationStatistics {
   long nonlinear_iterations = 0;
   long nonlinear_convergence_failures = 0;
   long sensitivity_rhs_evaluations = 0;  // calls of the sensitivity right-hand side (CVODES)
+  long restarts = 0;  // re-initializations at events (EventOptions::restart, CVODES)
 };
 
 // One zero of an event function.
@@ -162,6 +163,13 @@ struct EventOptions {
   // Stop at the first event (t_reached = event time, outputs = state there); otherwise record
   // every event and go on to t1.
   bool terminal = false;
+  // Non-terminal events only: restart the method at every event, as at a new initial point (a
+  // multistep method's history then never spans a switching surface of a piecewise-smooth field;
+  // CVODES is re-initialized, its sensitivities too; an ARKODE one-step method already starts its
+  // next step at the event). The state and sensitivities are continuous through the event — right
+  // for a vector field that is continuous there (a kink, no saltation); a jump in f would need a
+  // saltation matrix, which this does not apply.
+  bool restart = false;
 };
 
 class OdeIntegrator {

@@ -109,6 +109,7 @@ class CvodesBackend::State {
     const int Ns = static_cast<int>(request.StmColumns(n)) + (request.dxdp != nullptr ? 1 : 0);
     IntegrationResult result;
     result.t_reached = request.t0;
+    restarted_ = IntegrationStatistics();
     MapVector(y_.get()) = Eigen::Map<const Vector>(request.x0, n);
     const double t_final = request.times[request.count - 1];
 
@@ -142,6 +143,9 @@ class CvodesBackend::State {
             result.t_reached = t;
             FinishAt(t, request, Ns, k, result);
             return result;
+          }
+          if (context_.events->restart && t != t_final && (flag = Restart(t, Ns, result)) < 0) {
+            return Failure(flag, t, result);
           }
         }
       }
@@ -253,6 +257,28 @@ class CvodesBackend::State {
                                  raw_sensitivity_abstol_.data());
   }
 
+  // CVodeReInit at t from the current state (and CVodeSensReInit from the current sensitivities):
+  // the next step starts at order 1 with no history before t. The counters restart at 0, so the
+  // ones so far are kept in result.statistics and Statistics adds the new ones.
+  int Restart(double t, int Ns, IntegrationResult& result) {
+    Statistics(result, Ns);
+    restarted_ = result.statistics;
+    double t_sensitivity = t;
+    int flag = CV_SUCCESS;
+    if (Ns > 0) flag = CVodeGetSens(memory_, &t_sensitivity, raw_sensitivities_.data());
+    if (flag == CV_SUCCESS) flag = CVodeReInit(memory_, t, y_.get());
+    if (flag == CV_SUCCESS && Ns > 0) {
+      flag = CVodeSensReInit(memory_,
+                             options_.sensitivity_method == SensitivityMethod::kStaggered
+                                 ? CV_STAGGERED
+                                 : CV_SIMULTANEOUS,
+                             raw_sensitivities_.data());
+    }
+    ++result.statistics.restarts;
+    ++restarted_.restarts;
+    return flag;
+  }
+
   void RecordEvents(double t, IntegrationResult& result) {
     CVodeGetRootInfo(memory_, root_found_.data());
     for (int i = 0; i < static_cast<int>(root_found_.size()); ++i) {
@@ -300,6 +326,8 @@ class CvodesBackend::State {
     if (request.dxdp != nullptr) Eigen::Map<Vector>(request.dxdp, n).setZero();
   }
 
+  // The counters since the last (re-)initialization, plus restarted_ (the run's counts before
+  // its last restart).
   void Statistics(IntegrationResult& result, int Ns) {
     IntegrationStatistics& s = result.statistics;
     CVodeGetNumSteps(memory_, &s.steps);
@@ -309,7 +337,17 @@ class CvodesBackend::State {
     CVodeGetNumErrTestFails(memory_, &s.error_test_failures);
     CVodeGetNumNonlinSolvIters(memory_, &s.nonlinear_iterations);
     CVodeGetNumNonlinSolvConvFails(memory_, &s.nonlinear_convergence_failures);
+    s.sensitivity_rhs_evaluations = 0;
     if (Ns > 0) CVodeGetSensNumRhsEvals(memory_, &s.sensitivity_rhs_evaluations);
+    s.steps += restarted_.steps;
+    s.rhs_evaluations += restarted_.rhs_evaluations;
+    s.jacobian_evaluations += restarted_.jacobian_evaluations;
+    s.linear_solver_setups += restarted_.linear_solver_setups;
+    s.error_test_failures += restarted_.error_test_failures;
+    s.nonlinear_iterations += restarted_.nonlinear_iterations;
+    s.nonlinear_convergence_failures += restarted_.nonlinear_convergence_failures;
+    s.sensitivity_rhs_evaluations += restarted_.sensitivity_rhs_evaluations;
+    s.restarts = restarted_.restarts;
   }
 
   IntegrationResult& Failure(int flag, double t, IntegrationResult& result) {
@@ -346,6 +384,7 @@ class CvodesBackend::State {
   bool sensitivities_active_ = false;
   std::vector<int> root_directions_;
   std::vector<int> root_found_;
+  IntegrationStatistics restarted_;  // this run's counters before its last Restart
 };
 
 CvodesBackend::CvodesBackend(CallbackContext& context, const IntegratorOptions& options)

@@ -62,6 +62,14 @@ class OdeSystem {
   virtual bool HasMirrorSymmetry() const { return false; }
   // x ← κ x.
   virtual void Mirror(VectorRef /*x*/) const {}
+
+  // Optional switching surfaces of a piecewise-smooth vector field: SwitchingCount() functions
+  // h_k(t, x) whose zeros are where f changes law (a contact closing or opening: h = its
+  // penetration). An integrator that steps across such a zero sees a kink in f (or a jump) and
+  // loses accuracy and smoothness in x0 there; stopped and restarted at the zero (EventOptions::
+  // restart) it integrates each smooth piece on its own (shooting/shooting.h uses this).
+  virtual int SwitchingCount() const { return 0; }
+  virtual void SwitchingFunctions(double /*t*/, ConstVectorRef /*x*/, VectorRef /*h*/) const {}
 };
 
 }  // namespace rubcont

@@ -37,6 +37,7 @@ void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b) {
   a.nonlinear_iterations += b.nonlinear_iterations;
   a.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
   a.sensitivity_rhs_evaluations += b.sensitivity_rhs_evaluations;
+  a.restarts += b.restarts;
 }
 
 void Validate(const SweepOptions& o) {
