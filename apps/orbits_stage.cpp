@@ -270,6 +270,31 @@ void PrintSpecialPoints(const Branch& branch, std::ostream& out) {
   }
 }
 
+// A branch followed from special point `point` of family `parent`: /orbits/<branch_name> with
+// attrs parent, branch_point_speed_rpm, branch_point_precession_hz, branch_point_note, its summary
+// lines and checks.
+void WriteFollowedBranch(const PeriodicOrbitBranch& followed, const std::string& branch_name,
+                         const std::string& parent, const Branch& family,
+                         const SpecialPoint& point, const std::string& note,
+                         ResultWriter& writer, std::ostream& out,
+                         std::vector<std::string>& failures) {
+  WritePeriodicOrbitBranch(writer, branch_name, followed, {"speed_rpm", kRpmPerRadPerSecond},
+                           "/orbits");
+  const std::string group = "/orbits/" + branch_name;
+  writer.SetAttribute(group, "parent", parent);
+  writer.SetAttribute(group, "branch_point_speed_rpm", RadPerSecondToRpm(point.lambda));
+  writer.SetAttribute(group, "branch_point_precession_hz",
+                      point.measures(family.MeasureIndex("precession_hz")));
+  writer.SetAttribute(group, "branch_point_note", note);
+  const Branch& b = followed.branch;
+  fmt::print(out, "  {}: {}\n", branch_name, b.BriefReport());
+  PrintSpecialPoints(b, out);
+  ReportOrbitChecks(b, group, writer, out);
+  if (IsFailure(b.status)) {
+    failures.push_back(fmt::format("[orbits] {}: {}", branch_name, b.message));
+  }
+}
+
 // The branches followed from the located branch points of family `name`: /orbits/<name>_bp<k>
 // (k = 1, 2, … in the family's order; a second side "_bp<k>b"), with what the point breaks.
 void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& name,
@@ -312,24 +337,39 @@ void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& na
     fmt::print(out, "    branch point {:.4f} rpm: {}\n", rpm, what);
     for (std::size_t side = 0; side < change.branches.size(); ++side) {
       const std::string branch_name = fmt::format("{}_bp{}{}", name, count, side == 0 ? "" : "b");
-      const PeriodicOrbitBranch& other = change.branches[side];
-      WritePeriodicOrbitBranch(writer, branch_name, other, {"speed_rpm", kRpmPerRadPerSecond},
-                               "/orbits");
-      const std::string group = "/orbits/" + branch_name;
-      writer.SetAttribute(group, "parent", name);
-      writer.SetAttribute(group, "branch_point_speed_rpm", rpm);
-      writer.SetAttribute(group, "branch_point_precession_hz",
-                          point.measures(family.MeasureIndex("precession_hz")));
-      writer.SetAttribute(group, "branch_point_note", what);
-      writer.SetAttribute(group, "branch_angle", change.change.angle);
-      const Branch& b = other.branch;
-      fmt::print(out, "  {}: {}\n", branch_name, b.BriefReport());
-      PrintSpecialPoints(b, out);
-      ReportOrbitChecks(b, group, writer, out);
-      if (IsFailure(b.status)) {
-        failures.push_back(fmt::format("[orbits] {}: {}", branch_name, b.message));
-      }
+      WriteFollowedBranch(change.branches[side], branch_name, name, family, point, what, writer,
+                          out, failures);
+      writer.SetAttribute("/orbits/" + branch_name, "branch_angle", change.change.angle);
     }
+  }
+}
+
+// The doubled families followed from the family's period doublings: /orbits/<name>_pd<k>
+// (k = 1, 2, … in the family's order).
+void WritePeriodDoublings(const RubModulatedOrbits& orbits, const std::string& name,
+                          ResultWriter& writer, std::ostream& out,
+                          std::vector<std::string>& failures) {
+  const Branch& family = orbits.orbits.branch;
+  int count = 0;
+  for (const OrbitPeriodDoubling& doubling : orbits.doublings) {
+    const SpecialPoint& point = family.special_points[doubling.special_point];
+    const double rpm = RadPerSecondToRpm(point.lambda);
+    if (!doubling.ok) {
+      fmt::print(out, "    period doubling {:.4f} rpm: no doubled orbits: {}\n", rpm,
+                 doubling.message);
+      failures.push_back(fmt::format("[orbits] {}: period doubling at {:.4f} rpm: {}", name, rpm,
+                                     doubling.message));
+      continue;
+    }
+    const std::string what = fmt::format(
+        "period doubling (multiplier {:.6f}): the doubled orbits, period 2T", doubling.multiplier);
+    fmt::print(out, "    period doubling {:.4f} rpm: followed (multiplier {:.6f})\n", rpm,
+               doubling.multiplier);
+    const std::string branch_name = fmt::format("{}_pd{}", name, ++count);
+    WriteFollowedBranch(doubling.branch, branch_name, name, family, point, what, writer, out,
+                        failures);
+    writer.SetAttribute("/orbits/" + branch_name, "period_doubling_multiplier",
+                        doubling.multiplier);
   }
 }
 
@@ -411,6 +451,7 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
       failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
     }
     WriteBranchSwitches(orbits, name, writer, out, failures);
+    WritePeriodDoublings(orbits, name, writer, out, failures);
   }
 }
 

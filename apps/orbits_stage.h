@@ -20,6 +20,12 @@
 //                                    are not mirror images), the same layout, attrs parent,
 //                                    branch_point_speed_rpm, branch_point_precession_hz,
 //                                    branch_point_note (the symmetry it breaks), branch_angle.
+//     /orbits/<family>_pd<k>         the period-doubled orbits from the family's k-th period
+//                                    doubling that bounds a stable piece of it (branch_points =
+//                                    "follow"; period 2T, twice the segments), the same layout,
+//                                    attrs parent, branch_point_speed_rpm,
+//                                    branch_point_precession_hz, branch_point_note,
+//                                    period_doubling_multiplier; its modulation_hz is 1/(2T).
 #pragma once
 
 #include "apps/models.h"

@@ -597,13 +597,15 @@ std::vector<KeySpec> BuildSchema() {
                     [](Scene& x) -> double& { return x.analysis.orbits.tolerance; }, Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-      "Continuation steps from each Hopf point, and from each branch point followed.",
+      "Continuation steps from each Hopf point, and from each branch point and period doubling "
+      "followed.",
       [](Scene& x) -> int& { return x.analysis.orbits.max_steps; }));
   s.push_back(Choice(
       "analysis.orbits.branch_points",
       "\"follow\": the other branch through each located branch point of a family is followed "
       "(one of the two mirror images where the point breaks a left–right symmetric rotor's "
-      "symmetry); \"mark\": located and reported only.",
+      "symmetry), and the period-doubled orbits from each period doubling where the family loses "
+      "or gains stability; \"mark\": located and reported only.",
       {"follow", "mark"},
       [](Scene& x, const std::string& name) {
         x.analysis.orbits.follow_branch_points = name == "follow";

@@ -115,7 +115,9 @@ def main(argv):
                 top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
                 bottom.axvline(r, color=color, lw=0.8, ls=":")
                 types.add(t)
+            doubled = "period_doubling_multiplier" in g.attrs
             origin = (f"the Hopf point at {start:.2f} rpm" if from_hopf else
+                      f"the period doubling at {start:.2f} rpm (period 2T)" if doubled else
                       f"the branch point at {start:.2f} rpm"
                       + (", one of two mirror images" if "mirror" in text(g.attrs.get("branch_point_note", ""))
                          else ""))

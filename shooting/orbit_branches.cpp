@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
+
 #include <fmt/format.h>
 
 #include "continuation/continuation.h"
@@ -297,6 +299,121 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
     other.work = problem.statistics();
     result.branches.push_back(std::move(other));
   }
+  return result;
+}
+
+OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
+                                                     const PeriodicOrbitBranch& family,
+                                                     std::size_t special_point,
+                                                     const PeriodicOrbitBranchOptions& options,
+                                                     double amplitude,
+                                                     const StepCallback& on_step) {
+  Validate(options);
+  const Branch& branch = family.branch;
+  if (special_point >= branch.special_points.size() ||
+      branch.special_points[special_point].type != SpecialPointType::kPeriodDoubling) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueOrbitsFromPeriodDoubling: special point {} of {} is not a period doubling",
+        special_point, branch.special_points.size()));
+  }
+  if (family.kind == OrbitKind::kForced) {
+    throw std::invalid_argument(
+        "ContinueOrbitsFromPeriodDoubling: the family's orbits are forced: a period-doubled "
+        "forced orbit needs twice the forcing period, which the shooting problem does not set");
+  }
+  if (!(amplitude > 0.0) || !std::isfinite(amplitude)) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueOrbitsFromPeriodDoubling: amplitude = {}: must be positive", amplitude));
+  }
+  const SpecialPoint& point = branch.special_points[special_point];
+  OrbitPeriodDoubling result;
+  result.special_point = special_point;
+
+  // The family's problem at the point: its segment STMs and the return map's eigenvector for −1.
+  ShootingOptions shooting = family.shooting;
+  shooting.refresh_phase_reference = true;
+  system.SetParameter(point.lambda);
+  ShootingProblem single(system, family.kind, shooting);
+  const Index n = single.StateDimension(), N = single.SegmentCount();
+  const std::vector<Matrix>& stm = single.SegmentMonodromies(point.u, point.lambda);
+  if (stm.size() != static_cast<std::size_t>(N)) {
+    result.message = "the segment STMs could not be integrated at the point: " +
+                     single.LastFailure().BriefReport();
+    return result;
+  }
+  const double period = single.Period(point.u, point.lambda), phi = single.Rotation(point.u);
+  Matrix rotate = Matrix::Identity(n, n), unrotate = Matrix::Identity(n, n);
+  for (Index j = 0; j < n; ++j) {
+    system.Rotate(phi, rotate.col(j));
+    system.Rotate(-phi, unrotate.col(j));
+  }
+  Matrix map = Matrix::Identity(n, n);
+  for (const Matrix& M : stm) map = M * map;
+  map = unrotate * map;
+  const Eigen::EigenSolver<Matrix> eigen(map);
+  Index critical = -1;
+  for (Index k = 0; k < n; ++k) {
+    const std::complex<double> mu = eigen.eigenvalues()(k);
+    if (std::abs(mu.imag()) > 1e-8 * std::abs(mu)) continue;
+    if (critical < 0 || std::abs(mu.real() + 1.0) <
+                            std::abs(eigen.eigenvalues()(critical).real() + 1.0)) {
+      critical = k;
+    }
+  }
+  if (critical < 0 || std::abs(eigen.eigenvalues()(critical).real() + 1.0) > 0.1) {
+    result.message = "the return map has no real multiplier within 0.1 of −1 at the point";
+    return result;
+  }
+  result.multiplier = eigen.eigenvalues()(critical).real();
+  const Vector scale = system.StateScale();
+  Vector v = eigen.eigenvectors().col(critical).real();
+  v /= v.cwiseQuotient(scale).norm();
+
+  // The orbit run twice, and the direction [v_i; −R_φ v_i].
+  Matrix starts(n, 2 * N), direction(n, 2 * N);
+  for (Index i = 0; i < N; ++i) {
+    const Vector x = single.SegmentStart(point.u, i);
+    starts.col(i) = x;
+    starts.col(N + i) = rotate * x;
+    direction.col(i) = v;
+    direction.col(N + i) = -(rotate * v);
+    v = stm[static_cast<std::size_t>(i)] * v;
+  }
+  ShootingOptions doubled = family.shooting;
+  doubled.refresh_phase_reference = true;
+  doubled.segments = 2 * N;
+  if (!family.shooting.mesh.empty()) {
+    doubled.mesh.clear();
+    for (const double tau : family.shooting.mesh) doubled.mesh.push_back(0.5 * tau);
+    for (std::size_t k = 1; k < family.shooting.mesh.size(); ++k) {
+      doubled.mesh.push_back(0.5 + 0.5 * family.shooting.mesh[k]);
+    }
+  }
+  if (family.shooting.period_scale > 0.0) doubled.period_scale = 2.0 * family.shooting.period_scale;
+  ShootingProblem problem(system, family.kind, doubled);
+  if (!options.measures.empty()) problem.SetMeasures(options.measures);
+  problem.SetTestFunctions(options.test_functions);
+  const Vector twice = problem.Pack(starts, 2.0 * period, 2.0 * phi);
+  problem.SetPhaseReference(twice, point.lambda);
+  const Vector du = problem.Pack(direction, 0.0, 0.0).cwiseQuotient(problem.Scale());
+  const Vector u0 = twice + amplitude * problem.Pack(direction, 0.0, 0.0);
+
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.detect.stability = true;
+  Continuation stepper(problem, continuation);
+  result.branch.kind = family.kind;
+  result.branch.state_dimension = n;
+  result.branch.segments = static_cast<int>(2 * N);
+  result.branch.start_lambda = point.lambda;
+  result.branch.shooting = doubled;
+  result.branch.shooting.period_scale = problem.PeriodScale();
+  result.branch.shooting.lambda_scale = problem.LambdaScale();
+  stepper.StartWithTangent(u0, point.lambda, du, 0.0);
+  result.branch.branch = RunToEnd(stepper, on_step);
+  result.branch.work = problem.statistics();
+  result.ok = true;
   return result;
 }
 

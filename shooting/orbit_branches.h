@@ -132,4 +132,33 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
                                                 const PeriodicOrbitBranchOptions& options,
                                                 const StepCallback& on_step = {});
 
+// The period-doubled orbits born at a located period doubling of a family (autonomous or
+// relative orbits: x(T) = R_φ x(0)). At the point the return map x ↦ R_{−φ} x(T) has the
+// multiplier −1 with a real eigenvector v; the doubled orbits start there as the orbit run twice
+// (2N segments, the second lap's starts R_φ x_i, period 2T, rotation 2φ) moved by `amplitude`
+// (scaled state units: ‖v ./ StateScale‖ = 1) along [v_i; −R_φ v_i] (v propagated to the segment
+// starts by the segment STMs, and multiplied by −1 over one lap), and are continued with the
+// engine as a new family (the corrector fixes that projection and solves for λ, whichever side
+// of the point the doubled orbits lie on: supercritical or subcritical). Both signs of the
+// amplitude give the same orbits shifted by T: one side is followed. The doubled problem keeps
+// the family's integrator, steps per segment and measures, so a Gauss mesh resolves each lap as
+// before (twice the intervals per doubled period).
+struct OrbitPeriodDoubling {
+  std::size_t special_point = 0;  // index into the family's branch.special_points
+  bool ok = false;                // false: no start (message says why), no branch
+  std::string message;
+  double multiplier = std::numeric_limits<double>::quiet_NaN();  // the real one nearest −1
+  PeriodicOrbitBranch branch;     // the doubled family: period 2T, 2N segments
+};
+
+// Throws std::invalid_argument when special_point is not a period doubling of the family, the
+// family's orbits are forced (a subharmonic of the forcing needs a period the forcing does not
+// set: not supported) or the options are invalid.
+OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
+                                                     const PeriodicOrbitBranch& family,
+                                                     std::size_t special_point,
+                                                     const PeriodicOrbitBranchOptions& options,
+                                                     double amplitude = 1e-3,
+                                                     const StepCallback& on_step = {});
+
 }  // namespace rubcont

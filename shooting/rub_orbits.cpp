@@ -67,6 +67,15 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
           }};
 }
 
+// Whether the family is stable on exactly one side of special point p (its neighbouring points).
+bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p) {
+  if (p.index < 0 || static_cast<std::size_t>(p.index) + 1 >= branch.points.size()) return false;
+  const BranchPoint& before = branch.points[static_cast<std::size_t>(p.index)];
+  const BranchPoint& after = branch.points[static_cast<std::size_t>(p.index) + 1];
+  if (before.num_unstable < 0 || after.num_unstable < 0) return false;
+  return (before.num_unstable == 0) != (after.num_unstable == 0);
+}
+
 }  // namespace
 
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
@@ -204,6 +213,14 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
       if (reached) continue;
       result.switches.push_back(
           ContinueOrbitsFromBranchPoint(frame, result.orbits, k, options.orbits, options.on_step));
+    }
+    for (std::size_t k = 0; k < special.size(); ++k) {
+      if (special[k].type != SpecialPointType::kPeriodDoubling || !special[k].converged ||
+          !BoundsStablePiece(result.orbits.branch, special[k])) {
+        continue;
+      }
+      result.doublings.push_back(ContinueOrbitsFromPeriodDoubling(
+          frame, result.orbits, k, options.orbits, 1e-3, options.on_step));
     }
   }
   return result;

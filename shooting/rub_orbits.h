@@ -68,6 +68,10 @@ struct RubModulatedOrbits {
   // The branches through its located branch points (ContinueModulatedOrbits with
   // switch_at_branch_points), in the order of orbits.branch.special_points.
   std::vector<OrbitBranchSwitch> switches;
+  // The period-doubled families born at its located period doublings that bound a stable piece
+  // of it (stable on one side: where a stable whip hands over to its doubled successor), in the
+  // same order.
+  std::vector<OrbitPeriodDoubling> doublings;
 };
 
 // The orbits born at `start` (a point of StableBoundaryHopfPoints(branches, ...)) of the tanh-law
@@ -77,7 +81,9 @@ struct RubModulatedOrbits {
 // left–right symmetric rotor also one located only to a bracket) is followed over the same range
 // (ContinueOrbitsFromBranchPoint: of a symmetric rotor, one of two mirror images where the point
 // breaks the symmetry, up to where it rejoins it; a branch point where an earlier switched branch
-// rejoined is not followed again), on_step called for its steps too. Throws
+// rejoined is not followed again), and the doubled orbits from every located period doubling that
+// bounds a stable piece of the family (ContinueOrbitsFromPeriodDoubling; not those of the
+// switched branches), on_step called for their steps too. Throws
 // std::invalid_argument when the structure has an imbalance or the start names no Hopf point of
 // `branches`; numerical failures end the branch with a status.
 RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,

@@ -82,6 +82,18 @@ void Validate(const IntegratorOptions& options) {
   if (!(options.state_bound > 1.0)) fail("state_bound", options.state_bound, "must exceed 1");
 }
 
+void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b) {
+  a.steps += b.steps;
+  a.rhs_evaluations += b.rhs_evaluations;
+  a.jacobian_evaluations += b.jacobian_evaluations;
+  a.linear_solver_setups += b.linear_solver_setups;
+  a.error_test_failures += b.error_test_failures;
+  a.nonlinear_iterations += b.nonlinear_iterations;
+  a.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
+  a.sensitivity_rhs_evaluations += b.sensitivity_rhs_evaluations;
+  a.restarts += b.restarts;
+}
+
 std::string IntegrationResult::BriefReport() const {
   std::string report = fmt::format("{} at t = {:.6g}: {} steps, {} f evaluations", ToString(status),
                                    t_reached, statistics.steps, statistics.rhs_evaluations);

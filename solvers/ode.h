@@ -131,6 +131,9 @@ struct IntegrationStatistics {
   long restarts = 0;  // re-initializations at events (EventOptions::restart, CVODES)
 };
 
+// Adds the counters of b to a.
+void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b);
+
 // One zero of an event function.
 struct IntegrationEvent {
   int index = 0;    // which component of g

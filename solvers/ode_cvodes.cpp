@@ -339,15 +339,8 @@ class CvodesBackend::State {
     CVodeGetNumNonlinSolvConvFails(memory_, &s.nonlinear_convergence_failures);
     s.sensitivity_rhs_evaluations = 0;
     if (Ns > 0) CVodeGetSensNumRhsEvals(memory_, &s.sensitivity_rhs_evaluations);
-    s.steps += restarted_.steps;
-    s.rhs_evaluations += restarted_.rhs_evaluations;
-    s.jacobian_evaluations += restarted_.jacobian_evaluations;
-    s.linear_solver_setups += restarted_.linear_solver_setups;
-    s.error_test_failures += restarted_.error_test_failures;
-    s.nonlinear_iterations += restarted_.nonlinear_iterations;
-    s.nonlinear_convergence_failures += restarted_.nonlinear_convergence_failures;
-    s.sensitivity_rhs_evaluations += restarted_.sensitivity_rhs_evaluations;
-    s.restarts = restarted_.restarts;
+    s.restarts = 0;
+    Accumulate(s, restarted_);
   }
 
   IntegrationResult& Failure(int flag, double t, IntegrationResult& result) {

@@ -28,18 +28,6 @@ const char* ToString(SweepPointStatus status) {
   return "unknown";
 }
 
-void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b) {
-  a.steps += b.steps;
-  a.rhs_evaluations += b.rhs_evaluations;
-  a.jacobian_evaluations += b.jacobian_evaluations;
-  a.linear_solver_setups += b.linear_solver_setups;
-  a.error_test_failures += b.error_test_failures;
-  a.nonlinear_iterations += b.nonlinear_iterations;
-  a.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
-  a.sensitivity_rhs_evaluations += b.sensitivity_rhs_evaluations;
-  a.restarts += b.restarts;
-}
-
 void Validate(const SweepOptions& o) {
   auto fail = [](const char* field, const auto& value, const std::string& rule) {
     throw std::invalid_argument(fmt::format("SweepOptions.{} = {}: {}", field, value, rule));

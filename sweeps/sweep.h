@@ -130,9 +130,6 @@ struct SweepPoint {
   std::vector<ChannelSummary> channels;
 };
 
-// Adds the counters of b to a.
-void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b);
-
 // ---------------------------------------------------------------------------------------------
 // The stepper: one parameter value per Step(), so that a driver can report progress and write a
 // checkpoint after each one, and a test can step once.

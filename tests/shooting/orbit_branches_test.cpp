@@ -175,5 +175,84 @@ TEST_CASE("ContinueOrbitsFromBranchPoint refuses a special point that is not a b
                   std::invalid_argument);
 }
 
+// Period doubling with a closed form: the same limit cycle (θ̇ = 1 on r = 1, period 2π) with a
+// transverse vector w = (p, q) that sees a frame turning half as fast: with e(θ) = (cos θ/2,
+// sin θ/2) and P(θ) = e eᵀ = ½[[1 + cos θ, sin θ], [sin θ, 1 − cos θ]] (single-valued in x, y),
+//     ẇ = ½ J w + (λ P − (I − P) − |w|²) w.
+// Along e and e⊥ = J e the components obey ȧ = (λ − a² − b²) a, ḃ = −(1 + a² + b²) b, and e
+// turns into −e over one lap: the cycle with w = 0 has the multipliers e^{−4π} (its radius),
+// −e^{2πλ} and −e^{−2π}, a period doubling at λ = 0, and the orbits born there have a = √λ,
+// period 4π and the multipliers e^{−16π}, e^{−8πλ}, e^{−4π(1 + λ)}.
+class CycleWithMoebiusBand : public OdeSystem {
+ public:
+  Index Dimension() const override { return 4; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const double r2 = x(0) * x(0) + x(1) * x(1), r = std::sqrt(r2);
+    const double c = x(0) / r, s = x(1) / r;
+    const double p = x(2), q = x(3), w2 = p * p + q * q;
+    // λP − (I − P) = ((λ − 1)/2) I + ((λ + 1)/2) [[c, s], [s, −c]].
+    const double m = 0.5 * (lambda_ - 1.0), k = 0.5 * (lambda_ + 1.0);
+    f << (1.0 - r2) * x(0) - x(1), (1.0 - r2) * x(1) + x(0),
+        -0.5 * q + (m + k * c - w2) * p + k * s * q, 0.5 * p + k * s * p + (m - k * c - w2) * q;
+  }
+  double Parameter() const override { return lambda_; }
+  void SetParameter(double lambda) override { lambda_ = lambda; }
+
+ private:
+  double lambda_ = -0.5;
+};
+
+TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts the doubled "
+          "orbits, a^2 = lambda, period 4 pi, multipliers in closed form",
+          "[shooting][period_doubling]") {
+  CycleWithMoebiusBand system;
+  OrbitStart start;
+  start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  start.period = 2 * M_PI;
+  start.lambda = -0.5;
+  start.valid = true;
+  const PeriodicOrbitBranch family =
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
+  INFO(family.branch.BriefReport());
+  REQUIRE(family.branch.status == BranchStatus::kReachedLambdaBound);
+  REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-8));
+  CHECK(family.branch.Count(SpecialPointType::kBranchPoint) == 0);
+
+  const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, Options());
+  INFO(doubling.message);
+  REQUIRE(doubling.ok);
+  CHECK(doubling.multiplier == Approx(-1.0).margin(1e-6));
+  const Branch& doubled = doubling.branch.branch;
+  INFO(doubled.BriefReport() << " — " << doubled.message);
+  REQUIRE(doubled.status == BranchStatus::kReachedLambdaBound);
+  CHECK(doubling.branch.segments == 4);
+  REQUIRE(doubled.Size() > 3);
+  for (const BranchPoint& p : doubled.points) {
+    CAPTURE(p.lambda);
+    CHECK(p.lambda >= -1e-12);  // supercritical: the doubled orbits exist for λ > 0
+    REQUIRE(p.u.size() == 4 * 4 + 1);
+    CHECK(p.u(16) == Approx(4 * M_PI).epsilon(1e-8));  // the period
+    // |w| = a at every segment start.
+    for (int i = 0; i < 4; ++i) {
+      CHECK(std::hypot(p.u(4 * i + 2), p.u(4 * i + 3)) ==
+            Approx(std::sqrt(std::max(p.lambda, 0.0))).margin(1e-7));
+    }
+    if (p.lambda < 1e-3) continue;
+    REQUIRE(p.spectrum.values.size() == 3);
+    CHECK(std::abs(p.spectrum.values(0)) == Approx(std::exp(-8 * M_PI * p.lambda)).epsilon(1e-6));
+    CHECK(p.num_unstable == 0);
+  }
+  CHECK(doubled.points.back().lambda == Approx(0.5).margin(1e-9));
+
+  CHECK_THROWS_WITH(ContinueOrbitsFromPeriodDoubling(system, family, k, Options(), 0.0),
+                    Catch::Contains("amplitude = 0: must be positive"));
+  std::size_t not_doubling = family.branch.special_points.size();
+  CHECK_THROWS_AS(ContinueOrbitsFromPeriodDoubling(system, family, not_doubling, Options()),
+                  std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rubcont
