@@ -40,6 +40,9 @@ void Check(const AttractorRequest& r) {
   if (r.to_rpm) positive("to", *r.to_rpm);
   positive("step", r.step_rpm);
   if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
+  if (r.approach && *r.approach != "up" && *r.approach != "down") {
+    fail("approach", *r.approach, "must be up or down");
+  }
   if (r.to_rpm && (r.direction == "up" ? *r.to_rpm < r.from_rpm : *r.to_rpm > r.from_rpm)) {
     fail("to", *r.to_rpm, "must lie beyond --from in the direction of the schedule");
   }
@@ -73,6 +76,9 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const std::string approach_name = request.approach.value_or(request.direction);
+    const SweepDirection approach_direction =
+        approach_name == "up" ? SweepDirection::kUp : SweepDirection::kDown;
     const std::vector<double> speeds_rpm =
         SpeedSchedule(request.from_rpm, request.to_rpm.value_or(request.from_rpm), request.step_rpm);
     AttractorOptions options;
@@ -94,7 +100,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
 
     const SteadyClock::time_point start = SteadyClock::now();
     const SweepApproach approach =
-        ApproachSweep(scene, direction, RpmToRadPerSecond(speeds_rpm.front()),
+        ApproachSweep(scene, approach_direction, RpmToRadPerSecond(speeds_rpm.front()),
                       request.quiet ? nullptr : PrintApproachProgress(err, "attractor", start));
 
     RubFixedFrame system(structure);
@@ -144,6 +150,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     const std::string g = "/attractor";
     writer.CreateGroup(g);
     writer.SetAttribute(g, "direction", request.direction);
+    writer.SetAttribute(g, "approach", approach_name);
     writer.SetAttribute(g, "duration", options.duration);
     writer.SetAttribute(g, "discard", options.discard);
     writer.SetAttribute(g, "interval", options.interval);
@@ -214,7 +221,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     // The summary.
     std::string from = "rest (the impulse)";
     if (!before.empty()) {
-      from = fmt::format("the {} sweep {:g} → {:g} rpm", request.direction,
+      from = fmt::format("the {} sweep {:g} → {:g} rpm", approach_name,
                          RadPerSecondToRpm(before.front()), RadPerSecondToRpm(before.back()));
     }
     fmt::print(out, "scene {} from {}\n[attractor] L3: {} speed(s) from {}, {:g} s discarded and {:g} s "

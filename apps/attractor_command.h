@@ -33,7 +33,10 @@ struct AttractorRequest {
   double from_rpm = 0.0;               // required, > 0
   std::optional<double> to_rpm;        // default: from_rpm (one speed)
   double step_rpm = 4.0;               // > 0
-  std::string direction = "up";        // "up" or "down": the approach, and the order of speeds
+  std::string direction = "up";        // "up" or "down": the order of speeds (and the approach)
+  // "up" or "down": the sweep that reaches the state before the first speed; default direction.
+  // The other one steps back from where a sweep arrived (e.g. down from the speed-up whip).
+  std::optional<std::string> approach;
   double duration = 2.0;               // [s] counted per speed
   double discard = 0.5;                // [s] uncounted per speed
   double interval = 0.005;             // [s] re-orthonormalization

@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
 
   rubcont::AttractorRequest attractor_request;
-  std::string attractor_out;
+  std::string attractor_out, attractor_approach;
   double attractor_to = 0.0, attractor_tolerance = 0.0;
   CLI::App* attractor = app.add_subcommand(
       "attractor", "level L3: what the motion is at each speed: Lyapunov exponents (variational "
@@ -146,8 +146,11 @@ int main(int argc, char** argv) {
   attractor->add_option("--to", attractor_to, "last speed [rpm]; default: --from alone");
   attractor->add_option("--step", attractor_request.step_rpm, "speed step [rpm]")->capture_default_str();
   attractor->add_option("--direction", attractor_request.direction,
-                        "up or down: the approach sweep and the order of the speeds")
+                        "up or down: the order of the speeds (and the approach sweep)")
       ->capture_default_str();
+  attractor->add_option("--approach", attractor_approach,
+                        "up or down: the sweep that reaches the first speed; default --direction "
+                        "(the other one steps back from the branch a sweep reached: hysteresis)");
   attractor->add_option("--duration", attractor_request.duration, "counted time per speed [s]")
       ->capture_default_str();
   attractor->add_option("--discard", attractor_request.discard, "uncounted time first, per speed [s]")
@@ -211,6 +214,7 @@ int main(int argc, char** argv) {
     if (!attractor_out.empty()) attractor_request.out_file = attractor_out;
     if (attractor->count("--to") > 0) attractor_request.to_rpm = attractor_to;
     if (attractor->count("--tolerance") > 0) attractor_request.tolerance = attractor_tolerance;
+    if (attractor->count("--approach") > 0) attractor_request.approach = attractor_approach;
     return rubcont::AttractorCommand(attractor_request, std::cout, std::cerr);
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);

@@ -53,6 +53,24 @@ TEST_CASE("rubcont attractor: the whirl is a rotating wave, one zero exponent, i
   }
 }
 
+TEST_CASE("rubcont attractor: --approach up with --direction down steps back down from where the "
+          "speed-up sweep arrived", "[attractor_cli]") {
+  TempDir dir;
+  const fs::path scene = WhirlScene(dir.path);
+  const fs::path h5 = dir.path / "back.h5";
+  const Outcome o = testing::RubcontNoPython(
+      "attractor " + scene.string() + " --from 48 --to 44 --direction down --approach up "
+      "--duration 0.1 --discard 0.02 --interval 0.01 --exponents 2 --quiet --out " + h5.string());
+  INFO(o.out << o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("from the up sweep 40 → 44 rpm"));
+  ResultReader r(h5);
+  CHECK(r.ReadStringAttribute("/attractor", "direction") == "down");
+  CHECK(r.ReadStringAttribute("/attractor", "approach") == "up");
+  CHECK(r.ReadDoubles("/attractor/speed_rpm") == std::vector<double>{48.0, 44.0});
+  CHECK(r.ReadStrings("/attractor/motion").at(0) == "rotating wave");
+}
+
 TEST_CASE("rubcont attractor: bad options are exit code 2 naming the option", "[attractor_cli]") {
   TempDir dir;
   const fs::path scene = WhirlScene(dir.path);
@@ -65,6 +83,7 @@ TEST_CASE("rubcont attractor: bad options are exit code 2 naming the option", "[
   };
   bad("--from 48 --to 40", "--to = 40: must lie beyond --from in the direction of the schedule");
   bad("--from 48 --direction sideways", "--direction = sideways: must be up or down");
+  bad("--from 48 --approach across", "--approach = across: must be up or down");
   bad("--from 48 --duration 0.1 --interval 0.05", "--interval = 0.05: must be positive and at most a tenth");
   bad("--from 48 --sample 0.01", "--sample = 0.01: must be positive and at most --interval");
   bad("--from 48 --exponents 99", "--exponents = 99: must be at most the model's");
