@@ -13,10 +13,12 @@
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
 #                   the figures). Use it after a change of the regime rules.
 #   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
-#                   scenes/thesis_A_a_modulated_whip.toml): about 20 min on 2 cores.
+#                   scenes/thesis_A_a_modulated_whip.toml and thesis_A_a_whip_doubling.toml):
+#                   about 20 min on 2 cores.
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
-#                   2 cores) and prints the table of results/README.md "What the whip is".
+#                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
+#                   table of results/README.md "What the whip is".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -84,6 +86,11 @@ if [[ "${1:-}" == "--attractor" ]]; then
   attractor 132 144 --duration 1 --discard 1 --tolerance 1e-7 & pids+=($!)
   attractor 148 184 --duration 0.2 --discard 0.1 --interval 0.002 --tolerance 1e-8 & pids+=($!)
   for pid in "${pids[@]}"; do wait "$pid"; done  # a failing run stops the script (set -e)
+  # Back down from the period-2 whip the speed-up sweep reaches (the fold of the doubled orbits).
+  down=results/thesis_A_a/attractor_134_119rpm_down
+  build/rubcont attractor scenes/thesis_A_a.toml --from 134 --to 119 --step 0.5 --direction down \
+    --approach up --duration 1.5 --discard 0.5 --exponents 3 --tolerance 1e-7 --quiet \
+    --out "$down.h5" > "$down.txt"
   /usr/bin/python3 scripts/attractor_table.py results/thesis_A_a/attractor_52_128rpm.h5 \
     results/thesis_A_a/attractor_132_144rpm.h5 results/thesis_A_a/attractor_148_184rpm.h5 \
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5

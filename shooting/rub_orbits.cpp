@@ -185,14 +185,20 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u = Vector::Zero(4 * nc);
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
-  options.orbits.measures = RubOrbitMeasures(frame);
+  // The measures of orbits run `laps` times per shooting period (period-doubled families: 2):
+  // the unresolved-mode check needs the mesh's steps per period, which doubles with the period.
+  const auto measures = [&frame, &options](int laps) {
+    std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
+    const IntegratorOptions& integrator = options.orbits.shooting.integrator;
+    if (integrator.method == IntegrationMethod::kGaussCollocation) {
+      measures.push_back(UnresolvedMultiplier(
+          std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
+          integrator.collocation_steps * options.orbits.shooting.segments * laps));
+    }
+    return measures;
+  };
+  options.orbits.measures = measures(1);
   options.orbits.test_functions = RubGrazingTests(structure);
-  const IntegratorOptions& integrator = options.orbits.shooting.integrator;
-  if (integrator.method == IntegrationMethod::kGaussCollocation) {
-    options.orbits.measures.push_back(UnresolvedMultiplier(
-        std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
-        integrator.collocation_steps * options.orbits.shooting.segments));
-  }
   RubModulatedOrbits result;
   result.hopf = start;
   result.orbits = ContinueOrbitsFromHopf(frame, hopf, options);
@@ -219,8 +225,10 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
           !BoundsStablePiece(result.orbits.branch, special[k])) {
         continue;
       }
-      result.doublings.push_back(ContinueOrbitsFromPeriodDoubling(
-          frame, result.orbits, k, options.orbits, 1e-3, options.on_step));
+      PeriodicOrbitBranchOptions doubled = options.orbits;
+      doubled.measures = measures(2);
+      result.doublings.push_back(ContinueOrbitsFromPeriodDoubling(frame, result.orbits, k, doubled,
+                                                                  1e-3, options.on_step));
     }
   }
   return result;
