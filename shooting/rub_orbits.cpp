@@ -67,7 +67,8 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
           }};
 }
 
-// Whether the family is stable on exactly one side of special point p (its neighbouring points).
+// Whether a branch is stable on exactly one side of its special point p (the branch points
+// p.index and p.index + 1 around it, both with a computed stability).
 bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p) {
   if (p.index < 0 || static_cast<std::size_t>(p.index) + 1 >= branch.points.size()) return false;
   const BranchPoint& before = branch.points[static_cast<std::size_t>(p.index)];
@@ -129,16 +130,15 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
     const std::vector<BranchPoint>& points = b.branch.points;
     for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
       const SpecialPoint& p = b.branch.special_points[i];
-      if (p.type != SpecialPointType::kHopf || !p.converged) continue;
+      if (p.type != SpecialPointType::kHopf || !p.converged || !BoundsStablePiece(b.branch, p)) {
+        continue;
+      }
       // The special point lies between points[index] and points[index + 1].
       const auto k = static_cast<std::size_t>(p.index);
-      if (p.index < 0 || k + 1 >= points.size()) continue;
       const BranchPoint *low = &points[k], *high = &points[k + 1];
       if (low->lambda > high->lambda) std::swap(low, high);
       const double slack = 1e-9 * std::max(1.0, std::abs(p.lambda));
       if (p.lambda < low->lambda - slack || p.lambda > high->lambda + slack) continue;
-      if (low->num_unstable < 0 || high->num_unstable < 0) continue;
-      if ((low->num_unstable == 0) == (high->num_unstable == 0)) continue;
       RubHopfStart start;
       start.branch = b.name;
       start.special_point = i;

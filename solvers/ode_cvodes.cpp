@@ -237,9 +237,7 @@ class CvodesBackend::State {
       MapVector(sensitivity_abstol_[n].get()) =
           options_.absolute_tolerance * context_.scale / request.parameter_scale;
     }
-    const int method = options_.sensitivity_method == SensitivityMethod::kStaggered
-                           ? CV_STAGGERED
-                           : CV_SIMULTANEOUS;
+    const int method = SensitivityMethodFlag();
     int flag;
     if (sensitivity_count_ == Ns) {
       flag = CVodeSensReInit(memory_, method, raw_sensitivities_.data());
@@ -257,25 +255,25 @@ class CvodesBackend::State {
                                  raw_sensitivity_abstol_.data());
   }
 
+  int SensitivityMethodFlag() const {
+    return options_.sensitivity_method == SensitivityMethod::kStaggered ? CV_STAGGERED
+                                                                         : CV_SIMULTANEOUS;
+  }
+
   // CVodeReInit at t from the current state (and CVodeSensReInit from the current sensitivities):
   // the next step starts at order 1 with no history before t. The counters restart at 0, so the
   // ones so far are kept in result.statistics and Statistics adds the new ones.
   int Restart(double t, int Ns, IntegrationResult& result) {
     Statistics(result, Ns);
+    ++result.statistics.restarts;
     restarted_ = result.statistics;
     double t_sensitivity = t;
     int flag = CV_SUCCESS;
     if (Ns > 0) flag = CVodeGetSens(memory_, &t_sensitivity, raw_sensitivities_.data());
     if (flag == CV_SUCCESS) flag = CVodeReInit(memory_, t, y_.get());
     if (flag == CV_SUCCESS && Ns > 0) {
-      flag = CVodeSensReInit(memory_,
-                             options_.sensitivity_method == SensitivityMethod::kStaggered
-                                 ? CV_STAGGERED
-                                 : CV_SIMULTANEOUS,
-                             raw_sensitivities_.data());
+      flag = CVodeSensReInit(memory_, SensitivityMethodFlag(), raw_sensitivities_.data());
     }
-    ++result.statistics.restarts;
-    ++restarted_.restarts;
     return flag;
   }
 
