@@ -30,28 +30,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-RubRegime ParseRegime(const std::string& name) {
-  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip})
-    if (name == ToString(r)) return r;
-  throw std::invalid_argument(fmt::format(
-      "--until = {}: must be whirl, whip, intermittent or no_contact", name));
-}
-
 void Check(const EnsembleRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
   if (!(r.speed_rpm > 0.0) || !std::isfinite(r.speed_rpm)) fail("speed", r.speed_rpm, "must be positive");
   if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
-  if (r.copies < 1 || r.copies > 100000) fail("copies", r.copies, "must be in 1 … 100000");
-  if (!(r.window > 0.0) || !std::isfinite(r.window)) fail("window", r.window, "must be positive");
-  if (!(r.duration >= 2.0 * r.window) || !std::isfinite(r.duration)) {
-    fail("duration", r.duration, "must be at least two windows");
-  }
-  if (!(r.perturbation >= 0.0) || !std::isfinite(r.perturbation)) {
-    fail("perturbation", r.perturbation, "must be finite and non-negative");
-  }
-  if (r.threads < 0) fail("threads", r.threads, "must be non-negative (0: one per core)");
+  CheckCopyOptions(r.copies, r.window, r.duration, r.perturbation, r.threads);
 }
 
 // Quantile q of sorted values (linear interpolation).
@@ -68,7 +53,7 @@ double Quantile(const std::vector<double>& sorted, double q) {
 int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const RubRegime target = ParseRegime(request.until);
+    const RubRegime target = ParseUntil(request.until);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
@@ -83,33 +68,24 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     const Vector& x0 = approach.state;
 
     // The copies: stretches of two windows at `speed`.
-    SweepOptions stretches = SweepOptionsOf(scene, direction);
     const int count = static_cast<int>(std::ceil(request.duration / (2.0 * request.window) - 1e-9));
-    stretches.parameters.assign(static_cast<std::size_t>(count), speed);
-    stretches.window = request.window;
-    stretches.settle_windows = 1;
-    stretches.dwell = 2.0 * request.window;
-    stretches.analysis_length = 2.0 * request.window;
     EnsembleOptions options;
     options.copies = request.copies;
     options.perturbation = request.perturbation;
     options.seed = request.seed;
     options.threads = request.threads;
     const SteadyClock::time_point ensemble_start = SteadyClock::now();
-    const std::vector<EnsembleCopy> copies = RunEnsemble(
-        [&] { return std::make_unique<RubFixedFrame>(structure); },
-        [](OdeSystem& system) {
-          return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system));
-        },
-        stretches, x0, options, [&](int done, int total) {
+    const RubCopies run = RunRubCopies(
+        scene, direction, std::vector<double>(static_cast<std::size_t>(count), speed), request.window, x0,
+        options, target, [&](int done, int total) {
           if (request.quiet) return;
           fmt::print(err, "rubcont: [ensemble] copy {}/{} ({:.1f} s)\n", done, total,
                      SecondsSince(ensemble_start));
           err.flush();
         });
-    const double ensemble_wall = SecondsSince(ensemble_start);
-    const std::vector<RubArrival> arrivals =
-        RubArrivals(structure, copies, target, RegimeOptionsOf(scene));
+    const std::vector<EnsembleCopy>& copies = run.copies;
+    const std::vector<RubArrival>& arrivals = run.arrivals;
+    const double ensemble_wall = run.wall_seconds;
 
     // The file.
     const std::filesystem::path file =

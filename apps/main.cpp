@@ -10,6 +10,7 @@
 #include "apps/commands.h"
 #include "apps/attractor_command.h"
 #include "apps/ensemble_command.h"
+#include "apps/lifetime_command.h"
 #include "apps/fit_command.h"
 #include "apps/map_command.h"
 #include "apps/version.h"
@@ -133,6 +134,39 @@ int main(int argc, char** argv) {
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
 
+  rubcont::LifetimeRequest lifetime_request;
+  std::string lifetime_out;
+  CLI::App* lifetime = app.add_subcommand(
+      "lifetime", "level L3: where a state a sweep reaches ceases to exist: escape rates of perturbed copies at "
+                  "each speed, the crisis law fitted to them, and long-dwell sweeps against its prediction");
+  lifetime->add_option("SCENE", lifetime_request.scene_file, "scene file (TOML)")->required();
+  lifetime->add_option("--from", lifetime_request.from_rpm,
+                       "first speed [rpm]; the scene's sweep reaches the state at the speed before it")->required();
+  lifetime->add_option("--to", lifetime_request.to_rpm, "last speed [rpm]")->required();
+  lifetime->add_option("--step", lifetime_request.step_rpm, "speed step of the ensembles [rpm]")->capture_default_str();
+  lifetime->add_option("--direction", lifetime_request.direction,
+                       "up or down: the sweep that reaches the state, and the side on which it ends")
+      ->capture_default_str();
+  lifetime->add_option("--copies", lifetime_request.copies, "copies per speed")->capture_default_str();
+  lifetime->add_option("--duration", lifetime_request.duration, "simulated time per copy [s]")->capture_default_str();
+  lifetime->add_option("--window", lifetime_request.window, "window [s]; each stretch of two is classified as a sweep speed")
+      ->capture_default_str();
+  lifetime->add_option("--perturbation", lifetime_request.perturbation,
+                       "normal perturbation of the start, in units of each state's scale")->capture_default_str();
+  lifetime->add_option("--seed", lifetime_request.seed, "seed of the first copy at the first speed")->capture_default_str();
+  lifetime->add_option("--threads", lifetime_request.threads, "threads (0: one per core)")->capture_default_str();
+  lifetime->add_option("--until", lifetime_request.until,
+                       "the regime every contact must reach: whirl, whip, intermittent, no_contact")
+      ->capture_default_str();
+  lifetime->add_option("--check-copies", lifetime_request.check_copies,
+                       "perturbed sweeps through the speeds against the fitted law (0: none)")->capture_default_str();
+  lifetime->add_option("--check-step", lifetime_request.check_step_rpm, "speed step of the check sweeps [rpm]")
+      ->capture_default_str();
+  lifetime->add_option("--check-dwell", lifetime_request.check_dwell, "simulated time per speed of the check sweeps [s]")
+      ->capture_default_str();
+  lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
+  lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
+
   rubcont::AttractorRequest attractor_request;
   std::string attractor_out, attractor_approach;
   double attractor_to = 0.0, attractor_tolerance = 0.0;
@@ -209,6 +243,10 @@ int main(int argc, char** argv) {
   if (*ensemble) {
     if (!ensemble_out.empty()) ensemble_request.out_file = ensemble_out;
     return rubcont::EnsembleCommand(ensemble_request, std::cout, std::cerr);
+  }
+  if (*lifetime) {
+    if (!lifetime_out.empty()) lifetime_request.out_file = lifetime_out;
+    return rubcont::LifetimeCommand(lifetime_request, std::cout, std::cerr);
   }
   if (*attractor) {
     if (!attractor_out.empty()) attractor_request.out_file = attractor_out;

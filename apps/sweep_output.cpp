@@ -225,6 +225,46 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
   return approach;
 }
 
+RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
+                       double window, const Vector& x0, const EnsembleOptions& options, RubRegime target,
+                       const EnsembleProgress& progress) {
+  SweepOptions stretches = SweepOptionsOf(scene, direction);
+  stretches.parameters = speeds;
+  stretches.window = window;
+  stretches.settle_windows = 1;
+  stretches.dwell = 2.0 * window;
+  stretches.analysis_length = 2.0 * window;
+  const RubStructure structure = SweepStructureOf(scene);
+  RubCopies out;
+  const SteadyClock::time_point start = SteadyClock::now();
+  out.copies = RunEnsemble(
+      [&] { return std::make_unique<RubFixedFrame>(structure); },
+      [](OdeSystem& system) { return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system)); },
+      stretches, x0, options, progress);
+  out.wall_seconds = SecondsSince(start);
+  out.arrivals = RubArrivals(structure, out.copies, target, RegimeOptionsOf(scene));
+  return out;
+}
+
+void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads) {
+  auto fail = [](const char* option, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
+  };
+  if (copies < 1 || copies > 100000) fail("copies", copies, "must be in 1 … 100000");
+  if (!(window > 0.0) || !std::isfinite(window)) fail("window", window, "must be positive");
+  if (!(duration >= 2.0 * window) || !std::isfinite(duration)) fail("duration", duration, "must be at least two windows");
+  if (!(perturbation >= 0.0) || !std::isfinite(perturbation)) {
+    fail("perturbation", perturbation, "must be finite and non-negative");
+  }
+  if (threads < 0) fail("threads", threads, "must be non-negative (0: one per core)");
+}
+
+RubRegime ParseUntil(const std::string& name) {
+  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip})
+    if (name == ToString(r)) return r;
+  throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", name));
+}
+
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start) {
   return [&err, tag, start](const SweepRun& run) {

@@ -62,6 +62,7 @@
 #include "apps/stage_options.h"
 #include "solvers/stopwatch.h"
 #include "studies/jump_prediction.h"
+#include "sweeps/ensemble.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -111,6 +112,26 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
 // <rpm> rpm (<done>/<speeds>, <seconds since start> s)".
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start);
+
+// Perturbed copies of `x0` (sweeps/ensemble.h) marched through `speeds` [rad/s], one stretch of two
+// `window`s per entry (repeat a speed to stay at it), each stretch classified as a sweep speed of
+// the scene (its regime rules), and when each copy has every contact in `target` (RubArrivals).
+struct RubCopies {
+  std::vector<EnsembleCopy> copies;
+  std::vector<RubArrival> arrivals;
+  double wall_seconds = 0.0;
+};
+RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
+                       double window, const Vector& x0, const EnsembleOptions& options, RubRegime target,
+                       const EnsembleProgress& progress = {});
+
+// The options of RunRubCopies as a command takes them (--copies, --window, --duration,
+// --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.
+void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads);
+
+// The regime named by an --until option (whirl, whip, intermittent, no_contact); throws
+// std::invalid_argument naming the option and the rule.
+RubRegime ParseUntil(const std::string& name);
 
 // Writes /sweeps/<direction> for the points finished so far.
 void WriteSweep(ResultWriter& writer, const SweepRun& run);

@@ -19,6 +19,12 @@
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
 #                   table of results/README.md "What the whip is".
+#   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
+#                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
+#                   in 1 rpm steps, 16 × 20 s at 166 … 184 rpm in 2 rpm steps, 4 check sweeps
+#                   each; about 35 + 60 min on 2 cores).
+# Every run draws A(a)'s hysteresis loop (results/thesis_A_a/hysteresis.png) from the committed
+# sweep, whip-doubling and lifetime files.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -95,5 +101,18 @@ if [[ "${1:-}" == "--attractor" ]]; then
     results/thesis_A_a/attractor_132_144rpm.h5 results/thesis_A_a/attractor_148_184rpm.h5 \
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
 fi
+if [[ "${1:-}" == "--whip-end" ]]; then
+  mkdir -p results/thesis_A_a_whip_end
+  lifetime() {  # FROM TO STEP DURATION
+    local name="results/thesis_A_a_whip_end/lifetime_$1_$2rpm"
+    build/rubcont lifetime scenes/thesis_A_a_whip_end.toml --from "$1" --to "$2" --step "$3" --copies 16 \
+      --duration "$4" --check-copies 4 --quiet --out "$name.h5" > "$name.txt"
+  }
+  lifetime 174 184 1 5
+  lifetime 166 184 2 20
+fi
+/usr/bin/python3 plots/hysteresis.py --orbits results/thesis_A_a_whip_doubling/thesis_A_a_whip_doubling.h5 \
+  --sweep results/thesis_A_a/sweep.h5 --lifetime results/thesis_A_a_whip_end/lifetime_166_184rpm.h5 \
+  --out results/thesis_A_a/hysteresis.png
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"

@@ -232,6 +232,7 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
       if (all && !a.reached) {
         a.reached = true;
         a.time = t;
+        a.point = static_cast<int>(i);
       }
     }
     a.simulated = t;

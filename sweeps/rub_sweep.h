@@ -158,6 +158,7 @@ struct RubArrival {
   bool reached = false;  // false: not within the run (censored at `simulated`), or failed
   bool failed = false;   // the copy's integration failed (its points end with the failure)
   double time = std::numeric_limits<double>::quiet_NaN();  // [s] when reached
+  int point = -1;          // the index of the copy's point (stretch) in which it was reached
   double simulated = 0.0;  // [s] the copy's whole run
   RubSweepRegimes regimes;  // of the copy's points
 };

@@ -1,0 +1,55 @@
+// `rubcont lifetime SCENE --from RPM --to RPM`: where a state that a sweep reaches ceases to exist,
+// from the lifetimes of perturbed copies (sweeps/lifetime.h). The scene's sweep in `direction` is
+// run from the impulse up to the last speed of its schedule before --from (the approach, as
+// `rubcont ensemble`); from its final state, at each speed --from, --from ± --step, … --to,
+// `copies` copies (perturbed by `perturbation` × each state's scale, seeds seed + i·copies for the
+// i-th speed) run for `duration` in stretches of two `window`s until every contact is in the regime
+// `until`. Per speed: the escape rate κ with its 95 % interval (interval-censored exponential);
+// over the speeds: the crisis law κ = A·(p − p_c)^γ (beyond p_c in `direction`) with p_c's
+// profile-likelihood interval, or the status that says why there is none. Then the check:
+// `check_copies` perturbed sweeps from the same state through --from … --to in steps of
+// `check_step`, `check_dwell` seconds per speed, and where each leaves, beside the probabilities
+// the fitted law predicts for that schedule.
+//
+// HDF5 layout (written atomically): root attributes as every result; /lifetime attributes
+// direction, copies, duration, window, perturbation, seed, until, approach_from_rpm /
+// approach_to_rpm, wall_seconds, cpu_seconds, threads; datasets speed_rpm, escapes, stayed, failed,
+// escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
+// ("estimated", "no escape", "all in the first stretch"), arrival_time_s (speeds × copies; NaN:
+// stayed); /lifetime/crisis attributes status, message, critical_speed_rpm, critical_lower_rpm,
+// critical_upper_rpm, lower_bounded, upper_bounded (0/1), exponent, amplitude (1/s per rpm^γ),
+// log_likelihood; /lifetime/check (when check_copies > 0) attributes dwell, step_rpm; datasets
+// speed_rpm (the schedule), predicted_leave_probability (per speed), jump_speed_rpm (per copy:
+// the speed at which it reached `until`; NaN: kept the state to the end), jump_time_s.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace rubcont {
+
+struct LifetimeRequest {
+  std::string scene_file;
+  double from_rpm = 0.0;                // required, > 0
+  double to_rpm = 0.0;                  // required, beyond --from in `direction`
+  double step_rpm = 1.0;
+  std::string direction = "up";         // "up" or "down"
+  int copies = 16;
+  double duration = 5.0;                // [s] per copy and speed
+  double window = 0.05;                 // [s]; a stretch is two windows
+  double perturbation = 1e-6;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  std::string until = "whirl";
+  int check_copies = 4;                 // 0: no check sweeps
+  double check_step_rpm = 0.5;
+  double check_dwell = 5.0;             // [s] per speed of the check sweeps
+  std::optional<std::string> out_file;  // default results/<scene>/lifetime.h5
+  bool quiet = false;
+};
+
+int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);
+
+}  // namespace rubcont
