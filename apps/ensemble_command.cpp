@@ -168,12 +168,8 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     std::sort(sorted_cpu.begin(), sorted_cpu.end());
     std::string from = "rest (the impulse)";
     if (!before.empty()) {
-      from = fmt::format("the {} sweep {:g} → {:g} rpm (", request.direction,
-                         RadPerSecondToRpm(before.front()), RadPerSecondToRpm(before.back()));
-      for (std::size_t k = 0; k < approach_regime.size(); ++k) {
-        from += fmt::format("{}{} {}", k ? ", " : "", structure.contacts[k].name, ToString(approach_regime[k]));
-      }
-      from += ")";
+      from = fmt::format("the {} sweep {:g} → {:g} rpm ({})", request.direction, RadPerSecondToRpm(before.front()),
+                         RadPerSecondToRpm(before.back()), RegimeList(structure, approach_regime));
     }
     fmt::print(out, "scene {} from {}\n[ensemble] L3: {} copies at {:g} rpm for {:.4g} s from {}, "
                     "perturbed by {:g} × each state's scale (seed {}):\n",

@@ -248,15 +248,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
                observations.front().stretch, request.direction,
                approach.speeds.empty() ? std::string("rest (the impulse)")
                                        : fmt::format("{:g} rpm", RadPerSecondToRpm(approach.speeds.back())),
-               [&] {
-                 std::string s;
-                 const RubStructure structure = SweepStructureOf(scene);
-                 for (std::size_t k = 0; k < approach.regimes.size(); ++k) {
-                   s += fmt::format("{}{} {}", k ? ", " : "", structure.contacts[k].name, ToString(approach.regimes[k]));
-                 }
-                 return s;
-               }(),
-               request.until);
+               RegimeList(SweepStructureOf(scene), approach.regimes), request.until);
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       const EscapeRate& r = rates[i];
       fmt::print(out, "  {:7g} rpm: {:3} of {} left", speeds[i], r.escapes, r.copies);

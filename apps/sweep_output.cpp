@@ -246,6 +246,14 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
   return out;
 }
 
+std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes) {
+  std::string list;
+  for (std::size_t k = 0; k < regimes.size(); ++k) {
+    list += fmt::format("{}{} {}", k ? ", " : "", structure.contacts[k].name, ToString(regimes[k]));
+  }
+  return list;
+}
+
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));

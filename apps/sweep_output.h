@@ -125,6 +125,9 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
                        double window, const Vector& x0, const EnsembleOptions& options, RubRegime target,
                        const EnsembleProgress& progress = {});
 
+// "left whip, right whip": each contact's name and regime.
+std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes);
+
 // The options of RunRubCopies as a command takes them (--copies, --window, --duration,
 // --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads);

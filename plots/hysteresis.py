@@ -1,24 +1,26 @@
 #!/usr/bin/python3
 """The hysteresis loop of one scene on one page: states, sweeps and the four corners.
 
-Usage: /usr/bin/python3 plots/hysteresis.py --orbits ORBITS.h5 --sweep SWEEP.h5
+Usage: /usr/bin/python3 plots/hysteresis.py --sweep SWEEP.h5 [--orbits ORBITS.h5]
                                             [--lifetime LIFETIME.h5] --out FIGURE.png
 Draws, against running speed, the backward precession (BP) at the left contact:
   - the rolling line BP = (R/C)·speed, the rotating waves of the sweep file (/branches, the exact
     friction law: stable solid blue, unstable dashed red);
-  - the periodic-orbit families of /orbits (the modulated whip and its side branches): the carrier
+  - the periodic-orbit families of /orbits when given (the modulated whip and its side branches): the carrier
     (mean precession) and, for the first family where it is stable, the band of instantaneous
     precession;
   - the speed-up and speed-down sweeps of /sweeps (markers per speed) and their jumps (arrows);
   - the four corners, numbered on the figure and listed in a box: each jump of the sweeps' jump
     table at the bifurcation that predicts it (/sweeps/jump_table), and the end of the speed-up whip
-    from the lifetime file's crisis law (/lifetime/crisis: the critical speed and its 95 % interval)
-    when one is given.
+    from the lifetime file's crisis law (/lifetime/crisis: the critical speed and its 95 % interval,
+    shaded; when the likelihood leaves one end open, the other end as a line with an arrow towards
+    the open side) when one is given.
 Reads HDF5 files only (layouts: apps/orbit_output.h, apps/sweep_output.h, apps/lifetime_command.h).
 Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import argparse
 import sys
+from contextlib import nullcontext
 import tomllib
 
 try:
@@ -31,9 +33,6 @@ try:
 except ImportError as error:
     print(f"hysteresis.py: {error}", file=sys.stderr)
     sys.exit(3)
-
-CONTACT = "left"
-
 
 def text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
@@ -51,50 +50,62 @@ def lines(ax, x, y, stable, color, lw, label=None):
             start = i
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--orbits", required=True)
-    parser.add_argument("--sweep", required=True)
-    parser.add_argument("--lifetime")
-    parser.add_argument("--out", required=True)
-    args = parser.parse_args()
+def read_crisis(path):
+    """(p_c, lower, upper, lower bounded, upper bounded) of a lifetime file's located crisis, or None."""
+    if not path:
+        return None
+    with h5py.File(path, "r") as f:
+        c = f["lifetime/crisis"].attrs
+        if text(c["status"]) != "located":
+            return None
+        return (c["critical_speed_rpm"], c["critical_lower_rpm"], c["critical_upper_rpm"],
+                bool(c["lower_bounded"]), bool(c["upper_bounded"]))
 
-    fig, ax = plt.subplots(figsize=(11.0, 6.6))
+
+def contact_rows(group, contact):
+    """The rows of a table group (jumps, jump_table) that belong to `contact`."""
+    names = [text(c) for c in group["contact"][()]]
+    return [i for i, c in enumerate(names) if c == contact]
+
+
+def same_contacts(s):
+    """Whether both contacts of a sweep file show the same loop (a symmetric rotor): equal BP in
+    both sweeps and the same jump table."""
+    for direction in ("up", "down"):
+        g = s[f"sweeps/{direction}"]
+        if not np.allclose(g["precession_hz_left"][()], g["precession_hz_right"][()], rtol=1e-3, equal_nan=True):
+            return False
+    t = s["sweeps/jump_table"]
+    key = lambda i: (text(t["direction"][i]), text(t["kind"][i]), t["speed_from_rpm"][i], t["speed_to_rpm"][i])
+    return sorted(map(key, contact_rows(t, "left"))) == sorted(map(key, contact_rows(t, "right")))
+
+
+def draw(ax, contact, args, crisis):
+    """One contact's loop on `ax`; returns the speed range of the sweeps."""
     with h5py.File(args.sweep, "r") as s:
         scene = tomllib.loads(text(s.attrs["scene_toml"]))
-        name = text(s.attrs["scene_name"])
-        ratio = scene["contact"]["radius"][0] / scene["contact"]["clearance"][0]
+        k = 0 if contact == "left" else 1
+        ratio = scene["contact"]["radius"][k] / scene["contact"]["clearance"][k]
         low, high = 1e9, 0.0
         for direction, colour, marker in (("up", "tab:orange", "^"), ("down", "tab:purple", "v")):
             g = s[f"sweeps/{direction}"]
-            rpm, bp = g["speed_rpm"][()], g[f"precession_hz_{CONTACT}"][()]
+            rpm, bp = g["speed_rpm"][()], g[f"precession_hz_{contact}"][()]
             low, high = min(low, rpm.min()), max(high, rpm.max())
             ax.plot(rpm, bp, marker, color=colour, ms=4, alpha=0.8, ls="none",
                     label=f"speed-{direction} sweep (L3)")
             j = g["jumps"]
-            for i in range(len(j["kind"])):
-                if text(j["contact"][i]) != CONTACT:
-                    continue
+            for i in contact_rows(j, contact):
                 ax.annotate("", xy=(j["speed_to_rpm"][i], j["precession_to_hz"][i]),
                             xytext=(j["speed_from_rpm"][i], j["precession_from_hz"][i]),
                             arrowprops=dict(arrowstyle="->", color=colour, lw=1.6))
         table = s["sweeps/jump_table"]
-        corners = []
-        for i in range(len(table["kind"])):
-            if text(table["contact"][i]) != CONTACT:
-                continue
-            corners.append((text(table["direction"][i]), text(table["kind"][i]), text(table["bifurcation"][i]),
-                            table["bifurcation_speed_rpm"][i], table["bifurcation_precession_hz"][i],
-                            table["speed_from_rpm"][i], table["precession_from_hz"][i]))
-
-    grid = np.linspace(low, high, 200)
-    ax.plot(grid, ratio * grid / 60.0, color="0.6", lw=0.8, ls=":", label=f"rolling line BP = {ratio:g}·speed")
-
-    with h5py.File(args.sweep, "r") as s:
-        waves = s["branches"]
+        corners = [(text(table["direction"][i]), text(table["kind"][i]), text(table["bifurcation"][i]),
+                    table["bifurcation_speed_rpm"][i], table["bifurcation_precession_hz"][i],
+                    table["speed_from_rpm"][i], table["precession_from_hz"][i]) for i in contact_rows(table, contact)]
+        grid = np.linspace(low, high, 200)
+        ax.plot(grid, ratio * grid / 60.0, color="0.6", lw=0.8, ls=":", label=f"rolling line BP = {ratio:g}·speed")
         seen = set()
-        for key in waves:
-            g = waves[key]
+        for key, g in s["branches"].items():
             if not isinstance(g, h5py.Group) or "speed_rpm" not in g:
                 continue
             stable = g["stable"][()].astype(bool)
@@ -104,7 +115,7 @@ def main():
                 ax.plot(g["speed_rpm"][()], y, color=colour, lw=1.2, ls="-" if colour == "tab:blue" else "--",
                         label=None if label in seen else label)
                 seen.add(label)
-    with h5py.File(args.orbits, "r") as f:
+    with h5py.File(args.orbits, "r") if args.orbits else nullcontext({"orbits": {}}) as f:
         first = True
         for key in f["orbits"]:
             g = f["orbits"][key]
@@ -113,7 +124,7 @@ def main():
             rpm, stable = g["speed_rpm"][()], g["stable"][()].astype(bool)
             lines(ax, rpm, g["precession_hz"][()], stable, "k", 1.6,
                   "modulated whip, carrier (L2)" if first else None)
-            lo, hi = g[f"min_precession_hz_{CONTACT}"][()], g[f"max_precession_hz_{CONTACT}"][()]
+            lo, hi = g[f"min_precession_hz_{contact}"][()], g[f"max_precession_hz_{contact}"][()]
             if first:
                 ax.fill_between(rpm, lo, hi, where=stable, color="0.3", alpha=0.08, lw=0,
                                 label="its precession band where stable")
@@ -128,45 +139,68 @@ def main():
             first = False
 
     # The corners: where each sweep jumps, and what predicts it.
-    crisis = None
-    if args.lifetime:
-        with h5py.File(args.lifetime, "r") as f:
-            c = f["lifetime/crisis"].attrs
-            if text(c["status"]) == "located":
-                crisis = (c["critical_speed_rpm"], c["critical_lower_rpm"], c["critical_upper_rpm"])
     done, listing = set(), []
     for direction, kind, bifurcation, speed, bp, jump_rpm, jump_bp in corners:
         if (direction, kind) in done:
             continue
         done.add((direction, kind))
         number = len(done)
-        jump = f"{direction} {kind.replace('_to_', ' → ')}"
+        jump = f"{direction} {kind.replace('_to_', ' → ').replace('_', ' ')}"
         if bifurcation:
             where, colour = (speed, bp), "k"
             listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: {bifurcation} at {speed:.2f} rpm (L1)")
         elif direction == "up" and kind == "whip_to_whirl" and crisis:
-            pc, lo, hi = crisis
+            pc, lo, hi, lo_bounded, hi_bounded = crisis
             where, colour = (pc, jump_bp), "tab:green"
-            ax.axvspan(lo, hi, color="tab:green", alpha=0.2)
-            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: crisis of the chaotic whip at {pc:.2f} rpm, "
-                           f"95 % {lo:.2f} … {hi:.2f} (L3 lifetimes)")
+            if lo_bounded and hi_bounded:
+                ax.axvspan(lo, hi, color="tab:green", alpha=0.2)
+            else:  # one end open: the bound, and an arrow towards the open side
+                bound = hi if hi_bounded else lo
+                where = (bound, jump_bp)
+                ax.axvline(bound, color="tab:green", ls="--", lw=1.2)
+                ax.annotate("", xy=(bound - 8.0 if hi_bounded else bound + 8.0, jump_bp + 25.0),
+                            xytext=(bound, jump_bp + 25.0),
+                            arrowprops=dict(arrowstyle="->", color="tab:green", lw=1.5))
+            if lo_bounded and hi_bounded:
+                interval = f"at {pc:.2f} rpm, 95 % {lo:.2f} … {hi:.2f}"
+            elif hi_bounded:
+                interval = f"below {hi:.2f} rpm (95 %; best fit {pc:.2f})"
+            else:
+                interval = f"above {lo:.2f} rpm (95 %; best fit {pc:.2f})"
+            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: the chaotic whip's crisis {interval} "
+                           "(L3 lifetimes)")
         else:
             where, colour = (jump_rpm, jump_bp), "tab:red"
             listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: not predicted")
         ax.plot(*where, "o", mfc="none", mec=colour, ms=10, mew=1.5, zorder=5)
         ax.annotate(str(number), where, textcoords="offset points", xytext=(0, 14 if direction == "up" else -18),
                     ha="center", va="center", fontsize=9, fontweight="bold", color=colour, zorder=6)
-    ax.text(0.99, 0.02, "the corners of the loop (left contact)\n" + "\n".join(listing), transform=ax.transAxes,
-            ha="right", va="bottom", fontsize=8, bbox=dict(boxstyle="round", fc="w", ec="0.6"))
-
+    ax.text(0.99, 0.02, f"the corners of the loop ({contact} contact)\n" + "\n".join(listing),
+            transform=ax.transAxes, ha="right", va="bottom", fontsize=8, bbox=dict(boxstyle="round", fc="w", ec="0.6"))
     ax.set_xlim(low, high)
     ax.set_ylim(0.0, min(ratio * high / 60.0, 450.0))
     ax.set_xlabel("running speed [rpm]")
-    ax.set_ylabel(f"backward precession at the {CONTACT} contact [Hz]")
-    ax.set_title(f"{name}: the hysteresis loop — states (L1, L2), sweeps (L3) and the bifurcations at its corners",
-                 fontsize=10)
+    ax.set_ylabel(f"backward precession at the {contact} contact [Hz]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--orbits")
+    parser.add_argument("--sweep", required=True)
+    parser.add_argument("--lifetime")
+    parser.add_argument("--out", required=True)
+    args = parser.parse_args()
+    with h5py.File(args.sweep, "r") as s:
+        name = text(s.attrs["scene_name"])
+        contacts = ["left"] if same_contacts(s) else ["left", "right"]
+    fig, axes = plt.subplots(len(contacts), 1, figsize=(11.0, 6.6 * len(contacts)), squeeze=False)
+    crisis = read_crisis(args.lifetime)
+    for ax, contact in zip(axes[:, 0], contacts):
+        draw(ax, contact, args, crisis)
+    axes[0, 0].set_title(f"{name}: the hysteresis loop — states (L1, L2), sweeps (L3) and the bifurcations at its "
+                         f"corners{'' if len(contacts) > 1 else ' (both contacts alike)'}", fontsize=10)
     fig.tight_layout()
     fig.savefig(args.out, dpi=130)
     plt.close(fig)

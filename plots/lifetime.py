@@ -48,8 +48,9 @@ def main():
 
         ax = axes[0]
         finite = np.isfinite(rate) & (rate > 0)
-        ax.errorbar(speed[finite], rate[finite], yerr=[rate[finite] - lower[finite], upper[finite] - rate[finite]],
-                    fmt="o", color="k", capsize=3, label="ensemble (95 %)")
+        if finite.any():
+            ax.errorbar(speed[finite], rate[finite], yerr=[rate[finite] - lower[finite], upper[finite] - rate[finite]],
+                        fmt="o", color="k", capsize=3, label="ensemble (95 %)")
         none = rate == 0
         if none.any():
             ax.plot(speed[none], upper[none], "v", color="tab:blue", label="no escape: κ below")

@@ -141,8 +141,29 @@ def whip_lifetimes(results):
     return tuple(rows)
 
 
+def whip_end_lifetimes(results):
+    """The escape rates at the end of A(a)'s speed-up whip (rubcont lifetime): one row per speed,
+    and the crisis bound and the check sweeps."""
+    with h5(results, "thesis_A_a_whip_end/lifetime_174_184rpm.h5") as f:
+        g = f["lifetime"]
+        rows = []
+        for i, rpm in enumerate(g["speed_rpm"][()]):
+            rate, lower, upper = g["escape_rate"][i], g["rate_lower"][i], g["rate_upper"][i]
+            left = f"{g['escapes'][i]} of {g['escapes'][i] + g['stayed'][i]}"
+            if rate == 0:
+                rows.append(f"| {rpm:g} rpm | {left} | < {upper:.2g} | > {1 / upper:.3g} s |")
+            else:
+                rows.append(f"| {rpm:g} rpm | {left} | {rate:.3g} [{lower:.2g}, {upper:.3g}] | {1 / rate:.3g} s |")
+        c = g["crisis"].attrs
+        rows.append(f"**p_c < {c['critical_upper_rpm']:.2f} rpm at 95 %**")
+        rows.append(f"γ = {c['exponent']:.2f}")
+        jumps = ", ".join(f"{s:g}" for s in g["check/jump_speed_rpm"][()])
+        rows.append(jumps[: jumps.rfind(", ")] + " and" + jumps[jumps.rfind(", ") + 1:])
+    return tuple(rows)
+
+
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
-          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes]
+          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",

@@ -21,10 +21,10 @@
 #                   table of results/README.md "What the whip is".
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
-#                   in 1 rpm steps, 16 × 20 s at 166 … 184 rpm in 2 rpm steps, 4 check sweeps
-#                   each; about 35 + 60 min on 2 cores).
-# Every run draws A(a)'s hysteresis loop (results/thesis_A_a/hysteresis.png) from the committed
-# sweep, whip-doubling and lifetime files.
+#                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
+#                   at 168, 170 and 172 rpm, about 20 min).
+# Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
+# committed sweep files (A(a)'s with its whip-doubling and lifetime files).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -103,16 +103,23 @@ if [[ "${1:-}" == "--attractor" ]]; then
 fi
 if [[ "${1:-}" == "--whip-end" ]]; then
   mkdir -p results/thesis_A_a_whip_end
-  lifetime() {  # FROM TO STEP DURATION
+  lifetime() {  # FROM TO STEP DURATION CHECK-COPIES
     local name="results/thesis_A_a_whip_end/lifetime_$1_$2rpm"
     build/rubcont lifetime scenes/thesis_A_a_whip_end.toml --from "$1" --to "$2" --step "$3" --copies 16 \
-      --duration "$4" --check-copies 4 --quiet --out "$name.h5" > "$name.txt"
+      --duration "$4" --check-copies "$5" --quiet --out "$name.h5" > "$name.txt"
   }
-  lifetime 174 184 1 5
-  lifetime 166 184 2 20
+  lifetime 174 184 1 5 4
+  lifetime 168 172 2 10 0
 fi
-/usr/bin/python3 plots/hysteresis.py --orbits results/thesis_A_a_whip_doubling/thesis_A_a_whip_doubling.h5 \
-  --sweep results/thesis_A_a/sweep.h5 --lifetime results/thesis_A_a_whip_end/lifetime_166_184rpm.h5 \
-  --out results/thesis_A_a/hysteresis.png
+# Each swept scene's hysteresis loop; A(a)'s with its periodic orbits and the whip's lifetimes.
+for scene in $(scenes_of sweep); do
+  extra=()
+  if [[ $scene == thesis_A_a ]]; then
+    extra=(--orbits results/thesis_A_a_whip_doubling/thesis_A_a_whip_doubling.h5
+           --lifetime results/thesis_A_a_whip_end/lifetime_174_184rpm.h5)
+  fi
+  /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${extra[@]}" \
+    --out "results/$scene/hysteresis.png"
+done
 /usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
 echo "results/README.md: tables updated"
