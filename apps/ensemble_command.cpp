@@ -53,7 +53,7 @@ double Quantile(const std::vector<double>& sorted, double q) {
 int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const RubRegime target = ParseUntil(request.until);
+    const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
@@ -106,6 +106,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "perturbation", request.perturbation);
     writer.SetAttribute(g, "seed", static_cast<double>(request.seed));
     writer.SetAttribute(g, "until", request.until);
+    writer.SetAttribute(g, "until_contacts", request.until_contacts);
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", ensemble_wall);
     writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
@@ -175,7 +176,8 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
                     "perturbed by {:g} × each state's scale (seed {}):\n",
                scene.name, scene.source, request.copies, request.speed_rpm,
                time.empty() ? request.duration : time.back(), from, request.perturbation, request.seed);
-    fmt::print(out, "  {} of {} reached {} on every contact", times.size(), copies.size(), request.until);
+    fmt::print(out, "  {} of {} reached {} on {} contact", times.size(), copies.size(), request.until,
+               request.until_contacts);
     if (!times.empty()) {
       fmt::print(out, ", after {:.2f} s (min) / {:.2f} / {:.2f} / {:.2f} (quartiles) / {:.2f} s (max), "
                       "in stretches of {:.4g} s",

@@ -72,7 +72,7 @@ int Stretches(double seconds, double window) {
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const RubRegime target = ParseUntil(request.until);
+    const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
     const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
     const CrisisSide side = direction == SweepDirection::kUp ? CrisisSide::kAbove : CrisisSide::kBelow;
@@ -189,6 +189,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "perturbation", request.perturbation);
     writer.SetAttribute(g, "seed", static_cast<double>(request.seed));
     writer.SetAttribute(g, "until", request.until);
+    writer.SetAttribute(g, "until_contacts", request.until_contacts);
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", wall);
     writer.SetAttribute(g, "cpu_seconds", cpu);
@@ -243,12 +244,12 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
 
     // The summary.
     fmt::print(out, "scene {} from {}\n[lifetime] L3: {} copies per speed for {:.4g} s (stretches of {:.4g} s), "
-                    "from the {} sweep's state at {} ({}), until {} on every contact:\n",
+                    "from the {} sweep's state at {} ({}), until {} on {} contact:\n",
                scene.name, scene.source, request.copies, observations.front().duration,
                observations.front().stretch, request.direction,
                approach.speeds.empty() ? std::string("rest (the impulse)")
                                        : fmt::format("{:g} rpm", RadPerSecondToRpm(approach.speeds.back())),
-               RegimeList(SweepStructureOf(scene), approach.regimes), request.until);
+               RegimeList(SweepStructureOf(scene), approach.regimes), request.until, request.until_contacts);
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       const EscapeRate& r = rates[i];
       fmt::print(out, "  {:7g} rpm: {:3} of {} left", speeds[i], r.escapes, r.copies);

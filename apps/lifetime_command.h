@@ -3,8 +3,8 @@
 // run from the impulse up to the last speed of its schedule before --from (the approach, as
 // `rubcont ensemble`); from its final state, at each speed --from, --from ± --step, … --to,
 // `copies` copies (perturbed by `perturbation` × each state's scale, seeds seed + i·copies for the
-// i-th speed) run for `duration` in stretches of two `window`s until every contact is in the regime
-// `until`. Per speed: the escape rate κ with its 95 % interval (interval-censored exponential);
+// i-th speed) run for `duration` in stretches of two `window`s until every contact (`until_contacts`
+// "any": one) is in the regime `until`. Per speed: the escape rate κ with its 95 % interval (interval-censored exponential);
 // over the speeds: the crisis law κ = A·(p − p_c)^γ (beyond p_c in `direction`) with p_c's
 // profile-likelihood interval, or the status that says why there is none. Then the check:
 // `check_copies` perturbed sweeps from the same state through --from … --to in steps of
@@ -12,7 +12,8 @@
 // the fitted law predicts for that schedule.
 //
 // HDF5 layout (written atomically): root attributes as every result; /lifetime attributes
-// direction, copies, duration, window, perturbation, seed, until, approach_from_rpm /
+// direction, copies, duration, window, perturbation, seed, until, until_contacts (absent in
+// files made before it: every), approach_from_rpm /
 // approach_to_rpm, wall_seconds, cpu_seconds, threads; datasets speed_rpm, escapes, stayed, failed,
 // escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
 // ("estimated", "no escape", "all in the first stretch"), arrival_time_s (speeds × copies; NaN:
@@ -43,6 +44,7 @@ struct LifetimeRequest {
   std::uint64_t seed = 1;
   int threads = 0;
   std::string until = "whirl";
+  std::string until_contacts = "every";  // every or any: the contacts that must be in `until`
   int check_copies = 4;                 // 0: no check sweeps
   double check_step_rpm = 0.5;
   double check_dwell = 5.0;             // [s] per speed of the check sweeps

@@ -130,6 +130,10 @@ int main(int argc, char** argv) {
   ensemble->add_option("--until", ensemble_request.until,
                        "the regime every contact must reach: whirl, whip, intermittent, no_contact")
       ->capture_default_str();
+  ensemble->add_option("--until-contacts", ensemble_request.until_contacts,
+                       "every or any: the contacts that must reach it (any: a rotor with unequal "
+                       "clearances lands with one contact rolling)")
+      ->capture_default_str();
   ensemble->add_option("--out", ensemble_out,
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
@@ -157,6 +161,10 @@ int main(int argc, char** argv) {
   lifetime->add_option("--threads", lifetime_request.threads, "threads (0: one per core)")->capture_default_str();
   lifetime->add_option("--until", lifetime_request.until,
                        "the regime every contact must reach: whirl, whip, intermittent, no_contact")
+      ->capture_default_str();
+  lifetime->add_option("--until-contacts", lifetime_request.until_contacts,
+                       "every or any: the contacts that must reach it (any: a rotor with unequal "
+                       "clearances lands with one contact rolling)")
       ->capture_default_str();
   lifetime->add_option("--check-copies", lifetime_request.check_copies,
                        "perturbed sweeps through the speeds against the fitted law (0: none)")->capture_default_str();

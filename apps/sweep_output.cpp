@@ -226,8 +226,8 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
 }
 
 RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
-                       double window, const Vector& x0, const EnsembleOptions& options, RubRegime target,
-                       const EnsembleProgress& progress) {
+                       double window, const Vector& x0, const EnsembleOptions& options,
+                       const ArrivalTarget& target, const EnsembleProgress& progress) {
   SweepOptions stretches = SweepOptionsOf(scene, direction);
   stretches.parameters = speeds;
   stretches.window = window;
@@ -242,7 +242,7 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
       [](OdeSystem& system) { return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system)); },
       stretches, x0, options, progress);
   out.wall_seconds = SecondsSince(start);
-  out.arrivals = RubArrivals(structure, out.copies, target, RegimeOptionsOf(scene));
+  out.arrivals = RubArrivals(structure, out.copies, target.regime, RegimeOptionsOf(scene), target.contacts);
   return out;
 }
 
@@ -267,10 +267,19 @@ void CheckCopyOptions(int copies, double window, double duration, double perturb
   if (threads < 0) fail("threads", threads, "must be non-negative (0: one per core)");
 }
 
-RubRegime ParseUntil(const std::string& name) {
-  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip})
-    if (name == ToString(r)) return r;
-  throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", name));
+ArrivalTarget ParseUntil(const std::string& regime, const std::string& contacts) {
+  ArrivalTarget target;
+  if (contacts != "every" && contacts != "any") {
+    throw std::invalid_argument(fmt::format("--until-contacts = {}: must be every or any", contacts));
+  }
+  target.contacts = contacts == "every" ? ArrivalContacts::kEvery : ArrivalContacts::kAny;
+  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip}) {
+    if (regime == ToString(r)) {
+      target.regime = r;
+      return target;
+    }
+  }
+  throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", regime));
 }
 
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,

@@ -113,17 +113,23 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start);
 
+// What a copy arrives at: a regime on every contact or on any (RubArrivals).
+struct ArrivalTarget {
+  RubRegime regime = RubRegime::kWhirl;
+  ArrivalContacts contacts = ArrivalContacts::kEvery;
+};
+
 // Perturbed copies of `x0` (sweeps/ensemble.h) marched through `speeds` [rad/s], one stretch of two
 // `window`s per entry (repeat a speed to stay at it), each stretch classified as a sweep speed of
-// the scene (its regime rules), and when each copy has every contact in `target` (RubArrivals).
+// the scene (its regime rules), and when each copy arrives at `target` (RubArrivals).
 struct RubCopies {
   std::vector<EnsembleCopy> copies;
   std::vector<RubArrival> arrivals;
   double wall_seconds = 0.0;
 };
 RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
-                       double window, const Vector& x0, const EnsembleOptions& options, RubRegime target,
-                       const EnsembleProgress& progress = {});
+                       double window, const Vector& x0, const EnsembleOptions& options,
+                       const ArrivalTarget& target, const EnsembleProgress& progress = {});
 
 // "left whip, right whip": each contact's name and regime.
 std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes);
@@ -132,9 +138,9 @@ std::string RegimeList(const RubStructure& structure, const std::vector<RubRegim
 // --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads);
 
-// The regime named by an --until option (whirl, whip, intermittent, no_contact); throws
-// std::invalid_argument naming the option and the rule.
-RubRegime ParseUntil(const std::string& name);
+// The target named by the options --until (whirl, whip, intermittent, no_contact) and
+// --until-contacts (every, any); throws std::invalid_argument naming the option and the rule.
+ArrivalTarget ParseUntil(const std::string& regime, const std::string& contacts);
 
 // Writes /sweeps/<direction> for the points finished so far.
 void WriteSweep(ResultWriter& writer, const SweepRun& run);

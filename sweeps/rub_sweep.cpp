@@ -214,9 +214,13 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   return out;
 }
 
+const char* ToString(ArrivalContacts contacts) {
+  return contacts == ArrivalContacts::kEvery ? "every" : "any";
+}
+
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, RubRegime target,
-                                    const RubRegimeOptions& options) {
+                                    const RubRegimeOptions& options, ArrivalContacts contacts) {
   std::vector<RubArrival> out;
   out.reserve(copies.size());
   for (const EnsembleCopy& copy : copies) {
@@ -227,9 +231,12 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
     for (std::size_t i = 0; i < copy.points.size(); ++i) {
       t += copy.points[i].simulated_time;
       if (copy.points[i].status == SweepPointStatus::kIntegrationFailure) break;
-      bool all = true;
-      for (const std::vector<RubRegime>& contact : a.regimes.regime) all = all && contact[i] == target;
-      if (all && !a.reached) {
+      int in_target = 0;
+      for (const std::vector<RubRegime>& contact : a.regimes.regime) in_target += contact[i] == target ? 1 : 0;
+      const bool arrived = contacts == ArrivalContacts::kEvery
+                               ? in_target == static_cast<int>(a.regimes.regime.size())
+                               : in_target > 0;
+      if (arrived && !a.reached) {
         a.reached = true;
         a.time = t;
         a.point = static_cast<int>(i);

@@ -152,8 +152,12 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
 
 // How long an ensemble's copies (sweeps/ensemble.h) take to reach a regime: for each copy, its
 // points classified as a sweep (ClassifySweep); the copy reaches `target` at the end of the first
-// point in which every contact is in it (e.g. kWhirl: the end of a whip). The copies' points are
-// consecutive stretches of one run, so the time is the sum of their simulated times.
+// point in which every contact is in it (e.g. kWhirl: the end of a whip), or any contact with
+// ArrivalContacts::kAny (a rotor with unequal clearances lands from its whip on a state where one
+// contact rolls and the other slips). The copies' points are consecutive stretches of one run, so
+// the time is the sum of their simulated times.
+enum class ArrivalContacts { kEvery, kAny };
+const char* ToString(ArrivalContacts contacts);
 struct RubArrival {
   bool reached = false;  // false: not within the run (censored at `simulated`), or failed
   bool failed = false;   // the copy's integration failed (its points end with the failure)
@@ -164,7 +168,8 @@ struct RubArrival {
 };
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, RubRegime target,
-                                    const RubRegimeOptions& options = {});
+                                    const RubRegimeOptions& options = {},
+                                    ArrivalContacts contacts = ArrivalContacts::kEvery);
 
 // The rub's Poincaré section for MeasureAttractor (sweeps/attractor.h), in two steps.
 // RubPenetrations: the signals are the contacts' penetrations δ_k, sampled every `interval`

@@ -69,6 +69,33 @@ TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it
   }
 }
 
+TEST_CASE("rubcont ensemble: with unequal clearances one contact rolls, and --until-contacts any "
+          "counts it", "[ensemble_cli]") {
+  // Case B(c) (RCI 125/100) from the impulse through 20 and 24 rpm: the right contact (RCI 100)
+  // rolls and the left slips (as the committed sweep, 20–48 rpm). At 28 rpm no copy has every
+  // contact rolling; with `any` every copy arrives in its first stretch.
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_B_c.toml");
+  text = text.substr(0, text.find("[analysis.sweep]")) +
+         "[analysis.sweep]\nup_range_rpm = [20.0, 24.0]\nspeed_step_rpm = 4.0\ndwell = 0.75\n";
+  const fs::path scene = dir.path / "thesis_B_c.toml";
+  std::ofstream(scene) << text;
+  auto run = [&](const std::string& contacts) {
+    const Outcome o = testing::RubcontNoPython("ensemble " + scene.string() +
+                                               " --speed 28 --copies 2 --duration 0.3 --until-contacts " + contacts +
+                                               " --quiet --out " + (dir.path / (contacts + ".h5")).string());
+    INFO(o.out << o.err);
+    REQUIRE(o.exit_code == 0);
+    return o.out;
+  };
+  const std::string every = run("every");
+  CHECK_THAT(every, Contains("(left whip, right whirl)"));
+  CHECK_THAT(every, Contains("0 of 2 reached whirl on every contact"));
+  CHECK_THAT(run("any"), Contains("2 of 2 reached whirl on any contact, after 0.10 s (min)"));
+  ResultReader r(dir.path / "any.h5");
+  CHECK(r.ReadStringAttribute("/ensemble", "until_contacts") == "any");
+}
+
 TEST_CASE("rubcont ensemble: bad input names the option, the value and the rule, with exit code 2",
           "[ensemble_cli]") {
   TempDir dir;
@@ -85,6 +112,7 @@ TEST_CASE("rubcont ensemble: bad input names the option, the value and the rule,
   CHECK_THAT(bad("--speed 48 --duration 0.05"), Contains("--duration = 0.05: must be at least two windows"));
   CHECK_THAT(bad("--speed -3"), Contains("--speed = -3: must be positive"));
   CHECK_THAT(bad("--speed 48 --direction sideways"), Contains("--direction = sideways"));
+  CHECK_THAT(bad("--speed 48 --until-contacts some"), Contains("--until-contacts = some: must be every or any"));
 }
 
 }  // namespace
