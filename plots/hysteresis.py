@@ -167,7 +167,7 @@ def draw(ax, contact, args, crisis):
                 interval = f"below {hi:.2f} rpm (95 %; best fit {pc:.2f})"
             else:
                 interval = f"above {lo:.2f} rpm (95 %; best fit {pc:.2f})"
-            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: the chaotic whip's crisis {interval} "
+            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: the whip's crisis {interval} "
                            "(L3 lifetimes)")
         else:
             where, colour = (jump_rpm, jump_bp), "tab:red"

@@ -141,10 +141,10 @@ def whip_lifetimes(results):
     return tuple(rows)
 
 
-def whip_end_lifetimes(results):
-    """The escape rates at the end of A(a)'s speed-up whip (rubcont lifetime): one row per speed,
-    and the crisis bound and the check sweeps."""
-    with h5(results, "thesis_A_a_whip_end/lifetime_174_184rpm.h5") as f:
+def lifetime_rows(results, path):
+    """The escape rates of a lifetime file (rubcont lifetime): one table row per speed, the crisis
+    (its upper bound, or both limits) and exponent, and the check sweeps' speeds."""
+    with h5(results, path) as f:
         g = f["lifetime"]
         rows = []
         for i, rpm in enumerate(g["speed_rpm"][()]):
@@ -155,11 +155,21 @@ def whip_end_lifetimes(results):
             else:
                 rows.append(f"| {rpm:g} rpm | {left} | {rate:.3g} [{lower:.2g}, {upper:.3g}] | {1 / rate:.3g} s |")
         c = g["crisis"].attrs
-        rows.append(f"**p_c < {c['critical_upper_rpm']:.2f} rpm at 95 %**")
+        if c["lower_bounded"]:
+            rows.append(f"**{c['critical_speed_rpm']:.2f} rpm,\n  95 % {c['critical_lower_rpm']:.2f} … "
+                        f"{c['critical_upper_rpm']:.2f} rpm**")
+        else:
+            rows.append(f"**p_c < {c['critical_upper_rpm']:.2f} rpm at 95 %**")
         rows.append(f"γ = {c['exponent']:.2f}")
         jumps = ", ".join(f"{s:g}" for s in g["check/jump_speed_rpm"][()])
         rows.append(jumps[: jumps.rfind(", ")] + " and" + jumps[jumps.rfind(", ") + 1:])
     return tuple(rows)
+
+
+def whip_end_lifetimes(results):
+    """Where the speed-up whip ends, A(a) and B(a)."""
+    return (lifetime_rows(results, "thesis_A_a_whip_end/lifetime_174_184rpm.h5")
+            + lifetime_rows(results, "thesis_B_a_whip_end/lifetime_186_196rpm.h5"))
 
 
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,

@@ -22,9 +22,10 @@
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
-#                   at 168, 170 and 172 rpm, about 20 min).
+#                   at 168, 170 and 172 rpm, about 20 min) and B(a)'s (results/thesis_B_a_whip_end/:
+#                   186 … 196 rpm, about 33 min).
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
-# committed sweep files (A(a)'s with its whip-doubling and lifetime files).
+# committed sweep files (A(a)'s with its whip-doubling and lifetime files, B(a)'s with its lifetimes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -102,14 +103,15 @@ if [[ "${1:-}" == "--attractor" ]]; then
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
 fi
 if [[ "${1:-}" == "--whip-end" ]]; then
-  mkdir -p results/thesis_A_a_whip_end
-  lifetime() {  # FROM TO STEP DURATION CHECK-COPIES
-    local name="results/thesis_A_a_whip_end/lifetime_$1_$2rpm"
-    build/rubcont lifetime scenes/thesis_A_a_whip_end.toml --from "$1" --to "$2" --step "$3" --copies 16 \
-      --duration "$4" --check-copies "$5" --quiet --out "$name.h5" > "$name.txt"
+  lifetime() {  # SCENE FROM TO STEP DURATION CHECK-COPIES
+    local name="results/$1_whip_end/lifetime_$2_$3rpm"
+    mkdir -p "results/$1_whip_end"
+    build/rubcont lifetime "scenes/$1_whip_end.toml" --from "$2" --to "$3" --step "$4" --copies 16 \
+      --duration "$5" --check-copies "$6" --quiet --out "$name.h5" > "$name.txt"
   }
-  lifetime 174 184 1 5 4
-  lifetime 168 172 2 10 0
+  lifetime thesis_A_a 174 184 1 5 4
+  lifetime thesis_A_a 168 172 2 10 0
+  lifetime thesis_B_a 186 196 1 5 4
 fi
 # Each swept scene's hysteresis loop; A(a)'s with its periodic orbits and the whip's lifetimes.
 for scene in $(scenes_of sweep); do
@@ -117,6 +119,8 @@ for scene in $(scenes_of sweep); do
   if [[ $scene == thesis_A_a ]]; then
     extra=(--orbits results/thesis_A_a_whip_doubling/thesis_A_a_whip_doubling.h5
            --lifetime results/thesis_A_a_whip_end/lifetime_174_184rpm.h5)
+  elif [[ $scene == thesis_B_a ]]; then
+    extra=(--lifetime results/thesis_B_a_whip_end/lifetime_186_196rpm.h5)
   fi
   /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${extra[@]}" \
     --out "results/$scene/hysteresis.png"
