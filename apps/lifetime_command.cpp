@@ -129,6 +129,9 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
         o.stretch = run.copies.front().points.front().simulated_time;
         o.duration = stretches * o.stretch;
       }
+      if (o.escape_stretch.empty() && o.stayed == 0) {
+        throw std::runtime_error(fmt::format("every copy failed at {:g} rpm: nothing to estimate", speeds[i]));
+      }
       observations.push_back(o);
       rates.push_back(EstimateEscapeRate(o));
       if (!request.quiet) {
@@ -145,6 +148,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     const int dwell_stretches = Stretches(request.check_dwell, request.window);
     std::vector<double> jump_speed, jump_time, leave;
     double check_stretch = 2.0 * request.window;
+    int check_failures = 0;
     if (request.check_copies > 0) {
       std::vector<double> stretch_speeds;
       for (double s : schedule) {
@@ -160,6 +164,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
         jump_speed.push_back(a.reached ? schedule[static_cast<std::size_t>(a.point / dwell_stretches)] : kNaN);
         jump_time.push_back(a.reached ? a.time : kNaN);
         if (a.failed) {
+          ++check_failures;
           fmt::print(err, "rubcont: numerical failure: check sweep {}: {}\n", c, run.copies[c].points.back().message);
         }
       }
@@ -312,7 +317,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     } else {
       fmt::print(err, "rubcont: warning: {}\n", figures.warning);
     }
-    int failures = 0;
+    int failures = check_failures;
     for (int f : failed) failures += f;
     return failures == 0 ? kExitSuccess : kExitFailure;
   });
