@@ -39,10 +39,8 @@ void Check(const AttractorRequest& r) {
   positive("from", r.from_rpm);
   if (r.to_rpm) positive("to", *r.to_rpm);
   positive("step", r.step_rpm);
-  if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
-  if (r.approach && *r.approach != "up" && *r.approach != "down") {
-    fail("approach", *r.approach, "must be up or down");
-  }
+  ParseDirection("direction", r.direction);
+  if (r.approach) ParseDirection("approach", *r.approach);
   if (r.to_rpm && (r.direction == "up" ? *r.to_rpm < r.from_rpm : *r.to_rpm > r.from_rpm)) {
     fail("to", *r.to_rpm, "must lie beyond --from in the direction of the schedule");
   }
@@ -75,10 +73,9 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
-    const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const SweepDirection direction = ParseDirection("direction", request.direction);
     const std::string approach_name = request.approach.value_or(request.direction);
-    const SweepDirection approach_direction =
-        approach_name == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const SweepDirection approach_direction = ParseDirection("approach", approach_name);
     const std::vector<double> speeds_rpm =
         SpeedSchedule(request.from_rpm, request.to_rpm.value_or(request.from_rpm), request.step_rpm);
     AttractorOptions options;

@@ -35,7 +35,7 @@ void Check(const EnsembleRequest& r) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
   if (!(r.speed_rpm > 0.0) || !std::isfinite(r.speed_rpm)) fail("speed", r.speed_rpm, "must be positive");
-  if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
+  ParseDirection("direction", r.direction);
   CheckCopyOptions(r.copies, r.window, r.duration, r.perturbation, r.threads);
 }
 
@@ -56,7 +56,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
-    const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const SweepDirection direction = ParseDirection("direction", request.direction);
     const double speed = RpmToRadPerSecond(request.speed_rpm);
 
     // The approach: the scene's schedule in this direction, up to the last speed before `speed`.
@@ -68,7 +68,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     const Vector& x0 = approach.state;
 
     // The copies: stretches of two windows at `speed`.
-    const int count = static_cast<int>(std::ceil(request.duration / (2.0 * request.window) - 1e-9));
+    const int count = StretchCount(request.duration, request.window);
     EnsembleOptions options;
     options.copies = request.copies;
     options.perturbation = request.perturbation;

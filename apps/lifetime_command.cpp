@@ -31,7 +31,7 @@ void Check(const LifetimeRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
-  if (r.direction != "up" && r.direction != "down") fail("direction", r.direction, "must be up or down");
+  ParseDirection("direction", r.direction);
   if (!(r.from_rpm > 0.0) || !std::isfinite(r.from_rpm)) fail("from", r.from_rpm, "must be positive");
   if (!(r.to_rpm > 0.0) || !std::isfinite(r.to_rpm)) fail("to", r.to_rpm, "must be positive");
   const double sign = r.direction == "up" ? 1.0 : -1.0;
@@ -54,19 +54,6 @@ void Check(const LifetimeRequest& r) {
   }
 }
 
-// from, from ± step, … up to `to` (included when it is on the grid, to 1e-9 of a step).
-std::vector<double> Speeds(double from, double to, double step) {
-  std::vector<double> speeds;
-  const double sign = to > from ? 1.0 : -1.0;
-  const int n = static_cast<int>(std::floor(std::abs(to - from) / step + 1e-9));
-  for (int i = 0; i <= n; ++i) speeds.push_back(from + sign * i * step);
-  return speeds;
-}
-
-int Stretches(double seconds, double window) {
-  return static_cast<int>(std::ceil(seconds / (2.0 * window) - 1e-9));
-}
-
 }  // namespace
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
@@ -74,7 +61,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     Check(request);
     const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
-    const SweepDirection direction = request.direction == "up" ? SweepDirection::kUp : SweepDirection::kDown;
+    const SweepDirection direction = ParseDirection("direction", request.direction);
     const CrisisSide side = direction == SweepDirection::kUp ? CrisisSide::kAbove : CrisisSide::kBelow;
     const double cpu_start = ProcessCpuSeconds();
     const SteadyClock::time_point start = SteadyClock::now();
@@ -95,8 +82,8 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     options.threads = request.threads;
 
     // The ensembles, one per speed, all from the approach's state.
-    const std::vector<double> speeds = Speeds(request.from_rpm, request.to_rpm, request.step_rpm);
-    const int stretches = Stretches(request.duration, request.window);
+    const std::vector<double> speeds = SpeedSchedule(request.from_rpm, request.to_rpm, request.step_rpm);
+    const int stretches = StretchCount(request.duration, request.window);
     std::vector<EscapeObservations> observations;
     std::vector<EscapeRate> rates;
     std::vector<int> failed;
@@ -108,7 +95,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
           request.window, approach.state, options, target, progress(fmt::format("{:g} rpm", speeds[i])));
       EscapeObservations o;
       o.parameter = speeds[i];
-      o.stretch = 2.0 * request.window;
+      o.stretch = run.stretch_seconds;
       o.duration = stretches * o.stretch;
       failed.push_back(0);
       for (std::size_t c = 0; c < run.arrivals.size(); ++c) {
@@ -123,11 +110,6 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
         } else {
           ++o.stayed;
         }
-      }
-      // The stretches are whole numbers of samples: the time actually simulated per stretch.
-      if (!run.copies.empty() && !run.copies.front().points.empty()) {
-        o.stretch = run.copies.front().points.front().simulated_time;
-        o.duration = stretches * o.stretch;
       }
       if (o.escape_stretch.empty() && o.stayed == 0) {
         throw std::runtime_error(fmt::format("every copy failed at {:g} rpm: nothing to estimate", speeds[i]));
@@ -144,8 +126,8 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     const CrisisFit fit = FitCrisis(observations, crisis_options);
 
     // The check: perturbed sweeps through the same speeds with a long dwell.
-    const std::vector<double> schedule = Speeds(request.from_rpm, request.to_rpm, request.check_step_rpm);
-    const int dwell_stretches = Stretches(request.check_dwell, request.window);
+    const std::vector<double> schedule = SpeedSchedule(request.from_rpm, request.to_rpm, request.check_step_rpm);
+    const int dwell_stretches = StretchCount(request.check_dwell, request.window);
     std::vector<double> jump_speed, jump_time, leave;
     double check_stretch = 2.0 * request.window;
     int check_failures = 0;
@@ -168,9 +150,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
           fmt::print(err, "rubcont: numerical failure: check sweep {}: {}\n", c, run.copies[c].points.back().message);
         }
       }
-      if (!run.copies.empty() && !run.copies.front().points.empty()) {
-        check_stretch = run.copies.front().points.front().simulated_time;
-      }
+      check_stretch = run.stretch_seconds;
       if (fit.status == CrisisStatus::kLocated) {
         leave = SweepLeaveProbabilities(fit, side, schedule, dwell_stretches * check_stretch);
       }

@@ -242,8 +242,25 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
       [](OdeSystem& system) { return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system)); },
       stretches, x0, options, progress);
   out.wall_seconds = SecondsSince(start);
+  out.stretch_seconds = 2.0 * window;
+  for (const EnsembleCopy& copy : out.copies) {
+    if (!copy.points.empty() && copy.points.front().status != SweepPointStatus::kIntegrationFailure) {
+      out.stretch_seconds = copy.points.front().simulated_time;
+      break;
+    }
+  }
   out.arrivals = RubArrivals(structure, out.copies, target.regime, RegimeOptionsOf(scene), target.contacts);
   return out;
+}
+
+int StretchCount(double seconds, double window) {
+  return static_cast<int>(std::ceil(seconds / (2.0 * window) - 1e-9));
+}
+
+SweepDirection ParseDirection(const char* option, const std::string& value) {
+  if (value == "up") return SweepDirection::kUp;
+  if (value == "down") return SweepDirection::kDown;
+  throw std::invalid_argument(fmt::format("--{} = {}: must be up or down", option, value));
 }
 
 std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes) {

@@ -126,6 +126,10 @@ struct RubCopies {
   std::vector<EnsembleCopy> copies;
   std::vector<RubArrival> arrivals;
   double wall_seconds = 0.0;
+  // The time simulated per stretch (a window is a whole number of samples, so a stretch is
+  // 2·round(window·rate)/rate), read off the first copy whose first stretch did not fail;
+  // 2·window when none.
+  double stretch_seconds = 0.0;
 };
 RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
                        double window, const Vector& x0, const EnsembleOptions& options,
@@ -133,6 +137,13 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
 
 // "left whip, right whip": each contact's name and regime.
 std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes);
+
+// The stretches of two `window`s that cover `seconds`: ⌈seconds / (2·window)⌉.
+int StretchCount(double seconds, double window);
+
+// The sweep direction named by option `option` ("up" or "down"); throws std::invalid_argument
+// naming the option, the value and the rule.
+SweepDirection ParseDirection(const char* option, const std::string& value);
 
 // The options of RunRubCopies as a command takes them (--copies, --window, --duration,
 // --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.

@@ -214,10 +214,6 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   return out;
 }
 
-const char* ToString(ArrivalContacts contacts) {
-  return contacts == ArrivalContacts::kEvery ? "every" : "any";
-}
-
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, RubRegime target,
                                     const RubRegimeOptions& options, ArrivalContacts contacts) {

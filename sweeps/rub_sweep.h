@@ -157,7 +157,6 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
 // contact rolls and the other slips). The copies' points are consecutive stretches of one run, so
 // the time is the sum of their simulated times.
 enum class ArrivalContacts { kEvery, kAny };
-const char* ToString(ArrivalContacts contacts);
 struct RubArrival {
   bool reached = false;  // false: not within the run (censored at `simulated`), or failed
   bool failed = false;   // the copy's integration failed (its points end with the failure)
