@@ -173,6 +173,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                p.channels[1].measures[kSlipVelocityMeasure].mean, ToString(p.status),
                p.simulated_time, p.wall_seconds,
                Duration(elapsed / static_cast<double>(done) * static_cast<double>(remaining - done)));
+      if (!regimes.untrusted[i].empty()) progress("{} {:.1f} rpm: untrusted: {}", label, RadPerSecondToRpm(p.parameter), regimes.untrusted[i]);
     }
     WriteSweep(writer, run);
 
@@ -194,11 +195,17 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                RadPerSecondToRpm(stepper.options().parameters.front()),
                RadPerSecondToRpm(stepper.options().parameters.back()), settled, unsettled, w.dwell,
                simulated, steps, wall);
-    for (const RubSweepJump& j : run.Regimes().jumps) {
-      fmt::print(out, "    {:<5}  {:<16}  {:6.1f} → {:6.1f} rpm   BP {} → {} Hz{}\n",
+    const RubSweepRegimes regimes = run.Regimes();
+    for (const RubSweepJump& j : regimes.jumps) {
+      fmt::print(out, "    {:<5}  {:<16}  {:6.1f} → {:6.1f} rpm   BP {} → {} Hz{}{}\n",
                  run.structure().contacts[static_cast<std::size_t>(j.contact)].name, ToString(j.kind),
                  j.speed_from_rpm, j.speed_to_rpm, Hz(j.precession_from_hz), Hz(j.precession_to_hz),
-                 j.settled ? "" : "  (not settled: a speed ran to its dwell)");
+                 j.settled ? "" : "  (not settled: a speed ran to its dwell)",
+                 j.trusted ? "" : "  (untrusted: see below)");
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (regimes.untrusted[i].empty()) continue;
+      fmt::print(out, "    untrusted at {:.1f} rpm: {}\n", RadPerSecondToRpm(points[i].parameter), regimes.untrusted[i]);
     }
     if (stepper.Failed()) {
       failures.push_back(fmt::format("[sweep {}] at {:.1f} rpm: {}", ToString(run.direction()),
@@ -231,6 +238,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     fmt::print(out, "    {:<4} {:<5} {:<16} {:6.1f} → {:6.1f} rpm  BP {} → {} Hz  ", row.direction,
                row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
                Hz(j.precession_from_hz), Hz(j.precession_to_hz));
+    if (!j.trusted) fmt::print(out, "[untrusted: a speed penetrates beyond max_penetration] ");
     if (row.bifurcation.empty()) {
       if (row.branch.empty()) {
         fmt::print(out, "not predicted: neither state is a rotating wave\n");

@@ -53,8 +53,9 @@ double Quantile(const std::vector<double>& sorted, double q) {
 int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
+    const ArrivalTarget target =
+        ParseUntil(SweepStructureOf(scene), request.until, request.until_above_hz, request.until_contacts);
     const RubStructure structure = SweepStructureOf(scene);
     const SweepDirection direction = ParseDirection("direction", request.direction);
     const double speed = RpmToRadPerSecond(request.speed_rpm);
@@ -107,6 +108,8 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "seed", static_cast<double>(request.seed));
     writer.SetAttribute(g, "until", request.until);
     writer.SetAttribute(g, "until_contacts", request.until_contacts);
+    writer.SetAttribute(g, "until_above_hz", request.until_above_hz);
+    writer.SetAttribute(g, "arrival", Describe(SweepStructureOf(scene), target));
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", ensemble_wall);
     writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
@@ -176,8 +179,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
                     "perturbed by {:g} × each state's scale (seed {}):\n",
                scene.name, scene.source, request.copies, request.speed_rpm,
                time.empty() ? request.duration : time.back(), from, request.perturbation, request.seed);
-    fmt::print(out, "  {} of {} reached {} on {} contact", times.size(), copies.size(), request.until,
-               request.until_contacts);
+    fmt::print(out, "  {} of {} reached {}", times.size(), copies.size(), Describe(structure, target));
     if (!times.empty()) {
       fmt::print(out, ", after {:.2f} s (min) / {:.2f} / {:.2f} / {:.2f} (quartiles) / {:.2f} s (max), "
                       "in stretches of {:.4g} s",

@@ -4,13 +4,14 @@
 // its schedule before RPM (the approach; none when RPM comes first); from its final state
 // `copies` copies, each perturbed by `perturbation` × each state's scale, run at RPM for
 // `duration` in stretches of two `window`s, each stretch classified as a sweep speed (the scene's
-// regime rules); a copy arrives when every contact (`until_contacts` "any": one) is in the regime
-// `until`. The copies run on
+// regime rules); a copy arrives when every contact (`until_contacts` "any": one; or the contact it names) is in
+// the regime `until`, or, with `until_above_hz` > 0, precesses faster than that. The copies run on
 // `threads` threads (0: one per core) and give the same numbers on any number.
 //
 // HDF5 layout (written atomically): root attributes as every result (scene_toml, level "L3", ...);
 // /ensemble attributes speed_rpm, direction, copies, duration, window, perturbation, seed, until,
-// until_contacts (absent in files made before it: every),
+// until_contacts (absent in files made before it: every), until_above_hz and arrival (the target
+// in words; both absent in files made before them: 0, by regime),
 // approach_from_rpm / approach_to_rpm (NaN without an approach), approach_regime_left/_right,
 // wall_seconds, threads; datasets (one entry per copy) arrival_time_s (NaN: not reached),
 // reached, failed, simulated_s, cpu_seconds; time_s (the end of each stretch); matrices copies ×
@@ -37,6 +38,7 @@ struct EnsembleRequest {
   std::uint64_t seed = 1;
   int threads = 0;
   std::string until = "whirl";          // whirl, whip, intermittent or no_contact
+  double until_above_hz = 0.0;  // > 0: arrive when the precession exceeds it [Hz] instead of `until`
   std::string until_contacts = "every";  // every or any: the contacts that must be in `until`
   std::optional<std::string> out_file;  // default results/<scene>/ensemble_<rpm>rpm.h5
   bool quiet = false;

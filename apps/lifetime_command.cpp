@@ -59,8 +59,9 @@ void Check(const LifetimeRequest& r) {
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const ArrivalTarget target = ParseUntil(request.until, request.until_contacts);
     const Scene scene = LoadScene(request.scene_file);
+    const ArrivalTarget target =
+        ParseUntil(SweepStructureOf(scene), request.until, request.until_above_hz, request.until_contacts);
     const SweepDirection direction = ParseDirection("direction", request.direction);
     const CrisisSide side = direction == SweepDirection::kUp ? CrisisSide::kAbove : CrisisSide::kBelow;
     const double cpu_start = ProcessCpuSeconds();
@@ -175,6 +176,8 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "seed", static_cast<double>(request.seed));
     writer.SetAttribute(g, "until", request.until);
     writer.SetAttribute(g, "until_contacts", request.until_contacts);
+    writer.SetAttribute(g, "until_above_hz", request.until_above_hz);
+    writer.SetAttribute(g, "arrival", Describe(SweepStructureOf(scene), target));
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", wall);
     writer.SetAttribute(g, "cpu_seconds", cpu);
@@ -229,12 +232,12 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
 
     // The summary.
     fmt::print(out, "scene {} from {}\n[lifetime] L3: {} copies per speed for {:.4g} s (stretches of {:.4g} s), "
-                    "from the {} sweep's state at {} ({}), until {} on {} contact:\n",
+                    "from the {} sweep's state at {} ({}), until {}:\n",
                scene.name, scene.source, request.copies, observations.front().duration,
                observations.front().stretch, request.direction,
                approach.speeds.empty() ? std::string("rest (the impulse)")
                                        : fmt::format("{:g} rpm", RadPerSecondToRpm(approach.speeds.back())),
-               RegimeList(SweepStructureOf(scene), approach.regimes), request.until, request.until_contacts);
+               RegimeList(SweepStructureOf(scene), approach.regimes), Describe(SweepStructureOf(scene), target));
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       const EscapeRate& r = rates[i];
       fmt::print(out, "  {:7g} rpm: {:3} of {} left", speeds[i], r.escapes, r.copies);

@@ -3,8 +3,9 @@
 // run from the impulse up to the last speed of its schedule before --from (the approach, as
 // `rubcont ensemble`); from its final state, at each speed --from, --from ± --step, … --to,
 // `copies` copies (perturbed by `perturbation` × each state's scale, seeds seed + i·copies for the
-// i-th speed) run for `duration` in stretches of two `window`s until every contact (`until_contacts`
-// "any": one) is in the regime `until`. Per speed: the escape rate κ with its 95 % interval (interval-censored exponential);
+// i-th speed) run for `duration` in stretches of two `window`s until they arrive (RubArrivals): every contact
+// (`until_contacts` "any": one; or the contact it names) in the regime `until`, or, with
+// `until_above_hz` > 0, precessing faster than that. Per speed: the escape rate κ with its 95 % interval (interval-censored exponential);
 // over the speeds: the crisis law κ = A·(p − p_c)^γ (beyond p_c in `direction`) with p_c's
 // profile-likelihood interval, or the status that says why there is none. Then the check:
 // `check_copies` perturbed sweeps from the same state through --from … --to in steps of
@@ -13,7 +14,8 @@
 //
 // HDF5 layout (written atomically): root attributes as every result; /lifetime attributes
 // direction, copies, duration, window, perturbation, seed, until, until_contacts (absent in
-// files made before it: every), approach_from_rpm /
+// files made before it: every), until_above_hz and arrival (the target in words; both absent in
+// files made before them: 0, by regime), approach_from_rpm /
 // approach_to_rpm, wall_seconds, cpu_seconds, threads; datasets speed_rpm, escapes, stayed, failed,
 // escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
 // ("estimated", "no escape", "all in the first stretch"), arrival_time_s (speeds × copies; NaN:
@@ -21,7 +23,7 @@
 // critical_upper_rpm, lower_bounded, upper_bounded (0/1), exponent, amplitude (1/s per rpm^γ),
 // log_likelihood; /lifetime/check (when check_copies > 0) attributes dwell, step_rpm; datasets
 // speed_rpm (the schedule), predicted_leave_probability (per speed), jump_speed_rpm (per copy:
-// the speed at which it reached `until`; NaN: kept the state to the end), jump_time_s.
+// the speed at which it arrived; NaN: kept the state to the end), jump_time_s.
 #pragma once
 
 #include <cstdint>
@@ -44,6 +46,7 @@ struct LifetimeRequest {
   std::uint64_t seed = 1;
   int threads = 0;
   std::string until = "whirl";
+  double until_above_hz = 0.0;  // > 0: arrive when the precession exceeds it [Hz] instead of `until`
   std::string until_contacts = "every";  // every or any: the contacts that must be in `until`
   int check_copies = 4;                 // 0: no check sweeps
   double check_step_rpm = 0.5;

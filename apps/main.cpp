@@ -130,9 +130,13 @@ int main(int argc, char** argv) {
   ensemble->add_option("--until", ensemble_request.until,
                        "the regime every contact must reach: whirl, whip, intermittent, no_contact")
       ->capture_default_str();
+  ensemble->add_option("--until-above", ensemble_request.until_above_hz,
+                       "> 0: arrive when the backward precession exceeds this [Hz] instead of --until "
+                       "(a whip that lands on a faster slipping state)")
+      ->capture_default_str();
   ensemble->add_option("--until-contacts", ensemble_request.until_contacts,
-                       "every or any: the contacts that must reach it (any: a rotor with unequal "
-                       "clearances lands with one contact rolling)")
+                       "every, any, or a contact's name (left, right): the contacts that must arrive "
+                       "(any: a rotor with unequal clearances lands with one contact rolling)")
       ->capture_default_str();
   ensemble->add_option("--out", ensemble_out,
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
@@ -162,9 +166,13 @@ int main(int argc, char** argv) {
   lifetime->add_option("--until", lifetime_request.until,
                        "the regime every contact must reach: whirl, whip, intermittent, no_contact")
       ->capture_default_str();
+  lifetime->add_option("--until-above", lifetime_request.until_above_hz,
+                       "> 0: arrive when the backward precession exceeds this [Hz] instead of --until "
+                       "(a whip that lands on a faster slipping state)")
+      ->capture_default_str();
   lifetime->add_option("--until-contacts", lifetime_request.until_contacts,
-                       "every or any: the contacts that must reach it (any: a rotor with unequal "
-                       "clearances lands with one contact rolling)")
+                       "every, any, or a contact's name (left, right): the contacts that must arrive "
+                       "(any: a rotor with unequal clearances lands with one contact rolling)")
       ->capture_default_str();
   lifetime->add_option("--check-copies", lifetime_request.check_copies,
                        "perturbed sweeps through the speeds against the fitted law (0: none)")->capture_default_str();

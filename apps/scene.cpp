@@ -561,6 +561,12 @@ std::vector<KeySpec> BuildSchema() {
               "Between successive speeds, a BP change larger than this from both trends (BP "
               "constant, BP ∝ speed) is a jump even when the regime stays the same.",
               [](Scene& x) -> double& { return x.analysis.sweep.frequency_jump_hz; });
+  sweep_rule("analysis.sweep.max_penetration", "-", Rule::kPositive,
+              "A speed whose largest penetration at a contact passes this share of its clearance "
+              "is untrusted (the contact laws are those of a small overlap; an integration that lets "
+              "the rotor sink into the stator): its regime is still read, the file says why, and "
+              "its jumps are marked.",
+              [](Scene& x) -> double& { return x.analysis.sweep.max_penetration; });
 
   // [analysis.orbits]: the modulated whirl and whip (level L2, shooting/rub_orbits.h).
   s.push_back(Make<int, std::int64_t>(

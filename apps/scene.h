@@ -90,6 +90,7 @@ struct SweepSettings {
   double rolling_micro_slip = 1.0;        // … or largest |V̄|/ε (the tanh law's micro-slip)
   double whirl_tolerance = 0.02;          // largest |BP − f_roll|/f_roll of a rolling contact
   double frequency_jump_hz = 3.0;
+  double max_penetration = 0.1;           // largest δ/C of a trusted speed
 };
 
 // How the orbits stage integrates its shooting segments (key `integrator`): Gauss–Legendre

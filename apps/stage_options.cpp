@@ -96,6 +96,7 @@ RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
   o.rolling_micro_slip = scene.analysis.sweep.rolling_micro_slip;
   o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
   o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
+  o.max_penetration = scene.analysis.sweep.max_penetration;
   return o;
 }
 

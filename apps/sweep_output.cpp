@@ -120,6 +120,9 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].min; }));
     writer.WriteDoubles(group + "/normal_force_max" + side,
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].max; }));
+    writer.WriteDoubles(group + "/penetration_max" + side, PerChannel(points, k, [&](const ChannelSummary& c) {
+      return c.measures.size() > kPenetrationMeasure ? c.measures[kPenetrationMeasure].max : kNaN;
+    }));
     writer.WriteDoubles(group + "/contact_fraction" + side,
                         PerChannel(points, k, [](const ChannelSummary& c) { return c.active_fraction; }));
     writer.WriteDoubles(group + "/orbit_radius" + side,
@@ -145,6 +148,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
   }
   writer.WriteStrings(group + "/status", status);
   writer.WriteStrings(group + "/message", message);
+  writer.WriteStrings(group + "/untrusted", regimes.untrusted);
   writer.WriteInts(group + "/settled", PerPointInt(points, [](const SweepPoint& p) {
     return p.status == SweepPointStatus::kSettled ? 1 : 0;
   }));
@@ -171,7 +175,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
   const std::string jumps = group + "/jumps";
   std::vector<std::string> contact, kind;
   std::vector<double> from_rpm, to_rpm, from_hz, to_hz;
-  std::vector<int> settled;
+  std::vector<int> settled, trusted;
   for (const RubSweepJump& j : regimes.jumps) {
     contact.push_back(structure.contacts[static_cast<std::size_t>(j.contact)].name);
     kind.push_back(ToString(j.kind));
@@ -180,6 +184,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
     from_hz.push_back(j.precession_from_hz);
     to_hz.push_back(j.precession_to_hz);
     settled.push_back(j.settled ? 1 : 0);
+    trusted.push_back(j.trusted ? 1 : 0);
   }
   writer.WriteStrings(jumps + "/contact", contact);
   writer.WriteStrings(jumps + "/kind", kind);
@@ -188,6 +193,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
   writer.WriteDoubles(jumps + "/precession_from_hz", from_hz);
   writer.WriteDoubles(jumps + "/precession_to_hz", to_hz);
   writer.WriteInts(jumps + "/settled", settled);
+  writer.WriteInts(jumps + "/trusted", trusted);
 }
 
 SweepPointStatus ParseStatus(const std::string& text) {
@@ -249,7 +255,7 @@ RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::
       break;
     }
   }
-  out.arrivals = RubArrivals(structure, out.copies, target.regime, RegimeOptionsOf(scene), target.contacts);
+  out.arrivals = RubArrivals(structure, out.copies, target, RegimeOptionsOf(scene));
   return out;
 }
 
@@ -284,12 +290,26 @@ void CheckCopyOptions(int copies, double window, double duration, double perturb
   if (threads < 0) fail("threads", threads, "must be non-negative (0: one per core)");
 }
 
-ArrivalTarget ParseUntil(const std::string& regime, const std::string& contacts) {
+ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regime, double above_hz,
+                         const std::string& contacts) {
   ArrivalTarget target;
-  if (contacts != "every" && contacts != "any") {
-    throw std::invalid_argument(fmt::format("--until-contacts = {}: must be every or any", contacts));
+  std::string names;
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    names += ", " + structure.contacts[k].name;
+    if (contacts == structure.contacts[k].name) {
+      target.contacts = ArrivalContacts::kOne;
+      target.contact = static_cast<int>(k);
+    }
   }
-  target.contacts = contacts == "every" ? ArrivalContacts::kEvery : ArrivalContacts::kAny;
+  if (contacts == "every" || contacts == "any") {
+    target.contacts = contacts == "every" ? ArrivalContacts::kEvery : ArrivalContacts::kAny;
+  } else if (target.contact < 0) {
+    throw std::invalid_argument(fmt::format("--until-contacts = {}: must be every, any{}", contacts, names));
+  }
+  if (!(above_hz >= 0.0) || !std::isfinite(above_hz)) {
+    throw std::invalid_argument(fmt::format("--until-above = {}: must be a precession in Hz (0: by --until)", above_hz));
+  }
+  if (above_hz > 0.0) target.precession_above_hz = above_hz;
   for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip}) {
     if (regime == ToString(r)) {
       target.regime = r;
@@ -390,6 +410,9 @@ std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirecti
                v_max = doubles("slip_velocity_max" + s), f = doubles("normal_force" + s),
                f_min = doubles("normal_force_min" + s), f_max = doubles("normal_force_max" + s),
                fraction = doubles("contact_fraction" + s), radius = doubles("orbit_radius" + s);
+    const std::vector<double> depth = reader.Exists(group + "/penetration_max" + s)
+                                          ? doubles("penetration_max" + s)
+                                          : std::vector<double>(n, kNaN);
     const Matrix spectrum = reader.ReadMatrix(group + "/spectrum_magnitude" + s);
     if (static_cast<std::size_t>(spectrum.rows()) != n)
       throw std::runtime_error("sweep result: " + group + "/spectrum_magnitude" + s + ": wrong row count");
@@ -401,9 +424,10 @@ std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirecti
       c.peak.amplitude = c.peak.found ? amplitude[i] : 0.0;
       c.active_fraction = fraction[i];
       c.mean_modulus = radius[i];
-      c.measures.resize(2);
+      c.measures.resize(3);
       c.measures[kSlipVelocityMeasure] = {v[i], v_min[i], v_max[i]};
       c.measures[kNormalForceMeasure] = {f[i], f_min[i], f_max[i]};
+      c.measures[kPenetrationMeasure] = {kNaN, kNaN, depth[i]};  // only the largest is kept
       c.spectrum = spectrum.row(static_cast<Index>(i)).transpose();
       points[i].channels.push_back(std::move(c));
     }
@@ -476,7 +500,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
                       "difference_rpm = middle of the interval minus the bifurcation speed");
   std::vector<std::string> direction, contact, kind, side, branch, bifurcation;
   std::vector<double> from_rpm, to_rpm, from_hz, to_hz, b_rpm, b_hz, difference;
-  std::vector<int> stable, settled;
+  std::vector<int> stable, settled, trusted;
   for (const PredictedJump& r : rows) {
     direction.push_back(r.direction);
     contact.push_back(r.contact);
@@ -486,6 +510,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
     from_hz.push_back(r.jump.precession_from_hz);
     to_hz.push_back(r.jump.precession_to_hz);
     settled.push_back(r.jump.settled ? 1 : 0);
+    trusted.push_back(r.jump.trusted ? 1 : 0);
     side.push_back(r.matched_side);
     branch.push_back(r.branch);
     stable.push_back(r.branch_stable);
@@ -502,6 +527,7 @@ void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows
   writer.WriteDoubles(g + "/precession_from_hz", from_hz);
   writer.WriteDoubles(g + "/precession_to_hz", to_hz);
   writer.WriteInts(g + "/settled", settled);
+  writer.WriteInts(g + "/trusted", trusted);
   writer.WriteStrings(g + "/matched_side", side);
   writer.WriteStrings(g + "/branch", branch);
   writer.WriteInts(g + "/branch_stable", stable);

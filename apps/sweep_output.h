@@ -13,6 +13,10 @@
 //     slip_velocity_min_left|right, slip_velocity_max_left|right
 //     slip_ratio_left|right         |mean V| / (R ω): the input of the rolling rule (NaN: no contact)
 //     normal_force_left|right       mean N [N] over the samples in contact; normal_force_max_*
+//     penetration_max_left|right    largest penetration δ [m] over the samples in contact (absent
+//                                   in files made before it)
+//     untrusted                     per speed: why its integration is not to be trusted ("" when
+//                                   it is): a penetration beyond max_penetration × the clearance
 //     contact_fraction_left|right   share of the analysed samples in contact
 //     orbit_radius_left|right       mean |d_k| [m]
 //     regime_left|right             "whirl" | "whip" | "intermittent" | "no_contact" | "unknown":
@@ -26,7 +30,7 @@
 //     spectrum_frequency_hz         [m] two-sided, |f| ≤ spectrum_max_hz
 //     spectrum_magnitude_left|right [speeds × m] amplitude spectra [m] (the waterfall)
 //     jumps/{contact, kind, speed_from_rpm, speed_to_rpm, precession_from_hz, precession_to_hz,
-//            settled}
+//            settled, trusted}
 //
 // The sweep stage also writes /sweeps/branches (the L1 branches of the tanh law the sweeps
 // integrate, layout of apps/branch_output.h) and the jump table:
@@ -36,6 +40,7 @@
 //     direction ("up" | "down"), contact, kind (RubJumpKind), speed_from_rpm, speed_to_rpm,
 //     precession_from_hz, precession_to_hz       the jump as the sweep saw it (sweeps/rub_sweep.h)
 //     settled            1 when both speeds settled, 0 when one ran to its dwell (RubSweepJump)
+//     trusted            1 when neither speed is untrusted, 0 otherwise (RubSweepJump)
 //     matched_side       "departure" | "landing" | "none": the state whose branch predicts the jump
 //                        (without a prediction: the state that lies on a branch, if any)
 //     branch             the branch it lies on ("" for none); branch_stable: 1 / 0 / −1 unknown,
@@ -113,12 +118,6 @@ SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start);
 
-// What a copy arrives at: a regime on every contact or on any (RubArrivals).
-struct ArrivalTarget {
-  RubRegime regime = RubRegime::kWhirl;
-  ArrivalContacts contacts = ArrivalContacts::kEvery;
-};
-
 // Perturbed copies of `x0` (sweeps/ensemble.h) marched through `speeds` [rad/s], one stretch of two
 // `window`s per entry (repeat a speed to stay at it), each stretch classified as a sweep speed of
 // the scene (its regime rules), and when each copy arrives at `target` (RubArrivals).
@@ -149,9 +148,11 @@ SweepDirection ParseDirection(const char* option, const std::string& value);
 // --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads);
 
-// The target named by the options --until (whirl, whip, intermittent, no_contact) and
-// --until-contacts (every, any); throws std::invalid_argument naming the option and the rule.
-ArrivalTarget ParseUntil(const std::string& regime, const std::string& contacts);
+// The target (RubArrivals) named by the options --until (whirl, whip, intermittent, no_contact),
+// --until-above (a precession in Hz; 0: by regime) and --until-contacts (every, any or a contact's
+// name); throws std::invalid_argument naming the option, the value and the rule.
+ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regime, double above_hz,
+                         const std::string& contacts);
 
 // Writes /sweeps/<direction> for the points finished so far.
 void WriteSweep(ResultWriter& writer, const SweepRun& run);
@@ -179,7 +180,8 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // scene or other settings. A one-direction run carries the other direction over from it, and
 // --resume takes a complete direction from it instead of running it again.
 // "Same settings" (here and for checkpoints) leaves out the keys that only classify the finished
-// speeds (rolling_slip_tolerance, rolling_micro_slip, whirl_tolerance, frequency_jump_hz):
+// speeds (rolling_slip_tolerance, rolling_micro_slip, whirl_tolerance, frequency_jump_hz,
+// max_penetration):
 // `rubcont sweep --resume` on a complete file re-derives its regimes, jump table and figures
 // under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,

@@ -53,7 +53,7 @@ def main():
         ax.step(grid, alive, where="post", color="k")
         ax.set_ylim(-0.03, 1.03)
         ax.set_xlabel("time at this speed [s]")
-        ax.set_ylabel(f"share of copies not yet {text(a['until'])}")
+        ax.set_ylabel(f"share of copies not yet {text(a['arrival'] if 'arrival' in a else a['until'])}")
         ax.set_title(f"{copies} copies at {a['speed_rpm']:g} rpm", fontsize=10)
         ax.grid(alpha=0.3)
         for ax, side in zip(axes[1:], contacts):

@@ -51,15 +51,37 @@ def lines(ax, x, y, stable, color, lw, label=None):
 
 
 def read_crisis(path):
-    """(p_c, lower, upper, lower bounded, upper bounded) of a lifetime file's located crisis, or None."""
+    """A lifetime file's located crisis as a dict (p_c, its 95 % limits and whether they are
+    bounded, and what the copies arrived at: a precession above `above` Hz or the regime `until`,
+    on the contacts `contacts`), or None."""
     if not path:
         return None
     with h5py.File(path, "r") as f:
-        c = f["lifetime/crisis"].attrs
+        a, c = f["lifetime"].attrs, f["lifetime/crisis"].attrs
         if text(c["status"]) != "located":
             return None
-        return (c["critical_speed_rpm"], c["critical_lower_rpm"], c["critical_upper_rpm"],
-                bool(c["lower_bounded"]), bool(c["upper_bounded"]))
+        return dict(pc=c["critical_speed_rpm"], lo=c["critical_lower_rpm"], hi=c["critical_upper_rpm"],
+                    lo_bounded=bool(c["lower_bounded"]), hi_bounded=bool(c["upper_bounded"]),
+                    above=float(a["until_above_hz"]) if "until_above_hz" in a else 0.0,
+                    until=text(a["until"]), contacts=text(a["until_contacts"]) if "until_contacts" in a else "every")
+
+
+def crisis_row(table, contact, crisis):
+    """The row of the jump table (on `contact`) that is the end of the speed-up whip whose crisis
+    the lifetime file locates: the first speed-up jump of this contact to what the copies arrived at
+    (its precession across `above`, or a whip → `until` jump); None on a contact the copies did
+    not watch."""
+    if crisis is None or crisis["contacts"] not in ("every", "any", contact):
+        return None
+    for i in contact_rows(table, contact):
+        if text(table["direction"][i]) != "up":
+            continue
+        if crisis["above"] > 0.0:
+            if table["precession_from_hz"][i] < crisis["above"] <= table["precession_to_hz"][i]:
+                return i
+        elif text(table["kind"][i]) == f"whip_to_{crisis['until']}":
+            return i
+    return None
 
 
 def contact_rows(group, contact):
@@ -99,9 +121,11 @@ def draw(ax, contact, args, crisis):
                             xytext=(j["speed_from_rpm"][i], j["precession_from_hz"][i]),
                             arrowprops=dict(arrowstyle="->", color=colour, lw=1.6))
         table = s["sweeps/jump_table"]
+        end = crisis_row(table, contact, crisis)
         corners = [(text(table["direction"][i]), text(table["kind"][i]), text(table["bifurcation"][i]),
                     table["bifurcation_speed_rpm"][i], table["bifurcation_precession_hz"][i],
-                    table["speed_from_rpm"][i], table["precession_from_hz"][i]) for i in contact_rows(table, contact)]
+                    table["speed_from_rpm"][i], table["precession_from_hz"][i], i == end)
+                   for i in contact_rows(table, contact)]
         grid = np.linspace(low, high, 200)
         ax.plot(grid, ratio * grid / 60.0, color="0.6", lw=0.8, ls=":", label=f"rolling line BP = {ratio:g}·speed")
         seen = set()
@@ -140,17 +164,19 @@ def draw(ax, contact, args, crisis):
 
     # The corners: where each sweep jumps, and what predicts it.
     done, listing = set(), []
-    for direction, kind, bifurcation, speed, bp, jump_rpm, jump_bp in corners:
-        if (direction, kind) in done:
+    for direction, kind, bifurcation, speed, bp, jump_rpm, jump_bp, whip_end in corners:
+        key = "whip end" if whip_end else (direction, kind)
+        if key in done:
             continue
-        done.add((direction, kind))
+        done.add(key)
         number = len(done)
         jump = f"{direction} {kind.replace('_to_', ' → ').replace('_', ' ')}"
         if bifurcation:
             where, colour = (speed, bp), "k"
             listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: {bifurcation} at {speed:.2f} rpm (L1)")
-        elif direction == "up" and kind == "whip_to_whirl" and crisis:
-            pc, lo, hi, lo_bounded, hi_bounded = crisis
+        elif whip_end:
+            pc, lo, hi = crisis["pc"], crisis["lo"], crisis["hi"]
+            lo_bounded, hi_bounded = crisis["lo_bounded"], crisis["hi_bounded"]
             where, colour = (pc, jump_bp), "tab:green"
             if lo_bounded and hi_bounded:
                 ax.axvspan(lo, hi, color="tab:green", alpha=0.2)
@@ -167,7 +193,7 @@ def draw(ax, contact, args, crisis):
                 interval = f"below {hi:.2f} rpm (95 %; best fit {pc:.2f})"
             else:
                 interval = f"above {lo:.2f} rpm (95 %; best fit {pc:.2f})"
-            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: the whip's crisis {interval} "
+            listing.append(f"{number}: {jump} at {jump_rpm:g} rpm: the whip's end, a crisis {interval} "
                            "(L3 lifetimes)")
         else:
             where, colour = (jump_rpm, jump_bp), "tab:red"

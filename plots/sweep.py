@@ -189,6 +189,13 @@ def draw_sweeps(f, ax):
                             mfc=COLORS[direction] if side == "left" else "none", alpha=0.85, zorder=7,
                             label=f"sweep {direction}, " + ("both contacts" if both else f"{side} contact"))
             handles.append(line)
+            # Untrusted speeds (a penetration beyond max_penetration × the clearance): crossed out.
+            untrusted = np.array([bool(u) for u in texts(g["untrusted"])]) if "untrusted" in g else None
+            if untrusted is not None and untrusted.any():
+                cross, = ax.plot(speed[untrusted], g["precession_hz_" + side][()][untrusted], "x", color="red",
+                                 ms=11, mew=2, zorder=9, label="untrusted speed (penetration; see the file)")
+                if side == "left" or both:
+                    handles.append(cross)
     return handles
 
 

@@ -28,6 +28,7 @@ std::string RubSweepObservables::MeasureName(int measure) const {
   switch (measure) {
     case kSlipVelocityMeasure: return "slip_velocity";
     case kNormalForceMeasure: return "normal_force";
+    case kPenetrationMeasure: return "penetration";
   }
   throw std::invalid_argument(fmt::format("RubSweepObservables: measure {} does not exist", measure));
 }
@@ -43,6 +44,7 @@ void RubSweepObservables::Observe(double /*t*/, ConstVectorRef x, SweepObservati
     out.active[k] = contacts[k].touching ? 1 : 0;
     out.measures(i, kSlipVelocityMeasure) = contacts[k].slip_velocity;
     out.measures(i, kNormalForceMeasure) = contacts[k].normal_force;
+    out.measures(i, kPenetrationMeasure) = contacts[k].penetration;
   }
 }
 
@@ -115,6 +117,10 @@ void Validate(const RubRegimeOptions& o) {
     throw std::invalid_argument(fmt::format(
         "RubRegimeOptions.frequency_jump_hz = {}: must be positive and finite", o.frequency_jump_hz));
   }
+  if (!(o.max_penetration > 0.0) || !std::isfinite(o.max_penetration)) {
+    throw std::invalid_argument(fmt::format(
+        "RubRegimeOptions.max_penetration = {}: must be positive and finite", o.max_penetration));
+  }
   if (!(o.min_contact_fraction >= 0.0 && o.min_contact_fraction <= 1.0)) {
     throw std::invalid_argument(fmt::format(
         "RubRegimeOptions.min_contact_fraction = {}: must lie in [0, 1]", o.min_contact_fraction));
@@ -129,6 +135,7 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   out.regime.assign(m, std::vector<RubRegime>(points.size(), RubRegime::kUnknown));
   out.precession_hz.assign(m, std::vector<double>(points.size(), kNaN));
   out.slip_ratio.assign(m, std::vector<double>(points.size(), kNaN));
+  out.untrusted.assign(points.size(), "");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& p = points[i];
     if (p.status == SweepPointStatus::kIntegrationFailure || p.channels.size() != m) continue;
@@ -143,6 +150,15 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
       const double bp = c.peak.found ? -c.peak.frequency : kNaN;
       out.precession_hz[k][i] = bp;
       const ContactGeometry& g = structure.contacts[k].geometry;
+      if (c.measures.size() > static_cast<std::size_t>(kPenetrationMeasure) &&
+          c.measures[kPenetrationMeasure].max > options.max_penetration * g.clearance && out.untrusted[i].empty()) {
+        const double depth = c.measures[kPenetrationMeasure].max;
+        out.untrusted[i] = fmt::format(
+            "the {} contact penetrates {:.3g} m, {:.3g} × its clearance (limit {:g}): beyond the small "
+            "overlap of the contact law, or an integration that let the rotor sink into the stator",
+            structure.contacts[k].name, depth, depth / g.clearance,
+            options.max_penetration);
+      }
       const double rolling_hz = g.radius / g.clearance * rotation_hz;
       if (!(c.active_fraction > 0.0) || !(bp > 0.0)) {
         out.regime[k][i] = RubRegime::kNoContact;
@@ -179,6 +195,7 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
         jump.precession_to_hz = now == RubRegime::kNoContact ? kNaN : out.precession_hz[k][i];
         jump.settled = points[last].status == SweepPointStatus::kSettled &&
                        points[i].status == SweepPointStatus::kSettled;
+        jump.trusted = out.untrusted[last].empty() && out.untrusted[i].empty();
         // Intermittent contact counts as lost contact for the jumps.
         const auto lost = [](RubRegime r) {
           return r == RubRegime::kNoContact || r == RubRegime::kIntermittent;
@@ -214,24 +231,49 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   return out;
 }
 
+std::string Describe(const RubStructure& structure, const ArrivalTarget& target) {
+  const std::string what = std::isfinite(target.precession_above_hz)
+                               ? fmt::format("precession above {:g} Hz", target.precession_above_hz)
+                               : std::string(ToString(target.regime));
+  switch (target.contacts) {
+    case ArrivalContacts::kEvery: return what + " on every contact";
+    case ArrivalContacts::kAny: return what + " on any contact";
+    case ArrivalContacts::kOne: break;
+  }
+  return fmt::format("{} on the {} contact", what, structure.contacts.at(static_cast<std::size_t>(target.contact)).name);
+}
+
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
-                                    const std::vector<EnsembleCopy>& copies, RubRegime target,
-                                    const RubRegimeOptions& options, ArrivalContacts contacts) {
+                                    const std::vector<EnsembleCopy>& copies, const ArrivalTarget& target,
+                                    const RubRegimeOptions& options) {
+  const int contacts = static_cast<int>(structure.contacts.size());
+  if (target.contacts == ArrivalContacts::kOne && (target.contact < 0 || target.contact >= contacts)) {
+    throw std::invalid_argument(fmt::format("RubArrivals: contact {} of {}", target.contact, contacts));
+  }
+  const bool by_precession = std::isfinite(target.precession_above_hz);
   std::vector<RubArrival> out;
   out.reserve(copies.size());
   for (const EnsembleCopy& copy : copies) {
     RubArrival a;
     a.failed = copy.failed;
     a.regimes = ClassifySweep(structure, copy.points, options);
+    auto there = [&](int k, std::size_t i) {
+      const auto c = static_cast<std::size_t>(k);
+      return by_precession ? a.regimes.precession_hz[c][i] > target.precession_above_hz
+                           : a.regimes.regime[c][i] == target.regime;
+    };
     double t = 0.0;
     for (std::size_t i = 0; i < copy.points.size(); ++i) {
       t += copy.points[i].simulated_time;
       if (copy.points[i].status == SweepPointStatus::kIntegrationFailure) break;
       int in_target = 0;
-      for (const std::vector<RubRegime>& contact : a.regimes.regime) in_target += contact[i] == target ? 1 : 0;
-      const bool arrived = contacts == ArrivalContacts::kEvery
-                               ? in_target == static_cast<int>(a.regimes.regime.size())
-                               : in_target > 0;
+      for (int k = 0; k < contacts; ++k) in_target += there(k, i) ? 1 : 0;
+      bool arrived = false;
+      switch (target.contacts) {
+        case ArrivalContacts::kEvery: arrived = in_target == contacts; break;
+        case ArrivalContacts::kAny: arrived = in_target > 0; break;
+        case ArrivalContacts::kOne: arrived = there(target.contact, i); break;
+      }
       if (arrived && !a.reached) {
         a.reached = true;
         a.time = t;

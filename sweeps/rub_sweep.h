@@ -26,15 +26,17 @@ namespace rubcont {
 // Measure indices of RubSweepObservables.
 constexpr int kSlipVelocityMeasure = 0;
 constexpr int kNormalForceMeasure = 1;
+constexpr int kPenetrationMeasure = 2;
 
 class RubSweepObservables : public SweepObservables {
  public:
   // The system must outlive the observables (its current ω is used for V).
   explicit RubSweepObservables(RubFixedFrame& system);
   int Channels() const override;
-  int Measures() const override { return 2; }
+  int Measures() const override { return 3; }
   std::string ChannelName(int channel) const override;   // the contact's name ("left", "right")
-  std::string MeasureName(int measure) const override;   // "slip_velocity", "normal_force"
+  // "slip_velocity" [m/s], "normal_force" [N], "penetration" δ [m]
+  std::string MeasureName(int measure) const override;
   void Observe(double t, ConstVectorRef x, SweepObservation& out) override;
 
  private:
@@ -109,6 +111,14 @@ struct RubRegimeOptions {
   // Below this share of the analysed time in contact (and above 0), the contact is intermittent
   // (RubRegime::kIntermittent). In [0, 1].
   double min_contact_fraction = 0.01;
+  // Largest penetration δ_k of a speed that can be trusted, as a share of the contact's clearance
+  // C_k. > 0. The contact laws are those of a small overlap (δ ≪ C): on the thesis's stiff contact
+  // δ ≈ N/k1 ≈ 2e-8 m at N = 3 kN, 5e-5 of C. A soft contact (k1 = 1e7 N/m on A(a)'s whirl: the
+  // test in tests/sweeps/rub_sweep_test.cpp) or an integration that lets the rotor sink into the
+  // stator gives a state that may look settled; a speed whose maximum penetration passes this is untrusted: its
+  // regime is still read off it, RubSweepRegimes::untrusted says why, and every jump from or to
+  // it is marked (RubSweepJump::trusted).
+  double max_penetration = 0.1;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -135,6 +145,8 @@ struct RubSweepJump {
   // response there was still changing: the jump may belong to a transient (a dwell too short for
   // the speed step's kick to die out), and the speed it is read at may be off by more than a step.
   bool settled = true;
+  // Neither speed is untrusted (RubRegimeOptions::max_penetration).
+  bool trusted = true;
 };
 
 struct RubSweepRegimes {
@@ -142,6 +154,9 @@ struct RubSweepRegimes {
   std::vector<std::vector<double>> precession_hz;   // [contact][point]: BP > 0 backward; NaN: none
   std::vector<std::vector<double>> slip_ratio;      // [contact][point]: |V̄_k|/(R_k ω); NaN: no contact
   std::vector<RubSweepJump> jumps;                  // in schedule order, then by contact
+  // [point]: why the speed's integration is not to be trusted ("" when it is, or when its
+  // penetration was not recorded: files made before the measure existed).
+  std::vector<std::string> untrusted;
 };
 
 // Reads regimes and jumps off a sweep of the rub model (parameter ω in rad/s). Every point that
@@ -150,13 +165,24 @@ struct RubSweepRegimes {
 RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<SweepPoint>& points,
                               const RubRegimeOptions& options = {});
 
-// How long an ensemble's copies (sweeps/ensemble.h) take to reach a regime: for each copy, its
-// points classified as a sweep (ClassifySweep); the copy reaches `target` at the end of the first
-// point in which every contact is in it (e.g. kWhirl: the end of a whip), or any contact with
-// ArrivalContacts::kAny (a rotor with unequal clearances lands from its whip on a state where one
-// contact rolls and the other slips). The copies' points are consecutive stretches of one run, so
-// the time is the sum of their simulated times.
-enum class ArrivalContacts { kEvery, kAny };
+// How long an ensemble's copies (sweeps/ensemble.h) take to reach a target: for each copy, its
+// points classified as a sweep (ClassifySweep); the copy reaches the target at the end of the first
+// point in which every contact is there (ArrivalContacts::kEvery; e.g. kWhirl: the end of a whip),
+// any contact (kAny: a rotor with unequal clearances lands from its whip on a state where one contact
+// rolls and the other slips), or the contact `contact` (kOne: the other contact is elsewhere all
+// along). A contact is there when it is in `regime`, or, when `precession_above_hz` is finite, when
+// its backward precession exceeds that (a whip that ends on a state the regime rules still call
+// whip: the unequal-clearance cases' whip at 80–85 Hz lands at 250–400 Hz, slipping). The copies'
+// points are consecutive stretches of one run, so the time is the sum of their simulated times.
+enum class ArrivalContacts { kEvery, kAny, kOne };
+struct ArrivalTarget {
+  RubRegime regime = RubRegime::kWhirl;
+  double precession_above_hz = std::numeric_limits<double>::quiet_NaN();  // finite: by precession
+  ArrivalContacts contacts = ArrivalContacts::kEvery;
+  int contact = -1;  // kOne: the index into RubStructure::contacts
+};
+// "whirl on every contact", "precession above 150 Hz on the right contact", ...
+std::string Describe(const RubStructure& structure, const ArrivalTarget& target);
 struct RubArrival {
   bool reached = false;  // false: not within the run (censored at `simulated`), or failed
   bool failed = false;   // the copy's integration failed (its points end with the failure)
@@ -166,9 +192,8 @@ struct RubArrival {
   RubSweepRegimes regimes;  // of the copy's points
 };
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
-                                    const std::vector<EnsembleCopy>& copies, RubRegime target,
-                                    const RubRegimeOptions& options = {},
-                                    ArrivalContacts contacts = ArrivalContacts::kEvery);
+                                    const std::vector<EnsembleCopy>& copies, const ArrivalTarget& target,
+                                    const RubRegimeOptions& options = {});
 
 // The rub's Poincaré section for MeasureAttractor (sweeps/attractor.h), in two steps.
 // RubPenetrations: the signals are the contacts' penetrations δ_k, sampled every `interval`

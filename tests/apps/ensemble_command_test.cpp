@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <fmt/core.h>
 
 #include "apps/hdf5_file.h"
 #include "cli_support.h"
@@ -70,30 +71,41 @@ TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it
 }
 
 TEST_CASE("rubcont ensemble: with unequal clearances one contact rolls, and --until-contacts any "
-          "counts it", "[ensemble_cli]") {
+          "or the contact's name counts it, by regime or by precession", "[ensemble_cli]") {
   // Case B(c) (RCI 125/100) from the impulse through 20 and 24 rpm: the right contact (RCI 100)
   // rolls and the left slips (as the committed sweep, 20–48 rpm). At 28 rpm no copy has every
-  // contact rolling; with `any` every copy arrives in its first stretch.
+  // contact rolling; with `any` or `right` every copy arrives in its first stretch, with `left`
+  // none. The rolling right contact precesses at RCI·f = 100 × 28/60 = 46.7 Hz: above 40 Hz, not
+  // above 60.
   TempDir dir;
   std::string text = Slurp("scenes/thesis_B_c.toml");
   text = text.substr(0, text.find("[analysis.sweep]")) +
          "[analysis.sweep]\nup_range_rpm = [20.0, 24.0]\nspeed_step_rpm = 4.0\ndwell = 0.75\n";
   const fs::path scene = dir.path / "thesis_B_c.toml";
   std::ofstream(scene) << text;
-  auto run = [&](const std::string& contacts) {
-    const Outcome o = testing::RubcontNoPython("ensemble " + scene.string() +
-                                               " --speed 28 --copies 2 --duration 0.3 --until-contacts " + contacts +
-                                               " --quiet --out " + (dir.path / (contacts + ".h5")).string());
+  int runs = 0;
+  auto run = [&](const std::string& until) {
+    const fs::path h5 = dir.path / fmt::format("run{}.h5", runs++);
+    const Outcome o = testing::RubcontNoPython("ensemble " + scene.string() + " --speed 28 --copies 2 --duration 0.3 " +
+                                               until + " --quiet --out " + h5.string());
     INFO(o.out << o.err);
     REQUIRE(o.exit_code == 0);
     return o.out;
   };
-  const std::string every = run("every");
+  const std::string every = run("--until-contacts every");
   CHECK_THAT(every, Contains("(left whip, right whirl)"));
   CHECK_THAT(every, Contains("0 of 2 reached whirl on every contact"));
-  CHECK_THAT(run("any"), Contains("2 of 2 reached whirl on any contact, after 0.10 s (min)"));
-  ResultReader r(dir.path / "any.h5");
+  CHECK_THAT(run("--until-contacts any"), Contains("2 of 2 reached whirl on any contact, after 0.10 s (min)"));
+  ResultReader r(dir.path / "run1.h5");
   CHECK(r.ReadStringAttribute("/ensemble", "until_contacts") == "any");
+  CHECK_THAT(run("--until-contacts right"), Contains("2 of 2 reached whirl on the right contact, after 0.10 s (min)"));
+  CHECK_THAT(run("--until-contacts left"), Contains("0 of 2 reached whirl on the left contact"));
+  CHECK_THAT(run("--until-contacts right --until-above 40"),
+             Contains("2 of 2 reached precession above 40 Hz on the right contact, after 0.10 s (min)"));
+  CHECK_THAT(run("--until-contacts right --until-above 60"), Contains("0 of 2 reached precession above 60 Hz"));
+  ResultReader above(dir.path / "run5.h5");
+  CHECK(above.ReadDoubleAttribute("/ensemble", "until_above_hz") == 60.0);
+  CHECK(above.ReadStringAttribute("/ensemble", "arrival") == "precession above 60 Hz on the right contact");
 }
 
 TEST_CASE("rubcont ensemble: bad input names the option, the value and the rule, with exit code 2",
@@ -112,7 +124,9 @@ TEST_CASE("rubcont ensemble: bad input names the option, the value and the rule,
   CHECK_THAT(bad("--speed 48 --duration 0.05"), Contains("--duration = 0.05: must be at least two windows"));
   CHECK_THAT(bad("--speed -3"), Contains("--speed = -3: must be positive"));
   CHECK_THAT(bad("--speed 48 --direction sideways"), Contains("--direction = sideways"));
-  CHECK_THAT(bad("--speed 48 --until-contacts some"), Contains("--until-contacts = some: must be every or any"));
+  CHECK_THAT(bad("--speed 48 --until-contacts some"),
+             Contains("--until-contacts = some: must be every, any, left, right"));
+  CHECK_THAT(bad("--speed 48 --until-above -5"), Contains("--until-above = -5: must be a precession in Hz"));
 }
 
 }  // namespace

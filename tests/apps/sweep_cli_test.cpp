@@ -73,7 +73,7 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
       CHECK(r.ReadDoubleAttribute("/sweeps/up", key) == values[0]);
       ++scalars;
     }
-    CHECK(scalars == 17);
+    CHECK(scalars == 18);
     CHECK(r.ReadStringAttribute("/sweeps/up", "integrator_method") == "CVODES BDF");
     up_bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
     REQUIRE(up_bp.size() == 2);
@@ -177,6 +177,39 @@ TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the ba
   CHECK(bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
 }
 
+TEST_CASE("rubcont sweep: a speed beyond max_penetration is untrusted in the summary and the file",
+          "[sweep_cli]") {
+  // The whirl at 40 and 44 rpm penetrates the stiff thesis contact by ~1e-8 m: trusted under the
+  // default limit (0.1 of the clearance, 3.8e-5 m), untrusted under 1e-6 of it (3.8e-10 m).
+  TempDir dir;
+  auto run = [&](const std::string& limit, const std::string& name) {
+    const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds + limit);
+    const fs::path h5 = dir.path / name;
+    const Outcome o = testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+    INFO(o.out << o.err);
+    REQUIRE(o.exit_code == 0);
+    return std::make_pair(o.out, h5);
+  };
+  const auto [trusted_out, trusted_h5] = run("", "trusted.h5");
+  CHECK_THAT(trusted_out, !Contains("untrusted"));
+  {
+    ResultReader r(trusted_h5);
+    CHECK(r.ReadStrings("/sweeps/up/untrusted") == std::vector<std::string>{"", ""});
+    for (double depth : r.ReadDoubles("/sweeps/up/penetration_max_left")) {
+      CHECK(depth > 0.0);
+      CHECK(depth < 1e-4 * 3.81e-4);
+    }
+  }
+  const auto [strict_out, strict_h5] = run("max_penetration = 1e-6\n", "strict.h5");
+  CHECK_THAT(strict_out, Contains("untrusted at 40.0 rpm: the left contact penetrates"));
+  CHECK_THAT(strict_out, Contains("× its clearance (limit 1e-06)"));
+  ResultReader r(strict_h5);
+  const std::vector<std::string> untrusted = r.ReadStrings("/sweeps/up/untrusted");
+  REQUIRE(untrusted.size() == 2);
+  CHECK_THAT(untrusted[1], Contains("contact penetrates"));
+  CHECK(r.Exists("/sweeps/jump_table/trusted"));
+}
+
 TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with exit code 2",
           "[sweep_cli]") {
   TempDir dir;
@@ -186,6 +219,10 @@ TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with 
   CHECK_THAT(bad.err, Contains("analysis.sweep.dwell = -1"));
   CHECK_THAT(bad.err, Contains("must be positive"));
   CHECK_FALSE(fs::exists(dir.path / "x.h5"));
+  const fs::path flat = ShortSweepScene(dir.path, kTwoSpeeds + "max_penetration = 0.0\n");
+  const Outcome zero = testing::RubcontNoPython("sweep " + flat.string() + " --quiet --out " + (dir.path / "x.h5").string());
+  CHECK(zero.exit_code == 2);
+  CHECK_THAT(zero.err, Contains("analysis.sweep.max_penetration = 0"));
 
   const fs::path good = ShortSweepScene(dir.path, kTwoSpeeds);
   const Outcome sideways = testing::RubcontNoPython("sweep " + good.string() + " --direction sideways");

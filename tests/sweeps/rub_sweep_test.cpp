@@ -511,6 +511,99 @@ TEST_CASE("Explicit Runge-Kutta on the stiff contact: a loose tolerance lets the
   CHECK(stepper.Step() == SweepStepOutcome::kFailed);
 }
 
+TEST_CASE("A soft contact sinks the rotor into the stator: the speed is untrusted, with the depth "
+          "in the reason", "[rub_sweep][failure]") {
+  // The Mode 1 whirl at 40 rpm of case A(a) (from the rigid-contact closed form, in the fixed
+  // frame), swept 40 → 44 rpm at the thesis's contact stiffness and at k1 = 1e7 N/m, where a
+  // normal force of a few hundred newtons is a penetration of tens of micrometres: beyond the small
+  // overlap the contact law stands for.
+  auto sweep = [](double contact_stiffness) {
+    TwoPointParams params = ThesisCaseAa();
+    params.contact_stiffness = contact_stiffness;
+    const RubStructure s = TwoPointStructure(params);
+    const double omega = RpmToRadPerSecond(40.0);
+    const double precession = 100.0 * omega;
+    const RigidContactOrbit whirl = SolveRigidContactOrbit(TwoPointStructure(ThesisCaseAa()), precession, {1.0, 1.0});
+    const Index nc = s.Coordinates();
+    Vector x0(4 * nc);
+    for (Index i = 0; i < nc; ++i) {
+      const std::complex<double> u = whirl.amplitude[static_cast<std::size_t>(i)];
+      const std::complex<double> v = std::complex<double>(0.0, -precession) * u;
+      x0.segment(2 * i, 2) << u.real(), u.imag();
+      x0.segment(2 * nc + 2 * i, 2) << v.real(), v.imag();
+    }
+    RubFixedFrame system(s, omega);
+    RubSweepObservables observables(system);
+    SweepOptions o;
+    o.parameters = {omega, RpmToRadPerSecond(44.0)};
+    o.dwell = 0.75;
+    o.integrator.max_order = 2;
+    SweepStepper stepper(system, observables, o, x0);
+    while (!stepper.Done() && !stepper.Failed()) stepper.Step();
+    return std::make_pair(s, stepper.points());
+  };
+  const auto [stiff_structure, stiff] = sweep(ThesisCaseAa().contact_stiffness);
+  const auto [soft_structure, soft] = sweep(1e7);
+  REQUIRE(stiff.size() == 2);
+  REQUIRE(soft.size() == 2);
+  const double clearance = stiff_structure.contacts[0].geometry.clearance;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double stiff_depth = stiff[i].channels[0].measures[kPenetrationMeasure].max;
+    const double soft_depth = soft[i].channels[0].measures[kPenetrationMeasure].max;
+    INFO("speed " << i << ": " << stiff_depth << " m at k1 = 1.75e11, " << soft_depth << " m at 1e7 N/m, N "
+                  << soft[i].channels[0].measures[kNormalForceMeasure].max << " N");
+    CHECK(stiff_depth < 1e-3 * clearance);
+    CHECK(soft_depth > 0.1 * clearance);
+  }
+  const RubSweepRegimes good = ClassifySweep(stiff_structure, stiff), bad = ClassifySweep(soft_structure, soft);
+  CHECK(good.untrusted == std::vector<std::string>{"", ""});
+  CHECK_THAT(bad.untrusted[0], Contains("contact penetrates") && Contains("× its clearance (limit 0.1)"));
+  CHECK_THAT(bad.untrusted[1], Contains("contact penetrates"));
+  // The rule is the option's: a limit above the depth trusts the same points.
+  RubRegimeOptions lenient;
+  lenient.max_penetration = 1e6;
+  CHECK(ClassifySweep(soft_structure, soft, lenient).untrusted == std::vector<std::string>{"", ""});
+  lenient.max_penetration = 0.0;
+  CHECK_THROWS_WITH(ClassifySweep(soft_structure, soft, lenient), Contains("max_penetration = 0: must be positive"));
+}
+
+TEST_CASE("an untrusted speed marks the jumps from and to it, and only those", "[rub_sweep]") {
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
+  const double clearance = s.contacts[0].geometry.clearance;
+  // Three speeds: whirl, whip, whip (both contacts); the middle one sinks 0.2 C deep.
+  auto point = [&](double rpm, double bp_hz, double slip, double depth) {
+    SweepPoint p;
+    p.parameter = RpmToRadPerSecond(rpm);
+    for (int k = 0; k < 2; ++k) {
+      ChannelSummary c;
+      c.peak.found = true;
+      c.peak.frequency = -bp_hz;
+      c.active_fraction = 1.0;
+      c.measures = {{slip, slip, slip}, {3000.0, 3000.0, 3000.0}, {depth, depth, depth}};
+      p.channels.push_back(c);
+    }
+    return p;
+  };
+  const std::vector<SweepPoint> points = {point(40.0, 100.0 * 40.0 / 60.0, 0.0, 1e-8),
+                                          point(60.0, 84.0, 0.1, 0.2 * clearance),
+                                          point(64.0, 84.0, 0.1, 1e-8), point(68.0, 84.0, 0.1, 1e-8)};
+  const RubSweepRegimes r = ClassifySweep(s, points);
+  CHECK(r.untrusted[0].empty());
+  CHECK_THAT(r.untrusted[1], Contains("the left contact penetrates") && Contains("0.2 × its clearance"));
+  CHECK(r.untrusted[2].empty());
+  REQUIRE(r.jumps.size() == 2);  // whirl → whip on each contact, 40 → 60 rpm
+  for (const RubSweepJump& j : r.jumps) {
+    CHECK(j.speed_from_rpm == Approx(40.0));
+    CHECK_FALSE(j.trusted);
+  }
+  // The same speeds with a shallow middle one: trusted.
+  std::vector<SweepPoint> shallow = points;
+  for (ChannelSummary& c : shallow[1].channels) c.measures[kPenetrationMeasure].max = 0.05 * clearance;
+  const RubSweepRegimes t = ClassifySweep(s, shallow);
+  CHECK(t.untrusted == std::vector<std::string>(4, ""));
+  for (const RubSweepJump& j : t.jumps) CHECK(j.trusted);
+}
+
 TEST_CASE("rub motion: named by the exponents and the section's period", "[rub_sweep]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
   auto result = [](int positive, int zero, int negative) {
