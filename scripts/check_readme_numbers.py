@@ -172,8 +172,57 @@ def whip_end_lifetimes(results):
             + lifetime_rows(results, "thesis_B_a_whip_end/lifetime_186_196rpm.h5"))
 
 
+WHIP_END_FILES = {"A(a)": "thesis_A_a_whip_end/lifetime_174_184rpm.h5",
+                  "A(b)": "thesis_A_b_whip_end/lifetime_158_170rpm.h5",
+                  "B(a)": "thesis_B_a_whip_end/lifetime_186_196rpm.h5",
+                  "B(b)": "thesis_B_b_whip_end/lifetime_158_170rpm.h5",
+                  "B(c)": "thesis_B_c_whip_end/lifetime_182_194rpm.h5",
+                  "C(a)": "thesis_C_a_whip_end/lifetime_201_211rpm.h5",
+                  "C(b)": "thesis_C_b_whip_end/lifetime_162_174rpm.h5",
+                  "C(c)": "thesis_C_c_whip_end/lifetime_202_214rpm.h5"}
+
+
+def whip_end_row(results, case):
+    """The start of a case's row in the table "The end of the speed-up whip in every case": the
+    speeds, what a copy arrives at, the escapes per speed, the crisis and its exponent, the check
+    sweeps and the CPU time, all from the lifetime file."""
+    with h5(results, WHIP_END_FILES[case]) as f:
+        g = f["lifetime"]
+        a = g.attrs
+        text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
+        rpm = g["speed_rpm"][()]
+        step = rpm[1] - rpm[0] if len(rpm) > 1 else 0.0
+        arrival = text(a["arrival"]) if "arrival" in a else "whirl on every contact"
+        escapes = ", ".join(str(int(e)) for e in g["escapes"][()])
+        copies = int(a["copies"])
+        c = g["crisis"].attrs
+        if text(c["status"]) != "located":
+            crisis, exponent = f"{text(c['status'])}: {text(c['message'])}", "–"
+        else:
+            exponent = f"{c['exponent']:.2f}"
+            if c["lower_bounded"] and c["upper_bounded"]:
+                crisis = f"**{c['critical_speed_rpm']:.2f} rpm**, 95 % {c['critical_lower_rpm']:.2f} … {c['critical_upper_rpm']:.2f}"
+            elif c["upper_bounded"]:
+                crisis = f"**below {c['critical_upper_rpm']:.2f} rpm** (95 %; best fit {c['critical_speed_rpm']:.2f})"
+            else:
+                crisis = f"**above {c['critical_lower_rpm']:.2f} rpm** (95 %; best fit {c['critical_speed_rpm']:.2f})"
+        checks = "–"
+        if "check" in g:
+            left = g["check/jump_speed_rpm"][()]
+            checks = ", ".join("stayed" if np.isnan(s) else f"{s:g}" for s in left)
+        return (f"| {case} | {rpm[0]:g}–{rpm[-1]:g} rpm, {step:g} rpm steps | {arrival} | {escapes} (of {copies}) | "
+                f"{crisis} | {exponent} | {checks} | {a['cpu_seconds']:.0f} s |")
+
+
+def whip_end_cases(results):
+    """Where the speed-up whip ends, one row per thesis case whose lifetime file exists."""
+    return tuple(whip_end_row(results, case) for case, path in WHIP_END_FILES.items()
+                 if os.path.exists(os.path.join(results, path)))
+
+
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
-          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes]
+          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes,
+          whip_end_cases]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",
