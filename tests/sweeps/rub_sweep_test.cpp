@@ -275,6 +275,23 @@ TEST_CASE("A tanh-law contact rolls with its micro-slip at low speed, below ε b
 namespace rubcont {
 namespace {
 
+// The Mode 1 whirl of case A(a) at `rpm` (RCI 100) from the rigid-contact closed form, as a
+// fixed-frame state.
+Vector WhirlState(double rpm) {
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
+  const double precession = 100.0 * RpmToRadPerSecond(rpm);
+  const RigidContactOrbit whirl = SolveRigidContactOrbit(s, precession, {1.0, 1.0});
+  const Index nc = s.Coordinates();
+  Vector x0(4 * nc);
+  for (Index i = 0; i < nc; ++i) {
+    const std::complex<double> u = whirl.amplitude[static_cast<std::size_t>(i)];
+    const std::complex<double> v = std::complex<double>(0.0, -precession) * u;
+    x0.segment(2 * i, 2) << u.real(), u.imag();
+    x0.segment(2 * nc + 2 * i, 2) << v.real(), v.imag();
+  }
+  return x0;
+}
+
 struct SegmentResult {
   RubSweepRegimes regimes;
   std::vector<SweepPoint> points;
@@ -457,18 +474,8 @@ TEST_CASE("Explicit Runge-Kutta on the stiff contact: a loose tolerance lets the
           "stability and the sweep stops with the reason, a tight one costs 3x the steps of BDF",
           "[rub_sweep][failure]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
-  // The Mode 1 whirl at 40 rpm from the rigid-contact closed form, in the fixed frame.
   const double omega = RpmToRadPerSecond(40.0);
-  const double precession = 100.0 * omega;
-  const RigidContactOrbit whirl = SolveRigidContactOrbit(s, precession, {1.0, 1.0});
-  const Index nc = s.Coordinates();
-  Vector x0(4 * nc);
-  for (Index i = 0; i < nc; ++i) {
-    const std::complex<double> u = whirl.amplitude[static_cast<std::size_t>(i)];
-    const std::complex<double> v = std::complex<double>(0.0, -precession) * u;
-    x0.segment(2 * i, 2) << u.real(), u.imag();
-    x0.segment(2 * nc + 2 * i, 2) << v.real(), v.imag();
-  }
+  const Vector x0 = WhirlState(40.0);
   RubFixedFrame system(s, omega);
   auto integrate = [&](IntegrationMethod method, double tolerance) {
     IntegratorOptions o;
@@ -522,16 +529,7 @@ TEST_CASE("A soft contact sinks the rotor into the stator: the speed is untruste
     params.contact_stiffness = contact_stiffness;
     const RubStructure s = TwoPointStructure(params);
     const double omega = RpmToRadPerSecond(40.0);
-    const double precession = 100.0 * omega;
-    const RigidContactOrbit whirl = SolveRigidContactOrbit(TwoPointStructure(ThesisCaseAa()), precession, {1.0, 1.0});
-    const Index nc = s.Coordinates();
-    Vector x0(4 * nc);
-    for (Index i = 0; i < nc; ++i) {
-      const std::complex<double> u = whirl.amplitude[static_cast<std::size_t>(i)];
-      const std::complex<double> v = std::complex<double>(0.0, -precession) * u;
-      x0.segment(2 * i, 2) << u.real(), u.imag();
-      x0.segment(2 * nc + 2 * i, 2) << v.real(), v.imag();
-    }
+    const Vector x0 = WhirlState(40.0);
     RubFixedFrame system(s, omega);
     RubSweepObservables observables(system);
     SweepOptions o;
