@@ -22,10 +22,11 @@
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
-#                   at 168, 170 and 172 rpm, about 20 min) and B(a)'s (results/thesis_B_a_whip_end/:
-#                   186 … 196 rpm, about 33 min).
+#                   at 168, 170 and 172 rpm, about 20 min), B(a)'s (results/thesis_B_a_whip_end/:
+#                   186 … 196 rpm, about 33 min), C(a)'s (52 min), B(c)'s (24 min), A(b)'s and
+#                   B(b)'s (results/README.md, "The end of the speed-up whip in every case").
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
-# committed sweep files (A(a)'s with its whip-doubling and lifetime files, B(a)'s with its lifetimes).
+# committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
