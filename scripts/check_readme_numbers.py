@@ -185,7 +185,7 @@ WHIP_END_FILES = {"A(a)": "thesis_A_a_whip_end/lifetime_174_184rpm.h5",
 def whip_end_row(results, case):
     """The start of a case's row in the table "The end of the speed-up whip in every case": the
     speeds, what a copy arrives at, the escapes per speed, the crisis and its exponent, the check
-    sweeps and the CPU time, all from the lifetime file."""
+    sweeps and where the law predicts them, and the CPU time, all from the lifetime file."""
     with h5(results, WHIP_END_FILES[case]) as f:
         g = f["lifetime"]
         a = g.attrs
@@ -206,12 +206,21 @@ def whip_end_row(results, case):
                 crisis = f"**below {c['critical_upper_rpm']:.2f} rpm** (95 %; best fit {c['critical_speed_rpm']:.2f})"
             else:
                 crisis = f"**above {c['critical_lower_rpm']:.2f} rpm** (95 %; best fit {c['critical_speed_rpm']:.2f})"
-        checks = "–"
+        checks, predicted = "–", "–"
         if "check" in g:
             left = g["check/jump_speed_rpm"][()]
             checks = ", ".join("stayed" if np.isnan(s) else f"{s:g}" for s in left)
+            # As the command prints it (apps/lifetime_command.cpp): the first schedule speed at
+            # which the cumulative leave probability reaches 5 %, 50 %, 95 %.
+            schedule, leave = g["check/speed_rpm"][()], g["check/predicted_leave_probability"][()]
+            cumulative = np.cumsum(leave)
+            at = lambda q: next((f"{s:g}" for s, c in zip(schedule, cumulative) if c >= q), None)
+            low, median, high = at(0.05), at(0.5), at(0.95)
+            beyond = f"beyond {schedule[-1]:g}"
+            predicted = (f"median {median or beyond}, 90 % {low}–{high}" if high
+                         else f"median {median or beyond}, 90 % from {low or beyond} to {beyond}")
         return (f"| {case} | {rpm[0]:g}–{rpm[-1]:g} rpm, {step:g} rpm steps | {arrival} | {escapes} (of {copies}) | "
-                f"{crisis} | {exponent} | {checks} | {a['cpu_seconds']:.0f} s |")
+                f"{crisis} | {exponent} | {checks} | {predicted} | {a['cpu_seconds']:.0f} s |")
 
 
 def whip_end_cases(results):
