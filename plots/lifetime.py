@@ -84,7 +84,8 @@ def main():
             ax.step(grid, np.maximum(alive, 0.5 / arrival.shape[1]), where="post", color=colours[i], label=f"{s:g} rpm")
         ax.set_yscale("log")
         ax.set_xlabel("time at the speed [s]")
-        ax.set_ylabel(f"share of copies not yet {text(a['arrival'] if 'arrival' in a else a['until'])}")
+        ax.set_ylabel("share of copies not yet arrived")
+        ax.set_title(f"arrived: {text(a['arrival'] if 'arrival' in a else a['until'] + ' on every contact')}", fontsize=9)
         ax.legend(fontsize=7, ncol=2, loc="lower left")
         ax.grid(alpha=0.3, which="both")
 
