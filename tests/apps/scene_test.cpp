@@ -400,7 +400,7 @@ TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and th
           "may change", "[scene]") {
   const Scene scene = ParseScene(kValid, "test.toml", "test");
   const auto values = SweepKeyValues(scene);
-  REQUIRE(values.size() == 20);
+  REQUIRE(values.size() == 21);
   CHECK(values.front().first == "up_range_rpm");
   CHECK(std::get<std::vector<double>>(values.front().second) == std::vector<double>{20.0, 258.0});
   CHECK(values[4].first == "settle_window");
@@ -408,12 +408,14 @@ TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and th
   CHECK(values[12].first == "integrator");
   CHECK(std::get<std::string>(values[12].second) == "bdf");
   CHECK(values[15].first == "explicit_tolerance");
-  // The four regime and jump rules, and nothing else, are copied.
+  CHECK(values.back().first == "max_penetration");
+  // The five regime and jump rules, and nothing else, are copied.
   Scene changed = scene;
   changed.analysis.sweep.rolling_slip_tolerance = 0.1;
   changed.analysis.sweep.rolling_micro_slip = 3.0;
   changed.analysis.sweep.whirl_tolerance = 0.2;
   changed.analysis.sweep.frequency_jump_hz = 9.0;
+  changed.analysis.sweep.max_penetration = 0.5;
   changed.analysis.sweep.dwell = 3.0;
   Scene copy = scene;
   CopySweepRules(changed, copy);
@@ -421,6 +423,7 @@ TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and th
   CHECK(copy.analysis.sweep.rolling_micro_slip == 3.0);
   CHECK(copy.analysis.sweep.whirl_tolerance == 0.2);
   CHECK(copy.analysis.sweep.frequency_jump_hz == 9.0);
+  CHECK(copy.analysis.sweep.max_penetration == 0.5);
   CHECK(copy.analysis.sweep.dwell == scene.analysis.sweep.dwell);
 }
 

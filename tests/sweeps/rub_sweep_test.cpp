@@ -61,7 +61,8 @@ TEST_CASE("Speed schedules: the thesis's 120 up and 117 down speeds", "[rub_swee
   CHECK(RpmToRadPerSecond(60.0) == Approx(2.0 * M_PI));
 }
 
-TEST_CASE("The observables are the contacts' relative motion, slip velocity and normal force", "[rub_sweep]") {
+TEST_CASE("The observables are the contacts' relative motion, slip velocity, normal force and "
+          "penetration", "[rub_sweep]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
   RubFixedFrame system(s, RpmToRadPerSecond(100.0));
   RubSweepObservables observables(system);
@@ -70,6 +71,8 @@ TEST_CASE("The observables are the contacts' relative motion, slip velocity and 
   CHECK(observables.ChannelName(1) == "right");
   CHECK(observables.MeasureName(kSlipVelocityMeasure) == "slip_velocity");
   CHECK(observables.MeasureName(kNormalForceMeasure) == "normal_force");
+  CHECK(observables.MeasureName(kPenetrationMeasure) == "penetration");
+  REQUIRE(observables.Measures() == 3);
   const double C = s.contacts[0].geometry.clearance;
   Vector x = Vector::Zero(16);
   x.head(8) << 1.001 * C, 0.0, 0.5 * C, 0.2 * C, 1e-7, -2e-7, 0.0, 0.0;  // left touches, right not
@@ -77,7 +80,7 @@ TEST_CASE("The observables are the contacts' relative motion, slip velocity and 
   SweepObservation o;
   o.signal.resize(2);
   o.active.assign(2, 0);
-  o.measures.resize(2, 2);
+  o.measures.resize(2, observables.Measures());
   observables.Observe(0.0, x, o);
   const std::vector<ContactEvaluation> c = system.Contacts(x);
   CHECK(o.signal(0) == std::complex<double>(x(0) - x(4), x(1) - x(5)));
@@ -88,6 +91,9 @@ TEST_CASE("The observables are the contacts' relative motion, slip velocity and 
   CHECK(o.measures(0, kNormalForceMeasure) == c[0].normal_force);
   CHECK(c[0].normal_force > 0.0);
   CHECK(o.measures(1, kNormalForceMeasure) == 0.0);
+  CHECK(o.measures(0, kPenetrationMeasure) == c[0].penetration);
+  CHECK(c[0].penetration == Approx(std::abs(o.signal(0)) - C).epsilon(1e-9));  // δ = |d| − C
+  CHECK(o.measures(1, kPenetrationMeasure) < 0.0);  // a gap
 }
 
 // A synthetic sweep point at `rpm`: per contact its BP [Hz], mean slip velocity [m/s] and
