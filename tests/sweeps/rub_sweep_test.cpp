@@ -528,7 +528,7 @@ TEST_CASE("A soft contact sinks the rotor into the stator: the speed is untruste
           "in the reason", "[rub_sweep][failure]") {
   // The Mode 1 whirl at 40 rpm of case A(a) (from the rigid-contact closed form, in the fixed
   // frame), swept 40 → 44 rpm at the thesis's contact stiffness (penetration ~3e-9 m) and at
-  // k1 = 3e6 N/m, where a normal force of 330–370 N is a penetration of 0.11–0.12 mm (0.29–0.33
+  // k1 = 3e6 N/m, where a normal force of 330–373 N is a penetration of 0.11–0.12 mm (0.29–0.33
   // of the clearance; measured): beyond the small overlap the contact law stands for.
   auto sweep = [](double contact_stiffness) {
     TwoPointParams params = ThesisCaseAa();
