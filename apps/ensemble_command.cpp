@@ -54,9 +54,9 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
   return Guarded(err, [&] {
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
-    const ArrivalTarget target =
-        ParseUntil(SweepStructureOf(scene), request.until, request.until_above_hz, request.until_contacts);
     const RubStructure structure = SweepStructureOf(scene);
+    const ArrivalTarget target =
+        ParseUntil(structure, request.until, request.until_above_hz, request.until_contacts);
     const SweepDirection direction = ParseDirection("direction", request.direction);
     const double speed = RpmToRadPerSecond(request.speed_rpm);
 
@@ -109,7 +109,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "until", request.until);
     writer.SetAttribute(g, "until_contacts", request.until_contacts);
     writer.SetAttribute(g, "until_above_hz", request.until_above_hz);
-    writer.SetAttribute(g, "arrival", Describe(SweepStructureOf(scene), target));
+    writer.SetAttribute(g, "arrival", Describe(structure, target));
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", ensemble_wall);
     writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));

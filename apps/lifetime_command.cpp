@@ -60,8 +60,9 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
   return Guarded(err, [&] {
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
+    const RubStructure structure = SweepStructureOf(scene);
     const ArrivalTarget target =
-        ParseUntil(SweepStructureOf(scene), request.until, request.until_above_hz, request.until_contacts);
+        ParseUntil(structure, request.until, request.until_above_hz, request.until_contacts);
     const SweepDirection direction = ParseDirection("direction", request.direction);
     const CrisisSide side = direction == SweepDirection::kUp ? CrisisSide::kAbove : CrisisSide::kBelow;
     const double cpu_start = ProcessCpuSeconds();
@@ -177,7 +178,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "until", request.until);
     writer.SetAttribute(g, "until_contacts", request.until_contacts);
     writer.SetAttribute(g, "until_above_hz", request.until_above_hz);
-    writer.SetAttribute(g, "arrival", Describe(SweepStructureOf(scene), target));
+    writer.SetAttribute(g, "arrival", Describe(structure, target));
     writer.SetAttribute(g, "threads", static_cast<double>(request.threads));
     writer.SetAttribute(g, "wall_seconds", wall);
     writer.SetAttribute(g, "cpu_seconds", cpu);
@@ -237,7 +238,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
                observations.front().stretch, request.direction,
                approach.speeds.empty() ? std::string("rest (the impulse)")
                                        : fmt::format("{:g} rpm", RadPerSecondToRpm(approach.speeds.back())),
-               RegimeList(SweepStructureOf(scene), approach.regimes), Describe(SweepStructureOf(scene), target));
+               RegimeList(structure, approach.regimes), Describe(structure, target));
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       const EscapeRate& r = rates[i];
       fmt::print(out, "  {:7g} rpm: {:3} of {} left", speeds[i], r.escapes, r.copies);

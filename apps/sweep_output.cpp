@@ -120,8 +120,8 @@ void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun&
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].min; }));
     writer.WriteDoubles(group + "/normal_force_max" + side,
                         PerChannel(points, k, [&](const ChannelSummary& c) { return c.measures[N].max; }));
-    writer.WriteDoubles(group + "/penetration_max" + side, PerChannel(points, k, [&](const ChannelSummary& c) {
-      return c.measures.size() > kPenetrationMeasure ? c.measures[kPenetrationMeasure].max : kNaN;
+    writer.WriteDoubles(group + "/penetration_max" + side, PerChannel(points, k, [](const ChannelSummary& c) {
+      return c.measures[kPenetrationMeasure].max;
     }));
     writer.WriteDoubles(group + "/contact_fraction" + side,
                         PerChannel(points, k, [](const ChannelSummary& c) { return c.active_fraction; }));

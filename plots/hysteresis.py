@@ -103,7 +103,7 @@ def same_contacts(s):
 
 
 def draw(ax, contact, args, crisis):
-    """One contact's loop on `ax`; returns the speed range of the sweeps."""
+    """One contact's loop on `ax`."""
     with h5py.File(args.sweep, "r") as s:
         scene = tomllib.loads(text(s.attrs["scene_toml"]))
         k = 0 if contact == "left" else 1

@@ -24,6 +24,11 @@ QUICK_WITH_BRANCHES = ["thesis_A_a", "thesis_A_b", "thesis_B_a", "thesis_B_b", "
                        "jeffcott"]
 
 
+def text(value):
+    """An HDF5 string attribute or element as str."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
 def h5(results, path):
     return h5py.File(os.path.join(results, path), "r")
 
@@ -125,8 +130,7 @@ def whip_lifetimes(results):
             g = f["ensemble"]
             arrival = g["arrival_time_s"][()]
             reached = np.sort(arrival[np.isfinite(arrival)])
-            regime = g.attrs["approach_regime_left"]
-            regime = regime.decode() if isinstance(regime, bytes) else regime
+            regime = text(g.attrs["approach_regime_left"])
             if len(reached) == 0:
                 times = "–"
             elif np.all(reached == reached[0]) and len(reached) == len(arrival):
@@ -189,7 +193,6 @@ def whip_end_row(results, case):
     with h5(results, WHIP_END_FILES[case]) as f:
         g = f["lifetime"]
         a = g.attrs
-        text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
         rpm = g["speed_rpm"][()]
         step = rpm[1] - rpm[0] if len(rpm) > 1 else 0.0
         arrival = text(a["arrival"]) if "arrival" in a else "whirl on every contact"

@@ -115,9 +115,9 @@ struct RubRegimeOptions {
   // C_k. > 0. The contact laws are those of a small overlap (δ ≪ C): on the thesis's stiff contact
   // δ ≈ N/k1 ≈ 2e-8 m at N = 3 kN, 5e-5 of C. A soft contact (k1 = 3e6 N/m on A(a)'s whirl: the
   // test in tests/sweeps/rub_sweep_test.cpp) or an integration that lets the rotor sink into the
-  // stator gives a state that may look settled; a speed whose maximum penetration passes this is untrusted: its
-  // regime is still read off it, RubSweepRegimes::untrusted says why, and every jump from or to
-  // it is marked (RubSweepJump::trusted).
+  // stator gives a state that may look settled; a speed whose maximum penetration passes this is
+  // untrusted: its regime is still read off it, RubSweepRegimes::untrusted says why, and every
+  // jump from or to it is marked (RubSweepJump::trusted).
   double max_penetration = 0.1;
 };
 
