@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -58,6 +56,13 @@ struct ArcRoot {
   double value = 0.0;
   double last_step = 0.0;
   int evaluations = 0;
+  // The sign change is a jump or a pole, not a zero: the bracket shrank a thousandfold and the
+  // function at its ends is not below half its largest value at the first bracket's ends (at a
+  // zero both would be near 0). E.g. a test function τ_Ω/τ_λ through a fold, or the k-th
+  // eigenvalue of a spectrum whose order changes within the step.
+  bool discontinuous = false;
+  double f_lower = 0.0;  // the function at the final bracket's ends
+  double f_upper = 0.0;
 };
 
 // Predicate for a trial point: sets the test function value, false when it cannot be evaluated.
@@ -262,6 +267,12 @@ struct Continuation::Impl {
     root.value = result.fx;
     root.last_step = result.last_step;
     root.evaluations = result.evaluations;
+    root.f_lower = result.f_lower;
+    root.f_upper = result.f_upper;
+    root.discontinuous = result.status != BracketedRootStatus::kEvaluationFailed &&
+                         result.upper - result.lower <= 1e-3 * std::abs(b - a) &&
+                         std::max(std::abs(result.f_lower), std::abs(result.f_upper)) >
+                             0.5 * std::max(std::abs(fa), std::abs(fb));
     root.found = sampler.At(result.x, root.point);
     return root;
   }
@@ -426,8 +437,12 @@ struct Continuation::Impl {
           value = TestsAt(p.x)(k);
           return std::isfinite(value);
         };
+        // A test function's sign change through a pole is no special point (the knee test
+        // dΩ/dω − ½R/C of rotating waves at a fold, reported as the fold).
+        bool not_a_zero = false;
         auto entry = FromArc(problem.TestFunctionType(static_cast<int>(k)), sampler, psi,
-                             from.tests(k), to.tests(k), to, sigma_end, locate);
+                             from.tests(k), to.tests(k), to, sigma_end, locate, &not_a_zero);
+        if (not_a_zero) continue;
         entry.second.label = test_names[k];
         found.push_back(std::move(entry));
       }
@@ -465,18 +480,27 @@ struct Continuation::Impl {
   }
 
   // A special point located by Illinois on ψ along arclength, with its σ for sorting.
+  // `discontinuous` (optional) is set when the sign change is a jump or a pole (ArcRoot).
   std::pair<double, SpecialPoint> FromArc(SpecialPointType type, Sampler& sampler,
                                           const ArcFunction& psi, double fa, double fb,
-                                          const PointData& to, double sigma_end, bool locate) {
+                                          const PointData& to, double sigma_end, bool locate,
+                                          bool* discontinuous = nullptr) {
     if (locate) {
       const ArcRoot root = LocateOnArc(sampler, psi, 0.0, fa, sigma_end, fb);
+      if (discontinuous != nullptr) *discontinuous = root.found && root.discontinuous;
       if (root.found) {
         SpecialPoint sp = MakeSpecialPoint(type, root.point);
-        sp.converged = root.converged;
+        sp.converged = root.converged && !root.discontinuous;
         sp.iterations = root.evaluations;
         sp.test_value = root.value;
         sp.last_correction = root.last_step;
-        if (!root.converged) sp.note = "not located to tolerance: a guess within the bracket";
+        if (root.discontinuous) {
+          sp.note = fmt::format("not a zero: the function jumps from {:.4g} to {:.4g} within the "
+                                "bracket (from {:.4g} and {:.4g} at the step's ends)",
+                                root.f_lower, root.f_upper, fa, fb);
+        } else if (!root.converged) {
+          sp.note = "not located to tolerance: a guess within the bracket";
+        }
         return {root.sigma, sp};
       }
     }
@@ -725,7 +749,8 @@ struct Continuation::Impl {
                                                      : options.bounds.lambda_min;
       const double fa = (LambdaOf(current.point.x) - bound) / s_lambda;
       const double fb = (lambda_end - bound) / s_lambda;
-      if (fa == 0.0) {
+      // fa = 0, or of fb's sign by rounding: the current point already lies on the bound.
+      if (fa * fb >= 0.0) {
         return End(BranchStatus::kReachedLambdaBound,
                    fmt::format("reached λ {} = {:.10g}", bound == options.bounds.lambda_max
                                                              ? "max" : "min", bound));

@@ -49,6 +49,8 @@ BracketedRootResult IllinoisRoot(const FallibleScalarFunction& f, double a, doub
     result.status = status;
     result.lower = a;
     result.upper = b;
+    result.f_lower = true_fa;
+    result.f_upper = true_fb;
     if (std::abs(true_fa) <= std::abs(true_fb)) {
       result.x = a;
       result.fx = true_fa;

@@ -30,6 +30,8 @@ struct BracketedRootResult {
   double fx = 0.0;         // f(x)
   double lower = 0.0;      // final bracket [lower, upper] (lower < upper), f changes sign in it
   double upper = 0.0;
+  double f_lower = 0.0;    // f at the final bracket's ends: both small beside the first bracket's
+  double f_upper = 0.0;    // values at a zero, not at a jump or a pole of f
   double last_step = 0.0;  // |change of the trial point| in the last iteration
   int evaluations = 0;
   bool Converged() const { return status == BracketedRootStatus::kConverged; }
@@ -40,7 +42,9 @@ using FallibleScalarFunction = std::function<bool(double x, double& value)>;
 
 // Finds a zero of f in the bracket [a, b] given f(a) = fa and f(b) = fb of opposite signs (either
 // may be zero). Throws std::invalid_argument when they do not bracket a sign change. When a trial
-// point fails to evaluate, the bracket midpoint is tried once before giving up.
+// point fails to evaluate, the bracket midpoint is tried once before giving up. A sign change
+// through a jump or a pole also converges (the bracket closes on it); f_lower and f_upper tell it
+// from a zero.
 BracketedRootResult IllinoisRoot(const FallibleScalarFunction& f, double a, double fa, double b,
                                  double fb, const BracketedRootOptions& options = {});
 

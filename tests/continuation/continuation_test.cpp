@@ -62,6 +62,37 @@ TEST_CASE("the fold of x² − λ is located to 1e-9", "[continuation][fold]") {
   CHECK(branch.Count(SpecialPointType::kBranchPoint) == 0);
 }
 
+// x² − λ with the test function dx/dλ − ¼ = 1/(2x) − ¼: a zero at x = 2 and a pole at the fold
+// x = 0, where it changes sign from −∞ to +∞ (as the rub's knee test dΩ/dω − ½R/C does at every
+// fold of a tanh-law branch).
+class ParabolaWithSlopeTest : public LambdaProblem {
+ public:
+  ParabolaWithSlopeTest() : LambdaProblem(Parabola(true)) {}
+  std::vector<std::string> TestFunctionNames() const override { return {"slope"}; }
+  Vector TestFunctions(const Vector& u, double) override { return Vec({0.5 / u(0) - 0.25}); }
+};
+
+TEST_CASE("a test function's pole at a fold is no special point, its zero is",
+          "[continuation][test_functions]") {
+  ParabolaWithSlopeTest problem;
+  ContinuationOptions options;
+  options.direction = -1;
+  options.bounds.lambda_min = -1.0;
+  options.bounds.lambda_max = 5.0;
+  const Branch branch = Continue(problem, Vec({-2.0}), 4.0, options);
+  INFO(branch.BriefReport());
+  REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
+  CHECK(branch.Count(SpecialPointType::kFold) == 1);
+  REQUIRE(branch.Count(SpecialPointType::kTestFunction) == 1);
+  for (const SpecialPoint& p : branch.special_points) {
+    if (p.type != SpecialPointType::kTestFunction) continue;
+    CHECK(p.label == "slope");
+    CHECK(p.converged);
+    CHECK(p.u(0) == Approx(2.0).margin(1e-8));
+    CHECK(p.lambda == Approx(4.0).margin(1e-8));
+  }
+}
+
 TEST_CASE("both folds of x³ − x + λ are located to 1e-9", "[continuation][fold]") {
   const bool analytic = GENERATE(true, false);
   LambdaProblem problem = Cubic(analytic);

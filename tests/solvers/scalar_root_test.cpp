@@ -72,5 +72,39 @@ TEST_CASE("Illinois needs a sign change and valid options", "[scalar_root]") {
   CHECK(r.x == 0.0);
 }
 
+TEST_CASE("a jump or a pole converges like a zero, and the values at the ends tell them apart",
+          "[scalar_root]") {
+  // The k-th eigenvalue's real part when the spectrum's order changes within a step.
+  auto jump = [](double x, double& value) {
+    value = x < 0.3 ? -2.0 : 3.0;
+    return true;
+  };
+  BracketedRootOptions options;
+  options.x_tolerance = 1e-9;
+  const BracketedRootResult r = IllinoisRoot(jump, 0.0, -2.0, 1.0, 3.0, options);
+  REQUIRE(r.Converged());
+  CHECK(r.lower <= 0.3);
+  CHECK(r.upper >= 0.3);
+  CHECK(r.f_lower == -2.0);  // as large as at the start: what tells a jump from a zero
+  CHECK(r.f_upper == 3.0);   // (continuation's ArcRoot::discontinuous)
+  // A pole, 1/(x − 0.3): the ends grow as the bracket shrinks.
+  auto pole = [](double x, double& value) {
+    value = 1.0 / (x - 0.3);
+    return true;
+  };
+  const BracketedRootResult p = IllinoisRoot(pole, 0.0, -1.0 / 0.3, 1.0, 1.0 / 0.7, options);
+  REQUIRE(p.Converged());
+  CHECK(std::abs(p.lower - 0.3) <= 1e-9);
+  CHECK(std::max(std::abs(p.f_lower), std::abs(p.f_upper)) > 1e6);
+  // At a zero both ends come down.
+  auto root = [](double x, double& value) {
+    value = std::cos(x) - x;
+    return true;
+  };
+  const BracketedRootResult z = IllinoisRoot(root, 0.0, 1.0, 1.0, std::cos(1.0) - 1.0, options);
+  REQUIRE(z.Converged());
+  CHECK(std::max(std::abs(z.f_lower), std::abs(z.f_upper)) < 1e-8);
+}
+
 }  // namespace
 }  // namespace rubcont
