@@ -437,8 +437,8 @@ struct Continuation::Impl {
           value = TestsAt(p.x)(k);
           return std::isfinite(value);
         };
-        // A test function's sign change through a pole is no special point (the knee test
-        // dΩ/dω − ½R/C of rotating waves at a fold, reported as the fold).
+        // A test function's sign change through a pole or a jump is no special point (the knee
+        // test dΩ/dω − ½R/C of rotating waves at a fold, which is reported as the fold).
         bool not_a_zero = false;
         auto entry = FromArc(problem.TestFunctionType(static_cast<int>(k)), sampler, psi,
                              from.tests(k), to.tests(k), to, sigma_end, locate, &not_a_zero);
