@@ -34,7 +34,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -66,9 +65,14 @@ struct Draw {
   bool Coin() { return Uniform(0.0, 1.0) < 0.5; }
 };
 
-// The scene text of draw `index` of seed `seed` (one generator per scene: a scene's draw does not
-// depend on how many scenes come before it).
-std::string RandomScene(std::uint64_t seed, int index) {
+struct RandomScene {
+  std::string toml;
+  std::string law;  // the rotating waves' friction law: "exact" or "tanh"
+};
+
+// Draw `index` of seed `seed` (one generator per scene: a scene's draw does not depend on how many
+// scenes come before it).
+RandomScene DrawScene(std::uint64_t seed, int index) {
   Draw d{std::mt19937_64(seed * 1000003u + static_cast<std::uint64_t>(index))};
   TwoPointParams p;
   p.rotor_mass = d.Log(2.0, 50.0);
@@ -99,7 +103,9 @@ std::string RandomScene(std::uint64_t seed, int index) {
   const double rci_lo = std::min(p.Rci(0), p.Rci(1)), rci_hi = std::max(p.Rci(0), p.Rci(1));
   const double speed_lo = 0.25 * 60.0 * f_lo / rci_hi, speed_hi = 3.0 * 60.0 * f_hi / rci_lo;
 
-  return fmt::format(
+  RandomScene scene;
+  scene.law = tanh ? "tanh" : "exact";
+  scene.toml = fmt::format(
       "description = \"random scene {} of seed {}\"\n"
       "[rotor]\nmass = {:.17g}\ninertia = {:.17g}\ncontact_span = {:.17g}\nmass_center = {:.17g}\n"
       "[stator]\nmass = {:.17g}\ninertia = {:.17g}\nspan = {:.17g}\nmass_center = {:.17g}\n"
@@ -114,11 +120,10 @@ std::string RandomScene(std::uint64_t seed, int index) {
       p.stator_mass, p.stator_inertia, p.stator_span, p.stator_mass_center,
       p.support_stiffness[0], p.support_stiffness[1], p.support_damping[0], p.support_damping[1],
       p.clearance[0], p.clearance[1], p.radius[0], p.radius[1], p.friction, p.contact_stiffness,
-      p.contact_damping, tanh ? "tanh" : "exact", eps, p.center_damping,
-      std::max(200.0, 2.5 * f_hi), speed_lo, speed_hi);
+      p.contact_damping, scene.law, eps, p.center_damping, std::max(200.0, 2.5 * f_hi), speed_lo,
+      speed_hi);
+  return scene;
 }
-
-bool AllFinite(const Vector& v) { return v.allFinite(); }
 
 // A point's measures are finite except μ_req = F/N ("mu_ratio_<contact>"), which is NaN by
 // definition where the contact is open (N ≤ 0).
@@ -131,9 +136,32 @@ bool MeasuresFinite(const Branch& branch, const Vector& measures) {
   return true;
 }
 
-// One scene through L0 and L1; returns "outcome<TAB>branches<TAB>special<TAB>tally<TAB>detail",
-// tally listing the special points left not located by kind ("kind|count;…").
-std::string RunScene(const std::string& toml, const std::string& name) {
+// What a scene came to. The child sends it to the parent as one line of tab-separated fields.
+struct SceneOutcome {
+  std::string outcome;  // complete, ended, not_located, nan or crashed
+  std::string branches = "0", special = "0";
+  std::string tally;    // the special points left not located by kind: "kind|count;…"
+  std::string detail;   // why, for every outcome but complete
+
+  static SceneOutcome Crashed(const std::string& why) { return {"crashed", "0", "0", "", why}; }
+  std::string ToLine() const {
+    std::string line = fmt::format("{}\t{}\t{}\t{}\t{}", outcome, branches, special, tally, detail);
+    std::replace(line.begin(), line.end(), '\n', ' ');
+    return line;
+  }
+  static SceneOutcome FromLine(const std::string& line) {
+    std::vector<std::string> f;
+    for (std::size_t from = 0, tab; from <= line.size(); from = tab + 1) {
+      tab = std::min(line.find('\t', from), line.size());
+      f.push_back(line.substr(from, tab - from));
+    }
+    f.resize(5);
+    return {f[0], f[1], f[2], f[3], f[4]};
+  }
+};
+
+// One scene through L0 and L1.
+SceneOutcome RunScene(const std::string& toml, const std::string& name) {
   const Scene scene = ParseScene(toml, name, name);
   std::string nan, not_located, ended;
   const AnalyticResult analytic = ComputeAnalytic(scene.two_point, AnalyticOptionsOf(scene));
@@ -143,7 +171,7 @@ std::string RunScene(const std::string& toml, const std::string& name) {
       continue;
     }
     for (int k = 0; k < 2; ++k) {
-      if (!AllFinite(c->normal_force[k]) || !AllFinite(c->friction_force[k]))
+      if (!c->normal_force[k].allFinite() || !c->friction_force[k].allFinite())
         nan = fmt::format("analytic {}: a non-finite force", ToString(c->mode));
     }
     for (const Transition& t : c->transitions) {
@@ -157,7 +185,7 @@ std::string RunScene(const std::string& toml, const std::string& name) {
   std::map<std::string, int> unlocated;  // not-located special points by kind
   for (const RotatingWaveBranch& b : branches) {
     for (const BranchPoint& q : b.branch.points) {
-      if (!std::isfinite(q.lambda) || !AllFinite(q.u) || !MeasuresFinite(b.branch, q.measures))
+      if (!std::isfinite(q.lambda) || !q.u.allFinite() || !MeasuresFinite(b.branch, q.measures))
         nan = fmt::format("{} ({}): a non-finite point at λ = {}", b.name, b.family, q.lambda);
     }
     for (const SpecialPoint& s : b.branch.special_points) {
@@ -173,37 +201,39 @@ std::string RunScene(const std::string& toml, const std::string& name) {
     if (IsFailure(b.branch.status) && ended.empty())
       ended = fmt::format("{} ({}): {}", b.name, b.family, b.branch.message);
   }
-  const std::string outcome = !nan.empty()           ? "nan"
-                              : !not_located.empty() ? "not_located"
-                              : !ended.empty()       ? "ended"
-                                                     : "complete";
-  std::string kinds, tally;  // tally: "kind|count;…" for the parent's totals
+  SceneOutcome out;
+  out.outcome = !nan.empty()           ? "nan"
+                : !not_located.empty() ? "not_located"
+                : !ended.empty()       ? "ended"
+                                       : "complete";
+  out.branches = std::to_string(branches.size());
+  out.special = std::to_string(special);
+  std::string kinds;
   for (const auto& [kind, count] : unlocated) {
     kinds += fmt::format("{}{} × {}", kinds.empty() ? "" : ", ", count, kind);
-    tally += fmt::format("{}|{};", kind, count);
+    out.tally += fmt::format("{}|{};", kind, count);
   }
-  const std::string detail = !nan.empty()           ? nan
-                             : !not_located.empty() ? fmt::format("{}; first: {}", kinds, not_located)
-                                                    : ended;
-  return fmt::format("{}\t{}\t{}\t{}\t{}", outcome, branches.size(), special, tally, detail);
+  out.detail = !nan.empty()           ? nan
+               : !not_located.empty() ? fmt::format("{}; first: {}", kinds, not_located)
+                                      : ended;
+  return out;
 }
 
 // Runs RunScene in a forked child, so a crash counts as "crashed" and the campaign goes on;
 // `cpu_seconds` is the child's CPU time (user + system).
-std::string RunIsolated(const std::string& toml, const std::string& name, double& cpu_seconds) {
+SceneOutcome RunIsolated(const std::string& toml, const std::string& name, double& cpu_seconds) {
   cpu_seconds = 0.0;
   int fd[2];
-  if (pipe(fd) != 0) return "crashed\t0\t0\t\tpipe failed";
+  if (pipe(fd) != 0) return SceneOutcome::Crashed("pipe failed");
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
     std::string line;
     try {
-      line = RunScene(toml, name);
+      line = RunScene(toml, name).ToLine();
     } catch (const std::exception& e) {
-      line = std::string("crashed\t0\t0\t\texception: ") + e.what();
+      line = SceneOutcome::Crashed(std::string("exception: ") + e.what()).ToLine();
     }
-    for (char& c : line) if (c == '\n') c = ' ';
     const ssize_t written = write(fd[1], line.data(), line.size());
     _exit(written == static_cast<ssize_t>(line.size()) ? 0 : 3);
   }
@@ -217,9 +247,12 @@ std::string RunIsolated(const std::string& toml, const std::string& name, double
   wait4(pid, &status, 0, &usage);
   cpu_seconds = usage.ru_utime.tv_sec + 1e-6 * usage.ru_utime.tv_usec + usage.ru_stime.tv_sec +
                 1e-6 * usage.ru_stime.tv_usec;
-  if (WIFSIGNALED(status)) return fmt::format("crashed\t0\t0\t\tsignal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
-  if (line.empty()) return "crashed\t0\t0\t\tno result from the child";
-  return line;
+  if (WIFSIGNALED(status)) {
+    return SceneOutcome::Crashed(
+        fmt::format("signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status))));
+  }
+  if (line.empty()) return SceneOutcome::Crashed("no result from the child");
+  return SceneOutcome::FromLine(line);
 }
 
 int Main(int argc, char** argv) {
@@ -244,7 +277,7 @@ int Main(int argc, char** argv) {
     }
   }
   if (print >= 0) {
-    std::fputs(RandomScene(seed, print).c_str(), stdout);
+    std::fputs(DrawScene(seed, print).toml.c_str(), stdout);
     return 0;
   }
   std::ofstream out;
@@ -264,34 +297,23 @@ int Main(int argc, char** argv) {
   for (int i = first; i < first + scenes; ++i) {
     const std::string name = fmt::format("random_{}_{}", seed, i);
     const SteadyClock::time_point start = SteadyClock::now();
-    const std::string toml = RandomScene(seed, i);
-    const std::string law = toml.find("kind = \"tanh\"") != std::string::npos ? "tanh" : "exact";
+    const RandomScene scene = DrawScene(seed, i);
     double cpu = 0.0;
-    const std::string line = RunIsolated(toml, name, cpu);
-    const double s = SecondsSince(start);
-    seconds.push_back(s);
+    const SceneOutcome r = RunIsolated(scene.toml, name, cpu);
+    seconds.push_back(SecondsSince(start));
     cpu_seconds.push_back(cpu);
-    const std::string outcome = line.substr(0, line.find('\t'));
-    ++counts[law][outcome];
-    ++counts["all"][outcome];
-    std::vector<std::string> fields;
-    for (std::size_t from = 0, tab; from <= line.size(); from = tab + 1) {
-      tab = std::min(line.find('\t', from), line.size());
-      fields.push_back(line.substr(from, tab - from));
-    }
-    fields.resize(5);  // outcome, branches, special points, tally, detail
-    const std::string& tally = fields[3];
-    const std::string& detail = fields[4];
-    for (std::size_t from = 0, end; (end = tally.find(';', from)) != std::string::npos; from = end + 1) {
-      const std::string entry = tally.substr(from, end - from);
+    ++counts[scene.law][r.outcome];
+    ++counts["all"][r.outcome];
+    for (std::size_t from = 0, end; (end = r.tally.find(';', from)) != std::string::npos; from = end + 1) {
+      const std::string entry = r.tally.substr(from, end - from);
       const std::size_t bar = entry.rfind('|');
       not_located[entry.substr(0, bar)] += std::atoi(entry.c_str() + bar + 1);
     }
-    if (outcome != "complete" && examples[outcome].size() < 5)
-      examples[outcome].push_back(fmt::format("scene {}: {}", i, detail));
+    if (r.outcome != "complete" && examples[r.outcome].size() < 5)
+      examples[r.outcome].push_back(fmt::format("scene {}: {}", i, r.detail));
     if (out) {
-      out << i << '\t' << law << '\t' << outcome << '\t' << fields[1] << '\t' << fields[2] << '\t'
-          << cpu << '\t' << detail << '\n';
+      out << i << '\t' << scene.law << '\t' << r.outcome << '\t' << r.branches << '\t' << r.special
+          << '\t' << cpu << '\t' << r.detail << '\n';
     }
     if ((i + 1 - first) % 50 == 0) std::fprintf(stderr, "%d of %d scenes\n", i + 1 - first, scenes);
   }
