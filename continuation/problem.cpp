@@ -21,6 +21,9 @@ const char* ToString(SpecialPointType type) {
     case SpecialPointType::kCusp: return "cusp";
     case SpecialPointType::kTestFunction: return "test function";
     case SpecialPointType::kGrazing: return "grazing";
+    case SpecialPointType::kBogdanovTakens: return "Bogdanov-Takens";
+    case SpecialPointType::kZeroHopf: return "zero-Hopf";
+    case SpecialPointType::kDoubleHopf: return "double Hopf";
   }
   return "unknown";
 }

@@ -52,6 +52,10 @@ enum class SpecialPointType {
   kGrazing,                 // an orbit became tangent to a switching surface (a contact's
                             // penetration): past it the orbit crosses the surface twice per
                             // period (shooting/shooting.h, Grazing)
+  // Codimension-two points on a Hopf curve (continuation/hopf.h):
+  kBogdanovTakens,          // the Hopf pair meets at 0 (Hopf frequency → 0)
+  kZeroHopf,                // a real eigenvalue of the rest of the spectrum crosses 0
+  kDoubleHopf,              // a second complex pair crosses the imaginary axis
 };
 
 const char* ToString(SpecialPointType type);

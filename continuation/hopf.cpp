@@ -1,0 +1,208 @@
+#include "continuation/hopf.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "solvers/finite_difference.h"
+
+namespace rubcont {
+
+HopfProblem::HopfProblem(Problem& inner, std::complex<double> critical)
+    : inner_(inner),
+      n_(inner.Dimension()),
+      s_(inner.Scale()),
+      r_(inner.ResidualScale()),
+      s_lambda_(inner.LambdaScale()),
+      omega0_(critical.imag()),
+      reference_first_(critical),
+      reference_second_(std::conj(critical)) {
+  if (!inner.HasStability() || !inner.HasSecondParameter()) {
+    throw std::invalid_argument(
+        "HopfProblem: the inner problem needs a stability operator and a second parameter");
+  }
+  if (!(omega0_ > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "HopfProblem: the critical eigenvalue {} + {}i has no positive imaginary part",
+        critical.real(), critical.imag()));
+  }
+}
+
+Vector HopfProblem::Join(const Vector& u, double lambda) {
+  Vector U(u.size() + 1);
+  U.head(u.size()) = u;
+  U(u.size()) = lambda;
+  return U;
+}
+
+void HopfProblem::SetEta(double eta) {
+  if (inner_.SecondParameter() != eta) inner_.SetSecondParameter(eta);
+}
+
+HopfProblem::Pair HopfProblem::Evaluate(const Vector& U, double eta) {
+  SetEta(eta);
+  Pair pair;
+  const Spectrum spectrum = inner_.Stability(U.head(n_), U(n_));
+  const Index m = spectrum.values.size();
+  if (!spectrum.valid || m < 2) return pair;
+  auto nearest = [&](std::complex<double> target, Index skip) {
+    Index best = -1;
+    for (Index i = 0; i < m; ++i) {
+      if (i == skip) continue;
+      if (best < 0 || std::abs(spectrum.values(i) - target) <
+                          std::abs(spectrum.values(best) - target)) {
+        best = i;
+      }
+    }
+    return best;
+  };
+  const Index a = nearest(reference_first_, -1);
+  const Index b = nearest(reference_second_, a);
+  pair.first = spectrum.values(a);
+  pair.second = spectrum.values(b);
+  pair.h = 0.5 * (pair.first + pair.second).real();
+  pair.kappa = (pair.first * pair.second).real();
+  pair.rest.kind = spectrum.kind;
+  pair.rest.trivial_removed = spectrum.trivial_removed;
+  pair.rest.values.resize(m - 2);
+  for (Index i = 0, j = 0; i < m; ++i) {
+    if (i != a && i != b) pair.rest.values(j++) = spectrum.values(i);
+  }
+  pair.rest.valid = true;
+  pair.valid = std::isfinite(pair.h) && std::isfinite(pair.kappa);
+  return pair;
+}
+
+double HopfProblem::ScaledSum(const Vector& U, double eta) {
+  const Pair pair = Evaluate(U, eta);
+  return pair.valid ? pair.h / omega0_ : std::numeric_limits<double>::quiet_NaN();
+}
+
+void HopfProblem::Residual(const Vector& U, double eta, Vector& G) {
+  SetEta(eta);
+  Vector F;
+  inner_.Residual(U.head(n_), U(n_), F);
+  G.resize(n_ + 1);
+  G.head(n_) = F;
+  G(n_) = ScaledSum(U, eta);
+}
+
+void HopfProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
+  SetEta(eta);
+  const Vector u = U.head(n_);
+  const double lambda = U(n_);
+  Matrix J;
+  Vector F_lambda;
+  inner_.Jacobian(u, lambda, J);
+  inner_.DfDlambda(u, lambda, F_lambda);
+  DG.resize(n_ + 1, n_ + 1);
+  DG.topLeftCorner(n_, n_) = J;
+  DG.topRightCorner(n_, 1) = F_lambda;
+  const Vector typical = Scale();
+  Matrix row;
+  FiniteDifferenceJacobian([&](const Vector& x, Vector& f) { f(0) = ScaledSum(x, eta); }, U, 1,
+                           row, {}, &typical);
+  DG.bottomRows(1) = row;
+}
+
+void HopfProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
+  SetEta(eta);
+  Vector F_eta;
+  inner_.DfDeta(U.head(n_), U(n_), F_eta);
+  const double step = CentralDifferenceStep(eta, inner_.SecondParameterScale());
+  const double plus = ScaledSum(U, eta + step);
+  const double minus = ScaledSum(U, eta - step);
+  SetEta(eta);
+  dG.resize(n_ + 1);
+  dG.head(n_) = F_eta;
+  dG(n_) = (plus - minus) / (2.0 * step);
+}
+
+Vector HopfProblem::Scale() const {
+  Vector scale(n_ + 1);
+  scale.head(n_) = s_;
+  scale(n_) = s_lambda_;
+  return scale;
+}
+
+Vector HopfProblem::ResidualScale() const {
+  Vector scale(n_ + 1);
+  scale.head(n_) = r_;
+  scale(n_) = 1.0;
+  return scale;
+}
+
+Spectrum HopfProblem::Stability(const Vector& U, double eta) { return Evaluate(U, eta).rest; }
+
+std::vector<std::string> HopfProblem::MeasureNames() const {
+  std::vector<std::string> names{"lambda", "hopf_frequency"};
+  for (const std::string& name : inner_.MeasureNames()) names.push_back(name);
+  return names;
+}
+
+Vector HopfProblem::Measures(const Vector& U, double eta) {
+  const Pair pair = Evaluate(U, eta);
+  const Vector inner_measures = inner_.Measures(U.head(n_), U(n_));
+  Vector measures(2 + inner_measures.size());
+  measures(0) = U(n_);
+  measures(1) = pair.valid && pair.kappa > 0.0 ? std::sqrt(pair.kappa)
+                                               : std::numeric_limits<double>::quiet_NaN();
+  measures.tail(inner_measures.size()) = inner_measures;
+  return measures;
+}
+
+Vector HopfProblem::EventFunctions(const Vector& U, double eta) {
+  SetEta(eta);
+  return inner_.EventFunctions(U.head(n_), U(n_));
+}
+
+Vector HopfProblem::TestFunctions(const Vector& U, double eta) {
+  const Pair pair = Evaluate(U, eta);
+  return Vector::Constant(1, pair.valid ? pair.kappa / (omega0_ * omega0_)
+                                        : std::numeric_limits<double>::quiet_NaN());
+}
+
+void HopfProblem::PointAccepted(const Vector& U, double eta) {
+  const Pair pair = Evaluate(U, eta);
+  if (!pair.valid) return;
+  reference_first_ = pair.first;
+  reference_second_ = pair.second;
+}
+
+Branch ContinueHopfCurve(Problem& problem, const SpecialPoint& hopf,
+                         const ContinuationOptions& options, const StepCallback& callback) {
+  if (!problem.HasSecondParameter() || !problem.HasStability()) {
+    throw std::invalid_argument(
+        "ContinueHopfCurve: the problem needs a second parameter and a stability operator");
+  }
+  if (hopf.type != SpecialPointType::kHopf) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueHopfCurve: the special point is a {}, not a Hopf point", ToString(hopf.type)));
+  }
+  // The Hopf problem moves the inner problem's η; put it back however the run ends.
+  struct RestoreEta {
+    Problem& problem;
+    double eta;
+    ~RestoreEta() { problem.SetSecondParameter(eta); }
+  } restore{problem, problem.SecondParameter()};
+  HopfProblem hopf_problem(problem, hopf.critical_value);
+  ContinuationOptions run = options;
+  run.detect.stability = true;  // the rest of the spectrum: zero-Hopf and double-Hopf points
+  Branch curve = Continue(hopf_problem, HopfProblem::Join(hopf.u, hopf.lambda), restore.eta, run,
+                          callback);
+  // The rest of the spectrum crossing the axis on a Hopf curve: codimension-two points.
+  for (SpecialPoint& sp : curve.special_points) {
+    if (sp.type == SpecialPointType::kHopf) {
+      sp.type = SpecialPointType::kDoubleHopf;
+      sp.note = fmt::format("a second pair crosses the imaginary axis at ±{:.6g}i", sp.frequency);
+    } else if (sp.type == SpecialPointType::kRealEigenvalueCrossing) {
+      sp.type = SpecialPointType::kZeroHopf;
+      sp.note = "a real eigenvalue crosses 0 beside the Hopf pair";
+    }
+  }
+  return curve;
+}
+
+}  // namespace rubcont
