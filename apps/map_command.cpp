@@ -120,6 +120,16 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
                         has_points ? Vector(c.curve.Measure("lambda") * kRpmPerRadPerSecond) : Vector());
     writer.WriteDoubles(g + "/precession_hz",
                         has_points ? c.curve.Measure("precession_hz") : Vector());
+    if (c.kind == "hopf") {
+      writer.WriteDoubles(g + "/hopf_hz",
+                          has_points ? Vector(c.curve.Measure("hopf_frequency") / (2.0 * M_PI))
+                                     : Vector());
+      std::vector<int> stable;
+      for (const BranchPoint& p : c.curve.points) {
+        stable.push_back(p.num_unstable < 0 ? -1 : p.num_unstable == 0 ? 1 : 0);
+      }
+      writer.WriteInts(g + "/stable", stable);
+    }
     std::vector<std::string> sp_type, sp_label;
     std::vector<double> sp_eta, sp_speed;
     const auto& names = c.curve.measure_names;

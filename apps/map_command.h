@@ -12,9 +12,12 @@
 //   left_only, right_only);
 //   points/{eta, speed_rpm, precession_hz, type, label, nonsmooth_fold, branch, stable_before,
 //           stable_after}: special points of the branch set at every grid value;
-//   curves/<curveN>/{eta, speed_rpm, precession_hz} (attributes kind "event" | "fold", label,
-//           piece, pattern, status, message, start_eta, start_speed_rpm, start_nonsmooth_fold,
-//           fold_sense, partner_margins), curves/<curveN>/special_points/{type, label, eta, speed_rpm} and
+//   curves/<curveN>/{eta, speed_rpm, precession_hz} (attributes kind "event" | "fold" | "hopf",
+//           label, piece, pattern, status, message, start_eta, start_speed_rpm,
+//           start_nonsmooth_fold, fold_sense, partner_margins); Hopf curves also {hopf_hz (NaN on
+//           neutral saddles), stable (1 where the rest of the spectrum is stable: the state loses
+//           its stability there; 0; −1 not computed)}; curves/<curveN>/special_points/{type, label,
+//           eta, speed_rpm} and
 //           curves/<curveN>/extrema/{eta, speed_rpm, ipopt_eta, ipopt_speed_rpm, ipopt_status}
 //           (turning points of the curve in the parameter, by the engine and by Ipopt);
 //   failures: one sentence per failed grid value or curve.

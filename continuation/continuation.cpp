@@ -646,6 +646,12 @@ struct Continuation::Impl {
       if (spectrum.valid) critical(spectrum, located);
     }
     sp.critical_value = located.value;
+    if (shift != 0.0) {
+      sp.note += fmt::format("{}located where the critical value crosses the stability tolerance "
+                             "{:g}, not the boundary: it lies on one side of the boundary at both "
+                             "ends of the step (a marginal value)",
+                             sp.note.empty() ? "" : "; ", shift);
+    }
     if (type == SpecialPointType::kHopf) sp.frequency = std::abs(located.value.imag());
     if (type == SpecialPointType::kNeimarkSacker) sp.frequency = std::abs(std::arg(located.value));
     return entry;

@@ -6,9 +6,12 @@
 // is followed by continuity: at every evaluation, the two eigenvalues nearest the pair of the last
 // accepted point. With their sum and product
 //     h = Re(μ₁ + μ₂) / 2,     κ = Re(μ₁ μ₂)     (a conjugate pair, or two real values),
-// the unknowns U = (u, λ) and the residual G(U; η) = [F(u, λ; η); h / ω₀] (ω₀ the Hopf frequency
-// where the curve starts). h and κ are symmetric functions of an isolated pair of eigenvalues, hence
-// smooth in (u, λ, η) also where the pair meets on the real axis: the curve goes on through a
+// the unknowns U = (u, λ) and the residual G(U; η) = [F(u, λ; η); h / ρ], ρ the spectral radius
+// where the curve starts: eigenvalues are computed to about ε·ρ, so h is scaled by what limits its
+// precision, not by the Hopf frequency ω₀ (on case A(a)'s one-contact whip at 81.96 rpm with the
+// tanh law, ω₀ = 849 s⁻¹ beside the contact mode's 4.1e5 s⁻¹, and h / ω₀ stalled at 1e-9, above
+// the corrector's tolerance). h and κ are symmetric functions of an isolated pair of eigenvalues,
+// hence smooth in (u, λ, η) also where the pair meets on the real axis: the curve goes on through a
 // Bogdanov–Takens point (κ = 0, the Hopf frequency √κ → 0) onto neutral saddles (κ < 0, two real
 // eigenvalues ±√−κ), as the bialternate-product formulation does (Govaerts, "Numerical Methods for
 // Bifurcations of Dynamical Equilibria", §4.4; MatCont's Hopf curves), but without its
@@ -47,13 +50,14 @@
 namespace rubcont {
 
 // The Hopf curve of an inner problem as a Problem: unknowns U = (u, λ), parameter η (the inner
-// problem's second parameter), residual [F(u, λ; η); h / ω₀]. The inner problem must outlive it.
+// problem's second parameter), residual [F(u, λ; η); h / ρ]. The inner problem must outlive it.
 class HopfProblem : public Problem {
  public:
-  // `critical` ≈ iω₀: the critical eigenvalue (SpecialPoint::critical_value) of a Hopf point of
-  // `inner` at its current η, which picks the pair. Throws std::invalid_argument when the inner
-  // problem has no stability operator or no second parameter, or when Im critical is not > 0.
-  HopfProblem(Problem& inner, std::complex<double> critical);
+  // (u, λ): a Hopf point of `inner` at its current η, `critical` ≈ iω₀ its critical eigenvalue
+  // (SpecialPoint::critical_value), which picks the pair. Throws std::invalid_argument when the
+  // inner problem has no stability operator or no second parameter, when u has the wrong size, or
+  // when Im critical is not > 0.
+  HopfProblem(Problem& inner, const Vector& u, double lambda, std::complex<double> critical);
 
   Index Dimension() const override { return n_ + 1; }
   void Residual(const Vector& U, double eta, Vector& G) override;
@@ -61,7 +65,7 @@ class HopfProblem : public Problem {
   void DfDlambda(const Vector& U, double eta, Vector& dG) override;  // ∂G/∂η
   Vector Scale() const override;            // (s, s_λ) of the inner problem
   double LambdaScale() const override { return inner_.SecondParameterScale(); }
-  Vector ResidualScale() const override;    // (r, 1): h / ω₀ is already scaled
+  Vector ResidualScale() const override;    // (r, 1): h / ρ is already scaled
 
   // The rest of the spectrum (the pair removed), with the inner problem's tolerance.
   bool HasStability() const override { return true; }
@@ -85,7 +89,8 @@ class HopfProblem : public Problem {
     return SpecialPointType::kBogdanovTakens;
   }
 
-  // Follows the pair: its values at the accepted point become the reference.
+  // Passes the point to the inner problem's PointAccepted (e.g. a rotating wave's phase
+  // reference), then follows the pair: its values at the point become the reference.
   void PointAccepted(const Vector& U, double eta) override;
 
   // The pair at (U, η): sum h and product κ, the two values, and the rest of the spectrum.
@@ -103,7 +108,7 @@ class HopfProblem : public Problem {
 
  private:
   void SetEta(double eta);
-  double ScaledSum(const Vector& U, double eta);  // h / ω₀, NaN where the spectrum fails
+  double ScaledSum(const Vector& U, double eta);  // h / ρ, NaN where the spectrum fails
 
   Problem& inner_;
   Index n_;
@@ -111,6 +116,7 @@ class HopfProblem : public Problem {
   Vector r_;
   double s_lambda_;
   double omega0_;
+  double radius_;  // ρ: the spectral radius at the start
   std::complex<double> reference_first_, reference_second_;
 };
 
@@ -120,8 +126,12 @@ class HopfProblem : public Problem {
 // measures. Special points: Bogdanov–Takens (test function), zero-Hopf and double-Hopf (crossings
 // of the rest of the spectrum, renamed from the engine's real crossings and Hopf points), folds of
 // the curve in η, and the event where it ends. The options apply to the curve
-// (bounds.lambda_min/max bound η), with detect.stability on. The inner problem's η is restored at the end. Throws std::invalid_argument when the problem has
-// no second parameter or stability operator, or the special point is not a Hopf point.
+// (bounds.lambda_min/max bound η), with detect.stability on. A Hopf point that the engine located
+// where a marginal pair's growth rate crosses the problem's StabilityTolerance instead of 0 (both
+// ends of its step on the unstable side: the special point's note says so) gives the curve of that
+// growth rate, which is where the counts of unstable values change. The inner problem's η is
+// restored at the end. Throws std::invalid_argument when the problem has no second parameter or
+// stability operator, or the special point is not a Hopf point.
 Branch ContinueHopfCurve(Problem& problem, const SpecialPoint& hopf,
                          const ContinuationOptions& options = {},
                          const StepCallback& callback = {});

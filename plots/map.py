@@ -7,7 +7,8 @@ Writes, from the HDF5 file only (layout: apps/map_command.h), for every /maps/<p
                               (all families, then the Mode 1 and Mode 2 families alone)
                               (grey: none, white: one, blue: two or more = hysteresis), the special
                               points of the branch sets at every grid value (markers), and the
-                              continued event and fold curves (lines; cusps and ends marked).
+                              continued event, fold and Hopf curves (lines; cusps, Bogdanov-
+                              Takens, zero-Hopf and double-Hopf points marked).
 Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import os
@@ -29,6 +30,11 @@ MARKERS = {"event": ("o", "stick/slip switch or contact change"),
            "non_smooth_fold": ("s", "non-smooth fold"),
            "fold": ("^", "fold"), "Hopf": ("*", "Hopf"),
            "real eigenvalue crossing": ("D", "real eigenvalue crossing")}
+
+
+# Codimension-two points on the continued curves (and where a Hopf curve meets a switch).
+CURVE_POINT_MARKERS = {"cusp": "P", "Bogdanov-Takens": "^", "zero-Hopf": "s", "double Hopf": "h",
+                       "event": "o"}
 
 
 def text(value):
@@ -61,12 +67,13 @@ def draw_panel(ax, group, count, title, pattern=None):
         kind = text(curve.attrs["kind"])
         label = (f"{curve_name} ({text(curve.attrs.get('pattern', ''))}): {kind} "
                  f"\"{text(curve.attrs['label'])}\"")
-        ax.plot(curve["speed_rpm"][()], curve["eta"][()], "-" if kind == "event" else "--",
-                color=color, lw=1.3, label=label)
+        style = {"event": "-", "fold": "--", "hopf": "-."}.get(kind, ":")
+        ax.plot(curve["speed_rpm"][()], curve["eta"][()], style, color=color, lw=1.3, label=label)
         sp = curve["special_points"]
         for t, e, s in zip(sp["type"][()], sp["eta"][()], sp["speed_rpm"][()]):
-            if text(t) == "cusp":
-                ax.plot(s, e, "kP", ms=9)
+            marker = CURVE_POINT_MARKERS.get(text(t))
+            if marker is not None and (kind == "hopf" or text(t) != "event"):
+                ax.plot(s, e, marker, color="k", ms=8, mfc="none", mew=1.2)
         if "extrema" in curve and len(curve["extrema"]["eta"]) > 0:
             turns[0].extend(curve["extrema"]["speed_rpm"][()])
             turns[1].extend(curve["extrema"]["eta"][()])
@@ -96,7 +103,9 @@ def plot_map(group, name, out_dir):
     fig.suptitle(f"Hysteresis map ({text(group.attrs.get('level', 'L1'))}, "
                  f"{text(group.attrs.get('friction_law', ''))} friction): white one stable circular "
                  "state, blue two or more coexisting (hysteresis), light grey none, dark grey failed;\n"
-                 f"lines: continued switch (solid) and fold (dashed) curves; markers: special points "
+                 f"lines: continued switch (solid), fold (dashed) and Hopf (dash-dot) curves, their "
+                 f"codimension-two points (black: + cusp, △ Bogdanov-Takens, □ zero-Hopf, ⬡ double "
+                 f"Hopf, ○ a Hopf curve meets a switch); grey markers: special points "
                  f"of the branch set at each grid value; dotted: scene value "
                  f"{group.attrs['base_value']:g}", fontsize=9)
     fig.tight_layout()

@@ -6,15 +6,32 @@
 #include <stdexcept>
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 
 #include "continuation/event_curve.h"
 #include "continuation/fold.h"
+#include "continuation/hopf.h"
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
+
+// Why a Hopf point of the base branch set starts no curve, or "" when it does: one that is not
+// located (the critical value jumps: "not a zero"), and one that the engine located where a marginal
+// pair's growth rate crosses the stability tolerance rather than 0 (its special point's note says
+// so): the Hopf point of that pair lies outside the step, and Newton from there diverged (A(a),
+// exact law, the one-contact whirls at 47.123 rpm: the pair's Re = 0 is 0.36–0.75 rpm away).
+std::string NoHopfCurve(const SpecialPoint& sp, double stability_tolerance) {
+  if (!sp.converged) return "not located";
+  if (!(sp.critical_value.imag() > 0.0)) return "no frequency";
+  if (!(std::abs(sp.critical_value.real()) < 0.5 * stability_tolerance)) {
+    return fmt::format("located at the stability tolerance (Re = {:.3g})", sp.critical_value.real());
+  }
+  return "";
+}
 
 int StableFlag(const BranchPoint& p) {
   if (p.num_unstable < 0) return -1;
@@ -113,15 +130,23 @@ std::string HysteresisMap::BriefReport() const {
       if (stable_count(i, j) == 0) ++none;
     }
   }
-  int cusps = 0;
-  for (const MapCurve& c : curves) cusps += c.curve.Count(SpecialPointType::kCusp);
+  int cusps = 0, hopf_curves = 0, codimension_two = 0;
+  for (const MapCurve& c : curves) {
+    cusps += c.curve.Count(SpecialPointType::kCusp);
+    if (c.kind != "hopf") continue;
+    ++hopf_curves;
+    codimension_two += c.curve.Count(SpecialPointType::kBogdanovTakens) +
+                       c.curve.Count(SpecialPointType::kZeroHopf) +
+                       c.curve.Count(SpecialPointType::kDoubleHopf);
+  }
   return fmt::format(
       "map of {} over [{:g}, {:g}] ({} values, {} branches) × {} speeds: {:.1f} % of the cells "
-      "with coexisting stable states, {:.1f} % with none; {} curves, {} cusps; grid {:.2f} s, "
-      "curves {:.2f} s{}",
+      "with coexisting stable states, {:.1f} % with none; {} curves ({} Hopf), {} cusps, {} "
+      "Bogdanov-Takens / zero-Hopf / double-Hopf points; grid {:.2f} s, curves {:.2f} s{}",
       ToString(parameter), eta.size() ? eta(0) : 0.0, eta.size() ? eta(eta.size() - 1) : 0.0,
       eta.size(), grid_branches, speed.size(), cells ? 100.0 * coexisting / cells : 0.0,
-      cells ? 100.0 * none / cells : 0.0, curves.size(), cusps, grid_seconds, curve_seconds,
+      cells ? 100.0 * none / cells : 0.0, curves.size(), hopf_curves, cusps, codimension_two,
+      grid_seconds, curve_seconds,
       failures.empty() ? "" : fmt::format(", {} failures", failures.size()));
 }
 
@@ -286,21 +311,38 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
     curve_options.bounds.state_lower(dimension - 1) = options.branches.search.speed_min;
     curve_options.bounds.state_upper(dimension - 1) = options.branches.search.speed_max;
   };
+  // Events, folds and Hopf points start curves (see NoHopfCurve for the Hopf points that do not).
+  const double tolerance = problem.StabilityTolerance();
+  auto starts_curve = [&](const SpecialPoint& sp) {
+    return sp.type == SpecialPointType::kEvent || sp.type == SpecialPointType::kFold ||
+           (sp.type == SpecialPointType::kHopf && NoHopfCurve(sp, tolerance).empty());
+  };
   int total = 0;
-  for (const RotatingWaveBranch& b : base) {
-    for (const SpecialPoint& sp : b.branch.special_points) {
-      if (sp.type == SpecialPointType::kEvent || sp.type == SpecialPointType::kFold) ++total;
+  std::vector<std::string> no_curve;
+  for (std::size_t b = 0; b < base.size(); ++b) {
+    for (const SpecialPoint& sp : base[b].branch.special_points) {
+      if (starts_curve(sp)) ++total;
+      if (sp.type != SpecialPointType::kHopf || starts_curve(sp)) continue;
+      no_curve.push_back(fmt::format("{:.3f} rpm on branch{} ({})", RadPerSecondToRpm(sp.lambda),
+                                     b + 1, NoHopfCurve(sp, tolerance)));
     }
+  }
+  if (!no_curve.empty()) {
+    map.note = fmt::format("Hopf points without a curve: {}", fmt::join(no_curve, "; "));
   }
   int done = 0;
   for (std::size_t b = 0; b < base.size(); ++b) {
     const Branch& branch = base[b].branch;
     for (const SpecialPoint& sp : branch.special_points) {
-      if (sp.type != SpecialPointType::kEvent && sp.type != SpecialPointType::kFold) continue;
+      if (!starts_curve(sp)) continue;
       MapCurve curve;
       curve.name = "curve" + std::to_string(map.curves.size() + 1);
-      curve.kind = sp.type == SpecialPointType::kEvent ? "event" : "fold";
-      curve.label = sp.type == SpecialPointType::kEvent ? sp.label : "fold";
+      curve.kind = sp.type == SpecialPointType::kEvent ? "event"
+                   : sp.type == SpecialPointType::kFold ? "fold"
+                                                        : "hopf";
+      curve.label = sp.type == SpecialPointType::kEvent ? sp.label
+                    : sp.type == SpecialPointType::kFold ? "fold"
+                                                         : "Hopf";
       curve.piece = sp.piece;
       curve.branch = static_cast<int>(b);
       curve.pattern = PatternName(base[b].normals);
@@ -325,13 +367,17 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
           curve.extrema =
               LocateExtrema(problem, branch, sp, curve.curve, options.eta_min, options.eta_max);
         } else {
-          ContinuationOptions run = curve_options;
-          run.direction = -1;
-          const Branch backward = ContinueFoldCurve(problem, sp, run);
-          problem.SetSecondParameter(map.base_value);
-          PlaceAt(problem, branch, sp);
-          run.direction = +1;
-          const Branch forward = ContinueFoldCurve(problem, sp, run);
+          // Folds and Hopf points: both ways from the base η, joined at the start.
+          auto run_half = [&](int direction) {
+            problem.SetSecondParameter(map.base_value);
+            PlaceAt(problem, branch, sp);
+            ContinuationOptions run = curve_options;
+            run.direction = direction;
+            return sp.type == SpecialPointType::kFold ? ContinueFoldCurve(problem, sp, run)
+                                                      : ContinueHopfCurve(problem, sp, run);
+          };
+          const Branch backward = run_half(-1);
+          const Branch forward = run_half(+1);
           curve.curve = backward.points.empty() ? forward
                         : forward.points.empty() ? backward
                                                  : JoinAtStart(backward, forward);

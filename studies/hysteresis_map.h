@@ -11,10 +11,13 @@
 //     no-rub state (rotor centred) is not counted: it is a state of its own, reached without an
 //     impulse, and the thesis sweeps start contact with one.
 //  2. two-parameter continuation, from the branch set at the scene's own η, of every located event
-//     (stick ↔ slip switch, contact loss or regain: EventCurveProblem, continuation/event_curve.h)
-//     and every located fold (minimally augmented, ContinueFoldCurve with cusp detection) in (ω, η).
-//     These curves are the region boundaries at the precision of the location (~1e-10), where
-//     the grid resolves them only to its spacing; the grid's special points must lie on them.
+//     (stick ↔ slip switch, contact loss or regain: EventCurveProblem, continuation/event_curve.h),
+//     every located fold (minimally augmented, ContinueFoldCurve with cusp detection) and every
+//     Hopf point (ContinueHopfCurve, continuation/hopf.h: where a circular state loses or gains
+//     stability through a complex pair, with its Bogdanov–Takens, zero-Hopf and double-Hopf points,
+//     and ending where the Hopf point reaches a switch) in (ω, η). These curves are the region
+//     boundaries at the precision of the location (~1e-10), where the grid resolves them only to
+//     its spacing; the grid's special points must lie on them.
 //
 // Level L1 (rotating waves, exact friction law by default): the map inherits the branch set's
 // assumptions (isotropic supports, no imbalance, circular orbits only). With the regularized
@@ -80,8 +83,8 @@ struct CurveExtremum {
 // One continued curve in (ω, η).
 struct MapCurve {
   std::string name;            // "curve1", ...
-  std::string kind;            // "event" or "fold"
-  std::string label;           // the event's name, or "fold"
+  std::string kind;            // "event", "fold" or "hopf"
+  std::string label;           // the event's name, "fold" or "Hopf"
   std::string piece;           // piece label of the branch where it starts
   int branch = 0;              // branch index (at the base η) it starts from
   std::string pattern;         // that branch's closed-form pattern (PatternName)
@@ -91,7 +94,9 @@ struct MapCurve {
   // Folds: +1 where ω is locally largest on the branch at the fold, −1 smallest (the sense to give
   // LocateFoldByOptimization along the curve, unchanged up to a cusp); 0 for events.
   int fold_sense = 0;
-  Branch curve;                // λ = η; states (u, ω); measure "lambda" = ω
+  Branch curve;                // λ = η; states (u, ω); measure "lambda" = ω (Hopf curves: then
+                               // "hopf_frequency" [rad/s]; points stable where the rest of the
+                               // spectrum is)
   std::vector<std::string> partner_margins;  // EventCurveProblem::PartnerMargins (events)
   std::vector<CurveExtremum> extrema;        // event curves: their located turning points in η
 };
@@ -114,7 +119,8 @@ struct HysteresisMap {
   std::vector<MapPoint> points;
   std::vector<MapCurve> curves;
   std::vector<std::string> failures;  // grid values or curves that failed, one sentence each
-  std::string note;            // why part 2 was skipped (the scene's value outside the range), or "".
+  std::string note;            // why part 2 was skipped (the scene's value outside the range), or
+                               // which Hopf points start no curve and why, or "".
   double grid_seconds = 0.0;
   double curve_seconds = 0.0;
   int grid_branches = 0;       // branches computed over the whole grid

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "continuation/event_curve.h"
+#include "continuation/hopf.h"
 #include "models/analytic.h"
 #include "models/rub_model.h"
 #include "models/units.h"
@@ -167,6 +168,64 @@ TEST_CASE("an event curve in stator damping matches branch sets recomputed along
     INFO("c = " << c(i) << " N·s/m");
     REQUIRE(there.point != nullptr);
     CHECK(std::abs(there.point->lambda - speed(i)) <= 1e-8 * speed(i));
+  }
+}
+
+// The tanh-law Mode 1 whirl's Hopf point nearest `rpm` (converged), in a branch set.
+Found Mode1Hopf(const std::vector<RotatingWaveBranch>& branches, double rpm) {
+  Found best;
+  for (const RotatingWaveBranch& b : branches) {
+    if (PatternName(b.normals) != "mode1") continue;
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kHopf || !p.converged) continue;
+      if (best.point == nullptr || std::abs(p.lambda - rpm * kRadPerSecondPerRpm) <
+                                       std::abs(best.point->lambda - rpm * kRadPerSecondPerRpm)) {
+        best = {&b.branch, &p};
+      }
+    }
+  }
+  return best;
+}
+
+TEST_CASE("the Hopf curve of the tanh Mode 1 whirl in friction matches branch sets recomputed on it",
+          "[design][hopf]") {
+  TwoPointParams params = ThesisCaseAa();
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  const auto base = ComputeRotatingWaveBranches(TwoPointStructure(WithoutImbalance(params)),
+                                                FrictionLawKind::kTanh, Range(20, 100));
+  // Where the speed-up whirl loses its stability (51.685 rpm at μ = 0.5).
+  const Found hopf = Mode1Hopf(base, 51.685);
+  REQUIRE(hopf.point != nullptr);
+  CHECK(RadPerSecondToRpm(hopf.point->lambda) == Approx(51.685).margin(1e-3));
+  RotatingWaveDesignProblem problem(params, DesignParameter::kFriction);
+  StartAt(problem, hopf);
+  ContinuationOptions options;
+  options.bounds.lambda_min = 0.4;
+  options.bounds.lambda_max = 0.6;
+  options.step.max = 0.2;
+  options.detect.branch_points = false;
+  for (const int direction : {-1, +1}) {
+    options.direction = direction;
+    problem.SetSecondParameter(0.5);
+    StartAt(problem, hopf);
+    const Branch curve = ContinueHopfCurve(problem, *hopf.point, options);
+    INFO(curve.BriefReport());
+    REQUIRE(curve.status == BranchStatus::kReachedLambdaBound);
+    CHECK(problem.SecondParameter() == 0.5);  // restored
+    // The rest of the spectrum is stable along it: the whirl loses its stability there.
+    for (const BranchPoint& p : curve.points) CHECK(p.num_unstable == 0);
+    // The branch set at the curve's end has its Hopf point where the curve says.
+    const double mu = curve.points.back().lambda;
+    const double speed = curve.Measure("lambda")(curve.Size() - 1);
+    const auto again = ComputeRotatingWaveBranches(
+        TwoPointStructure(WithoutImbalance(WithDesignParameter(params, DesignParameter::kFriction, mu))),
+        FrictionLawKind::kTanh, Range(20, 100));
+    const Found there = Mode1Hopf(again, RadPerSecondToRpm(speed));
+    INFO("μ = " << mu << ": curve " << RadPerSecondToRpm(speed) << " rpm");
+    REQUIRE(there.point != nullptr);
+    CHECK(std::abs(there.point->lambda - speed) <= 1e-7 * speed);
+    CHECK(std::abs(there.point->frequency - curve.Measure("hopf_frequency")(curve.Size() - 1)) <=
+          1e-6 * there.point->frequency);
   }
 }
 
