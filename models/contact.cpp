@@ -38,7 +38,7 @@ void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, dou
 
   const double delta = out.penetration;
   if (mode == FrictionMode::kInactive) return;
-  // The exact modes hold the contact closed: the force law continues smoothly past δ = 0 (N < 0),
+  // The other modes hold the contact closed: the force law continues smoothly past δ = 0 (N < 0),
   // so each piece of a piecewise formulation stays smooth; its caller checks the margin δ ≥ 0.
   const bool held = mode != FrictionMode::kRegularized;
   if (!held && !(delta > 0.0)) return;
@@ -52,7 +52,8 @@ void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, dou
   double sigma = 0.0;       // F = μ N σ  (σ = tanh(V/ε) or ±1)
   double dsigma_dV = 0.0;
   switch (mode) {
-    case FrictionMode::kRegularized: {
+    case FrictionMode::kRegularized:
+    case FrictionMode::kRegularizedHeld: {
       sigma = std::tanh(out.slip_velocity / law.velocity_scale);
       dsigma_dV = (1.0 - sigma * sigma) / law.velocity_scale;
       break;

@@ -23,9 +23,10 @@ using RowVector2 = Eigen::RowVector2d;
 // How the tangential force is obtained.
 enum class FrictionMode {
   kRegularized,   // F = μ N tanh(V/ε)
-  // The exact modes below belong to piecewise formulations (rotating waves with stick/slip
+  // The modes below belong to piecewise formulations (rotating waves with contact and stick/slip
   // events): they hold the contact closed, with the normal law continued past δ = 0 (N < 0 there);
   // the formulation's contact-loss margin δ ≥ 0 decides where that is valid.
+  kRegularizedHeld,  // F = μ N tanh(V/ε), the contact held closed
   kSlipPositive,  // F = +μ N (exact Coulomb, sliding with V > 0)
   kSlipNegative,  // F = −μ N (exact Coulomb, sliding with V < 0)
   kStick,         // F is an unknown supplied by the caller (exact Coulomb, V = 0 enforced elsewhere)

@@ -179,29 +179,6 @@ std::vector<std::pair<double, double>> StableIntervals(const Branch& branch) {
   return intervals;
 }
 
-std::vector<ContactMode> ModesAt(const Branch& branch, const SpecialPoint& point, Index contacts) {
-  std::vector<ContactMode> modes;
-  Index first = -1;
-  for (std::size_t i = 0; i < branch.measure_names.size(); ++i) {
-    if (branch.measure_names[i].rfind("mode_", 0) == 0) {
-      first = static_cast<Index>(i);
-      break;
-    }
-  }
-  if (first < 0 || first + contacts > point.measures.size()) {
-    throw std::invalid_argument("ModesAt: the branch has no contact-mode measures (mode_<contact>)");
-  }
-  for (Index k = 0; k < contacts; ++k) {
-    switch (static_cast<int>(std::lround(point.measures(first + k)))) {
-      case 0: modes.push_back(ContactMode::kFree); break;
-      case 1: modes.push_back(ContactMode::kStick); break;
-      case 2: modes.push_back(ContactMode::kSlipPositive); break;
-      default: modes.push_back(ContactMode::kSlipNegative); break;
-    }
-  }
-  return modes;
-}
-
 HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,
                                    const MapProgress& progress) {
   Validate(options);

