@@ -52,13 +52,6 @@ EventCurveProblem::EventCurveProblem(Problem& inner, int event, const Vector& u,
   }
 }
 
-Vector EventCurveProblem::Join(const Vector& u, double lambda) {
-  Vector U(u.size() + 1);
-  U.head(u.size()) = u;
-  U(u.size()) = lambda;
-  return U;
-}
-
 bool EventCurveProblem::SetEta(double eta) {
   if (inner_.SecondParameter() == eta) return true;
   try {
@@ -133,19 +126,9 @@ void EventCurveProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
   dG(n_) = (plus - minus) / (2.0 * h);
 }
 
-Vector EventCurveProblem::Scale() const {
-  Vector s(n_ + 1);
-  s.head(n_) = s_;
-  s(n_) = s_lambda_;
-  return s;
-}
+Vector EventCurveProblem::Scale() const { return Joined(s_, s_lambda_); }
 
-Vector EventCurveProblem::ResidualScale() const {
-  Vector r(n_ + 1);
-  r.head(n_) = r_;
-  r(n_) = 1.0;
-  return r;
-}
+Vector EventCurveProblem::ResidualScale() const { return Joined(r_, 1.0); }
 
 std::vector<std::string> EventCurveProblem::MeasureNames() const {
   std::vector<std::string> names{"lambda"};
@@ -200,27 +183,23 @@ Branch ContinueEventCurve(Problem& problem, const SpecialPoint& event_point,
         "ContinueEventCurve: event \"{}\" is not an event of the problem's current piece ({})",
         event_point.label, problem.PieceLabel()));
   }
-  struct RestoreEta {
-    Problem& problem;
-    double eta;
-    ~RestoreEta() { problem.SetSecondParameter(eta); }
-  } restore{problem, problem.SecondParameter()};
+  const SecondParameterGuard restore(problem);  // the curve problem moves η
   const int event = static_cast<int>(it - names.begin());
-  const Vector U0 = EventCurveProblem::Join(event_point.u, event_point.lambda);
+  const Vector U0 = Joined(event_point.u, event_point.lambda);
   ContinuationOptions run = options;
   run.direction = -1;
   Branch backward;
   {
     EventCurveProblem curve(problem, event, event_point.u, event_point.lambda);
-    backward = Continue(curve, U0, restore.eta, run);
+    backward = Continue(curve, U0, restore.eta(), run);
   }
-  problem.SetSecondParameter(restore.eta);
+  problem.SetSecondParameter(restore.eta());
   problem.PointAccepted(event_point.u, event_point.lambda);
   run.direction = +1;
   Branch forward;
   {
     EventCurveProblem curve(problem, event, event_point.u, event_point.lambda);
-    forward = Continue(curve, U0, restore.eta, run);
+    forward = Continue(curve, U0, restore.eta(), run);
   }
   if (backward.points.empty()) return forward;
   if (forward.points.empty()) return backward;

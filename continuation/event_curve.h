@@ -66,7 +66,6 @@ class EventCurveProblem : public Problem {
   const std::string& event_name() const { return event_name_; }
   // Names of the inner margins that vanish with m_k at the start and are not monitored.
   const std::vector<std::string>& PartnerMargins() const { return partner_names_; }
-  static Vector Join(const Vector& u, double lambda);
 
  private:
   // Sets the inner η; false when the inner problem rejects it (std::invalid_argument: outside

@@ -11,10 +11,6 @@
 
 namespace rubcont {
 
-namespace {
-
-}  // namespace
-
 FoldProblem::FoldProblem(Problem& inner, const Vector& u, double lambda)
     : inner_(inner),
       n_(inner.Dimension()),
@@ -35,13 +31,6 @@ FoldProblem::FoldProblem(Problem& inner, const Vector& u, double lambda)
   v_.resize(n_);
   w_.resize(n_);
   M_.resize(n_ + 1, n_ + 1);
-}
-
-Vector FoldProblem::Join(const Vector& u, double lambda) {
-  Vector U(u.size() + 1);
-  U.head(u.size()) = u;
-  U(u.size()) = lambda;
-  return U;
 }
 
 void FoldProblem::SetEta(double eta) {
@@ -132,23 +121,13 @@ void FoldProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
   dG(n_) = -w_tilde.dot(F_eta_plus - F_eta_minus) / (2.0 * h);
 }
 
-Vector FoldProblem::Scale() const {
-  Vector scale(n_ + 1);
-  scale.head(n_) = s_;
-  scale(n_) = s_lambda_;
-  return scale;
-}
+Vector FoldProblem::Scale() const { return Joined(s_, s_lambda_); }
 
 double FoldProblem::LambdaScale() const {
   return has_eta_ ? inner_.SecondParameterScale() : 1.0;
 }
 
-Vector FoldProblem::ResidualScale() const {
-  Vector scale(n_ + 1);
-  scale.head(n_) = r_inv_.cwiseInverse();
-  scale(n_) = 1.0;
-  return scale;
-}
+Vector FoldProblem::ResidualScale() const { return Joined(r_inv_.cwiseInverse(), 1.0); }
 
 std::vector<std::string> FoldProblem::MeasureNames() const {
   std::vector<std::string> names{"lambda"};
@@ -220,7 +199,7 @@ FoldLocation LocateFold(Problem& problem, const Vector& u_guess, double lambda_g
   const Index m = fold.Dimension();
   const Vector scale = fold.Scale();
   const Vector residual_inverse = fold.ResidualScale().cwiseInverse();
-  Vector U = FoldProblem::Join(u_guess, lambda_guess);
+  Vector U = Joined(u_guess, lambda_guess);
   Vector G;
   Matrix DG;
   Eigen::PartialPivLU<Matrix> lu(m);
@@ -278,14 +257,9 @@ Branch ContinueFoldCurve(Problem& problem, const SpecialPoint& fold,
     throw std::invalid_argument(fmt::format(
         "ContinueFoldCurve: the special point is a {}, not a fold", ToString(fold.type)));
   }
-  // The fold problem moves the inner problem's η; put it back however the run ends.
-  struct RestoreEta {
-    Problem& problem;
-    double eta;
-    ~RestoreEta() { problem.SetSecondParameter(eta); }
-  } restore{problem, problem.SecondParameter()};
+  const SecondParameterGuard restore(problem);  // the curve problem moves η
   FoldProblem fold_problem(problem, fold.u, fold.lambda);
-  return Continue(fold_problem, FoldProblem::Join(fold.u, fold.lambda), restore.eta, options,
+  return Continue(fold_problem, Joined(fold.u, fold.lambda), restore.eta(), options,
                   callback);
 }
 

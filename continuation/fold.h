@@ -78,8 +78,6 @@ class FoldProblem : public Problem {
   // The normal-form coefficient a at (U, η).
   double CuspCoefficient(const Vector& U, double eta);
 
-  // (u, λ) → U and back.
-  static Vector Join(const Vector& u, double lambda);
   Problem& inner() { return inner_; }
 
  private:

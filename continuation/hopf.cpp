@@ -41,13 +41,6 @@ HopfProblem::HopfProblem(Problem& inner, const Vector& u, double lambda,
   if (spectrum.valid) radius_ = std::max(radius_, spectrum.values.cwiseAbs().maxCoeff());
 }
 
-Vector HopfProblem::Join(const Vector& u, double lambda) {
-  Vector U(u.size() + 1);
-  U.head(u.size()) = u;
-  U(u.size()) = lambda;
-  return U;
-}
-
 void HopfProblem::SetEta(double eta) {
   if (inner_.SecondParameter() != eta) inner_.SetSecondParameter(eta);
 }
@@ -149,19 +142,9 @@ void HopfProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
   dG(n_) = (plus - minus) / (2.0 * step);
 }
 
-Vector HopfProblem::Scale() const {
-  Vector scale(n_ + 1);
-  scale.head(n_) = s_;
-  scale(n_) = s_lambda_;
-  return scale;
-}
+Vector HopfProblem::Scale() const { return Joined(s_, s_lambda_); }
 
-Vector HopfProblem::ResidualScale() const {
-  Vector scale(n_ + 1);
-  scale.head(n_) = r_;
-  scale(n_) = 1.0;
-  return scale;
-}
+Vector HopfProblem::ResidualScale() const { return Joined(r_, 1.0); }
 
 Spectrum HopfProblem::Stability(const Vector& U, double eta) { return Evaluate(U, eta).rest; }
 
@@ -212,16 +195,11 @@ Branch ContinueHopfCurve(Problem& problem, const SpecialPoint& hopf,
     throw std::invalid_argument(fmt::format(
         "ContinueHopfCurve: the special point is a {}, not a Hopf point", ToString(hopf.type)));
   }
-  // The Hopf problem moves the inner problem's η; put it back however the run ends.
-  struct RestoreEta {
-    Problem& problem;
-    double eta;
-    ~RestoreEta() { problem.SetSecondParameter(eta); }
-  } restore{problem, problem.SecondParameter()};
+  const SecondParameterGuard restore(problem);  // the curve problem moves η
   HopfProblem hopf_problem(problem, hopf.u, hopf.lambda, hopf.critical_value);
   ContinuationOptions run = options;
   run.detect.stability = true;  // the rest of the spectrum: zero-Hopf and double-Hopf points
-  Branch curve = Continue(hopf_problem, HopfProblem::Join(hopf.u, hopf.lambda), restore.eta, run,
+  Branch curve = Continue(hopf_problem, Joined(hopf.u, hopf.lambda), restore.eta(), run,
                           callback);
   // The rest of the spectrum crossing the axis on a Hopf curve: codimension-two points.
   for (SpecialPoint& sp : curve.special_points) {

@@ -103,7 +103,6 @@ class HopfProblem : public Problem {
   };
   Pair Evaluate(const Vector& U, double eta);
 
-  static Vector Join(const Vector& u, double lambda);
   double StartFrequency() const { return omega0_; }
 
  private:

@@ -78,4 +78,11 @@ void Problem::DfDeta(const Vector& u, double lambda, Vector& dF) {
   dF = (F_plus - F_minus) / (2.0 * h);
 }
 
+Vector Joined(const Vector& u, double lambda) {
+  Vector joined(u.size() + 1);
+  joined.head(u.size()) = u;
+  joined(u.size()) = lambda;
+  return joined;
+}
+
 }  // namespace rubcont

@@ -144,4 +144,23 @@ class Problem {
   virtual void PointAccepted(const Vector& /*u*/, double /*lambda*/) {}
 };
 
+// (u, λ) as one vector: the unknowns of a problem augmented by its parameter (fold, event and Hopf
+// curves continue (u, λ) in the second parameter η).
+Vector Joined(const Vector& u, double lambda);
+
+// Puts a problem's second parameter back, however the scope is left (the curve problems move it).
+class SecondParameterGuard {
+ public:
+  explicit SecondParameterGuard(Problem& problem)
+      : problem_(problem), eta_(problem.SecondParameter()) {}
+  ~SecondParameterGuard() { problem_.SetSecondParameter(eta_); }
+  SecondParameterGuard(const SecondParameterGuard&) = delete;
+  SecondParameterGuard& operator=(const SecondParameterGuard&) = delete;
+  double eta() const { return eta_; }
+
+ private:
+  Problem& problem_;
+  double eta_;
+};
+
 }  // namespace rubcont

@@ -424,7 +424,7 @@ TEST_CASE("the event curve problem's Jacobian and eta derivative match finite di
   CHECK(curve.event_name() == event.point->label);
   // The symmetric rotor's other contact reaches μ at the same point: a partner, not monitored.
   CHECK(curve.PartnerMargins() == std::vector<std::string>{"right stick to slip+"});
-  const Vector U = EventCurveProblem::Join(event.point->u, event.point->lambda);
+  const Vector U = Joined(event.point->u, event.point->lambda);
   const double eta = 324.9;
   Vector G;
   curve.Residual(U, eta, G);
