@@ -882,6 +882,10 @@ struct Continuation::Impl {
     sp.iterations = root.evaluations;
     sp.test_value = root.value;
     sp.last_correction = root.last_step;
+    if (!root.converged) sp.note = "not located to tolerance: a guess within the bracket";
+    auto add_note = [&sp](const std::string& more) {
+      sp.note += (sp.note.empty() ? "" : "; ") + more;
+    };
     const Vector old_tangent = at.point.tangent;
     const Index old_n = system.n();
     Vector u = sp.u;
@@ -889,7 +893,7 @@ struct Continuation::Impl {
     const std::string old_piece = at.piece;
     ++branch.statistics.switches;
     if (!problem.SwitchAt(event, u, lambda)) {
-      sp.note = "the problem refused to switch (SwitchAt returned false)";
+      add_note("the problem refused to switch (SwitchAt returned false)");
       branch.special_points.push_back(sp);
       return End(BranchStatus::kSwitchRefused,
                  fmt::format("event '{}' at λ = {:.10g} on piece '{}': the problem cannot "
@@ -906,7 +910,7 @@ struct Continuation::Impl {
     }
     const std::string new_piece = problem.PieceLabel();
     auto dead_end = [&](const std::string& why) {
-      sp.note = why;
+      add_note(why);
       branch.special_points.push_back(sp);
       return End(BranchStatus::kNoValidDirection,
                  fmt::format("event '{}' at λ = {:.10g}: {}", name, lambda, why));
@@ -995,10 +999,10 @@ struct Continuation::Impl {
       tangent = -tangent;
       data.point.det.sign = -data.point.det.sign;  // det [DF̂; −τᵀ] = −det [DF̂; τᵀ]
       data.point.tangent = tangent;
-      sp.note = fmt::format(
+      add_note(fmt::format(
           "the new piece '{}' is valid only against the old tangent: the branch turns back "
           "into the region it came from",
-          new_piece);
+          new_piece));
     }
     if (tangent(n) * old_tangent(old_n) < 0.0) {
       sp.nonsmooth_fold = true;

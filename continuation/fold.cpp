@@ -187,6 +187,11 @@ double FoldProblem::CuspCoefficient(const Vector& U, double eta) {
   return 0.5 * w_tilde.dot((J_plus - J_minus) * v_tilde) / (2.0 * h);
 }
 
+Vector FoldProblem::EventFunctions(const Vector& U, double eta) {
+  SetEta(eta);
+  return inner_.EventFunctions(U.head(n_), U(n_));
+}
+
 Vector FoldProblem::TestFunctions(const Vector& U, double eta) {
   return Vector::Constant(1, CuspCoefficient(U, eta));
 }

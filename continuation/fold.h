@@ -42,7 +42,7 @@ namespace rubcont {
 // The fold curve of an inner problem as a Problem: unknowns U = (u, λ) ∈ Rⁿ⁺¹, parameter η (the
 // inner problem's second parameter), residual [F(u, λ; η); g(u, λ; η)]. It can also be used with
 // an inner problem without a second parameter, at fixed η, to locate folds (LocateFold).
-// The inner problem must outlive it and must not change formulation (no events).
+// The inner problem must outlive it; its events end the curve (it does not change formulation).
 class FoldProblem : public Problem {
  public:
   // (u, λ): a point at or near a fold of `inner`. The borders start as the singular vectors of the
@@ -61,6 +61,13 @@ class FoldProblem : public Problem {
   // "lambda" (the inner parameter) followed by the inner problem's measures.
   std::vector<std::string> MeasureNames() const override;
   Vector Measures(const Vector& U, double eta) override;
+
+  // The inner problem's events (validity margins of a piecewise-smooth problem); SwitchAt refuses:
+  // a fold curve ends, located, where its fold reaches a switch (as Hopf curves do).
+  std::vector<std::string> EventNames() const override { return inner_.EventNames(); }
+  Vector EventFunctions(const Vector& U, double eta) override;
+  bool SwitchAt(int /*event*/, Vector& /*U*/, double /*eta*/) override { return false; }
+  std::string PieceLabel() const override { return inner_.PieceLabel(); }
 
   // One test function, "cusp": the normal-form coefficient a (see above).
   std::vector<std::string> TestFunctionNames() const override { return {"cusp"}; }
