@@ -12,7 +12,6 @@
 
 namespace rubcont {
 
-
 HopfProblem::HopfProblem(Problem& inner, const Vector& u, double lambda,
                          std::complex<double> critical)
     : inner_(inner),

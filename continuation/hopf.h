@@ -16,9 +16,10 @@
 // eigenvalues ±√−κ), as the bialternate-product formulation does (Govaerts, "Numerical Methods for
 // Bifurcations of Dynamical Equilibria", §4.4; MatCont's Hopf curves), but without its
 // n(n−1)/2-square matrix and for any stability operator, including the constrained, slice-reduced
-// ones of rotating waves (waves/rotating_wave.h) whose matrix is not F_u. ∂h/∂(u, λ) and ∂h/∂η are
-// central differences of the spectrum (n + 3 eigenvalue problems per Jacobian); their truncation
-// error only slows Newton, the location precision is set by the residual.
+// ones of rotating waves (waves/rotating_wave.h) whose matrix is not F_u. ∂h/∂(u, λ) and ∂h/∂η
+// are central differences of the spectrum (2(n + 1) eigenvalue problems per Jacobian, 2 per
+// ∂G/∂η; the steps in Jacobian()); their truncation error only slows Newton, the location
+// precision is set by the residual.
 //
 // Codimension-two points (Kuznetsov, "Elements of Applied Bifurcation Theory", §8.4–8.6):
 //  - Bogdanov–Takens: the test function "bogdanov_takens" κ / ω₀² changes sign.

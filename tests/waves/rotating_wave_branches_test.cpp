@@ -279,6 +279,34 @@ TEST_CASE("case A(a), tanh friction: the whirl's Hopf points at 51.68 and 51.90 
   }
 }
 
+TEST_CASE("case A(a), tanh friction: a one-contact whirl switches where the other contact touches",
+          "[branches]") {
+  // The normal force's kink at δ = 0 inside a piece stalled Newton: until the tanh law's contacts
+  // became events, the left- and right-only whirls ended in corrector failures at 52.36 rpm.
+  RotatingWaveBranchOptions options = ThesisRange();
+  options.search.speed_max = 100.0 * kRadPerSecondPerRpm;
+  const auto branches =
+      ComputeRotatingWaveBranches(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kTanh, options);
+  int regains = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    INFO(b.name << ": " << b.branch.BriefReport());
+    CHECK_FALSE(IsFailure(b.branch.status));
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kEvent || p.label.find("contact regain") == std::string::npos) {
+        continue;
+      }
+      ++regains;
+      CHECK(p.converged);
+      CHECK(RadPerSecondToRpm(p.lambda) == Approx(52.358).margin(0.01));
+      // Where the contact closes: its penetration 0 there (about 1e-8 m where a contact carries
+      // the whirl's normal force).
+      const std::string contact = p.label.substr(0, p.label.find(' '));
+      CHECK(std::abs(Measure(b.branch, p, "penetration_" + contact)) <= 1e-11);
+    }
+  }
+  CHECK(regains >= 1);
+}
+
 TEST_CASE("tanh friction: the whirl → whip knee converges to the exact event as ε → 0",
           "[branches]") {
   const double exact_hz = 84.47801334971142;  // the closed form's μ_req = μ crossing (A(a))
