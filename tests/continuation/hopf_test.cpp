@@ -4,7 +4,6 @@
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
-#include <Eigen/Eigenvalues>
 
 #include "continuation/continuation.h"
 #include "test_problems.h"
@@ -12,16 +11,9 @@
 namespace rubcont {
 namespace {
 
+using testing::EigenvaluesOf;
 using testing::LambdaProblem;
 using testing::Vec;
-
-Spectrum EigenvaluesOf(const Matrix& J) {
-  Spectrum spectrum;
-  spectrum.kind = SpectrumKind::kEigenvalues;
-  spectrum.values = Eigen::EigenSolver<Matrix>(J).eigenvalues();
-  spectrum.valid = true;
-  return spectrum;
-}
 
 // The first Hopf point the engine finds on the equilibria from (u0, λ0) in the given direction.
 SpecialPoint FirstHopf(LambdaProblem& problem, const Vector& u0, double lambda0, int direction,

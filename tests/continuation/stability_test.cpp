@@ -3,7 +3,6 @@
 #include <complex>
 
 #include <catch2/catch.hpp>
-#include <Eigen/Eigenvalues>
 
 #include "continuation/continuation.h"
 #include "test_problems.h"
@@ -11,16 +10,9 @@
 namespace rubcont {
 namespace {
 
+using testing::EigenvaluesOf;
 using testing::LambdaProblem;
 using testing::Vec;
-
-Spectrum EigenvaluesOf(const Matrix& J) {
-  Spectrum spectrum;
-  spectrum.kind = SpectrumKind::kEigenvalues;
-  spectrum.values = Eigen::EigenSolver<Matrix>(J).eigenvalues();
-  spectrum.valid = true;
-  return spectrum;
-}
 
 // Brusselator: ẋ = a − (b + 1)x + x²y, ẏ = bx − x²y, λ = b. Equilibrium (a, b/a); Hopf at
 // b = 1 + a² with frequency a.

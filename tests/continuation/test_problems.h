@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
 #include "continuation/problem.h"
 
 namespace rubcont {
@@ -93,6 +95,15 @@ class LambdaProblem : public Problem {
   std::vector<std::string> measure_names_;
   std::function<Vector(const Vector&, double)> measures_;
 };
+
+// The eigenvalues of J as a valid Spectrum (the stability operator of a LambdaProblem).
+inline Spectrum EigenvaluesOf(const Matrix& J) {
+  Spectrum spectrum;
+  spectrum.kind = SpectrumKind::kEigenvalues;
+  spectrum.values = Eigen::EigenSolver<Matrix>(J).eigenvalues();
+  spectrum.valid = true;
+  return spectrum;
+}
 
 inline Vector Vec(std::initializer_list<double> values) {
   Vector v(static_cast<Index>(values.size()));
