@@ -28,7 +28,7 @@ struct BranchPointLocation {
   double beta = 0.0;             // 0 at a branch point; large where there is none near the guess
   Vector phi;                    // the unit left null vector of DF̂ there
   int iterations = 0;
-  double residual_norm = 0.0;    // ‖[F̂ + βφ; DF̂ᵀφ; φᵀφ − 1]‖∞
+  double residual_norm = 0.0;    // ‖[F̂ + βφ; DF̂ᵀφ / max(1, max|DF̂|); φᵀφ − 1]‖∞
   double last_correction = 0.0;  // ‖Δ(x̂, β, φ)‖∞ of the last Newton step
   std::string message;           // why not, when !converged
 };
