@@ -94,6 +94,7 @@ class HopfProblem : public Problem {
   // reference), then follows the pair: its values at the point become the reference.
   void PointAccepted(const Vector& U, double eta) override;
 
+ private:
   // The pair at (U, η): sum h and product κ, the two values, and the rest of the spectrum.
   struct Pair {
     bool valid = false;  // false: the spectrum could not be computed
@@ -103,10 +104,6 @@ class HopfProblem : public Problem {
     Spectrum rest;
   };
   Pair Evaluate(const Vector& U, double eta);
-
-  double StartFrequency() const { return omega0_; }
-
- private:
   void SetEta(double eta);
   double ScaledSum(const Vector& U, double eta);  // h / ρ, NaN where the spectrum fails
 
@@ -126,11 +123,11 @@ class HopfProblem : public Problem {
 // measures. Special points: Bogdanov–Takens (test function), zero-Hopf and double-Hopf (crossings
 // of the rest of the spectrum, renamed from the engine's real crossings and Hopf points), folds of
 // the curve in η, and the event where it ends. The options apply to the curve
-// (bounds.lambda_min/max bound η), with detect.stability on. A Hopf point that the engine located
-// where a marginal pair's growth rate crosses the problem's StabilityTolerance instead of 0 (both
-// ends of its step on the unstable side: the special point's note says so) gives the curve of that
-// growth rate, which is where the counts of unstable values change. The inner problem's η is
-// restored at the end. Throws std::invalid_argument when the problem has no second parameter or
+// (bounds.lambda_min/max bound η), with detect.stability on. The curve is always Re μ = 0: from a
+// Hopf point that the engine located where a marginal pair's growth rate crosses the problem's
+// StabilityTolerance instead (its note says so) the start must first reach Re μ = 0, and can fail
+// (studies/hysteresis_map.cpp starts no curve there). The inner problem's η is restored at the
+// end. Throws std::invalid_argument when the problem has no second parameter or
 // stability operator, or the special point is not a Hopf point.
 Branch ContinueHopfCurve(Problem& problem, const SpecialPoint& hopf,
                          const ContinuationOptions& options = {},
