@@ -26,7 +26,7 @@ void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, con
     lambda[i] = p.lambda * parameter.factor;
     arclength[i] = p.arclength;
     unstable[i] = p.num_unstable;
-    stable[i] = p.num_unstable < 0 ? -1 : (p.num_unstable == 0 ? 1 : 0);
+    stable[i] = p.StableFlag();
   }
   writer.WriteDoubles(group + "/" + parameter.name, lambda);
   writer.WriteInts(group + "/stable", stable);

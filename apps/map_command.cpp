@@ -126,7 +126,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
                                      : Vector());
       std::vector<int> stable;
       for (const BranchPoint& p : c.curve.points) {
-        stable.push_back(p.num_unstable < 0 ? -1 : p.num_unstable == 0 ? 1 : 0);
+        stable.push_back(p.StableFlag());
       }
       writer.WriteInts(g + "/stable", stable);
     }

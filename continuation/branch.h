@@ -28,6 +28,9 @@ struct BranchPoint {
   int num_unstable = -1;       // Spectrum::UnstableCount; −1 when stability was not computed
   Spectrum spectrum;           // valid = false when stability was not computed
   std::string piece;           // Problem::PieceLabel() of the smooth piece it lies on
+
+  // 1 stable, 0 unstable, −1 stability not computed (the result files' `stable` columns).
+  int StableFlag() const { return num_unstable < 0 ? -1 : num_unstable == 0 ? 1 : 0; }
 };
 
 // A detected (and usually located) special point. For points located on arclength, `index` is the

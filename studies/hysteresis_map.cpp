@@ -33,11 +33,6 @@ std::string NoHopfCurve(const SpecialPoint& sp, double stability_tolerance) {
   return "";
 }
 
-int StableFlag(const BranchPoint& p) {
-  if (p.num_unstable < 0) return -1;
-  return p.num_unstable == 0 ? 1 : 0;
-}
-
 // Puts `problem` on the piece and phase of a special point of `branch`.
 void PlaceAt(RotatingWaveDesignProblem& problem, const Branch& branch, const SpecialPoint& point) {
   problem.SetModes(ModesAt(branch, point, problem.Contacts()));
@@ -246,8 +241,8 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
           point.nonsmooth_fold = sp.nonsmooth_fold;
           point.branch = static_cast<int>(b);
           const std::size_t at = static_cast<std::size_t>(sp.index);
-          if (at < branch.points.size()) point.stable_before = StableFlag(branch.points[at]);
-          if (at + 1 < branch.points.size()) point.stable_after = StableFlag(branch.points[at + 1]);
+          if (at < branch.points.size()) point.stable_before = branch.points[at].StableFlag();
+          if (at + 1 < branch.points.size()) point.stable_after = branch.points[at + 1].StableFlag();
           map.points.push_back(point);
         }
       }
