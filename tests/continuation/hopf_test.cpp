@@ -11,7 +11,6 @@
 namespace rubcont {
 namespace {
 
-using testing::EigenvaluesOf;
 using testing::LambdaProblem;
 using testing::Vec;
 
@@ -46,11 +45,7 @@ LambdaProblem BogdanovTakens(double eta) {
         F(1) = l + eta * u(1) + u(0) * u(0) - u(0) * u(1);
       },
       jacobian, [](const Vector&, double, double, Vector& dF) { dF = Vec({0.0, 1.0}); });
-  problem.SetStability([jacobian](const Vector& u, double l, double eta) {
-    Matrix J(2, 2);
-    jacobian(u, l, eta, J);
-    return EigenvaluesOf(J);
-  });
+  problem.SetStabilityFromJacobian();
   problem.EnableSecondParameter(eta);
   return problem;
 }
@@ -124,11 +119,7 @@ LambdaProblem FoldHopf(double eta) {
       },
       jacobian,
       [](const Vector&, double, double, Vector& dF) { dF = Vec({1.0, 0.0, 0.0, 0.0, 0.0}); });
-  problem.SetStability([jacobian](const Vector& u, double l, double eta) {
-    Matrix J(5, 5);
-    jacobian(u, l, eta, J);
-    return EigenvaluesOf(J);
-  });
+  problem.SetStabilityFromJacobian();
   problem.EnableSecondParameter(eta);
   return problem;
 }

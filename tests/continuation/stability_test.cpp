@@ -29,11 +29,7 @@ LambdaProblem Brusselator(double a) {
         F << a - (b + 1) * x + x * x * y, b * x - x * x * y;
       },
       jacobian, [](const Vector& u, double, double, Vector& dF) { dF << -u(0), u(0); });
-  problem.SetStability([jacobian](const Vector& u, double b, double eta) {
-    Matrix J(2, 2);
-    jacobian(u, b, eta, J);
-    return EigenvaluesOf(J);
-  });
+  problem.SetStabilityFromJacobian();
   return problem;
 }
 

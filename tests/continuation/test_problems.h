@@ -13,6 +13,15 @@
 namespace rubcont {
 namespace testing {
 
+// The eigenvalues of J as a valid Spectrum (the stability operator of a LambdaProblem).
+inline Spectrum EigenvaluesOf(const Matrix& J) {
+  Spectrum spectrum;
+  spectrum.kind = SpectrumKind::kEigenvalues;
+  spectrum.values = Eigen::EigenSolver<Matrix>(J).eigenvalues();
+  spectrum.valid = true;
+  return spectrum;
+}
+
 // F(u, λ) from lambdas; Jacobian and ∂F/∂λ analytic when given, else the Problem defaults
 // (finite differences). Optional second parameter η, stability operator and scales.
 class LambdaProblem : public Problem {
@@ -71,6 +80,14 @@ class LambdaProblem : public Problem {
     residual_scale_ = std::move(residual_scale);
   }
   void SetStability(StabilityFn stability) { stability_ = std::move(stability); }
+  // Stability: the eigenvalues of the analytic Jacobian (equilibria of u' = F(u, λ)).
+  void SetStabilityFromJacobian() {
+    stability_ = [jacobian = jacobian_, n = n_](const Vector& u, double lambda, double eta) {
+      Matrix J(n, n);
+      jacobian(u, lambda, eta, J);
+      return EigenvaluesOf(J);
+    };
+  }
   void EnableSecondParameter(double eta) {
     has_eta_ = true;
     eta_ = eta;
@@ -95,15 +112,6 @@ class LambdaProblem : public Problem {
   std::vector<std::string> measure_names_;
   std::function<Vector(const Vector&, double)> measures_;
 };
-
-// The eigenvalues of J as a valid Spectrum (the stability operator of a LambdaProblem).
-inline Spectrum EigenvaluesOf(const Matrix& J) {
-  Spectrum spectrum;
-  spectrum.kind = SpectrumKind::kEigenvalues;
-  spectrum.values = Eigen::EigenSolver<Matrix>(J).eigenvalues();
-  spectrum.valid = true;
-  return spectrum;
-}
 
 inline Vector Vec(std::initializer_list<double> values) {
   Vector v(static_cast<Index>(values.size()));
