@@ -124,6 +124,8 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     return o.method == IntegrationMethod::kExplicitRungeKutta
                ? fmt::format("{} order {}, rtol = atol {:g}", ToString(o.method), o.explicit_order,
                              o.relative_tolerance)
+           : o.method == IntegrationMethod::kDormandPrince
+               ? fmt::format("{} 5(4), rtol = atol {:g}", ToString(o.method), o.relative_tolerance)
                : fmt::format("{} order ≤ {}, rtol {:g}, atol {:g}", ToString(o.method), o.max_order,
                              o.relative_tolerance, o.absolute_tolerance);
   };

@@ -520,7 +520,7 @@ std::vector<KeySpec> BuildSchema() {
               [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
   s.push_back(Choice(
       "analysis.sweep.integrator",
-      "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (ARKODE Dormand–Prince 5(4)) or \"auto\" "
+      "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (Boost.Odeint Dormand–Prince 5(4)) or \"auto\" "
       "(BDF while every contact touches continuously, Dormand–Prince after a window in which a "
       "contact touched 0–90 % of the time): results/README.md, \"Sweep integrators\".",
       {"bdf", "explicit", "auto"},

@@ -62,7 +62,7 @@ Level HighestLevel(const std::vector<Stage>& stages);
 // Every section's defaults are the initializers below (and those of the model parameter structs):
 // the schema in scene.cpp documents and applies them from a default-constructed Scene.
 
-// How the sweeps integrate (key `integrator`): CVODES BDF of order ≤ 2 throughout; ARKODE's
+// How the sweeps integrate (key `integrator`): CVODES BDF of order ≤ 2 throughout; Boost.Odeint's
 // explicit Dormand–Prince 5(4) throughout; or BDF where the contacts touch continuously and
 // Dormand–Prince where a contact touches part of the time (SweepOptions::intermittent_integrator).
 enum class SweepIntegrator { kBdf, kExplicit, kAuto };

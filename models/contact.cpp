@@ -14,9 +14,26 @@ Vector2 Perp(const Vector2& v) { return Vector2(-v.y(), v.x()); }
 void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, double omega,
                      const Vector2& d, const Vector2& ddot, FrictionMode mode, double stick_force,
                      bool with_derivatives, ContactEvaluation& out) {
-  out = ContactEvaluation();
+  // The derivatives are reset only when asked for (they are read only then): time marching calls
+  // this millions of times per simulated second without them.
+  out.touching = false;
+  out.normal_force = 0.0;
+  out.friction_force = 0.0;
+  out.force.setZero();
+  if (with_derivatives) {
+    out.dN_dd.setZero();
+    out.dN_dddot.setZero();
+    out.dV_dd.setZero();
+    out.dV_dddot.setZero();
+    out.df_dd.setZero();
+    out.df_dddot.setZero();
+    out.df_domega.setZero();
+    out.df_dF.setZero();
+  }
   const double rho = d.norm();
   out.penetration = rho - geometry.clearance;
+  out.normal.setZero();
+  out.tangent.setZero();
   if (rho > 0.0) {
     out.normal = d / rho;
     out.tangent = Perp(out.normal);

@@ -73,7 +73,8 @@ struct ContactEvaluation {
 };
 
 // Evaluates the contact at relative position d [m] and rate ḋ [m/s] for spin ω [rad/s].
-// `stick_force` is F [N] in FrictionMode::kStick and ignored otherwise.
+// `stick_force` is F [N] in FrictionMode::kStick and ignored otherwise. The derivative members of
+// `out` are set only with `with_derivatives` (otherwise left as they were).
 void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, double omega,
                      const Vector2& d, const Vector2& ddot, FrictionMode mode, double stick_force,
                      bool with_derivatives, ContactEvaluation& out);

@@ -94,8 +94,8 @@ RubStructure TwoPointStructure(const TwoPointParams& p) {
   return s;
 }
 
-void EvaluateContactForces(const RubStructure& structure, double omega, const Vector& q,
-                           const Vector& v, const std::vector<FrictionMode>& modes,
+void EvaluateContactForces(const RubStructure& structure, double omega, ConstVectorRef q,
+                           ConstVectorRef v, const std::vector<FrictionMode>& modes,
                            const Vector& stick_forces, bool with_derivatives, ContactForces& out) {
   const Index n2 = 2 * structure.Coordinates();
   const Index m = static_cast<Index>(structure.contacts.size());
@@ -184,27 +184,51 @@ RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
   mass_inverse_ = KronIdentity2(structure_.mass.inverse());
   damping_ = KronIdentity2(structure_.damping);
   stiffness_ = KronIdentity2(structure_.stiffness);
+  const Matrix mass_inverse = structure_.mass.inverse();
+  small_mass_inverse_transpose_ = mass_inverse.transpose();
+  small_damping_rate_transpose_ = (mass_inverse * structure_.damping).transpose();
+  small_stiffness_rate_transpose_ = (mass_inverse * structure_.stiffness).transpose();
   modes_.assign(structure_.contacts.size(), FrictionMode::kRegularized);
   stick_forces_.setZero(static_cast<Index>(structure_.contacts.size()));
   exchange_ = ContactExchange(structure_);
 }
 
 void RubFixedFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
-  const Index n2 = 2 * structure_.Coordinates();
-  const Vector q = x.head(n2);
-  const Vector v = x.tail(n2);
-  EvaluateContactForces(structure_, omega_, q, v, modes_, stick_forces_, false, forces_);
-  Vector load = forces_.generalized - damping_ * v - stiffness_ * q;
+  // Allocation-free and in the n × n coordinates (the 2n × 2n matrices are kron(·, I₂)): explicit
+  // sweeps call it millions of times per simulated second. Positions, velocities and loads as
+  // 2 × n matrices (column i: the x and y components of coordinate i), so M⁻¹ load = L M⁻ᵀ.
+  const Index n = structure_.Coordinates();
+  const Index n2 = 2 * n;
+  EvaluateContactForces(structure_, omega_, x.head(n2), x.tail(n2), modes_, stick_forces_, false,
+                        forces_);
+  load_ = Eigen::Map<const Matrix>(forces_.generalized.data(), 2, n);
   if (structure_.imbalance != 0.0) {
     const double amplitude = structure_.imbalance * omega_ * omega_;
     const double c = std::cos(omega_ * t), s = std::sin(omega_ * t);
-    for (Index i = 0; i < structure_.Coordinates(); ++i) {
-      load(2 * i) += amplitude * structure_.imbalance_weights(i) * c;
-      load(2 * i + 1) += amplitude * structure_.imbalance_weights(i) * s;
+    for (Index i = 0; i < n; ++i) {
+      load_(0, i) += amplitude * structure_.imbalance_weights(i) * c;
+      load_(1, i) += amplitude * structure_.imbalance_weights(i) * s;
     }
   }
-  f.head(n2) = v;
-  f.tail(n2).noalias() = mass_inverse_ * load;
+  if (n == 4) {
+    Accelerations<4>(x.data(), f.data() + n2);  // the two-point rotor: fixed sizes, unrolled
+  } else {
+    Accelerations<Eigen::Dynamic>(x.data(), f.data() + n2);
+  }
+  f.head(n2) = x.tail(n2);
+}
+
+template <int N>
+void RubFixedFrame::Accelerations(const double* x, double* acceleration) const {
+  using Small = Eigen::Matrix<double, N, N>;
+  using Rows = Eigen::Matrix<double, 2, N>;
+  const Index n = structure_.Coordinates();
+  const Eigen::Map<const Rows> q(x, 2, n), v(x + 2 * n, 2, n), load(load_.data(), 2, n);
+  const Eigen::Map<const Small> m(small_mass_inverse_transpose_.data(), n, n);
+  const Eigen::Map<const Small> c(small_damping_rate_transpose_.data(), n, n);
+  const Eigen::Map<const Small> k(small_stiffness_rate_transpose_.data(), n, n);
+  Eigen::Map<Rows> a(acceleration, 2, n);
+  a.noalias() = load.lazyProduct(m) - v.lazyProduct(c) - q.lazyProduct(k);
 }
 
 void RubFixedFrame::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {

@@ -84,8 +84,8 @@ struct ContactForces {
   Matrix d_dstick;            // ∂/∂F_k (2 n_c × contacts), non-zero for kStick contacts only
   std::vector<ContactEvaluation> contacts;
 };
-void EvaluateContactForces(const RubStructure& structure, double omega, const Vector& q,
-                           const Vector& v, const std::vector<FrictionMode>& modes,
+void EvaluateContactForces(const RubStructure& structure, double omega, ConstVectorRef q,
+                           ConstVectorRef v, const std::vector<FrictionMode>& modes,
                            const Vector& stick_forces, bool with_derivatives, ContactForces& out);
 
 // Circular backward precession u(t) = u0 e^{−jΩt} with each contact touching at exactly its
@@ -149,6 +149,14 @@ class RubFixedFrame : public OdeSystem {
   std::vector<FrictionMode> modes_;
   Vector stick_forces_;
   ContactForces forces_;  // workspace
+  // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ, for
+  // N = n_c or Eigen::Dynamic.
+  template <int N>
+  void Accelerations(const double* x, double* acceleration) const;
+  // Rhs: M⁻ᵀ, (M⁻¹C)ᵀ, (M⁻¹K)ᵀ (n_c × n_c) and its workspace, the load as 2 × n_c.
+  Matrix small_mass_inverse_transpose_, small_damping_rate_transpose_,
+      small_stiffness_rate_transpose_;
+  Matrix load_;
   std::vector<Index> exchange_;  // ContactExchange(structure_)
 };
 

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev coinor-libipopt-dev libnlopt-cxx-dev libsundials-dev libhdf5-dev catch2
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev libboost-dev
   python3-matplotlib python3-h5py python3-numpy
 )
 

@@ -17,6 +17,7 @@ const char* ToString(IntegrationMethod method) {
     case IntegrationMethod::kExplicitRungeKutta: return "ARKODE ERK";
     case IntegrationMethod::kDiagonallyImplicitRungeKutta: return "ARKODE DIRK";
     case IntegrationMethod::kGaussCollocation: return "Gauss collocation";
+    case IntegrationMethod::kDormandPrince: return "Odeint Dormand-Prince";
   }
   return "unknown";
 }
@@ -246,6 +247,8 @@ class OdeIntegrator::Impl {
       cvodes_ = std::make_unique<detail::CvodesBackend>(context_, options);
     } else if (options.method == IntegrationMethod::kGaussCollocation) {
       gauss_ = std::make_unique<detail::GaussBackend>(context_, options);
+    } else if (options.method == IntegrationMethod::kDormandPrince) {
+      odeint_ = std::make_unique<detail::OdeintBackend>(context_, options);
     } else {
       arkode_ = std::make_unique<detail::ArkodeBackend>(context_, options);
     }
@@ -254,17 +257,18 @@ class OdeIntegrator::Impl {
   IntegrationResult Run(const detail::IntegrationRequest& request) {
     context_.BeginRun();
     IntegrationResult result = cvodes_   ? cvodes_->Run(request)
-                               : gauss_ ? gauss_->Run(request)
-                                        : arkode_->Run(request);
+                               : gauss_  ? gauss_->Run(request)
+                               : odeint_ ? odeint_->Run(request)
+                                         : arkode_->Run(request);
     context_.RethrowIfAny();
     return result;
   }
 
   void SetEvents(const EventOptions& events) {
-    if (gauss_) {
-      throw std::invalid_argument(
-          "OdeIntegrator: events need an integrator with root finding (CVODES or ARKODE), not "
-          "Gauss collocation");
+    if (gauss_ || odeint_) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator: events need an integrator with root finding (CVODES or ARKODE), not {}",
+          ToString(options_.method)));
     }
     if (!events.function || events.count < 1) {
       throw std::invalid_argument(fmt::format(
@@ -309,6 +313,7 @@ class OdeIntegrator::Impl {
   std::unique_ptr<detail::CvodesBackend> cvodes_;
   std::unique_ptr<detail::ArkodeBackend> arkode_;
   std::unique_ptr<detail::GaussBackend> gauss_;
+  std::unique_ptr<detail::OdeintBackend> odeint_;
 };
 
 OdeIntegrator::OdeIntegrator(OdeSystem& system, const IntegratorOptions& options)

@@ -1,6 +1,7 @@
 // Time integration of an OdeSystem with SUNDIALS: CVODES (BDF or Adams, dense LU, forward
-// sensitivities) and ARKODE (explicit or diagonally implicit Runge–Kutta); and Gauss collocation
-// on a fixed mesh (ode_gauss.cpp), the fully implicit method SUNDIALS does not have.
+// sensitivities) and ARKODE (explicit or diagonally implicit Runge–Kutta); Gauss collocation on a
+// fixed mesh (ode_gauss.cpp), the fully implicit method SUNDIALS does not have; and Boost.Odeint's
+// Dormand–Prince (ode_odeint.cpp), the cheapest explicit step for plain time marching.
 //
 // What the shooting code needs from an integrator, and what this one gives:
 //   x(t1)                      the end state, from x(t0) = x0;
@@ -38,6 +39,10 @@ enum class IntegrationMethod {
   kAdams,  // CVODES, Adams–Moulton (orders 1–12), Newton + dense LU: smooth, non-stiff systems
   kExplicitRungeKutta,             // ARKODE ERKStep, embedded pair of order `explicit_order`
   kDiagonallyImplicitRungeKutta,   // ARKODE ARKStep, DIRK of order `implicit_order`, dense LU
+  // Boost.Odeint's Dormand–Prince 5(4) with dense output (ode_odeint.cpp): the state only (no
+  // sensitivities, no events), with a per-step cost a fraction of ARKODE's on small systems — for
+  // long explicit time marching (sweeps, ensembles).
+  kDormandPrince,
   // Gauss–Legendre collocation (implicit Runge–Kutta of order 2·collocation_stages) on a fixed
   // uniform mesh of collocation_steps steps per call, Newton + dense LU, the STM as the exact
   // derivative of the discrete map (ode_gauss.cpp). No error estimate, no events: for shooting on
@@ -73,6 +78,11 @@ struct IntegratorOptions {
   int explicit_order = 5;
   // DIRK order: 2, 3, 4 (SDIRK 5-3-4) or 5 (ARK5(4)8L[2]SA's implicit table).
   int implicit_order = 4;
+  // kDormandPrince: end a step where a switching function of the system (OdeSystem::
+  // SwitchingFunctions: a contact closing or opening) is predicted to vanish, rather than let the
+  // step straddle the kink of f there, which the error control passes only with tiny steps and
+  // rejections (A(a)'s impacting whip: 22 % fewer f evaluations, half the rejected steps).
+  bool land_on_switches = true;
 
   // Gauss collocation: stages s in [1, 6] (order 2s) and uniform steps per Integrate / Sample call
   // (≥ 1). The tolerances only set its Newton's stopping test (1e-3·absolute_tolerance, scaled).

@@ -1,4 +1,4 @@
-// Private to solvers/ode*.cpp: what the SUNDIALS C callbacks share, and the two backends.
+// Private to solvers/ode*.cpp: what the SUNDIALS C callbacks share, and the backends.
 #pragma once
 
 #include <exception>
@@ -145,6 +145,21 @@ class ArkodeBackend {
   SunContextPtr sun_context_;
   // One memory per augmented size: plain (n), with STM (n + n²), with STM and ∂x/∂p (n + n² + n).
   std::unique_ptr<Memory> memories_[4];  // plain, Φ, Φ and q, Φ·seeds
+};
+
+// Boost.Odeint's Dormand–Prince 5(4) (ode_odeint.cpp): the state only, no events.
+class OdeintBackend {
+ public:
+  OdeintBackend(CallbackContext& context, const IntegratorOptions& options);
+  ~OdeintBackend();
+  OdeintBackend(const OdeintBackend&) = delete;
+  OdeintBackend& operator=(const OdeintBackend&) = delete;
+  IntegrationResult Run(const IntegrationRequest& request);
+  class Stepper;  // one per state container (ode_odeint.cpp)
+
+ private:
+  IntegratorOptions options_;
+  std::unique_ptr<Stepper> stepper_;
 };
 
 // The s-stage Gauss–Legendre collocation method on [0, 1] (ode_gauss.cpp).

@@ -45,11 +45,18 @@ TEST_CASE("rubcont attractor: the whirl is a rotating wave, one zero exponent, i
   CHECK(exponents(0, 1) < -3.0 * errors(0, 1));
   CHECK(r.ReadDoubles("/attractor/counted_s").at(0) == Approx(0.2));
   CHECK(r.ReadMatrix("/attractor/running/0").cols() == 20);
-  // Rolling in steady contact: the penetration is constant, so every point the section keeps (if
-  // any: the extrema are the integrator's noise) has the same normal force.
-  for (const std::string side : {"left", "right"}) {
-    const std::vector<double> force = r.ReadDoubles("/attractor/section_normal_force_" + side);
-    for (double f : force) CHECK(f == Approx(force.front()).epsilon(1e-4));
+  // Rolling in full contact, still settling 0.05 s after the step to 48 rpm (the exponents'
+  // −10.8/s): the normal force drifts slowly, and the section keeps the maxima of that drift
+  // and of the integrator's noise on it (measured 11 maxima, 1320–1352 N, after 2026-11-26; none
+  // before, with the right-hand side's sums in another order). Whatever their number, they lie
+  // within the drift (a bounce would range from 0 N), and the symmetric rotor's two contacts
+  // carry the same force at the same instants.
+  const std::vector<double> left = r.ReadDoubles("/attractor/section_normal_force_left");
+  const std::vector<double> right = r.ReadDoubles("/attractor/section_normal_force_right");
+  REQUIRE(left.size() == right.size());
+  for (std::size_t i = 0; i < left.size(); ++i) {
+    CHECK(left[i] == Approx(left.front()).epsilon(0.05));
+    CHECK(right[i] == Approx(left[i]).epsilon(1e-6));
   }
 }
 

@@ -140,10 +140,10 @@ TEST_CASE("rubcont sweep: the auto integrator takes Dormand-Prince where the con
                                                " --direction up --no-figures --out " + h5.string());
     INFO(o.out << o.err);
     REQUIRE(o.exit_code == 0);
-    CHECK_THAT(o.out, Contains("ARKODE ERK order 5"));
+    CHECK_THAT(o.out, Contains("Odeint Dormand-Prince 5(4)"));
     ResultReader r(h5);
     CHECK(r.ReadStringAttribute("/sweeps/up", "integrator") == "auto");
-    CHECK(r.ReadStringAttribute("/sweeps/up", "intermittent_integrator_method") == "ARKODE ERK");
+    CHECK(r.ReadStringAttribute("/sweeps/up", "intermittent_integrator_method") == "Odeint Dormand-Prince");
     const std::vector<int> explicit_windows = r.ReadInts("/sweeps/up/intermittent_windows");
     REQUIRE(explicit_windows.size() == 2);
     CHECK(explicit_windows[0] >= 1);  // the bouncing after the impulse
@@ -151,8 +151,10 @@ TEST_CASE("rubcont sweep: the auto integrator takes Dormand-Prince where the con
   };
   // The default (1e-8): full contact at 24 rpm, as the tight references.
   CHECK(contact_at_24("") > 0.99);
-  // 1e-6: Dormand–Prince at its stability limit keeps the contact chattering (measured 0.23).
-  CHECK(contact_at_24("explicit_tolerance = 1e-6\n") < 0.5);
+  // 1e-5: Dormand–Prince at its stability limit keeps the contact chattering (measured 0.12;
+  // Odeint's error test, a maximum over the scaled states, holds it from 1e-6 on, where ARKODE's
+  // root-mean-square one chattered at 1e-6, 0.23, and 1e-7).
+  CHECK(contact_at_24("explicit_tolerance = 1e-5\n") < 0.5);
 }
 
 TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the balanced branches",

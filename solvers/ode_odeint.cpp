@@ -1,0 +1,297 @@
+// Boost.Odeint backend: the Dormand–Prince 5(4) pair (runge_kutta_dopri5) under odeint's step
+// control, with its dense output. For long time marching of small systems, where SUNDIALS' generic
+// vector operations cost more than the method: on case A(a)'s 16 states ARKODE's ERKStep took
+// 2.3–3.9× the CPU for the same steps (results/README.md, "Sweep integrators"). Plain integration and
+// sampling only: no sensitivities, no events (OdeIntegrator refuses both with this method).
+//
+// The state is integrated scaled, z = x ./ scale (OdeSystem::StateScale()), so that odeint's error
+// test |e_i| ≤ atol + rtol·|z_i| (its maximum norm over i, a_dxdt = 0) is the one IntegratorOptions
+// documents. A state beyond the state bound or a right-hand side that is not finite ends the call
+// with a status (odeint would accept a step whose error estimate is NaN: it is never given one).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
+#include <fmt/core.h>
+
+#include "solvers/ode_internal.h"
+
+namespace rubcont {
+namespace detail {
+namespace {
+
+namespace odeint = boost::numeric::odeint;
+
+// The state container: a fixed size (unrolled stage loops) for the two-point rotor's 16 states,
+// std::vector otherwise.
+constexpr Index kFixedSize = 16;
+using FixedState = std::array<double, kFixedSize>;
+using DynamicState = std::vector<double>;
+void Resize(FixedState& /*state*/, Index /*n*/) {}
+void Resize(DynamicState& state, Index n) { state.resize(static_cast<std::size_t>(n)); }
+
+// Thrown by the right-hand side through odeint's frames (C++ all the way) and caught in Run.
+struct RhsStop {
+  IntegrationStatus status;
+};
+
+// Consecutive rejected steps before giving up (ARKODE's default for ERK is 7; odeint's own 500).
+constexpr int kMaxConsecutiveFailures = 50;
+
+}  // namespace
+
+class OdeintBackend::Stepper {
+ public:
+  virtual ~Stepper() = default;
+  virtual IntegrationResult Run(const IntegrationRequest& request, const IntegratorOptions& options) = 0;
+};
+
+namespace {
+
+template <class OdeintState>
+class DormandPrince final : public OdeintBackend::Stepper {
+  using Dopri5 = odeint::runge_kutta_dopri5<OdeintState>;
+  using ErrorChecker = odeint::default_error_checker<double, typename Dopri5::algebra_type,
+                                                     odeint::default_operations>;
+  using Controlled = odeint::controlled_runge_kutta<Dopri5, ErrorChecker>;
+
+ public:
+  DormandPrince(CallbackContext& context, const IntegratorOptions& options)
+      : context_(context),
+        controlled_(ErrorChecker(options.absolute_tolerance, options.relative_tolerance, 1.0, 0.0),
+                    odeint::default_step_adjuster<double, double>(options.max_step)) {
+    const Index n = context.n;
+    x_.resize(n);
+    f_.resize(n);
+    switches_ = context.system->SwitchingCount();
+    g_.resize(switches_);
+    g_previous_.resize(switches_);
+    g_ahead_.resize(switches_);
+    for (OdeintState* v : {&z_, &dz_, &z_new_, &dz_new_, &output_}) Resize(*v, n);
+  }
+
+  // ż = f(t, z .* scale) ./ scale, with the checks of EvaluateRhs on the scaled state (an exception
+  // of the system passes through odeint to the caller).
+  void operator()(const OdeintState& z, OdeintState& dz, double t) {
+    const Index n = context_.n;
+    bool beyond = false, not_a_number = false;
+    for (Index i = 0; i < n; ++i) {
+      const double zi = z[static_cast<std::size_t>(i)];
+      beyond = beyond || !(std::abs(zi) <= context_.state_bound);
+      not_a_number = not_a_number || std::isnan(zi);
+      x_(i) = zi * context_.scale(i);
+    }
+    if (not_a_number) throw RhsStop{IntegrationStatus::kNonFinite};
+    if (beyond) throw RhsStop{IntegrationStatus::kStateBound};
+    ++evaluations_;
+    context_.system->Rhs(t, x_, f_);
+    bool finite = true;
+    for (Index i = 0; i < n; ++i) {
+      const double dzi = f_(i) * context_.inverse_scale(i);
+      finite = finite && std::isfinite(dzi);
+      dz[static_cast<std::size_t>(i)] = dzi;
+    }
+    if (!finite) throw RhsStop{IntegrationStatus::kNonFinite};
+  }
+
+  IntegrationResult Run(const IntegrationRequest& request, const IntegratorOptions& options) override {
+    const Index n = context_.n;
+    IntegrationResult result;
+    result.t_reached = request.t0;
+    evaluations_ = 0;
+    for (Index i = 0; i < n; ++i) z_[static_cast<std::size_t>(i)] = request.x0[i] * context_.inverse_scale(i);
+    double t = request.t0;
+    const double t_final = request.times[request.count - 1];
+    IntegrationStatistics& statistics = result.statistics;
+    Index filled = 0;
+    try {
+      if (t_final != t) {
+        const double direction = t_final > t ? 1.0 : -1.0;
+        (*this)(z_, dz_, t);
+        double dt = direction * (options.initial_step > 0.0 ? options.initial_step : InitialStep(t_final - t));
+        long steps_since_output = 0;
+        const bool land = switches_ > 0 && options.land_on_switches;
+        if (land) {
+          Switches(t, z_, g_);
+          g_previous_ = g_;
+          t_previous_ = t;
+        }
+        while (t != t_final) {
+          if (steps_since_output >= options.max_steps) {
+            return Failure(IntegrationStatus::kTooMuchWork, t, result,
+                           fmt::format("{} steps taken before the next output time", options.max_steps));
+          }
+          if (land) dt = LandOnSwitch(t, dt);
+          // The last step ends on t_final exactly; outputs before it are interpolated to.
+          const bool last = direction * (t + dt - t_final) >= 0.0;
+          if (last) dt = t_final - t;
+          double t_try = t;
+          double used = dt;  // the step of the attempt (try_step replaces dt by the next one)
+          int failures = 0;
+          while (controlled_.try_step(std::ref(*this), z_, dz_, t_try, z_new_, dz_new_, dt) ==
+                 odeint::fail) {
+            used = dt;
+            ++statistics.error_test_failures;
+            if (++failures >= kMaxConsecutiveFailures || std::abs(dt) <= 1e-14 * std::max(std::abs(t), 1e-300)) {
+              return Failure(IntegrationStatus::kErrorTestFailures, t, result,
+                             fmt::format("{} consecutive error-test failures, h = {:.3g}", failures, dt));
+            }
+          }
+          ++statistics.steps;
+          ++steps_since_output;
+          const bool at_end = last && used == t_final - t;
+          if (at_end) t_try = t_final;  // no rounding past the final time
+          // Outputs inside (t, t_try], by the method's dense output.
+          while (filled < request.count - 1 && direction * (request.times[filled] - t_try) <= 0.0) {
+            controlled_.stepper().calc_state(request.times[filled], output_, z_, dz_, t, z_new_,
+                                             dz_new_, t_try);
+            if (request.states != nullptr) Unscale(output_, request.states + filled * n);
+            ++filled;
+            steps_since_output = 0;
+          }
+          std::swap(z_, z_new_);
+          std::swap(dz_, dz_new_);
+          if (land) {
+            g_previous_ = g_;
+            t_previous_ = t;
+            Switches(t_try, z_, g_);
+          }
+          t = t_try;
+        }
+      }
+    } catch (const RhsStop& stop) {
+      return Failure(stop.status, t, result, "");
+    }
+    Unscale(z_, request.x_final);
+    if (request.states != nullptr) {
+      for (Index k = filled; k < request.count; ++k) Unscale(z_, request.states + k * n);
+    }
+    result.t_reached = t;
+    statistics.rhs_evaluations = evaluations_;
+    result.warnings = context_.warnings;
+    return result;
+  }
+
+ private:
+  // Hairer, Nørsett & Wanner's first guess: 1 % of ‖z‖/‖ż‖ (maximum norms, scaled), at most the span.
+  double InitialStep(double span) const {
+    double z = 0.0, dz = 0.0;
+    for (std::size_t i = 0; i < z_.size(); ++i) {
+      z = std::max(z, std::abs(z_[i]));
+      dz = std::max(dz, std::abs(dz_[i]));
+    }
+    const double guess = z > 1e-5 && dz > 1e-5 ? 0.01 * z / dz : 1e-6 * std::abs(span);
+    return std::min(guess, std::abs(span));
+  }
+
+  // g(t, z .* scale) into g.
+  void Switches(double t, const OdeintState& z, Vector& g) {
+    Unscale(z, x_.data());
+    context_.system->SwitchingFunctions(t, x_, g);
+  }
+
+  // The step `dt`, shortened to end where a switching function is predicted to vanish (a contact
+  // closing or opening: a kink of f that an explicit step straddles only with a tiny step and
+  // rejections). Each g is extrapolated by the parabola through g(t_previous), g(t) and ġ(t) (ġ a
+  // difference quotient along f); a zero in the first 2 % of the step is left to the step (a kink
+  // near its start costs it little).
+  double LandOnSwitch(double t, double dt) {
+    const double h = t - t_previous_;
+    if (h == 0.0) return dt;
+    const double epsilon = 1e-3 * h;
+    for (std::size_t i = 0; i < z_.size(); ++i) output_[i] = z_[i] + epsilon * dz_[i];
+    Switches(t + epsilon, output_, g_ahead_);
+    double land = std::abs(dt);
+    for (Index k = 0; k < switches_; ++k) {
+      const double g = g_(k);
+      const double rate = (g_ahead_(k) - g) / epsilon;
+      const double curvature = (g_previous_(k) - g + rate * h) / (h * h);  // p(τ) = g + rate τ + c τ²
+      const double sign = dt > 0.0 ? 1.0 : -1.0;
+      double roots[2];
+      const int count = QuadraticRoots(curvature, rate, g, roots);
+      for (int r = 0; r < count; ++r) {
+        const double ahead = sign * roots[r];
+        if (ahead > 0.02 * std::abs(dt) && ahead < land) land = ahead;
+      }
+    }
+    return dt > 0.0 ? land : -land;
+  }
+
+  // The real roots of c τ² + b τ + a into roots (stably); returns how many (0, 1 or 2).
+  static int QuadraticRoots(double c, double b, double a, double (&roots)[2]) {
+    if (c == 0.0) {
+      if (b == 0.0) return 0;
+      roots[0] = -a / b;
+      return 1;
+    }
+    const double discriminant = b * b - 4.0 * c * a;
+    if (discriminant < 0.0) return 0;
+    const double q = -0.5 * (b + std::copysign(std::sqrt(discriminant), b));
+    if (q == 0.0) {
+      roots[0] = 0.0;
+      return 1;
+    }
+    roots[0] = q / c;
+    roots[1] = a / q;
+    return 2;
+  }
+
+  void Unscale(const OdeintState& z, double* x) const {
+    for (Index i = 0; i < context_.n; ++i) x[i] = z[static_cast<std::size_t>(i)] * context_.scale(i);
+  }
+
+  IntegrationResult& Failure(IntegrationStatus status, double t, IntegrationResult& result,
+                             std::string message) {
+    result.status = status;
+    result.flag_name = "odeint";
+    result.t_reached = t;
+    result.statistics.rhs_evaluations = evaluations_;
+    result.warnings = context_.warnings;
+    if (status == IntegrationStatus::kStateBound) {
+      message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
+                            context_.state_bound, t);
+    } else if (status == IntegrationStatus::kNonFinite) {
+      message = "the right-hand side returned NaN or Inf";
+    }
+    result.message = std::move(message);
+    return result;
+  }
+
+  CallbackContext& context_;
+  Controlled controlled_;
+  Vector x_, f_;  // unscaled state and derivative for the system
+  OdeintState z_, dz_, z_new_, dz_new_, output_;
+  Index switches_ = 0;                  // OdeSystem::SwitchingCount()
+  Vector g_, g_previous_, g_ahead_;     // at t, at the previous step's start, at t + ε
+  double t_previous_ = 0.0;
+  long evaluations_ = 0;
+};
+
+}  // namespace
+
+OdeintBackend::OdeintBackend(CallbackContext& context, const IntegratorOptions& options)
+    : options_(options) {
+  if (context.n == kFixedSize) {
+    stepper_ = std::make_unique<DormandPrince<FixedState>>(context, options);
+  } else {
+    stepper_ = std::make_unique<DormandPrince<DynamicState>>(context, options);
+  }
+}
+
+OdeintBackend::~OdeintBackend() = default;
+
+IntegrationResult OdeintBackend::Run(const IntegrationRequest& request) {
+  if (request.stm != nullptr) {
+    throw std::invalid_argument(
+        "OdeIntegrator: Boost.Odeint Dormand–Prince integrates the state only: sensitivities need "
+        "CVODES, ARKODE or Gauss collocation");
+  }
+  return stepper_->Run(request, options_);
+}
+
+}  // namespace detail
+}  // namespace rubcont
