@@ -24,8 +24,8 @@
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
 #                   at 168, 170 and 172 rpm, about 20 min), B(a)'s (results/thesis_B_a_whip_end/:
 #                   186 … 196 rpm, about 33 min), C(a)'s (52 min), B(c)'s (24 min), A(b)'s
-#                   (35 min) and C(b)'s (70 min of CPU; results/README.md, "The end of the speed-up
-#                   whip in every case").
+#                   (35 min), C(b)'s (70 min of CPU) and C(c)'s (17 min; results/README.md, "The end
+#                   of the speed-up whip in every case").
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
 # committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
@@ -126,6 +126,7 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_B_c 182 194 2 5 2 --until-above 150 --until-contacts every
   lifetime thesis_A_b 158 170 2 5 2 --until-above 150 --until-contacts every
   lifetime thesis_C_b 162 174 2 5 2 --until-above 150 --until-contacts right
+  lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
 fi
 # Each swept scene's hysteresis loop, with the crisis of its whip's lifetimes (the file whose
 # speeds bracket it); A(a)'s also with its periodic orbits.
@@ -139,6 +140,7 @@ for scene in $(scenes_of sweep); do
     thesis_B_c) extra=(--lifetime results/thesis_B_c_whip_end/lifetime_182_194rpm.h5) ;;
     thesis_C_a) extra=(--lifetime results/thesis_C_a_whip_end/lifetime_201_211rpm.h5) ;;
     thesis_C_b) extra=(--lifetime results/thesis_C_b_whip_end/lifetime_162_174rpm.h5) ;;
+    thesis_C_c) extra=(--lifetime results/thesis_C_c_whip_end/lifetime_202_214rpm.h5) ;;
   esac
   # A file not made yet (its --whip-end run not done) is left out of the figure.
   present=()
