@@ -205,6 +205,10 @@ int EvaluateEvents(CallbackContext& context, double t, const double* x, double* 
   return 0;
 }
 
+std::string StateBoundMessage(double state_bound, double t) {
+  return fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}", state_bound, t);
+}
+
 void RecordError(int error_code, const char* /*module*/, const char* function, char* msg,
                  void* user_data) {
   auto& context = *static_cast<CallbackContext*>(user_data);

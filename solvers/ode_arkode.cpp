@@ -346,8 +346,7 @@ class ArkodeBackend::Memory {
     result.t_reached = t;
     result.warnings = context.warnings;
     if (context.state_bound_exceeded) {
-      result.message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
-                                   options_.state_bound, t);
+      result.message = StateBoundMessage(options_.state_bound, t);
     } else if (context.non_finite && context.error_message.empty()) {
       result.message = "the right-hand side returned NaN or Inf";
     } else {

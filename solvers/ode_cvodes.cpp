@@ -348,8 +348,7 @@ class CvodesBackend::State {
     result.t_reached = t;
     result.warnings = context_.warnings;
     if (context_.state_bound_exceeded) {
-      result.message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
-                                   options_.state_bound, t);
+      result.message = StateBoundMessage(options_.state_bound, t);
     } else if (context_.non_finite && context_.error_message.empty()) {
       result.message = "the right-hand side returned NaN or Inf";
     } else {

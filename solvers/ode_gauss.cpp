@@ -109,8 +109,7 @@ IntegrationResult GaussBackend::Fail(IntegrationStatus status, double t, std::st
   result.t_reached = t;
   if (context_.state_bound_exceeded) {
     result.status = IntegrationStatus::kStateBound;
-    message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
-                          options_.state_bound, t);
+    message = StateBoundMessage(options_.state_bound, t);
   } else if (context_.non_finite) {
     result.status = IntegrationStatus::kNonFinite;
     message = fmt::format("the right-hand side returned NaN or Inf near t = {:.9g}", t);

@@ -82,6 +82,9 @@ int EvaluateDfDparameter(CallbackContext& context, double t, const double* x);
 // g(t, x) into gout (events->count entries).
 int EvaluateEvents(CallbackContext& context, double t, const double* x, double* gout);
 
+// The message of IntegrationStatus::kStateBound, reached near time t.
+std::string StateBoundMessage(double state_bound, double t);
+
 // CVODES / ARKODE error handler: records the message, prints nothing.
 void RecordError(int error_code, const char* module, const char* function, char* msg,
                  void* user_data);
@@ -158,7 +161,6 @@ class OdeintBackend {
   class Stepper;  // one per state container (ode_odeint.cpp)
 
  private:
-  IntegratorOptions options_;
   std::unique_ptr<Stepper> stepper_;
 };
 

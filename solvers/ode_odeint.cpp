@@ -47,7 +47,7 @@ constexpr int kMaxConsecutiveFailures = 50;
 class OdeintBackend::Stepper {
  public:
   virtual ~Stepper() = default;
-  virtual IntegrationResult Run(const IntegrationRequest& request, const IntegratorOptions& options) = 0;
+  virtual IntegrationResult Run(const IntegrationRequest& request) = 0;
 };
 
 namespace {
@@ -62,6 +62,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
  public:
   DormandPrince(CallbackContext& context, const IntegratorOptions& options)
       : context_(context),
+        options_(options),
         controlled_(ErrorChecker(options.absolute_tolerance, options.relative_tolerance, 1.0, 0.0),
                     odeint::default_step_adjuster<double, double>(options.max_step)) {
     const Index n = context.n;
@@ -98,7 +99,8 @@ class DormandPrince final : public OdeintBackend::Stepper {
     if (!finite) throw RhsStop{IntegrationStatus::kNonFinite};
   }
 
-  IntegrationResult Run(const IntegrationRequest& request, const IntegratorOptions& options) override {
+  IntegrationResult Run(const IntegrationRequest& request) override {
+    const IntegratorOptions& options = options_;
     const Index n = context_.n;
     IntegrationResult result;
     result.t_reached = request.t0;
@@ -252,8 +254,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
     result.statistics.rhs_evaluations = evaluations_;
     result.warnings = context_.warnings;
     if (status == IntegrationStatus::kStateBound) {
-      message = fmt::format("‖x ./ scale‖∞ exceeded state_bound = {:g} near t = {:.9g}",
-                            context_.state_bound, t);
+      message = StateBoundMessage(context_.state_bound, t);
     } else if (status == IntegrationStatus::kNonFinite) {
       message = "the right-hand side returned NaN or Inf";
     }
@@ -262,6 +263,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
   }
 
   CallbackContext& context_;
+  IntegratorOptions options_;
   Controlled controlled_;
   Vector x_, f_;  // unscaled state and derivative for the system
   OdeintState z_, dz_, z_new_, dz_new_, output_;
@@ -273,8 +275,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
 
 }  // namespace
 
-OdeintBackend::OdeintBackend(CallbackContext& context, const IntegratorOptions& options)
-    : options_(options) {
+OdeintBackend::OdeintBackend(CallbackContext& context, const IntegratorOptions& options) {
   if (context.n == kFixedSize) {
     stepper_ = std::make_unique<DormandPrince<FixedState>>(context, options);
   } else {
@@ -290,7 +291,7 @@ IntegrationResult OdeintBackend::Run(const IntegrationRequest& request) {
         "OdeIntegrator: Boost.Odeint Dormand–Prince integrates the state only: sensitivities need "
         "CVODES, ARKODE or Gauss collocation");
   }
-  return stepper_->Run(request, options_);
+  return stepper_->Run(request);
 }
 
 }  // namespace detail
