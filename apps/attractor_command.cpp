@@ -71,7 +71,11 @@ std::string FormatExponents(const AttractorResult& result) {
 int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     Check(request);
-    const Scene scene = LoadScene(request.scene_file);
+    // CVODES BDF for the approach and the exponents whatever the scene's sweep integrator: the
+    // Lyapunov exponents integrate the variational equations as sensitivities, which Odeint's
+    // Dormand–Prince does not (the committed attractor runs were made so).
+    Scene scene = LoadScene(request.scene_file);
+    scene.analysis.sweep.integrator = SweepIntegrator::kBdf;
     const RubStructure structure = SweepStructureOf(scene);
     const SweepDirection direction = ParseDirection("direction", request.direction);
     const std::string approach_name = request.approach.value_or(request.direction);

@@ -520,9 +520,11 @@ std::vector<KeySpec> BuildSchema() {
               [](Scene& x) -> double& { return x.analysis.sweep.impulse; });
   s.push_back(Choice(
       "analysis.sweep.integrator",
-      "\"bdf\" (CVODES BDF, order ≤ 2), \"explicit\" (Boost.Odeint Dormand–Prince 5(4)) or \"auto\" "
+      "\"explicit\" (Boost.Odeint Dormand–Prince 5(4)), \"bdf\" (CVODES BDF, order ≤ 2) or \"auto\" "
       "(BDF while every contact touches continuously, Dormand–Prince after a window in which a "
-      "contact touched 0–90 % of the time): results/README.md, \"Sweep integrators\".",
+      "contact touched 0–90 % of the time). BDF is cheaper in continuous contact, but its damping "
+      "of the contact modes can hold the rotor on an unstable rotating wave that Dormand–Prince "
+      "leaves (cases A(b), B(b), B(c) below 52 rpm): results/README.md, \"Sweep integrators\".",
       {"bdf", "explicit", "auto"},
       [](Scene& x, const std::string& name) {
         x.analysis.sweep.integrator = name == "explicit" ? SweepIntegrator::kExplicit

@@ -82,7 +82,7 @@ struct SweepSettings {
   double sample_rate_hz = 4096.0;
   double spectrum_max_hz = 600.0;     // spectra kept for |f| ≤ this
   double impulse = 1.0;               // [N·s] at t = 0 of each direction
-  SweepIntegrator integrator = SweepIntegrator::kBdf;
+  SweepIntegrator integrator = SweepIntegrator::kExplicit;
   double relative_tolerance = 1e-6;   // CVODES BDF
   double absolute_tolerance = 1e-6;   // in units of each state's scale
   double explicit_tolerance = 1e-8;   // Dormand–Prince rtol = atol (scaled states)

@@ -6,8 +6,10 @@
 // sweep stage runs it for its jump table; best of 5) and the ratio sweep / continuation.
 //
 // Usage: sweep_bench [SCENE] [--from RPM --to RPM] [--step RPM] [--dwell S] [--rtol X] [--order K]
-//                    [--method bdf|adams|erk|dirk] [--direction up|down|both] [--verbose]
-// --order is the method's order (BDF/Adams: largest order; ERK/DIRK: the table's order).
+//                    [--method explicit|auto|bdf|adams|erk|dirk] [--direction up|down|both]
+//                    [--verbose]
+// --method explicit|auto|bdf is the scene's `integrator`; adams, erk and dirk replace BDF (ARKODE's
+// ERK/DIRK). --order is the method's order (BDF/Adams: largest order; ERK/DIRK: the table's order).
 // Default: scenes/thesis_A_a.toml with its [analysis.sweep] settings, both directions.
 #include <chrono>
 #include <ctime>
@@ -84,15 +86,26 @@ int main(int argc, char** argv) {
   rubcont::SweepSettings& s = scene.analysis.sweep;
   if (step > 0) s.speed_step_rpm = step;
   if (dwell > 0) s.dwell = dwell;
-  if (rtol > 0) s.relative_tolerance = s.absolute_tolerance = rtol;
+  if (rtol > 0) s.relative_tolerance = s.absolute_tolerance = s.explicit_tolerance = rtol;
+  if (method == "explicit") s.integrator = rubcont::SweepIntegrator::kExplicit;
+  if (method == "auto") s.integrator = rubcont::SweepIntegrator::kAuto;
+  if (method == "bdf" || method == "adams" || method == "erk" || method == "dirk")
+    s.integrator = rubcont::SweepIntegrator::kBdf;
   if (from > 0 && to > 0) {
     s.up_range_rpm = {std::min(from, to), std::max(from, to)};
     s.down_range_rpm = s.up_range_rpm;
   }
-  const int max_order = order >= 0 ? order : rubcont::SweepOptionsOf(scene, rubcont::SweepDirection::kUp).integrator.max_order;
-  std::printf("sweep_bench: scene %s, step %g rpm, dwell %g s, window %g s, BDF max order %d, "
-              "rtol %g, atol %g\n", scene.name.c_str(), s.speed_step_rpm, s.dwell, s.settle_window,
-              max_order, s.relative_tolerance, s.absolute_tolerance);
+  const rubcont::IntegratorOptions integrator =
+      rubcont::SweepOptionsOf(scene, rubcont::SweepDirection::kUp).integrator;
+  const int max_order = order >= 0 ? order : integrator.max_order;
+  const std::string order_text = integrator.method == rubcont::IntegrationMethod::kBdf
+                                     ? ", max order " + std::to_string(max_order)
+                                     : std::string();
+  std::printf("sweep_bench: scene %s, step %g rpm, dwell %g s, window %g s, integrator \"%s\" "
+              "(%s, rtol %g, atol %g%s)\n",
+              scene.name.c_str(), s.speed_step_rpm, s.dwell, s.settle_window,
+              rubcont::ToString(s.integrator), rubcont::ToString(integrator.method),
+              integrator.relative_tolerance, integrator.absolute_tolerance, order_text.c_str());
   std::vector<std::string> directions;
   if (direction == "both" || direction == "up") directions.push_back("up");
   if (direction == "both" || direction == "down") directions.push_back("down");
@@ -102,7 +115,8 @@ int main(int argc, char** argv) {
   for (const std::string& d : directions) {
     const rubcont::SweepDirection dir = d == "up" ? rubcont::SweepDirection::kUp : rubcont::SweepDirection::kDown;
     rubcont::SweepOptions options = rubcont::SweepOptionsOf(scene, dir);
-    options.integrator.max_order = max_order;
+    if (options.integrator.method == rubcont::IntegrationMethod::kBdf)
+      options.integrator.max_order = max_order;
     if (method == "adams") options.integrator.method = rubcont::IntegrationMethod::kAdams;
     if (method == "erk" || method == "dirk") {
       options.integrator.method = method == "erk" ? rubcont::IntegrationMethod::kExplicitRungeKutta

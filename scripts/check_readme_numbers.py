@@ -118,8 +118,7 @@ def intermittent_speeds(results):
                 for side in ("left", "right"):
                     count += int(sum(r == b"intermittent"
                                      for r in f[f"sweeps/{direction}/regime_{side}"][()]))
-    words = {7: "Seven"}
-    return f"{words.get(count, count)} speeds of the committed sweeps are intermittent"
+    return f"{count} speeds of the committed sweeps (2026-11-27)\nare intermittent"
 
 
 def whip_lifetimes(results):

@@ -85,9 +85,11 @@ struct SweepOptions {
   // integrated with it if, in the window before it, some channel was active for a share of the
   // samples in (0, intermittent_fraction]; otherwise with `integrator`. A speed's first window
   // looks at the previous speed's analysed stretch (ChannelSummary::active_fraction), so a resumed
-  // sweep chooses as an uninterrupted one. On the rub's stiff contact an explicit Runge–Kutta
-  // pair costs a third of BDF's CPU time in the impacting whip and four times it in continuous
-  // contact (bench/sweep_integrators_bench.cpp, results/README.md "Sweep integrators").
+  // sweep chooses as an uninterrupted one. On the rub's stiff contact Dormand–Prince 5(4) costs an
+  // eighth of BDF's CPU time in the impacting whip and 1.1–4.8 times it in continuous contact
+  // (bench/sweep_integrators_bench.cpp, results/README.md "Sweep integrators"); and where contacts
+  // chatter around an unstable rotating wave, BDF's damping of the contact modes can hide the
+  // chatter (tests/sweeps/rub_sweep_test.cpp, case B(b)).
   std::optional<IntegratorOptions> intermittent_integrator;
   double intermittent_fraction = 0.9;  // in (0, 1)
 };

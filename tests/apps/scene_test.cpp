@@ -406,7 +406,7 @@ TEST_CASE("The [analysis.sweep] keys come from one list: values in order, and th
   CHECK(values[4].first == "settle_window");
   CHECK(std::get<std::vector<double>>(values[4].second) == std::vector<double>{0.25});
   CHECK(values[12].first == "integrator");
-  CHECK(std::get<std::string>(values[12].second) == "bdf");
+  CHECK(std::get<std::string>(values[12].second) == "explicit");
   CHECK(values[15].first == "explicit_tolerance");
   CHECK(values.back().first == "max_penetration");
   // The five regime and jump rules, and nothing else, are copied.

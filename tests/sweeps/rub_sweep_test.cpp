@@ -5,6 +5,7 @@
 #include <tuple>
 #include <complex>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
@@ -303,25 +304,38 @@ struct SegmentResult {
   std::vector<SweepPoint> points;
 };
 
-// A short speed-up segment of case A(a) (the scene defaults are the thesis's), started by the
-// 1 N·s impulse at its first speed, with every speed run for the minimum three windows; CVODES BDF
-// of maximum order `order` with relative and (scaled) absolute tolerance `tolerance`.
-SegmentResult Segment(const std::vector<double>& rpm, int order, double tolerance) {
-  const RubStructure s = TwoPointStructure(ThesisCaseAa());
+// A short speed-up segment of structure s, started by the 1 N·s impulse at its first speed, with
+// at most 0.75 s per speed, integrated by `integrator` (and by `intermittent` after a window in
+// which a contact touched only part of the time, when given: the sweeps' "auto").
+SegmentResult Segment(const RubStructure& s, const std::vector<double>& rpm,
+                      const IntegratorOptions& integrator,
+                      const std::optional<IntegratorOptions>& intermittent = std::nullopt) {
   RubFixedFrame system(s);
   RubSweepObservables observables(system);
   SweepOptions o;
   for (double v : rpm) o.parameters.push_back(RpmToRadPerSecond(v));
   o.dwell = 0.75;
-  o.integrator.max_order = order;
-  o.integrator.relative_tolerance = tolerance;
-  o.integrator.absolute_tolerance = tolerance;
-  o.integrator.max_steps = 100000000;
+  o.integrator = integrator;
+  o.intermittent_integrator = intermittent;
   SweepStepper stepper(system, observables, o, RubImpulseIncrement(s, 1.0));
   while (stepper.Step() == SweepStepOutcome::kContinue) {
   }
   REQUIRE(stepper.Done());
   return {ClassifySweep(s, stepper.points()), stepper.points()};
+}
+
+// CVODES BDF of maximum order `order` with relative and (scaled) absolute tolerance `tolerance`.
+IntegratorOptions Bdf(int order, double tolerance) {
+  IntegratorOptions o;
+  o.max_order = order;
+  o.relative_tolerance = o.absolute_tolerance = tolerance;
+  o.max_steps = 100000000;
+  return o;
+}
+
+// The same segment of case A(a) (the scene defaults are the thesis's) by BDF.
+SegmentResult Segment(const std::vector<double>& rpm, int order, double tolerance) {
+  return Segment(TwoPointStructure(ThesisCaseAa()), rpm, Bdf(order, tolerance));
 }
 
 TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tolerances tighten",
@@ -413,6 +427,86 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
     tight_steps += tight.points[i].statistics.steps;
   }
   CHECK(tight_steps > loose_steps);
+}
+
+TEST_CASE("BDF's damping holds cases B(b) and B(c) on unstable rotating waves, where the contacts "
+          "chatter (Dormand-Prince, and BDF at 1e-9)", "[rub_sweep][tolerance]") {
+  // Case B(b) (disk at ¾, RCI 100 / 125, tanh ε = 1e-3 m/s) at 20–28 rpm: the right contact rolls,
+  // the left slips. L1 says that rotating wave is unstable (growth ~10³ s⁻¹). BDF of order ≤ 2 at
+  // 1e-6 takes steps across the contact modes (36 and 85 kHz), whose growth its stability region
+  // damps (it covers most of the right half-plane far from 0): it holds the rotor on the unstable
+  // wave in full contact. Dormand–Prince at 1e-8 keeps both contacts touching only part of the
+  // time — as Dormand–Prince at 1e-10 and BDF at 1e-9 do (measured 2026-11-27 from the same
+  // impulse: contact fractions left/right at 28 rpm 0.45/0.64 and 0.48/0.66, against 1.00/1.00 by
+  // BDF at 1e-6; BDF at 1e-9 costs 74–88 s per speed, too slow for a test).
+  TwoPointParams params = ThesisCaseAa();
+  params.rotor_inertia = 0.04;
+  params.rotor_mass_center = 0.22;
+  params.clearance = {3.81e-4, 3.048e-4};
+  const RubStructure s = TwoPointStructure(params);
+  const std::vector<double> rpm = {20.0, 24.0, 28.0};
+  IntegratorOptions dormand_prince;
+  dormand_prince.method = IntegrationMethod::kDormandPrince;
+  dormand_prince.relative_tolerance = dormand_prince.absolute_tolerance = 1e-8;
+  dormand_prince.max_steps = 100000000;
+  const SegmentResult bdf = Segment(s, rpm, Bdf(2, 1e-6));
+  const SegmentResult automatic = Segment(s, rpm, Bdf(2, 1e-6), dormand_prince);
+  const SweepPoint& held = bdf.points.back();
+  const SweepPoint& chatter = automatic.points.back();
+  CHECK(held.channels[0].active_fraction == 1.0);
+  CHECK(held.channels[1].active_fraction == 1.0);
+  CHECK(chatter.channels[0].active_fraction < 0.8);
+  CHECK(chatter.channels[1].active_fraction < 0.9);
+  CHECK(chatter.intermittent_windows == chatter.windows);
+  // The same slip (the left slips by 0.027 m/s, the right rolls): only the contact differs.
+  for (int k = 0; k < 2; ++k) {
+    CAPTURE(k);
+    CHECK(bdf.regimes.regime[k].back() == automatic.regimes.regime[k].back());
+    CHECK(std::abs(held.channels[k].measures[kSlipVelocityMeasure].mean -
+                   chatter.channels[k].measures[kSlipVelocityMeasure].mean) < 5e-4);
+  }
+  CHECK(bdf.regimes.regime[1].back() == RubRegime::kWhirl);
+
+  // L1: the tanh-law rotating wave with the right contact rolling at the BDF sweep's frequency at
+  // 28 rpm is unstable, with a growth rate no 0.75 s run could miss.
+  RotatingWaveBranchOptions options;
+  options.search.speed_min = RpmToRadPerSecond(20.0);
+  options.search.speed_max = RpmToRadPerSecond(260.0);
+  options.search.precession_max = 2.0 * M_PI * 200.0;
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  const double held_hz = bdf.regimes.precession_hz[1].back();
+  int matches = 0;
+  for (const RotatingWaveBranch& b :
+       ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kTanh, options)) {
+    const Index hz = b.branch.MeasureIndex("precession_hz");
+    const std::vector<BranchPoint>& points = b.branch.points;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      const double r0 = RadPerSecondToRpm(points[i].lambda);
+      const double r1 = RadPerSecondToRpm(points[i + 1].lambda);
+      if (28.0 < std::min(r0, r1) || 28.0 > std::max(r0, r1)) continue;
+      // The point of the pair nearer 28 rpm.
+      const BranchPoint& p = std::abs(r0 - 28.0) < std::abs(r1 - 28.0) ? points[i] : points[i + 1];
+      if (std::abs(p.measures(hz) - held_hz) > 1.0) continue;
+      ++matches;
+      CAPTURE(RadPerSecondToRpm(p.lambda), p.measures(hz));
+      REQUIRE(p.spectrum.valid);
+      CHECK(p.num_unstable > 0);
+      CHECK(p.spectrum.values(0).real() > 100.0);
+    }
+  }
+  CHECK(matches > 0);
+
+  // Case B(c) (RCI 125 / 100): the impulse's bouncing ends within 20 rpm, so "auto" goes back to
+  // BDF there, and BDF holds the rotor on the unstable right-rolling wave (growth 76–220 s⁻¹ at
+  // 20–46 rpm) in full contact; Dormand–Prince throughout keeps the left contact chattering. Hence
+  // the sweeps' default, "explicit".
+  params.clearance = {3.048e-4, 3.81e-4};
+  const RubStructure c = TwoPointStructure(params);
+  const SweepPoint c_auto = Segment(c, rpm, Bdf(2, 1e-6), dormand_prince).points.back();
+  const SweepPoint c_explicit = Segment(c, rpm, dormand_prince).points.back();
+  CHECK(c_auto.intermittent_windows == 0);
+  CHECK(c_auto.channels[0].active_fraction == 1.0);
+  CHECK(c_explicit.channels[0].active_fraction < 0.9);
 }
 
 // The first whirl → whip jump of a classified segment at contact k (nullptr when there is none).
