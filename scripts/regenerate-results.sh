@@ -24,8 +24,8 @@
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
 #                   at 168, 170 and 172 rpm, about 20 min), B(a)'s (results/thesis_B_a_whip_end/:
 #                   186 … 196 rpm, about 33 min), C(a)'s (52 min), B(c)'s (24 min), A(b)'s
-#                   (35 min), C(b)'s (70 min of CPU) and C(c)'s (17 min; results/README.md, "The end
-#                   of the speed-up whip in every case").
+#                   (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and B(b)'s (22 min on two
+#                   threads; results/README.md, "The end of the speed-up whip in every case").
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
 # committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
@@ -137,6 +137,7 @@ for scene in $(scenes_of sweep); do
                        --lifetime results/thesis_A_a_whip_end/lifetime_174_184rpm.h5) ;;
     thesis_B_a) extra=(--lifetime results/thesis_B_a_whip_end/lifetime_186_196rpm.h5) ;;
     thesis_A_b) extra=(--lifetime results/thesis_A_b_whip_end/lifetime_158_170rpm.h5) ;;
+    thesis_B_b) extra=(--lifetime results/thesis_B_b_whip_end/lifetime_158_170rpm.h5) ;;
     thesis_B_c) extra=(--lifetime results/thesis_B_c_whip_end/lifetime_182_194rpm.h5) ;;
     thesis_C_a) extra=(--lifetime results/thesis_C_a_whip_end/lifetime_201_211rpm.h5) ;;
     thesis_C_b) extra=(--lifetime results/thesis_C_b_whip_end/lifetime_162_174rpm.h5) ;;

@@ -89,7 +89,7 @@ struct SweepOptions {
   // eighth of BDF's CPU time in the impacting whip and 1.1–4.8 times it in continuous contact
   // (bench/sweep_integrators_bench.cpp, results/README.md "Sweep integrators"); and where contacts
   // chatter around an unstable rotating wave, BDF's damping of the contact modes can hide the
-  // chatter (tests/sweeps/rub_sweep_test.cpp, case B(b)).
+  // chatter (tests/sweeps/rub_sweep_test.cpp, cases B(b) and B(c)).
   std::optional<IntegratorOptions> intermittent_integrator;
   double intermittent_fraction = 0.9;  // in (0, 1)
 };
