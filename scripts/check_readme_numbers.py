@@ -180,16 +180,17 @@ WHIP_END_FILES = {"A(a)": "thesis_A_a_whip_end/lifetime_174_184rpm.h5",
                   "B(a)": "thesis_B_a_whip_end/lifetime_186_196rpm.h5",
                   "B(b)": "thesis_B_b_whip_end/lifetime_158_170rpm.h5",
                   "B(c)": "thesis_B_c_whip_end/lifetime_182_194rpm.h5",
-                  "C(a)": "thesis_C_a_whip_end/lifetime_201_211rpm.h5",
+                  "C(a)": ("thesis_C_a_whip_end/lifetime_201_211rpm.h5",
+                           "thesis_C_a_whip_end/lifetime_206_216rpm.h5"),
                   "C(b)": "thesis_C_b_whip_end/lifetime_162_174rpm.h5",
                   "C(c)": "thesis_C_c_whip_end/lifetime_202_214rpm.h5"}
 
 
-def whip_end_row(results, case):
+def whip_end_row(results, case, path):
     """The start of a case's row in the table "The end of the speed-up whip in every case": the
     speeds, what a copy arrives at, the escapes per speed, the crisis and its exponent, the check
     sweeps and where the law predicts them, and the CPU time, all from the lifetime file."""
-    with h5(results, WHIP_END_FILES[case]) as f:
+    with h5(results, path) as f:
         g = f["lifetime"]
         a = g.attrs
         rpm = g["speed_rpm"][()]
@@ -227,7 +228,8 @@ def whip_end_row(results, case):
 
 def whip_end_cases(results):
     """Where the speed-up whip ends, one row per thesis case whose lifetime file exists."""
-    return tuple(whip_end_row(results, case) for case, path in WHIP_END_FILES.items()
+    return tuple(whip_end_row(results, case, path) for case, paths in WHIP_END_FILES.items()
+                 for path in ((paths,) if isinstance(paths, str) else paths)
                  if os.path.exists(os.path.join(results, path)))
 
 

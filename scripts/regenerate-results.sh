@@ -23,9 +23,9 @@
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
 #                   at 168, 170 and 172 rpm, about 20 min), B(a)'s (results/thesis_B_a_whip_end/:
-#                   186 … 196 rpm, about 33 min), C(a)'s (52 min), B(c)'s (24 min), A(b)'s
-#                   (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and B(b)'s (22 min on two
-#                   threads; results/README.md, "The end of the speed-up whip in every case").
+#                   186 … 196 rpm, about 33 min), C(a)'s (52 min, then 206 … 216 rpm, 18 min),
+#                   B(c)'s (24 min), A(b)'s (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and
+#                   B(b)'s (22 min; results/README.md, "The end of the speed-up whip in every case").
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
 # committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
@@ -123,6 +123,7 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   # 0.1 s stretch to the next (B(c)'s left at 182 rpm), so the copy has left when every contact
   # is above 150 Hz; in case C the left contact is elsewhere all along: the right one decides.
   lifetime thesis_C_a 201 211 1 5 2 --until-above 150 --until-contacts right
+  lifetime thesis_C_a 206 216 1 5 2 --until-above 150 --until-contacts right
   lifetime thesis_B_c 182 194 2 5 2 --until-above 150 --until-contacts every
   lifetime thesis_A_b 158 170 2 5 2 --until-above 150 --until-contacts every
   lifetime thesis_C_b 162 174 2 5 2 --until-above 150 --until-contacts right
@@ -139,7 +140,7 @@ for scene in $(scenes_of sweep); do
     thesis_A_b) extra=(--lifetime results/thesis_A_b_whip_end/lifetime_158_170rpm.h5) ;;
     thesis_B_b) extra=(--lifetime results/thesis_B_b_whip_end/lifetime_158_170rpm.h5) ;;
     thesis_B_c) extra=(--lifetime results/thesis_B_c_whip_end/lifetime_182_194rpm.h5) ;;
-    thesis_C_a) extra=(--lifetime results/thesis_C_a_whip_end/lifetime_201_211rpm.h5) ;;
+    thesis_C_a) extra=(--lifetime results/thesis_C_a_whip_end/lifetime_206_216rpm.h5) ;;
     thesis_C_b) extra=(--lifetime results/thesis_C_b_whip_end/lifetime_162_174rpm.h5) ;;
     thesis_C_c) extra=(--lifetime results/thesis_C_c_whip_end/lifetime_202_214rpm.h5) ;;
   esac
