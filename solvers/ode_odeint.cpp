@@ -75,28 +75,20 @@ class DormandPrince final : public OdeintBackend::Stepper {
     for (OdeintState* v : {&z_, &dz_, &z_new_, &dz_new_, &output_}) Resize(*v, n);
   }
 
-  // ż = f(t, z .* scale) ./ scale, with the checks of EvaluateRhs on the scaled state (an exception
-  // of the system passes through odeint to the caller).
+  // ż = f(t, z .* scale) ./ scale, by EvaluateRhs (its state-bound and finiteness checks); a
+  // failure leaves odeint's frames as RhsStop (the system's exception is kept in the context and
+  // rethrown by OdeIntegrator).
   void operator()(const OdeintState& z, OdeintState& dz, double t) {
-    const Index n = context_.n;
-    bool beyond = false, not_a_number = false;
-    for (Index i = 0; i < n; ++i) {
-      const double zi = z[static_cast<std::size_t>(i)];
-      beyond = beyond || !(std::abs(zi) <= context_.state_bound);
-      not_a_number = not_a_number || std::isnan(zi);
-      x_(i) = zi * context_.scale(i);
+    Unscale(z, x_.data());
+    const int flag = EvaluateRhs(context_, t, x_.data(), f_.data());
+    if (flag != 0) {
+      throw RhsStop{context_.state_bound_exceeded ? IntegrationStatus::kStateBound
+                                                  : IntegrationStatus::kNonFinite};
     }
-    if (not_a_number) throw RhsStop{IntegrationStatus::kNonFinite};
-    if (beyond) throw RhsStop{IntegrationStatus::kStateBound};
     ++evaluations_;
-    context_.system->Rhs(t, x_, f_);
-    bool finite = true;
-    for (Index i = 0; i < n; ++i) {
-      const double dzi = f_(i) * context_.inverse_scale(i);
-      finite = finite && std::isfinite(dzi);
-      dz[static_cast<std::size_t>(i)] = dzi;
+    for (Index i = 0; i < context_.n; ++i) {
+      dz[static_cast<std::size_t>(i)] = f_(i) * context_.inverse_scale(i);
     }
-    if (!finite) throw RhsStop{IntegrationStatus::kNonFinite};
   }
 
   IntegrationResult Run(const IntegrationRequest& request) override {
