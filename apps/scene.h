@@ -195,6 +195,8 @@ std::vector<std::pair<std::string, SweepKeyValue>> SweepKeyValues(const Scene& s
 // from `from` into `to`: a sweep file that differs from a scene in these alone holds its
 // integrations (checkpoints, `rubcont sweep --resume`).
 void CopySweepRules(const Scene& from, Scene& to);
+// Whether `key` (full dotted name) is one of those rules.
+bool IsSweepRule(const std::string& key);
 
 // The key reference in markdown, generated from the schema: one table per section with key,
 // type, unit, rule, required/default and meaning. scenes/README.md embeds it verbatim.

@@ -23,13 +23,20 @@ std::string SceneBody(const Scene& scene) {
 // Whether the resolved scene `stored_toml` of an earlier file describes the same sweeps as
 // `scene`: the same scene apart from the keys that only read the finished speeds (the regime and
 // jump rules of sweeps/rub_sweep.h), so that finished speeds can be classified again by other
-// rules without integrating them again. A stored scene the current schema rejects is not the same.
+// rules without integrating them again. A stored scene the current schema rejects is not the same,
+// nor one that lacks a key other than those rules: it was written by an earlier version, before
+// the key existed, and today's default need not be what its run used (the sweeps' integrator was
+// CVODES BDF until 2026-11-26, "explicit" since: such a file read as the same would be labelled
+// with the wrong integrator).
 bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
   Scene stored;
   try {
     stored = ParseScene(stored_toml, "stored scene_toml", scene.name);
   } catch (const SceneError&) {
     return false;
+  }
+  for (const std::string& key : stored.defaulted_keys) {
+    if (!IsSweepRule(key)) return false;
   }
   CopySweepRules(scene, stored);
   return SceneBody(stored) == SceneBody(scene);

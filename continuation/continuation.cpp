@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -415,17 +417,35 @@ struct Continuation::Impl {
     // Eigenvalue and multiplier crossings.
     if (stability_on && from.has_spectrum && to.has_spectrum) {
       const int total_change = to.counts.total - from.counts.total;
+      // Where every kind keeps its number of values over the step, the unstable counts say which
+      // kind crossed. Where a complex pair collided on the real axis (or two real values became a
+      // pair) they may not — a collision moves values between kinds, and the step's end may
+      // count a real crossing for a Hopf point — and the sign changes of SpectralProduct do. So
+      // a kind is examined where its count changed (and then kept only if located, or if no
+      // collision explains the change) or, where the kinds changed, where its product's sign did.
+      const double imaginary_tolerance = options.detect.imaginary_tolerance;
+      const double tolerance = problem.StabilityTolerance();
+      const bool kinds_changed = KindSizes(from.spectrum, imaginary_tolerance) !=
+                                 KindSizes(to.spectrum, imaginary_tolerance);
       for (int kind = 0; kind < kSpectralKinds; ++kind) {
-        const int change = to.counts.unstable[kind] - from.counts.unstable[kind];
-        if (change == 0 || total_change == 0 || (change > 0) != (total_change > 0)) continue;
         const SpectralKind spectral_kind = static_cast<SpectralKind>(kind);
+        const int change = to.counts.unstable[kind] - from.counts.unstable[kind];
+        const bool counted =
+            change != 0 && total_change != 0 && (change > 0) == (total_change > 0);
+        const bool product_changes =
+            kinds_changed && SpectralProduct(from.spectrum, spectral_kind, tolerance).sign *
+                                     SpectralProduct(to.spectrum, spectral_kind, tolerance).sign <
+                                 0;
+        if (!counted && !product_changes) continue;
         const SpecialPointType type = CrossingType(spectral_kind);
         if ((type == SpecialPointType::kRealEigenvalueCrossing ||
              type == SpecialPointType::kMultiplierPlusOne) &&
             fold_or_branch_point) {
           continue;  // already reported as a fold or branch point
         }
-        found.push_back(LocateCrossing(sampler, from, to, sigma_end, spectral_kind, locate));
+        auto entry = LocateCrossing(sampler, from, to, sigma_end, spectral_kind, counted,
+                                    kinds_changed, locate);
+        if (entry) found.push_back(std::move(*entry));
       }
     }
 
@@ -462,11 +482,7 @@ struct Continuation::Impl {
             result[j].type == SpecialPointType::kEvent) {
           continue;
         }
-        Vector xi, xj;
-        system.ToScaled(result[i].u, result[i].lambda, xi);
-        system.ToScaled(result[j].u, result[j].lambda, xj);
-        if ((xi - xj).lpNorm<Eigen::Infinity>() <=
-            1e3 * options.location.step_tolerance * std::max(1.0, xi.lpNorm<Eigen::Infinity>())) {
+        if (SamePoint(result[i], result[j])) {
           result[j].note += (result[j].note.empty() ? "" : "; ") +
                             std::string("the branch also turns back in its parameter here (a "
                                         "fold at the same point)");
@@ -477,6 +493,40 @@ struct Continuation::Impl {
       }
     }
     return result;
+  }
+
+  // Two special points located at the same point of the branch (to the location tolerance).
+  bool SamePoint(const SpecialPoint& a, const SpecialPoint& b) const {
+    Vector xa, xb;
+    system.ToScaled(a.u, a.lambda, xa);
+    system.ToScaled(b.u, b.lambda, xb);
+    return (xa - xb).lpNorm<Eigen::Infinity>() <=
+           1e3 * options.location.step_tolerance * std::max(1.0, xa.lpNorm<Eigen::Infinity>());
+  }
+
+  // Appends a special point found in the last step. A real value's crossing is the fold or branch
+  // point at the same point when one was found there in a neighbouring step: the crossing is
+  // located on its spectral product from where it crosses the stability tolerance (which decides
+  // the counts) to where it crosses 0, and that may lie in the next step (case default, RCI ratio
+  // 0.855: a pair meets on the real axis, and one of the two values crosses 0.1 s⁻¹ one step
+  // before the fold where it crosses 0). Keeps the fold or branch point.
+  void AddSpecialPoint(SpecialPoint sp) {
+    auto is_fold = [](const SpecialPoint& p) {
+      return p.type == SpecialPointType::kFold || p.type == SpecialPointType::kBranchPoint;
+    };
+    auto is_real_crossing = [](const SpecialPoint& p) {
+      return p.type == SpecialPointType::kRealEigenvalueCrossing ||
+             p.type == SpecialPointType::kMultiplierPlusOne;
+    };
+    if (!branch.special_points.empty()) {
+      SpecialPoint& last = branch.special_points.back();
+      if (is_real_crossing(sp) && is_fold(last) && SamePoint(sp, last)) return;
+      if (is_fold(sp) && is_real_crossing(last) && SamePoint(sp, last)) {
+        last = std::move(sp);
+        return;
+      }
+    }
+    branch.special_points.push_back(std::move(sp));
   }
 
   // A special point located by Illinois on ψ along arclength, with its σ for sorting.
@@ -600,9 +650,240 @@ struct Continuation::Impl {
     return entry;
   }
 
-  std::pair<double, SpecialPoint> LocateCrossing(Sampler& sampler, const PointData& from,
-                                                 const PointData& to, double sigma_end,
-                                                 SpectralKind kind, bool locate) {
+  // A crossing of `kind` between from and to. `by_counts`: the unstable counts of the kind changed:
+  // located on the order statistic of the kind, and where that jumps, stalls or is unavailable,
+  // on SpectralProduct. Otherwise the product's sign changed where the kinds changed over the
+  // step (`kinds_changed`): located on the product. Empty when it is no crossing: the product's
+  // zero is a neutral saddle, a complex pair crossing that the unstable counts do not need
+  // (FewestPairCrossings = 0), or a change of the counts that a collision explains.
+  std::optional<std::pair<double, SpecialPoint>> LocateCrossing(
+      Sampler& sampler, const PointData& from, const PointData& to, double sigma_end,
+      SpectralKind kind, bool by_counts, bool kinds_changed, bool locate) {
+    const SpecialPointType type = CrossingType(kind);
+    // Two real values that meet in the step make a pair: the counts then see a new pair, and the
+    // pair product may change sign, without any pair crossing the boundary. Case A(a), tanh law:
+    // on the Mode 2 whirl at its 52.33 rpm branch point an unstable real value and one that crossed
+    // 0 form a pair while a stable pair splits (one more unstable value; the order statistic jumps
+    // and the pair product's zero is a neutral saddle); on the Mode 2 whip at its 90.476 rpm fold
+    // the value that crossed 0 meets a stable one (one fewer unstable value). Where the order
+    // statistic did not locate it, a pair crossing is claimed only when the counts need one.
+    const bool pair_needed = !IsPairKind(kind) || FewestPairCrossings(from, to) != 0;
+    if (!by_counts) {
+      if (!pair_needed) return std::nullopt;
+      if (locate) {
+        bool neutral_saddle = false;
+        auto entry = LocateOnProduct(sampler, from, to, sigma_end, kind, neutral_saddle);
+        if (entry) return entry;
+        if (neutral_saddle) return std::nullopt;
+      }
+      SpecialPoint sp = MakeSpecialPoint(type, to.point);
+      sp.note = locate ? "located neither on the order statistic nor on the spectral product"
+                       : "detected, not located";
+      return std::make_pair(sigma_end, sp);
+    }
+    auto entry = LocateOnOrderStatistic(sampler, from, to, sigma_end, kind, locate);
+    if (!locate || entry.second.converged) return entry;
+    if (!pair_needed) return std::nullopt;
+    bool neutral_saddle = false;
+    auto on_product = LocateOnProduct(sampler, from, to, sigma_end, kind, neutral_saddle);
+    if (on_product) {
+      on_product->second.note = "located on the spectral product; the order statistic: " +
+                                entry.second.note;
+      return on_product;
+    }
+    // The kinds changed over the step and the product changes no sign, or only at a neutral
+    // saddle: the counts' change is the collision's (e.g. a pair met on the real axis: two more
+    // unstable real values, one pair fewer).
+    const double shift = problem.StabilityTolerance();
+    const bool product_changes = SpectralProduct(from.spectrum, kind, shift).sign *
+                                     SpectralProduct(to.spectrum, kind, shift).sign <
+                                 0;
+    if (kinds_changed && (!product_changes || neutral_saddle)) return std::nullopt;
+    return entry;
+  }
+
+  // The fewest complex pairs crossing the boundary that explain the change Δ of the unstable
+  // count over the step: Δ = 2h + r, r the net number of real values crossing, odd exactly when
+  // an odd number of the real kinds' products change sign; h = (Δ − r) / 2 with the smallest |r|
+  // of that parity.
+  int FewestPairCrossings(const PointData& from, const PointData& to) const {
+    const double shift = problem.StabilityTolerance();
+    bool odd = false;
+    for (SpectralKind kind : {SpectralKind::kRealEigenvalue, SpectralKind::kRealPositiveMultiplier,
+                              SpectralKind::kRealNegativeMultiplier}) {
+      odd = odd != (SpectralProduct(from.spectrum, kind, shift).sign *
+                        SpectralProduct(to.spectrum, kind, shift).sign <
+                    0);
+    }
+    const int delta = to.counts.total - from.counts.total;
+    const int r = odd ? (delta >= 0 ? 1 : -1) : 0;
+    return (delta - r) / 2;
+  }
+
+  // Illinois on SpectralProduct (continuation/spectrum_crossing.h) along arclength, its boundary
+  // at the counts' tolerance, then RefineToBoundary: empty when its sign does not change over the
+  // step or the location fails; `neutral_saddle` set when its zero is a neutral saddle.
+  std::optional<std::pair<double, SpecialPoint>> LocateOnProduct(
+      Sampler& sampler, const PointData& from, const PointData& to, double sigma_end,
+      SpectralKind kind, bool& neutral_saddle) {
+    const double shift = problem.StabilityTolerance();
+    const LogDeterminant pa = SpectralProduct(from.spectrum, kind, shift);
+    const LogDeterminant pb = SpectralProduct(to.spectrum, kind, shift);
+    if (pa.sign * pb.sign >= 0) return std::nullopt;
+    const double reference = std::max(pa.log_abs, pb.log_abs);
+    ArcFunction psi = [&, this](const CorrectedPoint& p, double& value) {
+      const Spectrum spectrum = StabilityAt(p.x);
+      if (!spectrum.valid) return false;
+      const LogDeterminant product = SpectralProduct(spectrum, kind, shift);
+      value = product.sign * std::exp(product.log_abs - reference);
+      return std::isfinite(value);
+    };
+    // A zero that is a neutral saddle leaves an odd number of zeros on one side of it (the sign
+    // changes over the step): look there, a few times.
+    double a = 0.0, fa = pa.sign * std::exp(pa.log_abs - reference);
+    double b = sigma_end, fb = pb.sign * std::exp(pb.log_abs - reference);
+    ArcRoot root;
+    SpectralValue critical;
+    for (int attempt = 0;; ++attempt) {
+      root = LocateOnArc(sampler, psi, a, fa, b, fb);
+      if (!root.found || !root.converged || root.discontinuous) return std::nullopt;
+      const Spectrum spectrum = StabilityAt(root.point.x);
+      if (!spectrum.valid) return std::nullopt;
+      if (CriticalValueAtZero(spectrum, kind, options.detect.imaginary_tolerance, shift,
+                              critical)) {
+        break;
+      }
+      neutral_saddle = true;
+      const double gap = 1e-6 * std::abs(b - a);
+      double f_left = 0.0, f_right = 0.0;
+      CorrectedPoint p;
+      if (attempt == 3 || !sampler.At(root.sigma - gap, p) || !psi(p, f_left) ||
+          !sampler.At(root.sigma + gap, p) || !psi(p, f_right)) {
+        return std::nullopt;
+      }
+      if (fa * f_left < 0.0) {
+        b = root.sigma - gap;
+        fb = f_left;
+      } else if (f_right * fb < 0.0) {
+        a = root.sigma + gap;
+        fa = f_right;
+      } else {
+        return std::nullopt;
+      }
+    }
+    neutral_saddle = false;
+    double sigma = root.sigma;
+    CorrectedPoint at = root.point;
+    int iterations = root.evaluations;
+    double last_step = root.last_step;
+    std::string note = "located on the spectral product";
+    if (shift != 0.0) {
+      // The boundary is looked for near the step only (as the fold and branch-point Newtons'
+      // results are accepted): a value that crosses 0 far from where it crosses the tolerance is a
+      // marginal one, located where it crosses the tolerance, as LocateOnOrderStatistic does.
+      double refined_sigma = sigma, refined_step = last_step;
+      CorrectedPoint refined_at = at;
+      SpectralValue refined_critical = critical;
+      int refined_iterations = iterations;
+      if (RefineToBoundary(sampler, kind, refined_sigma, refined_at, refined_critical,
+                           refined_iterations, refined_step) &&
+          refined_sigma >= -0.25 * sigma_end && refined_sigma <= 1.25 * sigma_end) {
+        sigma = refined_sigma;
+        at = refined_at;
+        critical = refined_critical;
+        iterations = refined_iterations;
+        last_step = refined_step;
+      } else {
+        note += fmt::format(", where the critical value crosses the stability tolerance {:g}, "
+                            "not the boundary (not reached from there within the step)",
+                            shift);
+      }
+    }
+    SpecialPoint sp = MakeSpecialPoint(CrossingType(kind), at);
+    sp.converged = true;
+    sp.iterations = iterations;
+    sp.test_value = critical.measure;
+    sp.last_correction = last_step;
+    sp.critical_value = critical.value;
+    SetFrequency(sp);
+    sp.note = note;
+    return std::make_pair(sigma, sp);
+  }
+
+  // From the point where the critical value's measure crosses the stability tolerance (the
+  // product's boundary) to where it crosses 0: secant steps on arclength, the value followed by
+  // continuity (at each trial, the value of its kind nearest the last one; over an arc this short
+  // it is not confused with another). On success updates the point, its σ and value, the
+  // evaluation count and the last step; false (nothing changed) when a trial fails, the nearest
+  // value is not clearly the nearest, or the secant does not converge.
+  bool RefineToBoundary(Sampler& sampler, SpectralKind kind, double& sigma, CorrectedPoint& point,
+                        SpectralValue& value, int& evaluations, double& last_step) {
+    const double tolerance = options.location.step_tolerance;
+    auto follow = [&](double s, const SpectralValue& previous, CorrectedPoint& p,
+                      SpectralValue& v) {
+      if (!sampler.At(s, p)) return false;
+      const Spectrum spectrum = StabilityAt(p.x);
+      if (!spectrum.valid) return false;
+      const std::vector<SpectralValue> values =
+          ValuesOfKind(spectrum, kind, options.detect.imaginary_tolerance);
+      // The nearest value, if it is clearly the nearest (the matching is unambiguous).
+      double best = std::numeric_limits<double>::infinity(), second = best;
+      for (const SpectralValue& candidate : values) {
+        const double distance = std::abs(candidate.value - previous.value);
+        if (distance < best) {
+          second = best;
+          best = distance;
+          v = candidate;
+        } else {
+          second = std::min(second, distance);
+        }
+      }
+      return best < 0.5 * second;
+    };
+    double s0 = sigma, m0 = value.measure;
+    SpectralValue v0 = value;
+    // A first probe a little way along the arc gives the secant its slope.
+    double s1 = s0 + std::max(1e3 * tolerance, 1e-6 * std::max(1.0, std::abs(s0)));
+    CorrectedPoint p1;
+    SpectralValue v1;
+    int count = 0;
+    for (int iteration = 0; iteration < options.location.max_iterations; ++iteration) {
+      ++count;
+      if (!follow(s1, v0, p1, v1)) return false;
+      const double m1 = v1.measure;
+      const double step = (m1 == m0) ? 0.0 : -m1 * (s1 - s0) / (m1 - m0);
+      if (!std::isfinite(step) || step == 0.0) return false;
+      s0 = s1;
+      m0 = m1;
+      v0 = v1;
+      s1 = s1 + step;
+      if (std::abs(step) <= tolerance) {
+        CorrectedPoint p2;
+        SpectralValue v2;
+        ++count;
+        if (!follow(s1, v0, p2, v2)) return false;
+        sigma = s1;
+        point = p2;
+        value = v2;
+        evaluations += count;
+        last_step = std::abs(step);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  static void SetFrequency(SpecialPoint& sp) {
+    if (sp.type == SpecialPointType::kHopf) sp.frequency = std::abs(sp.critical_value.imag());
+    if (sp.type == SpecialPointType::kNeimarkSacker) {
+      sp.frequency = std::abs(std::arg(sp.critical_value));
+    }
+  }
+
+  // Illinois on the (k+1)-th largest measure of the kind (continuation/spectrum_crossing.h).
+  std::pair<double, SpecialPoint> LocateOnOrderStatistic(Sampler& sampler, const PointData& from,
+                                                         const PointData& to, double sigma_end,
+                                                         SpectralKind kind, bool locate) {
     const double imaginary_tolerance = options.detect.imaginary_tolerance;
     const auto k = static_cast<size_t>(
         std::min(from.counts.unstable[static_cast<int>(kind)],
@@ -652,8 +933,7 @@ struct Continuation::Impl {
                              "ends of the step (a marginal value)",
                              sp.note.empty() ? "" : "; ", shift);
     }
-    if (type == SpecialPointType::kHopf) sp.frequency = std::abs(located.value.imag());
-    if (type == SpecialPointType::kNeimarkSacker) sp.frequency = std::abs(std::arg(located.value));
+    SetFrequency(sp);
     return entry;
   }
 
@@ -846,7 +1126,7 @@ struct Continuation::Impl {
     std::vector<SpecialPoint> special = Detect(sampler, current, next, sigma_end);
     AppendPoint(next, sigma_end);
     ++branch.statistics.steps;
-    for (SpecialPoint& sp : special) branch.special_points.push_back(std::move(sp));
+    for (SpecialPoint& sp : special) AddSpecialPoint(std::move(sp));
 
     if (cut == Cut::kEvent) return SwitchAtEvent(event, event_root, next);
     current = std::move(next);

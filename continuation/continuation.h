@@ -30,8 +30,11 @@
 //  - with DetectionOptions::stability: Hopf (complex pair through the imaginary axis, frequency
 //    recorded), real eigenvalue through 0, Floquet multiplier through −1 (period doubling), +1, or
 //    a complex pair through the unit circle (Neimark–Sacker, angle recorded); Illinois on the
-//    critical value's Re or |·| − 1 with the corrector and Stability at each trial point
-//    (continuation/spectrum_crossing.h). Stability is computed once per stored point and kept;
+//    critical value's Re or |·| − 1 with the corrector and Stability at each trial point, and
+//    where that value jumps (a collision changed the kinds within the step) on SpectralProduct,
+//    refined from the stability tolerance to the boundary; a pair crossing only where the unstable
+//    counts need one (continuation/spectrum_crossing.h). Stability is computed once per stored
+//    point and kept;
 //  - Problem::TestFunctions (e.g. cusps on a fold curve): Illinois on the function.
 // "Along arclength" means on the points X(σ) of the branch with τ̂_kᵀ(X − x̂_k) = σ, each obtained
 // by the corrector; Illinois keeps a bracket, so the located σ is within location.step_tolerance.

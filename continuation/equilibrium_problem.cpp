@@ -1,5 +1,7 @@
 #include "continuation/equilibrium_problem.h"
 
+#include "continuation/lyapunov.h"
+
 #include <algorithm>
 #include <complex>
 #include <stdexcept>
@@ -47,6 +49,11 @@ Spectrum EquilibriumProblem::Stability(const Vector& u, double lambda) {
             });
   spectrum.valid = spectrum.values.allFinite();
   return spectrum;
+}
+
+LyapunovCoefficient EquilibriumProblem::FirstLyapunov(const Vector& u, double lambda,
+                                                      std::complex<double> critical) {
+  return FirstLyapunovCoefficient(*this, u, lambda, 1e-3, critical);
 }
 
 }  // namespace rubcont

@@ -23,6 +23,9 @@ class EquilibriumProblem : public Problem {
   double LambdaScale() const override { return lambda_scale_; }
   bool HasStability() const override { return true; }
   Spectrum Stability(const Vector& u, double lambda) override;
+  // FirstLyapunovCoefficient (continuation/lyapunov.h) with its default step.
+  LyapunovCoefficient FirstLyapunov(const Vector& u, double lambda,
+                                    std::complex<double> critical) override;
 
  private:
   OdeSystem& system_;

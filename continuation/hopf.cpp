@@ -8,6 +8,7 @@
 #include <Eigen/SVD>
 #include <fmt/core.h>
 
+#include "continuation/lyapunov.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -38,6 +39,8 @@ HopfProblem::HopfProblem(Problem& inner, const Vector& u, double lambda,
   const Spectrum spectrum = inner.Stability(u, lambda);
   radius_ = omega0_;
   if (spectrum.valid) radius_ = std::max(radius_, spectrum.values.cwiseAbs().maxCoeff());
+  const LyapunovCoefficient l1 = inner.FirstLyapunov(u, lambda, critical);
+  l1_reference_ = l1.valid ? std::abs(l1.l1) : 0.0;
 }
 
 void HopfProblem::SetEta(double eta) {
@@ -171,8 +174,19 @@ Vector HopfProblem::EventFunctions(const Vector& U, double eta) {
 
 Vector HopfProblem::TestFunctions(const Vector& U, double eta) {
   const Pair pair = Evaluate(U, eta);
-  return Vector::Constant(1, pair.valid ? pair.kappa / (omega0_ * omega0_)
-                                        : std::numeric_limits<double>::quiet_NaN());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Vector tests = Vector::Constant(2, nan);
+  if (!pair.valid) return tests;
+  tests(0) = pair.kappa / (omega0_ * omega0_);
+  // l1 where the inner problem computes it to 1 % of its value where the curve starts
+  // (AgreesTo; NaN otherwise: no sign change is seen across such a point), of the pair's member
+  // with Im > 0; on neutral saddles (κ < 0) none.
+  if (pair.kappa > 0.0 && l1_reference_ > 0.0) {
+    const std::complex<double> critical = pair.first.imag() > 0.0 ? pair.first : pair.second;
+    const LyapunovCoefficient l1 = inner_.FirstLyapunov(U.head(n_), U(n_), critical);
+    if (std::isfinite(l1.l1) && AgreesTo(l1, l1_reference_)) tests(1) = l1.l1;
+  }
+  return tests;
 }
 
 void HopfProblem::PointAccepted(const Vector& U, double eta) {

@@ -29,9 +29,13 @@
 //    detection finds and locates them; ContinueHopfCurve renames its Hopf points double-Hopf points
 //    and its real crossings zero-Hopf points. A point of the curve is "stable" where the rest is: a
 //    Hopf point of an otherwise stable state, where the state loses its stability.
-//  - Generalized Hopf (Bautin, l1 = 0) is not tested: l1 (continuation/lyapunov.h) comes from
-//    finite differences that the stiff contact makes untrustworthy at most of the rub's Hopf points
-//    (README, "Sub- or supercritical Hopf"), and the exact friction law has none.
+//  - Generalized Hopf (Bautin): the test function "generalized_hopf", the inner problem's first
+//    Lyapunov coefficient l1 (Problem::FirstLyapunov, continuation/lyapunov.h), changes sign.
+//    Only on curves that start from a Hopf point with a valid l1, and only where its two
+//    finite-difference steps agree to 1 % of |l1| at the start (AgreesTo: near the zero, 1 % of
+//    |l1| itself would fail); NaN elsewhere, so that a sign change is seen only between points
+//    where both values are known. Most of the rub's tanh-law Hopf points have no valid l1 (README,
+//    "Sub- or supercritical Hopf"); the exact law has none.
 //
 // Events: the inner problem's events (validity margins of a piecewise-smooth problem) are the Hopf
 // problem's, and it refuses to switch: a Hopf curve ends, located, where its Hopf point reaches a
@@ -84,10 +88,14 @@ class HopfProblem : public Problem {
   bool SwitchAt(int /*event*/, Vector& /*U*/, double /*eta*/) override { return false; }
   std::string PieceLabel() const override { return inner_.PieceLabel(); }
 
-  std::vector<std::string> TestFunctionNames() const override { return {"bogdanov_takens"}; }
+  // κ / ω₀² (Bogdanov–Takens) and the inner problem's first Lyapunov coefficient l1 (generalized
+  // Hopf; NaN where it is not known, above).
+  std::vector<std::string> TestFunctionNames() const override {
+    return {"bogdanov_takens", "generalized_hopf"};
+  }
   Vector TestFunctions(const Vector& U, double eta) override;
-  SpecialPointType TestFunctionType(int /*k*/) const override {
-    return SpecialPointType::kBogdanovTakens;
+  SpecialPointType TestFunctionType(int k) const override {
+    return k == 0 ? SpecialPointType::kBogdanovTakens : SpecialPointType::kGeneralizedHopf;
   }
 
   // Passes the point to the inner problem's PointAccepted (e.g. a rotating wave's phase
@@ -114,6 +122,9 @@ class HopfProblem : public Problem {
   double s_lambda_;
   double omega0_;
   double radius_;  // ρ: the spectral radius at the start
+  // |l1| at the start where the inner problem computes it (valid), else 0: no generalized Hopf
+  // test on this curve.
+  double l1_reference_ = 0.0;
   std::complex<double> reference_first_, reference_second_;
 };
 

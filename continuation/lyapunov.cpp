@@ -112,6 +112,11 @@ LyapunovCoefficient FirstLyapunovCoefficientOfRelativeEquilibrium(
   return FirstLyapunovCoefficient(reduced, Vector::Zero(reduced.Dimension()), lambda, step, near);
 }
 
+bool AgreesTo(const LyapunovCoefficient& c, double scale) {
+  return std::abs(c.l1 - c.l1_coarse) <=
+         0.01 * std::max({std::abs(c.l1), std::abs(c.l1_coarse), scale});
+}
+
 LyapunovCoefficient FirstLyapunovCoefficient(Problem& problem, const Vector& u, double lambda,
                                              double step, std::complex<double> near) {
   LyapunovCoefficient out;
@@ -186,7 +191,7 @@ LyapunovCoefficient FirstLyapunovCoefficient(Problem& problem, const Vector& u, 
   out.l1 = coefficient(0.1 * step);
   if (!std::isfinite(out.l1) || !std::isfinite(out.l1_coarse)) {
     out.message = "the coefficient is not finite";
-  } else if (std::abs(out.l1 - out.l1_coarse) > 0.01 * std::max(std::abs(out.l1), std::abs(out.l1_coarse))) {
+  } else if (!AgreesTo(out, 0.0)) {
     out.message = fmt::format("not converged in the finite-difference step: {:.4g} at h = {:g}, "
                               "{:.4g} at h = {:g}", out.l1_coarse, step, out.l1, 0.1 * step);
   } else {

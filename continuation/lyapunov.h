@@ -35,6 +35,11 @@ struct LyapunovCoefficient {
   std::string message;     // why not valid
 };
 
+// Whether the two steps of `c` agree to 1 % of max(|l1|, |l1_coarse|, scale), `scale` a size of
+// l1 known from elsewhere (e.g. |l1| where a Hopf curve starts): then l1 is known to that accuracy
+// also where it is near 0 — at a generalized Hopf point, where `valid` (1 % of |l1| itself) fails.
+bool AgreesTo(const LyapunovCoefficient& c, double scale);
+
 // `step` is the relative finite-difference step h (in units of Problem::Scale()). `near`: the
 // Hopf eigenvalue ≈ iω (e.g. SpecialPoint::critical_value) picks the pair; 0: the pair with Im > 0
 // nearest the imaginary axis.

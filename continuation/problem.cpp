@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "continuation/lyapunov.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -24,6 +25,7 @@ const char* ToString(SpecialPointType type) {
     case SpecialPointType::kBogdanovTakens: return "Bogdanov-Takens";
     case SpecialPointType::kZeroHopf: return "zero-Hopf";
     case SpecialPointType::kDoubleHopf: return "double Hopf";
+    case SpecialPointType::kGeneralizedHopf: return "generalized Hopf";
   }
   return "unknown";
 }
@@ -51,6 +53,13 @@ void Problem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
   Residual(u, lambda + h, F_plus);
   Residual(u, lambda - h, F_minus);
   dF = (F_plus - F_minus) / (2.0 * h);
+}
+
+LyapunovCoefficient Problem::FirstLyapunov(const Vector& /*u*/, double /*lambda*/,
+                                           std::complex<double> /*critical*/) {
+  LyapunovCoefficient out;
+  out.message = "not computed by this problem";
+  return out;
 }
 
 Spectrum Problem::Stability(const Vector& /*u*/, double /*lambda*/) {

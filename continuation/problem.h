@@ -7,6 +7,7 @@
 // problems cache integrations); a Problem is not safe to share between threads.
 #pragma once
 
+#include <complex>
 #include <string>
 #include <vector>
 
@@ -56,9 +57,12 @@ enum class SpecialPointType {
   kBogdanovTakens,          // the Hopf pair meets at 0 (Hopf frequency → 0)
   kZeroHopf,                // a real eigenvalue of the rest of the spectrum crosses 0
   kDoubleHopf,              // a second complex pair crosses the imaginary axis
+  kGeneralizedHopf,         // the first Lyapunov coefficient changes sign (Bautin point)
 };
 
 const char* ToString(SpecialPointType type);
+
+struct LyapunovCoefficient;  // continuation/lyapunov.h
 
 class Problem {
  public:
@@ -142,6 +146,14 @@ class Problem {
   // problem may refresh internal data that leaves its solution set unchanged, such as the
   // bordering vectors of a minimally augmented system (continuation/fold.h). Default: nothing.
   virtual void PointAccepted(const Vector& /*u*/, double /*lambda*/) {}
+
+  // The first Lyapunov coefficient at a Hopf point (u, λ) of this problem's states, its critical
+  // eigenvalue near `critical` (continuation/lyapunov.h): < 0 supercritical, > 0 subcritical.
+  // Default: not valid, "not computed by this problem" (F need not be a vector field). Equilibria
+  // (EquilibriumProblem) and rotating waves (waves/rotating_wave.h) compute it; Hopf curves test
+  // its sign for generalized Hopf (Bautin) points (continuation/hopf.h).
+  virtual LyapunovCoefficient FirstLyapunov(const Vector& u, double lambda,
+                                            std::complex<double> critical);
 };
 
 // (u, λ) as one vector: the unknowns of a problem augmented by its parameter (fold, event and Hopf

@@ -8,7 +8,8 @@ Writes, from the HDF5 file only (layout: apps/map_command.h), for every /maps/<p
                               (grey: none, white: one, blue: two or more = hysteresis), the special
                               points of the branch sets at every grid value (markers), and the
                               continued event, fold and Hopf curves (lines; cusps, Bogdanov-
-                              Takens, zero-Hopf and double-Hopf points marked).
+                              Takens, zero-Hopf, double-Hopf and generalized Hopf points
+                              marked).
 Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import os
@@ -34,7 +35,7 @@ MARKERS = {"event": ("o", "stick/slip switch or contact change"),
 
 # Codimension-two points on the continued curves (and where a Hopf curve meets a switch).
 CURVE_POINT_MARKERS = {"cusp": "P", "Bogdanov-Takens": "^", "zero-Hopf": "s", "double Hopf": "h",
-                       "event": "o"}
+                       "generalized Hopf": "v", "event": "o"}
 
 
 def text(value):
@@ -105,7 +106,7 @@ def plot_map(group, name, out_dir):
                  "state, blue two or more coexisting (hysteresis), light grey none, dark grey failed;\n"
                  f"lines: continued switch (solid), fold (dashed) and Hopf (dash-dot) curves, their "
                  f"codimension-two points (black: + cusp, △ Bogdanov-Takens, □ zero-Hopf, ⬡ double "
-                 f"Hopf, ○ a Hopf curve meets a switch); grey markers: special points "
+                 f"Hopf, ▽ generalized Hopf, ○ a Hopf curve meets a switch); grey markers: special points "
                  f"of the branch set at each grid value; dotted: scene value "
                  f"{group.attrs['base_value']:g}", fontsize=9)
     fig.tight_layout()

@@ -132,12 +132,13 @@ std::string HysteresisMap::BriefReport() const {
     ++hopf_curves;
     codimension_two += c.curve.Count(SpecialPointType::kBogdanovTakens) +
                        c.curve.Count(SpecialPointType::kZeroHopf) +
-                       c.curve.Count(SpecialPointType::kDoubleHopf);
+                       c.curve.Count(SpecialPointType::kDoubleHopf) +
+                       c.curve.Count(SpecialPointType::kGeneralizedHopf);
   }
   return fmt::format(
       "map of {} over [{:g}, {:g}] ({} values, {} branches) × {} speeds: {:.1f} % of the cells "
       "with coexisting stable states, {:.1f} % with none; {} curves ({} Hopf), {} cusps, {} "
-      "Bogdanov-Takens / zero-Hopf / double-Hopf points; grid {:.2f} s, curves {:.2f} s{}",
+      "Bogdanov-Takens / zero-Hopf / double-Hopf / generalized Hopf points; grid {:.2f} s, curves {:.2f} s{}",
       ToString(parameter), eta.size() ? eta(0) : 0.0, eta.size() ? eta(eta.size() - 1) : 0.0,
       eta.size(), grid_branches, speed.size(), cells ? 100.0 * coexisting / cells : 0.0,
       cells ? 100.0 * none / cells : 0.0, curves.size(), hopf_curves, cusps, codimension_two,

@@ -290,26 +290,36 @@ Vector RotatingWaveProblem::ResidualScale() const {
   return scale;
 }
 
-LyapunovCoefficient RotatingWaveProblem::FirstLyapunov(const SpecialPoint& hopf) {
+LyapunovCoefficient RotatingWaveProblem::FirstLyapunov(const Vector& u, double omega,
+                                                       std::complex<double> critical) {
   if (law_ == FrictionLawKind::kExact) {
     LyapunovCoefficient out;
     out.message = "the exact law is not smooth (a sticking contact is a constraint, slip a switch "
                   "of the force law)";
     return out;
   }
+  // The point's own contacts: free where it does not penetrate (the problem holds the modes of the
+  // last piece it continued, which need not be the point's).
+  const std::vector<ContactMode> last_modes = modes_;
+  Evaluate(u, omega, false);
+  for (Index k = 0; k < Contacts(); ++k) {
+    modes_[k] = forces_.contacts[k].penetration < 0.0 ? ContactMode::kFree : ContactMode::kStick;
+  }
+  const std::vector<FrictionMode> point_modes = FrictionModes();
+  modes_ = last_modes;
   const Index n2 = 2 * structure_.Coordinates();
   Vector x0 = Vector::Zero(2 * n2);
-  x0.head(n2) = hopf.u.head(n2);
-  frame_.set_frame_rate(hopf.u(n2));
-  frame_.SetFrictionModes(FrictionModes(), Vector::Zero(Contacts()));
+  x0.head(n2) = u.head(n2);
+  frame_.set_frame_rate(u(n2));
+  frame_.SetFrictionModes(point_modes, Vector::Zero(Contacts()));
   EquilibriumProblem field(frame_);  // the co-rotating field ẋ = f(x) at this Ω and ω
   const std::function<Vector(const Vector&)> generator = [this](const Vector& x) {
     Vector g(x.size());
     frame_.RotationGenerator(x, g);
     return g;
   };
-  return FirstLyapunovCoefficientOfRelativeEquilibrium(field, x0, hopf.lambda, generator, 1e-4,
-                                                       hopf.critical_value);
+  return FirstLyapunovCoefficientOfRelativeEquilibrium(field, x0, omega, generator, 1e-4,
+                                                       critical);
 }
 
 Spectrum RotatingWaveProblem::Stability(const Vector& u, double omega) {

@@ -108,7 +108,8 @@ class RotatingWaveProblem : public Problem {
   // with finite-difference steps 1e-4 and 1e-5 of the state scale; negative: the modulated waves
   // born there are stable (supercritical). The exact law is not smooth (a sticking contact is a
   // constraint, slip a switch of the force law): not valid there, with that reason.
-  LyapunovCoefficient FirstLyapunov(const SpecialPoint& hopf);
+  LyapunovCoefficient FirstLyapunov(const Vector& u, double omega,
+                                    std::complex<double> critical) override;
 
   // Solves F(u, ω) = 0 by Newton, then checks every contact's validity margin; while one is
   // violated, switches that contact's mode and solves again (an active-set iteration, at most 2

@@ -137,7 +137,7 @@ std::vector<RotatingWaveBranch> ComputeRotatingWaveBranches(
                                              : JoinAtStart(backward, forward);
     for (SpecialPoint& sp : result.branch.special_points) {
       if (sp.type != SpecialPointType::kHopf) continue;
-      const LyapunovCoefficient c = problem.FirstLyapunov(sp);
+      const LyapunovCoefficient c = problem.FirstLyapunov(sp.u, sp.lambda, sp.critical_value);
       if (c.valid) {
         sp.lyapunov = c.l1;
       } else {

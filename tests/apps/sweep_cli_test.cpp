@@ -12,6 +12,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <H5Cpp.h>
+
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 
@@ -123,6 +125,42 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
   REQUIRE(ratio.size() == 2);
   CHECK(ratio[0] > 1e-6);
   CHECK(ratio[0] < 0.005);
+}
+
+TEST_CASE("rubcont sweep: --resume does not take a file from before a key existed for the same "
+          "sweeps", "[sweep_cli]") {
+  // A file written before [analysis.sweep] integrator existed (BDF was the default then): its
+  // stored scene lacks the key, which today's default would fill in as "explicit". Such a file is
+  // integrated again, not relabelled.
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
+  const fs::path h5 = dir.path / "sweep.h5";
+  const Outcome first =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(first.out << first.err);
+  REQUIRE(first.exit_code == 0);
+  {
+    H5::H5File file(h5.string(), H5F_ACC_RDWR);
+    const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+    std::string toml;
+    {
+      const H5::Attribute stored = file.openAttribute("scene_toml");
+      stored.read(stored.getStrType(), toml);
+    }
+    const auto at = toml.find("integrator = \"explicit\"\n");
+    REQUIRE(at != std::string::npos);
+    toml.erase(at, toml.find('\n', at) + 1 - at);
+    file.removeAttr("scene_toml");
+    file.createAttribute("scene_toml", type, H5::DataSpace(H5S_SCALAR)).write(type, toml);
+  }
+  const Outcome again =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --resume --out " + h5.string());
+  INFO(again.out << again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, !Contains("complete in"));
+  ResultReader r(h5);
+  CHECK_THAT(r.ReadStringAttribute("/", "scene_toml"), Contains("integrator = \"explicit\""));
+  CHECK(r.ReadStringAttribute("/sweeps/up", "status") == "complete");
 }
 
 TEST_CASE("rubcont sweep: the auto integrator takes Dormand-Prince where the contact bounces, and "

@@ -91,6 +91,68 @@ TEST_CASE("the Hopf curve of the Bogdanov-Takens form is λ = −η² through it
   CHECK(std::abs(bt.u(2)) <= 1e-8);    // λ
 }
 
+// The Bautin normal form ẇ = (λ + i)w + ηw|w|² − w|w|⁴ (w = a + ib; Kuznetsov, Elements, §8.3)
+// in the coordinates x = a, y = b + a² (quadratic terms, and finite-difference errors from the
+// higher ones): the origin has Hopf points at λ = 0 for every η, with l1 = 2η (ω = 1, |q| = 1),
+// and a generalized Hopf point at η = 0. Stability from a central-difference Jacobian, l1 from
+// the Problem's (EnableFirstLyapunov).
+LambdaProblem Bautin(double eta) {
+  auto residual = [](const Vector& u, double l, double eta, Vector& F) {
+    const double a = u(0), b = u(1) - u(0) * u(0);
+    const double r2 = a * a + b * b;
+    const double g = l + eta * r2 - r2 * r2;
+    const double fa = g * a - b, fb = a + g * b;
+    F.resize(2);
+    F << fa, fb + 2.0 * a * fa;  // ẏ = ḃ + 2a ȧ
+  };
+  LambdaProblem problem(2, residual);
+  problem.SetStability([residual](const Vector& u, double l, double eta) {
+    Matrix J(2, 2);
+    Vector plus, minus;
+    for (Index j = 0; j < 2; ++j) {
+      const double h = 1e-6;
+      Vector v = u;
+      v(j) += h;
+      residual(v, l, eta, plus);
+      v(j) -= 2.0 * h;
+      residual(v, l, eta, minus);
+      J.col(j) = (plus - minus) / (2.0 * h);
+    }
+    return testing::EigenvaluesOf(J);
+  });
+  problem.EnableSecondParameter(eta);
+  problem.EnableFirstLyapunov();
+  return problem;
+}
+
+TEST_CASE("the Hopf curve of the Bautin form has its generalized Hopf point where l1 changes sign",
+          "[continuation][hopf]") {
+  LambdaProblem problem = Bautin(-0.5);
+  const SpecialPoint hopf = FirstHopf(problem, Vec({0.0, 0.0}), -0.5, +1, 0.5);
+  REQUIRE(hopf.converged);
+  CHECK(std::abs(hopf.lambda) <= 1e-8);
+  CHECK(problem.FirstLyapunov(hopf.u, hopf.lambda, hopf.critical_value).l1 < 0.0);
+
+  ContinuationOptions options;
+  options.bounds.lambda_min = -0.6;
+  options.bounds.lambda_max = 0.4;
+  const Branch curve = ContinueHopfCurve(problem, hopf, options);
+  INFO(curve.BriefReport());
+  REQUIRE(curve.status == BranchStatus::kReachedLambdaBound);
+  for (Index i = 0; i < curve.Lambda().size(); ++i) {
+    CHECK(std::abs(curve.Measure("lambda")(i)) <= 1e-9);  // Hopf at λ = 0 for every η
+  }
+  REQUIRE(curve.special_points.size() == 1);
+  const SpecialPoint& bautin = curve.special_points.front();
+  CHECK(bautin.type == SpecialPointType::kGeneralizedHopf);
+  CHECK(bautin.label == "generalized_hopf");
+  CHECK(bautin.converged);
+  CHECK(std::abs(bautin.lambda) <= 1e-7);  // η
+  // Subcritical beyond it.
+  problem.SetSecondParameter(0.3);
+  CHECK(problem.FirstLyapunov(hopf.u, 0.0, hopf.critical_value).l1 > 0.0);
+}
+
 // The fold–Hopf normal form (Kuznetsov, Elements, §8.5) with a second, decoupled oscillator:
 //     ξ̇ = λ + ξ² + x² + y²,   (x + iy)˙ = (η + ξ + ξ² + 2i)(x + iy),
 //     (p + iq)˙ = (−η − 0.2 + 3i)(p + iq).

@@ -1,6 +1,7 @@
 // Eigenvalue and Floquet-multiplier crossings: Hopf, period doubling, Neimark–Sacker.
 #include <cmath>
 #include <complex>
+#include <functional>
 
 #include <catch2/catch.hpp>
 
@@ -173,6 +174,110 @@ TEST_CASE("a complex pair colliding on the real axis is not a crossing",
   const Branch branch = Continue(problem, Vec({0.0}), 0.0, options);
   CHECK(branch.special_points.empty());
   for (const BranchPoint& p : branch.points) CHECK(p.num_unstable == 2);
+}
+
+// u = λ with a prescribed spectrum values(λ), continued from λ = 0.25 in steps of 0.1 (about 0.07
+// in λ), so that one step holds the crossing and the collision the cases below put close together.
+Branch ContinueWithSpectrum(std::function<ComplexVector(double)> values, double lambda_max) {
+  LambdaProblem problem(
+      1, [](const Vector& u, double l, double, Vector& F) { F(0) = u(0) - l; });
+  problem.SetStability([values = std::move(values)](const Vector&, double l, double) {
+    Spectrum spectrum;
+    spectrum.valid = true;
+    spectrum.values = values(l);
+    return spectrum;
+  });
+  ContinuationOptions options;
+  options.detect.stability = true;
+  options.step.initial = options.step.max = 0.1;
+  options.bounds.lambda_max = lambda_max;
+  return Continue(problem, Vec({0.25}), 0.25, options);
+}
+
+// Whether one step of the branch goes from below `low` to above `high`.
+bool OneStepSpans(const Branch& branch, double low, double high) {
+  for (size_t i = 1; i < branch.points.size(); ++i) {
+    if (branch.points[i - 1].lambda < low && branch.points[i].lambda > high) return true;
+  }
+  return false;
+}
+
+std::complex<double> Sqrt(double x) { return std::sqrt(std::complex<double>(x, 0.0)); }
+
+TEST_CASE("a Hopf point in a step where another pair collides on the real axis is located",
+          "[continuation][hopf]") {
+  // Pair A = (λ − 0.3) ± i crosses the axis at λ = 0.3; pair D = −2 ± 3i stays stable. Pair
+  // B = 5 ± √c(λ), unstable throughout, meets on the real axis within the same step: (a) it stays
+  // real after λ = 0.3005 (the step's end counts two more unstable real values and no new pair:
+  // by the counts, a real crossing); (b) it is real only on (0.2995, 0.3005), around A's crossing
+  // (the counts are right, but there the second complex value is D's: the order statistic jumps
+  // from A's Re ≈ 0 to −2). Either way the Hopf point is A's, located on the spectral product,
+  // and there is no other special point.
+  const bool stays_real = GENERATE(true, false);
+  const Branch branch = ContinueWithSpectrum(
+      [stays_real](double l) {
+        const std::complex<double> root =
+            Sqrt(stays_real ? l - 0.3005 : (l - 0.2995) * (0.3005 - l));
+        return (ComplexVector(7) << 5.0 + root, 5.0 - root, std::complex<double>(l - 0.3, 1.0),
+                std::complex<double>(l - 0.3, -1.0), -1.0, std::complex<double>(-2.0, 3.0),
+                std::complex<double>(-2.0, -3.0))
+            .finished();
+      },
+      0.6);
+  INFO(branch.BriefReport());
+  REQUIRE(OneStepSpans(branch, 0.2995, 0.3005));  // else the test tests nothing
+  REQUIRE(branch.special_points.size() == 1u);
+  const SpecialPoint& hopf = branch.special_points.front();
+  CHECK(hopf.type == SpecialPointType::kHopf);
+  CHECK(hopf.converged);
+  CHECK(std::abs(hopf.lambda - 0.3) <= 1e-8);
+  CHECK(hopf.frequency == Approx(1.0).epsilon(1e-8));
+  CHECK(std::abs(hopf.critical_value.real()) <= 1e-8);
+}
+
+TEST_CASE("a neutral saddle changes the bialternate product's sign and is no Hopf point",
+          "[continuation][hopf]") {
+  // Real eigenvalues 1 and λ − 1.3: their sum vanishes at λ = 0.3 (a neutral saddle), no value
+  // crosses the axis before λ = 1.3, where a real one does. Pair C = 5 ± √(λ − 0.3005) collides
+  // in the same step, so that the step is judged by the products.
+  const Branch branch = ContinueWithSpectrum(
+      [](double l) {
+        const std::complex<double> root = Sqrt(l - 0.3005);
+        return (ComplexVector(4) << 5.0 + root, 5.0 - root, 1.0, l - 1.3).finished();
+      },
+      1.6);
+  INFO(branch.BriefReport());
+  REQUIRE(OneStepSpans(branch, 0.3, 0.3005));
+  REQUIRE(branch.special_points.size() == 1u);
+  const SpecialPoint& crossing = branch.special_points.front();
+  CHECK(crossing.type == SpecialPointType::kRealEigenvalueCrossing);
+  CHECK(crossing.converged);
+  CHECK(std::abs(crossing.lambda - 1.3) <= 1e-8);
+}
+
+TEST_CASE("a real value that crosses 0 and meets another into a pair is no Hopf point",
+          "[continuation][hopf]") {
+  // Values 0.5 ± √D(λ), D = 0.25 − 25(λ − 0.3): the lower one crosses 0 at λ = 0.3, both meet at
+  // λ = 0.31 and leave as the unstable pair 0.5 ± i√−D; a stable pair −2 ± 3i stays. A step over
+  // both sees one more unstable value and one more unstable pair (by the counts, a Hopf point
+  // whose critical value jumps from −2 to 0.5) — it is the real crossing, as on case A(a)'s tanh
+  // Mode 2 whirl at its 52.33 rpm branch point.
+  const Branch branch = ContinueWithSpectrum(
+      [](double l) {
+        const std::complex<double> root = Sqrt(0.25 - 25.0 * (l - 0.3));
+        return (ComplexVector(4) << 0.5 + root, 0.5 - root, std::complex<double>(-2.0, 3.0),
+                std::complex<double>(-2.0, -3.0))
+            .finished();
+      },
+      0.6);
+  INFO(branch.BriefReport());
+  REQUIRE(OneStepSpans(branch, 0.3, 0.31));
+  REQUIRE(branch.special_points.size() == 1u);
+  const SpecialPoint& crossing = branch.special_points.front();
+  CHECK(crossing.type == SpecialPointType::kRealEigenvalueCrossing);
+  CHECK(crossing.converged);
+  CHECK(std::abs(crossing.lambda - 0.3) <= 1e-8);
+  CHECK(std::abs(crossing.critical_value) <= 1e-8);
 }
 
 }  // namespace

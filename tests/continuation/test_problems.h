@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "continuation/lyapunov.h"
 #include "continuation/problem.h"
 
 namespace rubcont {
@@ -64,6 +65,15 @@ class LambdaProblem : public Problem {
     return stability_(u, lambda, eta_);
   }
 
+  // The first Lyapunov coefficient of u' = F(u, λ) when EnableFirstLyapunov() was called,
+  // else the Problem default (not computed).
+  LyapunovCoefficient FirstLyapunov(const Vector& u, double lambda,
+                                    std::complex<double> critical) override {
+    if (!first_lyapunov_) return Problem::FirstLyapunov(u, lambda, critical);
+    return FirstLyapunovCoefficient(*this, u, lambda, 1e-3, critical);
+  }
+  void EnableFirstLyapunov() { first_lyapunov_ = true; }
+
   bool HasSecondParameter() const override { return has_eta_; }
   double SecondParameter() const override { return eta_; }
   void SetSecondParameter(double eta) override { eta_ = eta; }
@@ -108,6 +118,7 @@ class LambdaProblem : public Problem {
   double lambda_scale_ = 1.0;
   Vector residual_scale_;
   bool has_eta_ = false;
+  bool first_lyapunov_ = false;
   double eta_ = 0.0;
   std::vector<std::string> measure_names_;
   std::function<Vector(const Vector&, double)> measures_;

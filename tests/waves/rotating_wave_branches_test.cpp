@@ -10,6 +10,7 @@
 #include "models/analytic.h"
 #include "models/jeffcott.h"
 #include "models/units.h"
+#include "waves/rotating_wave.h"
 
 namespace rubcont {
 namespace {
@@ -277,6 +278,36 @@ TEST_CASE("case A(a), tanh friction: the whirl's Hopf points at 51.68 and 51.90 
       CHECK_THAT(p.note, Catch::Matchers::Contains("the exact law is not smooth"));
     }
   }
+}
+
+TEST_CASE("the first Lyapunov coefficient is taken in the Hopf point's own contact modes",
+          "[branches]") {
+  // The problem keeps the modes of the last piece it continued, which need not be the Hopf
+  // point's (the one-contact whips' points at 81.96 rpm have a free contact): the coefficient must
+  // not depend on them.
+  RotatingWaveBranchOptions options = ThesisRange();
+  options.search.speed_max = 100.0 * kRadPerSecondPerRpm;
+  const RubStructure structure = TwoPointStructure(ThesisCaseAa());
+  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options);
+  RotatingWaveProblem problem(structure, FrictionLawKind::kTanh);
+  int points = 0, on_free_pieces = 0;
+  for (const RotatingWaveBranch& b : branches) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.type != SpecialPointType::kHopf) continue;
+      CAPTURE(b.name, p.piece, RadPerSecondToRpm(p.lambda));
+      ++points;
+      on_free_pieces += p.piece.find(":free") != std::string::npos;
+      problem.SetModes({ContactMode::kStick, ContactMode::kStick});
+      const LyapunovCoefficient touching = problem.FirstLyapunov(p.u, p.lambda, p.critical_value);
+      problem.SetModes({ContactMode::kFree, ContactMode::kFree});
+      const LyapunovCoefficient free = problem.FirstLyapunov(p.u, p.lambda, p.critical_value);
+      CHECK(touching.omega == free.omega);
+      CHECK(touching.real_part == free.real_part);
+      CHECK(touching.l1_coarse == free.l1_coarse);
+    }
+  }
+  CHECK(points >= 10);
+  CHECK(on_free_pieces >= 2);
 }
 
 TEST_CASE("case A(a), tanh friction: a one-contact whirl switches where the other contact touches",
