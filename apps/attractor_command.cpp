@@ -170,7 +170,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     Matrix exponents(count, options.exponents), errors(count, options.exponents);
     std::vector<double> speed, counted, cpu, steps;
     std::vector<int> zero, positive;
-    std::vector<std::string> status, message;
+    std::vector<std::string> status, message, untrusted;
     writer.CreateGroup(g + "/running");
     for (Index i = 0; i < count; ++i) {
       const AttractorResult& r = results[static_cast<std::size_t>(i)];
@@ -181,6 +181,8 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
       positive.push_back(r.positive);
       status.push_back(ToString(r.status));
       message.push_back(r.message);
+      untrusted.push_back(UntrustedSection(structure, points[static_cast<std::size_t>(i)],
+                                           scene.analysis.sweep.max_penetration));
       counted.push_back(r.counted_time);
       cpu.push_back(r.cpu_seconds);
       steps.push_back(static_cast<double>(r.statistics.steps));
@@ -196,6 +198,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     writer.WriteStrings(g + "/motion", motion);
     writer.WriteStrings(g + "/status", status);
     writer.WriteStrings(g + "/message", message);
+    writer.WriteStrings(g + "/untrusted", untrusted);
     writer.WriteDoubles(g + "/counted_s", counted);
     writer.WriteDoubles(g + "/cpu_seconds", cpu);
     writer.WriteDoubles(g + "/steps", steps);
@@ -251,6 +254,9 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
         }
       }
       fmt::print(out, "; {:.1f} s CPU\n", r.cpu_seconds);
+      if (!untrusted[static_cast<std::size_t>(i)].empty()) {
+        fmt::print(out, "    untrusted: {}\n", untrusted[static_cast<std::size_t>(i)]);
+      }
       if (r.status != AttractorStatus::kMeasured) {
         ++failures;
         fmt::print(err, "rubcont: numerical failure at {:.1f} rpm: {}\n", speed[static_cast<std::size_t>(i)],

@@ -116,16 +116,19 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute(g, "approach_to_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.back()));
     std::vector<double> arrival, simulated, cpu;
     std::vector<int> reached, failed;
+    std::vector<std::string> untrusted;
     for (std::size_t c = 0; c < copies.size(); ++c) {
       arrival.push_back(arrivals[c].reached ? arrivals[c].time : kNaN);
       reached.push_back(arrivals[c].reached ? 1 : 0);
       failed.push_back(arrivals[c].failed ? 1 : 0);
+      untrusted.push_back(arrivals[c].untrusted);
       simulated.push_back(arrivals[c].simulated);
       cpu.push_back(copies[c].cpu_seconds);
     }
     writer.WriteDoubles(g + "/arrival_time_s", arrival);
     writer.WriteInts(g + "/reached", reached);
     writer.WriteInts(g + "/failed", failed);
+    writer.WriteStrings(g + "/untrusted", untrusted);
     writer.WriteDoubles(g + "/simulated_s", simulated);
     writer.WriteDoubles(g + "/cpu_seconds", cpu);
     // The end of each stretch: the simulated times of a copy that ran them all (a window is a
@@ -162,10 +165,14 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
 
     // The summary.
     std::vector<double> times;
-    int failures = 0;
-    for (const RubArrival& a : arrivals) {
+    int failures = 0, untrusted_copies = 0;
+    std::string first_untrusted;
+    for (std::size_t c = 0; c < arrivals.size(); ++c) {
+      const RubArrival& a = arrivals[c];
       if (a.reached) times.push_back(a.time);
       failures += a.failed ? 1 : 0;
+      if (a.untrusted.empty()) continue;
+      if (untrusted_copies++ == 0) first_untrusted = fmt::format("copy {}: {}", c, a.untrusted);
     }
     std::sort(times.begin(), times.end());
     std::vector<double> sorted_cpu = cpu;
@@ -186,8 +193,14 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
                  times.front(), Quantile(times, 0.25), Quantile(times, 0.5), Quantile(times, 0.75),
                  times.back(), time.empty() ? 2.0 * request.window : time.front());
     }
-    fmt::print(out, "; {} failed\n  {:.1f} s wall, CPU per copy {:.1f} s (median)\nwrote {}\n",
-               failures, ensemble_wall, Quantile(sorted_cpu, 0.5), file.string());
+    fmt::print(out, "; {} failed\n", failures);
+    if (untrusted_copies > 0) {
+      fmt::print(out, "  {} untrusted (counted all the same; a contact penetrated beyond "
+                      "[analysis.sweep] max_penetration before it arrived), the first {}\n",
+                 untrusted_copies, first_untrusted);
+    }
+    fmt::print(out, "  {:.1f} s wall, CPU per copy {:.1f} s (median)\nwrote {}\n", ensemble_wall,
+               Quantile(sorted_cpu, 0.5), file.string());
     const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
     const FigureOutcome figures = MakeFigures("ensemble.py", file, out_dir);
     if (figures.made) {

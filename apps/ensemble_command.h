@@ -14,7 +14,8 @@
 // in words; both absent in files made before them: 0, by regime),
 // approach_from_rpm / approach_to_rpm (NaN without an approach), approach_regime_left/_right,
 // wall_seconds, threads; datasets (one entry per copy) arrival_time_s (NaN: not reached),
-// reached, failed, simulated_s, cpu_seconds; time_s (the end of each stretch); matrices copies ×
+// reached, failed, untrusted (why the copy is untrusted, RubArrival::untrusted, or ""; absent in
+// files made before it), simulated_s, cpu_seconds; time_s (the end of each stretch); matrices copies ×
 // stretches precession_hz_<contact>, contact_fraction_<contact>, slip_velocity_<contact> and
 // regime codes regime_<contact> (the RubRegime order: 0 unknown, 1 no_contact, 2 intermittent,
 // 3 whirl, 4 whip).

@@ -88,7 +88,8 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     const int stretches = StretchCount(request.duration, request.window);
     std::vector<EscapeObservations> observations;
     std::vector<EscapeRate> rates;
-    std::vector<int> failed;
+    std::vector<int> failed, untrusted;
+    std::string first_untrusted;  // why, for the summary
     Matrix arrival = Matrix::Constant(static_cast<Index>(speeds.size()), request.copies, kNaN);
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       options.seed = request.seed + i * static_cast<std::uint64_t>(request.copies);
@@ -100,8 +101,15 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
       o.stretch = run.stretch_seconds;
       o.duration = stretches * o.stretch;
       failed.push_back(0);
+      untrusted.push_back(0);
       for (std::size_t c = 0; c < run.arrivals.size(); ++c) {
         const RubArrival& a = run.arrivals[c];
+        if (!a.untrusted.empty()) {
+          ++untrusted.back();
+          if (first_untrusted.empty()) {
+            first_untrusted = fmt::format("{:g} rpm, copy {}: {}", speeds[i], c, a.untrusted);
+          }
+        }
         if (a.reached) {
           o.escape_stretch.push_back(a.point + 1);
           arrival(static_cast<Index>(i), static_cast<Index>(c)) = a.time;
@@ -201,6 +209,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     writer.WriteInts(g + "/escapes", escapes);
     writer.WriteInts(g + "/stayed", stayed);
     writer.WriteInts(g + "/failed", failed);
+    writer.WriteInts(g + "/untrusted", untrusted);
     writer.WriteDoubles(g + "/escape_rate", rate);
     writer.WriteDoubles(g + "/rate_lower", lower);
     writer.WriteDoubles(g + "/rate_upper", upper);
@@ -249,7 +258,13 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
       } else {
         fmt::print(out, ", all in the first stretch: κ > {:.3g} /s", r.lower);
       }
-      fmt::print(out, "{}\n", failed[i] ? fmt::format("; {} failed", failed[i]) : std::string());
+      fmt::print(out, "{}{}\n", failed[i] ? fmt::format("; {} failed", failed[i]) : std::string(),
+                 untrusted[i] ? fmt::format("; {} untrusted", untrusted[i]) : std::string());
+    }
+    if (!first_untrusted.empty()) {
+      fmt::print(out, "  untrusted copies (counted all the same; a contact penetrated beyond "
+                      "[analysis.sweep] max_penetration before it arrived): the first at {}\n",
+                 first_untrusted);
     }
     if (fit.status == CrisisStatus::kLocated) {
       // The ends the likelihood does not bound: towards the speeds with escapes the interval is open

@@ -17,7 +17,8 @@
 // files made before it: every), until_above_hz and arrival (the target in words; both absent in
 // files made before them: 0, by regime), approach_from_rpm /
 // approach_to_rpm, wall_seconds, cpu_seconds, threads; datasets speed_rpm, escapes, stayed, failed,
-// escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
+// untrusted (copies with a stretch beyond [analysis.sweep] max_penetration before they arrived,
+// RubArrival::untrusted; absent in files made before it), escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
 // ("estimated", "no escape", "all in the first stretch"), arrival_time_s (speeds × copies; NaN:
 // stayed); /lifetime/crisis attributes status, message, critical_speed_rpm, critical_lower_rpm,
 // critical_upper_rpm, lower_bounded, upper_bounded (0/1), exponent, amplitude (1/s per rpm^γ),

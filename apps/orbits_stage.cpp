@@ -232,11 +232,22 @@ StageSetup ForcedVanDerPolSetup(const Scene& scene) {
 constexpr double kDefectLimit = 1e-5;
 constexpr double kUnresolvedMultiplierLimit = 0.99;
 
+// What an orbit's trust is judged by: the structure's clearances and the largest penetration
+// allowed as a share of them ([analysis.sweep] max_penetration).
+struct OrbitTrust {
+  const RubStructure& structure;
+  double max_penetration;
+};
+
 // The largest defect and unresolved multiplier of a branch, printed, and a note when either is over
-// its limit.
-void ReportOrbitChecks(const Branch& branch, const std::string& group, ResultWriter& writer,
-                       std::ostream& out) {
+// its limit; the orbits that penetrate beyond the trust limit (UntrustedOrbits): the column
+// `untrusted` of the group and a note with the speeds.
+void ReportOrbitChecks(const Branch& branch, const std::string& group, const OrbitTrust& trust,
+                       ResultWriter& writer, std::ostream& out) {
   if (branch.points.empty()) return;
+  const std::vector<std::string> untrusted =
+      UntrustedOrbits(branch, trust.structure, trust.max_penetration);
+  writer.WriteStrings(group + "/untrusted", untrusted);
   const double defect = branch.Measure("defect").maxCoeff();
   std::string line = fmt::format("    check: largest defect {:.1e} (CVODES BDF at 1e-11)", defect);
   std::vector<std::string> notes;
@@ -253,6 +264,16 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, ResultWri
           "a mode the mesh does not resolve has a multiplier of modulus {:.3f}: it may decide the "
           "stability; raise collocation_intervals", largest));
     }
+  }
+  std::size_t first = untrusted.size(), count = 0;
+  for (std::size_t i = 0; i < untrusted.size(); ++i) {
+    if (untrusted[i].empty()) continue;
+    if (count++ == 0) first = i;
+  }
+  if (count > 0) {
+    notes.push_back(fmt::format("{} of {} orbits untrusted, the first at {:.4f} rpm: {}", count,
+                                untrusted.size(), RadPerSecondToRpm(branch.points[first].lambda),
+                                untrusted[first]));
   }
   fmt::print(out, "{}\n", line);
   for (const std::string& note : notes) fmt::print(out, "    note: {}\n", note);
@@ -276,7 +297,7 @@ void PrintSpecialPoints(const Branch& branch, std::ostream& out) {
 void WriteFollowedBranch(const PeriodicOrbitBranch& followed, const std::string& branch_name,
                          const std::string& parent, const Branch& family,
                          const SpecialPoint& point, const std::string& note,
-                         ResultWriter& writer, std::ostream& out,
+                         const OrbitTrust& trust, ResultWriter& writer, std::ostream& out,
                          std::vector<std::string>& failures) {
   WritePeriodicOrbitBranch(writer, branch_name, followed, {"speed_rpm", kRpmPerRadPerSecond},
                            "/orbits");
@@ -289,7 +310,7 @@ void WriteFollowedBranch(const PeriodicOrbitBranch& followed, const std::string&
   const Branch& b = followed.branch;
   fmt::print(out, "  {}: {}\n", branch_name, b.BriefReport());
   PrintSpecialPoints(b, out);
-  ReportOrbitChecks(b, group, writer, out);
+  ReportOrbitChecks(b, group, trust, writer, out);
   if (IsFailure(b.status)) {
     failures.push_back(fmt::format("[orbits] {}: {}", branch_name, b.message));
   }
@@ -298,7 +319,7 @@ void WriteFollowedBranch(const PeriodicOrbitBranch& followed, const std::string&
 // The branches followed from the located branch points of family `name`: /orbits/<name>_bp<k>
 // (k = 1, 2, … in the family's order; a second side "_bp<k>b"), with what the point breaks.
 void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& name,
-                         ResultWriter& writer, std::ostream& out,
+                         const OrbitTrust& trust, ResultWriter& writer, std::ostream& out,
                          std::vector<std::string>& failures) {
   const Branch& family = orbits.orbits.branch;
   int count = 0;
@@ -337,8 +358,8 @@ void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& na
     fmt::print(out, "    branch point {:.4f} rpm: {}\n", rpm, what);
     for (std::size_t side = 0; side < change.branches.size(); ++side) {
       const std::string branch_name = fmt::format("{}_bp{}{}", name, count, side == 0 ? "" : "b");
-      WriteFollowedBranch(change.branches[side], branch_name, name, family, point, what, writer,
-                          out, failures);
+      WriteFollowedBranch(change.branches[side], branch_name, name, family, point, what, trust,
+                          writer, out, failures);
       writer.SetAttribute("/orbits/" + branch_name, "branch_angle", change.change.angle);
     }
   }
@@ -347,7 +368,7 @@ void WriteBranchSwitches(const RubModulatedOrbits& orbits, const std::string& na
 // The doubled families followed from the family's period doublings: /orbits/<name>_pd<k>
 // (k = 1, 2, … in the family's order).
 void WritePeriodDoublings(const RubModulatedOrbits& orbits, const std::string& name,
-                          ResultWriter& writer, std::ostream& out,
+                          const OrbitTrust& trust, ResultWriter& writer, std::ostream& out,
                           std::vector<std::string>& failures) {
   const Branch& family = orbits.orbits.branch;
   int count = 0;
@@ -366,8 +387,8 @@ void WritePeriodDoublings(const RubModulatedOrbits& orbits, const std::string& n
     fmt::print(out, "    period doubling {:.4f} rpm: followed (multiplier {:.6f})\n", rpm,
                doubling.multiplier);
     const std::string branch_name = fmt::format("{}_pd{}", name, ++count);
-    WriteFollowedBranch(doubling.branch, branch_name, name, family, point, what, writer, out,
-                        failures);
+    WriteFollowedBranch(doubling.branch, branch_name, name, family, point, what, trust, writer,
+                        out, failures);
     writer.SetAttribute("/orbits/" + branch_name, "period_doubling_multiplier",
                         doubling.multiplier);
   }
@@ -421,6 +442,7 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
   // sensitivities under error control (without it Newton stalls: the nearly undamped contact mode
   // of the STM is damped numerically, bench/modulated_whip_bench.cpp).
   const RubOrbitsSettings& settings = scene.analysis.orbits;
+  const OrbitTrust trust{structure, scene.analysis.sweep.max_penetration};
   options.orbits.shooting = RubShootingOptions(settings);
   options.orbits.continuation = StageContinuationOptions(settings.max_steps);
   for (std::size_t k = 0; k < followed; ++k) {
@@ -446,12 +468,12 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
                SecondsSince(t0), orbits.orbits.work.steps);
     PrintSpecialPoints(branch, out);
-    ReportOrbitChecks(branch, group, writer, out);
+    ReportOrbitChecks(branch, group, trust, writer, out);
     if (IsFailure(branch.status)) {
       failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
     }
-    WriteBranchSwitches(orbits, name, writer, out, failures);
-    WritePeriodDoublings(orbits, name, writer, out, failures);
+    WriteBranchSwitches(orbits, name, trust, writer, out, failures);
+    WritePeriodDoublings(orbits, name, trust, writer, out, failures);
   }
 }
 

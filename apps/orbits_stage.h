@@ -13,8 +13,10 @@
 //                                    hopf_modulation_hz, check_note (when a check fails);
 //                                    measures precession_hz (the carrier), modulation_hz, defect,
 //                                    min_/max_precession_hz_<c>, min_/max_normal_force_<c>,
-//                                    unresolved_multiplier with Gauss collocation, and asymmetry
-//                                    for a left–right symmetric rotor.
+//                                    max_penetration_<c>, unresolved_multiplier with Gauss
+//                                    collocation, and asymmetry for a left–right symmetric rotor;
+//                                    untrusted (per orbit, why, or "": a contact penetrates beyond
+//                                    [analysis.sweep] max_penetration × its clearance).
 //     /orbits/<family>_bp<k>[b]      the branch followed from the family's k-th branch point
 //                                    (branch_points = "follow"; "b": the other side, where the two
 //                                    are not mirror images), the same layout, attrs parent,

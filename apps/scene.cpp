@@ -567,7 +567,7 @@ std::vector<KeySpec> BuildSchema() {
               "A speed whose largest penetration at a contact passes this share of its clearance "
               "is untrusted (the contact laws are those of a small overlap; an integration that lets "
               "the rotor sink into the stator): its regime is still read, the file says why, and "
-              "its jumps are marked.",
+              "its jumps are marked. The orbits stage marks its orbits by the same rule.",
               [](Scene& x) -> double& { return x.analysis.sweep.max_penetration; });
 
   // [analysis.orbits]: the modulated whirl and whip (level L2, shooting/rub_orbits.h).

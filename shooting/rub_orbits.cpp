@@ -52,15 +52,22 @@ double Precession(const RubStructure& structure, std::size_t c, const Vector& x)
   return std::abs(d) > 0.0 ? -(v / d).imag() : 0.0;
 }
 
+enum class ContactQuantity { kPrecessionHz, kNormalForce, kPenetration };
+
 OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t c, bool maximum,
-                            bool precession, std::string name) {
-  return {std::move(name), [view, c, maximum, precession](const OrbitSamples& orbit) {
+                            ContactQuantity quantity, std::string name) {
+  return {std::move(name), [view, c, maximum, quantity](const OrbitSamples& orbit) {
             const FixedFrameOrbit fixed = view->Evaluate(orbit);
             double extreme = maximum ? -HUGE_VAL : HUGE_VAL;
             for (std::size_t j = 0; j < fixed.states.size(); ++j) {
-              const double value =
-                  precession ? Precession(view->structure(), c, fixed.states[j]) / (2.0 * M_PI)
-                             : fixed.contacts[j][c].normal_force;
+              double value = 0.0;
+              switch (quantity) {
+                case ContactQuantity::kPrecessionHz:
+                  value = Precession(view->structure(), c, fixed.states[j]) / (2.0 * M_PI);
+                  break;
+                case ContactQuantity::kNormalForce: value = fixed.contacts[j][c].normal_force; break;
+                case ContactQuantity::kPenetration: value = fixed.contacts[j][c].penetration; break;
+              }
               extreme = maximum ? std::max(extreme, value) : std::min(extreme, value);
             }
             return extreme;
@@ -99,12 +106,36 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   const auto& contacts = frame.structure().contacts;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const std::string& name = contacts[c].name;
-    measures.push_back(ContactExtreme(view, c, false, true, "min_precession_hz_" + name));
-    measures.push_back(ContactExtreme(view, c, true, true, "max_precession_hz_" + name));
-    measures.push_back(ContactExtreme(view, c, false, false, "min_normal_force_" + name));
-    measures.push_back(ContactExtreme(view, c, true, false, "max_normal_force_" + name));
+    measures.push_back(ContactExtreme(view, c, false, ContactQuantity::kPrecessionHz,
+                                      "min_precession_hz_" + name));
+    measures.push_back(ContactExtreme(view, c, true, ContactQuantity::kPrecessionHz,
+                                      "max_precession_hz_" + name));
+    measures.push_back(ContactExtreme(view, c, false, ContactQuantity::kNormalForce,
+                                      "min_normal_force_" + name));
+    measures.push_back(ContactExtreme(view, c, true, ContactQuantity::kNormalForce,
+                                      "max_normal_force_" + name));
+    measures.push_back(ContactExtreme(view, c, true, ContactQuantity::kPenetration,
+                                      "max_penetration_" + name));
   }
   return measures;
+}
+
+std::vector<std::string> UntrustedOrbits(const Branch& branch, const RubStructure& structure,
+                                         double max_penetration) {
+  std::vector<std::string> untrusted(branch.points.size());
+  for (const RubContact& contact : structure.contacts) {
+    const Index k = branch.MeasureIndex("max_penetration_" + contact.name);
+    const double clearance = contact.geometry.clearance;
+    for (std::size_t i = 0; i < branch.points.size(); ++i) {
+      const double depth = branch.points[i].measures(k);
+      if (!untrusted[i].empty() || !(depth > max_penetration * clearance)) continue;
+      untrusted[i] = fmt::format(
+          "the {} contact penetrates {:.3g} m, {:.3g} × its clearance (limit {:g}): beyond the "
+          "small overlap of the contact law",
+          contact.name, depth, depth / clearance, max_penetration);
+    }
+  }
+  return untrusted;
 }
 
 std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure) {

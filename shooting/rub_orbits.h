@@ -36,6 +36,7 @@ namespace rubcont {
 //   min_/max_precession_hz_<c>     instantaneous backward precession −Im(ḋ/d)/2π of the contact's
 //                                  relative displacement d = u_rotor − u_stator
 //   min_/max_normal_force_<c>      N [N] (0 while the contact is open)
+//   max_penetration_<c>            the largest penetration δ_c = |d_c| − C_c [m] (< 0: never touches)
 //   defect                         PeriodicityDefect with CVODES BDF ≤ 2 at 1e-11, state only
 //   unresolved_multiplier          UnresolvedMultiplier, with Gauss collocation only (added by
 //                                  ContinueModulatedOrbits, which knows the mesh)
@@ -43,6 +44,12 @@ namespace rubcont {
 //                                  (ContactExchange): ~1e-11 on symmetric orbits
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
+
+// Per point of a family (RubOrbitMeasures), why the orbit is untrusted, or "": a contact
+// penetrates more than `max_penetration` × its clearance, beyond the small overlap the contact laws
+// describe (the sweeps' rule, [analysis.sweep] max_penetration; sweeps/rub_sweep.h).
+std::vector<std::string> UntrustedOrbits(const Branch& branch, const RubStructure& structure,
+                                         double max_penetration);
 
 // Grazing of each contact c along a family (Grazing, shooting/shooting.h, on its penetration
 // δ_c = |d_c| − C_c, which the co-rotating frame leaves unchanged): "lift_off_<c>" where an orbit

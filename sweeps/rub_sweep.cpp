@@ -11,6 +11,14 @@
 namespace rubcont {
 
 namespace {
+
+// Why a record is untrusted whose contact penetrates `depth` (beyond the limit).
+std::string TooDeep(const RubContact& contact, double depth, double max_penetration) {
+  return fmt::format(
+      "the {} contact penetrates {:.3g} m, {:.3g} × its clearance (limit {:g}): beyond the small "
+      "overlap of the contact law, or an integration that let the rotor sink into the stator",
+      contact.name, depth, depth / contact.geometry.clearance, max_penetration);
+}
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
@@ -152,12 +160,8 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
       const ContactGeometry& g = structure.contacts[k].geometry;
       if (c.measures.size() > static_cast<std::size_t>(kPenetrationMeasure) &&
           c.measures[kPenetrationMeasure].max > options.max_penetration * g.clearance && out.untrusted[i].empty()) {
-        const double depth = c.measures[kPenetrationMeasure].max;
-        out.untrusted[i] = fmt::format(
-            "the {} contact penetrates {:.3g} m, {:.3g} × its clearance (limit {:g}): beyond the small "
-            "overlap of the contact law, or an integration that let the rotor sink into the stator",
-            structure.contacts[k].name, depth, depth / g.clearance,
-            options.max_penetration);
+        out.untrusted[i] = TooDeep(structure.contacts[k], c.measures[kPenetrationMeasure].max,
+                                   options.max_penetration);
       }
       const double rolling_hz = g.radius / g.clearance * rotation_hz;
       if (!(c.active_fraction > 0.0) || !(bp > 0.0)) {
@@ -266,6 +270,7 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
     for (std::size_t i = 0; i < copy.points.size(); ++i) {
       t += copy.points[i].simulated_time;
       if (copy.points[i].status == SweepPointStatus::kIntegrationFailure) break;
+      if (!a.reached && a.untrusted.empty()) a.untrusted = a.regimes.untrusted[i];
       int in_target = 0;
       for (int k = 0; k < contacts; ++k) in_target += there(k, i) ? 1 : 0;
       bool arrived = false;
@@ -284,6 +289,22 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
     out.push_back(std::move(a));
   }
   return out;
+}
+
+std::string UntrustedSection(const RubStructure& structure,
+                             const std::vector<RubSectionPoint>& points, double max_penetration) {
+  const RubSectionPoint* deepest = nullptr;
+  double share = max_penetration;
+  for (const RubSectionPoint& p : points) {
+    const RubContact& contact = structure.contacts[static_cast<std::size_t>(p.contact)];
+    if (p.penetration > share * contact.geometry.clearance) {
+      deepest = &p;
+      share = p.penetration / contact.geometry.clearance;
+    }
+  }
+  if (deepest == nullptr) return "";
+  return TooDeep(structure.contacts[static_cast<std::size_t>(deepest->contact)],
+                 deepest->penetration, max_penetration);
 }
 
 SampledSection RubPenetrations(RubFixedFrame& system, double interval) {

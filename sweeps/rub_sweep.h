@@ -190,6 +190,9 @@ struct RubArrival {
   int point = -1;          // the index of the copy's point (stretch) in which it was reached
   double simulated = 0.0;  // [s] the copy's whole run
   RubSweepRegimes regimes;  // of the copy's points
+  // Why the copy is untrusted (RubSweepRegimes::untrusted of its first such point up to and
+  // including the one it arrived in, or over its whole run if it did not), or "".
+  std::string untrusted;
 };
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, const ArrivalTarget& target,
@@ -219,6 +222,11 @@ struct RubSectionPoint {
 // Evaluates the extrema's (interpolated) states at `system`'s current parameter.
 std::vector<RubSectionPoint> RubSectionMaxima(RubFixedFrame& system,
                                               const std::vector<SectionExtremum>& extrema);
+
+// Why a record whose section is `points` is untrusted, or "": its deepest maximum passes
+// `max_penetration` × the contact's clearance (RubRegimeOptions::max_penetration, the sweeps' rule).
+std::string UntrustedSection(const RubStructure& structure,
+                             const std::vector<RubSectionPoint>& points, double max_penetration);
 
 // The period of the rub's section in returns (SectionPeriod of each contact's normal forces at
 // the maxima, to kRubSectionTolerance of their mean, up to 8 returns; the largest over the contacts),

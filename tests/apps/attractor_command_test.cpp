@@ -34,6 +34,7 @@ TEST_CASE("rubcont attractor: the whirl is a rotating wave, one zero exponent, i
   CHECK(r.ReadStringAttribute("/", "level") == "L3");
   CHECK(r.ReadDoubles("/attractor/speed_rpm") == std::vector<double>{48.0});
   CHECK(r.ReadStrings("/attractor/motion") == std::vector<std::string>{"rotating wave"});
+  CHECK(r.ReadStrings("/attractor/untrusted") == std::vector<std::string>{""});
   CHECK(r.ReadInts("/attractor/zero_exponents") == std::vector<int>{1});
   const Matrix exponents = r.ReadMatrix("/attractor/exponents");
   const Matrix errors = r.ReadMatrix("/attractor/standard_errors");

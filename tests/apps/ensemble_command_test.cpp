@@ -67,6 +67,19 @@ TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it
     ResultReader r(dir.path / "whip.h5");
     CHECK(r.ReadInts("/ensemble/reached") == std::vector<int>{0, 0, 0});
     for (double t : r.ReadDoubles("/ensemble/simulated_s")) CHECK(t == Approx(3.0 * 410.0 / 4096.0).epsilon(1e-12));
+    CHECK(r.ReadStrings("/ensemble/untrusted") == std::vector<std::string>(3, ""));
+  }
+  CHECK_THAT(whip.out, !Contains("untrusted"));
+  // The whirl penetrates about 8e-9 m (2e-5 of the clearance): beyond a limit of 1e-6 of it,
+  // every copy is untrusted, and counted all the same.
+  std::ofstream(scene, std::ios::app) << "max_penetration = 1e-6\n";
+  const Outcome strict = run("whip", 2, dir.path / "strict.h5");
+  CHECK_THAT(strict.out, Contains("0 of 3 reached whip"));
+  CHECK_THAT(strict.out, Contains("3 untrusted (counted all the same") &&
+                             Contains("× its clearance (limit 1e-06)"));
+  ResultReader r(dir.path / "strict.h5");
+  for (const std::string& why : r.ReadStrings("/ensemble/untrusted")) {
+    CHECK_THAT(why, Contains("contact penetrates"));
   }
 }
 

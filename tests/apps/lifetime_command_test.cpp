@@ -2,6 +2,7 @@
 // fit's status, the check sweeps, the file, bad input.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -58,8 +59,22 @@ TEST_CASE("rubcont lifetime: the whirl never ends in a whip and is whirl at once
   const Outcome whip = run("whip", dir.path / "whip.h5");
   CHECK_THAT(whip.out, Contains("48 rpm:   0 of 2 left, κ < 4.8 /s"));
   CHECK_THAT(whip.out, Contains("left at: (stayed) (stayed) rpm"));
-  ResultReader r(dir.path / "whip.h5");
-  CHECK(r.ReadDoubles("/lifetime/escape_rate") == std::vector<double>{0.0, 0.0});
+  CHECK_THAT(whip.out, !Contains("untrusted"));
+  {
+    ResultReader r(dir.path / "whip.h5");
+    CHECK(r.ReadDoubles("/lifetime/escape_rate") == std::vector<double>{0.0, 0.0});
+    CHECK(r.ReadInts("/lifetime/stayed") == std::vector<int>{2, 2});
+    CHECK(r.ReadInts("/lifetime/untrusted") == std::vector<int>{0, 0});
+  }
+  // The whirl penetrates about 8e-9 m (2e-5 of the clearance): beyond a limit of 1e-6 of it,
+  // every copy is untrusted, and counted all the same.
+  std::ofstream(scene, std::ios::app) << "max_penetration = 1e-6\n";
+  const Outcome strict = run("whip", dir.path / "strict.h5");
+  CHECK_THAT(strict.out, Contains("48 rpm:   0 of 2 left, κ < 4.8 /s (mean lifetime > 0.208 s); 2 untrusted"));
+  CHECK_THAT(strict.out, Contains("untrusted copies (counted all the same") &&
+                             Contains("contact penetrates"));
+  ResultReader r(dir.path / "strict.h5");
+  CHECK(r.ReadInts("/lifetime/untrusted") == std::vector<int>{2, 2});
   CHECK(r.ReadInts("/lifetime/stayed") == std::vector<int>{2, 2});
 }
 

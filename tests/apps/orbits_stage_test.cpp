@@ -215,6 +215,30 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   }
   // The branch the Hopf point lies on is one of the rotating waves written beside the orbits.
   CHECK(file.Exists("/orbits/rotating_waves/" + file.ReadStringAttribute(group, "hopf_branch")));
+  // Penetrations of about N/k1 ≈ 1e-5 m: within the default limit, 0.1 × the clearance
+  // (3.81e-4 m), and beyond a limit of 1e-3 × it.
+  const auto depth = file.ReadDoubles(group + "/max_penetration_left");
+  REQUIRE(depth.size() == rpm.size());
+  for (double d : depth) {
+    CHECK(d > 0.0);
+    CHECK(d < 0.1 * 3.81e-4);
+    CHECK(d > 1e-3 * 3.81e-4);
+  }
+  CHECK(file.ReadStrings(group + "/untrusted") == std::vector<std::string>(rpm.size(), ""));
+  CHECK_THAT(run.out, !Contains("untrusted"));
+
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\nmax_steps = 2\n"
+                                     "[analysis.sweep]\nmax_penetration = 1e-3\n");
+  const Outcome strict =
+      testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+  INFO(strict.out << strict.err);
+  REQUIRE(strict.exit_code == 0);
+  CHECK_THAT(strict.out, Contains("note: 3 of 3 orbits untrusted, the first at") &&
+                             Contains("contact penetrates") && Contains("(limit 0.001)"));
+  const ResultReader marked(dir.path / "soft" / "soft.h5");
+  for (const std::string& why : marked.ReadStrings(group + "/untrusted")) {
+    CHECK_THAT(why, Contains("× its clearance (limit 0.001)"));
+  }
 }
 
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",

@@ -665,6 +665,21 @@ TEST_CASE("A soft contact sinks the rotor into the stator: the speed is untruste
   CHECK_THROWS_WITH(ClassifySweep(soft_structure, soft, lenient), Contains("max_penetration = 0: must be positive"));
 }
 
+TEST_CASE("A section whose deepest maximum passes the limit is untrusted, by its deepest contact",
+          "[rub_sweep][failure]") {
+  // Case A(a): clearance 3.81e-4 m at both contacts; limit 0.1 × it = 3.81e-5 m.
+  const RubStructure structure = TwoPointStructure(ThesisCaseAa());
+  std::vector<RubSectionPoint> points = {{0, 0.1, 2e-5, 3000.0}, {1, 0.2, 3e-5, 3100.0}};
+  CHECK(UntrustedSection(structure, points, 0.1).empty());
+  CHECK(UntrustedSection(structure, {}, 0.1).empty());
+  points.push_back({0, 0.3, 5e-5, 3300.0});
+  points.push_back({1, 0.4, 6e-5, 3400.0});
+  const std::string why = UntrustedSection(structure, points, 0.1);
+  CHECK_THAT(why, Contains("the right contact penetrates 6e-05 m") &&
+                      Contains("0.157 × its clearance (limit 0.1)"));
+  CHECK(UntrustedSection(structure, points, 0.2).empty());
+}
+
 TEST_CASE("an untrusted speed marks the jumps from and to it, and only those", "[rub_sweep]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
   const double clearance = s.contacts[0].geometry.clearance;
