@@ -206,7 +206,8 @@ Branch JoinAtStart(const Branch& backward, const Branch& forward) {
                        a.residual_evaluations + b.residual_evaluations,
                        a.jacobian_evaluations + b.jacobian_evaluations,
                        a.stability_evaluations + b.stability_evaluations,
-                       a.switches + b.switches};
+                       a.switches + b.switches,
+                       a.jump_rejections + b.jump_rejections};
   return joined;
 }
 

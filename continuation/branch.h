@@ -97,6 +97,8 @@ struct BranchStatistics {
   long jacobian_evaluations = 0;  // calls of Problem::Jacobian
   long stability_evaluations = 0; // calls of Problem::Stability
   int switches = 0;               // events at which the problem switched pieces
+  int jump_rejections = 0;        // converged steps rejected because an event margin jumps within
+                                  // them: the corrector's end point lay on another branch
 };
 
 struct Branch {

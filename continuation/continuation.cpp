@@ -63,6 +63,7 @@ struct ArcRoot {
   // zero both would be near 0). E.g. a test function τ_Ω/τ_λ through a fold, or the k-th
   // eigenvalue of a spectrum whose order changes within the step.
   bool discontinuous = false;
+  bool evaluation_failed = false;  // a trial point could not be corrected or evaluated
   double f_lower = 0.0;  // the function at the final bracket's ends
   double f_upper = 0.0;
 };
@@ -271,6 +272,7 @@ struct Continuation::Impl {
     root.evaluations = result.evaluations;
     root.f_lower = result.f_lower;
     root.f_upper = result.f_upper;
+    root.evaluation_failed = result.status == BracketedRootStatus::kEvaluationFailed;
     root.discontinuous = result.status != BracketedRootStatus::kEvaluationFailed &&
                          result.upper - result.lower <= 1e-3 * std::abs(b - a) &&
                          std::max(std::abs(result.f_lower), std::abs(result.f_upper)) >
@@ -976,9 +978,44 @@ struct Continuation::Impl {
     }
     if (branch.status != BranchStatus::kRunning) return ResultOf(branch.status);
     const StepOptions& step = options.step;
-    CorrectedPoint candidate;
-    double sigma = ds;
-    double angle = 0.0;
+    // At most this many shorter tries of a step that may have jumped to another branch (Advance):
+    // a margin or a special point can also fail to be located for other reasons (a branch that
+    // nears a singular point, a contact's force → 0).
+    constexpr int kMaxJumpRejections = 4;
+    int rejections = 0;
+    for (;;) {
+      CorrectedPoint candidate;
+      double sigma = ds;
+      double angle = 0.0;
+      if (!CorrectStep(candidate, sigma, angle)) return ResultOf(branch.status);
+      const double iteration_factor =
+          std::pow(2.0, 0.5 * (step.target_iterations - candidate.iterations));
+      const double angle_factor = angle > 0.0 ? step.target_angle / angle : step.max_growth;
+      const double factor = Clamp(std::min(iteration_factor, angle_factor), 0.5, step.max_growth);
+      const double next_ds = Clamp(ds * factor, step.min, step.max);
+      RUBCONT_INVARIANT(std::abs(candidate.tangent.norm() - 1.0) <= 1e-12 &&
+                            candidate.tangent.dot(current.point.tangent) > 0.0,
+                        "|τ| = {}, τ_k·τ_(k+1) = {}", candidate.tangent.norm(),
+                        candidate.tangent.dot(current.point.tangent));
+      const bool shortest = ds <= step.min * (1.0 + 1e-12) || rejections == kMaxJumpRejections;
+      bool left_branch = false;
+      const StepResult result = Advance(candidate, sigma, shortest, left_branch);
+      if (left_branch) {
+        ++branch.statistics.jump_rejections;
+        ++rejections;
+        ds = std::max(0.5 * ds, step.min);
+        continue;
+      }
+      ds = next_ds;
+      return result;
+    }
+  }
+
+  // The corrector's point at arclength ds along the tangent, the step halved until it converges
+  // and the tangent turns at most step.max_angle (or the step is the smallest): false when it
+  // fails at the smallest step (the branch has ended, kStepTooSmall).
+  bool CorrectStep(CorrectedPoint& candidate, double& sigma, double& angle) {
+    const StepOptions& step = options.step;
     for (;;) {
       sigma = ds;
       const Vector guess = current.point.x + sigma * current.point.tangent;
@@ -988,10 +1025,10 @@ struct Continuation::Impl {
       if (status != CorrectorStatus::kConverged) {
         ++branch.statistics.corrector_failures;
         if (at_minimum) {
-          return End(BranchStatus::kStepTooSmall,
-                     fmt::format("the corrector failed ({}) with the minimum step {:.3g} at "
-                                 "λ = {:.10g}",
-                                 ToString(status), ds, LambdaOf(current.point.x)));
+          End(BranchStatus::kStepTooSmall,
+              fmt::format("the corrector failed ({}) with the minimum step {:.3g} at λ = {:.10g}",
+                          ToString(status), ds, LambdaOf(current.point.x)));
+          return false;
         }
         ds = std::max(0.5 * ds, step.min);
         continue;
@@ -1002,25 +1039,18 @@ struct Continuation::Impl {
         ds = std::max(0.5 * ds, step.min);
         continue;
       }
-      break;
+      return true;
     }
-    const double iteration_factor =
-        std::pow(2.0, 0.5 * (step.target_iterations - candidate.iterations));
-    const double angle_factor = angle > 0.0 ? step.target_angle / angle : step.max_growth;
-    const double factor = Clamp(std::min(iteration_factor, angle_factor), 0.5, step.max_growth);
-    const double next_ds = Clamp(ds * factor, step.min, step.max);
-    RUBCONT_INVARIANT(std::abs(candidate.tangent.norm() - 1.0) <= 1e-12 &&
-                          candidate.tangent.dot(current.point.tangent) > 0.0,
-                      "|τ| = {}, τ_k·τ_(k+1) = {}", candidate.tangent.norm(),
-                      candidate.tangent.dot(current.point.tangent));
-    const StepResult result = Advance(candidate, sigma);
-    ds = next_ds;
-    return result;
   }
 
   enum class Cut { kNone, kLambdaBound, kEvent, kClosed };
 
-  StepResult Advance(CorrectedPoint candidate, double sigma_end) {
+  // Takes the corrected step to `candidate` (at arclength sigma_end): bounds, events, closure,
+  // special points, the point itself. `left_branch` (nothing changed, the step is to be taken
+  // again shorter): an event margin jumps within the step or cannot be followed along it, or a
+  // special point cannot be located, unless `shortest` (the smallest step, or the last try).
+  StepResult Advance(CorrectedPoint candidate, double sigma_end, bool shortest,
+                     bool& left_branch) {
     // The step's end as the corrector found it: `candidate` may be cut below, this stays.
     const CorrectedPoint step_end = candidate;
     Sampler sampler(*this, current, step_end, sigma_end);
@@ -1083,6 +1113,15 @@ struct Continuation::Impl {
         };
         const ArcRoot root = LocateOnArc(sampler, psi, current.events_sigma, current.events(k),
                                          sigma_end, next.events(k));
+        // A margin that jumps within the step (the bracket closed on no zero), or whose trial
+        // points between the step's ends cannot be corrected: the corrector's end point may lie
+        // on another branch, the step jumped to it (random scene 37 of seed 1: a full-slip whip,
+        // the same state at every speed, which a 30 rpm step left for a branch with the right
+        // contact open). Taken again shorter, a few times.
+        if (root.found && (root.discontinuous || root.evaluation_failed) && !shortest) {
+          left_branch = true;
+          return StepResult::kContinue;
+        }
         if (!root.found) continue;
         if (event < 0 || root.sigma < event_root.sigma) {
           event = static_cast<int>(k);
@@ -1124,6 +1163,14 @@ struct Continuation::Impl {
     // 5. Stability at the new point, special points in the step, the point itself.
     ComputeStability(next);
     std::vector<SpecialPoint> special = Detect(sampler, current, next, sigma_end);
+    // A special point that cannot be located may also be a step that jumped to another branch
+    // (its test function jumps between the branches): taken again shorter, as for events.
+    if (!shortest && options.detect.locate &&
+        std::any_of(special.begin(), special.end(),
+                    [](const SpecialPoint& sp) { return !sp.converged; })) {
+      left_branch = true;
+      return StepResult::kContinue;
+    }
     AppendPoint(next, sigma_end);
     ++branch.statistics.steps;
     for (SpecialPoint& sp : special) AddSpecialPoint(std::move(sp));

@@ -18,7 +18,11 @@
 //     arclength), and the branch ends there; a point outside the state box or norm bound ends it
 //     at the previous point;
 //  5. events (piecewise-smooth problems), closure, stability at the new point, detection and
-//     location of special points between x̂_k and x̂_{k+1} (below); the point is stored;
+//     location of special points between x̂_k and x̂_{k+1} (below); the point is stored. A step in
+//     which an event margin jumps or cannot be followed, or a special point cannot be located, may
+//     have jumped to another branch whose end point the angle test let pass (a branch almost flat
+//     in the state: the random scenes' full-slip whips): it is rejected and halved, up to four
+//     times (BranchStatistics::jump_rejections), then taken as it is;
 //  6. Δs ← Δs·clamp(min(2^((N_target − N)/2), α_target/α), ½, max_growth), within [min, max].
 //
 // Special points (continuation/branch.h SpecialPoint), detected between consecutive points of one
