@@ -426,7 +426,6 @@ struct Continuation::Impl {
       // a kind is examined where its count changed (and then kept only if located, or if no
       // collision explains the change) or, where the kinds changed, where its product's sign did.
       const double imaginary_tolerance = options.detect.imaginary_tolerance;
-      const double tolerance = problem.StabilityTolerance();
       const bool kinds_changed = KindSizes(from.spectrum, imaginary_tolerance) !=
                                  KindSizes(to.spectrum, imaginary_tolerance);
       for (int kind = 0; kind < kSpectralKinds; ++kind) {
@@ -434,10 +433,7 @@ struct Continuation::Impl {
         const int change = to.counts.unstable[kind] - from.counts.unstable[kind];
         const bool counted =
             change != 0 && total_change != 0 && (change > 0) == (total_change > 0);
-        const bool product_changes =
-            kinds_changed && SpectralProduct(from.spectrum, spectral_kind, tolerance).sign *
-                                     SpectralProduct(to.spectrum, spectral_kind, tolerance).sign <
-                                 0;
+        const bool product_changes = kinds_changed && ProductChanges(from, to, spectral_kind);
         if (!counted && !product_changes) continue;
         const SpecialPointType type = CrossingType(spectral_kind);
         if ((type == SpecialPointType::kRealEigenvalueCrossing ||
@@ -696,12 +692,17 @@ struct Continuation::Impl {
     // The kinds changed over the step and the product changes no sign, or only at a neutral
     // saddle: the counts' change is the collision's (e.g. a pair met on the real axis: two more
     // unstable real values, one pair fewer).
-    const double shift = problem.StabilityTolerance();
-    const bool product_changes = SpectralProduct(from.spectrum, kind, shift).sign *
-                                     SpectralProduct(to.spectrum, kind, shift).sign <
-                                 0;
-    if (kinds_changed && (!product_changes || neutral_saddle)) return std::nullopt;
+    if (kinds_changed && (!ProductChanges(from, to, kind) || neutral_saddle)) return std::nullopt;
     return entry;
+  }
+
+  // SpectralProduct of `kind`, its boundary at the counts' tolerance, changes sign from `from`
+  // to `to`.
+  bool ProductChanges(const PointData& from, const PointData& to, SpectralKind kind) const {
+    const double shift = problem.StabilityTolerance();
+    return SpectralProduct(from.spectrum, kind, shift).sign *
+               SpectralProduct(to.spectrum, kind, shift).sign <
+           0;
   }
 
   // The fewest complex pairs crossing the boundary that explain the change Δ of the unstable
@@ -709,13 +710,10 @@ struct Continuation::Impl {
   // an odd number of the real kinds' products change sign; h = (Δ − r) / 2 with the smallest |r|
   // of that parity.
   int FewestPairCrossings(const PointData& from, const PointData& to) const {
-    const double shift = problem.StabilityTolerance();
     bool odd = false;
     for (SpectralKind kind : {SpectralKind::kRealEigenvalue, SpectralKind::kRealPositiveMultiplier,
                               SpectralKind::kRealNegativeMultiplier}) {
-      odd = odd != (SpectralProduct(from.spectrum, kind, shift).sign *
-                        SpectralProduct(to.spectrum, kind, shift).sign <
-                    0);
+      odd = odd != ProductChanges(from, to, kind);
     }
     const int delta = to.counts.total - from.counts.total;
     const int r = odd ? (delta >= 0 ? 1 : -1) : 0;

@@ -19,6 +19,7 @@ std::string TooDeep(const RubContact& contact, double depth, double max_penetrat
       "overlap of the contact law, or an integration that let the rotor sink into the stator",
       contact.name, depth, depth / contact.geometry.clearance, max_penetration);
 }
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
