@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev coinor-libipopt-dev libnlopt-cxx-dev libsundials-dev libhdf5-dev catch2
   libtomlplusplus-dev libcli11-dev libfmt-dev libboost-dev
   python3-matplotlib python3-h5py python3-numpy
+  pybind11-dev python3-dev python3-pytest
 )
 
 missing=()

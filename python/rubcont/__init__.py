@@ -1,0 +1,299 @@
+"""rubcont from Python: scenes, stages, and their results as numpy arrays.
+
+Each stage runs through the same command as the ``rubcont`` executable (the scene loader, the
+engine, the HDF5 writer), with the GIL released; the result is the HDF5 file that command writes,
+read back with h5py into numpy arrays under the same paths and units as the file's layout
+(README.md, "Results"). So a script and the command line give the same numbers, and a result made
+either way reopens with :func:`read`.
+
+    import rubcont
+    scene = rubcont.load_scene("scenes/thesis_A_a.toml")
+    result = rubcont.branches(scene)
+    result["branches/branch2/speed_rpm"], result.attrs("branches/branch2")["message"]
+
+Statuses are values, as in C++: a run whose continuation or integration fails returns a Result
+with ``status == "failure"`` and the reasons in ``failures``. Bad input raises: a bad scene
+:class:`SceneError` (a ValueError) with the loader's key / value / rule message, bad arguments
+ValueError; an I/O error that leaves no result file raises RubcontError.
+"""
+
+import io
+import os
+import tempfile
+import tomllib
+
+import h5py
+import numpy as np
+
+from . import _rubcont
+from ._rubcont import SceneError, __version__
+
+__all__ = [
+    "Scene", "Result", "SceneError", "RubcontError", "load_scene", "scene", "default_scene",
+    "run", "analytic", "branches", "orbits", "sweep", "map", "fit", "read", "__version__",
+]
+
+
+class RubcontError(RuntimeError):
+    """A command failed without a result to return (an I/O error, an internal error)."""
+
+
+class Scene:
+    """A validated scene: its name, model, stages and resolved TOML (every key, defaults
+    included). Immutable; :meth:`with_values` returns a changed copy, validated again."""
+
+    def __init__(self, described):
+        self._d = dict(described)
+
+    name = property(lambda self: self._d["name"])
+    model = property(lambda self: self._d["model"])
+    source = property(lambda self: self._d["source"])
+    toml = property(lambda self: self._d["toml"], doc="the resolved scene as TOML text")
+    stages = property(lambda self: list(self._d["stages"]))
+    defaulted_keys = property(lambda self: list(self._d["defaulted_keys"]),
+                              doc="keys the source left out (their documented defaults apply)")
+
+    def to_dict(self):
+        """The resolved scene as nested dicts (scene-file sections and keys)."""
+        return tomllib.loads(self.toml)
+
+    def with_values(self, values):
+        """A copy with `values` (nested dicts of scene keys) merged in, e.g.
+        ``scene.with_values({"contact": {"friction": 0.3}})``."""
+        merged = _merged(self.to_dict(), values)
+        return scene(merged, name=self.name)
+
+    def __repr__(self):
+        return f"<rubcont.Scene {self.name!r} model={self.model} stages={self.stages}>"
+
+
+def _merged(base, changes):
+    out = dict(base)
+    for key, value in changes.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = _merged(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def load_scene(path):
+    """Reads and validates a scene file (SceneError on any problem)."""
+    return Scene(_rubcont.load_scene(os.fspath(path)))
+
+
+def scene(source, name="scene"):
+    """A scene from a dict of sections and keys, or from TOML text. `name` names the output
+    when the scene sets no ``name``. SceneError on any problem, TypeError on a value that is
+    not a dict, list, str, bool, int or float."""
+    text = _rubcont.dict_to_toml(source) if isinstance(source, dict) else str(source)
+    origin = "<dict>" if isinstance(source, dict) else "<text>"
+    return Scene(_rubcont.parse_scene(text, origin, name))
+
+
+def default_scene():
+    """The built-in default scene (scenes/default.toml)."""
+    return Scene(_rubcont.default_scene())
+
+
+class Result:
+    """One result file: numpy arrays by path (``result["branches/branch1/speed_rpm"]``),
+    attributes by path (``result.attrs("branches/branch1")``), the run's status and text.
+
+    `file` is where it lies on disk (None when the run wrote to a temporary directory, which is
+    gone: :meth:`write` saves the same bytes)."""
+
+    def __init__(self, data, file=None, exit_code=0, log="", messages=""):
+        self._bytes = data
+        self.file = file
+        self.exit_code = exit_code
+        self.log = log            # what the command printed on stdout (the summary)
+        self.messages = messages  # what it printed on stderr (progress, warnings, failures)
+        self._arrays = {}
+        self._attrs = {}
+        with h5py.File(io.BytesIO(data), "r") as f:
+            self._attrs[""] = _attributes(f)
+
+            def visit(path, node):
+                self._attrs[path] = _attributes(node)
+                if isinstance(node, h5py.Dataset):
+                    self._arrays[path] = _array(node)
+
+            f.visititems(visit)
+
+    @property
+    def status(self):
+        """"success" or "failure" (root attribute `status`)."""
+        return self._attrs[""].get("status", "success")
+
+    @property
+    def failures(self):
+        """One sentence per numerical failure of the run ("rubcont: numerical failure: ...")."""
+        prefix = "rubcont: numerical failure: "
+        return [line[len(prefix):] for line in self.messages.splitlines()
+                if line.startswith(prefix)]
+
+    @property
+    def scene(self):
+        """The scene the result was made from (root attribute `scene_toml`)."""
+        return scene(self._attrs[""]["scene_toml"], name=self._attrs[""].get("scene_name", "scene"))
+
+    def __getitem__(self, path):
+        return self._arrays[path.strip("/")]
+
+    def __contains__(self, path):
+        return path.strip("/") in self._arrays
+
+    def keys(self):
+        """Every dataset path, e.g. 'branches/branch1/speed_rpm'."""
+        return list(self._arrays)
+
+    def groups(self, path=""):
+        """The names of the groups directly under `path` ('' the root)."""
+        prefix = path.strip("/") + "/" if path.strip("/") else ""
+        return sorted(key[len(prefix):] for key in self._attrs
+                      if key.startswith(prefix) and key[len(prefix):] and
+                      "/" not in key[len(prefix):] and key not in self._arrays)
+
+    def attrs(self, path=""):
+        """The attributes of a group or dataset, strings decoded."""
+        return dict(self._attrs[path.strip("/")])
+
+    def write(self, path):
+        """Saves the result file (the bytes the command wrote), atomically."""
+        path = os.fspath(path)
+        temporary = path + ".tmp"
+        with open(temporary, "wb") as out:
+            out.write(self._bytes)
+        os.replace(temporary, path)
+
+    def __repr__(self):
+        where = self.file or "in memory"
+        return f"<rubcont.Result {where}: {self.status}, {len(self._arrays)} datasets>"
+
+
+def _decoded(value):
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray) and value.dtype.kind in "OS":
+        return np.array([_decoded(v) for v in value.ravel()], dtype=object).reshape(value.shape)
+    return value
+
+
+def _attributes(node):
+    return {key: _decoded(value) for key, value in node.attrs.items()}
+
+
+def _array(dataset):
+    if h5py.check_string_dtype(dataset.dtype) is not None:
+        return np.asarray(dataset.asstr()[()], dtype=object)
+    return dataset[()]
+
+
+def read(path):
+    """Reopens a result file (of this package or of the ``rubcont`` executable)."""
+    path = os.fspath(path)
+    with open(path, "rb") as f:
+        data = f.read()
+    return Result(data, file=path)
+
+
+def _outcome(outcome, file, temporary):
+    """The Result of a command, or the exception its exit code means."""
+    if outcome.exit_code == 2:
+        message = outcome.err.strip()
+        if message.startswith("rubcont: "):
+            message = message[len("rubcont: "):]
+        raise ValueError(message)
+    if not os.path.exists(file):
+        raise RubcontError(outcome.err.strip() or f"no result file {file}")
+    with open(file, "rb") as f:
+        data = f.read()
+    return Result(data, file=None if temporary else file, exit_code=outcome.exit_code,
+                  log=outcome.out, messages=outcome.err)
+
+
+def _command(scene_, out, default_file, call):
+    """Writes the scene to a file the command reads, runs it, returns the Result. `out`: a
+    directory (run) or file (the others); None: a temporary directory, removed afterwards."""
+    if scene_ is None:
+        scene_ = default_scene()
+    if not isinstance(scene_, Scene):
+        scene_ = load_scene(scene_)
+    with tempfile.TemporaryDirectory(prefix="rubcont-") as work:
+        scene_file = os.path.join(work, scene_.name + ".toml")
+        with open(scene_file, "w", encoding="utf-8") as f:
+            f.write(scene_.toml)
+        target = os.fspath(out) if out is not None else default_file(work, scene_)
+        outcome, file = call(scene_file, target)
+        return _outcome(outcome, file, temporary=out is None)
+
+
+def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=False):
+    """Every stage the scene lists (or `stages`), as ``rubcont run``: the result of
+    <out>/<name>/<name>.h5 (`out` a directory; None: a temporary one). `progress`: called with
+    each progress line. `figures`: draw the figures next to the file (needs `out`)."""
+    if stages is not None:
+        scene_ = scene if isinstance(scene, Scene) else (
+            default_scene() if scene is None else load_scene(scene))
+        scene = scene_.with_values({"analysis": {"stages": list(stages)}})
+
+    def call(scene_file, out_dir):
+        name = os.path.splitext(os.path.basename(scene_file))[0]
+        outcome = _rubcont.run(scene_file, out_dir, resume, figures and out is not None, progress)
+        return outcome, os.path.join(out_dir, name, name + ".h5")
+
+    return _command(scene, out, lambda work, s: work, call)
+
+
+def analytic(scene=None, **options):
+    """The L0 closed-form Mode 1 / Mode 2 solutions (``/analytic``)."""
+    return run(scene, stages=["analytic"], **options)
+
+
+def branches(scene=None, **options):
+    """L0, then the L1 rotating-wave branches in running speed (``/branches``)."""
+    return run(scene, stages=["analytic", "branches"], **options)
+
+
+def orbits(scene=None, **options):
+    """The L2 periodic orbits of the scene (``/orbits``)."""
+    return run(scene, stages=["orbits"], **options)
+
+
+def sweep(scene=None, direction="both", out=None, progress=None, resume=False, figures=False):
+    """The L3 time-marching sweeps of [analysis.sweep] with the branches, as ``rubcont sweep``
+    (`out`: the HDF5 file)."""
+
+    def call(scene_file, file):
+        return _rubcont.sweep(scene_file, file, direction, resume, figures and out is not None,
+                              progress), file
+
+    return _command(scene, out, lambda work, s: os.path.join(work, "sweep.h5"), call)
+
+
+def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_points=481,
+        out=None, progress=None):
+    """The hysteresis map in (running speed, `parameter`), as ``rubcont map`` (``/maps``)."""
+    eta_min, eta_max = eta_range if eta_range is not None else (None, None)
+
+    def call(scene_file, file):
+        return _rubcont.map(scene_file, file, parameter, eta_min, eta_max, eta_points,
+                            speed_points, progress), file
+
+    return _command(scene, out, lambda work, s: os.path.join(work, "map.h5"), call)
+
+
+def fit(scene, targets, out=None, progress=None):
+    """Identification of design parameters from measured jumps, as ``rubcont fit``: `targets` a
+    targets file or a dict of its sections (scenes/README.md, "Fit targets")."""
+
+    def call(scene_file, file):
+        targets_file = os.fspath(targets) if not isinstance(targets, dict) else None
+        if targets_file is None:
+            targets_file = os.path.join(os.path.dirname(scene_file), "targets.toml")
+            with open(targets_file, "w", encoding="utf-8") as f:
+                f.write(_rubcont.dict_to_toml(targets))
+        return _rubcont.fit(scene_file, file, targets_file, progress), file
+
+    return _command(scene, out, lambda work, s: os.path.join(work, "fit.h5"), call)
