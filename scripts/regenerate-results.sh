@@ -79,7 +79,7 @@ done
 # The tanh law's Hopf curves in friction (case A(a): where the whirl's speed-up and speed-down
 # jumps move with μ), beside the scene's branch set.
 build/rubcont map scenes/thesis_A_a_tanh.toml --parameter friction --range 0.3 0.7 --eta-points 41 \
-  --quiet > results/thesis_A_a_tanh/map_friction.txt 2>&1 || true  # exit 1: three curves fail (README)
+  --quiet > results/thesis_A_a_tanh/map_friction.txt 2>&1 || true  # exit 1: one curve fails (results/README.md)
 build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml --quiet \
   --out results/design/fit_hidden.h5 > results/design/fit_hidden.txt
 # Exit code 1 expected: no friction reproduces the thesis's jump (results/README.md).

@@ -1,9 +1,12 @@
 // The rubcont executable, run as a user runs it: exit codes, messages, files written.
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -19,6 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 
 using testing::Outcome;
 using testing::Slurp;
@@ -131,6 +135,62 @@ TEST_CASE("CLI: a step that jumps to another branch is taken again shorter (rand
   const ResultReader r(dir.path / "random37" / "random37.h5");
   CHECK(r.ReadStringAttribute("/branches/branch3", "message") ==
         "backward: reached λ min = 0.3808665843; forward: reached λ max = 131.9402538");
+}
+
+// Random scene 61 of seed 1, tanh law, branches only (the analytic stage dropped).
+constexpr const char* kRandomScene61 =
+    "description = \"random scene 61 of seed 1\"\n"
+    "[rotor]\n"
+    "mass = 42.29085169782784\n"
+    "inertia = 0.2888558066557958\n"
+    "contact_span = 0.15502570568852575\n"
+    "mass_center = 0.13469642918360214\n"
+    "[stator]\n"
+    "mass = 6.6400759790367303\n"
+    "inertia = 0.12645757677179068\n"
+    "span = 0.17903595911713252\n"
+    "mass_center = 0.13128349033035028\n"
+    "stiffness = [3562888.4273699634, 7305115.8669763906]\n"
+    "damping = [5.3164640147888944, 49.086617334381778]\n"
+    "[contact]\n"
+    "clearance = [0.00095691347416691861, 0.00048625461398360277]\n"
+    "radius = [0.061322634851795274, 0.027600073041162996]\n"
+    "friction = 1.1029946968975168\n"
+    "stiffness = 2995843772.4934807\n"
+    "stiffness2 = 0.0\n"
+    "damping = 24676.526041832847\n"
+    "[contact.friction_law]\n"
+    "kind = \"tanh\"\n"
+    "velocity_scale = 0.00011803063348014272\n"
+    "[center_damper]\n"
+    "damping = 27.96149710992707\n"
+    "[analysis]\n"
+    "stages = [\"branches\"]\n"
+    "precession_range_hz = [1.0, 511.55820016568958]\n"
+    "speed_range_rpm = [13.04175953634644, 648.90489616504055]\n";
+
+TEST_CASE("CLI: a tanh whip is followed through the rolling line's boundary layer (random scene 61)",
+          "[cli]") {
+  // Its Mode 2 start (branch1) is a whip touching the right contact only, the same state at
+  // every speed down to 130.8 rpm, where the slip velocity falls to the tanh law's scale (1.2e-4
+  // m/s) and the state changes within 0.1 rpm. Four halvings of a 1 rad/s step left a step that
+  // still jumped: "right contact loss, not located", and the branch ended where the switch point
+  // did not solve the contact-free piece. Ten halvings follow the layer into the one-contact
+  // whirl, to the speed bound.
+  TempDir dir;
+  const fs::path scene = dir.path / "random61.toml";
+  std::ofstream(scene) << kRandomScene61;
+  const Outcome o = Rubcont("run " + scene.string() + " --quiet --out " + dir.path.string(),
+                            kNoPython);
+  INFO(o.out << o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK_THAT(o.out, !Contains("not located"));
+  const ResultReader r(dir.path / "random61" / "random61.h5");
+  CHECK_THAT(r.ReadStringAttribute("/branches/branch1", "message"),
+             StartsWith("backward: reached λ max = 67.95316182"));
+  const std::vector<double> slip = r.ReadDoubles("/branches/branch1/slip_velocity_right");
+  CHECK(std::count_if(slip.begin(), slip.end(),
+                      [](double v) { return std::abs(v) < 1e-3; }) >= 5);
 }
 
 TEST_CASE("CLI: run without a scene runs the built-in default into <out>/default/", "[cli]") {
