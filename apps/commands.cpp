@@ -400,6 +400,7 @@ int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
                          : std::filesystem::path("results") / scene.name / "analytic.h5";
     ExecuteOptions options;
     options.quiet = request.quiet;
+    options.figures = request.figures;
     return Execute(scene, {Stage::kAnalytic}, file, options, out, err);
   });
 }
@@ -434,6 +435,7 @@ int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
                          : std::filesystem::path("results") / scene.name / "branches.h5";
     ExecuteOptions options;
     options.quiet = request.quiet;
+    options.figures = request.figures;
     return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, options, out, err);
   });
 }

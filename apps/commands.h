@@ -28,6 +28,7 @@ struct AnalyticRequest {
   std::string scene_file;
   std::optional<std::string> out_file;  // none: results/<scene name>/analytic.h5
   bool quiet = false;
+  bool figures = true;  // draw the figures after the HDF5 file
 };
 
 // `rubcont analytic SCENE`: the L0 stage only; figures next to the HDF5 file.

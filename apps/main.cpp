@@ -9,6 +9,7 @@
 
 #include "apps/commands.h"
 #include "apps/attractor_command.h"
+#include "apps/batch_command.h"
 #include "apps/ensemble_command.h"
 #include "apps/lifetime_command.h"
 #include "apps/fit_command.h"
@@ -88,9 +89,13 @@ int main(int argc, char** argv) {
   map->add_option("--eta-points", map_request.eta_points, "grid values of the parameter")
       ->capture_default_str();
   map->add_option("--speed-points", map_request.speed_points, "grid speeds")->capture_default_str();
+  map->add_option("--threads", map_request.threads,
+                  "threads for the grid (0: one per core); under mpirun the grid is also shared "
+                  "out over the ranks")->capture_default_str();
   map->add_option("--out", map_request.out_file,
                   "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
+  map->add_flag("!--no-figures", map_request.figures, "write the HDF5 file and the summary only");
 
   rubcont::FitRequest fit_request;
   CLI::App* fit = app.add_subcommand(
@@ -102,6 +107,17 @@ int main(int argc, char** argv) {
       ->required();
   fit->add_option("--out", fit_request.out_file, "HDF5 file; default results/<scene>/fit.h5");
   fit->add_flag("-q,--quiet", fit_request.quiet, "no progress on stderr");
+
+  rubcont::BatchRequest batch_request;
+  CLI::App* batch = app.add_subcommand(
+      "batch", "many independent jobs (sweeps, maps, fits, branch sets) from a jobs file, shared "
+               "out over the ranks of `mpirun -n N rubcont batch JOBS.toml`; a re-run does only "
+               "what is missing (apps/batch_command.h)");
+  batch->add_option("JOBS", batch_request.jobs_file, "jobs file (TOML): out, [[job]] tables")
+      ->required();
+  batch->add_option("--out", batch_request.out_dir,
+                    "output directory (default: the file's `out`, else results/batch/<stem>)");
+  batch->add_flag("-q,--quiet", batch_request.quiet, "no progress on stderr");
 
   rubcont::EnsembleRequest ensemble_request;
   std::string ensemble_out;
@@ -256,6 +272,7 @@ int main(int argc, char** argv) {
     return rubcont::MapCommand(map_request, std::cout, std::cerr);
   }
   if (*fit) return rubcont::FitCommand(fit_request, std::cout, std::cerr);
+  if (*batch) return rubcont::BatchCommand(batch_request, std::cout, std::cerr);
   if (*ensemble) {
     if (!ensemble_out.empty()) ensemble_request.out_file = ensemble_out;
     return rubcont::EnsembleCommand(ensemble_request, std::cout, std::cerr);

@@ -1,9 +1,15 @@
 #include "apps/map_command.h"
 
 #include <cmath>
+#include <algorithm>
+#include <cstdint>
+#include <exception>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -14,6 +20,7 @@
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/map_output.h"
+#include "apps/ranks.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "models/units.h"
@@ -26,6 +33,134 @@ namespace {
 std::string SpecialPointName(SpecialPointType type, bool nonsmooth_fold) {
   if (type == SpecialPointType::kEvent && nonsmooth_fold) return "non_smooth_fold";
   return ToString(type);
+}
+
+void Pack(Packer& p, const MapGridRow& row) {
+  p.Put(static_cast<int64_t>(row.index));
+  p.Put(static_cast<uint8_t>(row.failed));
+  p.Put(static_cast<int32_t>(row.branches));
+  auto ints = [&p](const std::vector<int>& v) {
+    p.Put(static_cast<uint64_t>(v.size()));
+    for (int x : v) p.Put(static_cast<int32_t>(x));
+  };
+  ints(row.stable_count);
+  p.Put(static_cast<uint64_t>(row.pattern_counts.size()));
+  for (const auto& [pattern, counts] : row.pattern_counts) {
+    p.Put(pattern);
+    ints(counts);
+  }
+  p.Put(static_cast<uint64_t>(row.points.size()));
+  for (const MapPoint& m : row.points) {
+    p.Put(m.eta);
+    p.Put(m.speed);
+    p.Put(m.precession_hz);
+    p.Put(static_cast<int32_t>(m.type));
+    p.Put(m.label);
+    p.Put(static_cast<uint8_t>(m.nonsmooth_fold));
+    p.Put(static_cast<int32_t>(m.branch));
+    p.Put(static_cast<int32_t>(m.stable_before));
+    p.Put(static_cast<int32_t>(m.stable_after));
+  }
+  p.Put(static_cast<uint64_t>(row.failures.size()));
+  for (const std::string& f : row.failures) p.Put(f);
+}
+
+MapGridRow UnpackRow(Unpacker& u) {
+  MapGridRow row;
+  row.index = static_cast<Index>(u.Get<int64_t>());
+  row.failed = u.Get<uint8_t>() != 0;
+  row.branches = u.Get<int32_t>();
+  auto ints = [&u] {
+    std::vector<int> v(static_cast<size_t>(u.Get<uint64_t>()));
+    for (int& x : v) x = u.Get<int32_t>();
+    return v;
+  };
+  row.stable_count = ints();
+  for (uint64_t n = u.Get<uint64_t>(); n > 0; --n) {
+    std::string pattern = u.GetString();
+    row.pattern_counts.emplace_back(std::move(pattern), ints());
+  }
+  for (uint64_t n = u.Get<uint64_t>(); n > 0; --n) {
+    MapPoint m;
+    m.eta = u.Get<double>();
+    m.speed = u.Get<double>();
+    m.precession_hz = u.Get<double>();
+    m.type = static_cast<SpecialPointType>(u.Get<int32_t>());
+    m.label = u.GetString();
+    m.nonsmooth_fold = u.Get<uint8_t>() != 0;
+    m.branch = u.Get<int32_t>();
+    m.stable_before = u.Get<int32_t>();
+    m.stable_after = u.Get<int32_t>();
+    row.points.push_back(std::move(m));
+  }
+  for (uint64_t n = u.Get<uint64_t>(); n > 0; --n) row.failures.push_back(u.GetString());
+  return row;
+}
+
+// The grid rows `indices`, shared out round-robin over `threads` threads of this process.
+std::vector<MapGridRow> GridInThreads(const TwoPointParams& params,
+                                      const HysteresisMapOptions& options,
+                                      const std::vector<Index>& indices, int threads,
+                                      const MapProgress& progress) {
+  if (threads <= 1 || indices.size() <= 1) return ComputeMapGrid(params, options, indices, progress);
+  const size_t n = std::min(static_cast<size_t>(threads), indices.size());
+  std::vector<std::vector<MapGridRow>> rows(n);
+  std::vector<std::exception_ptr> errors(n);
+  std::mutex mutex;
+  int done = 0;
+  const MapProgress counted = [&](const std::string& stage, int, int) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (progress) progress(stage, ++done, static_cast<int>(indices.size()));
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 0; t < n; ++t) {
+    pool.emplace_back([&, t] {
+      std::vector<Index> share;
+      for (size_t j = t; j < indices.size(); j += n) share.push_back(indices[j]);
+      try {
+        rows[t] = ComputeMapGrid(params, options, share, counted);
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    });
+  }
+  for (std::thread& thread : pool) thread.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  std::vector<MapGridRow> all;
+  for (std::vector<MapGridRow>& part : rows) {
+    for (MapGridRow& row : part) all.push_back(std::move(row));
+  }
+  return all;
+}
+
+// The map with its grid shared out over the ranks of an MPI run (size 1: this process alone) and
+// the threads of each: rank r computes the grid values i ≡ r (mod N), rank 0 gathers the rows and
+// computes the curves (not shared: they start from one branch set and are few). Empty on the
+// other ranks.
+std::optional<HysteresisMap> MapOnRanks(const Ranks& ranks, bool over_ranks, int threads,
+                                        const TwoPointParams& params,
+                                        const HysteresisMapOptions& options,
+                                        const MapProgress& progress) {
+  const SteadyClock::time_point start = SteadyClock::now();
+  const int rank = over_ranks ? ranks.rank() : 0;
+  const int size = over_ranks ? ranks.size() : 1;
+  std::vector<Index> mine;
+  for (Index i = rank; i < options.eta_points; i += size) mine.push_back(i);
+  std::vector<MapGridRow> rows = GridInThreads(params, options, mine, threads, progress);
+  if (size > 1) {
+    Packer packer;
+    for (const MapGridRow& row : rows) Pack(packer, row);
+    const std::vector<std::string> parts = ranks.GatherToRoot(packer.str());
+    if (rank != 0) return std::nullopt;
+    rows.clear();
+    for (const std::string& part : parts) {
+      Unpacker unpacker(part);
+      while (!unpacker.done()) rows.push_back(UnpackRow(unpacker));
+    }
+  }
+  return AssembleHysteresisMap(params, options, std::move(rows), SecondsSince(start), progress);
 }
 
 }  // namespace
@@ -197,6 +332,9 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
       throw std::invalid_argument(
           fmt::format("--eta-points = {}: must be in 2 … 2000", request.eta_points));
     }
+    if (request.threads < 0 || request.threads > 1024) {
+      throw std::invalid_argument(fmt::format("--threads = {}: must be in 0 … 1024", request.threads));
+    }
     if (request.speed_points < 2 || request.speed_points > 100000) {
       throw std::invalid_argument(
           fmt::format("--speed-points = {}: must be in 2 … 100000", request.speed_points));
@@ -213,13 +351,21 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     std::filesystem::create_directories(out_dir);
 
     const SteadyClock::time_point start = SteadyClock::now();
-    const HysteresisMap map = ComputeHysteresisMap(
-        scene.two_point, options, [&](const std::string& stage, int done, int total) {
-          if (request.quiet) return;
-          fmt::print(err, "rubcont: [map] {} {}/{} ({:.1f} s)\n", stage, done, total,
-                     SecondsSince(start));
-          err.flush();
-        });
+    const Ranks& ranks = Ranks::World();
+    const MapProgress progress = [&](const std::string& stage, int done, int total) {
+      if (request.quiet) return;
+      fmt::print(err, "rubcont: [map] {}{} {}/{} ({:.1f} s)\n",
+                 ranks.size() > 1 && request.over_ranks ? fmt::format("rank {}: ", ranks.rank()) : "", stage, done,
+                 total, SecondsSince(start));
+      err.flush();
+    };
+    const int threads = request.threads == 0
+                            ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                            : request.threads;
+    const std::optional<HysteresisMap> shared = MapOnRanks(
+        ranks, request.over_ranks && ranks.size() > 1, threads, scene.two_point, options, progress);
+    if (!shared) return kExitSuccess;  // a rank other than 0: rank 0 writes the map
+    const HysteresisMap& map = *shared;
 
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
@@ -258,11 +404,13 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
       }
     }
     fmt::print(out, "wrote {}\n", file.string());
-    const FigureOutcome figures = MakeFigures("map.py", file, out_dir);
-    if (figures.made) {
-      fmt::print(out, "wrote figures (map.py) in {}\n", out_dir.string());
-    } else {
-      fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+    if (request.figures) {
+      const FigureOutcome figures = MakeFigures("map.py", file, out_dir);
+      if (figures.made) {
+        fmt::print(out, "wrote figures (map.py) in {}\n", out_dir.string());
+      } else {
+        fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+      }
     }
     for (const std::string& f : map.failures) fmt::print(err, "rubcont: numerical failure: {}\n", f);
     return map.failures.empty() ? kExitSuccess : kExitFailure;

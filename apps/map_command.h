@@ -38,6 +38,11 @@ struct MapRequest {
   int speed_points = 481;
   std::optional<std::string> out_file;  // default results/<scene name>/map_<parameter>.h5
   bool quiet = false;
+  bool figures = true;  // draw the figure after the HDF5 file
+  // Under mpirun, share the grid out over the ranks (every rank must call MapCommand); false: this
+  // rank computes the whole map alone (a job of `rubcont batch`).
+  bool over_ranks = true;
+  int threads = 1;  // threads for the grid within this process (0: one per core)
 };
 
 int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -175,8 +176,122 @@ std::vector<std::pair<double, double>> StableIntervals(const Branch& branch) {
   return intervals;
 }
 
+namespace {
+
+// The friction law and the branch options the grid and the curves use. The regularized law's knee
+// test functions sit at the branches' turning points and would be recorded there instead of the
+// folds: switch them off, so the folds are located and continued.
+RotatingWaveBranchOptions MapBranchOptions(const TwoPointParams& params,
+                                           const HysteresisMapOptions& options) {
+  RotatingWaveBranchOptions branch_options = options.branches;
+  if (params.friction_law.kind == FrictionLawKind::kTanh) {
+    branch_options.continuation.detect.test_functions = false;
+  }
+  return branch_options;
+}
+
+Vector GridSpeeds(const HysteresisMapOptions& options) {
+  return Vector::LinSpaced(options.speed_points, options.branches.search.speed_min,
+                           options.branches.search.speed_max);
+}
+
+MapGridRow ComputeGridRow(const TwoPointParams& params, const HysteresisMapOptions& options,
+                          const RotatingWaveBranchOptions& branch_options, const Vector& speeds,
+                          Index i) {
+  const Index k = speeds.size();
+  MapGridRow row;
+  row.index = i;
+  row.stable_count.assign(static_cast<size_t>(k), 0);
+  const double eta = Vector::LinSpaced(options.eta_points, options.eta_min, options.eta_max)(i);
+  try {
+    const TwoPointParams p = WithoutImbalance(WithDesignParameter(params, options.parameter, eta));
+    const std::vector<RotatingWaveBranch> branches =
+        ComputeRotatingWaveBranches(TwoPointStructure(p), params.friction_law.kind, branch_options);
+    row.branches = static_cast<int>(branches.size());
+    for (std::size_t b = 0; b < branches.size(); ++b) {
+      const Branch& branch = branches[b].branch;
+      if (IsFailure(branch.status)) {
+        row.failures.push_back(fmt::format("{} = {:g}: {} ended: {}", ToString(options.parameter),
+                                           eta, branches[b].name, branch.message));
+      }
+      const std::string pattern = PatternName(branches[b].normals);
+      auto where = std::find_if(row.pattern_counts.begin(), row.pattern_counts.end(),
+                                [&](const auto& entry) { return entry.first == pattern; });
+      if (where == row.pattern_counts.end()) {
+        row.pattern_counts.emplace_back(pattern, std::vector<int>(static_cast<size_t>(k), 0));
+        where = row.pattern_counts.end() - 1;
+      }
+      std::vector<int>& pattern_count = where->second;
+      for (const auto& [lo, hi] : StableIntervals(branch)) {
+        for (Index j = 0; j < k; ++j) {
+          if (speeds(j) >= lo && speeds(j) < hi) {
+            ++row.stable_count[static_cast<size_t>(j)];
+            ++pattern_count[static_cast<size_t>(j)];
+          }
+        }
+      }
+      for (std::size_t s = 0; s < branch.special_points.size(); ++s) {
+        const SpecialPoint& sp = branch.special_points[s];
+        if (sp.type != SpecialPointType::kEvent && sp.type != SpecialPointType::kFold &&
+            sp.type != SpecialPointType::kHopf && sp.type != SpecialPointType::kRealEigenvalueCrossing) {
+          continue;
+        }
+        MapPoint point;
+        point.eta = eta;
+        point.speed = sp.lambda;
+        point.precession_hz = branches[b].SpecialPrecessionHz(s);
+        point.type = sp.type;
+        point.label = sp.label;
+        point.nonsmooth_fold = sp.nonsmooth_fold;
+        point.branch = static_cast<int>(b);
+        const std::size_t at = static_cast<std::size_t>(sp.index);
+        if (at < branch.points.size()) point.stable_before = branch.points[at].StableFlag();
+        if (at + 1 < branch.points.size()) point.stable_after = branch.points[at + 1].StableFlag();
+        row.points.push_back(point);
+      }
+    }
+  } catch (const std::invalid_argument& e) {
+    row.failed = true;
+    row.failures.push_back(fmt::format("{} = {:g}: {}", ToString(options.parameter), eta, e.what()));
+  }
+  return row;
+}
+
+}  // namespace
+
+std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
+                                       const HysteresisMapOptions& options,
+                                       const std::vector<Index>& indices,
+                                       const MapProgress& progress) {
+  Validate(options);
+  Validate(params);
+  const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
+  const Vector speeds = GridSpeeds(options);
+  std::vector<MapGridRow> rows;
+  for (Index i : indices) {
+    if (i < 0 || i >= options.eta_points) {
+      throw std::invalid_argument(
+          fmt::format("ComputeMapGrid: index {} outside the grid of {}", i, options.eta_points));
+    }
+    rows.push_back(ComputeGridRow(params, options, branch_options, speeds, i));
+    if (progress) progress("grid", static_cast<int>(rows.size()), static_cast<int>(indices.size()));
+  }
+  return rows;
+}
+
 HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,
                                    const MapProgress& progress) {
+  const SteadyClock::time_point grid_start = SteadyClock::now();
+  std::vector<Index> all(static_cast<size_t>(std::max(options.eta_points, 0)));
+  std::iota(all.begin(), all.end(), Index{0});
+  std::vector<MapGridRow> rows = ComputeMapGrid(params, options, all, progress);
+  return AssembleHysteresisMap(params, options, std::move(rows), SecondsSince(grid_start), progress);
+}
+
+HysteresisMap AssembleHysteresisMap(const TwoPointParams& params,
+                                    const HysteresisMapOptions& options,
+                                    std::vector<MapGridRow> rows, double grid_seconds,
+                                    const MapProgress& progress) {
   Validate(options);
   Validate(params);
   HysteresisMap map;
@@ -187,74 +302,52 @@ HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const Hysteresi
                                             ToString(options.parameter), map.base_value));
   }
   const FrictionLawKind law = params.friction_law.kind;
-  // The regularized law's knee test functions sit at the branches' turning points and would be
-  // recorded there instead of the folds: switch them off, so the folds are located and continued.
-  RotatingWaveBranchOptions branch_options = options.branches;
-  if (law == FrictionLawKind::kTanh) branch_options.continuation.detect.test_functions = false;
+  const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
   const Index m = options.eta_points, k = options.speed_points;
   map.eta = Vector::LinSpaced(m, options.eta_min, options.eta_max);
-  map.speed = Vector::LinSpaced(k, options.branches.search.speed_min, options.branches.search.speed_max);
+  map.speed = GridSpeeds(options);
   map.stable_count = Eigen::MatrixXi::Zero(m, k);
 
-  // 1. The grid.
-  const SteadyClock::time_point grid_start = SteadyClock::now();
-  for (Index i = 0; i < m; ++i) {
-    const double eta = map.eta(i);
-    try {
-      const TwoPointParams p = WithoutImbalance(WithDesignParameter(params, options.parameter, eta));
-      const std::vector<RotatingWaveBranch> branches =
-          ComputeRotatingWaveBranches(TwoPointStructure(p), law, branch_options);
-      map.grid_branches += static_cast<int>(branches.size());
-      for (std::size_t b = 0; b < branches.size(); ++b) {
-        const Branch& branch = branches[b].branch;
-        if (IsFailure(branch.status)) {
-          map.failures.push_back(fmt::format("{} = {:g}: {} ended: {}", ToString(options.parameter),
-                                             eta, branches[b].name, branch.message));
-        }
-        const std::string pattern = PatternName(branches[b].normals);
-        auto where = std::find(map.patterns.begin(), map.patterns.end(), pattern);
-        if (where == map.patterns.end()) {
-          map.patterns.push_back(pattern);
-          map.pattern_counts.push_back(Eigen::MatrixXi::Zero(m, k));
-          where = map.patterns.end() - 1;
-        }
-        Eigen::MatrixXi& pattern_count = map.pattern_counts[where - map.patterns.begin()];
-        for (const auto& [lo, hi] : StableIntervals(branch)) {
-          for (Index j = 0; j < k; ++j) {
-            if (map.speed(j) >= lo && map.speed(j) < hi) {
-              ++map.stable_count(i, j);
-              ++pattern_count(i, j);
-            }
-          }
-        }
-        for (std::size_t s = 0; s < branch.special_points.size(); ++s) {
-          const SpecialPoint& sp = branch.special_points[s];
-          if (sp.type != SpecialPointType::kEvent && sp.type != SpecialPointType::kFold &&
-              sp.type != SpecialPointType::kHopf && sp.type != SpecialPointType::kRealEigenvalueCrossing) {
-            continue;
-          }
-          MapPoint point;
-          point.eta = eta;
-          point.speed = sp.lambda;
-          point.precession_hz = branches[b].SpecialPrecessionHz(s);
-          point.type = sp.type;
-          point.label = sp.label;
-          point.nonsmooth_fold = sp.nonsmooth_fold;
-          point.branch = static_cast<int>(b);
-          const std::size_t at = static_cast<std::size_t>(sp.index);
-          if (at < branch.points.size()) point.stable_before = branch.points[at].StableFlag();
-          if (at + 1 < branch.points.size()) point.stable_after = branch.points[at + 1].StableFlag();
-          map.points.push_back(point);
-        }
-      }
-    } catch (const std::invalid_argument& e) {
-      map.stable_count.row(i).setConstant(-1);
-      for (Eigen::MatrixXi& c : map.pattern_counts) c.row(i).setConstant(-1);
-      map.failures.push_back(fmt::format("{} = {:g}: {}", ToString(options.parameter), eta, e.what()));
+  // 1. The grid, row by row in η order (patterns, points and failures in the order met).
+  std::sort(rows.begin(), rows.end(),
+            [](const MapGridRow& a, const MapGridRow& b) { return a.index < b.index; });
+  std::vector<bool> seen(static_cast<size_t>(m), false);
+  for (const MapGridRow& row : rows) {
+    if (row.index < 0 || row.index >= m || seen[static_cast<size_t>(row.index)] ||
+        static_cast<Index>(row.stable_count.size()) != k) {
+      throw std::invalid_argument(fmt::format(
+          "AssembleHysteresisMap: row {} is outside the grid, repeated or not of {} speeds",
+          row.index, k));
     }
-    if (progress) progress("grid", static_cast<int>(i + 1), static_cast<int>(m));
+    seen[static_cast<size_t>(row.index)] = true;
   }
-  map.grid_seconds = SecondsSince(grid_start);
+  if (static_cast<Index>(rows.size()) != m) {
+    throw std::invalid_argument(fmt::format("AssembleHysteresisMap: {} rows for a grid of {}",
+                                            rows.size(), m));
+  }
+  for (const MapGridRow& row : rows) {
+    const Index i = row.index;
+    map.grid_branches += row.branches;
+    for (const auto& [pattern, counts] : row.pattern_counts) {
+      auto where = std::find(map.patterns.begin(), map.patterns.end(), pattern);
+      if (where == map.patterns.end()) {
+        map.patterns.push_back(pattern);
+        map.pattern_counts.push_back(Eigen::MatrixXi::Zero(m, k));
+        where = map.patterns.end() - 1;
+      }
+      Eigen::MatrixXi& count = map.pattern_counts[where - map.patterns.begin()];
+      for (Index j = 0; j < k; ++j) count(i, j) = counts[static_cast<size_t>(j)];
+    }
+    for (Index j = 0; j < k; ++j) map.stable_count(i, j) = row.stable_count[static_cast<size_t>(j)];
+    map.points.insert(map.points.end(), row.points.begin(), row.points.end());
+    map.failures.insert(map.failures.end(), row.failures.begin(), row.failures.end());
+  }
+  for (const MapGridRow& row : rows) {
+    if (!row.failed) continue;
+    map.stable_count.row(row.index).setConstant(-1);
+    for (Eigen::MatrixXi& c : map.pattern_counts) c.row(row.index).setConstant(-1);
+  }
+  map.grid_seconds = grid_seconds;
   if (!options.continue_curves) return map;
   if (map.base_value < options.eta_min || map.base_value > options.eta_max) {
     // The curves start from the branch set at the scene's own value.

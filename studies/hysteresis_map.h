@@ -136,9 +136,36 @@ using MapProgress = std::function<void(const std::string& stage, int done, int t
 
 // Throws std::invalid_argument for invalid options or parameters (including a base value outside
 // the physical range). Numerical failures are listed in HysteresisMap::failures and in each
-// curve's Branch::status.
+// curve's Branch::status. = AssembleHysteresisMap(ComputeMapGrid(every grid value)).
 HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,
                                    const MapProgress& progress = {});
+
+// One grid value's share of the map (part 1): what its branch set adds. The grid values are
+// independent, so processes can compute different rows (`rubcont map` under mpirun) and one
+// assembles them.
+struct MapGridRow {
+  Index index = 0;                // i: η = eta(i)
+  bool failed = false;            // the branch set failed: its counts become −1
+  std::vector<int> stable_count;  // k
+  std::vector<std::pair<std::string, std::vector<int>>> pattern_counts;  // in the order met
+  std::vector<MapPoint> points;
+  std::vector<std::string> failures;
+  int branches = 0;
+};
+
+// The rows of the grid values `indices` (each in 0 … eta_points − 1). Progress: ("grid", done,
+// indices.size()).
+std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
+                                       const HysteresisMapOptions& options,
+                                       const std::vector<Index>& indices,
+                                       const MapProgress& progress = {});
+
+// The map from all its grid rows (any order; each exactly once) and the time they took, with the
+// curves (part 2) computed here.
+HysteresisMap AssembleHysteresisMap(const TwoPointParams& params,
+                                    const HysteresisMapOptions& options,
+                                    std::vector<MapGridRow> rows, double grid_seconds,
+                                    const MapProgress& progress = {});
 
 // The stable speed intervals [ω_a, ω_b] of a branch: maximal runs of consecutive stable points of
 // one piece (an interval per run).

@@ -117,6 +117,19 @@ constexpr const char* kRandomScene37 =
     "precession_range_hz = [1.0, 1541.1573912029467]\n"
     "speed_range_rpm = [3.6370079732847231, 1259.9366153478861]\n";
 
+// Runs an inline scene as <dir>/<name>.toml with `rubcont run` (no figures): every special point
+// located, exit code 0; the result file for the caller to read.
+fs::path RunLocatingEverything(const TempDir& dir, const std::string& name, const char* toml) {
+  const fs::path scene = dir.path / (name + ".toml");
+  std::ofstream(scene) << toml;
+  const Outcome o = Rubcont("run " + scene.string() + " --quiet --out " + dir.path.string(),
+                            kNoPython);
+  INFO(o.out << o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK_THAT(o.out, !Contains("not located"));
+  return dir.path / name / (name + ".h5");
+}
+
 TEST_CASE("CLI: a step that jumps to another branch is taken again shorter (random scene 37)",
           "[cli]") {
   // Its one-contact whirl (branch3) becomes a full-slip whip whose state hardly changes with
@@ -125,14 +138,7 @@ TEST_CASE("CLI: a step that jumps to another branch is taken again shorter (rand
   // corrected), and the branch ended there. Taken again shorter, it goes on to the speed bound
   // through the knees and Hopf points at 387–388 rpm it had jumped over.
   TempDir dir;
-  const fs::path scene = dir.path / "random37.toml";
-  std::ofstream(scene) << kRandomScene37;
-  const Outcome o = Rubcont("run " + scene.string() + " --quiet --out " + dir.path.string(),
-                            kNoPython);
-  INFO(o.out << o.err);
-  REQUIRE(o.exit_code == 0);
-  CHECK_THAT(o.out, !Contains("not located"));
-  const ResultReader r(dir.path / "random37" / "random37.h5");
+  const ResultReader r(RunLocatingEverything(dir, "random37", kRandomScene37));
   CHECK(r.ReadStringAttribute("/branches/branch3", "message") ==
         "backward: reached λ min = 0.3808665843; forward: reached λ max = 131.9402538");
 }
@@ -178,14 +184,7 @@ TEST_CASE("CLI: a tanh whip is followed through the rolling line's boundary laye
   // did not solve the contact-free piece. Ten halvings follow the layer into the one-contact
   // whirl, to the speed bound.
   TempDir dir;
-  const fs::path scene = dir.path / "random61.toml";
-  std::ofstream(scene) << kRandomScene61;
-  const Outcome o = Rubcont("run " + scene.string() + " --quiet --out " + dir.path.string(),
-                            kNoPython);
-  INFO(o.out << o.err);
-  REQUIRE(o.exit_code == 0);
-  CHECK_THAT(o.out, !Contains("not located"));
-  const ResultReader r(dir.path / "random61" / "random61.h5");
+  const ResultReader r(RunLocatingEverything(dir, "random61", kRandomScene61));
   CHECK_THAT(r.ReadStringAttribute("/branches/branch1", "message"),
              StartsWith("backward: reached λ max = 67.95316182"));
   const std::vector<double> slip = r.ReadDoubles("/branches/branch1/slip_velocity_right");

@@ -229,6 +229,45 @@ TEST_CASE("the Hopf curve of the tanh Mode 1 whirl in friction matches branch se
   }
 }
 
+TEST_CASE("a map's grid rows computed apart and assembled give the same map", "[design][map]") {
+  // What `rubcont map` under mpirun (or with threads) does: rows of different grid values on
+  // different processes, assembled in any order.
+  HysteresisMapOptions options;
+  options.parameter = DesignParameter::kFriction;
+  options.eta_min = 0.4;
+  options.eta_max = 0.6;
+  options.eta_points = 4;
+  options.speed_points = 101;
+  options.branches = Range(20, 120);
+  options.continue_curves = false;
+  const HysteresisMap whole = ComputeHysteresisMap(ExactThesisA(), options);
+  std::vector<MapGridRow> rows = ComputeMapGrid(ExactThesisA(), options, {3, 1});
+  for (MapGridRow& row : ComputeMapGrid(ExactThesisA(), options, {2, 0})) rows.push_back(row);
+  const HysteresisMap assembled = AssembleHysteresisMap(ExactThesisA(), options, rows, 0.0);
+  CHECK(assembled.stable_count == whole.stable_count);
+  CHECK(assembled.patterns == whole.patterns);
+  REQUIRE(assembled.pattern_counts.size() == whole.pattern_counts.size());
+  for (size_t p = 0; p < whole.pattern_counts.size(); ++p) {
+    CHECK(assembled.pattern_counts[p] == whole.pattern_counts[p]);
+  }
+  REQUIRE(assembled.points.size() == whole.points.size());
+  for (size_t q = 0; q < whole.points.size(); ++q) {
+    CHECK(assembled.points[q].eta == whole.points[q].eta);
+    CHECK(assembled.points[q].speed == whole.points[q].speed);
+    CHECK(assembled.points[q].label == whole.points[q].label);
+  }
+  CHECK(assembled.grid_branches == whole.grid_branches);
+  // Each grid value exactly once.
+  std::vector<MapGridRow> missing(rows.begin(), rows.end() - 1);
+  CHECK_THROWS_WITH(AssembleHysteresisMap(ExactThesisA(), options, missing, 0.0),
+                    Catch::Contains("3 rows for a grid of 4"));
+  std::vector<MapGridRow> twice = rows;
+  twice.back() = rows.front();
+  CHECK_THROWS_WITH(AssembleHysteresisMap(ExactThesisA(), options, twice, 0.0),
+                    Catch::Contains("repeated"));
+  CHECK_THROWS_WITH(ComputeMapGrid(ExactThesisA(), options, {4}), Catch::Contains("index 4 outside"));
+}
+
 TEST_CASE("the friction map of case A(a): regions from the branch sets agree with the curves",
           "[design][map]") {
   HysteresisMapOptions options;

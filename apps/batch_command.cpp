@@ -1,0 +1,465 @@
+#include "apps/batch_command.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <ctime>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <toml++/toml.h>
+
+#include "apps/commands.h"
+#include "apps/fit_command.h"
+#include "apps/guarded.h"
+#include "apps/map_command.h"
+#include "apps/ranks.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::set<std::string> kCommands{"run", "analytic", "branches", "sweep", "map", "fit"};
+const std::set<std::string> kKeys{"name",       "command",      "scene",   "direction",
+                                  "parameter",  "range",        "eta_points", "speed_points",
+                                  "targets",    "figures",      "vary"};
+
+struct Job {
+  std::string name;
+  std::string command;
+  std::optional<std::string> scene;
+  std::string direction = "both";
+  std::string parameter;
+  std::optional<std::pair<double, double>> range;
+  int eta_points = 31;
+  int speed_points = 481;
+  std::string targets;
+  bool figures = false;
+};
+
+std::string Where(const fs::path& file, int index) {
+  return fmt::format("{}: job {}", file.string(), index + 1);
+}
+
+std::string Text(const toml::node& node) {
+  if (node.is_string()) return "\"" + node.value<std::string>().value() + "\"";
+  std::ostringstream s;
+  s << toml::node_view<const toml::node>(node);
+  return s.str();
+}
+
+// The job a table describes (its `vary` already applied); throws invalid_argument naming the key,
+// value and rule.
+Job JobOf(const toml::table& table, const std::string& where) {
+  Job job;
+  for (const auto& [key, node] : table) {
+    if (!kKeys.count(std::string(key))) {
+      throw std::invalid_argument(fmt::format("{}: {}: unknown key (one of command, scene, name, "
+                                              "direction, parameter, range, eta_points, "
+                                              "speed_points, targets, figures, vary)",
+                                              where, key.str()));
+    }
+  }
+  auto text = [&](const char* key) -> std::optional<std::string> {
+    const toml::node* node = table.get(key);
+    if (node == nullptr) return std::nullopt;
+    if (!node->is_string()) {
+      throw std::invalid_argument(
+          fmt::format("{}: {} = {}: must be a string", where, key, Text(*node)));
+    }
+    return node->value<std::string>();
+  };
+  auto integer = [&](const char* key, int fallback, int lo, int hi) {
+    const toml::node* node = table.get(key);
+    if (node == nullptr) return fallback;
+    const std::optional<int64_t> v = node->is_integer() ? node->value<int64_t>() : std::nullopt;
+    if (!v || *v < lo || *v > hi) {
+      throw std::invalid_argument(
+          fmt::format("{}: {} = {}: must be an integer in {} … {}", where, key, Text(*node), lo, hi));
+    }
+    return static_cast<int>(*v);
+  };
+  const std::optional<std::string> command = text("command");
+  if (!command || !kCommands.count(*command)) {
+    throw std::invalid_argument(fmt::format(
+        "{}: command = {}: must be one of run, analytic, branches, sweep, map, fit", where,
+        command ? "\"" + *command + "\"" : std::string("(missing)")));
+  }
+  job.command = *command;
+  job.scene = text("scene");
+  if (!job.scene && job.command != "run") {
+    throw std::invalid_argument(fmt::format("{}: scene: missing; required for command \"{}\"",
+                                            where, job.command));
+  }
+  if (const auto direction = text("direction")) {
+    if (*direction != "up" && *direction != "down" && *direction != "both") {
+      throw std::invalid_argument(fmt::format("{}: direction = \"{}\": must be up, down or both",
+                                              where, *direction));
+    }
+    job.direction = *direction;
+  }
+  job.parameter = text("parameter").value_or("");
+  if (job.command == "map" && job.parameter.empty()) {
+    throw std::invalid_argument(fmt::format("{}: parameter: missing; required for command \"map\"", where));
+  }
+  if (const toml::node* node = table.get("range")) {
+    const toml::array* a = node->as_array();
+    if (a == nullptr || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number()) {
+      throw std::invalid_argument(
+          fmt::format("{}: range = {}: must be two numbers [lo, hi]", where, Text(*node)));
+    }
+    job.range = std::make_pair((*a)[0].value<double>().value(), (*a)[1].value<double>().value());
+  }
+  job.eta_points = integer("eta_points", job.eta_points, 2, 2000);
+  job.speed_points = integer("speed_points", job.speed_points, 2, 100000);
+  job.targets = text("targets").value_or("");
+  if (job.command == "fit" && job.targets.empty()) {
+    throw std::invalid_argument(fmt::format("{}: targets: missing; required for command \"fit\"", where));
+  }
+  if (const toml::node* node = table.get("figures")) {
+    if (!node->is_boolean()) {
+      throw std::invalid_argument(
+          fmt::format("{}: figures = {}: must be true or false", where, Text(*node)));
+    }
+    job.figures = node->value<bool>().value();
+  }
+  if (const auto name = text("name")) {
+    job.name = *name;
+  } else {
+    job.name = (job.scene ? fs::path(*job.scene).stem().string() : std::string("default")) + "_" +
+               job.command;
+    if (job.command == "sweep") job.name += "_" + job.direction;
+    if (job.command == "map") job.name += "_" + job.parameter;
+  }
+  if (job.name.empty() || job.name.find('/') != std::string::npos) {
+    throw std::invalid_argument(
+        fmt::format("{}: name = \"{}\": must be a non-empty file name without '/'", where, job.name));
+  }
+  return job;
+}
+
+// The jobs of one [[job]] table: itself, or one per combination of its `vary` lists (the name,
+// when given, gets each varied value appended: a path's stem).
+std::vector<Job> Expand(const toml::table& table, const std::string& where) {
+  const toml::node* vary_node = table.get("vary");
+  if (vary_node == nullptr) return {JobOf(table, where)};
+  const toml::table* vary = vary_node->as_table();
+  if (vary == nullptr || vary->empty()) {
+    throw std::invalid_argument(fmt::format(
+        "{}: vary = {}: must be a table of lists, e.g. {{ direction = [\"up\", \"down\"] }}", where,
+        Text(*vary_node)));
+  }
+  std::vector<toml::table> combinations{table};
+  combinations.front().erase("vary");
+  std::vector<std::vector<std::string>> suffixes{{}};
+  for (const auto& [key, node] : *vary) {
+    const toml::array* values = node.as_array();
+    if (values == nullptr || values->empty()) {
+      throw std::invalid_argument(fmt::format("{}: vary.{} = {}: must be a non-empty list", where,
+                                              key.str(), Text(node)));
+    }
+    std::vector<toml::table> next;
+    std::vector<std::vector<std::string>> next_suffixes;
+    for (size_t c = 0; c < combinations.size(); ++c) {
+      for (const toml::node& value : *values) {
+        toml::table t = combinations[c];
+        t.insert_or_assign(key, value);
+        next.push_back(std::move(t));
+        std::vector<std::string> s = suffixes[c];
+        const std::string shown = value.is_string() ? value.value<std::string>().value() : Text(value);
+        s.push_back(key.str() == "scene" ? fs::path(shown).stem().string() : shown);
+        next_suffixes.push_back(std::move(s));
+      }
+    }
+    combinations = std::move(next);
+    suffixes = std::move(next_suffixes);
+  }
+  std::vector<Job> jobs;
+  for (size_t c = 0; c < combinations.size(); ++c) {
+    Job job = JobOf(combinations[c], where);
+    if (table.get("name") != nullptr) {
+      for (const std::string& s : suffixes[c]) job.name += "_" + s;
+    }
+    jobs.push_back(std::move(job));
+  }
+  return jobs;
+}
+
+struct JobsFile {
+  fs::path out;
+  std::vector<Job> jobs;
+};
+
+JobsFile ReadJobs(const fs::path& file, const std::optional<std::string>& out_dir) {
+  if (fs::is_directory(file)) {
+    throw std::invalid_argument(fmt::format("{}: is a directory, not a jobs file", file.string()));
+  }
+  toml::table root;
+  try {
+    root = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    throw std::invalid_argument(fmt::format("{}:{}:{}: {}", file.string(), e.source().begin.line,
+                                            e.source().begin.column, e.description()));
+  }
+  JobsFile jobs;
+  jobs.out = fs::path("results") / "batch" / file.stem();
+  for (const auto& [key, node] : root) {
+    if (key.str() != "out" && key.str() != "job") {
+      throw std::invalid_argument(
+          fmt::format("{}: {}: unknown key (the file holds `out` and [[job]] tables)", file.string(), key.str()));
+    }
+  }
+  if (const toml::node* node = root.get("out")) {
+    if (!node->is_string()) {
+      throw std::invalid_argument(fmt::format("{}: out = {}: must be a string", file.string(), Text(*node)));
+    }
+    jobs.out = node->value<std::string>().value();
+  }
+  if (out_dir) jobs.out = *out_dir;
+  const toml::array* list = root.get_as<toml::array>("job");
+  if (list == nullptr || list->empty()) {
+    throw std::invalid_argument(fmt::format("{}: job: missing; at least one [[job]] table", file.string()));
+  }
+  std::set<std::string> names;
+  for (size_t i = 0; i < list->size(); ++i) {
+    const toml::table* table = (*list)[i].as_table();
+    const std::string where = Where(file, static_cast<int>(i));
+    if (table == nullptr) throw std::invalid_argument(where + ": must be a [[job]] table");
+    for (Job& job : Expand(*table, where)) {
+      if (!names.insert(job.name).second) {
+        throw std::invalid_argument(fmt::format(
+            "{}: name = \"{}\": another job has the same name (give each job a `name`)", where, job.name));
+      }
+      jobs.jobs.push_back(std::move(job));
+    }
+  }
+  return jobs;
+}
+
+// Each job's files (result, figures) in a folder of its own: <out>/<name>/<name>.h5 (run:
+// <out>/<name>/<scene name>/<scene name>.h5, the path the command prints).
+fs::path ResultOf(const Job& job, const fs::path& out) { return out / job.name / (job.name + ".h5"); }
+
+void WriteAtomically(const fs::path& file, const std::string& text) {
+  const fs::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream stream(temporary);
+    stream << text;
+    if (!stream) throw std::runtime_error("cannot write " + temporary.string());
+  }
+  fs::rename(temporary, file);
+}
+
+struct Outcome {
+  bool present = false;
+  int exit_code = -1;
+  std::string status;
+  int rank = -1;
+  double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;
+  std::string result;
+};
+
+Outcome ReadOutcome(const fs::path& file) {
+  Outcome o;
+  if (!fs::exists(file)) return o;
+  try {
+    const toml::table t = toml::parse_file(file.string());
+    o.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
+    o.status = t["status"].value_or(std::string());
+    o.rank = static_cast<int>(t["rank"].value_or(int64_t{-1}));
+    o.wall_seconds = t["wall_seconds"].value_or(0.0);
+    o.cpu_seconds = t["cpu_seconds"].value_or(0.0);
+    o.result = t["result"].value_or(std::string());
+    o.present = true;
+  } catch (const toml::parse_error&) {
+  }
+  return o;
+}
+
+bool Done(const Outcome& o) {
+  return o.present && (o.exit_code == 0 || o.exit_code == 1) && fs::exists(o.result);
+}
+
+fs::path OutcomeFile(const fs::path& out, const Job& job) { return out / (job.name + ".outcome"); }
+fs::path ClaimFile(const fs::path& out, const Job& job) { return out / (job.name + ".claim"); }
+
+// Takes the job for this rank: false when another rank has.
+bool Claim(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0644);
+  if (fd < 0) return false;
+  ::close(fd);
+  return true;
+}
+
+// Runs one job through its command; its stdout and stderr go to the log.
+Outcome RunJob(const Job& job, const fs::path& out, int rank) {
+  std::ostringstream log;
+  const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
+  int code = kExitFailure;
+  fs::path result = ResultOf(job, out);
+  fs::create_directories(result.parent_path());
+  if (job.command == "run") {
+    RunRequest r;
+    r.scene_file = job.scene;
+    r.out_dir = result.parent_path().string();
+    r.quiet = true;
+    r.figures = job.figures;
+    std::ostringstream printed;
+    code = RunCommand(r, printed, log);
+    log << printed.str();
+    std::istringstream lines(printed.str());
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("wrote ", 0) == 0 && line.size() > 9 && line.substr(line.size() - 3) == ".h5") {
+        result = line.substr(6);
+      }
+    }
+  } else if (job.command == "analytic" || job.command == "branches") {
+    AnalyticRequest r;
+    r.scene_file = *job.scene;
+    r.out_file = result.string();
+    r.quiet = true;
+    r.figures = job.figures;
+    code = job.command == "analytic" ? AnalyticCommand(r, log, log) : BranchesCommand(r, log, log);
+  } else if (job.command == "sweep") {
+    SweepRequest r;
+    r.scene_file = *job.scene;
+    r.out_file = result.string();
+    r.direction = job.direction;
+    r.figures = job.figures;
+    r.quiet = true;
+    code = SweepCommand(r, log, log);
+  } else if (job.command == "map") {
+    MapRequest r;
+    r.scene_file = *job.scene;
+    r.out_file = result.string();
+    r.parameter = job.parameter;
+    if (job.range) {
+      r.eta_min = job.range->first;
+      r.eta_max = job.range->second;
+    }
+    r.eta_points = job.eta_points;
+    r.speed_points = job.speed_points;
+    r.quiet = true;
+    r.figures = job.figures;
+    r.over_ranks = false;  // the other ranks run other jobs
+    code = MapCommand(r, log, log);
+  } else {
+    FitRequest r;
+    r.scene_file = *job.scene;
+    r.targets_file = job.targets;
+    r.out_file = result.string();
+    r.quiet = true;
+    code = FitCommand(r, log, log);
+  }
+  Outcome o;
+  o.present = true;
+  o.exit_code = code;
+  o.status = code == kExitSuccess ? "success" : code == kExitFailure ? "failure" : "bad input";
+  o.rank = rank;
+  o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  o.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  o.result = result.string();
+  WriteAtomically(out / (job.name + ".log"), log.str());
+  WriteAtomically(OutcomeFile(out, job),
+                  fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
+                              "rank = {}\nwall_seconds = {:.3f}\ncpu_seconds = {:.3f}\n"
+                              "result = \"{}\"\n",
+                              job.name, job.command, o.exit_code, o.status, o.rank, o.wall_seconds,
+                              o.cpu_seconds, o.result));
+  return o;
+}
+
+std::string Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed, int run_here) {
+  std::string text = fmt::format("batch of {} jobs into {} ({}; {} run now, the rest done before)\n",
+                                 jobs.jobs.size(), jobs.out.string(), ranks.Describe(), run_here);
+  int done = 0, failed = 0;
+  double job_seconds = 0.0;
+  for (const Job& job : jobs.jobs) {
+    const Outcome o = ReadOutcome(OutcomeFile(jobs.out, job));
+    if (!o.present) {
+      text += fmt::format("  {:<32} {:<9} not finished (no outcome: its rank stopped)\n", job.name,
+                          job.command);
+      ++failed;
+      continue;
+    }
+    const bool ok = o.exit_code == kExitSuccess && Done(o);
+    (ok ? done : failed) += 1;
+    job_seconds += o.wall_seconds;
+    text += fmt::format("  {:<32} {:<9} {:<9} rank {:<3} {:>9.1f} s wall {:>9.1f} s CPU  {}\n",
+                        job.name, job.command, o.status, o.rank, o.wall_seconds, o.cpu_seconds,
+                        o.result);
+  }
+  text += fmt::format("{} done, {} failed or not finished; jobs' wall time {:.1f} s, this run {:.1f} s "
+                      "on {} rank(s)\n",
+                      done, failed, job_seconds, elapsed, ranks.size());
+  return text;
+}
+
+}  // namespace
+
+int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& err) {
+  const Ranks& ranks = Ranks::World();
+  return Guarded(err, [&] {
+    const auto start = std::chrono::steady_clock::now();
+    const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
+    fs::create_directories(jobs.out);
+    // Rank 0 forgets the claims of jobs that are not done (a rank that stopped, an earlier run).
+    if (ranks.rank() == 0) {
+      for (const Job& job : jobs.jobs) {
+        if (!Done(ReadOutcome(OutcomeFile(jobs.out, job)))) fs::remove(ClaimFile(jobs.out, job));
+      }
+    }
+    ranks.Barrier();
+    int run_here = 0;
+    for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+      const Job& job = jobs.jobs[i];
+      if (Done(ReadOutcome(OutcomeFile(jobs.out, job))) || !Claim(ClaimFile(jobs.out, job))) continue;
+      // Another rank may have finished it (and let go of its claim) since the check above.
+      if (Done(ReadOutcome(OutcomeFile(jobs.out, job)))) {
+        fs::remove(ClaimFile(jobs.out, job));
+        continue;
+      }
+      if (!request.quiet) {
+        fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(), i + 1,
+                   jobs.jobs.size(), job.name, job.command, job.scene.value_or("default scene"));
+      }
+      const Outcome o = RunJob(job, jobs.out, ranks.rank());
+      fs::remove(ClaimFile(jobs.out, job));  // after the outcome: the job is done
+      ++run_here;
+      if (!request.quiet) {
+        fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(), job.name,
+                   o.status, o.wall_seconds);
+      }
+    }
+    const std::vector<std::string> counts = ranks.GatherToRoot(std::to_string(run_here));
+    if (ranks.rank() != 0) return kExitSuccess;
+    int total_run = 0;
+    for (const std::string& c : counts) total_run += std::stoi(c);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string summary = Summary(jobs, ranks, elapsed, total_run);
+    WriteAtomically(jobs.out / "summary.txt", summary);
+    out << summary;
+    bool all_ok = true;
+    for (const Job& job : jobs.jobs) {
+      const Outcome o = ReadOutcome(OutcomeFile(jobs.out, job));
+      all_ok = all_ok && o.exit_code == kExitSuccess && Done(o);
+    }
+    return all_ok ? kExitSuccess : kExitFailure;
+  });
+}
+
+}  // namespace rubcont

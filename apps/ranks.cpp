@@ -1,0 +1,98 @@
+#include "apps/ranks.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#ifdef RUBCONT_MPI
+#include <mpi.h>
+#endif
+
+namespace rubcont {
+namespace {
+
+bool LaunchedByMpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(name) != nullptr) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void Unpacker::Take(char* to, size_t n) {
+  if (n > buffer_.size() - at_) {
+    throw std::runtime_error("Unpacker: message shorter than its contents (ranks out of step)");
+  }
+  std::copy_n(buffer_.data() + at_, n, to);
+  at_ += n;
+}
+
+Ranks& Ranks::World() {
+  static Ranks world;
+  return world;
+}
+
+// Debian's sequential MUMPS (under Ipopt: libdmumps_seq, libmumps_common_seq) exports dummy
+// MPI_Init, MPI_Comm_rank, MPI_Finalize and MPI_Wtime, and it comes first in the link: every rank
+// was rank 0 of 2 (measured). Those four are called by their profiling names (PMPI_), which only
+// Open MPI defines.
+Ranks::Ranks() {
+#ifdef RUBCONT_MPI
+  if (!LaunchedByMpi()) return;
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  PMPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  mpi_ = true;
+#else
+  (void)LaunchedByMpi;
+#endif
+}
+
+Ranks::~Ranks() {
+#ifdef RUBCONT_MPI
+  if (mpi_) PMPI_Finalize();
+#endif
+}
+
+std::string Ranks::Describe() const {
+  return mpi_ ? fmt::format("MPI, rank {} of {}", rank_, size_) : std::string("one process");
+}
+
+void Ranks::Barrier() const {
+#ifdef RUBCONT_MPI
+  if (mpi_) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+std::vector<std::string> Ranks::GatherToRoot(const std::string& mine) const {
+  if (!mpi_) return {mine};
+#ifdef RUBCONT_MPI
+  const int length = static_cast<int>(mine.size());
+  std::vector<int> lengths(static_cast<size_t>(size_));
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets(static_cast<size_t>(size_), 0);
+  int total = 0;
+  for (int r = 0; r < size_; ++r) {
+    offsets[static_cast<size_t>(r)] = total;
+    total += lengths[static_cast<size_t>(r)];
+  }
+  std::string all(rank_ == 0 ? static_cast<size_t>(total) : 0, '\0');
+  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
+              0, MPI_COMM_WORLD);
+  if (rank_ != 0) return {};
+  std::vector<std::string> parts;
+  for (int r = 0; r < size_; ++r) {
+    parts.push_back(all.substr(static_cast<size_t>(offsets[static_cast<size_t>(r)]),
+                               static_cast<size_t>(lengths[static_cast<size_t>(r)])));
+  }
+  return parts;
+#else
+  return {mine};
+#endif
+}
+
+}  // namespace rubcont

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Scaling of the work that multiplies runs, on this machine, in one run: the default scene's
+# friction map (41 grid values, as results/design/map_friction) in one process, with 2 threads,
+# and over 1 and 2 MPI ranks; and a batch of sweeps (the nine thesis scenes, speed-up over
+# 40–72 rpm, 4 rpm steps: short enough to repeat) over 1 and 2 ranks. Each configuration REPEATS
+# times in turn (so that the machine's drift falls on all alike); medians of wall time, speed-ups
+# against one process. Usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS] > results/bench/mpi_scaling.txt
+# (from the repository root; as root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT, set here).
+set -euo pipefail
+build=${1:?usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS]}
+repeats=${2:-3}
+rubcont="$build/rubcont"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+seconds() { /usr/bin/time -f "%e" "$@" 2>&1 >/dev/null | tail -1; }
+# The map's own grid seconds (its summary line), then the command's wall seconds.
+map_seconds() {
+  local grid
+  grid=$( { /usr/bin/time -f "wall %e" "$@" > "$work/map.txt"; } 2>&1 | awk '/^wall/ { print $2 }')
+  echo "$(grep -o 'grid [0-9.]* s' "$work/map.txt" | awk '{ print $2 }'):$grid"
+}
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+
+map=(map scenes/default.toml --parameter friction --range 0.1 1.0 --eta-points 41 --quiet --no-figures)
+declare -A runs
+for ((r = 0; r < repeats; r++)); do
+  runs[map_one]+="$(map_seconds "$rubcont" "${map[@]}" --out "$work/m.h5") "
+  runs[map_threads2]+="$(map_seconds "$rubcont" "${map[@]}" --threads 2 --out "$work/m.h5") "
+  runs[map_ranks1]+="$(map_seconds mpirun -n 1 "$rubcont" "${map[@]}" --out "$work/m.h5") "
+  runs[map_ranks2]+="$(map_seconds mpirun -n 2 "$rubcont" "${map[@]}" --out "$work/m.h5") "
+done
+
+# The sweep batch: scene copies with a short speed-up range.
+jobs="$work/sweeps.toml"
+echo "out = \"$work/batch\"" > "$jobs"
+scenes=()
+for s in thesis_A_a thesis_A_b thesis_A_c thesis_B_a thesis_B_b thesis_B_c thesis_C_a thesis_C_b thesis_C_c; do
+  [ -f "scenes/$s.toml" ] || continue
+  sed 's/^up_range_rpm = .*/up_range_rpm = [40.0, 72.0]/' "scenes/$s.toml" > "$work/$s.toml"
+  scenes+=("\"$work/$s.toml\"")
+done
+{
+  echo "[[job]]"
+  echo "command = \"sweep\""
+  echo "direction = \"up\""
+  echo "vary = { scene = [$(IFS=,; echo "${scenes[*]}")] }"
+} >> "$jobs"
+for ((r = 0; r < repeats; r++)); do
+  rm -rf "$work/batch"
+  runs[batch_ranks1]+="$(seconds mpirun -n 1 "$rubcont" batch "$jobs" --quiet) "
+  rm -rf "$work/batch"
+  runs[batch_ranks2]+="$(seconds mpirun -n 2 "$rubcont" batch "$jobs" --quiet) "
+done
+job_seconds=$(awk '/^  thesis/ { s += $6 } END { printf "%.1f", s }' "$work/batch/summary.txt")
+
+echo "MPI and thread scaling, $(date -u +%Y-%m-%d) on $(nproc) cores ($(mpirun --version | head -1)); $repeats runs each, medians"
+echo "  map: its grid (41 branch sets) / the whole command (with the 12 curves, rank 0 only), wall seconds"
+for key in map_one map_threads2 map_ranks1 map_ranks2; do
+  g=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f1 | median)
+  w=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f2 | median)
+  printf '  %-14s grid %6.2f s  command %6.2f s   (runs grid:command %s)\n' "$key" "$g" "$w" "${runs[$key]% }"
+  declare "grid_$key=$g" "wall_$key=$w"
+done
+for key in batch_ranks1 batch_ranks2; do
+  m=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | median)
+  printf '  %-14s %8.2f s   (runs: %s)\n' "$key" "$m" "${runs[$key]% }"
+  declare "wall_$key=$m"
+done
+awk -v g1="$grid_map_one" -v gt="$grid_map_threads2" -v gr2="$grid_map_ranks2" \
+    -v w1="$wall_map_one" -v wt="$wall_map_threads2" -v wr1="$wall_map_ranks1" -v wr2="$wall_map_ranks2" \
+    -v b1="$wall_batch_ranks1" -v b2="$wall_batch_ranks2" -v jobs="$job_seconds" -v n="${#scenes[@]}" 'BEGIN {
+  printf "map grid: 2 threads %.2f×, 2 ranks %.2f× against one process\n", g1 / gt, g1 / gr2
+  printf "map command: 2 threads %.2f×, 2 ranks %.2f×, 1 rank %.2f× (MPI start-up %.2f s)\n", w1 / wt, w1 / wr2, w1 / wr1, wr1 - w1
+  printf "sweep batch (%d jobs, %.1f s of job wall time in the last 2-rank run): 2 ranks %.2f× against 1 rank\n", n, jobs, b1 / b2
+}'

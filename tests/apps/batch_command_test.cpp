@@ -1,0 +1,144 @@
+// rubcont batch (apps/batch_command.h): jobs files, their errors, outcomes, re-runs. The same
+// command under mpirun is tested by ctest (tests/CMakeLists.txt, "batch over MPI ranks").
+#include "apps/batch_command.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "apps/commands.h"
+#include "apps/hdf5_file.h"
+#include "cli_support.h"
+
+namespace rubcont {
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using testing::Slurp;
+using testing::TempDir;
+
+struct Ran {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+Ran Batch(const fs::path& dir, const std::string& jobs) {
+  const fs::path file = dir / "jobs.toml";
+  std::ofstream(file) << jobs;
+  BatchRequest request;
+  request.jobs_file = file.string();
+  request.out_dir = (dir / "out").string();
+  request.quiet = true;
+  std::ostringstream out, err;
+  Ran ran;
+  ran.exit_code = BatchCommand(request, out, err);
+  ran.out = out.str();
+  ran.err = err.str();
+  return ran;
+}
+
+TEST_CASE("batch: a bad jobs file is exit code 2 naming key, value and rule", "[batch]") {
+  TempDir dir;
+  const auto refused = [&](const std::string& jobs, const std::string& message) {
+    const Ran ran = Batch(dir.path, jobs);
+    INFO(jobs);
+    CHECK(ran.exit_code == kExitBadInput);
+    CHECK_THAT(ran.err, Contains(message));
+  };
+  refused("[[job]]\ncommand = \"frobnicate\"\nscene = \"x.toml\"\n",
+          "job 1: command = \"frobnicate\": must be one of run, analytic, branches, sweep, map, fit");
+  refused("[[job]]\ncommand = \"sweep\"\n", "job 1: scene: missing; required for command \"sweep\"");
+  refused("[[job]]\ncommand = \"sweep\"\nscene = \"a.toml\"\ndirection = \"sideways\"\n",
+          "direction = \"sideways\": must be up, down or both");
+  refused("[[job]]\ncommand = \"map\"\nscene = \"a.toml\"\n",
+          "parameter: missing; required for command \"map\"");
+  refused("[[job]]\ncommand = \"map\"\nscene = \"a.toml\"\nparameter = \"friction\"\neta_points = 1\n",
+          "eta_points = 1: must be an integer in 2 … 2000");
+  refused("[[job]]\ncommand = \"branches\"\nscene = \"a.toml\"\nspeed = 3\n", "speed: unknown key");
+  refused("[[job]]\ncommand = \"branches\"\nvary = { scene = \"a.toml\" }\n",
+          "vary.scene = \"a.toml\": must be a non-empty list");
+  refused("[[job]]\ncommand = \"branches\"\nscene = \"dir1/a.toml\"\n"
+          "[[job]]\ncommand = \"branches\"\nscene = \"dir2/a.toml\"\n",
+          "job 2: name = \"a_branches\": another job has the same name");
+  refused("outt = 3\n", "outt: unknown key");
+  refused("", "job: missing; at least one [[job]] table");
+  refused("[[job]\n", "jobs.toml:1:");
+}
+
+TEST_CASE("batch: jobs run once, a re-run does only what is missing", "[batch]") {
+  TempDir dir;
+  const std::string jobs =
+      "[[job]]\n"
+      "command = \"branches\"\n"
+      "vary = { scene = [\"scenes/thesis_A_a.toml\", \"scenes/thesis_B_a.toml\"] }\n"
+      "[[job]]\n"
+      "name = \"A_a_analytic\"\n"
+      "command = \"analytic\"\n"
+      "scene = \"scenes/thesis_A_a.toml\"\n";
+  const Ran first = Batch(dir.path, jobs);
+  INFO(first.out << first.err);
+  REQUIRE(first.exit_code == kExitSuccess);
+  CHECK_THAT(first.out, Contains("batch of 3 jobs"));
+  CHECK_THAT(first.out, Contains("(one process; 3 run now"));  // no MPI without mpirun
+  CHECK_THAT(first.out, Contains("3 done, 0 failed or not finished"));
+  const fs::path out = dir.path / "out";
+  for (const char* name : {"thesis_A_a_branches", "thesis_B_a_branches", "A_a_analytic"}) {
+    CHECK(fs::exists(out / name / (std::string(name) + ".h5")));
+    CHECK_THAT(Slurp(out / (std::string(name) + ".outcome")), Contains("exit_code = 0"));
+    CHECK_FALSE(fs::exists(out / (std::string(name) + ".claim")));
+  }
+  // The result is the command's: the A(a) whirl's speed-up event where `rubcont branches` has it.
+  const ResultReader reader(out / "thesis_A_a_branches" / "thesis_A_a_branches.h5");
+  CHECK(reader.ReadStringAttribute("/", "status") == "success");
+  CHECK(Slurp(out / "summary.txt") == first.out);
+
+  const Ran again = Batch(dir.path, jobs);
+  CHECK(again.exit_code == kExitSuccess);
+  CHECK_THAT(again.out, Contains("0 run now"));
+
+  fs::remove(out / "thesis_B_a_branches" / "thesis_B_a_branches.h5");
+  std::ofstream(out / "A_a_analytic.claim");  // left by a rank that stopped
+  const Ran missing = Batch(dir.path, jobs);
+  CHECK(missing.exit_code == kExitSuccess);
+  CHECK_THAT(missing.out, Contains("1 run now"));
+  CHECK(fs::exists(out / "thesis_B_a_branches" / "thesis_B_a_branches.h5"));
+}
+
+TEST_CASE("batch: a job's numerical failure is reported and the others are kept", "[batch]") {
+  TempDir dir;
+  const Ran ran = Batch(dir.path,
+                        "[[job]]\n"
+                        "command = \"map\"\n"
+                        "scene = \"scenes/thesis_A_a_tanh.toml\"\n"
+                        "parameter = \"friction\"\n"
+                        "range = [0.45, 0.55]\n"
+                        "eta_points = 3\n"
+                        "speed_points = 41\n"
+                        "[[job]]\n"
+                        "command = \"analytic\"\n"
+                        "scene = \"scenes/thesis_A_a.toml\"\n"
+                        "[[job]]\n"
+                        "command = \"branches\"\n"
+                        "scene = \"scenes/no_such_scene.toml\"\n");
+  INFO(ran.out << ran.err);
+  CHECK(ran.exit_code == kExitFailure);
+  CHECK_THAT(ran.out, Contains("thesis_A_a_tanh_map_friction     map       failure"));
+  CHECK_THAT(ran.out, Contains("thesis_A_a_analytic              analytic  success"));
+  CHECK_THAT(ran.out, Contains("no_such_scene_branches           branches  bad input"));
+  CHECK_THAT(ran.out, Contains("1 done, 2 failed or not finished"));
+  const fs::path out = dir.path / "out";
+  CHECK_THAT(Slurp(out / "thesis_A_a_tanh_map_friction.log"), Contains("numerical failure: curve"));
+  CHECK_THAT(Slurp(out / "no_such_scene_branches.log"), Contains("no_such_scene.toml"));
+  // The failed map's file is a result (its status says failure): a re-run keeps it; the job with
+  // bad input has none and is tried again.
+  const Ran again = Batch(dir.path, Slurp(dir.path / "jobs.toml"));
+  CHECK_THAT(again.out, Contains("1 run now"));
+}
+
+}  // namespace
+}  // namespace rubcont
