@@ -1,0 +1,377 @@
+#include "shooting/invariant_circle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "solvers/linear_algebra.h"
+
+namespace rubcont {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+}  // namespace
+
+InvariantCircleProblem::InvariantCircleProblem(std::shared_ptr<OdeSystem> system, int harmonics,
+                                               const IntegratorOptions& options)
+    : system_(std::move(system)), harmonics_(harmonics), options_(options) {
+  if (!system_) throw std::invalid_argument("InvariantCircleProblem: no system");
+  if (harmonics < 1 || harmonics > 500) {
+    throw std::invalid_argument(
+        fmt::format("InvariantCircleProblem: harmonics = {}: must be in 1 … 500", harmonics));
+  }
+  if (!(system_->ForcingPeriod() > 0.0)) {
+    throw std::invalid_argument(
+        "InvariantCircleProblem: the system is not forced (ForcingPeriod() = 0): the stroboscopic "
+        "map needs a forcing period");
+  }
+  Validate(options_);
+  n_ = system_->Dimension();
+  points_ = 2 * harmonics_ + 1;
+  scale_ = system_->StateScale();
+  reference_ = Matrix::Zero(n_, points_);
+}
+
+Vector InvariantCircleProblem::Basis(double theta) const {
+  Vector b(points_);
+  b(0) = 1.0;
+  for (int k = 1; k <= harmonics_; ++k) {
+    b(2 * k - 1) = std::cos(k * theta);
+    b(2 * k) = std::sin(k * theta);
+  }
+  return b;
+}
+
+Vector InvariantCircleProblem::BasisDerivative(double theta) const {
+  Vector b(points_);
+  b(0) = 0.0;
+  for (int k = 1; k <= harmonics_; ++k) {
+    b(2 * k - 1) = -k * std::sin(k * theta);
+    b(2 * k) = k * std::cos(k * theta);
+  }
+  return b;
+}
+
+Index InvariantCircleProblem::Dimension() const { return n_ * points_ + 1; }
+
+Vector InvariantCircleProblem::Pack(const Matrix& coefficients, double rho) const {
+  if (coefficients.rows() != n_ || coefficients.cols() != points_) {
+    throw std::invalid_argument(fmt::format(
+        "InvariantCircleProblem::Pack: coefficients are {} × {}; must be {} × {}",
+        coefficients.rows(), coefficients.cols(), n_, points_));
+  }
+  Vector u(Dimension());
+  u.head(n_ * points_) = Eigen::Map<const Vector>(coefficients.data(), n_ * points_);
+  u(n_ * points_) = rho;
+  return u;
+}
+
+Matrix InvariantCircleProblem::Coefficients(const Vector& u) const {
+  return Eigen::Map<const Matrix>(u.data(), n_, points_);
+}
+
+Vector InvariantCircleProblem::PointAt(const Vector& u, double theta) const {
+  return Coefficients(u) * Basis(theta);
+}
+
+void InvariantCircleProblem::SetPhaseReference(const Vector& u) { reference_ = Coefficients(u); }
+
+void InvariantCircleProblem::PointAccepted(const Vector& u, double /*lambda*/) {
+  SetPhaseReference(u);
+}
+
+double InvariantCircleProblem::PeriodAt(double lambda) {
+  system_->SetParameter(lambda);
+  return system_->ForcingPeriod();
+}
+
+const InvariantCircleProblem::Integrated& InvariantCircleProblem::Integrate(const Vector& u,
+                                                                            double lambda,
+                                                                            bool sensitivities) {
+  if (cached_.ok && cached_u_.size() == u.size() && cached_u_ == u && cached_lambda_ == lambda &&
+      (cached_sensitivities_ || !sensitivities)) {
+    return cached_;
+  }
+  cached_ = Integrated();
+  cached_u_ = u;
+  cached_lambda_ = lambda;
+  cached_sensitivities_ = sensitivities;
+  const double period = PeriodAt(lambda);
+  OdeIntegrator integrator(*system_, options_);
+  cached_.ends.resize(n_, points_);
+  if (sensitivities) {
+    cached_.stms.assign(static_cast<size_t>(points_), Matrix());
+    cached_.dpdp.resize(n_, points_);
+  }
+  Vector end(n_), dxdp(n_);
+  for (Index j = 0; j < points_; ++j) {
+    const Vector start = PointAt(u, kTwoPi * static_cast<double>(j) / static_cast<double>(points_));
+    const IntegrationResult result =
+        sensitivities ? integrator.Integrate(0.0, start, period, end,
+                                             &cached_.stms[static_cast<size_t>(j)], &dxdp)
+                      : integrator.Integrate(0.0, start, period, end);
+    if (!result.Succeeded()) return cached_;  // ok stays false
+    cached_.ends.col(j) = end;
+    if (sensitivities) cached_.dpdp.col(j) = dxdp;
+  }
+  cached_.ok = true;
+  return cached_;
+}
+
+void InvariantCircleProblem::Residual(const Vector& u, double lambda, Vector& F) {
+  F.resize(Dimension());
+  const Integrated& data = Integrate(u, lambda, false);
+  if (!data.ok) {
+    F.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  const double rho = RotationNumber(u);
+  const Matrix c = Coefficients(u);
+  double phase = 0.0, norm = 0.0;
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    F.segment(n_ * j, n_) = data.ends.col(j) - c * Basis(theta + kTwoPi * rho);
+    const Vector d = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
+    phase += ((c - reference_) * Basis(theta)).cwiseQuotient(scale_).dot(d);
+    norm += d.squaredNorm();
+  }
+  F(n_ * points_) = phase / std::sqrt(std::max(norm, 1e-300) * static_cast<double>(points_));
+}
+
+void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
+  const Index dim = Dimension();
+  J.setZero(dim, dim);
+  const Integrated& data = Integrate(u, lambda, true);
+  if (!data.ok) {
+    J.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  const double rho = RotationNumber(u);
+  const Matrix c = Coefficients(u);
+  const Matrix identity = Matrix::Identity(n_, n_);
+  double norm = 0.0;
+  std::vector<Vector> d(static_cast<size_t>(points_));
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    d[static_cast<size_t>(j)] = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
+    norm += d[static_cast<size_t>(j)].squaredNorm();
+  }
+  const double phase_norm = std::sqrt(std::max(norm, 1e-300) * static_cast<double>(points_));
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const Vector at = Basis(theta);
+    const Vector shifted = Basis(theta + kTwoPi * rho);
+    const Matrix& M = data.stms[static_cast<size_t>(j)];
+    for (Index m = 0; m < points_; ++m) {
+      J.block(n_ * j, n_ * m, n_, n_) = at(m) * M - shifted(m) * identity;
+      J.block(n_ * points_, n_ * m, 1, n_) +=
+          at(m) * d[static_cast<size_t>(j)].cwiseQuotient(scale_).transpose() / phase_norm;
+    }
+    J.block(n_ * j, dim - 1, n_, 1) = -kTwoPi * (c * BasisDerivative(theta + kTwoPi * rho));
+  }
+}
+
+void InvariantCircleProblem::DfDlambda(const Vector& u, double lambda, Vector& dF) {
+  dF.setZero(Dimension());
+  const Integrated& data = Integrate(u, lambda, true);
+  if (!data.ok) {
+    dF.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  // The map's end moves with the period when λ changes it: T′(λ) f(T, P(x)).
+  const double h = 1e-6 * std::max(std::abs(lambda), 1.0);
+  const double dperiod = (PeriodAt(lambda + h) - PeriodAt(lambda - h)) / (2.0 * h);
+  const double period = PeriodAt(lambda);
+  Vector f(n_);
+  for (Index j = 0; j < points_; ++j) {
+    dF.segment(n_ * j, n_) = data.dpdp.col(j);
+    if (dperiod != 0.0) {
+      system_->Rhs(period, data.ends.col(j), f);
+      dF.segment(n_ * j, n_) += dperiod * f;
+    }
+  }
+}
+
+Vector InvariantCircleProblem::Scale() const {
+  Vector s(Dimension());
+  for (Index m = 0; m < points_; ++m) s.segment(n_ * m, n_) = scale_;
+  s(Dimension() - 1) = 1.0;
+  return s;
+}
+
+double InvariantCircleProblem::LambdaScale() const {
+  return std::max(std::abs(system_->Parameter()), 1.0);
+}
+
+Vector InvariantCircleProblem::ResidualScale() const {
+  Vector s(Dimension());
+  for (Index j = 0; j < points_; ++j) s.segment(n_ * j, n_) = scale_;
+  s(Dimension() - 1) = 1.0;
+  return s;
+}
+
+std::vector<std::string> InvariantCircleProblem::MeasureNames() const {
+  return {"rotation_number", "fourier_tail", "invariance_error"};
+}
+
+double InvariantCircleProblem::FourierTail(const Vector& u) const {
+  const Matrix c = Coefficients(u);
+  auto harmonic = [&](int k) {
+    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
+  };
+  double largest = 0.0;
+  for (int k = 1; k <= harmonics_; ++k) largest = std::max(largest, harmonic(k));
+  return harmonic(harmonics_) / std::max(largest, 1e-300);
+}
+
+Vector InvariantCircleProblem::Measures(const Vector& u, double lambda) {
+  Vector m(3);
+  m << RotationNumber(u), FourierTail(u), InvarianceError(u, lambda);
+  return m;
+}
+
+void InvariantCircleProblem::SetMaxFourierTail(double tail) {
+  if (!(tail > 0.0 && tail < 1.0)) {
+    throw std::invalid_argument(
+        fmt::format("InvariantCircleProblem: max Fourier tail = {}: must be in (0, 1)", tail));
+  }
+  max_tail_ = tail;
+}
+
+std::vector<std::string> InvariantCircleProblem::EventNames() const {
+  return {"circle breaks down (Fourier tail)"};
+}
+
+Vector InvariantCircleProblem::EventFunctions(const Vector& u, double /*lambda*/) {
+  // ≥ 0 while the tail stays below the limit; in decades, so that it crosses 0 at a moderate slope.
+  return Vector::Constant(1, std::log10(max_tail_) - std::log10(std::max(FourierTail(u), 1e-300)));
+}
+
+double InvariantCircleProblem::InvarianceError(const Vector& u, double lambda) {
+  const double period = PeriodAt(lambda);
+  const double rho = RotationNumber(u);
+  OdeIntegrator integrator(*system_, options_);
+  Vector end(n_);
+  double error = 0.0;
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * (static_cast<double>(j) + 0.5) / static_cast<double>(points_);
+    if (!integrator.Integrate(0.0, PointAt(u, theta), period, end).Succeeded()) {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    error = std::max(error, (end - PointAt(u, theta + kTwoPi * rho))
+                                .cwiseQuotient(scale_)
+                                .lpNorm<Eigen::Infinity>());
+  }
+  return error;
+}
+
+std::vector<double> InvariantCircleProblem::CircleMultipliers(const Vector& u, double lambda) {
+  const Integrated& data = Integrate(u, lambda, true);
+  if (!data.ok) return {};
+  const double rho = RotationNumber(u);
+  const Index size = n_ * points_;
+  Matrix E = Matrix::Zero(size, size), shifted = Matrix::Zero(size, size),
+         image = Matrix::Zero(size, size);
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const Vector at = Basis(theta), moved = Basis(theta + kTwoPi * rho);
+    for (Index m = 0; m < points_; ++m) {
+      E.block(n_ * j, n_ * m, n_, n_) = at(m) * Matrix::Identity(n_, n_);
+      shifted.block(n_ * j, n_ * m, n_, n_) = moved(m) * Matrix::Identity(n_, n_);
+    }
+  }
+  for (Index j = 0; j < points_; ++j) {
+    image.middleRows(n_ * j, n_) = data.stms[static_cast<size_t>(j)] * E.middleRows(n_ * j, n_);
+  }
+  const Matrix operator_ = shifted.partialPivLu().solve(image);
+  ComplexVector values;
+  if (!BalancedEigenvalues(operator_, values)) return {};
+  std::vector<double> moduli;
+  for (Index i = 0; i < values.size(); ++i) moduli.push_back(std::abs(values(i)));
+  std::sort(moduli.begin(), moduli.end(), std::greater<>());
+  return moduli;
+}
+
+InvariantCircleProblem::TorusStability InvariantCircleProblem::LyapunovStability(
+    const Vector& u, double lambda, int iterates) {
+  if (iterates < 1) {
+    throw std::invalid_argument(fmt::format("LyapunovStability: iterates = {}: must be ≥ 1", iterates));
+  }
+  TorusStability result;
+  const double period = PeriodAt(lambda);
+  OdeIntegrator integrator(*system_, options_);
+  // In scaled coordinates, so that the QR's orthogonality weighs the states alike.
+  const Matrix S = scale_.asDiagonal(), S_inverse = scale_.cwiseInverse().asDiagonal();
+  Vector x = PointAt(u, 0.0), end(n_);
+  Matrix Q = Matrix::Identity(n_, n_), stm;
+  Vector sums = Vector::Zero(n_);
+  for (int k = 0; k < iterates; ++k) {
+    if (!integrator.Integrate(0.0, x, period, end, &stm).Succeeded()) return result;
+    Eigen::HouseholderQR<Matrix> qr(S_inverse * stm * S * Q);
+    const Matrix R = qr.matrixQR().triangularView<Eigen::Upper>();
+    Q = qr.householderQ() * Matrix::Identity(n_, n_);
+    for (Index i = 0; i < n_; ++i) {
+      sums(i) += std::log(std::abs(R(i, i)));
+      if (R(i, i) < 0.0) Q.col(i) = -Q.col(i);
+    }
+    x = end;
+  }
+  result.exponents = sums / static_cast<double>(iterates);
+  std::sort(result.exponents.data(), result.exponents.data() + n_, std::greater<>());
+  result.exponents.cwiseAbs().minCoeff(&result.tangent);
+  result.tolerance = std::max(10.0 * std::abs(result.exponents(result.tangent)), 1e-6);
+  result.stable = true;
+  for (Index i = 0; i < n_; ++i) {
+    if (i != result.tangent && result.exponents(i) >= -result.tolerance) result.stable = false;
+  }
+  result.valid = true;
+  return result;
+}
+
+Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points) const {
+  const Index m = points.cols();
+  if (points.rows() != n_ || m < points_ + 1) {
+    throw std::invalid_argument(fmt::format(
+        "CircleFromOrbit: {} × {} points; need {} rows and at least {} columns", points.rows(), m,
+        n_, points_ + 1));
+  }
+  // Scaled, centred; the plane of the two leading principal directions.
+  const Vector centre = points.rowwise().mean();
+  Matrix scaled = (points.colwise() - centre).array().colwise() / scale_.array();
+  Eigen::JacobiSVD<Matrix> svd(scaled, Eigen::ComputeThinU);
+  const Matrix plane = svd.matrixU().leftCols(std::min<Index>(2, n_));
+  if (plane.cols() < 2) throw std::invalid_argument("CircleFromOrbit: the system has one state");
+  const Matrix projected = plane.transpose() * scaled;  // 2 × m
+  Vector theta(m);
+  for (Index k = 0; k < m; ++k) theta(k) = std::atan2(projected(1, k), projected(0, k));
+  // Mean advance per iterate in [0, 1) turns; the angles must advance steadily.
+  double advance = 0.0;
+  for (Index k = 1; k < m; ++k) {
+    double step = theta(k) - theta(k - 1);
+    step -= kTwoPi * std::floor(step / kTwoPi);
+    advance += step;
+  }
+  const double rho = advance / kTwoPi / static_cast<double>(m - 1);
+  Matrix A(m, points_);
+  for (Index k = 0; k < m; ++k) A.row(k) = Basis(theta(k)).transpose();
+  const Matrix c = A.colPivHouseholderQr().solve(points.transpose()).transpose();
+  // The fitted circle must pass through the points (else they are not one winding circle).
+  const double misfit =
+      ((c * A.transpose() - points).array().colwise() / scale_.array()).abs().maxCoeff();
+  const double size = scaled.cwiseAbs().maxCoeff();
+  if (!(misfit <= 0.1 * size)) {
+    throw std::invalid_argument(fmt::format(
+        "CircleFromOrbit: the points do not lie on one curve around their centroid (fit misfit "
+        "{:.3g} against their size {:.3g}): a locked orbit, or a torus that does not wind once "
+        "in its principal plane",
+        misfit, size));
+  }
+  return Pack(c, rho);
+}
+
+}  // namespace rubcont
