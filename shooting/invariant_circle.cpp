@@ -132,15 +132,25 @@ void InvariantCircleProblem::Residual(const Vector& u, double lambda, Vector& F)
   }
   const double rho = RotationNumber(u);
   const Matrix c = Coefficients(u);
-  double phase = 0.0, norm = 0.0;
+  const Matrix weights = PhaseWeights();
+  double phase = 0.0;
   for (Index j = 0; j < points_; ++j) {
     const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
     F.segment(n_ * j, n_) = data.ends.col(j) - c * Basis(theta + kTwoPi * rho);
-    const Vector d = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
-    phase += ((c - reference_) * Basis(theta)).cwiseQuotient(scale_).dot(d);
-    norm += d.squaredNorm();
+    phase += weights.col(j).dot((c - reference_) * Basis(theta));
   }
-  F(n_ * points_) = phase / std::sqrt(std::max(norm, 1e-300) * static_cast<double>(points_));
+  F(n_ * points_) = phase;
+}
+
+Matrix InvariantCircleProblem::PhaseWeights() const {
+  Matrix weights(n_, points_);
+  for (Index j = 0; j < points_; ++j) {
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    weights.col(j) = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
+  }
+  const double norm = std::sqrt(std::max(weights.squaredNorm(), 1e-300) * static_cast<double>(points_));
+  for (Index j = 0; j < points_; ++j) weights.col(j) = weights.col(j).cwiseQuotient(scale_) / norm;
+  return weights;
 }
 
 void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
@@ -154,14 +164,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
   const double rho = RotationNumber(u);
   const Matrix c = Coefficients(u);
   const Matrix identity = Matrix::Identity(n_, n_);
-  double norm = 0.0;
-  std::vector<Vector> d(static_cast<size_t>(points_));
-  for (Index j = 0; j < points_; ++j) {
-    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
-    d[static_cast<size_t>(j)] = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
-    norm += d[static_cast<size_t>(j)].squaredNorm();
-  }
-  const double phase_norm = std::sqrt(std::max(norm, 1e-300) * static_cast<double>(points_));
+  const Matrix weights = PhaseWeights();
   for (Index j = 0; j < points_; ++j) {
     const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
     const Vector at = Basis(theta);
@@ -169,8 +172,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
     const Matrix& M = data.stms[static_cast<size_t>(j)];
     for (Index m = 0; m < points_; ++m) {
       J.block(n_ * j, n_ * m, n_, n_) = at(m) * M - shifted(m) * identity;
-      J.block(n_ * points_, n_ * m, 1, n_) +=
-          at(m) * d[static_cast<size_t>(j)].cwiseQuotient(scale_).transpose() / phase_norm;
+      J.block(n_ * points_, n_ * m, 1, n_) += at(m) * weights.col(j).transpose();
     }
     J.block(n_ * j, dim - 1, n_, 1) = -kTwoPi * (c * BasisDerivative(theta + kTwoPi * rho));
   }

@@ -120,6 +120,9 @@ class InvariantCircleProblem : public Problem {
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;
   double FourierTail(const Vector& u) const;
+  // The phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩: w_j = u_ref′(θ_j) ./ scale² over the RMS of
+  // u_ref′ ./ scale (n × N).
+  Matrix PhaseWeights() const;
   const Integrated& Integrate(const Vector& u, double lambda, bool sensitivities);
   double PeriodAt(double lambda);
 

@@ -55,15 +55,23 @@ NewtonResult Solve(InvariantCircleProblem& problem, Vector& u, double lambda) {
 
 double Fraction(double x) { return x - std::floor(x); }
 
+// The clocked Stuart–Landau torus of the tests: λ = 0.5, ω = 1, γ = 0.3, T = 2π/√2.
+struct ClockedTorus {
+  StuartLandauParams params{0.5, 1.0, 0.3};
+  double period = 2.0 * M_PI / std::sqrt(2.0);
+  std::shared_ptr<ClockedStuartLandau> system = std::make_shared<ClockedStuartLandau>(params, period);
+  InvariantCircleProblem problem{system, 3, Tight()};
+  double Rho(double lambda) const {
+    return Fraction((params.omega - params.gamma * lambda) * period / (2 * M_PI));
+  }
+};
+
 TEST_CASE("invariant circle: the clocked Stuart-Landau torus, radius, rotation number, multipliers",
           "[torus]") {
-  StuartLandauParams params;
-  params.lambda = 0.5;
-  params.omega = 1.0;
-  params.gamma = 0.3;
-  const double period = 2.0 * M_PI / std::sqrt(2.0);
-  auto system = std::make_shared<ClockedStuartLandau>(params, period);
-  InvariantCircleProblem problem(system, 3, Tight());
+  ClockedTorus torus;
+  const StuartLandauParams& params = torus.params;
+  const double period = torus.period;
+  InvariantCircleProblem& problem = torus.problem;
   REQUIRE(problem.Dimension() == 2 * 7 + 1);
   // A wrong first circle: off-centre, elliptic, tilted, with a second harmonic; ρ off by 0.02.
   const double r = std::sqrt(params.lambda);
@@ -72,7 +80,7 @@ TEST_CASE("invariant circle: the clocked Stuart-Landau torus, radius, rotation n
   c.col(1) << 1.1 * r, 0.05;
   c.col(2) << 0.02, 0.9 * r;
   c.col(3) << 0.01, 0.0;
-  const double rho_exact = Fraction((params.omega - params.gamma * params.lambda) * period / (2 * M_PI));
+  const double rho_exact = torus.Rho(params.lambda);
   Vector u = problem.Pack(c, rho_exact + 0.02);
   const NewtonResult result = Solve(problem, u, params.lambda);
   INFO(result.BriefReport());
@@ -107,19 +115,14 @@ TEST_CASE("invariant circle: the clocked Stuart-Landau torus, radius, rotation n
 
 TEST_CASE("invariant circle: continued in the growth rate, the rotation number follows the shear",
           "[torus]") {
-  StuartLandauParams params;
-  params.lambda = 0.5;
-  params.omega = 1.0;
-  params.gamma = 0.3;
-  const double period = 2.0 * M_PI / std::sqrt(2.0);
-  auto system = std::make_shared<ClockedStuartLandau>(params, period);
-  InvariantCircleProblem problem(system, 3, Tight());
+  ClockedTorus torus;
+  const StuartLandauParams& params = torus.params;
+  InvariantCircleProblem& problem = torus.problem;
   const double r = std::sqrt(params.lambda);
   Matrix c = Matrix::Zero(2, 7);
   c.col(1) << r, 0.0;
   c.col(2) << 0.0, r;
-  const double rho0 = Fraction((params.omega - params.gamma * params.lambda) * period / (2 * M_PI));
-  Vector u = problem.Pack(c, rho0);
+  Vector u = problem.Pack(c, torus.Rho(params.lambda));
   problem.SetPhaseReference(u);
   ContinuationOptions options;
   options.bounds.lambda_min = 0.2;
@@ -131,8 +134,7 @@ TEST_CASE("invariant circle: continued in the growth rate, the rotation number f
   REQUIRE(branch.points.size() >= 5);
   CHECK(branch.status == BranchStatus::kReachedLambdaBound);
   for (const BranchPoint& p : branch.points) {
-    const double expected = Fraction((params.omega - params.gamma * p.lambda) * period / (2 * M_PI));
-    CHECK(std::abs(problem.RotationNumber(p.u) - expected) <= 1e-8);
+    CHECK(std::abs(problem.RotationNumber(p.u) - torus.Rho(p.lambda)) <= 1e-8);
     CHECK(std::abs(problem.PointAt(p.u, 1.0).norm() - std::sqrt(p.lambda)) <= 1e-8);
   }
 }
