@@ -3,9 +3,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdint>
-#include <exception>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <ostream>
 #include <stdexcept>
@@ -97,49 +95,11 @@ MapGridRow UnpackRow(Unpacker& u) {
   return row;
 }
 
-// The grid rows `indices`, shared out round-robin over `threads` threads of this process.
-std::vector<MapGridRow> GridInThreads(const TwoPointParams& params,
-                                      const HysteresisMapOptions& options,
-                                      const std::vector<Index>& indices, int threads,
-                                      const MapProgress& progress) {
-  if (threads <= 1 || indices.size() <= 1) return ComputeMapGrid(params, options, indices, progress);
-  const size_t n = std::min(static_cast<size_t>(threads), indices.size());
-  std::vector<std::vector<MapGridRow>> rows(n);
-  std::vector<std::exception_ptr> errors(n);
-  std::mutex mutex;
-  int done = 0;
-  const MapProgress counted = [&](const std::string& stage, int, int) {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (progress) progress(stage, ++done, static_cast<int>(indices.size()));
-  };
-  std::vector<std::thread> pool;
-  for (size_t t = 0; t < n; ++t) {
-    pool.emplace_back([&, t] {
-      std::vector<Index> share;
-      for (size_t j = t; j < indices.size(); j += n) share.push_back(indices[j]);
-      try {
-        rows[t] = ComputeMapGrid(params, options, share, counted);
-      } catch (...) {
-        errors[t] = std::current_exception();
-      }
-    });
-  }
-  for (std::thread& thread : pool) thread.join();
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
-  std::vector<MapGridRow> all;
-  for (std::vector<MapGridRow>& part : rows) {
-    for (MapGridRow& row : part) all.push_back(std::move(row));
-  }
-  return all;
-}
-
-// The map with its grid shared out over the ranks of an MPI run (size 1: this process alone) and
-// the threads of each: rank r computes the grid values i ≡ r (mod N), rank 0 gathers the rows and
-// computes the curves (not shared: they start from one branch set and are few). Empty on the
-// other ranks.
-std::optional<HysteresisMap> MapOnRanks(const Ranks& ranks, bool over_ranks, int threads,
+// The map with its grid shared out over the ranks of an MPI run (size 1: this process alone; the
+// threads of each: HysteresisMapOptions::threads): rank r computes the grid values i ≡ r (mod N),
+// rank 0 gathers the rows and computes the curves (not shared: they start from one branch set and
+// are few). Empty on the other ranks.
+std::optional<HysteresisMap> MapOnRanks(const Ranks& ranks, bool over_ranks,
                                         const TwoPointParams& params,
                                         const HysteresisMapOptions& options,
                                         const MapProgress& progress) {
@@ -148,7 +108,7 @@ std::optional<HysteresisMap> MapOnRanks(const Ranks& ranks, bool over_ranks, int
   const int size = over_ranks ? ranks.size() : 1;
   std::vector<Index> mine;
   for (Index i = rank; i < options.eta_points; i += size) mine.push_back(i);
-  std::vector<MapGridRow> rows = GridInThreads(params, options, mine, threads, progress);
+  std::vector<MapGridRow> rows = ComputeMapGrid(params, options, mine, progress);
   if (size > 1) {
     Packer packer;
     for (const MapGridRow& row : rows) Pack(packer, row);
@@ -359,11 +319,11 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                  total, SecondsSince(start));
       err.flush();
     };
-    const int threads = request.threads == 0
-                            ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                            : request.threads;
+    options.threads = request.threads == 0
+                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                          : request.threads;
     const std::optional<HysteresisMap> shared = MapOnRanks(
-        ranks, request.over_ranks && ranks.size() > 1, threads, scene.two_point, options, progress);
+        ranks, request.over_ranks && ranks.size() > 1, scene.two_point, options, progress);
     if (!shared) return kExitSuccess;  // a rank other than 0: rank 0 writes the map
     const HysteresisMap& map = *shared;
 

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
+#include <thread>
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -95,6 +98,7 @@ void Validate(const HysteresisMapOptions& o) {
   if (!(std::isfinite(o.eta_max) && o.eta_max > o.eta_min)) {
     fail("eta_max", o.eta_max, fmt::format("must be finite and exceed eta_min = {}", o.eta_min));
   }
+  if (o.threads < 1 || o.threads > 1024) fail("threads", o.threads, "must be in 1 … 1024");
   if (o.eta_points < 2) fail("eta_points", o.eta_points, "must be at least 2");
   if (o.speed_points < 2) fail("speed_points", o.speed_points, "must be at least 2");
   if (o.curve_max_steps < 1) fail("curve_max_steps", o.curve_max_steps, "must be at least 1");
@@ -265,18 +269,46 @@ std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
                                        const MapProgress& progress) {
   Validate(options);
   Validate(params);
-  const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
-  const Vector speeds = GridSpeeds(options);
-  std::vector<MapGridRow> rows;
   for (Index i : indices) {
     if (i < 0 || i >= options.eta_points) {
       throw std::invalid_argument(
           fmt::format("ComputeMapGrid: index {} outside the grid of {}", i, options.eta_points));
     }
-    rows.push_back(ComputeGridRow(params, options, branch_options, speeds, i));
-    if (progress) progress("grid", static_cast<int>(rows.size()), static_cast<int>(indices.size()));
   }
-  return rows;
+  const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
+  const Vector speeds = GridSpeeds(options);
+  // The rows shared out round-robin over the threads, each with its own branch sets.
+  const size_t threads = std::min<size_t>(static_cast<size_t>(options.threads), indices.size());
+  std::vector<std::vector<MapGridRow>> rows(std::max<size_t>(threads, 1));
+  std::vector<std::exception_ptr> errors(rows.size());
+  std::mutex mutex;
+  int done = 0;
+  auto work = [&](size_t t) {
+    try {
+      for (size_t j = t; j < indices.size(); j += rows.size()) {
+        rows[t].push_back(ComputeGridRow(params, options, branch_options, speeds, indices[j]));
+        std::lock_guard<std::mutex> lock(mutex);
+        if (progress) progress("grid", ++done, static_cast<int>(indices.size()));
+      }
+    } catch (...) {
+      errors[t] = std::current_exception();
+    }
+  };
+  if (rows.size() == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (size_t t = 0; t < rows.size(); ++t) pool.emplace_back(work, t);
+    for (std::thread& thread : pool) thread.join();
+  }
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  std::vector<MapGridRow> all;
+  for (std::vector<MapGridRow>& part : rows) {
+    for (MapGridRow& row : part) all.push_back(std::move(row));
+  }
+  return all;
 }
 
 HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,

@@ -48,6 +48,7 @@ struct HysteresisMapOptions {
   bool continue_curves = true;         // part 2 above
   int curve_max_steps = 1500;          // continuation steps per half curve (≥ 1)
   double curve_max_step = 0.2;         // largest arclength step on a curve (scaled, > 0)
+  int threads = 1;                     // grid values computed side by side (≥ 1)
 };
 
 // Throws std::invalid_argument naming the field, value and rule.
@@ -153,8 +154,8 @@ struct MapGridRow {
   int branches = 0;
 };
 
-// The rows of the grid values `indices` (each in 0 … eta_points − 1). Progress: ("grid", done,
-// indices.size()).
+// The rows of the grid values `indices` (each in 0 … eta_points − 1), over options.threads
+// threads. Progress: ("grid", done, indices.size()), from one thread at a time.
 std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
                                        const HysteresisMapOptions& options,
                                        const std::vector<Index>& indices,

@@ -257,6 +257,13 @@ TEST_CASE("a map's grid rows computed apart and assembled give the same map", "[
     CHECK(assembled.points[q].label == whole.points[q].label);
   }
   CHECK(assembled.grid_branches == whole.grid_branches);
+  // Over two threads: the same map.
+  HysteresisMapOptions threaded = options;
+  threaded.threads = 2;
+  const HysteresisMap two = ComputeHysteresisMap(ExactThesisA(), threaded);
+  CHECK(two.stable_count == whole.stable_count);
+  CHECK(two.points.size() == whole.points.size());
+  CHECK(two.patterns == whole.patterns);
   // Each grid value exactly once.
   std::vector<MapGridRow> missing(rows.begin(), rows.end() - 1);
   CHECK_THROWS_WITH(AssembleHysteresisMap(ExactThesisA(), options, missing, 0.0),
