@@ -245,7 +245,7 @@ PYBIND11_MODULE(_rubcont, m) {
   m.def("map",
         [](const std::string& scene_file, const std::string& out_file, const std::string& parameter,
            std::optional<double> eta_min, std::optional<double> eta_max, int eta_points,
-           int speed_points, py::object progress) {
+           int speed_points, int threads, py::object progress) {
           MapRequest request;
           request.scene_file = scene_file;
           request.out_file = out_file;
@@ -254,13 +254,16 @@ PYBIND11_MODULE(_rubcont, m) {
           request.eta_max = eta_max;
           request.eta_points = eta_points;
           request.speed_points = speed_points;
+          request.threads = threads;
+          request.figures = false;
           request.quiet = progress.is_none();
           return Call(progress, [&](std::ostream& out, std::ostream& err) {
             return MapCommand(request, out, err);
           });
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("parameter"), py::arg("eta_min"),
-        py::arg("eta_max"), py::arg("eta_points"), py::arg("speed_points"), py::arg("progress"));
+        py::arg("eta_max"), py::arg("eta_points"), py::arg("speed_points"), py::arg("threads"),
+        py::arg("progress"));
   m.def("fit",
         [](const std::string& scene_file, const std::string& out_file,
            const std::string& targets_file, py::object progress) {

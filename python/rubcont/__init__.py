@@ -273,13 +273,14 @@ def sweep(scene=None, direction="both", out=None, progress=None, resume=False, f
 
 
 def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_points=481,
-        out=None, progress=None):
-    """The hysteresis map in (running speed, `parameter`), as ``rubcont map`` (``/maps``)."""
+        threads=1, out=None, progress=None):
+    """The hysteresis map in (running speed, `parameter`), as ``rubcont map`` (``/maps``); its
+    grid over `threads` threads (0: one per core)."""
     eta_min, eta_max = eta_range if eta_range is not None else (None, None)
 
     def call(scene_file, file):
         return _rubcont.map(scene_file, file, parameter, eta_min, eta_max, eta_points,
-                            speed_points, progress), file
+                            speed_points, threads, progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "map.h5"), call)
 

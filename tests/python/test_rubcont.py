@@ -137,7 +137,7 @@ def test_the_gil_is_released_while_a_stage_runs():
 def test_a_numerical_failure_is_a_status_not_an_exception():
     tanh = os.path.join(ROOT, "scenes", "thesis_A_a_tanh.toml")
     result = rubcont.map(tanh, parameter="friction", eta_range=(0.45, 0.55), eta_points=3,
-                         speed_points=41)
+                         speed_points=41, threads=2)
     assert result.status == "failure" and result.exit_code == 1
     assert any("could not be corrected" in failure for failure in result.failures)
     assert result["maps/friction/eta"].tolist() == [0.45, 0.5, 0.55]
