@@ -23,4 +23,9 @@ cmake --build build-asan --parallel "$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" \
-  -E "installed package" "$@"
+  -E "installed package|over MPI ranks" "$@"
+# Under mpirun, LeakSanitizer reports Open MPI's own allocations at exit (121 kB in about 3350
+# blocks per process, 2026-11-27, most in its plugins, unloaded by MPI_Finalize so that their
+# frames have no symbols to suppress by): leaks are not checked there, memory errors are.
+ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 ctest --test-dir build-asan --output-on-failure \
+  -R "over MPI ranks" "$@"
