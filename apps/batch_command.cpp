@@ -435,13 +435,20 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
         fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(), i + 1,
                    jobs.jobs.size(), job.name, job.command, job.scene.value_or("default scene"));
       }
-      const Outcome o = RunJob(job, jobs.out, ranks.rank());
-      fs::remove(ClaimFile(jobs.out, job));  // after the outcome: the job is done
-      ++run_here;
-      if (!request.quiet) {
-        fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(), job.name,
-                   o.status, o.wall_seconds);
+      // A job that cannot write its log or outcome fails alone: the rank goes on, so that every
+      // rank reaches the gather below; the summary lists the job as not finished.
+      try {
+        const Outcome o = RunJob(job, jobs.out, ranks.rank());
+        fs::remove(ClaimFile(jobs.out, job));  // after the outcome: the job is done
+        if (!request.quiet) {
+          fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(),
+                     job.name, o.status, o.wall_seconds);
+        }
+      } catch (const std::exception& e) {
+        fmt::print(err, "rubcont: [batch] rank {}: {}: no outcome written: {}\n", ranks.rank(),
+                   job.name, e.what());
       }
+      ++run_here;
     }
     const std::vector<std::string> counts = ranks.GatherToRoot(std::to_string(run_here));
     if (ranks.rank() != 0) return kExitSuccess;

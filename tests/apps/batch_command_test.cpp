@@ -140,5 +140,21 @@ TEST_CASE("batch: a job's numerical failure is reported and the others are kept"
   CHECK_THAT(again.out, Contains("1 run now"));
 }
 
+TEST_CASE("batch: a job whose outcome cannot be written fails alone, the rank goes on", "[batch]") {
+  // Under mpirun the rank must reach the final gather whatever happens to one job.
+  TempDir dir;
+  fs::create_directories(dir.path / "out" / "first.outcome.tmp");  // the outcome's temporary name
+  const Ran ran = Batch(dir.path,
+                        "[[job]]\nname = \"first\"\ncommand = \"analytic\"\n"
+                        "scene = \"scenes/thesis_A_a.toml\"\n"
+                        "[[job]]\nname = \"second\"\ncommand = \"analytic\"\n"
+                        "scene = \"scenes/thesis_A_a.toml\"\n");
+  INFO(ran.out << ran.err);
+  CHECK(ran.exit_code == kExitFailure);
+  CHECK_THAT(ran.out, Contains("first                            analytic  not finished"));
+  CHECK_THAT(ran.out, Contains("second                           analytic  success"));
+  CHECK_THAT(ran.out, Contains("1 done, 1 failed or not finished"));
+}
+
 }  // namespace
 }  // namespace rubcont
