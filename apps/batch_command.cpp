@@ -3,15 +3,14 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdint>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -23,6 +22,7 @@
 #include "apps/guarded.h"
 #include "apps/map_command.h"
 #include "apps/ranks.h"
+#include "solvers/stopwatch.h"
 
 namespace rubcont {
 namespace {
@@ -293,6 +293,7 @@ bool Done(const Outcome& o) {
 
 fs::path OutcomeFile(const fs::path& out, const Job& job) { return out / (job.name + ".outcome"); }
 fs::path ClaimFile(const fs::path& out, const Job& job) { return out / (job.name + ".claim"); }
+bool JobDone(const fs::path& out, const Job& job) { return Done(ReadOutcome(OutcomeFile(out, job))); }
 
 // Takes the job for this rank: false when another rank has.
 bool Claim(const fs::path& file) {
@@ -305,8 +306,8 @@ bool Claim(const fs::path& file) {
 // Runs one job through its command; its stdout and stderr go to the log.
 Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   std::ostringstream log;
-  const auto start = std::chrono::steady_clock::now();
-  const std::clock_t cpu_start = std::clock();
+  const SteadyClock::time_point start = SteadyClock::now();
+  const double cpu_start = ProcessCpuSeconds();
   int code = kExitFailure;
   fs::path result = ResultOf(job, out);
   fs::create_directories(result.parent_path());
@@ -368,8 +369,8 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   o.exit_code = code;
   o.status = code == kExitSuccess ? "success" : code == kExitFailure ? "failure" : "bad input";
   o.rank = rank;
-  o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  o.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  o.wall_seconds = SecondsSince(start);
+  o.cpu_seconds = CpuSecondsSince(cpu_start);
   o.result = result.string();
   WriteAtomically(out / (job.name + ".log"), log.str());
   WriteAtomically(OutcomeFile(out, job),
@@ -381,7 +382,9 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   return o;
 }
 
-std::string Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed, int run_here) {
+// The summary's text, and how many jobs failed or did not finish.
+std::pair<std::string, int> Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed,
+                                    int run_here) {
   std::string text = fmt::format("batch of {} jobs into {} ({}; {} run now, the rest done before)\n",
                                  jobs.jobs.size(), jobs.out.string(), ranks.Describe(), run_here);
   int done = 0, failed = 0;
@@ -404,7 +407,7 @@ std::string Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed, in
   text += fmt::format("{} done, {} failed or not finished; jobs' wall time {:.1f} s, this run {:.1f} s "
                       "on {} rank(s)\n",
                       done, failed, job_seconds, elapsed, ranks.size());
-  return text;
+  return {text, failed};
 }
 
 }  // namespace
@@ -412,22 +415,22 @@ std::string Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed, in
 int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& err) {
   const Ranks& ranks = Ranks::World();
   return Guarded(err, [&] {
-    const auto start = std::chrono::steady_clock::now();
+    const SteadyClock::time_point start = SteadyClock::now();
     const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
     fs::create_directories(jobs.out);
     // Rank 0 forgets the claims of jobs that are not done (a rank that stopped, an earlier run).
     if (ranks.rank() == 0) {
       for (const Job& job : jobs.jobs) {
-        if (!Done(ReadOutcome(OutcomeFile(jobs.out, job)))) fs::remove(ClaimFile(jobs.out, job));
+        if (!JobDone(jobs.out, job)) fs::remove(ClaimFile(jobs.out, job));
       }
     }
     ranks.Barrier();
     int run_here = 0;
     for (size_t i = 0; i < jobs.jobs.size(); ++i) {
       const Job& job = jobs.jobs[i];
-      if (Done(ReadOutcome(OutcomeFile(jobs.out, job))) || !Claim(ClaimFile(jobs.out, job))) continue;
+      if (JobDone(jobs.out, job) || !Claim(ClaimFile(jobs.out, job))) continue;
       // Another rank may have finished it (and let go of its claim) since the check above.
-      if (Done(ReadOutcome(OutcomeFile(jobs.out, job)))) {
+      if (JobDone(jobs.out, job)) {
         fs::remove(ClaimFile(jobs.out, job));
         continue;
       }
@@ -454,17 +457,10 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
     if (ranks.rank() != 0) return kExitSuccess;
     int total_run = 0;
     for (const std::string& c : counts) total_run += std::stoi(c);
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::string summary = Summary(jobs, ranks, elapsed, total_run);
+    const auto [summary, failed] = Summary(jobs, ranks, SecondsSince(start), total_run);
     WriteAtomically(jobs.out / "summary.txt", summary);
     out << summary;
-    bool all_ok = true;
-    for (const Job& job : jobs.jobs) {
-      const Outcome o = ReadOutcome(OutcomeFile(jobs.out, job));
-      all_ok = all_ok && o.exit_code == kExitSuccess && Done(o);
-    }
-    return all_ok ? kExitSuccess : kExitFailure;
+    return failed == 0 ? kExitSuccess : kExitFailure;
   });
 }
 

@@ -37,6 +37,10 @@ InvariantCircleProblem::InvariantCircleProblem(std::shared_ptr<OdeSystem> system
   reference_ = Matrix::Zero(n_, points_);
 }
 
+double InvariantCircleProblem::Node(Index j) const {
+  return kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+}
+
 Vector InvariantCircleProblem::Basis(double theta) const {
   Vector b(points_);
   b(0) = 1.0;
@@ -110,7 +114,7 @@ const InvariantCircleProblem::Integrated& InvariantCircleProblem::Integrate(cons
   }
   Vector end(n_), dxdp(n_);
   for (Index j = 0; j < points_; ++j) {
-    const Vector start = PointAt(u, kTwoPi * static_cast<double>(j) / static_cast<double>(points_));
+    const Vector start = PointAt(u, Node(j));
     const IntegrationResult result =
         sensitivities ? integrator.Integrate(0.0, start, period, end,
                                              &cached_.stms[static_cast<size_t>(j)], &dxdp)
@@ -135,7 +139,7 @@ void InvariantCircleProblem::Residual(const Vector& u, double lambda, Vector& F)
   const Matrix weights = PhaseWeights();
   double phase = 0.0;
   for (Index j = 0; j < points_; ++j) {
-    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const double theta = Node(j);
     F.segment(n_ * j, n_) = data.ends.col(j) - c * Basis(theta + kTwoPi * rho);
     phase += weights.col(j).dot((c - reference_) * Basis(theta));
   }
@@ -145,7 +149,7 @@ void InvariantCircleProblem::Residual(const Vector& u, double lambda, Vector& F)
 Matrix InvariantCircleProblem::PhaseWeights() const {
   Matrix weights(n_, points_);
   for (Index j = 0; j < points_; ++j) {
-    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const double theta = Node(j);
     weights.col(j) = (reference_ * BasisDerivative(theta)).cwiseQuotient(scale_);
   }
   const double norm = std::sqrt(std::max(weights.squaredNorm(), 1e-300) * static_cast<double>(points_));
@@ -166,7 +170,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
   const Matrix identity = Matrix::Identity(n_, n_);
   const Matrix weights = PhaseWeights();
   for (Index j = 0; j < points_; ++j) {
-    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const double theta = Node(j);
     const Vector at = Basis(theta);
     const Vector shifted = Basis(theta + kTwoPi * rho);
     const Matrix& M = data.stms[static_cast<size_t>(j)];
@@ -280,7 +284,7 @@ std::vector<double> InvariantCircleProblem::CircleMultipliers(const Vector& u, d
   Matrix E = Matrix::Zero(size, size), shifted = Matrix::Zero(size, size),
          image = Matrix::Zero(size, size);
   for (Index j = 0; j < points_; ++j) {
-    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points_);
+    const double theta = Node(j);
     const Vector at = Basis(theta), moved = Basis(theta + kTwoPi * rho);
     for (Index m = 0; m < points_; ++m) {
       E.block(n_ * j, n_ * m, n_, n_) = at(m) * Matrix::Identity(n_, n_);

@@ -116,6 +116,8 @@ class InvariantCircleProblem : public Problem {
     std::vector<Matrix> stms;     // M_j (with sensitivities)
     Matrix dpdp;                  // n × N: ∂P/∂λ (with sensitivities)
   };
+  // The collocation point θ_j = 2πj/N.
+  double Node(Index j) const;
   // Basis row [1, cos θ, sin θ, …, cos Kθ, sin Kθ] and its θ-derivative.
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;

@@ -194,19 +194,23 @@ RotatingWaveBranchOptions MapBranchOptions(const TwoPointParams& params,
   return branch_options;
 }
 
+Vector GridEtas(const HysteresisMapOptions& options) {
+  return Vector::LinSpaced(options.eta_points, options.eta_min, options.eta_max);
+}
+
 Vector GridSpeeds(const HysteresisMapOptions& options) {
   return Vector::LinSpaced(options.speed_points, options.branches.search.speed_min,
                            options.branches.search.speed_max);
 }
 
 MapGridRow ComputeGridRow(const TwoPointParams& params, const HysteresisMapOptions& options,
-                          const RotatingWaveBranchOptions& branch_options, const Vector& speeds,
-                          Index i) {
+                          const RotatingWaveBranchOptions& branch_options, const Vector& etas,
+                          const Vector& speeds, Index i) {
   const Index k = speeds.size();
   MapGridRow row;
   row.index = i;
   row.stable_count.assign(static_cast<size_t>(k), 0);
-  const double eta = Vector::LinSpaced(options.eta_points, options.eta_min, options.eta_max)(i);
+  const double eta = etas(i);
   try {
     const TwoPointParams p = WithoutImbalance(WithDesignParameter(params, options.parameter, eta));
     const std::vector<RotatingWaveBranch> branches =
@@ -276,7 +280,7 @@ std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
     }
   }
   const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
-  const Vector speeds = GridSpeeds(options);
+  const Vector etas = GridEtas(options), speeds = GridSpeeds(options);
   // The rows shared out round-robin over the threads, each with its own branch sets.
   const size_t threads = std::min<size_t>(static_cast<size_t>(options.threads), indices.size());
   std::vector<std::vector<MapGridRow>> rows(std::max<size_t>(threads, 1));
@@ -286,7 +290,7 @@ std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
   auto work = [&](size_t t) {
     try {
       for (size_t j = t; j < indices.size(); j += rows.size()) {
-        rows[t].push_back(ComputeGridRow(params, options, branch_options, speeds, indices[j]));
+        rows[t].push_back(ComputeGridRow(params, options, branch_options, etas, speeds, indices[j]));
         std::lock_guard<std::mutex> lock(mutex);
         if (progress) progress("grid", ++done, static_cast<int>(indices.size()));
       }
@@ -336,7 +340,7 @@ HysteresisMap AssembleHysteresisMap(const TwoPointParams& params,
   const FrictionLawKind law = params.friction_law.kind;
   const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
   const Index m = options.eta_points, k = options.speed_points;
-  map.eta = Vector::LinSpaced(m, options.eta_min, options.eta_max);
+  map.eta = GridEtas(options);
   map.speed = GridSpeeds(options);
   map.stable_count = Eigen::MatrixXi::Zero(m, k);
 
