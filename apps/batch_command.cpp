@@ -362,6 +362,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
     r.targets_file = job.targets;
     r.out_file = result.string();
     r.quiet = true;
+    r.over_ranks = false;  // the other ranks run other jobs
     code = FitCommand(r, log, log);
   }
   Outcome o;

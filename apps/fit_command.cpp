@@ -1,6 +1,7 @@
 #include "apps/fit_command.h"
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -15,8 +16,10 @@
 #include "apps/commands.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
+#include "apps/ranks.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "solvers/parallel.h"
 #include "studies/identification.h"
 
 namespace rubcont {
@@ -233,18 +236,23 @@ class TargetsReader {
       Problem(*node, "fit", Text(*node), "must be a table [fit]");
       return;
     }
-    OnlyKeys(*t, "fit", {"global", "global_evaluations", "local_evaluations", "residual_tolerance"});
+    OnlyKeys(*t, "fit", {"global", "global_evaluations", "local_evaluations", "local_starts",
+                         "residual_tolerance"});
     if (const auto global = String(*t, "global", "fit.global", false)) {
       if (*global == "direct_l") {
         spec.options.global = GlobalMethod::kDirectL;
       } else if (*global == "crs2") {
         spec.options.global = GlobalMethod::kCrs2;
+      } else if (*global == "multistart") {
+        spec.options.global = GlobalMethod::kMultiStart;
       } else {
-        Problem(*t->get("global"), "fit.global", "\"" + *global + "\"", "must be direct_l or crs2");
+        Problem(*t->get("global"), "fit.global", "\"" + *global + "\"",
+                "must be direct_l, crs2 or multistart");
       }
     }
     for (const auto& [key, field] : {std::pair{"global_evaluations", &spec.options.global_evaluations},
-                                     std::pair{"local_evaluations", &spec.options.local_evaluations}}) {
+                                     std::pair{"local_evaluations", &spec.options.local_evaluations},
+                                     std::pair{"local_starts", &spec.options.local_starts}}) {
       const toml::node* n = t->get(key);
       if (!n) continue;
       const std::optional<int64_t> v = n->value_exact<int64_t>();
@@ -284,6 +292,44 @@ FitSpec LoadTargets(const std::string& file) {
   return TargetsReader(file).Read(root);
 }
 
+// The fit's batches shared out over the ranks — job i on rank i mod N, over `threads` threads
+// there — and gathered at every rank, so that every rank goes on with the same values. A job that
+// throws on one rank is rethrown on every rank.
+BatchRunner RankBatchRunner(const Ranks& ranks, int threads) {
+  return [&ranks, threads](int n, const std::function<std::vector<double>(int)>& job) {
+    std::vector<int> mine;
+    for (int i = ranks.rank(); i < n; i += ranks.size()) mine.push_back(i);
+    std::vector<std::vector<double>> values(mine.size());
+    std::string error;
+    try {
+      ParallelFor(static_cast<int>(mine.size()), threads,
+                  [&](int j) { values[static_cast<size_t>(j)] = job(mine[static_cast<size_t>(j)]); });
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    Packer packer;
+    packer.Put(error);
+    for (size_t j = 0; error.empty() && j < mine.size(); ++j) {
+      packer.Put(static_cast<int32_t>(mine[j]));
+      packer.Put(static_cast<uint64_t>(values[j].size()));
+      for (double v : values[j]) packer.Put(v);
+    }
+    const std::vector<std::string> parts = ranks.AllGather(packer.str());
+    std::vector<std::vector<double>> results(static_cast<size_t>(n));
+    for (size_t r = 0; r < parts.size(); ++r) {
+      Unpacker unpacker(parts[r]);
+      const std::string failed = unpacker.GetString();
+      if (!failed.empty()) throw std::runtime_error(fmt::format("rank {}: {}", r, failed));
+      while (!unpacker.done()) {
+        std::vector<double>& v = results.at(static_cast<size_t>(unpacker.Get<int32_t>()));
+        v.resize(static_cast<size_t>(unpacker.Get<uint64_t>()));
+        for (double& x : v) x = unpacker.Get<double>();
+      }
+    }
+    return results;
+  };
+}
+
 }  // namespace
 
 int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) {
@@ -293,17 +339,40 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     FitSpec spec = LoadTargets(request.targets_file);
     spec.options.branches = BranchOptionsOf(scene);
 
+    if (request.threads < 0 || request.threads > 1024) {
+      throw std::invalid_argument(fmt::format("--threads = {}: must be in 0 … 1024", request.threads));
+    }
+    const Ranks& ranks = Ranks::World();
+    const bool shared = request.over_ranks && ranks.size() > 1;
+    const bool root = !shared || ranks.rank() == 0;
+    const int threads = ThreadsFor(request.threads);
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "fit.h5";
-    std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-    if (!request.quiet) {
-      fmt::print(err, "rubcont: [fit] {} parameters, {} targets, {} + {} evaluations of a branch set ...\n",
+    if (root) std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    const bool talk = root && !request.quiet;
+    if (talk) {
+      fmt::print(err, "rubcont: [fit] {} parameters, {} targets, {} + {} evaluations of a branch set "
+                 "({}; {} thread(s){}) ...\n",
                  spec.parameters.size(), spec.targets.size(), spec.options.global_evaluations,
-                 spec.options.local_evaluations);
+                 spec.options.local_evaluations, ToString(spec.options.global), threads,
+                 shared ? fmt::format(" on each of {} ranks", ranks.size()) : "");
+      if (shared && spec.options.global != GlobalMethod::kMultiStart) {
+        fmt::print(err, "rubcont: [fit] {} chooses one evaluation at a time: its global stage runs "
+                   "on every rank alike, only the sensitivities are shared (global = \"multistart\" "
+                   "shares the population)\n", ToString(spec.options.global));
+      }
       err.flush();
     }
-    const IdentificationResult r = Identify(scene.two_point, spec.targets, spec.parameters, spec.options);
+    const IdentificationResult r = Identify(
+        scene.two_point, spec.targets, spec.parameters, spec.options,
+        shared ? RankBatchRunner(ranks, threads) : ThreadBatchRunner(threads),
+        [&](const std::string& line) {
+          if (!talk) return;
+          fmt::print(err, "rubcont: [fit] {}\n", line);
+          err.flush();
+        });
+    if (!root) return r.Fitted() ? kExitSuccess : kExitFailure;
 
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
@@ -316,6 +385,8 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     writer.SetAttribute("/fit", "global_objective", r.global_objective);
     writer.SetAttribute("/fit", "evaluations",
                         static_cast<double>(r.global_evaluations + r.local_evaluations));
+    writer.SetAttribute("/fit", "global_method", ToString(spec.options.global));
+    writer.SetAttribute("/fit", "local_runs", static_cast<double>(r.local_runs));
     writer.SetAttribute("/fit", "seconds", r.seconds);
     std::vector<std::string> names, target_names;
     std::vector<double> lower, upper, target_values, scales;

@@ -107,6 +107,9 @@ int main(int argc, char** argv) {
       ->required();
   fit->add_option("--out", fit_request.out_file, "HDF5 file; default results/<scene>/fit.h5");
   fit->add_flag("-q,--quiet", fit_request.quiet, "no progress on stderr");
+  fit->add_option("--threads", fit_request.threads,
+                  "threads for the batches of evaluations (0: one per core); under mpirun they are "
+                  "also shared over the ranks")->capture_default_str();
 
   rubcont::BatchRequest batch_request;
   CLI::App* batch = app.add_subcommand(

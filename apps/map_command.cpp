@@ -7,7 +7,6 @@
 #include <optional>
 #include <ostream>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -22,6 +21,7 @@
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "models/units.h"
+#include "solvers/parallel.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
@@ -319,9 +319,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                  total, SecondsSince(start));
       err.flush();
     };
-    options.threads = request.threads == 0
-                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                          : request.threads;
+    options.threads = ThreadsFor(request.threads);
     const std::optional<HysteresisMap> shared = MapOnRanks(
         ranks, request.over_ranks && ranks.size() > 1, scene.two_point, options, progress);
     if (!shared) return kExitSuccess;  // a rank other than 0: rank 0 writes the map

@@ -69,21 +69,39 @@ void Ranks::Barrier() const {
 }
 
 std::vector<std::string> Ranks::GatherToRoot(const std::string& mine) const {
+  return Gather(mine, false);
+}
+
+std::vector<std::string> Ranks::AllGather(const std::string& mine) const {
+  return Gather(mine, true);
+}
+
+std::vector<std::string> Ranks::Gather(const std::string& mine, bool everywhere) const {
   if (!mpi_) return {mine};
 #ifdef RUBCONT_MPI
   const int length = static_cast<int>(mine.size());
   std::vector<int> lengths(static_cast<size_t>(size_));
-  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (everywhere) {
+    MPI_Allgather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  } else {
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  }
   std::vector<int> offsets(static_cast<size_t>(size_), 0);
   int total = 0;
   for (int r = 0; r < size_; ++r) {
     offsets[static_cast<size_t>(r)] = total;
     total += lengths[static_cast<size_t>(r)];
   }
-  std::string all(rank_ == 0 ? static_cast<size_t>(total) : 0, '\0');
-  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
-              0, MPI_COMM_WORLD);
-  if (rank_ != 0) return {};
+  const bool receives = everywhere || rank_ == 0;
+  std::string all(receives ? static_cast<size_t>(total) : 0, '\0');
+  if (everywhere) {
+    MPI_Allgatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(),
+                   MPI_CHAR, MPI_COMM_WORLD);
+  } else {
+    MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
+                0, MPI_COMM_WORLD);
+  }
+  if (!receives) return {};
   std::vector<std::string> parts;
   for (int r = 0; r < size_; ++r) {
     parts.push_back(all.substr(static_cast<size_t>(offsets[static_cast<size_t>(r)]),

@@ -65,6 +65,8 @@ class Ranks {
   void Barrier() const;
   // Every rank's `mine`, in rank order, at rank 0; the other ranks get an empty vector.
   std::vector<std::string> GatherToRoot(const std::string& mine) const;
+  // Every rank's `mine`, in rank order, at every rank.
+  std::vector<std::string> AllGather(const std::string& mine) const;
 
   Ranks(const Ranks&) = delete;
   Ranks& operator=(const Ranks&) = delete;
@@ -72,6 +74,8 @@ class Ranks {
 
  private:
   Ranks();
+  // MPI_Gatherv (root 0) or MPI_Allgatherv of the strings, split back per rank where received.
+  std::vector<std::string> Gather(const std::string& mine, bool everywhere) const;
   int rank_ = 0;
   int size_ = 1;
   bool mpi_ = false;

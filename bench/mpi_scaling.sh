@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Scaling of the work that multiplies runs, on this machine, in one run: the default scene's
 # friction map (41 grid values, as results/design/map_friction) in one process, with 2 threads,
-# and over 1 and 2 MPI ranks; and a batch of sweeps (the nine thesis scenes, speed-up over
+# and over 1 and 2 MPI ranks; the hidden-parameter fit (scenes/fits/default_hidden.toml, with
+# global = "multistart": 120 population points, 4 refinements) likewise, beside the same fit by
+# DIRECT-L in one process; and a batch of sweeps (the nine thesis scenes, speed-up over
 # 40–72 rpm, 4 rpm steps: short enough to repeat) over 1 and 2 ranks. Each configuration REPEATS
 # times in turn (so that the machine's drift falls on all alike); medians of wall time, speed-ups
 # against one process. Usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS] > results/bench/mpi_scaling.txt
@@ -31,6 +33,23 @@ for ((r = 0; r < repeats; r++)); do
   runs[map_ranks1]+="$(map_seconds mpirun -n 1 "$rubcont" "${map[@]}" --out "$work/m.h5") "
   runs[map_ranks2]+="$(map_seconds mpirun -n 2 "$rubcont" "${map[@]}" --out "$work/m.h5") "
 done
+
+# The fit: its own seconds (its summary line), then the command's wall seconds.
+fit_seconds() {
+  local wall
+  wall=$( { /usr/bin/time -f "wall %e" "$@" > "$work/fit.txt"; } 2>&1 | awk '/^wall/ { print $2 }')
+  echo "$(grep -o 'evaluations ([0-9.]* s)' "$work/fit.txt" | tr -d '()' | awk '{ print $2 }'):$wall"
+}
+sed 's/^global = .*/global = "multistart"/' scenes/fits/default_hidden.toml > "$work/multistart.toml"
+fit=(fit scenes/default.toml --targets "$work/multistart.toml" --quiet --out "$work/f.h5")
+for ((r = 0; r < repeats; r++)); do
+  runs[fit_direct]+="$(fit_seconds "$rubcont" fit scenes/default.toml --targets scenes/fits/default_hidden.toml --quiet --out "$work/f.h5") "
+  runs[fit_one]+="$(fit_seconds "$rubcont" "${fit[@]}") "
+  runs[fit_threads2]+="$(fit_seconds "$rubcont" "${fit[@]}" --threads 2) "
+  runs[fit_ranks1]+="$(fit_seconds mpirun -n 1 "$rubcont" "${fit[@]}") "
+  runs[fit_ranks2]+="$(fit_seconds mpirun -n 2 "$rubcont" "${fit[@]}") "
+done
+fit_evaluations=$(grep -o 'in [0-9]* + [0-9]* evaluations' "$work/fit.txt")
 
 # The sweep batch: scene copies with a short speed-up range.
 jobs="$work/sweeps.toml"
@@ -63,6 +82,14 @@ for key in map_one map_threads2 map_ranks1 map_ranks2; do
   printf '  %-14s grid %6.2f s  command %6.2f s   (runs grid:command %s)\n' "$key" "$g" "$w" "${runs[$key]% }"
   declare "grid_$key=$g" "wall_$key=$w"
 done
+echo "  fit: the fit itself / the whole command, wall seconds (direct_l: one process, the fit as committed;"
+echo "  the others multistart, $fit_evaluations)"
+for key in fit_direct fit_one fit_threads2 fit_ranks1 fit_ranks2; do
+  g=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f1 | median)
+  w=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f2 | median)
+  printf '  %-14s fit  %6.2f s  command %6.2f s   (runs fit:command %s)\n' "$key" "$g" "$w" "${runs[$key]% }"
+  declare "fit_$key=$g" "wall_$key=$w"
+done
 for key in batch_ranks1 batch_ranks2; do
   m=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | median)
   printf '  %-14s %8.2f s   (runs: %s)\n' "$key" "$m" "${runs[$key]% }"
@@ -70,8 +97,11 @@ for key in batch_ranks1 batch_ranks2; do
 done
 awk -v g1="$grid_map_one" -v gt="$grid_map_threads2" -v gr2="$grid_map_ranks2" \
     -v w1="$wall_map_one" -v wt="$wall_map_threads2" -v wr1="$wall_map_ranks1" -v wr2="$wall_map_ranks2" \
-    -v b1="$wall_batch_ranks1" -v b2="$wall_batch_ranks2" -v jobs="$job_seconds" -v n="${#scenes[@]}" 'BEGIN {
+    -v b1="$wall_batch_ranks1" -v b2="$wall_batch_ranks2" -v jobs="$job_seconds" -v n="${#scenes[@]}" \
+    -v fd="$fit_fit_direct" -v f1="$fit_fit_one" -v ft="$fit_fit_threads2" -v fr2="$fit_fit_ranks2" \
+    -v fw1="$wall_fit_one" -v fwr1="$wall_fit_ranks1" -v fwr2="$wall_fit_ranks2" 'BEGIN {
   printf "map grid: 2 threads %.2f×, 2 ranks %.2f× against one process\n", g1 / gt, g1 / gr2
   printf "map command: 2 threads %.2f×, 2 ranks %.2f×, 1 rank %.2f× (MPI start-up %.2f s)\n", w1 / wt, w1 / wr2, w1 / wr1, wr1 - w1
+  printf "fit (multistart): 2 threads %.2f×, 2 ranks %.2f× against one process; whole command 2 ranks %.2f× against 1 rank; against direct_l in one process: %.2f× alone, %.2f× on 2 threads\n", f1 / ft, f1 / fr2, fwr1 / fwr2, fd / f1, fd / ft
   printf "sweep batch (%d jobs, %.1f s of job wall time in the last 2-rank run): 2 ranks %.2f× against 1 rank\n", n, jobs, b1 / b2
 }'

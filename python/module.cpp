@@ -266,15 +266,17 @@ PYBIND11_MODULE(_rubcont, m) {
         py::arg("progress"));
   m.def("fit",
         [](const std::string& scene_file, const std::string& out_file,
-           const std::string& targets_file, py::object progress) {
+           const std::string& targets_file, int threads, py::object progress) {
           FitRequest request;
           request.scene_file = scene_file;
           request.out_file = out_file;
           request.targets_file = targets_file;
+          request.threads = threads;
           request.quiet = progress.is_none();
           return Call(progress, [&](std::ostream& out, std::ostream& err) {
             return FitCommand(request, out, err);
           });
         },
-        py::arg("scene_file"), py::arg("out_file"), py::arg("targets_file"), py::arg("progress"));
+        py::arg("scene_file"), py::arg("out_file"), py::arg("targets_file"), py::arg("threads"),
+        py::arg("progress"));
 }

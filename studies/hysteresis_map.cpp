@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <mutex>
 #include <numeric>
 #include <stdexcept>
-#include <thread>
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -17,6 +15,7 @@
 #include "continuation/hopf.h"
 #include "models/rub_model.h"
 #include "models/units.h"
+#include "solvers/parallel.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
@@ -281,38 +280,15 @@ std::vector<MapGridRow> ComputeMapGrid(const TwoPointParams& params,
   }
   const RotatingWaveBranchOptions branch_options = MapBranchOptions(params, options);
   const Vector etas = GridEtas(options), speeds = GridSpeeds(options);
-  // The rows shared out round-robin over the threads, each with its own branch sets.
-  const size_t threads = std::min<size_t>(static_cast<size_t>(options.threads), indices.size());
-  std::vector<std::vector<MapGridRow>> rows(std::max<size_t>(threads, 1));
-  std::vector<std::exception_ptr> errors(rows.size());
-  std::mutex mutex;
+  std::vector<MapGridRow> rows(indices.size());
+  std::mutex mutex;  // guards `done` and the progress callback
   int done = 0;
-  auto work = [&](size_t t) {
-    try {
-      for (size_t j = t; j < indices.size(); j += rows.size()) {
-        rows[t].push_back(ComputeGridRow(params, options, branch_options, etas, speeds, indices[j]));
-        std::lock_guard<std::mutex> lock(mutex);
-        if (progress) progress("grid", ++done, static_cast<int>(indices.size()));
-      }
-    } catch (...) {
-      errors[t] = std::current_exception();
-    }
-  };
-  if (rows.size() == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (size_t t = 0; t < rows.size(); ++t) pool.emplace_back(work, t);
-    for (std::thread& thread : pool) thread.join();
-  }
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
-  std::vector<MapGridRow> all;
-  for (std::vector<MapGridRow>& part : rows) {
-    for (MapGridRow& row : part) all.push_back(std::move(row));
-  }
-  return all;
+  ParallelFor(static_cast<int>(indices.size()), options.threads, [&](int j) {
+    rows[static_cast<size_t>(j)] = ComputeGridRow(params, options, branch_options, etas, speeds, indices[static_cast<size_t>(j)]);
+    std::lock_guard<std::mutex> lock(mutex);
+    if (progress) progress("grid", ++done, static_cast<int>(indices.size()));
+  });
+  return rows;
 }
 
 HysteresisMap ComputeHysteresisMap(const TwoPointParams& params, const HysteresisMapOptions& options,

@@ -10,9 +10,21 @@
 // e.g. the branch no longer switches in the speed range) gives a residual of kMissingResidual, so
 // the optimizers steer away from it, and is reported.
 //
-// Method: a derivative-free global search over the box of the parameters (normalized to [0, 1]ᵈ;
-// NLopt GN_DIRECT_L by default, or GN_CRS2_LM), then a local refinement from its best point
-// (NLopt LN_BOBYQA). Every evaluation computes a branch set (~30–80 ms for the thesis cases).
+// Method: a derivative-free global search over the box of the parameters (normalized to [0, 1]ᵈ),
+// then a local refinement (NLopt LN_BOBYQA; Nelder–Mead for one parameter). Every evaluation
+// computes a branch set (~30–80 ms for the thesis cases). The global search is one of
+//   - NLopt GN_DIRECT_L (the default) or GN_CRS2_LM: one evaluation at a time, each chosen from the
+//     ones before, so they cannot be shared out; one local refinement from their best point;
+//   - multistart: a population of global_evaluations points of a shifted Halton sequence (a
+//     low-discrepancy design: the box covered evenly at every size; the shift from random_seed),
+//     all evaluated at once, then local refinements from the local_starts best points that lie
+//     apart (normalized distance ≥ 0.1), the best refinement kept. The population and the
+//     refinements are independent jobs: they are shared out over threads and MPI ranks.
+// The sensitivities below are a batch of independent evaluations for every method.
+// Decision: a population method of our own rather than NLopt's MLSL or ISRES, whose evaluations,
+// though of a population, are requested one at a time through the objective callback. The answer
+// does not depend on how many threads or ranks share the work (each job's result depends on its
+// index alone, and the reductions run in index order).
 //
 // How well each parameter is determined: the Gauss–Newton covariance (JᵣᵀJᵣ)⁻¹ of the fitted
 // parameters, Jᵣ = ∂r/∂θ by central differences at the fit (a standard deviation per parameter in
@@ -20,6 +32,7 @@
 // relative rise of the objective for a ±1 % change of each parameter.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,13 +63,15 @@ struct FitParameter {
   double upper = 0.0;
 };
 
-enum class GlobalMethod { kDirectL, kCrs2 };
+enum class GlobalMethod { kDirectL, kCrs2, kMultiStart };
+const char* ToString(GlobalMethod method);  // "direct_l", "crs2", "multistart"
 
 struct IdentificationOptions {
   RotatingWaveBranchOptions branches;  // speed range of the branch sets (search.speed_min/max)
   GlobalMethod global = GlobalMethod::kDirectL;
-  int global_evaluations = 120;        // NLopt maxeval of the global stage (≥ 1)
-  int local_evaluations = 200;         // maxeval of the local stage (≥ 1)
+  int global_evaluations = 120;        // NLopt maxeval of the global stage, or the population (≥ 1)
+  int local_evaluations = 200;         // maxeval of each local refinement (≥ 1)
+  int local_starts = 4;                // multistart: refinements from the best points (≥ 1)
   double local_xtol = 1e-9;            // LN_BOBYQA xtol_rel on the normalized parameters (> 0)
   // The fit reproduces the targets when every |r_i| ≤ this (> 0): with 1-σ scales, 3 means
   // "within three uncertainties". Otherwise the status is kTargetsNotReproduced.
@@ -88,7 +103,8 @@ struct IdentificationResult {
   std::vector<double> residuals;          // r_i
   std::vector<bool> missing;
   int global_evaluations = 0;
-  int local_evaluations = 0;
+  int local_evaluations = 0;              // over all refinements
+  int local_runs = 0;                     // refinements run (1 unless multistart)
   int global_nlopt_result = 0;            // nlopt::result codes
   int local_nlopt_result = 0;
   double seconds = 0.0;
@@ -112,10 +128,22 @@ std::vector<double> PredictTargets(const TwoPointParams& params,
                                    const std::vector<IdentificationTarget>& targets,
                                    const RotatingWaveBranchOptions& options);
 
-// Fits `parameters` of `params` (the other values stay as given) to the targets.
+// Runs job(i) for i = 0 … n − 1 and returns every result, in index order, to every caller. The
+// fit's batches of independent evaluations go through one.
+using BatchRunner = std::function<std::vector<std::vector<double>>(
+    int n, const std::function<std::vector<double>(int)>& job)>;
+
+// The batches run over `threads` threads of this process (ParallelFor).
+BatchRunner ThreadBatchRunner(int threads);
+
+// Fits `parameters` of `params` (the other values stay as given) to the targets; the batches of
+// independent evaluations run through `batches` (empty: in this thread). Progress: one line per
+// stage ("population of 120 evaluated: best J = 3.2", ...), from the calling thread.
 IdentificationResult Identify(const TwoPointParams& params,
                               const std::vector<IdentificationTarget>& targets,
                               const std::vector<FitParameter>& parameters,
-                              const IdentificationOptions& options = {});
+                              const IdentificationOptions& options = {},
+                              const BatchRunner& batches = {},
+                              const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace rubcont

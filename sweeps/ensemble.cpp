@@ -1,16 +1,14 @@
 #include "sweeps/ensemble.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <mutex>
 #include <random>
 #include <stdexcept>
-#include <thread>
 
 #include <fmt/core.h>
 
+#include "solvers/parallel.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
@@ -63,47 +61,24 @@ std::vector<EnsembleCopy> RunEnsemble(const SystemFactory& make_system,
                                             x0.size(), scale.size()));
   }
   std::vector<EnsembleCopy> copies(static_cast<std::size_t>(options.copies));
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = std::min(options.copies, options.threads > 0 ? options.threads : hardware);
-
-  std::atomic<int> next{0};
-  std::mutex mutex;  // guards `done`, `error` and the progress callback
+  std::mutex mutex;  // guards `done` and the progress callback
   int done = 0;
-  std::exception_ptr error;
-  auto work = [&]() {
-    for (;;) {
-      const int i = next.fetch_add(1);
-      if (i >= options.copies) return;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (error) return;
-      }
-      try {
-        EnsembleCopy& copy = copies[static_cast<std::size_t>(i)];
-        const double cpu_start = ThreadCpuSeconds();
-        copy.start = PerturbedStart(x0, scale, options, i);
-        std::unique_ptr<OdeSystem> system = make_system();
-        std::unique_ptr<SweepObservables> observables = make_observables(*system);
-        SweepStepper stepper(*system, *observables, sweep, copy.start);
-        while (stepper.Step() == SweepStepOutcome::kContinue) {
-        }
-        copy.failed = stepper.Failed();
-        copy.points = stepper.points();
-        copy.cpu_seconds = ThreadCpuSeconds() - cpu_start;
-        std::lock_guard<std::mutex> lock(mutex);
-        ++done;
-        if (progress) progress(done, options.copies);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-      }
+  ParallelFor(options.copies, ThreadsFor(options.threads), [&](int i) {
+    EnsembleCopy& copy = copies[static_cast<std::size_t>(i)];
+    const double cpu_start = ThreadCpuSeconds();
+    copy.start = PerturbedStart(x0, scale, options, i);
+    std::unique_ptr<OdeSystem> system = make_system();
+    std::unique_ptr<SweepObservables> observables = make_observables(*system);
+    SweepStepper stepper(*system, *observables, sweep, copy.start);
+    while (stepper.Step() == SweepStepOutcome::kContinue) {
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+    copy.failed = stepper.Failed();
+    copy.points = stepper.points();
+    copy.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+    std::lock_guard<std::mutex> lock(mutex);
+    ++done;
+    if (progress) progress(done, options.copies);
+  });
   return copies;
 }
 

@@ -285,9 +285,10 @@ def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_p
     return _command(scene, out, lambda work, s: os.path.join(work, "map.h5"), call)
 
 
-def fit(scene, targets, out=None, progress=None):
+def fit(scene, targets, threads=1, out=None, progress=None):
     """Identification of design parameters from measured jumps, as ``rubcont fit``: `targets` a
-    targets file or a dict of its sections (scenes/README.md, "Fit targets")."""
+    targets file or a dict of its sections (scenes/README.md, "Fit targets"); the batches of
+    evaluations over `threads` threads (0: one per core; shared with global = "multistart")."""
 
     def call(scene_file, file):
         targets_file = os.fspath(targets) if not isinstance(targets, dict) else None
@@ -295,6 +296,6 @@ def fit(scene, targets, out=None, progress=None):
             targets_file = os.path.join(os.path.dirname(scene_file), "targets.toml")
             with open(targets_file, "w", encoding="utf-8") as f:
                 f.write(_rubcont.dict_to_toml(targets))
-        return _rubcont.fit(scene_file, file, targets_file, progress), file
+        return _rubcont.fit(scene_file, file, targets_file, threads, progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "fit.h5"), call)

@@ -68,7 +68,8 @@ TEST_CASE("rubcont fit rejects bad targets files naming key, value and rule", "[
   std::ofstream(targets) << "[[parameter]]\nname = \"mu\"\nrange = [0.3, 0.7]\n"
                             "[[parameter]]\nname = \"stator_damping\"\nrange = [-5.0, 700.0]\n"
                             "[[target]]\nfamily = \"mode3\"\nevent = \"stick to slip+\"\n"
-                            "quantity = \"rpm\"\nvalue = 50.0\nuncertainty = 0.0\ncolour = 1\n";
+                            "quantity = \"rpm\"\nvalue = 50.0\nuncertainty = 0.0\ncolour = 1\n"
+                            "[fit]\nglobal = \"genetic\"\nlocal_starts = 0\n";
   const Outcome o = testing::RubcontNoPython("fit scenes/default.toml --targets " + targets.string() + " -q --out " +
                             (dir.path / "f.h5").string());
   CHECK(o.exit_code == 2);
@@ -78,10 +79,16 @@ TEST_CASE("rubcont fit rejects bad targets files naming key, value and rule", "[
   CHECK_THAT(o.err, Contains("target[0].quantity = \"rpm\": must be speed_rpm or precession_hz"));
   CHECK_THAT(o.err, Contains("target[0].uncertainty = 0.0: must be positive"));
   CHECK_THAT(o.err, Contains("target[0].colour: unknown key"));
+  CHECK_THAT(o.err, Contains("fit.global = \"genetic\": must be direct_l, crs2 or multistart"));
+  CHECK_THAT(o.err, Contains("fit.local_starts = 0: must be an integer in 1 … 100000"));
   CHECK(!fs::exists(dir.path / "f.h5"));
   const Outcome missing = testing::RubcontNoPython("fit scenes/default.toml --targets " + (dir.path / "none.toml").string());
   CHECK(missing.exit_code == 2);
   CHECK_THAT(missing.err, Contains("cannot read the targets file"));
+  const Outcome threads = testing::RubcontNoPython(
+      "fit scenes/default.toml --targets tests/apps/fit_multistart.toml --threads 2000");
+  CHECK(threads.exit_code == 2);
+  CHECK_THAT(threads.err, Contains("--threads = 2000: must be in 0 … 1024"));
 }
 
 }  // namespace

@@ -144,6 +144,23 @@ def test_a_numerical_failure_is_a_status_not_an_exception():
     assert result["maps/friction/stable_count"].shape == (3, 41)
 
 
+def test_a_fit_from_a_dict_of_targets_over_threads():
+    targets = {
+        "parameter": [{"name": "friction", "range": [0.3, 0.7]}],
+        "target": [{"family": "mode1", "event": "stick to slip+", "quantity": "speed_rpm",
+                    "value": 50.688697, "uncertainty": 0.01}],
+        "fit": {"global": "multistart", "global_evaluations": 12, "local_starts": 2,
+                "local_evaluations": 30},
+    }
+    lines = []
+    result = rubcont.fit(rubcont.default_scene(), targets, threads=2, progress=lines.append)
+    assert result.status == "success"
+    assert result.attrs("fit")["global_method"] == "multistart"
+    assert result.attrs("fit")["local_runs"] == 2
+    assert abs(result["fit/values"][0] - 0.5) < 1e-5  # the default scene's own μ
+    assert any("population of 12 evaluated" in line for line in lines)
+
+
 def test_bad_arguments_raise_value_error():
     with pytest.raises(ValueError, match='"bogus": must be one of friction'):
         rubcont.map(A_A, parameter="bogus")

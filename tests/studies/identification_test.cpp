@@ -1,6 +1,7 @@
 #include "studies/identification.h"
 
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -76,6 +77,52 @@ TEST_CASE("identification recovers hidden friction and stator damping from jump 
   CHECK(r.objective_rise[1] > 1.0);
 }
 
+TEST_CASE("multistart recovers the hidden values, the same over threads as alone",
+          "[design][identification]") {
+  const RotatingWaveBranchOptions range = Range(20, 100);
+  TwoPointParams hidden = Nominal();
+  hidden.friction = 0.42;
+  hidden.support_damping = {410.0, 410.0};
+  const std::vector<IdentificationTarget> targets = SyntheticTargets(hidden, range);
+  IdentificationOptions options;
+  options.branches = range;
+  options.global = GlobalMethod::kMultiStart;
+  options.global_evaluations = 40;
+  options.local_starts = 3;
+  const std::vector<FitParameter> box{{DesignParameter::kFriction, 0.2, 0.8},
+                                      {DesignParameter::kStatorDamping, 100.0, 800.0}};
+  // The batches as the fit hands them out: the population, the refinements, the sensitivities.
+  std::vector<int> batch_sizes;
+  const BatchRunner recorded = [&](int n, const std::function<std::vector<double>(int)>& job) {
+    batch_sizes.push_back(n);
+    std::vector<std::vector<double>> results;
+    for (int i = n - 1; i >= 0; --i) results.insert(results.begin(), job(i));  // any order
+    return results;
+  };
+  const IdentificationResult alone = Identify(Nominal(), targets, box, options, recorded);
+  INFO(alone.message);
+  REQUIRE(alone.Fitted());
+  CHECK(alone.parameters[0] == Approx(0.42).epsilon(1e-6));
+  CHECK(alone.parameters[1] == Approx(410.0).epsilon(1e-5));
+  CHECK(alone.global_evaluations == 40);
+  CHECK(alone.local_runs == 3);
+  CHECK(batch_sizes == std::vector<int>{40, 3, 8});
+  // The best population point is no better than the fit, and the refinements did the rest.
+  CHECK(alone.global_objective > alone.objective);
+
+  const IdentificationResult threads = Identify(Nominal(), targets, box, options, ThreadBatchRunner(2));
+  CHECK(threads.parameters == alone.parameters);  // bit for bit
+  CHECK(threads.global_parameters == alone.global_parameters);
+  CHECK(threads.standard_deviation == alone.standard_deviation);
+  CHECK(threads.local_evaluations == alone.local_evaluations);
+
+  // Another seed shifts the population (another design), yet finds the same parameters.
+  options.random_seed = 7;
+  const IdentificationResult other = Identify(Nominal(), targets, box, options, ThreadBatchRunner(2));
+  CHECK(other.global_parameters != alone.global_parameters);
+  CHECK(other.parameters[0] == Approx(0.42).epsilon(1e-6));
+}
+
 TEST_CASE("targets the model cannot reproduce give a status with the worst residual",
           "[design][identification][failure]") {
   const RotatingWaveBranchOptions range = Range(20, 100);
@@ -136,6 +183,9 @@ TEST_CASE("identification inputs outside their rules are rejected by name", "[de
                              {{DesignParameter::kFriction, 0.3, 0.7}, {DesignParameter::kFriction, 0.3, 0.7}},
                              options),
                     Catch::Contains("already fitted"));
+  options.local_starts = 0;
+  CHECK_THROWS_WITH(Identify(Nominal(), targets, {{DesignParameter::kFriction, 0.3, 0.7}}, options),
+                    Catch::Contains("local_starts = 0: must be at least 1"));
 }
 
 }  // namespace

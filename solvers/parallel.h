@@ -1,0 +1,18 @@
+// Independent jobs over the threads of this process: the map's grid values, the ensemble's copies,
+// the fit's population and local runs. Which thread runs which job is not fixed, so a job's result
+// must depend on its index alone (each writes its own slot).
+#pragma once
+
+#include <functional>
+
+namespace rubcont {
+
+// Calls job(i) for every i in 0 … n − 1 over min(threads, n) threads (threads ≥ 1; the calling
+// thread is one of them) and returns when all are done. The first exception a job throws is
+// rethrown here; the jobs not yet started are then skipped.
+void ParallelFor(int n, int threads, const std::function<void(int)>& job);
+
+// The threads for a "threads" option: the value itself when positive, one per core for 0.
+int ThreadsFor(int requested);
+
+}  // namespace rubcont
