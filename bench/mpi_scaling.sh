@@ -5,8 +5,9 @@
 # global = "multistart": 120 population points, 4 refinements) likewise, beside the same fit by
 # DIRECT-L in one process; and a batch of sweeps (the nine thesis scenes, speed-up over
 # 40–72 rpm, 4 rpm steps: short enough to repeat) over 1 and 2 ranks. Each configuration REPEATS
-# times in turn (so that the machine's drift falls on all alike); medians of wall time, speed-ups
-# against one process. Usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS] > results/bench/mpi_scaling.txt
+# times in turn, and every speed-up is the median of the per-repeat ratios: the configurations of
+# one repeat run within a minute of each other, so the machine's drift (other tenants slowed the
+# same configuration by up to 45 % between repeats on 2026-11-27) falls on both sides of a ratio. Usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS] > results/bench/mpi_scaling.txt
 # (from the repository root; as root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT, set here).
 set -euo pipefail
 build=${1:?usage: bench/mpi_scaling.sh BUILD_DIR [REPEATS]}
@@ -24,6 +25,11 @@ map_seconds() {
   echo "$(grep -o 'grid [0-9.]* s' "$work/map.txt" | awk '{ print $2 }'):$grid"
 }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+# The median over the repeats of A's time over B's (field F of "a:b" entries; 1 for plain times).
+ratio() {
+  paste -d' ' <(tr ' ' '\n' <<< "${runs[$1]}" | grep . | cut -d: -f"$3") \
+              <(tr ' ' '\n' <<< "${runs[$2]}" | grep . | cut -d: -f"$3") | awk '{ print $1 / $2 }' | median
+}
 
 map=(map scenes/default.toml --parameter friction --range 0.1 1.0 --eta-points 41 --quiet --no-figures)
 declare -A runs
@@ -80,7 +86,7 @@ for key in map_one map_threads2 map_ranks1 map_ranks2; do
   g=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f1 | median)
   w=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f2 | median)
   printf '  %-14s grid %6.2f s  command %6.2f s   (runs grid:command %s)\n' "$key" "$g" "$w" "${runs[$key]% }"
-  declare "grid_$key=$g" "wall_$key=$w"
+  declare "wall_$key=$w"
 done
 echo "  fit: the fit itself / the whole command, wall seconds (direct_l: one process, the fit as committed;"
 echo "  the others multistart, $fit_evaluations)"
@@ -88,20 +94,17 @@ for key in fit_direct fit_one fit_threads2 fit_ranks1 fit_ranks2; do
   g=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f1 | median)
   w=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | cut -d: -f2 | median)
   printf '  %-14s fit  %6.2f s  command %6.2f s   (runs fit:command %s)\n' "$key" "$g" "$w" "${runs[$key]% }"
-  declare "fit_$key=$g" "wall_$key=$w"
 done
 for key in batch_ranks1 batch_ranks2; do
   m=$(tr ' ' '\n' <<< "${runs[$key]}" | grep . | median)
   printf '  %-14s %8.2f s   (runs: %s)\n' "$key" "$m" "${runs[$key]% }"
-  declare "wall_$key=$m"
 done
-awk -v g1="$grid_map_one" -v gt="$grid_map_threads2" -v gr2="$grid_map_ranks2" \
-    -v w1="$wall_map_one" -v wt="$wall_map_threads2" -v wr1="$wall_map_ranks1" -v wr2="$wall_map_ranks2" \
-    -v b1="$wall_batch_ranks1" -v b2="$wall_batch_ranks2" -v jobs="$job_seconds" -v n="${#scenes[@]}" \
-    -v fd="$fit_fit_direct" -v f1="$fit_fit_one" -v ft="$fit_fit_threads2" -v fr2="$fit_fit_ranks2" \
-    -v fw1="$wall_fit_one" -v fwr1="$wall_fit_ranks1" -v fwr2="$wall_fit_ranks2" 'BEGIN {
-  printf "map grid: 2 threads %.2f×, 2 ranks %.2f× against one process\n", g1 / gt, g1 / gr2
-  printf "map command: 2 threads %.2f×, 2 ranks %.2f×, 1 rank %.2f× (MPI start-up %.2f s)\n", w1 / wt, w1 / wr2, w1 / wr1, wr1 - w1
-  printf "fit (multistart): 2 threads %.2f×, 2 ranks %.2f× against one process; whole command 2 ranks %.2f× against 1 rank; against direct_l in one process: %.2f× alone, %.2f× on 2 threads\n", f1 / ft, f1 / fr2, fwr1 / fwr2, fd / f1, fd / ft
-  printf "sweep batch (%d jobs, %.1f s of job wall time in the last 2-rank run): 2 ranks %.2f× against 1 rank\n", n, jobs, b1 / b2
-}'
+printf 'map grid: 2 threads %.2f×, 2 ranks %.2f× against one process\n' "$(ratio map_one map_threads2 1)" "$(ratio map_one map_ranks2 1)"
+printf 'map command: 2 threads %.2f×, 2 ranks %.2f×, 1 rank %.2f× (MPI start-up %.2f s)\n' \
+  "$(ratio map_one map_threads2 2)" "$(ratio map_one map_ranks2 2)" "$(ratio map_one map_ranks1 2)" \
+  "$(awk -v a="$wall_map_ranks1" -v b="$wall_map_one" 'BEGIN { print a - b }')"
+printf 'fit (multistart): 2 threads %.2f×, 2 ranks %.2f× against one process; whole command on 2 ranks %.2f× against 1 rank; against direct_l in one process: %.2f× alone, %.2f× on 2 threads\n' \
+  "$(ratio fit_one fit_threads2 1)" "$(ratio fit_one fit_ranks2 1)" "$(ratio fit_ranks1 fit_ranks2 2)" \
+  "$(ratio fit_direct fit_one 1)" "$(ratio fit_direct fit_threads2 1)"
+printf 'sweep batch (%d jobs, %.1f s of job wall time in the last 2-rank run): 2 ranks %.2f× against 1 rank\n' \
+  "${#scenes[@]}" "$job_seconds" "$(ratio batch_ranks1 batch_ranks2 1)"
