@@ -1,17 +1,34 @@
 // Quasi-periodic motion on a 2-torus, as an invariant circle of the stroboscopic map (Schilder,
 // Osinga & Vogt 2005, SIAM J. Appl. Dyn. Syst. 4: "Continuation of quasi-periodic invariant tori"),
-// a continuation problem F(u, λ) = 0 (continuation/problem.h). First step of the tori (issue 16):
-// forced systems ẋ = f(t, x), f T-periodic in t (T = OdeSystem::ForcingPeriod() at λ), whose map
-// P(x) = x(T; 0, x) carries a 2-torus of the flow into itself as a closed curve.
+// a continuation problem F(u, λ) = 0 (continuation/problem.h). Three kinds, as the orbits of
+// shooting/shooting.h:
+//   kForced      ẋ = f(t, x), f T-periodic in t (T = OdeSystem::ForcingPeriod() at λ): the
+//                stroboscopic map P(x) = x(T; 0, x) carries a 2-torus of the flow into itself as a
+//                closed curve.
+//   kAutonomous  ẋ = f(x): P = Φ_T, the flow over a time T that is an unknown — the return time of
+//                one angle of the torus (2π over its frequency), fixed by the circle itself: Φ_T
+//                has an invariant circle only for that T. The torus's two frequencies are 1/T and
+//                ρ/T (or (1 − ρ)/T, by the circle's orientation).
+//   kRelative    ẋ = f(x) with a rotation symmetry R_φ (OdeSystem::Rotate): P = R_{−φ} Φ_T, T and φ
+//                unknown — a relative 2-torus (three frequencies in the original frame; in the frame
+//                turning by φ per T, a 2-torus): the two-frequency whips of case C in the frame
+//                co-rotating with the whip.
+// An autonomous torus's circle can slide along the flow (Φ_s of an invariant circle is one) and a
+// relative torus's along the group orbit (R_α of one is one): one more phase condition each, the
+// scaled mean of ⟨u(θ_j) − u_ref(θ_j), f(u_ref(θ_j))⟩ resp. ⟨·, g(u_ref(θ_j))⟩ (g the rotation
+// generator), as the θ phase condition below. Decision: the conditions on the whole circle rather
+// than on one point (shooting's hyperplane), because the circle's points are all unknowns alike.
 //
 // The circle u(θ), θ ∈ [0, 2π), is a truncated Fourier series with K harmonics,
 //     u(θ) = a₀ + Σ_{k=1..K} (a_k cos kθ + b_k sin kθ)        (a_k, b_k ∈ Rⁿ),
 // and invariance means that P moves it along itself by a rigid rotation ρ (the rotation number):
-//     P(u(θ)) = u(θ + 2πρ),
+//     P(u(θ)) = u(θ + 2πρ),   i.e.   Φ_T(u(θ)) = R_φ u(θ + 2πρ)   (R = I unless kRelative),
 // collocated at the N = 2K + 1 points θ_j = 2πj/N. The circle is only defined up to θ ↦ θ + c: one
 // phase condition fixes that, the scaled mean of ⟨u(θ_j) − u_ref(θ_j), u_ref′(θ_j)⟩ over j (AUTO's
-// integral condition on the circle). Unknowns u = [a₀, a₁, b₁, …, a_K, b_K, ρ] (n(2K + 1) + 1);
-// equations: n N + 1. Why Fourier points rather than a 2-D collocation: the map is integrated by
+// integral condition on the circle). Unknowns u = [a₀, a₁, b₁, …, a_K, b_K, ρ, T, φ] (T for
+// kAutonomous and kRelative, φ for kRelative: n(2K + 1) + 1 + e, e = 0, 1, 2); equations: n N + 1 + e.
+// Jacobian: ∂r_j/∂c = M_j ⊗ B(θ_j) − R_φ ⊗ B(θ_j + 2πρ), ∂r_j/∂ρ = −2π R_φ u′(θ_j + 2πρ),
+// ∂r_j/∂T = f(Φ_T(u(θ_j))), ∂r_j/∂φ = −g(R_φ u(θ_j + 2πρ)). Why Fourier points rather than a 2-D collocation: the map is integrated by
 // the same error-controlled integrators as the orbits (N independent trajectories of one forcing
 // period, with sensitivities), the circle of a smooth torus converges spectrally in K, and the
 // growth of the last harmonic measures the loss of smoothness that precedes breakdown.
@@ -38,28 +55,38 @@
 #include <vector>
 
 #include "continuation/problem.h"
+#include "shooting/shooting.h"
 #include "solvers/ode.h"
 
 namespace rubcont {
 
 class InvariantCircleProblem : public Problem {
  public:
-  // `system` must be forced (ForcingPeriod() > 0 at its parameter); K ≥ 1 harmonics.
-  InvariantCircleProblem(std::shared_ptr<OdeSystem> system, int harmonics,
+  // K ≥ 1 harmonics. kForced needs a forced system (ForcingPeriod() > 0 at its parameter), the
+  // others an unforced one, kRelative one with a rotation symmetry; std::invalid_argument else.
+  InvariantCircleProblem(std::shared_ptr<OdeSystem> system, int harmonics, OrbitKind kind,
                          const IntegratorOptions& options = {});
 
   int harmonics() const { return harmonics_; }
   Index states() const { return n_; }
+  OrbitKind kind() const { return kind_; }
 
-  // Unknowns from coefficients (n × (2K + 1): columns a₀, a₁, b₁, …) and ρ.
-  Vector Pack(const Matrix& coefficients, double rho) const;
+  // Unknowns from coefficients (n × (2K + 1): columns a₀, a₁, b₁, …), ρ, and T and φ where the
+  // kind has them (ignored otherwise).
+  Vector Pack(const Matrix& coefficients, double rho, double period = 0.0, double rotation = 0.0) const;
   Matrix Coefficients(const Vector& u) const;
-  double RotationNumber(const Vector& u) const { return u(u.size() - 1); }
+  double RotationNumber(const Vector& u) const { return u(n_ * points_); }
+  // T: the unknown (kAutonomous, kRelative) or the forcing period at λ (kForced). Sets the
+  // system's parameter to λ (every integration of the problem goes through here).
+  double Period(const Vector& u, double lambda);
+  // φ (kRelative), else 0.
+  double Rotation(const Vector& u) const;
   // u(θ) for the circle held in u.
   Vector PointAt(const Vector& u, double theta) const;
 
-  // The phase condition's reference circle (its coefficients are taken from u). Set at the
-  // start; PointAccepted moves it to every accepted point.
+  // The phase conditions' reference circle (its coefficients are taken from u; the flow's
+  // direction at the system's present parameter). Set at the start; PointAccepted moves it to
+  // every accepted point.
   void SetPhaseReference(const Vector& u);
 
   // The event "circle breaks down": the Fourier tail (measure "fourier_tail") reaches this. Past
@@ -85,16 +112,20 @@ class InvariantCircleProblem : public Problem {
   // The moduli of Λ's eigenvalues, largest first (see above); empty when an integration failed.
   std::vector<double> CircleMultipliers(const Vector& u, double lambda);
 
-  // Lyapunov exponents of the map (per forcing period), largest first, from `iterates` steps of
-  // the orbit of u(0) with QR of the tangent maps. `tangent` indexes the one nearest 0 (along the
-  // circle); stable when every other is below −tolerance, tolerance = max(10 |tangent exponent|,
-  // 1e-6): the tangent exponent's distance from its exact 0 is the estimate's error.
+  // Lyapunov exponents of the map P (per period T), largest first, from `iterates` steps of the
+  // orbit of u(0) with QR of the tangent maps, after iterates/4 steps not counted (the frame's
+  // alignment). `trivial` indexes the 1 + e nearest 0, whose exact
+  // value is 0: along the circle, and along the flow (kAutonomous, kRelative) and the group orbit
+  // (kRelative). Stable when every other is below −tolerance, tolerance = max(10 · the largest
+  // |trivial exponent|, 1e-6): the trivial exponents' distance from 0 is the estimate's error.
   struct TorusStability {
     bool valid = false;          // an integration failed
-    Vector exponents;            // n, per forcing period
-    Index tangent = 0;
+    Vector exponents;            // n, per period
+    std::vector<Index> trivial;
     double tolerance = 0.0;
     bool stable = false;
+    // The largest exponent that is not trivial (−∞ when all are).
+    double LargestNontrivial() const;
   };
   TorusStability LyapunovStability(const Vector& u, double lambda, int iterates = 200);
 
@@ -105,9 +136,10 @@ class InvariantCircleProblem : public Problem {
   // lying on a circle that winds once around its centroid in the plane of its two leading
   // principal directions: each point's angle there gives θ_k, ρ is the mean angle advance per
   // iterate (in [0, 1); the plane's orientation decides between ρ and 1 − ρ, the same torus
-  // traversed the other way), and the coefficients are fitted by least squares in θ. Throws
-  // std::invalid_argument when the points do not wind (a locked or non-circular set).
-  Vector CircleFromOrbit(const Matrix& points) const;
+  // traversed the other way), and the coefficients are fitted by least squares in θ; T and φ, those
+  // of the map the points came from, are packed as given. Throws std::invalid_argument when the
+  // points do not wind (a locked or non-circular set).
+  Vector CircleFromOrbit(const Matrix& points, double period = 0.0, double rotation = 0.0) const;
 
  private:
   struct Integrated {
@@ -122,19 +154,24 @@ class InvariantCircleProblem : public Problem {
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;
   double FourierTail(const Vector& u) const;
-  // The phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩: w_j = u_ref′(θ_j) ./ scale² over the RMS of
-  // u_ref′ ./ scale (n × N).
-  Matrix PhaseWeights() const;
+  // A phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩ from directions v_j at the reference's points
+  // (u_ref′(θ_j), f(u_ref(θ_j)), g(u_ref(θ_j))): w_j = v_j ./ scale² over the RMS of v ./ scale.
+  Matrix PhaseWeights(const Matrix& directions) const;
   const Integrated& Integrate(const Vector& u, double lambda, bool sensitivities);
   double PeriodAt(double lambda);
+  Matrix RotationMatrix(double phi) const;  // R_φ (identity unless kRelative)
+  Index Extras() const;                     // e: 0, 1, 2
 
   std::shared_ptr<OdeSystem> system_;
   int harmonics_;
+  OrbitKind kind_;
   Index n_;
   Index points_;  // N = 2K + 1
   IntegratorOptions options_;
   Vector scale_;  // the system's state scale
   Matrix reference_;  // n × (2K + 1)
+  std::vector<Matrix> phase_weights_;  // θ, flow (kAutonomous, kRelative), group (kRelative)
+  double period_scale_ = 1.0;          // |T| of the reference
   double max_tail_ = 1e-6;
   Vector cached_u_;
   double cached_lambda_ = 0.0;

@@ -12,27 +12,71 @@
 namespace rubcont {
 namespace {
 
-// d = u_rotor − u_stator of contact 0, from a state [q; v] (real pairs).
-std::complex<double> FirstContact(const RubStructure& structure, ConstVectorRef x) {
-  const Index r = 2 * structure.contacts[0].rotor, s = 2 * structure.contacts[0].stator;
-  return {x(r) - x(s), x(r + 1) - x(s + 1)};
+// An adaptive integrator for stretches and single periods: a fixed Gauss mesh is made for one
+// segment of an orbit, so BDF ≤ 2 at the same tolerances replaces it.
+IntegratorOptions Adaptive(IntegratorOptions options) {
+  if (options.method == IntegrationMethod::kGaussCollocation) {
+    options.method = IntegrationMethod::kBdf;
+    options.max_order = 2;
+  }
+  return options;
 }
 
 }  // namespace
 
+void ValidateModulationSearch(const std::string& owner, double duration, double rate) {
+  if (!(duration > 0.0) || !std::isfinite(duration)) {
+    throw std::invalid_argument(fmt::format(
+        "{}.search_duration = {}: must be positive and finite (s)", owner, duration));
+  }
+  if (!(rate * duration >= 16.0)) {
+    throw std::invalid_argument(fmt::format(
+        "{}.search_rate = {} per s: must give at least 16 samples over search_duration = {} s",
+        owner, rate, duration));
+  }
+}
+
+std::complex<double> FirstContactGap(const RubStructure& structure, ConstVectorRef x) {
+  const Index r = 2 * structure.contacts[0].rotor, s = 2 * structure.contacts[0].stator;
+  return {x(r) - x(s), x(r + 1) - x(s + 1)};
+}
+
+ModulationSearch SearchModulation(RubRotatingFrame& frame, const Vector& fixed_state,
+                                  const IntegratorOptions& integrator_options, double duration,
+                                  double rate) {
+  ModulationSearch search;
+  const Vector x_start = frame.ToRotatingFrame(0.0, fixed_state);
+  OdeIntegrator integrator(frame, Adaptive(integrator_options));
+  const Index samples_count = static_cast<Index>(std::llround(duration * rate));
+  const Vector times = Vector::LinSpaced(samples_count, 0.0, (samples_count - 1) / rate);
+  Matrix stretch;
+  const IntegrationResult result = integrator.Sample(0.0, x_start, times, stretch);
+  if (!result.Succeeded()) {
+    search.message = "integrating the stretch failed: " + result.BriefReport();
+    return search;
+  }
+  RubFixedFrame fixed(frame.structure(), frame.Parameter());
+  ComplexVector slip(samples_count);
+  for (Index k = 0; k < samples_count; ++k) {
+    slip(k) = fixed.Contacts(frame.ToFixedFrame(times(k), stretch.col(k)))[0].slip_velocity;
+  }
+  const SpectralPeak peak = DominantPeak(TwoSidedSpectrum(slip, rate), PeakSide::kPositive);
+  // A swing below 1e-8 of the slip velocity is round-off: no modulation.
+  if (!peak.found || !(peak.amplitude > 1e-8 * slip.cwiseAbs().maxCoeff())) {
+    search.message = fmt::format("the slip velocity does not vary over {} s: no modulation to shoot",
+                                 duration);
+    return search;
+  }
+  search.found = true;
+  search.period = 1.0 / peak.frequency;
+  search.state = stretch.col(samples_count - 1);
+  return search;
+}
+
 void Validate(const ModulatedOrbitOptions& options) {
   Validate(options.shooting);
   Validate(options.newton);
-  if (!(options.search_duration > 0.0) || !std::isfinite(options.search_duration)) {
-    throw std::invalid_argument(fmt::format(
-        "ModulatedOrbitOptions.search_duration = {}: must be positive and finite (s)",
-        options.search_duration));
-  }
-  if (!(options.search_rate * options.search_duration >= 16.0)) {
-    throw std::invalid_argument(fmt::format(
-        "ModulatedOrbitOptions.search_rate = {} per s: must give at least 16 samples over "
-        "search_duration = {} s", options.search_rate, options.search_duration));
-  }
+  ValidateModulationSearch("ModulatedOrbitOptions", options.search_duration, options.search_rate);
   if (options.harmonics < 0) {
     throw std::invalid_argument(
         fmt::format("ModulatedOrbitOptions.harmonics = {}: must be ≥ 0", options.harmonics));
@@ -54,47 +98,22 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   ModulatedOrbit orbit;
   orbit.frame_rate = frame_rate;
   RubRotatingFrame frame(structure, frame_rate, omega);
-  const Vector x_start = frame.ToRotatingFrame(0.0, fixed_state);
-
-  // The modulation frequency: the dominant frequency of the slip velocity over the stretch, which
-  // needs an adaptive integrator: a fixed Gauss mesh is made for one segment, not the stretch.
-  IntegratorOptions search_options = options.shooting.integrator;
-  if (search_options.method == IntegrationMethod::kGaussCollocation) {
-    search_options.method = IntegrationMethod::kBdf;
-    search_options.max_order = 2;
-  }
-  OdeIntegrator integrator(frame, search_options);
-  const Index samples_count =
-      static_cast<Index>(std::llround(options.search_duration * options.search_rate));
-  const Vector times = Vector::LinSpaced(samples_count, 0.0,
-                                         (samples_count - 1) / options.search_rate);
-  Matrix stretch;
-  const IntegrationResult search = integrator.Sample(0.0, x_start, times, stretch);
-  if (!search.Succeeded()) {
-    orbit.message = "integrating the stretch failed: " + search.BriefReport();
+  const ModulationSearch search = SearchModulation(frame, fixed_state, options.shooting.integrator,
+                                                   options.search_duration, options.search_rate);
+  if (!search.found) {
+    orbit.message = search.message;
     return orbit;
   }
-  RubFixedFrame fixed(structure, omega);
-  ComplexVector slip(samples_count);
-  for (Index k = 0; k < samples_count; ++k) {
-    slip(k) = fixed.Contacts(frame.ToFixedFrame(times(k), stretch.col(k)))[0].slip_velocity;
-  }
-  const SpectralPeak peak = DominantPeak(TwoSidedSpectrum(slip, options.search_rate), PeakSide::kPositive);
-  // A swing below 1e-8 of the slip velocity is round-off: no modulation.
-  if (!peak.found || !(peak.amplitude > 1e-8 * slip.cwiseAbs().maxCoeff())) {
-    orbit.message = fmt::format("the slip velocity does not vary over {} s: no modulation to shoot",
-                                options.search_duration);
-    return orbit;
-  }
-  const double period = 1.0 / peak.frequency;
-  const Vector x0 = stretch.col(samples_count - 1);
+  const double period = search.period;
+  const Vector& x0 = search.state;
+  OdeIntegrator integrator(frame, Adaptive(options.shooting.integrator));
   Vector x_period(x0.size());
   const IntegrationResult turn = integrator.Integrate(0.0, x0, period, x_period);
   if (!turn.Succeeded()) {
     orbit.message = "integrating one period failed: " + turn.BriefReport();
     return orbit;
   }
-  const double phi = std::arg(FirstContact(structure, x_period) / FirstContact(structure, x0));
+  const double phi = std::arg(FirstContactGap(structure, x_period) / FirstContactGap(structure, x0));
 
   ShootingProblem problem(frame, OrbitKind::kRelative, options.shooting);
   orbit.u = problem.InitialGuess(x0, period, omega, phi);
@@ -128,7 +147,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   auto integrand = [&](Index i, int k) {
     const double t = samples.times(i);
     return std::polar(1.0, -phi_T * t - kTwoPi * k * t / T) *
-           FirstContact(structure, samples.states.col(i));
+           FirstContactGap(structure, samples.states.col(i));
   };
   for (int k = -K; k <= K; ++k) {
     std::complex<double> sum = 0.0;

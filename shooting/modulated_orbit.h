@@ -25,6 +25,7 @@
 // frequency of d, sweeps/rub_sweep.h).
 #pragma once
 
+#include <complex>
 #include <limits>
 #include <string>
 
@@ -48,6 +49,26 @@ struct ModulatedOrbitOptions {
 
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const ModulatedOrbitOptions& options);
+
+// d = u_rotor − u_stator of contact 0, from a state [q; v] of either frame (real pairs).
+std::complex<double> FirstContactGap(const RubStructure& structure, ConstVectorRef x);
+
+// The start of the modulated solvers (this one and shooting/modulated_torus.h): `fixed_state` taken
+// into `frame` at t = 0 and integrated over `duration` s sampled at `rate` per s (BDF ≤ 2 where the
+// options say Gauss collocation); the modulation period T = 1 / the dominant frequency of contact
+// 0's slip velocity, and the co-rotating state at the stretch's end. found = false, with the
+// message, when the integration fails or the slip does not vary.
+// Throws std::invalid_argument unless duration > 0 is finite and gives ≥ 16 samples at `rate`
+// (the fields named `owner`.search_duration, `owner`.search_rate).
+void ValidateModulationSearch(const std::string& owner, double duration, double rate);
+struct ModulationSearch {
+  bool found = false;
+  std::string message;
+  double period = std::numeric_limits<double>::quiet_NaN();
+  Vector state;
+};
+ModulationSearch SearchModulation(RubRotatingFrame& frame, const Vector& fixed_state,
+                                  const IntegratorOptions& integrator, double duration, double rate);
 
 struct ModulatedOrbit {
   bool converged = false;

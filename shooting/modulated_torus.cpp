@@ -1,0 +1,141 @@
+#include "shooting/modulated_torus.h"
+
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "shooting/modulated_orbit.h"
+#include "solvers/stopwatch.h"
+
+namespace rubcont {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+constexpr int kSamplesPerPeriod = 16;
+
+}  // namespace
+
+void Validate(const ModulatedTorusOptions& options) {
+  Validate(options.integrator);
+  Validate(options.newton);
+  ValidateModulationSearch("ModulatedTorusOptions", options.search_duration, options.search_rate);
+  if (options.harmonics < 1 || options.harmonics > 500) {
+    throw std::invalid_argument(
+        fmt::format("ModulatedTorusOptions.harmonics = {}: must be in 1 … 500", options.harmonics));
+  }
+  if (options.iterates != 0 && options.iterates < 2 * options.harmonics + 2) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.iterates = {}: must be 0 (automatic) or ≥ 2K + 2 = {}",
+        options.iterates, 2 * options.harmonics + 2));
+  }
+  if (!(options.approach >= 0.0) || !std::isfinite(options.approach)) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.approach = {}: must be finite and ≥ 0 (s)", options.approach));
+  }
+  if (options.lyapunov_iterates < 0) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.lyapunov_iterates = {}: must be ≥ 0", options.lyapunov_iterates));
+  }
+}
+
+ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, double frame_rate,
+                                   const Vector& fixed_state, const ModulatedTorusOptions& options) {
+  Validate(options);
+  if (!(frame_rate > 0.0) || !(omega > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "SolveModulatedTorus: frame_rate = {}, omega = {}: both must be positive (rad/s)",
+        frame_rate, omega));
+  }
+  if (fixed_state.size() != structure.States()) {
+    throw std::invalid_argument(fmt::format("SolveModulatedTorus: fixed_state has {} entries, the "
+                                            "structure {}", fixed_state.size(), structure.States()));
+  }
+  const SteadyClock::time_point start = SteadyClock::now();
+  ModulatedTorus torus;
+  torus.frame_rate = frame_rate;
+  auto done = [&](std::string message) {
+    torus.message = std::move(message);
+    torus.seconds = SecondsSince(start);
+    return torus;
+  };
+  Vector approached = fixed_state;
+  if (options.approach > 0.0) {
+    RubFixedFrame fixed(structure, omega);
+    OdeIntegrator integrator(fixed, options.integrator);
+    const IntegrationResult result = integrator.Integrate(0.0, fixed_state, options.approach, approached);
+    if (!result.Succeeded()) return done("integrating the approach failed: " + result.BriefReport());
+  }
+  auto frame = std::make_shared<RubRotatingFrame>(structure, frame_rate, omega);
+  const ModulationSearch search = SearchModulation(*frame, approached, options.integrator,
+                                                   options.search_duration, options.search_rate);
+  if (!search.found) return done(search.message);
+  const double period = search.period;
+  torus.search_period = period;
+
+  // The orbit of P = R_{−φ̄} Φ_T: `iterates` periods sampled 16 times each, d's phase unwrapped.
+  const int iterates = options.iterates > 0 ? options.iterates : 4 * (2 * options.harmonics + 1);
+  const Index samples_count = static_cast<Index>(iterates) * kSamplesPerPeriod + 1;
+  const Vector times = Vector::LinSpaced(samples_count, 0.0, iterates * period);
+  Matrix samples;
+  OdeIntegrator integrator(*frame, options.integrator);
+  const IntegrationResult sampled = integrator.Sample(0.0, search.state, times, samples);
+  if (!sampled.Succeeded()) return done("integrating the circle's first points failed: " + sampled.BriefReport());
+  double turned = 0.0;
+  for (Index i = 1; i < samples_count; ++i) {
+    turned += std::arg(FirstContactGap(structure, samples.col(i)) /
+                       FirstContactGap(structure, samples.col(i - 1)));
+  }
+  const double phi = turned / iterates;
+  torus.search_rotation = phi;
+  Matrix points(samples.rows(), iterates);
+  for (int k = 0; k < iterates; ++k) {
+    points.col(k) = samples.col(static_cast<Index>(k) * kSamplesPerPeriod);
+    frame->Rotate(-k * phi, points.col(k));
+  }
+
+  InvariantCircleProblem problem(frame, options.harmonics, OrbitKind::kRelative, options.integrator);
+  try {
+    torus.u = problem.CircleFromOrbit(points, period, phi);
+  } catch (const std::invalid_argument& e) {
+    return done(fmt::format("the transient's points (T ≈ {:.6g} s, φ ≈ {:.4g}) are no circle: {}",
+                            period, phi, e.what()));
+  }
+  problem.SetPhaseReference(torus.u);
+  torus.newton = NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, omega, F); },
+                             [&](const Vector& v, Matrix& J) { problem.Jacobian(v, omega, J); },
+                             torus.u, options.newton, problem.Scale(), problem.ResidualScale());
+  if (!torus.newton.Converged()) {
+    return done(fmt::format("Newton from the transient's circle (T ≈ {:.6g} s, φ ≈ {:.4g}, ρ ≈ {:.4f}, "
+                            "K = {}): {}", period, phi, problem.RotationNumber(torus.u),
+                            options.harmonics, torus.newton.BriefReport()));
+  }
+  torus.period = problem.Period(torus.u, omega);
+  torus.rotation = problem.Rotation(torus.u);
+  torus.rotation_number = problem.RotationNumber(torus.u);
+  torus.carrier_hz = frame->CarrierPrecession(torus.period, torus.rotation) / kTwoPi;
+  torus.first_hz = 1.0 / torus.period;
+  torus.second_hz = torus.rotation_number / torus.period;
+  const Vector measures = problem.Measures(torus.u, omega);
+  torus.fourier_tail = measures(1);
+  torus.invariance_error = measures(2);
+  if (options.lyapunov_iterates > 0) {
+    torus.stability = problem.LyapunovStability(torus.u, omega, options.lyapunov_iterates);
+  }
+  torus.converged = true;
+  return done(fmt::format(
+      "T = {:.9g} s, φ = {:+.6g} rad, ρ = {:.8f}: carrier {:.6f} Hz, modulation {:.6f} and {:.6f} "
+      "Hz; Fourier tail {:.2g}, invariance error {:.2g}; {}{}", torus.period, torus.rotation,
+      torus.rotation_number, torus.carrier_hz, torus.first_hz, torus.second_hz, torus.fourier_tail,
+      torus.invariance_error, torus.newton.BriefReport(),
+      torus.stability.valid
+          ? fmt::format("; {} (largest non-trivial exponent {:.3g} per period, tolerance {:.2g})",
+                        torus.stability.stable ? "stable" : "unstable",
+                        torus.stability.LargestNontrivial(), torus.stability.tolerance)
+          : std::string()));
+}
+
+}  // namespace rubcont

@@ -1,0 +1,92 @@
+// A whip modulated at two frequencies, of the rub model at one running speed (level L2): a relative
+// 2-torus. In the frame co-rotating with the whip the motion is quasi-periodic with two modulation
+// frequencies (case C(a) at 60 rpm: the left contact's slip modulated at 121 Hz, the right's at
+// 325 Hz, which no one period fits: SolveModulatedOrbit does not converge there), so it is found as
+// an invariant circle of the map x ↦ R_{−φ} Φ_T(x) (shooting/invariant_circle.h, kRelative) from
+// the end of a settled transient, and read as a sweep reads a precession.
+//
+// The start. The transient is integrated on for `approach` s first (a torus can attract slowly: C(a)
+// at 60 rpm, "settled" by the sweeps' spectral test, still moved its modulation from 123.3 to
+// 124.4 Hz over the next 0.8 s). Then, as SolveModulatedOrbit, the state is taken into the frame
+// precessing at Ω_f and integrated over a stretch; T = 1 / the dominant frequency of contact 0's slip velocity.
+// Then `iterates` more periods, each sampled 16 times: φ̄, the mean turn of contact 0's
+// d = u_rotor − u_stator per period (its phase unwrapped along the samples), and the points
+// x_k = R_{−kφ̄} x(kT), the orbit of P = R_{−φ̄} Φ_T, near its invariant circle; CircleFromOrbit fits
+// the first circle (K harmonics) and ρ. Newton then solves for the circle, ρ, T and φ.
+//
+// The frequencies. On the torus, the co-rotating motion turns by φ per T and is otherwise
+// quasi-periodic with f₁ = 1/T and f₂ = ρ/T (ρ ∈ (0, 1); 1 − ρ describes the same lattice of lines,
+// the circle traversed the other way), so the fixed-frame motion is a sum of backward precessions
+//     Ω_{k,l} = Ω_f − φ/T − 2π (k f₁ + l f₂),   k, l ∈ Z,
+// the carrier (k = l = 0) at RubRotatingFrame::CarrierPrecession(T, φ).
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include "models/rub_model.h"
+#include "shooting/invariant_circle.h"
+#include "solvers/newton.h"
+
+namespace rubcont {
+
+struct ModulatedTorusOptions {
+  // The integrator of the map (BDF ≤ 2 at 1e-7: the circle's residual is only as smooth as the
+  // integration, so Newton's tolerances below are 100 times these).
+  IntegratorOptions integrator = [] {
+    IntegratorOptions o;
+    o.max_order = 2;
+    o.relative_tolerance = o.absolute_tolerance = 1e-7;
+    o.max_steps = 2000000;
+    return o;
+  }();
+  NewtonOptions newton = [] {
+    NewtonOptions o;
+    o.residual_tolerance = o.step_tolerance = 1e-5;
+    o.max_iterations = 12;
+    return o;
+  }();
+  int harmonics = 8;               // K ≥ 1
+  int iterates = 0;                // points for the first circle, ≥ 2K + 2; 0: 4 (2K + 1)
+  // As ModulatedOrbitOptions, but longer: T must be right to ~1e-3, or the first points smear
+  // over the torus (0.05 s put C(a)'s 124.4 Hz at 122.2 Hz).
+  double search_duration = 0.5;
+  double approach = 1.0;           // [s] ≥ 0
+  double search_rate = 20000.0;
+  int lyapunov_iterates = 100;     // ≥ 0 (0: no stability)
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const ModulatedTorusOptions& options);
+
+struct ModulatedTorus {
+  bool converged = false;
+  std::string message;       // how the search and Newton went, one sentence with numbers
+  NewtonResult newton;
+  double frame_rate = 0.0;   // Ω_f [rad/s]
+  // T from the search (1 / the slip's dominant frequency) and φ̄ from the first points: the start,
+  // also when Newton does not converge (NaN where the search failed).
+  double search_period = std::numeric_limits<double>::quiet_NaN();
+  double search_rotation = std::numeric_limits<double>::quiet_NaN();
+  double period = std::numeric_limits<double>::quiet_NaN();           // T [s]
+  double rotation = std::numeric_limits<double>::quiet_NaN();         // φ [rad]
+  double rotation_number = std::numeric_limits<double>::quiet_NaN();  // ρ
+  double carrier_hz = std::numeric_limits<double>::quiet_NaN();       // (Ω_f − φ/T) / 2π
+  double first_hz = std::numeric_limits<double>::quiet_NaN();         // f₁ = 1/T
+  double second_hz = std::numeric_limits<double>::quiet_NaN();        // f₂ = ρ/T
+  double fourier_tail = std::numeric_limits<double>::quiet_NaN();
+  double invariance_error = std::numeric_limits<double>::quiet_NaN();
+  InvariantCircleProblem::TorusStability stability;  // valid = false when not computed
+  Vector u;                  // the circle's unknowns (InvariantCircleProblem::Pack layout)
+  double seconds = 0.0;      // wall time of the search, Newton and the stability
+};
+
+// The torus near `fixed_state` (RubFixedFrame layout) at running speed ω [rad/s], with the frame
+// precessing at `frame_rate` Ω_f [rad/s] > 0. The structure must be balanced. Throws
+// std::invalid_argument for wrong sizes, non-positive Ω_f or ω, an imbalance or invalid options;
+// numerical outcomes (no modulation, integration failures, points that do not wind once round a
+// circle, Newton not converged) are `converged = false` with the message.
+ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, double frame_rate,
+                                   const Vector& fixed_state, const ModulatedTorusOptions& options = {});
+
+}  // namespace rubcont
