@@ -44,15 +44,20 @@ std::vector<IdentificationTarget> SyntheticTargets(const TwoPointParams& hidden,
   return targets;
 }
 
-TEST_CASE("identification recovers hidden friction and stator damping from jump speeds",
-          "[design][identification]") {
-  const RotatingWaveBranchOptions range = Range(20, 100);
+// The targets of the model with friction 0.42 and stator damping 410 N·s/m (Nominal: 0.5, 324.9)
+// over 20–100 rpm.
+std::vector<IdentificationTarget> HiddenTargets() {
   TwoPointParams hidden = Nominal();
   hidden.friction = 0.42;
   hidden.support_damping = {410.0, 410.0};
-  const std::vector<IdentificationTarget> targets = SyntheticTargets(hidden, range);
+  return SyntheticTargets(hidden, Range(20, 100));
+}
+
+TEST_CASE("identification recovers hidden friction and stator damping from jump speeds",
+          "[design][identification]") {
+  const std::vector<IdentificationTarget> targets = HiddenTargets();
   IdentificationOptions options;
-  options.branches = range;
+  options.branches = Range(20, 100);
   options.global_evaluations = 80;
   const IdentificationResult r = Identify(
       Nominal(), targets,
@@ -79,13 +84,9 @@ TEST_CASE("identification recovers hidden friction and stator damping from jump 
 
 TEST_CASE("multistart recovers the hidden values, the same over threads as alone",
           "[design][identification]") {
-  const RotatingWaveBranchOptions range = Range(20, 100);
-  TwoPointParams hidden = Nominal();
-  hidden.friction = 0.42;
-  hidden.support_damping = {410.0, 410.0};
-  const std::vector<IdentificationTarget> targets = SyntheticTargets(hidden, range);
+  const std::vector<IdentificationTarget> targets = HiddenTargets();
   IdentificationOptions options;
-  options.branches = range;
+  options.branches = Range(20, 100);
   options.global = GlobalMethod::kMultiStart;
   options.global_evaluations = 40;
   options.local_starts = 3;
