@@ -217,6 +217,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
     J.setConstant(std::numeric_limits<double>::quiet_NaN());
     return;
   }
+  system_->SetParameter(lambda);  // f below at λ, also when the integrations came from the cache
   const double rho = RotationNumber(u);
   const Matrix c = Coefficients(u);
   const double phi = Rotation(u);

@@ -62,6 +62,7 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     torus.seconds = SecondsSince(start);
     return torus;
   };
+  auto frame = std::make_shared<RubRotatingFrame>(structure, frame_rate, omega);  // throws for an imbalance
   Vector approached = fixed_state;
   if (options.approach > 0.0) {
     RubFixedFrame fixed(structure, omega);
@@ -69,7 +70,6 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     const IntegrationResult result = integrator.Integrate(0.0, fixed_state, options.approach, approached);
     if (!result.Succeeded()) return done("integrating the approach failed: " + result.BriefReport());
   }
-  auto frame = std::make_shared<RubRotatingFrame>(structure, frame_rate, omega);
   const ModulationSearch search = SearchModulation(*frame, approached, options.integrator,
                                                    options.search_duration, options.search_rate);
   if (!search.found) return done(search.message);

@@ -135,5 +135,35 @@ TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[m
   CHECK_THAT(still.message, Contains("no modulation"));
 }
 
+TEST_CASE("modulated torus inputs outside their rules are rejected by name", "[modulated_orbit][torus]") {
+  const RubStructure s = TwoPointStructure(ThesisCaseAa());
+  const Vector x = Vector::Zero(s.States());
+  ModulatedTorusOptions o;
+  o.harmonics = 0;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("harmonics = 0"));
+  o = {};
+  o.iterates = 10;  // K = 8 needs ≥ 18
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("iterates = 10: must be 0"));
+  o = {};
+  o.approach = -1.0;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("approach = -1"));
+  o = {};
+  o.search_rate = 10.0;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("ModulatedTorusOptions.search_rate = 10"));
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, -1.0, x), Contains("frame_rate = -1"));
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, Vector::Zero(3)), Contains("3 entries"));
+  TwoPointParams imbalanced = ThesisCaseAa();
+  imbalanced.imbalance = 1e-4;
+  CHECK_THROWS_WITH(SolveModulatedTorus(TwoPointStructure(imbalanced), 6.0, 500.0, x),
+                    Contains("imbalance"));
+  // No modulation: a rotor at rest has a constant slip velocity.
+  o = {};
+  o.approach = 0.0;
+  const ModulatedTorus still = SolveModulatedTorus(s, 6.0, 500.0, x, o);
+  CHECK_FALSE(still.converged);
+  CHECK_THAT(still.message, Contains("no modulation"));
+  CHECK(std::isnan(still.search_period));
+}
+
 }  // namespace
 }  // namespace rubcont
