@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "shooting/modulated_orbit.h"
+#include "solvers/spectrum.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
@@ -16,6 +17,29 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
 constexpr int kSamplesPerPeriod = 16;
+
+// Why points one period apart may be no circle although the motion is a torus: the section cuts
+// it m times, and the points visit m arcs in turn. Then the sequence of contact 0's d(kT) has its
+// strongest line at ν ≈ p/m cycles per iterate. Returns "; …" naming m (2 … 8) when ν is within
+// 0.3 bins of such a fraction (the refined peak of a clean line is far closer), else "". A hint,
+// not a verdict: an irrational ν lies that close to some p/m, m ≤ 8, about one time in five.
+std::string SectionHint(const RubStructure& structure, const Matrix& points) {
+  const Index m = points.cols();
+  ComplexVector d(m);
+  for (Index k = 0; k < m; ++k) d(k) = FirstContactGap(structure, points.col(k));
+  const SpectralPeak peak = DominantPeak(TwoSidedSpectrum(d, 1.0), PeakSide::kAny);
+  if (!peak.found) return "";
+  const double nu = std::abs(peak.frequency), tolerance = 0.3 / static_cast<double>(m);
+  for (int cuts = 2; cuts <= 8; ++cuts) {
+    const double p = std::round(nu * cuts);
+    if (p >= 1.0 && std::abs(nu - p / cuts) <= tolerance) {
+      return fmt::format("; their sequence's strongest line is at {:.4f} per period ≈ {}/{}: the "
+                         "section may cut the torus {} times (then a section of {} periods cuts it "
+                         "once)", nu, static_cast<int>(p), cuts, cuts, cuts);
+    }
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -101,8 +125,8 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   try {
     torus.u = problem.CircleFromOrbit(points, period, phi);
   } catch (const std::invalid_argument& e) {
-    return done(fmt::format("the transient's points (T ≈ {:.6g} s, φ ≈ {:.4g}) are no circle: {}",
-                            period, phi, e.what()));
+    return done(fmt::format("the transient's points (T ≈ {:.6g} s, φ ≈ {:.4g}) are no circle: {}{}",
+                            period, phi, e.what(), SectionHint(structure, points)));
   }
   problem.SetPhaseReference(torus.u);
   torus.newton = NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, omega, F); },

@@ -85,7 +85,9 @@ struct ModulatedTorus {
 // precessing at `frame_rate` Ω_f [rad/s] > 0. The structure must be balanced. Throws
 // std::invalid_argument for wrong sizes, non-positive Ω_f or ω, an imbalance or invalid options;
 // numerical outcomes (no modulation, integration failures, points that do not wind once round a
-// circle, Newton not converged) are `converged = false` with the message.
+// circle, Newton not converged) are `converged = false` with the message; where the points are
+// no circle and their sequence's strongest line is near p/m, the message says the section may cut
+// the torus m times.
 ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, double frame_rate,
                                    const Vector& fixed_state, const ModulatedTorusOptions& options = {});
 

@@ -106,12 +106,13 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   // the points x(kT) fall into 5 clusters (their sequence's strongest line is at 0.4 = 2/5 per
   // iterate, and every line of the fixed-frame spectrum found is a multiple of 124.37/5 = 24.87 Hz),
   // and every fifth point turns by ρ = 0.4375 ≈ 7/16 to 1e-5: a torus cut five times by that
-  // section, near or at a 7:16 locking. The solver says so instead of fitting a circle.
+  // section, next to the 7:16 resonance (README). The solver says so instead of fitting a circle.
   const ModulatedTorus torus = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
                                                    2.0 * M_PI * transient.bp_hz, transient.state);
   INFO(torus.message);
   CHECK_FALSE(torus.converged);
   CHECK_THAT(torus.message, Contains("are no circle"));
+  CHECK_THAT(torus.message, Contains("≈ 2/5: the section may cut the torus 5 times"));
   CHECK(std::abs(1.0 / torus.search_period - 124.37) < 0.1);
 }
 
