@@ -339,13 +339,10 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     FitSpec spec = LoadTargets(request.targets_file);
     spec.options.branches = BranchOptionsOf(scene);
 
-    if (request.threads < 0 || request.threads > 1024) {
-      throw std::invalid_argument(fmt::format("--threads = {}: must be in 0 … 1024", request.threads));
-    }
     const Ranks& ranks = Ranks::World();
     const bool shared = request.over_ranks && ranks.size() > 1;
     const bool root = !shared || ranks.rank() == 0;
-    const int threads = ThreadsFor(request.threads);
+    const int threads = ThreadsOption(request.threads);
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "fit.h5";

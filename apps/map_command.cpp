@@ -21,7 +21,6 @@
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "models/units.h"
-#include "solvers/parallel.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
@@ -292,9 +291,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
       throw std::invalid_argument(
           fmt::format("--eta-points = {}: must be in 2 … 2000", request.eta_points));
     }
-    if (request.threads < 0 || request.threads > 1024) {
-      throw std::invalid_argument(fmt::format("--threads = {}: must be in 0 … 1024", request.threads));
-    }
+    options.threads = ThreadsOption(request.threads);
     if (request.speed_points < 2 || request.speed_points > 100000) {
       throw std::invalid_argument(
           fmt::format("--speed-points = {}: must be in 2 … 100000", request.speed_points));
@@ -319,7 +316,6 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                  total, SecondsSince(start));
       err.flush();
     };
-    options.threads = ThreadsFor(request.threads);
     const std::optional<HysteresisMap> shared = MapOnRanks(
         ranks, request.over_ranks && ranks.size() > 1, scene.two_point, options, progress);
     if (!shared) return kExitSuccess;  // a rank other than 0: rank 0 writes the map

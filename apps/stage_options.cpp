@@ -6,6 +6,7 @@
 
 #include "apps/models.h"
 #include "models/units.h"
+#include "solvers/parallel.h"
 
 namespace rubcont {
 
@@ -30,6 +31,13 @@ const ModelEntry& RubModelOf(const Scene& scene) {
 RubStructure StructureOf(const Scene& scene) { return RubModelOf(scene).structure(scene); }
 
 FrictionLawKind FrictionLawOf(const Scene& scene) { return RubModelOf(scene).wave_friction(scene); }
+
+int ThreadsOption(int requested) {
+  if (requested < 0 || requested > 1024) {
+    throw std::invalid_argument(fmt::format("--threads = {}: must be in 0 … 1024", requested));
+  }
+  return ThreadsFor(requested);
+}
 
 RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene) {
   RotatingWaveBranchOptions options;

@@ -23,6 +23,10 @@ FrictionLawKind FrictionLawOf(const Scene& scene);
 // precession_range_hz.
 RotatingWaveBranchOptions BranchOptionsOf(const Scene& scene);
 
+// A command's --threads: checked (0 … 1024; std::invalid_argument naming the option otherwise) and
+// resolved (0: one per core, ThreadsFor).
+int ThreadsOption(int requested);
+
 // The two-point parameters of a scene, for what is defined on them (`rubcont map` and `rubcont
 // fit` vary and identify TwoPointParams fields). Throws std::invalid_argument naming `user` and the
 // scene's model for any other model.

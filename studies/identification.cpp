@@ -135,10 +135,7 @@ bool StageFailed(int code) { return code < 0 && code != nlopt::ROUNDOFF_LIMITED;
 
 std::vector<std::vector<double>> RunBatch(const BatchRunner& batches, int n,
                                           const std::function<std::vector<double>(int)>& job) {
-  if (batches) return batches(n, job);
-  std::vector<std::vector<double>> results;
-  for (int i = 0; i < n; ++i) results.push_back(job(i));
-  return results;
+  return (batches ? batches : ThreadBatchRunner(1))(n, job);
 }
 
 // The radical inverse of i in base b: coordinate b of the Halton sequence.
@@ -372,7 +369,6 @@ IdentificationResult Identify(const TwoPointParams& params,
     result.global_evaluations = options.global_evaluations;
     result.global_parameters = Denormalize(parameters, population[starts.front()]);
     result.global_objective = objective[starts.front()];
-    result.global_nlopt_result = static_cast<int>(nlopt::MAXEVAL_REACHED);
     report(fmt::format("population of {} evaluated: best J = {:.4g}; {} local refinements",
                        options.global_evaluations, result.global_objective, starts.size()));
     for (const std::vector<double>& v :

@@ -105,7 +105,7 @@ struct IdentificationResult {
   int global_evaluations = 0;
   int local_evaluations = 0;              // over all refinements
   int local_runs = 0;                     // refinements run (1 unless multistart)
-  int global_nlopt_result = 0;            // nlopt::result codes
+  int global_nlopt_result = 0;            // nlopt::result codes (global: 0 for multistart, not NLopt)
   int local_nlopt_result = 0;
   double seconds = 0.0;
   // Sensitivity at the fit.
