@@ -19,6 +19,13 @@ void RubStructure::Validate() const {
         mass.rows(), mass.cols(), damping.rows(), damping.cols(), stiffness.rows(),
         stiffness.cols(), imbalance_weights.size(), n));
   }
+  if (gyroscopic.size() != 0 &&
+      (gyroscopic.rows() != n || gyroscopic.cols() != n ||
+       !(gyroscopic - gyroscopic.transpose()).isZero(1e-12 * gyroscopic.norm()))) {
+    throw std::invalid_argument(fmt::format(
+        "RubStructure: the gyroscopic matrix is {}×{}: must be empty or symmetric {}×{}",
+        gyroscopic.rows(), gyroscopic.cols(), n, n));
+  }
   if (!(mass - mass.transpose()).isZero(1e-12 * mass.norm())) {
     throw std::invalid_argument("RubStructure: mass matrix must be symmetric");
   }
@@ -61,6 +68,7 @@ std::vector<Index> ContactExchange(const RubStructure& structure) {
                              a.geometry.radius == b.geometry.radius;
   if (!same_geometry || !invariant(structure.mass) || !invariant(structure.damping) ||
       !invariant(structure.stiffness) ||
+      (structure.gyroscopic.size() != 0 && !invariant(structure.gyroscopic)) ||
       (structure.imbalance != 0.0 &&
        !((weights - structure.imbalance_weights).norm() <=
          1e-12 * structure.imbalance_weights.norm()))) {
@@ -170,7 +178,12 @@ RigidContactOrbit SolveRigidContactOrbit(const RubStructure& structure, double p
     A(n + k, c.stator) = -1.0;
     rhs(n + k) = c.geometry.clearance * nk;
   }
-  const ComplexVector solution = A.fullPivLu().solve(rhs);
+  // Every pivot counts (threshold 0): with a flexible model's stiff modal coordinates (|D| to
+  // 1e15 against constraint entries of 1) the default threshold took the constraint rows' pivots
+  // for zeros and returned forces of 0.
+  Eigen::FullPivLU<ComplexMatrix> lu(A);
+  lu.setThreshold(0.0);
+  const ComplexVector solution = lu.solve(rhs);
   RigidContactOrbit orbit;
   orbit.precession = precession;
   for (Index i = 0; i < n; ++i) orbit.amplitude.push_back(solution(i));
@@ -188,6 +201,17 @@ RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
   small_mass_inverse_transpose_ = mass_inverse.transpose();
   small_damping_rate_transpose_ = (mass_inverse * structure_.damping).transpose();
   small_stiffness_rate_transpose_ = (mass_inverse * structure_.stiffness).transpose();
+  if (structure_.gyroscopic.size() != 0 && !structure_.gyroscopic.isZero(0.0)) {
+    const Index n = structure_.Coordinates();
+    gyroscopic_ = Matrix::Zero(2 * n, 2 * n);
+    for (Index i = 0; i < n; ++i) {
+      for (Index j = 0; j < n; ++j) {
+        gyroscopic_(2 * i, 2 * j + 1) = -structure_.gyroscopic(i, j);
+        gyroscopic_(2 * i + 1, 2 * j) = structure_.gyroscopic(i, j);
+      }
+    }
+    small_gyroscopic_rate_transpose_ = (mass_inverse * structure_.gyroscopic).transpose();
+  }
   modes_.assign(structure_.contacts.size(), FrictionMode::kRegularized);
   stick_forces_.setZero(static_cast<Index>(structure_.contacts.size()));
   exchange_ = ContactExchange(structure_);
@@ -229,6 +253,11 @@ void RubFixedFrame::Accelerations(const double* x, double* acceleration) const {
   const Eigen::Map<const Small> k(small_stiffness_rate_transpose_.data(), n, n);
   Eigen::Map<Rows> a(acceleration, 2, n);
   a.noalias() = load.lazyProduct(m) - v.lazyProduct(c) - q.lazyProduct(k);
+  if (gyroscopic_.size() != 0) {  // jωG u̇ = ωG(−v_y + j v_x)
+    const Eigen::Map<const Small> g(small_gyroscopic_rate_transpose_.data(), n, n);
+    a.row(0).noalias() -= omega_ * v.row(1).lazyProduct(g);
+    a.row(1).noalias() += omega_ * v.row(0).lazyProduct(g);
+  }
 }
 
 void RubFixedFrame::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
@@ -239,6 +268,9 @@ void RubFixedFrame::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
   J.topRightCorner(n2, n2).setIdentity();
   J.bottomLeftCorner(n2, n2).noalias() = mass_inverse_ * (forces_.d_dq - stiffness_);
   J.bottomRightCorner(n2, n2).noalias() = mass_inverse_ * (forces_.d_dv - damping_);
+  if (gyroscopic_.size() != 0) {
+    J.bottomRightCorner(n2, n2).noalias() += omega_ * mass_inverse_ * gyroscopic_;
+  }
 }
 
 void RubFixedFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
@@ -256,6 +288,7 @@ void RubFixedFrame::DfDparameter(double t, ConstVectorRef x, VectorRef df) {
       load(2 * i + 1) += me * b * (2.0 * omega_ * s + omega_ * omega_ * t * c);
     }
   }
+  if (gyroscopic_.size() != 0) load.noalias() += gyroscopic_ * x.tail(n2);
   df.head(n2).setZero();
   df.tail(n2).noalias() = mass_inverse_ * load;
 }

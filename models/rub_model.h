@@ -1,9 +1,10 @@
 // A linear rotor–stator structure on complex coordinates with rub contacts, and its equations of
 // motion in the fixed frame and in a frame precessing backwards at a rate Ω (docs/theory.md §2, §6).
 //
-// The structure has n_c complex coordinates u (rotor and stator displacements at chosen planes):
-//     M ü + C u̇ + K u = Σ_k B_k f_k + b m_u e ω² e^{jωt}
-// with real symmetric n_c × n_c matrices M, C, K acting identically on x and y, contact k acting
+// The structure has n_c complex coordinates u (rotor and stator displacements at chosen planes,
+// and for flexible models section rotations and modal coordinates):
+//     M ü + (C − jωG) u̇ + K u = Σ_k B_k f_k + b m_u e ω² e^{jωt}
+// with real symmetric n_c × n_c matrices M, C, K, G acting identically on x and y, contact k acting
 // between coordinates rotor(k) and stator(k) (B_k = e_rotor − e_stator), and imbalance weights b.
 // The two-point rotor (4 coordinates: rotor L, R; stator L, R) and the single-contact Jeffcott
 // rotor (2 coordinates) are both instances, so one implementation serves both.
@@ -32,6 +33,9 @@ struct RubStructure {
   Matrix mass;       // M (n_c × n_c) [kg], symmetric positive definite
   Matrix damping;    // C (n_c × n_c) [N·s/m], symmetric positive semi-definite
   Matrix stiffness;  // K (n_c × n_c) [N/m], symmetric positive semi-definite
+  // G (n_c × n_c) [kg·m²], symmetric, or empty for none: the spin ω adds −jωG u̇ to the damping
+  // term (the polar inertia of flexible rotors, models/beam.h; the rigid model has none).
+  Matrix gyroscopic;
   std::vector<RubContact> contacts;
   Vector imbalance_weights;  // b (n_c): generalized force per unit imbalance force m_u e ω²
   double imbalance = 0.0;    // m_u e [kg·m]
@@ -94,6 +98,8 @@ void EvaluateContactForces(const RubStructure& structure, double omega, ConstVec
 // n_k = 0 leaves contact k out (not touching: no force, no constraint; P_k = 0).
 // Contact forces f_k = −P_k n_k with P_k = N_k + jF_k; D(Ω) = K − Ω²M − jΩC; D u0 = Σ B_k f_k;
 // B_kᵀ u0 = C_k n_k. Imbalance is ignored; Hunt–Crossley compliance is not (|d_k| = C_k).
+// Gyroscopic moments are too (they need the spin, which this closed form does not fix): for a
+// structure with G it is a first guess, as the rotating-wave family search uses it.
 struct RigidContactOrbit {
   double precession = 0.0;                     // Ω [rad/s] > 0
   std::vector<std::complex<double>> amplitude;  // u0 (n_c)
@@ -146,16 +152,17 @@ class RubFixedFrame : public OdeSystem {
   Matrix mass_inverse_;  // kron(M⁻¹, I₂)
   Matrix damping_;       // kron(C, I₂)
   Matrix stiffness_;     // kron(K, I₂)
+  Matrix gyroscopic_;    // kron(G, [[0, −1], [1, 0]]): the load ω gyroscopic_ v of jωG u̇; empty for none
   std::vector<FrictionMode> modes_;
   Vector stick_forces_;
   ContactForces forces_;  // workspace
-  // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ, for
-  // N = n_c or Eigen::Dynamic.
+  // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ
+  // (+ ω (−V_y, V_x)(M⁻¹G)ᵀ with gyroscopic moments), for N = n_c or Eigen::Dynamic.
   template <int N>
   void Accelerations(const double* x, double* acceleration) const;
   // Rhs: M⁻ᵀ, (M⁻¹C)ᵀ, (M⁻¹K)ᵀ (n_c × n_c) and its workspace, the load as 2 × n_c.
   Matrix small_mass_inverse_transpose_, small_damping_rate_transpose_,
-      small_stiffness_rate_transpose_;
+      small_stiffness_rate_transpose_, small_gyroscopic_rate_transpose_;
   Matrix load_;
   std::vector<Index> exchange_;  // ContactExchange(structure_)
 };

@@ -1,0 +1,229 @@
+#include "models/flexible.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+namespace {
+
+void CheckContactNode(const BeamModel& beams, const std::string& key, int shaft, int node) {
+  const int shafts = static_cast<int>(beams.shafts.size());
+  if (shaft < 0 || shaft >= shafts) {
+    throw std::invalid_argument(
+        fmt::format("{}_shaft = {}: must name a shaft (0 to {})", key, shaft, shafts - 1));
+  }
+  const int nodes = beams.shafts[static_cast<std::size_t>(shaft)].Nodes();
+  if (node < 0 || node >= nodes) {
+    throw std::invalid_argument(fmt::format("{}_node = {}: must name a node of shafts[{}] (0 to {})",
+                                            key, node, shaft, nodes - 1));
+  }
+}
+
+}  // namespace
+
+FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
+  model.beams.Validate();
+  if (model.contacts.empty()) {
+    throw std::invalid_argument("contacts: at least one contact is needed");
+  }
+  if (!(model.modal_damping >= 0.0) || !std::isfinite(model.modal_damping)) {
+    throw std::invalid_argument(
+        fmt::format("modal_damping = {}: must be finite and non-negative", model.modal_damping));
+  }
+  if (!(model.imbalance >= 0.0) || !std::isfinite(model.imbalance)) {
+    throw std::invalid_argument(
+        fmt::format("imbalance = {}: must be finite and non-negative (kg·m)", model.imbalance));
+  }
+  CheckContactNode(model.beams, "imbalance", model.imbalance_shaft, model.imbalance_node);
+
+  const Index m = static_cast<Index>(model.contacts.size());
+  std::vector<Index> boundary(static_cast<std::size_t>(2 * m));
+  for (Index k = 0; k < m; ++k) {
+    const FlexibleContact& c = model.contacts[static_cast<std::size_t>(k)];
+    const std::string key = fmt::format("contacts[{}].", k);
+    CheckContactNode(model.beams, key + "rotor", c.rotor_shaft, c.rotor_node);
+    CheckContactNode(model.beams, key + "stator", c.stator_shaft, c.stator_node);
+    if (c.rotor_shaft == c.stator_shaft) {
+      throw std::invalid_argument(fmt::format(
+          "{}stator_shaft = {}: must differ from rotor_shaft (a contact joins two shafts)", key,
+          c.stator_shaft));
+    }
+    boundary[static_cast<std::size_t>(k)] = model.beams.Coordinate(c.rotor_shaft, c.rotor_node, 0);
+    boundary[static_cast<std::size_t>(m + k)] =
+        model.beams.Coordinate(c.stator_shaft, c.stator_node, 0);
+  }
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (boundary[i] == boundary[j]) {
+        throw std::invalid_argument(fmt::format(
+            "contacts[{}]: touches at a node another contact already uses", i % m));
+      }
+    }
+  }
+  if (model.modes < 0) {
+    throw std::invalid_argument(fmt::format("modes = {}: must be non-negative", model.modes));
+  }
+
+  FlexibleRub out;
+  out.full = Assemble(model.beams);
+  out.reduction = CraigBampton(out.full, boundary, model.modes);
+  const StructuralMatrices reduced = out.reduction.Reduce(out.full);
+
+  RubStructure& s = out.structure;
+  s.mass = reduced.mass;
+  s.stiffness = reduced.stiffness;
+  s.damping = reduced.damping;
+  for (Index j = 0; j < model.modes; ++j) {
+    s.damping(2 * m + j, 2 * m + j) +=
+        2.0 * model.modal_damping * out.reduction.interface_frequencies(j);
+  }
+  if (model.gyroscopic) s.gyroscopic = reduced.gyroscopic;
+  s.law = model.law;
+  s.imbalance = model.imbalance;
+  s.imbalance_weights = out.reduction.basis.row(
+      model.beams.Coordinate(model.imbalance_shaft, model.imbalance_node, 0)).transpose();
+  for (Index k = 0; k < m; ++k) {
+    const FlexibleContact& c = model.contacts[static_cast<std::size_t>(k)];
+    s.contacts.push_back(RubContact{static_cast<int>(k), static_cast<int>(m + k), c.geometry,
+                                    c.name});
+  }
+  for (Index k = 0; k < m; ++k) s.coordinate_names.push_back("rotor_" + model.contacts[k].name);
+  for (Index k = 0; k < m; ++k) s.coordinate_names.push_back("stator_" + model.contacts[k].name);
+  for (Index j = 0; j < model.modes; ++j) s.coordinate_names.push_back(fmt::format("mode_{}", j + 1));
+  s.Validate();
+  return out;
+}
+
+namespace {
+
+// A shaft of `section` over [0, span] cut into `elements` equal pieces plus nodes at `extra`
+// positions, with a disk completing the body (mass, centre, inertia about the centre); returns
+// the shaft and fills the node index of each extra position.
+Shaft CompletedBody(const std::string& name, const ShaftElement& section, double span,
+                    int elements, double mass, double inertia, double mass_center,
+                    std::vector<double> extra, std::vector<int>& extra_nodes) {
+  const double shaft_mass = section.density * section.Area() * span;
+  const double disk_mass = mass - shaft_mass;
+  if (!(disk_mass > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "{} shaft: {:.4g} kg over {:.4g} m is not lighter than the body ({:.4g} kg): take a thinner section",
+        name, shaft_mass, span, mass));
+  }
+  const double disk_z = (mass * mass_center - shaft_mass * span / 2) / disk_mass;
+  const double d2 = section.outer_diameter * section.outer_diameter +
+                    section.inner_diameter * section.inner_diameter;
+  const double shaft_inertia = shaft_mass * (span * span / 12 + d2 / 16) +
+                               shaft_mass * std::pow(span / 2 - mass_center, 2);
+  const double disk_inertia =
+      inertia - shaft_inertia - disk_mass * std::pow(disk_z - mass_center, 2);
+  if (!(disk_inertia >= 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "{} shaft: its transverse inertia leaves the disk {:.4g} kg·m²: take a thinner section", name,
+        disk_inertia));
+  }
+  std::vector<double> z;
+  for (int i = 0; i <= elements; ++i) z.push_back(span * i / elements);
+  extra.push_back(disk_z);
+  for (double e : extra) z.push_back(std::clamp(e, 0.0, span));
+  std::sort(z.begin(), z.end());
+  std::vector<double> nodes;
+  for (double x : z) {
+    if (nodes.empty() || x - nodes.back() > 1e-9 * span) nodes.push_back(x);
+  }
+  Shaft shaft{name, {}, {}};
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+    ShaftElement e = section;
+    e.length = nodes[i + 1] - nodes[i];
+    shaft.elements.push_back(e);
+  }
+  auto node_at = [&](double x) {
+    const auto it = std::min_element(nodes.begin(), nodes.end(), [&](double a, double b) {
+      return std::abs(a - x) < std::abs(b - x);
+    });
+    return static_cast<int>(it - nodes.begin());
+  };
+  extra_nodes.clear();
+  for (std::size_t i = 0; i + 1 < extra.size(); ++i) extra_nodes.push_back(node_at(extra[i]));
+  shaft.disks = {{node_at(disk_z), disk_mass, disk_inertia, 2 * disk_inertia}};
+  return shaft;
+}
+
+}  // namespace
+
+FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const ShaftElement& rotor_section,
+                                  const ShaftElement& stator_section, int elements, int modes) {
+  Validate(p);
+  if (elements < 1) {
+    throw std::invalid_argument(fmt::format("elements = {}: must be at least 1", elements));
+  }
+  std::vector<int> rotor_nodes, stator_nodes;  // (mid-span, mass centre) of each
+  FlexibleRubModel model;
+  model.beams.shafts = {
+      CompletedBody("rotor", rotor_section, p.contact_span, elements, p.rotor_mass,
+                    p.rotor_inertia, p.rotor_mass_center,
+                    {p.contact_span / 2, p.rotor_mass_center}, rotor_nodes),
+      CompletedBody("stator", stator_section, p.stator_span, elements, p.stator_mass,
+                    p.stator_inertia, p.stator_mass_center, {p.stator_span / 2}, stator_nodes)};
+  const int rotor_end = model.beams.shafts[0].Nodes() - 1;
+  const int stator_end = model.beams.shafts[1].Nodes() - 1;
+  model.beams.springs = {
+      {1, 0, -1, 0, p.support_stiffness[0], p.support_damping[0]},
+      {1, stator_end, -1, 0, p.support_stiffness[1], p.support_damping[1]}};
+  if (p.center_damping > 0.0) {
+    model.beams.springs.push_back({0, rotor_nodes[0], 1, stator_nodes[0], 0.0, p.center_damping});
+  }
+  model.contacts = {{"left", 0, 0, 1, 0, {p.clearance[0], p.radius[0]}},
+                    {"right", 0, rotor_end, 1, stator_end, {p.clearance[1], p.radius[1]}}};
+  model.modes = modes;
+  model.law = ContactLawOf(p);
+  model.imbalance = p.imbalance;
+  model.imbalance_shaft = 0;
+  model.imbalance_node = rotor_nodes[1];
+  return model;
+}
+
+std::vector<StructureMode> StructureModes(const RubStructure& structure, bool pinned, double spin,
+                                      bool backward) {
+  structure.Validate();
+  const Index n = structure.Coordinates();
+  // u = T v: pinning keeps each contact's rotor coordinate and sets its stator one equal to it.
+  std::vector<Index> column(static_cast<std::size_t>(n), -1);
+  if (pinned) {
+    for (const RubContact& c : structure.contacts) column[static_cast<std::size_t>(c.stator)] = -2;
+  }
+  Index kept = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (column[static_cast<std::size_t>(i)] == -1) column[static_cast<std::size_t>(i)] = kept++;
+  }
+  Matrix t = Matrix::Zero(n, kept);
+  for (Index i = 0; i < n; ++i) {
+    if (column[static_cast<std::size_t>(i)] >= 0) t(i, column[static_cast<std::size_t>(i)]) = 1.0;
+  }
+  if (pinned) {
+    for (const RubContact& c : structure.contacts) {
+      t(c.stator, column[static_cast<std::size_t>(c.rotor)]) = 1.0;
+    }
+  }
+  const Matrix gyroscopic =
+      structure.gyroscopic.size() != 0 ? structure.gyroscopic : Matrix::Zero(n, n);
+  const StructuralMatrices m{t.transpose() * structure.mass * t,
+                             t.transpose() * structure.damping * t,
+                             t.transpose() * structure.stiffness * t,
+                             t.transpose() * gyroscopic * t};
+  std::vector<StructureMode> modes;
+  for (const std::complex<double>& s : WhirlEigenvalues(m, spin, {})) {
+    const double nu = backward ? -s.imag() : s.imag();
+    if (nu > 1e-9 * std::abs(s) && std::abs(s) > 0.0) {
+      modes.push_back({nu / (2.0 * M_PI), -s.real() / std::abs(s)});
+    }
+  }
+  std::sort(modes.begin(), modes.end(), [](const StructureMode& a, const StructureMode& b) {
+    return a.frequency_hz < b.frequency_hz;
+  });
+  return modes;
+}
+
+}  // namespace rubcont

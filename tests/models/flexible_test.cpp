@@ -1,0 +1,141 @@
+#include "models/flexible.h"
+
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "models/analytic.h"
+#include "models/two_point_params.h"
+#include "models/units.h"
+
+namespace rubcont {
+namespace {
+
+ShaftElement SteelSection(double outer, double inner, double stiffening = 1.0) {
+  ShaftElement e;
+  e.outer_diameter = outer;
+  e.inner_diameter = inner;
+  e.youngs_modulus = 2.11e11 * stiffening;
+  e.shear_modulus = 8.12e10 * stiffening;
+  e.density = 7810.0;
+  return e;
+}
+
+TwoPointParams CaseCa() {  // the overhung disk of cases C (design.md §3)
+  TwoPointParams p = ThesisCaseAa();
+  p.rotor_mass_center = 0.26;
+  p.rotor_inertia = 0.07;
+  return p;
+}
+
+double RelativeDifference(const Matrix& a, const Matrix& b) { return (a - b).norm() / b.norm(); }
+
+TEST_CASE("flexible two-point model: Guyan condensation is the rigid model, whatever E",
+          "[flexible]") {
+  // Held at its two contact planes a free–free shaft moves rigidly, so the static constraint
+  // modes are rigid-body motions and M, C, K and the imbalance weights are the rigid model's.
+  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa()}) {
+    TwoPointParams imbalanced = p;
+    imbalanced.imbalance = 3.43e-5;
+    const RubStructure rigid = TwoPointStructure(imbalanced);
+    const FlexibleRub flexible = BuildFlexibleRub(FlexibleTwoPoint(
+        imbalanced, SteelSection(0.03, 0.0), SteelSection(0.16, 0.13), 8, 0));
+    const RubStructure& s = flexible.structure;
+    REQUIRE(s.Coordinates() == 4);
+    CHECK(RelativeDifference(s.mass, rigid.mass) < 1e-12);
+    CHECK(RelativeDifference(s.stiffness, rigid.stiffness) < 1e-12);
+    CHECK(RelativeDifference(s.damping, rigid.damping) < 1e-12);
+    CHECK((s.imbalance_weights - rigid.imbalance_weights).norm() < 1e-12);
+    CHECK(s.coordinate_names == rigid.coordinate_names);
+    CHECK(s.contacts[1].rotor == rigid.contacts[1].rotor);
+    CHECK(s.contacts[1].stator == rigid.contacts[1].stator);
+  }
+}
+
+TEST_CASE("flexible two-point model: the rigid limit E → ∞ with modes, to 1e-4", "[flexible]") {
+  const TwoPointParams p = ThesisCaseAa();
+  const RubStructure rigid = TwoPointStructure(p);
+  // Pinned, undamped: the closed form eig((M_r + M_s)⁻¹K_s) (87.04 and 137.0 Hz).
+  TwoPointParams undamped = p;
+  undamped.support_damping = {0.0, 0.0};
+  undamped.center_damping = 0.0;
+  const NaturalFrequencies closed = ComputeNaturalFrequencies(p);
+  const std::vector<StructureMode> undamped_modes = StructureModes(TwoPointStructure(undamped), true);
+  REQUIRE(undamped_modes.size() == 2);
+  CHECK(undamped_modes[0].frequency_hz == Approx(closed.pinned_bounce.frequency_hz).epsilon(1e-12));
+  CHECK(undamped_modes[1].frequency_hz == Approx(closed.pinned_pitch.frequency_hz).epsilon(1e-12));
+  CHECK(undamped_modes[0].damping_ratio == 0.0);
+  CHECK(closed.pinned_bounce.frequency_hz == Approx(87.04).margin(0.005));
+  const std::vector<StructureMode> rigid_modes = StructureModes(rigid, true);
+  REQUIRE(rigid_modes.size() == 2);
+  for (double stiffening : {1e4, 1e6}) {
+    FlexibleRubModel model = FlexibleTwoPoint(p, SteelSection(0.03, 0.0, stiffening),
+                                              SteelSection(0.16, 0.13, stiffening), 8, 4);
+    model.gyroscopic = false;  // the rigid model has none
+    const RubStructure s = BuildFlexibleRub(model).structure;
+    REQUIRE(s.Coordinates() == 8);
+    const std::vector<StructureMode> modes = StructureModes(s, true);
+    INFO("E × " << stiffening);
+    for (std::size_t i = 0; i < 2; ++i) {
+      CHECK(modes[i].frequency_hz == Approx(rigid_modes[i].frequency_hz).epsilon(1e-4));
+      CHECK(modes[i].damping_ratio == Approx(rigid_modes[i].damping_ratio).epsilon(1e-4));
+    }
+    CHECK(modes[2].frequency_hz > 1e4);  // bending moved far up
+    // Mode 1 / Mode 2 circular orbits (L0's closed form on the structure): forces to 1e-4.
+    for (double hz : {70.0, 84.5, 120.0}) {
+      for (double sign : {1.0, -1.0}) {
+        const auto a = SolveRigidContactOrbit(rigid, kTwoPi * hz, {1.0, sign}).force;
+        const auto b = SolveRigidContactOrbit(s, kTwoPi * hz, {1.0, sign}).force;
+        for (std::size_t k = 0; k < 2; ++k) CHECK(std::abs(b[k] - a[k]) < 1e-4 * std::abs(a[k]));
+      }
+    }
+  }
+}
+
+TEST_CASE("flexible two-point model: steel shafts soften the pinned modes, spin splits them",
+          "[flexible]") {
+  const RubStructure s = BuildFlexibleRub(FlexibleTwoPoint(
+      ThesisCaseAa(), SteelSection(0.03, 0.0), SteelSection(0.16, 0.13), 8, 4)).structure;
+  const std::vector<StructureMode> rigid = StructureModes(TwoPointStructure(ThesisCaseAa()), true);
+  const std::vector<StructureMode> rest = StructureModes(s, true);
+  CHECK(rest[0].frequency_hz < rigid[0].frequency_hz);
+  CHECK(rest[1].frequency_hz < rigid[1].frequency_hz);
+  // The thin (30 mm) shaft's pitch mode moves most; spin stiffens forward whirl, softens backward.
+  const double spin = RpmToRadPerSecond(3000.0);
+  const std::vector<StructureMode> forward = StructureModes(s, true, spin);
+  const std::vector<StructureMode> backward = StructureModes(s, true, spin, true);
+  CHECK(forward[1].frequency_hz > rest[1].frequency_hz);
+  CHECK(backward[1].frequency_hz < rest[1].frequency_hz);
+}
+
+TEST_CASE("flexible rub model validation names the entry and the rule", "[flexible]") {
+  const FlexibleRubModel good = FlexibleTwoPoint(ThesisCaseAa(), SteelSection(0.03, 0.0),
+                                                 SteelSection(0.16, 0.13), 4, 2);
+  CHECK_NOTHROW(BuildFlexibleRub(good));
+  FlexibleRubModel bad = good;
+  bad.contacts[1].stator_shaft = 0;
+  CHECK_THROWS_WITH(BuildFlexibleRub(bad), "contacts[1].stator_shaft = 0: must differ from "
+                                           "rotor_shaft (a contact joins two shafts)");
+  bad = good;
+  bad.contacts[0].rotor_node = 99;
+  CHECK_THROWS_WITH(BuildFlexibleRub(bad), Catch::StartsWith("contacts[0].rotor_node = 99: must "
+                                                             "name a node of shafts[0]"));
+  bad = good;
+  bad.contacts[1].rotor_node = 0;
+  bad.contacts[1].stator_node = 0;
+  CHECK_THROWS_WITH(BuildFlexibleRub(bad),
+                    "contacts[1]: touches at a node another contact already uses");
+  bad = good;
+  bad.modal_damping = -0.1;
+  CHECK_THROWS_WITH(BuildFlexibleRub(bad), Catch::StartsWith("modal_damping = -0.1"));
+  CHECK_THROWS_WITH(FlexibleTwoPoint(ThesisCaseAa(), SteelSection(0.1, 0.0),
+                                     SteelSection(0.16, 0.13), 4, 2),
+                    Catch::StartsWith("rotor shaft: 17.79") &&
+                        Catch::EndsWith("is not lighter than the body (9.99 kg): take a thinner "
+                                        "section"));
+}
+
+}  // namespace
+}  // namespace rubcont
