@@ -10,15 +10,17 @@ enum class Level {
   kL1,  // rotating waves: co-rotating-frame equilibria
   kL2,  // periodic and relative periodic orbits
   kL3,  // time-marching transients and sweeps
+  kL4,  // flexible rotor and stator (Timoshenko finite elements, Craig–Bampton reduction)
 };
 
-// "L0" … "L3", as written in result files.
+// "L0" … "L4", as written in result files.
 constexpr const char* ToString(Level level) {
   switch (level) {
     case Level::kL0: return "L0";
     case Level::kL1: return "L1";
     case Level::kL2: return "L2";
     case Level::kL3: return "L3";
+    case Level::kL4: return "L4";
   }
   return "?";
 }

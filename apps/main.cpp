@@ -13,6 +13,7 @@
 #include "apps/ensemble_command.h"
 #include "apps/lifetime_command.h"
 #include "apps/fit_command.h"
+#include "apps/flexible_command.h"
 #include "apps/map_command.h"
 #include "apps/version.h"
 
@@ -202,6 +203,18 @@ int main(int argc, char** argv) {
   lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
 
+  rubcont::FlexibleRequest flexible_request;
+  std::string flexible_out;
+  bool flexible_no_gyroscopic = false;
+  CLI::App* flexible = app.add_subcommand(
+      "flexible", "level L4: the scene's rotor and stator as Timoshenko shafts (sections fitted to the "
+                  "thesis's Tables 2–3), reduced by Craig–Bampton; its rotating waves against the rigid model's");
+  flexible->add_option("SCENE", flexible_request.scene_file, "scene file (TOML), model two_point")->required();
+  flexible->add_option("--modes", flexible_request.modes, "fixed-interface modes kept")->capture_default_str();
+  flexible->add_flag("--no-gyroscopic", flexible_no_gyroscopic, "leave out the polar inertias (as the rigid model)");
+  flexible->add_option("--out", flexible_out, "HDF5 file; default results/<scene>/flexible.h5");
+  flexible->add_flag("-q,--quiet", flexible_request.quiet, "no progress on stderr");
+
   rubcont::AttractorRequest attractor_request;
   std::string attractor_out, attractor_approach;
   double attractor_to = 0.0, attractor_tolerance = 0.0;
@@ -290,6 +303,11 @@ int main(int argc, char** argv) {
     if (attractor->count("--tolerance") > 0) attractor_request.tolerance = attractor_tolerance;
     if (attractor->count("--approach") > 0) attractor_request.approach = attractor_approach;
     return rubcont::AttractorCommand(attractor_request, std::cout, std::cerr);
+  }
+  if (*flexible) {
+    if (!flexible_out.empty()) flexible_request.out_file = flexible_out;
+    flexible_request.gyroscopic = !flexible_no_gyroscopic;
+    return rubcont::FlexibleCommand(flexible_request, std::cout, std::cerr);
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);

@@ -53,9 +53,14 @@ ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<In
     for (Index c = 0; c < nb; ++c) k_ib(r, c) = full.stiffness(interior[r], boundary[c]);
   }
   const Eigen::LLT<Matrix> k_factor(k_ii);
-  // A rigid motion left to the interior makes K_ii singular; round-off may leave its pivots
-  // positive, so the reciprocal condition number decides.
-  if (ni > 0 && (k_factor.info() != Eigen::Success || !(k_factor.rcond() > 1e-13))) {
+  // A rigid motion left to the interior makes K_ii singular; round-off may leave its Cholesky
+  // pivot positive at ~1e-16 of the largest, so the smallest pivot decides (a short element beside
+  // long ones makes K_ii ill-conditioned, not singular: its pivots stay above 1e-12 of the largest,
+  // where the condition-number estimate fell to 1e-14 for the flexible thesis rotors).
+  const Vector pivots =
+      ni > 0 ? Vector(Matrix(k_factor.matrixL()).diagonal().cwiseAbs2()) : Vector(0);
+  if (ni > 0 && (k_factor.info() != Eigen::Success ||
+                 !(pivots.minCoeff() > 1e-13 * pivots.maxCoeff()))) {
     throw std::invalid_argument(
         "boundary: the interior stiffness K_ii is not positive definite — the boundary "
         "coordinates do not hold the structure against rigid motion");

@@ -99,7 +99,7 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
 
 namespace {
 
-// A shaft of `section` over [0, span] cut into `elements` equal pieces plus nodes at `extra`
+// A shaft of `section` over [0, span] cut into about `elements` pieces with nodes at `extra`
 // positions, with a disk completing the body (mass, centre, inertia about the centre); returns
 // the shaft and fills the node index of each extra position.
 Shaft CompletedBody(const std::string& name, const ShaftElement& section, double span,
@@ -124,10 +124,19 @@ Shaft CompletedBody(const std::string& name, const ShaftElement& section, double
         "{} shaft: its transverse inertia leaves the disk {:.4g} kg·m²: take a thinner section", name,
         disk_inertia));
   }
-  std::vector<double> z;
-  for (int i = 0; i <= elements; ++i) z.push_back(span * i / elements);
+  // The ends and the extra positions exactly; the even grid's nodes where they are at least a
+  // quarter element from those (a sliver element would make the stiffness ill-conditioned).
   extra.push_back(disk_z);
-  for (double e : extra) z.push_back(std::clamp(e, 0.0, span));
+  std::vector<double> fixed = {0.0, span};
+  for (double e : extra) fixed.push_back(std::clamp(e, 0.0, span));
+  const double h = span / elements;
+  std::vector<double> z = fixed;
+  for (int i = 1; i < elements; ++i) {
+    const double x = h * i;
+    if (std::all_of(fixed.begin(), fixed.end(), [&](double f) { return std::abs(f - x) >= h / 4; })) {
+      z.push_back(x);
+    }
+  }
   std::sort(z.begin(), z.end());
   std::vector<double> nodes;
   for (double x : z) {

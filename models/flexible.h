@@ -57,7 +57,7 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model);
 
 // The two-point model (TwoPointParams) made flexible: a uniform rotor shaft across the contact span
 // [0, l] and a uniform stator shaft across [0, l_s], each of the section and material given (the
-// sections' `length` is ignored), cut into `elements` equal elements plus nodes at the mid-span,
+// sections' `length` is ignored), cut into about `elements` elements with nodes at the mid-span,
 // the mass centre and the disk; on each a rigid disk that makes up the rest of the body's mass,
 // mass-centre position and transverse inertia about the mass centre, so that the rigid-body data
 // equal the rigid model's exactly (the disk sits where the remaining mass must: z_d = (m l_g −

@@ -86,6 +86,15 @@ build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml 
 build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_up_jump.toml \
   --quiet --out results/design/fit_thesis_A_a_jump.h5 > results/design/fit_thesis_A_a_jump.txt 2>&1 || true
 echo "results/design: $(ls results/design | tr '\n' ' ')"
+
+# Level L4: the flexible analogues of cases A(a) (both friction laws), B(a), C(a) (shafts fitted
+# to the thesis's Tables 2–3) against the rigid model, point by point of the L1 branch sets
+# (`rubcont flexible`; results/<scene>/flexible.{h5,txt}, 2 s each).
+for scene in thesis_A_a thesis_A_a_tanh thesis_B_a thesis_C_a; do
+  build/rubcont flexible "scenes/$scene.toml" --quiet --out "results/$scene/flexible.h5" \
+    > "results/$scene/flexible.txt"
+done
+echo "results/thesis_{A_a,A_a_tanh,B_a,C_a}: flexible.h5 flexible.txt"
 # What the whip is (results/README.md, "What the whip is, speed by speed"): three schedules side by
 # side, the impacting whip at a tighter tolerance and shorter records.
 if [[ "${1:-}" == "--attractor" ]]; then

@@ -1,0 +1,211 @@
+#include "studies/flexible_thesis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
+#include <nlopt.hpp>
+
+#include "models/units.h"
+#include "solvers/stopwatch.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kBearingStiffness = 4.5e8;  // the thesis's "very stiff bearing" [N/m]
+constexpr double kBearingDamping = 2.1e4;    // [N·s/m]
+
+ShaftElement Steel(double outer, double inner) {
+  ShaftElement e;
+  e.outer_diameter = outer;
+  e.inner_diameter = inner;
+  e.youngs_modulus = 2.0684e11;
+  e.shear_modulus = 7.929e10;
+  e.density = 7833.0;
+  return e;
+}
+
+// The first three modes (ν > 0) of the assembled beams.
+ThreeModes FirstThree(const BeamModel& beams) {
+  ThreeModes out;
+  int found = 0;
+  for (const std::complex<double>& s : WhirlEigenvalues(Assemble(beams), 0.0, {})) {
+    if (found == 3) break;
+    if (s.imag() <= 1e-9 * std::abs(s)) continue;
+    out.hz[static_cast<std::size_t>(found)] = s.imag() / kTwoPi;
+    out.damping_ratio[static_cast<std::size_t>(found)] = -s.real() / std::abs(s);
+    ++found;
+  }
+  if (found < 3) throw std::runtime_error("fewer than three modes of positive frequency");
+  return out;
+}
+
+}  // namespace
+
+ThreeModes XltrcPinnedModes(const FlexibleRubModel& model) {
+  BeamModel beams = model.beams;
+  for (const FlexibleContact& c : model.contacts) {
+    beams.springs.push_back({c.rotor_shaft, c.rotor_node, c.stator_shaft, c.stator_node,
+                             kBearingStiffness, kBearingDamping});
+  }
+  return FirstThree(beams);
+}
+
+ThreeModes XltrcStatorModes(const FlexibleRubModel& model) {
+  const int stator = model.contacts.front().stator_shaft;
+  BeamModel beams;
+  beams.shafts = {model.beams.shafts[static_cast<std::size_t>(stator)]};
+  for (Spring spring : model.beams.springs) {
+    if (spring.shaft != stator || spring.other_shaft >= 0) continue;  // the supports only
+    spring.shaft = 0;
+    beams.springs.push_back(spring);
+  }
+  return FirstThree(beams);
+}
+
+ThesisTableTargets ThesisTables() {
+  ThesisTableTargets t;
+  t.pinned[0] = {{87.9, 133.8, 595.1}, {0.019, 0.029, 0.009}};
+  t.pinned[1] = {{86.9, 127.9, 709.8}, {0.019, 0.028, 0.013}};
+  t.pinned[2] = {{82.4, 115.4, 701.3}, {0.018, 0.025, 0.005}};
+  t.stator = {{105.4, 143.0, 8232.9}, {0.023, 0.031, 0.0}};
+  return t;
+}
+
+FlexibleRubModel ThesisGeometry::Model(const TwoPointParams& params, int modes) const {
+  return FlexibleTwoPoint(params, rotor, stator, elements, modes);
+}
+
+ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases) {
+  const ThesisTableTargets targets = ThesisTables();
+  const double bore = 2.0 * (cases[0].radius[0] + cases[0].clearance[0]);
+  // x = (rotor outer diameter [m], rotor bore / outer, stator outer diameter [m]).
+  auto geometry_of = [&](const std::vector<double>& x) {
+    ThesisGeometry g;
+    g.rotor = Steel(x[0], x[1] * x[0]);
+    g.stator = Steel(x[2], bore);
+    return g;
+  };
+  ThesisGeometryFit fit;
+  auto evaluate = [&](const std::vector<double>& x, ThesisGeometryFit* out) {
+    const ThesisGeometry g = geometry_of(x);
+    double j = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const ThreeModes m = XltrcPinnedModes(g.Model(cases[c], 0));
+      j += std::pow(std::log(m.hz[2] / targets.pinned[c].hz[2]), 2);
+      if (out != nullptr) out->pinned[c] = m;
+    }
+    const ThreeModes s = XltrcStatorModes(g.Model(cases[0], 0));
+    j += std::pow(std::log(s.hz[2] / targets.stator.hz[2]), 2);
+    if (out != nullptr) {
+      out->stator = s;
+      out->geometry = g;
+    }
+    return j;
+  };
+  nlopt::opt opt(nlopt::LN_BOBYQA, 3);
+  // The box keeps every body completable (a shaft lighter than its body with a disk of positive
+  // inertia); outside it a point costs 1e3, which BOBYQA steers away from.
+  opt.set_lower_bounds({0.02, 0.3, bore + 0.005});
+  opt.set_upper_bounds({0.09, 0.95, 0.2});
+  opt.set_xtol_rel(1e-8);
+  opt.set_maxeval(400);
+  std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
+    ++fit.evaluations;
+    try {
+      return evaluate(x, nullptr);
+    } catch (const std::invalid_argument&) {
+      return 1e3;  // a body the shaft cannot be completed to
+    }
+  };
+  opt.set_min_objective(
+      [](const std::vector<double>& x, std::vector<double>&, void* data) {
+        return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(x);
+      },
+      &objective);
+  std::vector<double> x = {0.05, 0.8, 0.13};
+  double j = 0.0;
+  try {
+    fit.nlopt_result = static_cast<int>(opt.optimize(x, j));
+  } catch (const nlopt::roundoff_limited&) {
+    fit.nlopt_result = static_cast<int>(nlopt::ROUNDOFF_LIMITED);
+  }
+  fit.objective = evaluate(x, &fit);
+  fit.message = fmt::format(
+      "rotor {:.2f} mm outer, bore ratio {:.3f}; stator {:.2f} mm outer, {:.2f} mm bore; "
+      "Σ(ln f/f_thesis)² = {:.3g} over the four bending modes in {} evaluations (NLopt {})",
+      1e3 * fit.geometry.rotor.outer_diameter,
+      fit.geometry.rotor.inner_diameter / fit.geometry.rotor.outer_diameter,
+      1e3 * fit.geometry.stator.outer_diameter, 1e3 * bore, fit.objective, fit.evaluations,
+      fit.nlopt_result);
+  return fit;
+}
+
+FlexibilityEffect CompareRigidFlexible(const RubStructure& rigid, const RubStructure& flexible,
+                                       FrictionLawKind law,
+                                       const RotatingWaveBranchOptions& options) {
+  FlexibilityEffect out;
+  out.rigid_coordinates = rigid.Coordinates();
+  out.flexible_coordinates = flexible.Coordinates();
+  auto start = SteadyClock::now();
+  const std::vector<RotatingWaveBranch> a = ComputeRotatingWaveBranches(rigid, law, options);
+  out.rigid_seconds = SecondsSince(start);
+  start = SteadyClock::now();
+  const std::vector<RotatingWaveBranch> b = ComputeRotatingWaveBranches(flexible, law, options);
+  out.flexible_seconds = SecondsSince(start);
+  auto label_of = [](const SpecialPoint& p) {
+    return p.type == SpecialPointType::kEvent ? p.label : std::string(ToString(p.type));
+  };
+  // The label without contact names: where both contacts switch at once (a symmetric rotor) which
+  // one the event names is a matter of round-off.
+  auto anonymous = [&](std::string label) {
+    for (const RubContact& c : rigid.contacts) {
+      for (std::size_t at = label.find(c.name); at != std::string::npos; at = label.find(c.name)) {
+        label.replace(at, c.name.size(), "*");
+      }
+    }
+    return label;
+  };
+  for (const RotatingWaveBranch& branch : a) {
+    const std::string pattern = PatternName(branch.normals);
+    for (std::size_t i = 0; i < branch.branch.special_points.size(); ++i) {
+      const SpecialPoint& p = branch.branch.special_points[i];
+      MovedPoint moved;
+      moved.branch_pattern = pattern;
+      moved.label = label_of(p);
+      moved.rigid_rpm = RadPerSecondToRpm(p.lambda);
+      moved.rigid_hz = branch.SpecialPrecessionHz(i);
+      const bool known = std::any_of(out.points.begin(), out.points.end(), [&](const MovedPoint& m) {
+        return m.branch_pattern == moved.branch_pattern && m.label == moved.label &&
+               std::abs(m.rigid_rpm - moved.rigid_rpm) < 1e-6 * moved.rigid_rpm;
+      });
+      if (known) continue;  // the same point on two pieces or two branches
+      double best = std::numeric_limits<double>::infinity();
+      for (const RotatingWaveBranch& other : b) {
+        if (PatternName(other.normals) != pattern) continue;
+        for (std::size_t k = 0; k < other.branch.special_points.size(); ++k) {
+          const SpecialPoint& q = other.branch.special_points[k];
+          if (q.type != p.type || anonymous(label_of(q)) != anonymous(moved.label)) continue;
+          const double rpm = RadPerSecondToRpm(q.lambda);
+          if (std::abs(rpm - moved.rigid_rpm) < std::min(best, 0.1 * moved.rigid_rpm)) {
+            best = std::abs(rpm - moved.rigid_rpm);
+            moved.found = true;
+            moved.flexible_rpm = rpm;
+            moved.flexible_hz = other.SpecialPrecessionHz(k);
+          }
+        }
+      }
+      out.points.push_back(moved);
+    }
+  }
+  std::sort(out.points.begin(), out.points.end(), [](const MovedPoint& x, const MovedPoint& y) {
+    return x.rigid_rpm < y.rigid_rpm;
+  });
+  return out;
+}
+
+}  // namespace rubcont
