@@ -78,7 +78,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
       if (std::optional<std::vector<SweepPoint>> earlier = ReadFinishedSweep(h5_file, scene, direction)) {
         progress("[sweep {}] kept from {}: {} speeds", ToString(direction), h5_file.string(),
                  earlier->size());
-        const Index n = TwoPointStructure(scene.two_point).States();
+        const Index n = SweepStructureOf(scene).States();
         runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*earlier), Vector::Zero(n)));
         carried.push_back(true);
       }
@@ -109,7 +109,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
       runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(saved->points), saved->state));
     } else if (finished) {
       progress("[sweep {}] complete in {}: not run again", ToString(direction), h5_file.string());
-      const Index n = TwoPointStructure(scene.two_point).States();
+      const Index n = SweepStructureOf(scene).States();
       runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*finished), Vector::Zero(n)));
     } else {
       runs.push_back(std::make_unique<SweepRun>(scene, direction));
@@ -220,7 +220,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
   // they can, and the sweeps do.
   const SteadyClock::time_point branches_start = SteadyClock::now();
-  const RubStructure structure = TwoPointStructure(scene.two_point);
+  const RubStructure structure = SweepStructureOf(scene);
   const std::vector<RotatingWaveBranch> branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
   WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,
@@ -352,7 +352,9 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       }
     }
   }
-  writer.SetAttribute("/", "level", ToString(HighestLevel(stages)));
+  // A flexible rotor and stator ([flexible]) make every stage but the closed form level L4.
+  writer.SetAttribute("/", "level",
+                      ToString(scene.flexible.enabled ? Level::kL4 : HighestLevel(stages)));
   writer.SetAttribute("/", "status", failures.empty() ? "success" : "failure");
   writer.Commit();
   fmt::print(out, "wrote {}\n", h5_file.string());

@@ -15,6 +15,7 @@
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
+#include "apps/models.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "solvers/stopwatch.h"
@@ -25,39 +26,45 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The first subcase of the thesis's cases A, B, C: A(a) with the disk at the centre, ¾ and
-// overhung (design.md §3).
-std::array<TwoPointParams, 3> ThesisCases() {
-  std::array<TwoPointParams, 3> cases{ThesisCaseAa(), ThesisCaseAa(), ThesisCaseAa()};
-  cases[1].rotor_mass_center = 0.22;
-  cases[1].rotor_inertia = 0.04;
-  cases[2].rotor_mass_center = 0.26;
-  cases[2].rotor_inertia = 0.07;
-  return cases;
-}
-
 }  // namespace
 
 int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
-    if (request.modes < 0 || request.modes > 40) {
-      throw std::invalid_argument(
-          fmt::format("--modes = {}: must be 0 … 40 (fixed-interface modes kept)", request.modes));
-    }
     const Scene scene = LoadScene(request.scene_file);
-    const TwoPointParams& params = TwoPointParamsOf(scene, "rubcont flexible");
+    Scene rigid_scene = scene;
+    rigid_scene.flexible.enabled = false;
+    const TwoPointParams& params = TwoPointParamsOf(rigid_scene, "rubcont flexible");
+    const int modes = request.modes.value_or(scene.flexible.enabled ? scene.flexible.modes : 4);
+    const bool gyroscopic =
+        request.gyroscopic.value_or(scene.flexible.enabled ? scene.flexible.gyroscopic : true);
+    if (modes < 1 || modes > 40) {
+      throw std::invalid_argument(
+          fmt::format("--modes = {}: must be 1 … 40 (fixed-interface modes kept)", modes));
+    }
     const SteadyClock::time_point start = SteadyClock::now();
-    if (!request.quiet) fmt::print(err, "rubcont: [flexible] fitting the shafts to the thesis's Tables 2–3\n");
-    const ThesisGeometryFit fit = FitThesisGeometry(ThesisCases());
-    FlexibleRubModel model = fit.geometry.Model(params, request.modes);
-    model.gyroscopic = request.gyroscopic;
+    ThesisGeometryFit fit;
+    if (scene.flexible.enabled) {
+      const FlexibleRubModel from_scene = FlexibleModelOf(scene);
+      ThesisGeometry geometry;
+      geometry.rotor = from_scene.beams.shafts[0].elements.front();
+      geometry.stator = from_scene.beams.shafts[1].elements.front();
+      geometry.elements = scene.flexible.elements;
+      fit = EvaluateThesisGeometry(geometry, ThesisCases());
+      fit.message += " (the scene's [flexible])";
+    } else {
+      if (!request.quiet) fmt::print(err, "rubcont: [flexible] fitting the shafts to the thesis's Tables 2–3\n");
+      fit = FitThesisGeometry(ThesisCases());
+    }
+    FlexibleRubModel model = fit.geometry.Model(params, modes);
+    model.modal_damping = scene.flexible.enabled ? scene.flexible.modal_damping : 0.0;
+    model.gyroscopic = gyroscopic;
     const RubStructure flexible = BuildFlexibleRub(model).structure;
     if (!request.quiet) {
       fmt::print(err, "rubcont: [flexible] {}; L1 branch sets, rigid and flexible ({} coordinates)\n",
                  fit.message, flexible.Coordinates());
     }
     const FlexibilityEffect effect = CompareRigidFlexible(
-        StructureOf(scene), flexible, FrictionLawOf(scene), BranchOptionsOf(scene));
+        StructureOf(rigid_scene), flexible, FrictionLawOf(scene), BranchOptionsOf(scene));
 
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
@@ -68,9 +75,9 @@ int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostr
     writer.SetAttribute("/", "level", ToString(Level::kL4));
     const std::string g = "/flexible";
     writer.CreateGroup(g);
-    writer.SetAttribute(g, "modes", static_cast<double>(request.modes));
+    writer.SetAttribute(g, "modes", static_cast<double>(modes));
     writer.SetAttribute(g, "elements", static_cast<double>(fit.geometry.elements));
-    writer.SetAttribute(g, "gyroscopic", request.gyroscopic ? "yes" : "no");
+    writer.SetAttribute(g, "gyroscopic", gyroscopic ? "yes" : "no");
     writer.SetAttribute(g, "rotor_outer_diameter", fit.geometry.rotor.outer_diameter);
     writer.SetAttribute(g, "rotor_inner_diameter", fit.geometry.rotor.inner_diameter);
     writer.SetAttribute(g, "stator_outer_diameter", fit.geometry.stator.outer_diameter);
@@ -134,7 +141,7 @@ int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostr
                "  L1 branch sets: rigid {} coordinates in {:.2f} s, flexible {} ({} modes, gyroscopic "
                "{}) in {:.2f} s; each special point, rigid → flexible:\n",
                effect.rigid_coordinates, effect.rigid_seconds, effect.flexible_coordinates,
-               request.modes, request.gyroscopic ? "on" : "off", effect.flexible_seconds);
+               modes, gyroscopic ? "on" : "off", effect.flexible_seconds);
     for (const MovedPoint& p : effect.points) {
       if (p.found) {
         fmt::print(out, "    {:<10} {:<26} {:8.3f} rpm {:8.3f} Hz → {:8.3f} rpm {:8.3f} Hz ({:+.3f} rpm, {:+.3f} Hz)\n",

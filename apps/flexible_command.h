@@ -1,6 +1,7 @@
 // `rubcont flexible SCENE`: level L4 on a two-point scene (studies/flexible_thesis.h). The shaft
-// sections of the thesis's flexible models are identified against its Tables 2–3 (NLopt; the
-// geometry does not depend on the scene), the scene's rotor and stator are built from them
+// sections are the scene's [flexible] ones, or, when it has none, those identified against the
+// thesis's Tables 2–3 (NLopt; that geometry does not depend on the scene); the scene's rotor and
+// stator are built from them
 // (models/flexible.h: Timoshenko elements, Craig–Bampton with the contacts physical, `modes`
 // fixed-interface modes, gyroscopic moments unless --no-gyroscopic), and the L1 branch sets of the
 // rigid and the flexible model are compared point by point.
@@ -22,8 +23,9 @@ namespace rubcont {
 
 struct FlexibleRequest {
   std::string scene_file;
-  int modes = 4;          // fixed-interface modes kept (0 … 40)
-  bool gyroscopic = true;
+  // Default: the scene's [flexible] values, or 4 modes with gyroscopic moments when it has none.
+  std::optional<int> modes;        // fixed-interface modes kept (1 … 40)
+  std::optional<bool> gyroscopic;
   std::optional<std::string> out_file;
   bool quiet = false;
 };

@@ -205,12 +205,14 @@ int main(int argc, char** argv) {
 
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
+  int flexible_modes = 4;
   bool flexible_no_gyroscopic = false;
   CLI::App* flexible = app.add_subcommand(
       "flexible", "level L4: the scene's rotor and stator as Timoshenko shafts (sections fitted to the "
                   "thesis's Tables 2–3), reduced by Craig–Bampton; its rotating waves against the rigid model's");
   flexible->add_option("SCENE", flexible_request.scene_file, "scene file (TOML), model two_point")->required();
-  flexible->add_option("--modes", flexible_request.modes, "fixed-interface modes kept")->capture_default_str();
+  flexible->add_option("--modes", flexible_modes,
+                       "fixed-interface modes kept; default the scene's [flexible] modes, or 4");
   flexible->add_flag("--no-gyroscopic", flexible_no_gyroscopic, "leave out the polar inertias (as the rigid model)");
   flexible->add_option("--out", flexible_out, "HDF5 file; default results/<scene>/flexible.h5");
   flexible->add_flag("-q,--quiet", flexible_request.quiet, "no progress on stderr");
@@ -306,7 +308,8 @@ int main(int argc, char** argv) {
   }
   if (*flexible) {
     if (!flexible_out.empty()) flexible_request.out_file = flexible_out;
-    flexible_request.gyroscopic = !flexible_no_gyroscopic;
+    if (flexible->count("--modes") > 0) flexible_request.modes = flexible_modes;
+    if (flexible_no_gyroscopic) flexible_request.gyroscopic = false;
     return rubcont::FlexibleCommand(flexible_request, std::cout, std::cerr);
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);

@@ -9,6 +9,7 @@
 
 #include "apps/analytic_stage.h"
 #include "apps/orbits_stage.h"
+#include "models/flexible.h"
 #include "models/jeffcott.h"
 
 namespace rubcont {
@@ -52,7 +53,10 @@ std::vector<ModelEntry> MakeModels() {
   two_point.name = "two_point";
   two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kSweep};
   two_point.default_stages = {Stage::kAnalytic, Stage::kBranches};
-  two_point.structure = [](const Scene& s) { return TwoPointStructure(s.two_point); };
+  two_point.structure = [](const Scene& s) {
+    return s.flexible.enabled ? BuildFlexibleRub(FlexibleModelOf(s)).structure
+                              : TwoPointStructure(s.two_point);
+  };
   two_point.wave_friction = [](const Scene& s) { return s.two_point.friction_law.kind; };
   two_point.analytic = RunTwoPointAnalytic;
   two_point.orbits = RunRubOrbits;
@@ -80,6 +84,26 @@ std::vector<ModelEntry> MakeModels() {
 }
 
 }  // namespace
+
+FlexibleRubModel FlexibleModelOf(const Scene& scene) {
+  const FlexibleSettings& f = scene.flexible;
+  auto section = [&](double outer, double inner) {
+    ShaftElement e;
+    e.outer_diameter = outer;
+    e.inner_diameter = inner;
+    e.youngs_modulus = f.youngs_modulus;
+    e.shear_modulus = f.shear_modulus;
+    e.density = f.density;
+    return e;
+  };
+  FlexibleRubModel model =
+      FlexibleTwoPoint(scene.two_point, section(f.rotor_outer_diameter, f.rotor_inner_diameter),
+                       section(f.stator_outer_diameter, f.stator_inner_diameter), f.elements,
+                       f.modes);
+  model.modal_damping = f.modal_damping;
+  model.gyroscopic = f.gyroscopic;
+  return model;
+}
 
 bool ModelEntry::Has(Stage stage) const {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();

@@ -15,6 +15,7 @@
 
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
+#include "models/flexible.h"
 #include "models/rub_model.h"
 
 namespace rubcont {
@@ -57,5 +58,9 @@ const ModelEntry& ModelOf(ModelKind kind);
 const ModelEntry& ModelOf(const Scene& scene);
 // The names of the models that have `stage`, quoted and comma-separated (for messages).
 std::string ModelsWith(Stage stage);
+
+// Model two_point's [flexible] section as the library's flexible model (models/flexible.h); the
+// scene loader has checked that it builds.
+FlexibleRubModel FlexibleModelOf(const Scene& scene);
 
 }  // namespace rubcont

@@ -400,7 +400,7 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                         const std::function<void(const std::string&)>& progress, std::ostream& out,
                         std::vector<std::string>& failures) {
   const SteadyClock::time_point begin = SteadyClock::now();
-  RubStructure structure = TwoPointStructure(scene.two_point);
+  RubStructure structure = StructureOf(scene);
   const double imbalance = structure.imbalance;
   structure.imbalance = 0.0;  // not stationary in the co-rotating frame (as for the branches)
   const std::vector<RotatingWaveBranch> waves =

@@ -257,6 +257,57 @@ std::vector<KeySpec> BuildSchema() {
                     [](Scene& x) -> double& { return x.two_point.center_damping; },
                     Presence::kRequiredInSection));
 
+  // [flexible]: level L4, optional; an absent section means the rigid model.
+  {
+    const auto flexible = [&s](std::string key, std::string unit, Rule rule, std::string doc,
+                               Field<double> field, Presence presence) {
+      KeySpec spec = Make<double>("flexible." + key, ValueType::kFloat, std::move(unit), rule,
+                                  presence, std::move(doc), field);
+      if (presence == Presence::kRequiredInSection) spec.default_text = "the rigid model";
+      s.push_back(spec);
+    };
+    const Presence in_section = Presence::kRequiredInSection, optional = Presence::kOptional;
+    flexible("rotor_outer_diameter", "m", Rule::kPositive,
+             "Outer diameter of the rotor's shaft across the contact span (a disk completes the "
+             "rotor to [rotor]'s mass, mass centre and inertia).",
+             [](Scene& x) -> double& { return x.flexible.rotor_outer_diameter; }, in_section);
+    flexible("rotor_inner_diameter", "m", Rule::kNonNegative,
+             "Its bore (0: solid); below rotor_outer_diameter.",
+             [](Scene& x) -> double& { return x.flexible.rotor_inner_diameter; }, optional);
+    flexible("stator_outer_diameter", "m", Rule::kPositive,
+             "Outer diameter of the stator's tube across its span (a disk completes it to "
+             "[stator]'s mass, mass centre and inertia).",
+             [](Scene& x) -> double& { return x.flexible.stator_outer_diameter; }, in_section);
+    flexible("stator_inner_diameter", "m", Rule::kNonNegative,
+             "Its bore; below stator_outer_diameter.",
+             [](Scene& x) -> double& { return x.flexible.stator_inner_diameter; }, in_section);
+    flexible("youngs_modulus", "Pa", Rule::kPositive, "E of both shafts.",
+             [](Scene& x) -> double& { return x.flexible.youngs_modulus; }, in_section);
+    flexible("shear_modulus", "Pa", Rule::kPositive,
+             "G of both shafts; the Poisson ratio E/(2G) − 1 must lie in (−1, 0.5].",
+             [](Scene& x) -> double& { return x.flexible.shear_modulus; }, in_section);
+    flexible("density", "kg/m³", Rule::kNonNegative, "ρ of both shafts.",
+             [](Scene& x) -> double& { return x.flexible.density; }, in_section);
+    s.push_back(Make<int, std::int64_t>(
+        "flexible.elements", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+        "Timoshenko elements per shaft (nodes are added at the mid-span, the mass centre and "
+        "the disk).",
+        [](Scene& x) -> int& { return x.flexible.elements; }));
+    s.push_back(Make<int, std::int64_t>(
+        "flexible.modes", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+        "Fixed-interface modes kept by the Craig–Bampton reduction (the contact displacements "
+        "stay physical).",
+        [](Scene& x) -> int& { return x.flexible.modes; }));
+    flexible("modal_damping", "-", Rule::kNonNegative, "ζ of the kept modes.",
+             [](Scene& x) -> double& { return x.flexible.modal_damping; }, optional);
+    s.push_back(Choice(
+        "flexible.gyroscopic",
+        "\"on\": the polar inertias' gyroscopic moments (−jωG u̇); \"off\": none, as the rigid "
+        "model.",
+        {"on", "off"}, [](Scene& x, const std::string& v) { x.flexible.gyroscopic = v == "on"; },
+        [](const Scene& x) { return std::string(x.flexible.gyroscopic ? "on" : "off"); }));
+  }
+
   // [jeffcott]: the single-contact model, in Black's and Crandall's symbols.
   {
     const auto jeffcott = [&s](std::string key, std::string unit, Rule rule, std::string doc,
@@ -961,10 +1012,15 @@ class Loader {
       } else {
         spec.set(scene, spec.default_value);
       }
+      // The keys of an absent [flexible] are not defaults the scene runs with: it is rigid.
+      if (spec.Section() == "flexible" && !section_present) continue;
       scene.defaulted_keys.push_back(spec.key);
     }
     CheckStagesFitModel(scene);
     if (!ModelOf(scene).parameter.empty()) CheckOrbitsStart(scene);
+    scene.flexible.enabled =
+        scene.model == ModelKind::kTwoPoint && present_sections_.count("flexible") > 0;
+    if (scene.flexible.enabled && problems_.empty()) CheckFlexible(scene);
     if (problems_.empty()) CheckSweep(scene.analysis.sweep);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
@@ -1016,6 +1072,46 @@ class Loader {
       problems_.push_back(fmt::format("{}: {} = {}: must lie in {}.{} = [{}, {}]", Where(key), key,
                                       FormatNode(*nodes_.at(key)), model, range_key,
                                       FormatFloat(range[0]), FormatFloat(range[1])));
+    }
+  }
+
+  // [flexible]: the rules that tie keys together, then whether the bodies can be built (a shaft
+  // lighter than its body, a disk of positive inertia, modes the interior has).
+  void CheckFlexible(const Scene& scene) {
+    const FlexibleSettings& f = scene.flexible;
+    auto problem = [&](const std::string& key, const std::string& rule) {
+      const std::string full = "flexible." + key;
+      if (nodes_.count(full)) {
+        Problem(*nodes_.at(full), fmt::format("{} = {}: {}", full, FormatNode(*nodes_.at(full)), rule));
+      } else {
+        problems_.push_back(fmt::format("{}: {} = {} (default): {}", source_, full,
+                                        FormatValue(FindKey(full)->get(scene)), rule));
+      }
+    };
+    if (!(f.rotor_inner_diameter < f.rotor_outer_diameter))
+      problem("rotor_inner_diameter", fmt::format("must be below flexible.rotor_outer_diameter = {} m",
+                                                  FormatFloat(f.rotor_outer_diameter)));
+    if (!(f.stator_inner_diameter < f.stator_outer_diameter))
+      problem("stator_inner_diameter", fmt::format("must be below flexible.stator_outer_diameter = {} m",
+                                                   FormatFloat(f.stator_outer_diameter)));
+    const double nu = f.youngs_modulus / (2.0 * f.shear_modulus) - 1.0;
+    if (!(nu > -1.0 && nu <= 0.5))
+      problem("shear_modulus", fmt::format("gives the Poisson ratio E/(2G) − 1 = {:.4g}: must lie in "
+                                           "(−1, 0.5]", nu));
+    if (!problems_.empty()) return;
+    try {
+      BuildFlexibleRub(FlexibleModelOf(scene));
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      if (what.rfind("rotor shaft", 0) == 0) {
+        problem("rotor_outer_diameter", what);
+      } else if (what.rfind("stator shaft", 0) == 0) {
+        problem("stator_outer_diameter", what);
+      } else if (what.rfind("modes = ", 0) == 0) {
+        problem("modes", what.substr(what.find(": ") + 2));
+      } else {
+        problems_.push_back(fmt::format("{}: [flexible]: {}", source_, what));
+      }
     }
   }
 
@@ -1169,6 +1265,12 @@ std::string Join(const std::vector<std::string>& lines) {
 
 bool Applies(const KeySpec& spec, ModelKind model) { return !spec.model || *spec.model == model; }
 
+// Whether a key belongs in the resolved scene: every key of its model, but [flexible] only when the
+// scene has it (its absence, not its defaults, means the rigid model).
+bool Resolved(const KeySpec& spec, const Scene& scene) {
+  return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled);
+}
+
 std::string DocTypeName(const KeySpec& spec) {
   switch (spec.type) {
     case ValueType::kFloat: return "float";
@@ -1279,7 +1381,7 @@ std::string ResolvedSceneToml(const Scene& scene) {
   for (const std::string& section : Sections()) {
     std::string body;
     for (const KeySpec& spec : Schema()) {
-      if (spec.Section() != section || !Applies(spec, scene.model)) continue;
+      if (spec.Section() != section || !Resolved(spec, scene)) continue;
       body += LastComponent(spec.key) + " = " + FormatValue(spec.get(scene)) + "\n";
     }
     if (body.empty()) continue;
@@ -1292,7 +1394,7 @@ std::string ResolvedSceneToml(const Scene& scene) {
 std::string DescribeScene(const Scene& scene) {
   std::string out;
   for (const KeySpec& spec : Schema()) {
-    if (!Applies(spec, scene.model)) continue;
+    if (!Resolved(spec, scene)) continue;
     const bool defaulted = std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(),
                                      spec.key) != scene.defaulted_keys.end();
     std::string value = FormatValue(spec.get(scene), true);

@@ -131,11 +131,33 @@ struct TextbookOrbitsSettings {
   int max_steps = 1000;         // continuation steps each way
 };
 
+// [flexible] (model two_point, optional): the rotor and the stator as Timoshenko shafts of one
+// material across their spans, each completed by a disk to the rigid model's mass, mass centre and
+// inertia, reduced by Craig–Bampton to the contact displacements and `modes` fixed-interface modes
+// (level L4, models/flexible.h FlexibleTwoPoint). Absent: the rigid model. The required keys'
+// initializers are the geometry `rubcont flexible` fits to the thesis's Tables 2–3
+// (scenes/thesis_*_flexible.toml); a scene must give them.
+struct FlexibleSettings {
+  bool enabled = false;  // the section is present
+  double rotor_outer_diameter = 0.04718;   // [m] > 0
+  double rotor_inner_diameter = 0.0;       // [m] ≥ 0, below the outer one (0: solid)
+  double stator_outer_diameter = 0.13722;  // [m] > 0
+  double stator_inner_diameter = 0.07696;  // [m] ≥ 0, below the outer one
+  double youngs_modulus = 2.0684e11;       // E [Pa] > 0
+  double shear_modulus = 7.929e10;         // G [Pa] > 0, E/(2G) − 1 in (−1, 0.5]
+  double density = 7833.0;                 // ρ [kg/m³] ≥ 0
+  int elements = 8;                        // per shaft (about; nodes added at the disk etc.)
+  int modes = 4;                           // fixed-interface modes kept
+  double modal_damping = 0.0;              // ζ of the kept modes
+  bool gyroscopic = true;                  // keep the polar inertias' −jωG u̇
+};
+
 struct Scene {
   std::string name;         // names the output: results/<name>/; default: the file stem
   std::string description;  // free text
   ModelKind model = ModelKind::kTwoPoint;
   TwoPointParams two_point;  // the model description when model == kTwoPoint
+  FlexibleSettings flexible; // model two_point's optional [flexible] section (level L4)
   JeffcottParams jeffcott;   // the model description when model == kJeffcott
   DuffingParams duffing;            // when model == kDuffing (frequency: see orbits)
   StuartLandauParams stuart_landau; // when model == kStuartLandau (lambda: see orbits)

@@ -52,6 +52,11 @@ const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user) {
     throw std::invalid_argument(fmt::format("model = \"{}\" in scene {}: {} needs the two_point "
                                             "model", ToString(scene.model), scene.name, user));
   }
+  if (scene.flexible.enabled) {
+    throw std::invalid_argument(fmt::format(
+        "[flexible] in scene {}: {} varies the rigid model's parameters; remove [flexible] (level "
+        "L4 is not yet mapped or fitted)", scene.name, user));
+  }
   return scene.two_point;
 }
 

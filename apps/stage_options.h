@@ -29,7 +29,7 @@ int ThreadsOption(int requested);
 
 // The two-point parameters of a scene, for what is defined on them (`rubcont map` and `rubcont
 // fit` vary and identify TwoPointParams fields). Throws std::invalid_argument naming `user` and the
-// scene's model for any other model.
+// scene's model for any other model, and for a scene with [flexible] (level L4).
 const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user);
 
 enum class SweepDirection { kUp, kDown };

@@ -67,6 +67,15 @@ ThreeModes XltrcStatorModes(const FlexibleRubModel& model) {
   return FirstThree(beams);
 }
 
+std::array<TwoPointParams, 3> ThesisCases() {
+  std::array<TwoPointParams, 3> cases{ThesisCaseAa(), ThesisCaseAa(), ThesisCaseAa()};
+  cases[1].rotor_mass_center = 0.22;
+  cases[1].rotor_inertia = 0.04;
+  cases[2].rotor_mass_center = 0.26;
+  cases[2].rotor_inertia = 0.07;
+  return cases;
+}
+
 ThesisTableTargets ThesisTables() {
   ThesisTableTargets t;
   t.pinned[0] = {{87.9, 133.8, 595.1}, {0.019, 0.029, 0.009}};
@@ -80,8 +89,33 @@ FlexibleRubModel ThesisGeometry::Model(const TwoPointParams& params, int modes) 
   return FlexibleTwoPoint(params, rotor, stator, elements, modes);
 }
 
-ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases) {
+namespace {
+
+std::string GeometryText(const ThesisGeometry& g) {
+  return fmt::format("rotor {:.2f} mm outer, bore ratio {:.3f}; stator {:.2f} mm outer, {:.2f} mm bore",
+                     1e3 * g.rotor.outer_diameter, g.rotor.inner_diameter / g.rotor.outer_diameter,
+                     1e3 * g.stator.outer_diameter, 1e3 * g.stator.inner_diameter);
+}
+
+}  // namespace
+
+ThesisGeometryFit EvaluateThesisGeometry(const ThesisGeometry& geometry,
+                                         const std::array<TwoPointParams, 3>& cases) {
   const ThesisTableTargets targets = ThesisTables();
+  ThesisGeometryFit out;
+  out.geometry = geometry;
+  for (std::size_t c = 0; c < 3; ++c) {
+    out.pinned[c] = XltrcPinnedModes(geometry.Model(cases[c], 0));
+    out.objective += std::pow(std::log(out.pinned[c].hz[2] / targets.pinned[c].hz[2]), 2);
+  }
+  out.stator = XltrcStatorModes(geometry.Model(cases[0], 0));
+  out.objective += std::pow(std::log(out.stator.hz[2] / targets.stator.hz[2]), 2);
+  out.message = fmt::format("{}; Σ(ln f/f_thesis)² = {:.3g} over the four bending modes",
+                            GeometryText(geometry), out.objective);
+  return out;
+}
+
+ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases) {
   const double bore = 2.0 * (cases[0].radius[0] + cases[0].clearance[0]);
   // x = (rotor outer diameter [m], rotor bore / outer, stator outer diameter [m]).
   auto geometry_of = [&](const std::vector<double>& x) {
@@ -90,38 +124,23 @@ ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases) 
     g.stator = Steel(x[2], bore);
     return g;
   };
-  ThesisGeometryFit fit;
-  auto evaluate = [&](const std::vector<double>& x, ThesisGeometryFit* out) {
-    const ThesisGeometry g = geometry_of(x);
-    double j = 0.0;
-    for (std::size_t c = 0; c < 3; ++c) {
-      const ThreeModes m = XltrcPinnedModes(g.Model(cases[c], 0));
-      j += std::pow(std::log(m.hz[2] / targets.pinned[c].hz[2]), 2);
-      if (out != nullptr) out->pinned[c] = m;
-    }
-    const ThreeModes s = XltrcStatorModes(g.Model(cases[0], 0));
-    j += std::pow(std::log(s.hz[2] / targets.stator.hz[2]), 2);
-    if (out != nullptr) {
-      out->stator = s;
-      out->geometry = g;
-    }
-    return j;
-  };
-  nlopt::opt opt(nlopt::LN_BOBYQA, 3);
-  // The box keeps every body completable (a shaft lighter than its body with a disk of positive
-  // inertia); outside it a point costs 1e3, which BOBYQA steers away from.
-  opt.set_lower_bounds({0.02, 0.3, bore + 0.005});
-  opt.set_upper_bounds({0.09, 0.95, 0.2});
-  opt.set_xtol_rel(1e-8);
-  opt.set_maxeval(400);
+  int evaluations = 0;
   std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
-    ++fit.evaluations;
+    ++evaluations;
     try {
-      return evaluate(x, nullptr);
+      return EvaluateThesisGeometry(geometry_of(x), cases).objective;
     } catch (const std::invalid_argument&) {
       return 1e3;  // a body the shaft cannot be completed to
     }
   };
+  nlopt::opt opt(nlopt::LN_BOBYQA, 3);
+  // The box keeps the shafts inside sensible sizes; where a body cannot be completed (a shaft
+  // heavier than it, or a disk of negative inertia) a point costs 1e3, which BOBYQA steers away
+  // from.
+  opt.set_lower_bounds({0.02, 0.3, bore + 0.005});
+  opt.set_upper_bounds({0.09, 0.95, 0.2});
+  opt.set_xtol_rel(1e-8);
+  opt.set_maxeval(400);
   opt.set_min_objective(
       [](const std::vector<double>& x, std::vector<double>&, void* data) {
         return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(x);
@@ -129,19 +148,16 @@ ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases) 
       &objective);
   std::vector<double> x = {0.05, 0.8, 0.13};
   double j = 0.0;
+  int result = 0;
   try {
-    fit.nlopt_result = static_cast<int>(opt.optimize(x, j));
+    result = static_cast<int>(opt.optimize(x, j));
   } catch (const nlopt::roundoff_limited&) {
-    fit.nlopt_result = static_cast<int>(nlopt::ROUNDOFF_LIMITED);
+    result = static_cast<int>(nlopt::ROUNDOFF_LIMITED);
   }
-  fit.objective = evaluate(x, &fit);
-  fit.message = fmt::format(
-      "rotor {:.2f} mm outer, bore ratio {:.3f}; stator {:.2f} mm outer, {:.2f} mm bore; "
-      "Σ(ln f/f_thesis)² = {:.3g} over the four bending modes in {} evaluations (NLopt {})",
-      1e3 * fit.geometry.rotor.outer_diameter,
-      fit.geometry.rotor.inner_diameter / fit.geometry.rotor.outer_diameter,
-      1e3 * fit.geometry.stator.outer_diameter, 1e3 * bore, fit.objective, fit.evaluations,
-      fit.nlopt_result);
+  ThesisGeometryFit fit = EvaluateThesisGeometry(geometry_of(x), cases);
+  fit.evaluations = evaluations;
+  fit.nlopt_result = result;
+  fit.message += fmt::format(" in {} evaluations (NLopt {})", evaluations, result);
   return fit;
 }
 

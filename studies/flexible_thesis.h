@@ -35,6 +35,10 @@ struct ThreeModes {
 ThreeModes XltrcPinnedModes(const FlexibleRubModel& model);
 ThreeModes XltrcStatorModes(const FlexibleRubModel& model);
 
+// The rigid-body data of the thesis's cases A, B, C (its Eq. 31: the disk at the centre, ¾ and
+// overhung) as their first subcases A(a), B(a), C(a) (design.md §3).
+std::array<TwoPointParams, 3> ThesisCases();
+
 // Table 2 (disk at centre, ¾, overhung) and Table 3 of the thesis.
 struct ThesisTableTargets {
   std::array<ThreeModes, 3> pinned;  // cases A, B, C
@@ -56,10 +60,15 @@ struct ThesisGeometryFit {
   std::array<ThreeModes, 3> pinned;  // the fitted models' Table 2 (cases A, B, C)
   ThreeModes stator;                 // and Table 3
   double objective = 0.0;            // Σ (ln f/f_target)² over the four fitted bending modes
-  int evaluations = 0;
+  int evaluations = 0;  // of the fit (0: evaluated, not fitted)
   int nlopt_result = 0;
   std::string message;
 };
+
+// The Tables 2–3 of a geometry (cases A, B, C) and Σ (ln f/f_target)² over the four bending modes;
+// the fit fields (evaluations, nlopt_result) zero, the message naming the geometry.
+ThesisGeometryFit EvaluateThesisGeometry(const ThesisGeometry& geometry,
+                                         const std::array<TwoPointParams, 3>& cases);
 
 // Fits the rotor's outer diameter and bore ratio and the stator's outer diameter (NLopt
 // LN_BOBYQA from a start inside the feasible box) to the four bending frequencies of Tables 2–3;

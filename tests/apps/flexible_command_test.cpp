@@ -45,13 +45,38 @@ TEST_CASE("rubcont flexible: the thesis's Table 2 and A(a)'s branch points rigid
   for (std::size_t i = 0; i < label.size(); ++i) CHECK(std::isfinite(flexible[i]));
 }
 
+TEST_CASE("a scene with [flexible]: branches at level L4, its own geometry in rubcont flexible",
+          "[flexible_cli]") {
+  TempDir dir;
+  const fs::path branches = dir.path / "branches.h5";
+  Outcome o = testing::RubcontNoPython("branches scenes/thesis_A_a_flexible.toml --quiet --out " +
+                                       branches.string());
+  INFO(o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK(ResultReader(branches).ReadStringAttribute("/", "level") == "L4");
+  // The flexible Mode 1 whirl's end, as `rubcont flexible` found it with the fitted geometry.
+  CHECK_THAT(o.out, Contains("left stick to slip+              50.400 rpm"));
+  const fs::path file = dir.path / "flexible.h5";
+  o = testing::RubcontNoPython("flexible scenes/thesis_A_a_flexible.toml --quiet --out " +
+                               file.string());
+  REQUIRE(o.exit_code == 0);
+  CHECK_THAT(o.out, Contains("(the scene's [flexible])"));
+  CHECK_THAT(o.out, Contains("50.689 rpm   84.478 Hz →   50.400 rpm"));
+  // Maps and fits vary the rigid model's parameters: refused, not silently rigid.
+  o = testing::RubcontNoPython("map scenes/thesis_A_a_flexible.toml --parameter friction --quiet --out " +
+                               (dir.path / "map.h5").string());
+  CHECK(o.exit_code == 2);
+  CHECK_THAT(o.err, Contains("[flexible] in scene thesis_A_a_flexible: rubcont map varies the rigid "
+                             "model's parameters"));
+}
+
 TEST_CASE("rubcont flexible: bad input is exit code 2 naming it", "[flexible_cli]") {
   TempDir dir;
   const fs::path file = dir.path / "x.h5";
   Outcome o = testing::RubcontNoPython("flexible scenes/thesis_A_a.toml --modes 99 --quiet --out " +
                                        file.string());
   CHECK(o.exit_code == 2);
-  CHECK_THAT(o.err, Contains("--modes = 99: must be 0 … 40"));
+  CHECK_THAT(o.err, Contains("--modes = 99: must be 1 … 40"));
   CHECK_FALSE(fs::exists(file));
   o = testing::RubcontNoPython("flexible scenes/jeffcott.toml --quiet --out " + file.string());
   CHECK(o.exit_code == 2);

@@ -330,6 +330,62 @@ TEST_CASE("The resolved TOML reproduces the scene", "[scene]") {
   CHECK_THAT(resolved, Contains("stiffness = 175000000000.0"));
 }
 
+const std::string kFlexible = R"(
+[flexible]
+rotor_outer_diameter = 0.04718
+rotor_inner_diameter = 0.03161
+stator_outer_diameter = 0.13722
+stator_inner_diameter = 0.07696
+youngs_modulus = 2.0684e11
+shear_modulus = 7.929e10
+density = 7833.0
+)";
+
+TEST_CASE("[flexible]: level L4 from the rigid scene's data, resolved only when present",
+          "[scene]") {
+  const Scene rigid = Parse(kValid);
+  CHECK_FALSE(rigid.flexible.enabled);
+  CHECK_THAT(ResolvedSceneToml(rigid), !Contains("[flexible]"));
+  const Scene flexible = Parse(kValid + kFlexible);
+  REQUIRE(flexible.flexible.enabled);
+  CHECK(flexible.flexible.rotor_outer_diameter == 0.04718);
+  CHECK(flexible.flexible.modes == 4);  // defaults
+  CHECK(flexible.flexible.elements == 8);
+  CHECK(flexible.flexible.gyroscopic);
+  const std::string resolved = ResolvedSceneToml(flexible);
+  CHECK_THAT(resolved, Contains("[flexible]"));
+  const Scene again = ParseScene(resolved, "resolved.toml", "other");
+  CHECK(again.flexible.enabled);
+  CHECK(Body(ResolvedSceneToml(again)) == Body(resolved));
+  const Scene off = Parse(kValid + kFlexible + "modes = 6\ngyroscopic = \"off\"\n");
+  CHECK(off.flexible.modes == 6);
+  CHECK_FALSE(off.flexible.gyroscopic);
+}
+
+TEST_CASE("Rule: [flexible] names the key, value and rule of a shaft that cannot be built",
+          "[scene]") {
+  CHECK(OnlyProblem(Replace(kValid + kFlexible, "rotor_inner_diameter = 0.03161",
+                            "rotor_inner_diameter = 0.05")) ==
+        "scene.toml:30:24: flexible.rotor_inner_diameter = 0.05: must be below "
+        "flexible.rotor_outer_diameter = 0.04718 m");
+  CHECK_THAT(OnlyProblem(Replace(kValid + kFlexible, "shear_modulus = 7.929e10",
+                                 "shear_modulus = 7.929e9")),
+             Contains("flexible.shear_modulus = 7929000000.0: gives the Poisson ratio E/(2G) − 1 = 12.04: "
+                      "must lie in (−1, 0.5]"));
+  CHECK_THAT(OnlyProblem(Replace(kValid + kFlexible, "rotor_outer_diameter = 0.04718",
+                                 "rotor_outer_diameter = 0.1")),
+             Contains("flexible.rotor_outer_diameter = 0.1: rotor shaft: 16.06 kg over 0.29 m is "
+                      "not lighter than the body (9.99 kg): take a thinner section"));
+  CHECK_THAT(OnlyProblem(kValid + kFlexible + "modes = 900\n"),
+             Contains("flexible.modes = 900: the interior has only"));
+  CHECK_THAT(OnlyProblem(Replace(kValid + kFlexible, "density = 7833.0\n", "")),
+             Contains("flexible.density: missing; required when [flexible] is present"));
+  // Only model two_point has it.
+  CHECK_THAT(Problems("model = \"van_der_pol\"\n[van_der_pol]\nmu_range = [0.2, 2.0]\n" +
+                      kFlexible)[0],
+             Contains("not a key of model \"van_der_pol\""));
+}
+
 TEST_CASE("Every scene file in scenes/ loads, with the thesis's Table 1 values", "[scene]") {
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator("scenes")) {

@@ -9,15 +9,6 @@
 namespace rubcont {
 namespace {
 
-std::array<TwoPointParams, 3> Cases() {
-  std::array<TwoPointParams, 3> cases{ThesisCaseAa(), ThesisCaseAa(), ThesisCaseAa()};
-  cases[1].rotor_mass_center = 0.22;
-  cases[1].rotor_inertia = 0.04;
-  cases[2].rotor_mass_center = 0.26;
-  cases[2].rotor_inertia = 0.07;
-  return cases;
-}
-
 RotatingWaveBranchOptions ThesisRange() {
   RotatingWaveBranchOptions options;
   options.search.speed_min = 20.0 * kRadPerSecondPerRpm;
@@ -27,7 +18,7 @@ RotatingWaveBranchOptions ThesisRange() {
 }
 
 TEST_CASE("thesis geometry: Tables 2–3 from Eq. 31 and fitted sections", "[flexible_thesis]") {
-  const ThesisGeometryFit fit = FitThesisGeometry(Cases());
+  const ThesisGeometryFit fit = FitThesisGeometry(ThesisCases());
   INFO(fit.message);
   REQUIRE(fit.nlopt_result > 0);
   const ThesisTableTargets thesis = ThesisTables();
@@ -80,7 +71,7 @@ TEST_CASE("flexible L1: the rigid limit moves no special point, steel moves the 
   }
   // The fitted steel shafts: the Mode 1 whirl's end (stick to slip, the speed-up jump) moves down
   // by a fraction of a rpm; every rigid point has its flexible counterpart.
-  const ThesisGeometryFit fit = FitThesisGeometry(Cases());
+  const ThesisGeometryFit fit = FitThesisGeometry(ThesisCases());
   const FlexibilityEffect steel = CompareRigidFlexible(
       rigid, BuildFlexibleRub(fit.geometry.Model(p, 4)).structure, FrictionLawKind::kExact,
       ThesisRange());
