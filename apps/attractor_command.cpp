@@ -147,7 +147,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
-    writer.SetAttribute("/", "level", ToString(Level::kL3));
+    writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
     const std::string g = "/attractor";
     writer.CreateGroup(g);
     writer.SetAttribute(g, "direction", request.direction);

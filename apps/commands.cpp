@@ -352,9 +352,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       }
     }
   }
-  // A flexible rotor and stator ([flexible]) make every stage but the closed form level L4.
-  writer.SetAttribute("/", "level",
-                      ToString(scene.flexible.enabled ? Level::kL4 : HighestLevel(stages)));
+  writer.SetAttribute("/", "level", ToString(ResultLevel(scene, HighestLevel(stages))));
   writer.SetAttribute("/", "status", failures.empty() ? "success" : "failure");
   writer.Commit();
   fmt::print(out, "wrote {}\n", h5_file.string());

@@ -96,7 +96,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
-    writer.SetAttribute("/", "level", ToString(Level::kL3));
+    writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
     const std::string g = "/ensemble";
     writer.CreateGroup(g);
     writer.SetAttribute(g, "speed_rpm", request.speed_rpm);

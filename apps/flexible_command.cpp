@@ -1,7 +1,6 @@
 #include "apps/flexible_command.h"
 
 #include <array>
-#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <ostream>

@@ -173,7 +173,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
-    writer.SetAttribute("/", "level", ToString(Level::kL3));
+    writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
     const std::string g = "/lifetime";
     writer.CreateGroup(g);
     writer.SetAttribute(g, "direction", request.direction);

@@ -1342,6 +1342,10 @@ Level LevelOf(Stage stage) {
   return Level::kL0;
 }
 
+Level ResultLevel(const Scene& scene, Level computed) {
+  return scene.flexible.enabled ? Level::kL4 : computed;
+}
+
 Level HighestLevel(const std::vector<Stage>& stages) {
   Level highest = Level::kL0;
   for (Stage stage : stages) highest = std::max(highest, LevelOf(stage));

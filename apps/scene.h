@@ -139,7 +139,7 @@ struct TextbookOrbitsSettings {
 // (scenes/thesis_*_flexible.toml); a scene must give them.
 struct FlexibleSettings {
   bool enabled = false;  // the section is present
-  double rotor_outer_diameter = 0.04718;   // [m] > 0
+  double rotor_outer_diameter = 0.04801;   // [m] > 0
   double rotor_inner_diameter = 0.0;       // [m] ≥ 0, below the outer one (0: solid)
   double stator_outer_diameter = 0.13722;  // [m] > 0
   double stator_inner_diameter = 0.07696;  // [m] ≥ 0, below the outer one
@@ -171,6 +171,10 @@ struct Scene {
   std::string source;
   std::vector<std::string> defaulted_keys;
 };
+
+// The level of a result file's root: `computed`, or L4 for a scene with [flexible] (whose rotor and
+// stator are Timoshenko shafts whatever the method).
+Level ResultLevel(const Scene& scene, Level computed);
 
 // All problems of one scene file; what() joins them, one per line. Exit code 2 at the CLI.
 class SceneError : public std::invalid_argument {

@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
   for (int repeat = 0; repeat < 5; ++repeat) {
     const auto c0 = std::chrono::steady_clock::now();
     const auto result = rubcont::ComputeRotatingWaveBranches(
-        rubcont::TwoPointStructure(scene.two_point), rubcont::FrictionLawKind::kTanh,
+        rubcont::StructureOf(scene), rubcont::FrictionLawKind::kTanh,
         rubcont::BranchOptionsOf(scene));
     continuation = std::min(continuation,
                             std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count());

@@ -99,24 +99,50 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
 
 namespace {
 
-// A shaft of `section` over [0, span] cut into about `elements` pieces with nodes at `extra`
-// positions, with a disk completing the body (mass, centre, inertia about the centre); returns
-// the shaft and fills the node index of each extra position.
-Shaft CompletedBody(const std::string& name, const ShaftElement& section, double span,
-                    int elements, double mass, double inertia, double mass_center,
-                    std::vector<double> extra, std::vector<int>& extra_nodes) {
-  const double shaft_mass = section.density * section.Area() * span;
-  const double disk_mass = mass - shaft_mass;
-  if (!(disk_mass > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "{} shaft: {:.4g} kg over {:.4g} m is not lighter than the body ({:.4g} kg): take a thinner section",
-        name, shaft_mass, span, mass));
+// A shaft of `section` across [0, span] — and on past an end where the disk must sit beyond it —
+// cut into about `elements` pieces, with nodes at both ends of the span, at `extra` positions and
+// at the disk, which completes the body (mass, centre, inertia about the centre).
+struct CompletedBody {
+  Shaft shaft;
+  int node_zero = 0, node_span = 0;  // the nodes at z = 0 and z = span
+  std::vector<int> extra_nodes;      // the node at each `extra` position
+};
+
+CompletedBody Complete(const std::string& name, const ShaftElement& section, double span,
+                       int elements, double mass, double inertia, double mass_center,
+                       const std::vector<double>& extra) {
+  const double line_mass = section.density * section.Area();  // [kg/m]
+  // The shaft covers [a, b] ⊇ [0, span] and the disk at z_d, where the mass centre is l_g,
+  // with a = min(0, z_d), b = max(span, z_d); a fixed-point iteration from [0, span] (the shaft
+  // is lighter than the body, so each extension moves the disk less than the one before).
+  double a = 0.0, b = span, disk_z = 0.0, shaft_mass = 0.0, disk_mass = 0.0;
+  for (int iteration = 0;; ++iteration) {
+    shaft_mass = line_mass * (b - a);
+    disk_mass = mass - shaft_mass;
+    if (!(disk_mass > 0.0)) {
+      throw std::invalid_argument(fmt::format(
+          "{} shaft: {:.4g} kg over {:.4g} m is not lighter than the body ({:.4g} kg): take a "
+          "thinner section", name, shaft_mass, b - a, mass));
+    }
+    // z_d = l_g + m_s (l_g − (a + b)/2)/m_d: no cancellation when the shaft weighs nearly all of
+    // the body and its centre is the body's (the written-out (m l_g − m_s c)/m_d put a stator
+    // tube's 1e-6 kg disk 1e-4 m off the centre and broke A(a)'s left–right symmetry).
+    disk_z = mass_center + shaft_mass * (mass_center - (a + b) / 2) / disk_mass;
+    const double next_a = std::min(0.0, disk_z), next_b = std::max(span, disk_z);
+    if (std::abs(next_a - a) + std::abs(next_b - b) <= 1e-15 * span) break;
+    if (iteration == 200) {
+      throw std::invalid_argument(fmt::format(
+          "{} shaft: no disk position completes the body (the shaft's extension to reach it does "
+          "not settle): take a thinner section", name));
+    }
+    a = next_a;
+    b = next_b;
   }
-  const double disk_z = (mass * mass_center - shaft_mass * span / 2) / disk_mass;
+  const double length = b - a;
   const double d2 = section.outer_diameter * section.outer_diameter +
                     section.inner_diameter * section.inner_diameter;
-  const double shaft_inertia = shaft_mass * (span * span / 12 + d2 / 16) +
-                               shaft_mass * std::pow(span / 2 - mass_center, 2);
+  const double shaft_inertia = shaft_mass * (length * length / 12 + d2 / 16) +
+                               shaft_mass * std::pow((a + b) / 2 - mass_center, 2);
   const double disk_inertia =
       inertia - shaft_inertia - disk_mass * std::pow(disk_z - mass_center, 2);
   if (!(disk_inertia >= 0.0)) {
@@ -124,15 +150,15 @@ Shaft CompletedBody(const std::string& name, const ShaftElement& section, double
         "{} shaft: its transverse inertia leaves the disk {:.4g} kg·m²: take a thinner section", name,
         disk_inertia));
   }
-  // The ends and the extra positions exactly; the even grid's nodes where they are at least a
-  // quarter element from those (a sliver element would make the stiffness ill-conditioned).
-  extra.push_back(disk_z);
-  std::vector<double> fixed = {0.0, span};
-  for (double e : extra) fixed.push_back(std::clamp(e, 0.0, span));
-  const double h = span / elements;
+  // The ends, the span's ends, the extra positions and the disk exactly; the even grid's nodes
+  // where they are at least a quarter element from those (a sliver element would make the
+  // stiffness ill-conditioned).
+  std::vector<double> fixed = {a, 0.0, span, b, disk_z};
+  fixed.insert(fixed.end(), extra.begin(), extra.end());
+  const double h = length / elements;
   std::vector<double> z = fixed;
   for (int i = 1; i < elements; ++i) {
-    const double x = h * i;
+    const double x = a + h * i;
     if (std::all_of(fixed.begin(), fixed.end(), [&](double f) { return std::abs(f - x) >= h / 4; })) {
       z.push_back(x);
     }
@@ -142,22 +168,24 @@ Shaft CompletedBody(const std::string& name, const ShaftElement& section, double
   for (double x : z) {
     if (nodes.empty() || x - nodes.back() > 1e-9 * span) nodes.push_back(x);
   }
-  Shaft shaft{name, {}, {}};
+  CompletedBody out;
+  out.shaft.name = name;
   for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
     ShaftElement e = section;
     e.length = nodes[i + 1] - nodes[i];
-    shaft.elements.push_back(e);
+    out.shaft.elements.push_back(e);
   }
   auto node_at = [&](double x) {
-    const auto it = std::min_element(nodes.begin(), nodes.end(), [&](double a, double b) {
-      return std::abs(a - x) < std::abs(b - x);
+    const auto it = std::min_element(nodes.begin(), nodes.end(), [&](double p, double q) {
+      return std::abs(p - x) < std::abs(q - x);
     });
     return static_cast<int>(it - nodes.begin());
   };
-  extra_nodes.clear();
-  for (std::size_t i = 0; i + 1 < extra.size(); ++i) extra_nodes.push_back(node_at(extra[i]));
-  shaft.disks = {{node_at(disk_z), disk_mass, disk_inertia, 2 * disk_inertia}};
-  return shaft;
+  out.node_zero = node_at(0.0);
+  out.node_span = node_at(span);
+  for (double e : extra) out.extra_nodes.push_back(node_at(e));
+  out.shaft.disks = {{node_at(disk_z), disk_mass, disk_inertia, 2 * disk_inertia}};
+  return out;
 }
 
 }  // namespace
@@ -168,29 +196,29 @@ FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const ShaftElement& r
   if (elements < 1) {
     throw std::invalid_argument(fmt::format("elements = {}: must be at least 1", elements));
   }
-  std::vector<int> rotor_nodes, stator_nodes;  // (mid-span, mass centre) of each
+  const CompletedBody rotor =
+      Complete("rotor", rotor_section, p.contact_span, elements, p.rotor_mass, p.rotor_inertia,
+               p.rotor_mass_center, {p.contact_span / 2, p.rotor_mass_center});
+  const CompletedBody stator =
+      Complete("stator", stator_section, p.stator_span, elements, p.stator_mass, p.stator_inertia,
+               p.stator_mass_center, {p.stator_span / 2});
   FlexibleRubModel model;
-  model.beams.shafts = {
-      CompletedBody("rotor", rotor_section, p.contact_span, elements, p.rotor_mass,
-                    p.rotor_inertia, p.rotor_mass_center,
-                    {p.contact_span / 2, p.rotor_mass_center}, rotor_nodes),
-      CompletedBody("stator", stator_section, p.stator_span, elements, p.stator_mass,
-                    p.stator_inertia, p.stator_mass_center, {p.stator_span / 2}, stator_nodes)};
-  const int rotor_end = model.beams.shafts[0].Nodes() - 1;
-  const int stator_end = model.beams.shafts[1].Nodes() - 1;
+  model.beams.shafts = {rotor.shaft, stator.shaft};
   model.beams.springs = {
-      {1, 0, -1, 0, p.support_stiffness[0], p.support_damping[0]},
-      {1, stator_end, -1, 0, p.support_stiffness[1], p.support_damping[1]}};
+      {1, stator.node_zero, -1, 0, p.support_stiffness[0], p.support_damping[0]},
+      {1, stator.node_span, -1, 0, p.support_stiffness[1], p.support_damping[1]}};
   if (p.center_damping > 0.0) {
-    model.beams.springs.push_back({0, rotor_nodes[0], 1, stator_nodes[0], 0.0, p.center_damping});
+    model.beams.springs.push_back(
+        {0, rotor.extra_nodes[0], 1, stator.extra_nodes[0], 0.0, p.center_damping});
   }
-  model.contacts = {{"left", 0, 0, 1, 0, {p.clearance[0], p.radius[0]}},
-                    {"right", 0, rotor_end, 1, stator_end, {p.clearance[1], p.radius[1]}}};
+  model.contacts = {
+      {"left", 0, rotor.node_zero, 1, stator.node_zero, {p.clearance[0], p.radius[0]}},
+      {"right", 0, rotor.node_span, 1, stator.node_span, {p.clearance[1], p.radius[1]}}};
   model.modes = modes;
   model.law = ContactLawOf(p);
   model.imbalance = p.imbalance;
   model.imbalance_shaft = 0;
-  model.imbalance_node = rotor_nodes[1];
+  model.imbalance_node = rotor.extra_nodes[1];
   return model;
 }
 

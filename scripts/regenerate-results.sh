@@ -19,6 +19,8 @@
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
 #                   table of results/README.md "What the whip is".
+#   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
+#                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores).
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
@@ -116,6 +118,22 @@ if [[ "${1:-}" == "--attractor" ]]; then
   /usr/bin/python3 scripts/attractor_table.py results/thesis_A_a/attractor_52_128rpm.h5 \
     results/thesis_A_a/attractor_132_144rpm.h5 results/thesis_A_a/attractor_148_184rpm.h5 \
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
+fi
+# Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
+# A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up
+# whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 6 and 5 min on one core).
+if [[ "${1:-}" == "--flexible" ]]; then
+  out=results/thesis_A_a_flexible
+  mkdir -p "$out"
+  build/rubcont sweep scenes/thesis_A_a_flexible.toml --quiet --out "$out/sweep.h5" \
+    > "$out/sweep_summary.txt" & sweep_pid=$!
+  build/rubcont lifetime scenes/thesis_A_a_flexible.toml --from 152 --to 164 --step 4 --copies 8 \
+    --duration 2 --threads 1 --check-copies 0 --quiet --out "$out/lifetime_152_164rpm.h5" \
+    > "$out/lifetime_152_164rpm.txt"
+  build/rubcont lifetime scenes/thesis_A_a_flexible.toml --from 161 --to 163 --step 1 --copies 8 \
+    --duration 2 --threads 1 --check-copies 0 --quiet --out "$out/lifetime_161_163rpm.h5" \
+    > "$out/lifetime_161_163rpm.txt"
+  wait "$sweep_pid"
 fi
 if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime() {  # SCENE FROM TO STEP DURATION CHECK-COPIES [ARRIVAL OPTIONS]

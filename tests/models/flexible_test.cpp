@@ -36,12 +36,16 @@ TEST_CASE("flexible two-point model: Guyan condensation is the rigid model, what
           "[flexible]") {
   // Held at its two contact planes a free–free shaft moves rigidly, so the static constraint
   // modes are rigid-body motions and M, C, K and the imbalance weights are the rigid model's.
-  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa()}) {
+  // Beyond the right contact (scenes/overhung_beyond_right.toml): the shaft goes on to the disk.
+  TwoPointParams beyond = ThesisCaseAa();
+  beyond.rotor_mass_center = 0.35;
+  beyond.rotor_inertia = 0.07;
+  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa(), beyond}) {
     TwoPointParams imbalanced = p;
     imbalanced.imbalance = 3.43e-5;
     const RubStructure rigid = TwoPointStructure(imbalanced);
     const FlexibleRub flexible = BuildFlexibleRub(FlexibleTwoPoint(
-        imbalanced, SteelSection(0.03, 0.0), SteelSection(0.16, 0.13), 8, 0));
+        imbalanced, SteelSection(0.02, 0.0), SteelSection(0.16, 0.13), 8, 0));
     const RubStructure& s = flexible.structure;
     REQUIRE(s.Coordinates() == 4);
     CHECK(RelativeDifference(s.mass, rigid.mass) < 1e-12);
