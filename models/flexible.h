@@ -60,11 +60,11 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model);
 // sections' `length` is ignored), cut into about `elements` elements with nodes at the mid-span,
 // the mass centre and the disk; on each a rigid disk that makes up the rest of the body's mass,
 // mass-centre position and transverse inertia about the mass centre, so that the rigid-body data
-// equal the rigid model's exactly (the disk sits where the remaining mass must: z_d = (m l_g −
-// m_shaft l/2)/(m − m_shaft)). Disk polar inertia 2 I_d (a thin disk). Supports (k, c) at the
-// stator's ends, the centre damper between the shafts' mid-span nodes, the imbalance at the rotor's
-// mass-centre node, contacts "left" (z = 0) and "right" (the far ends) with the rigid model's
-// geometry and law. Throws std::invalid_argument when a shaft is heavier than its body or leaves
+// equal the rigid model's exactly (the disk sits where the remaining mass must put the mass
+// centre; where that is past a contact plane, the shaft goes on to it). Disk polar inertia 2 I_d
+// (a thin disk). Supports (k, c) at the stator's contact stations, the centre damper between the
+// shafts' mid-span nodes, the imbalance at the rotor's mass-centre node, contacts "left" (z = 0)
+// and "right" (z = l, z = l_s) with the rigid model's geometry and law. Throws std::invalid_argument when a shaft is heavier than its body or leaves
 // its disk a negative inertia (a thinner section is needed), naming which.
 FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& params, const ShaftElement& rotor_section,
                                   const ShaftElement& stator_section, int elements, int modes);
