@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "models/units.h"
+
 namespace rubcont {
 namespace {
 
@@ -234,13 +236,7 @@ ComplexVector WhirlEigenvalues(const StructuralMatrices& matrices, double spin,
     if (!is_held[static_cast<std::size_t>(i)]) free.push_back(i);
   }
   const Index f = static_cast<Index>(free.size());
-  auto pick = [&](const Matrix& x) {
-    Matrix out(f, f);
-    for (Index r = 0; r < f; ++r) {
-      for (Index c = 0; c < f; ++c) out(r, c) = x(free[r], free[c]);
-    }
-    return out;
-  };
+  auto pick = [&](const Matrix& x) -> Matrix { return x(free, free); };
   const Eigen::LLT<Matrix> mass(pick(matrices.mass));
   if (mass.info() != Eigen::Success) {
     throw std::invalid_argument(
@@ -270,6 +266,19 @@ ComplexVector WhirlEigenvalues(const StructuralMatrices& matrices, double spin,
               return x.imag() < y.imag();
             });
   return s;
+}
+
+std::vector<StructureMode> WhirlModes(const StructuralMatrices& matrices, double spin,
+                                      const std::vector<Index>& held, bool backward) {
+  std::vector<StructureMode> modes;
+  for (const std::complex<double>& s : WhirlEigenvalues(matrices, spin, held)) {
+    const double nu = backward ? -s.imag() : s.imag();
+    if (nu > 1e-9 * std::abs(s)) modes.push_back({nu / kTwoPi, -s.real() / std::abs(s)});
+  }
+  std::sort(modes.begin(), modes.end(), [](const StructureMode& a, const StructureMode& b) {
+    return a.frequency_hz < b.frequency_hz;
+  });
+  return modes;
 }
 
 }  // namespace rubcont

@@ -112,4 +112,13 @@ StructuralMatrices Assemble(const BeamModel& model);
 ComplexVector WhirlEigenvalues(const StructuralMatrices& matrices, double spin,
                                const std::vector<Index>& held);
 
+// The whirl modes of those eigenvalues: for each s = σ + jν with ν > 0 (forward whirl; backward
+// ones, ν < 0, with `backward`), its frequency |ν|/2π [Hz] and damping ratio −σ/|s|, ascending.
+struct StructureMode {
+  double frequency_hz = 0.0;
+  double damping_ratio = 0.0;
+};
+std::vector<StructureMode> WhirlModes(const StructuralMatrices& matrices, double spin,
+                                      const std::vector<Index>& held, bool backward = false);
+
 }  // namespace rubcont

@@ -44,14 +44,8 @@ ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<In
     throw std::invalid_argument("modes = " + std::to_string(modes) + ": must be non-negative");
   }
 
-  Matrix k_ii(ni, ni), m_ii(ni, ni), k_ib(ni, nb);
-  for (Index r = 0; r < ni; ++r) {
-    for (Index c = 0; c < ni; ++c) {
-      k_ii(r, c) = full.stiffness(interior[r], interior[c]);
-      m_ii(r, c) = full.mass(interior[r], interior[c]);
-    }
-    for (Index c = 0; c < nb; ++c) k_ib(r, c) = full.stiffness(interior[r], boundary[c]);
-  }
+  const Matrix k_ii = full.stiffness(interior, interior), m_ii = full.mass(interior, interior);
+  const Matrix k_ib = full.stiffness(interior, boundary);
   const Eigen::LLT<Matrix> k_factor(k_ii);
   // A rigid motion left to the interior makes K_ii singular; round-off may leave its Cholesky
   // pivot positive at ~1e-16 of the largest, so the smallest pivot decides (a short element beside
@@ -99,10 +93,8 @@ ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<In
   out.interface_frequencies = frequencies;
   out.basis = Matrix::Zero(n, nb + modes);
   for (Index c = 0; c < nb; ++c) out.basis(boundary[c], c) = 1.0;
-  for (Index r = 0; r < ni; ++r) {
-    out.basis.row(interior[r]).head(nb) = constraint.row(r);
-    out.basis.row(interior[r]).tail(modes) = interface.row(r);
-  }
+  out.basis(interior, Eigen::seqN(0, nb)) = constraint;
+  out.basis(interior, Eigen::seqN(nb, modes)) = interface;
   return out;
 }
 

@@ -63,10 +63,6 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
       }
     }
   }
-  if (model.modes < 0) {
-    throw std::invalid_argument(fmt::format("modes = {}: must be non-negative", model.modes));
-  }
-
   FlexibleRub out;
   out.full = Assemble(model.beams);
   out.reduction = CraigBampton(out.full, boundary, model.modes);
@@ -250,17 +246,7 @@ std::vector<StructureMode> StructureModes(const RubStructure& structure, bool pi
                              t.transpose() * structure.damping * t,
                              t.transpose() * structure.stiffness * t,
                              t.transpose() * gyroscopic * t};
-  std::vector<StructureMode> modes;
-  for (const std::complex<double>& s : WhirlEigenvalues(m, spin, {})) {
-    const double nu = backward ? -s.imag() : s.imag();
-    if (nu > 1e-9 * std::abs(s) && std::abs(s) > 0.0) {
-      modes.push_back({nu / (2.0 * M_PI), -s.real() / std::abs(s)});
-    }
-  }
-  std::sort(modes.begin(), modes.end(), [](const StructureMode& a, const StructureMode& b) {
-    return a.frequency_hz < b.frequency_hz;
-  });
-  return modes;
+  return WhirlModes(m, spin, {}, backward);
 }
 
 }  // namespace rubcont

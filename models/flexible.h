@@ -71,13 +71,8 @@ FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& params, const ShaftEleme
 
 // Natural modes of a rub structure out of contact (`pinned` false) or with every contact pinned
 // (rotor and stator coordinates of each contact moving together, as the thesis's Tables 2–3 list
-// "rotor–stator pinned"), at spin ω [rad/s] with damping: frequency ν/2π [Hz] of each
-// eigenvalue s = σ + jν with ν > 0 (forward whirl; backward ones with `backward`), ascending, and
-// its damping ratio −σ/|s|.
-struct StructureMode {
-  double frequency_hz = 0.0;
-  double damping_ratio = 0.0;
-};
+// "rotor–stator pinned"), at spin ω [rad/s] with damping, as WhirlModes (models/beam.h) gives
+// them: forward whirl (backward with `backward`), ascending.
 std::vector<StructureMode> StructureModes(const RubStructure& structure, bool pinned, double spin = 0.0,
                                       bool backward = false);
 

@@ -83,18 +83,22 @@ void Validate(const ModulatedOrbitOptions& options) {
   }
 }
 
+void CheckModulationInputs(const std::string& solver, const RubStructure& structure, double omega,
+                           double frame_rate, const Vector& fixed_state) {
+  if (!(frame_rate > 0.0) || !(omega > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "{}: frame_rate = {}, omega = {}: both must be positive (rad/s)", solver, frame_rate, omega));
+  }
+  if (fixed_state.size() != structure.States()) {
+    throw std::invalid_argument(fmt::format("{}: fixed_state has {} entries, the structure {}",
+                                            solver, fixed_state.size(), structure.States()));
+  }
+}
+
 ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, double frame_rate,
                                    const Vector& fixed_state, const ModulatedOrbitOptions& options) {
   Validate(options);
-  if (!(frame_rate > 0.0) || !(omega > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "SolveModulatedOrbit: frame_rate = {}, omega = {}: both must be positive (rad/s)",
-        frame_rate, omega));
-  }
-  if (fixed_state.size() != structure.States()) {
-    throw std::invalid_argument(fmt::format("SolveModulatedOrbit: fixed_state has {} entries, the "
-                                            "structure {}", fixed_state.size(), structure.States()));
-  }
+  CheckModulationInputs("SolveModulatedOrbit", structure, omega, frame_rate, fixed_state);
   ModulatedOrbit orbit;
   orbit.frame_rate = frame_rate;
   RubRotatingFrame frame(structure, frame_rate, omega);

@@ -61,6 +61,10 @@ std::complex<double> FirstContactGap(const RubStructure& structure, ConstVectorR
 // Throws std::invalid_argument unless duration > 0 is finite and gives ≥ 16 samples at `rate`
 // (the fields named `owner`.search_duration, `owner`.search_rate).
 void ValidateModulationSearch(const std::string& owner, double duration, double rate);
+// The inputs both modulated solvers take: throws std::invalid_argument, naming `solver`, unless
+// frame_rate and omega are positive and fixed_state has the structure's number of states.
+void CheckModulationInputs(const std::string& solver, const RubStructure& structure, double omega,
+                           double frame_rate, const Vector& fixed_state);
 struct ModulationSearch {
   bool found = false;
   std::string message;

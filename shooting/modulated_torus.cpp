@@ -69,15 +69,7 @@ void Validate(const ModulatedTorusOptions& options) {
 ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, double frame_rate,
                                    const Vector& fixed_state, const ModulatedTorusOptions& options) {
   Validate(options);
-  if (!(frame_rate > 0.0) || !(omega > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "SolveModulatedTorus: frame_rate = {}, omega = {}: both must be positive (rad/s)",
-        frame_rate, omega));
-  }
-  if (fixed_state.size() != structure.States()) {
-    throw std::invalid_argument(fmt::format("SolveModulatedTorus: fixed_state has {} entries, the "
-                                            "structure {}", fixed_state.size(), structure.States()));
-  }
+  CheckModulationInputs("SolveModulatedTorus", structure, omega, frame_rate, fixed_state);
   const SteadyClock::time_point start = SteadyClock::now();
   ModulatedTorus torus;
   torus.frame_rate = frame_rate;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -29,18 +28,15 @@ ShaftElement Steel(double outer, double inner) {
   return e;
 }
 
-// The first three modes (ν > 0) of the assembled beams.
+// The first three forward modes of the assembled beams.
 ThreeModes FirstThree(const BeamModel& beams) {
+  const std::vector<StructureMode> modes = WhirlModes(Assemble(beams), 0.0, {});
+  if (modes.size() < 3) throw std::runtime_error("fewer than three modes of positive frequency");
   ThreeModes out;
-  int found = 0;
-  for (const std::complex<double>& s : WhirlEigenvalues(Assemble(beams), 0.0, {})) {
-    if (found == 3) break;
-    if (s.imag() <= 1e-9 * std::abs(s)) continue;
-    out.hz[static_cast<std::size_t>(found)] = s.imag() / kTwoPi;
-    out.damping_ratio[static_cast<std::size_t>(found)] = -s.real() / std::abs(s);
-    ++found;
+  for (std::size_t i = 0; i < 3; ++i) {
+    out.hz[i] = modes[i].frequency_hz;
+    out.damping_ratio[i] = modes[i].damping_ratio;
   }
-  if (found < 3) throw std::runtime_error("fewer than three modes of positive frequency");
   return out;
 }
 
@@ -105,10 +101,11 @@ ThesisGeometryFit EvaluateThesisGeometry(const ThesisGeometry& geometry,
   ThesisGeometryFit out;
   out.geometry = geometry;
   for (std::size_t c = 0; c < 3; ++c) {
-    out.pinned[c] = XltrcPinnedModes(geometry.Model(cases[c], 0));
+    const FlexibleRubModel model = geometry.Model(cases[c], 0);
+    out.pinned[c] = XltrcPinnedModes(model);
     out.objective += std::pow(std::log(out.pinned[c].hz[2] / targets.pinned[c].hz[2]), 2);
+    if (c == 0) out.stator = XltrcStatorModes(model);  // the same stator in every case
   }
-  out.stator = XltrcStatorModes(geometry.Model(cases[0], 0));
   out.objective += std::pow(std::log(out.stator.hz[2] / targets.stator.hz[2]), 2);
   out.message = fmt::format("{}; Σ(ln f/f_thesis)² = {:.3g} over the four bending modes",
                             GeometryText(geometry), out.objective);
