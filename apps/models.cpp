@@ -85,8 +85,24 @@ std::vector<ModelEntry> MakeModels() {
 
 }  // namespace
 
+BodyShaft ListedBody(const std::string& name, const std::vector<ShaftRow>& rows,
+                     const std::vector<Disk>& disks, const std::array<int, 2>& contact_stations) {
+  BodyShaft body;
+  body.shaft.name = name;
+  for (const ShaftRow& row : rows) {
+    ShaftElement e = row.section;
+    e.length = row.section.length / row.elements;
+    body.shaft.elements.insert(body.shaft.elements.end(), static_cast<std::size_t>(row.elements), e);
+  }
+  body.shaft.disks = disks;
+  body.contact_stations = contact_stations;
+  if (body.contact_stations[1] < 0) body.contact_stations[1] = body.shaft.Nodes() - 1;
+  return body;
+}
+
 FlexibleRubModel FlexibleModelOf(const Scene& scene) {
   const FlexibleSettings& f = scene.flexible;
+  const TwoPointParams& p = scene.two_point;
   auto section = [&](double outer, double inner) {
     ShaftElement e;
     e.outer_diameter = outer;
@@ -96,10 +112,17 @@ FlexibleRubModel FlexibleModelOf(const Scene& scene) {
     e.density = f.density;
     return e;
   };
-  FlexibleRubModel model =
-      FlexibleTwoPoint(scene.two_point, section(f.rotor_outer_diameter, f.rotor_inner_diameter),
-                       section(f.stator_outer_diameter, f.stator_inner_diameter), f.elements,
-                       f.modes);
+  Validate(p);
+  // Each body listed, or uniform as FlexibleTwoPoint's uniform form makes it.
+  const BodyShaft rotor =
+      f.RotorListed()
+          ? ListedBody("rotor", f.rotor_shaft, f.rotor_disks, f.rotor_contact_stations)
+          : UniformRotor(p, section(f.rotor_outer_diameter, f.rotor_inner_diameter), f.elements);
+  const BodyShaft stator =
+      f.StatorListed()
+          ? ListedBody("stator", f.stator_shaft, f.stator_disks, f.stator_contact_stations)
+          : UniformStator(p, section(f.stator_outer_diameter, f.stator_inner_diameter), f.elements);
+  FlexibleRubModel model = FlexibleTwoPoint(p, rotor, stator, f.modes);
   model.modal_damping = f.modal_damping;
   model.gyroscopic = f.gyroscopic;
   return model;

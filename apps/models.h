@@ -62,5 +62,9 @@ std::string ModelsWith(Stage stage);
 // Model two_point's [flexible] section as the library's flexible model (models/flexible.h); the
 // scene loader has checked that it builds.
 FlexibleRubModel FlexibleModelOf(const Scene& scene);
+// A listed body's shaft: the rows' segments cut into their elements, the disks on their stations,
+// the contacts at `contact_stations` (a right one < 0: the last station).
+BodyShaft ListedBody(const std::string& name, const std::vector<ShaftRow>& rows,
+                     const std::vector<Disk>& disks, const std::array<int, 2>& contact_stations);
 
 }  // namespace rubcont

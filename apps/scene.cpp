@@ -32,6 +32,7 @@ enum class ValueType {
   kInteger,     // TOML integer only
   kString,
   kFloatPair,   // array of exactly two numbers
+  kIntegerPair, // array of exactly two integers
   kStringList,  // array of strings
 };
 
@@ -48,6 +49,8 @@ enum class Rule {
   kCount,                 // integer 1 … kMaxCount
   kSteps,                 // integer 1 … kMaxSteps
   kOpenUnit,              // 0 < x < 1
+  kStation,               // integer 0 … kMaxStation
+  kStationPair,           // integer pair 0 ≤ left < right ≤ kMaxStation
 };
 
 enum class Presence {
@@ -59,9 +62,10 @@ enum class Presence {
 constexpr std::int64_t kMaxGridPoints = 1000000;
 constexpr std::int64_t kMaxCount = 1000;
 constexpr std::int64_t kMaxSteps = 1000000;
+constexpr std::int64_t kMaxStation = 100000;
 
 using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
-                           std::vector<std::string>>;
+                           std::vector<std::string>, std::array<std::int64_t, 2>>;
 
 struct KeySpec {
   std::string key;        // dotted path: "rotor.mass"
@@ -77,6 +81,10 @@ struct KeySpec {
   // [analysis.sweep] keys that only classify finished speeds (the regime and jump rules of
   // sweeps/rub_sweep.h): a sweep file with other values holds the same integrations.
   bool reclassifies = false;
+  // Whether the key describes the scene as loaded (null: always, given its model): a key of one
+  // form of [flexible] is not one of the other's (given, it is a problem; it is not written out).
+  std::function<bool(const Scene&)> relevant;
+  std::string irrelevant_reason;  // why not, for the problem when it is given anyway
   std::function<void(Scene&, const Value&)> set;
   std::function<Value(const Scene&)> get;
 
@@ -267,32 +275,78 @@ std::vector<KeySpec> BuildSchema() {
       s.push_back(spec);
     };
     const Presence in_section = Presence::kRequiredInSection, optional = Presence::kOptional;
+    const auto uniform_rotor = [](const Scene& x) { return !x.flexible.RotorListed(); };
+    const auto uniform_stator = [](const Scene& x) { return !x.flexible.StatorListed(); };
     flexible("rotor_outer_diameter", "m", Rule::kPositive,
              "Outer diameter of the rotor's shaft across the contact span (a disk completes the "
-             "rotor to [rotor]'s mass, mass centre and inertia).",
+             "rotor to [rotor]'s mass, mass centre and inertia). Not with [[flexible.rotor_shaft]].",
              [](Scene& x) -> double& { return x.flexible.rotor_outer_diameter; }, in_section);
+    s.back().relevant = uniform_rotor;
+    s.back().irrelevant_reason = "[[flexible.rotor_shaft]] lists the rotor's shaft";
     flexible("rotor_inner_diameter", "m", Rule::kNonNegative,
              "Its bore (0: solid); below rotor_outer_diameter.",
              [](Scene& x) -> double& { return x.flexible.rotor_inner_diameter; }, optional);
+    s.back().relevant = uniform_rotor;
+    s.back().irrelevant_reason = "[[flexible.rotor_shaft]] lists the rotor's shaft";
     flexible("stator_outer_diameter", "m", Rule::kPositive,
              "Outer diameter of the stator's tube across its span (a disk completes it to "
-             "[stator]'s mass, mass centre and inertia).",
+             "[stator]'s mass, mass centre and inertia). Not with [[flexible.stator_shaft]].",
              [](Scene& x) -> double& { return x.flexible.stator_outer_diameter; }, in_section);
+    s.back().relevant = uniform_stator;
+    s.back().irrelevant_reason = "[[flexible.stator_shaft]] lists the stator's shaft";
     flexible("stator_inner_diameter", "m", Rule::kNonNegative,
              "Its bore; below stator_outer_diameter.",
              [](Scene& x) -> double& { return x.flexible.stator_inner_diameter; }, in_section);
-    flexible("youngs_modulus", "Pa", Rule::kPositive, "E of both shafts.",
+    s.back().relevant = uniform_stator;
+    s.back().irrelevant_reason = "[[flexible.stator_shaft]] lists the stator's shaft";
+    flexible("youngs_modulus", "Pa", Rule::kPositive,
+             "E of both shafts (of the listed segments that give none).",
              [](Scene& x) -> double& { return x.flexible.youngs_modulus; }, in_section);
     flexible("shear_modulus", "Pa", Rule::kPositive,
-             "G of both shafts; the Poisson ratio E/(2G) − 1 must lie in (−1, 0.5].",
+             "G of both shafts (of the listed segments that give none); the Poisson ratio "
+             "E/(2G) − 1 must lie in (−1, 0.5].",
              [](Scene& x) -> double& { return x.flexible.shear_modulus; }, in_section);
-    flexible("density", "kg/m³", Rule::kNonNegative, "ρ of both shafts.",
+    flexible("density", "kg/m³", Rule::kNonNegative,
+             "ρ of both shafts (of the listed segments that give none).",
              [](Scene& x) -> double& { return x.flexible.density; }, in_section);
     s.push_back(Make<int, std::int64_t>(
         "flexible.elements", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
-        "Timoshenko elements per shaft (nodes are added at the mid-span, the mass centre and "
-        "the disk).",
+        "Timoshenko elements per uniform shaft (nodes are added at the mid-span, the mass "
+        "centre and the disk).",
         [](Scene& x) -> int& { return x.flexible.elements; }));
+    s.back().relevant = [](const Scene& x) {
+      return !x.flexible.RotorListed() || !x.flexible.StatorListed();
+    };
+    s.back().irrelevant_reason = "both shafts are listed ([[flexible.rotor_shaft]], "
+                                 "[[flexible.stator_shaft]])";
+    for (const std::string body : {"rotor", "stator"}) {
+      KeySpec stations;
+      stations.key = "flexible." + body + "_contact_stations";
+      stations.type = ValueType::kIntegerPair;
+      stations.unit = "-";
+      stations.rule = Rule::kStationPair;
+      stations.presence = Presence::kOptional;
+      stations.default_text = "the first and last stations";
+      stations.doc = "The stations of the listed " + body + " shaft at the left and right contacts.";
+      stations.model = ModelKind::kTwoPoint;
+      const auto field = [body](Scene& x) -> std::array<int, 2>& {
+        return body == "rotor" ? x.flexible.rotor_contact_stations : x.flexible.stator_contact_stations;
+      };
+      stations.set = [field](Scene& x, const Value& v) {
+        const auto& pair = std::get<std::array<std::int64_t, 2>>(v);
+        field(x) = {static_cast<int>(pair[0]), static_cast<int>(pair[1])};
+      };
+      stations.get = [field](const Scene& x) {
+        const std::array<int, 2>& pair = field(const_cast<Scene&>(x));
+        return Value(std::array<std::int64_t, 2>{pair[0], pair[1]});
+      };
+      stations.relevant = [body](const Scene& x) {
+        return body == "rotor" ? x.flexible.RotorListed() : x.flexible.StatorListed();
+      };
+      stations.irrelevant_reason = "stations number a listed shaft: add [[flexible." + body +
+                                   "_shaft]] rows";
+      s.push_back(stations);
+    }
     s.push_back(Make<int, std::int64_t>(
         "flexible.modes", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
         "Fixed-interface modes kept by the Craig–Bampton reduction (the contact displacements "
@@ -716,6 +770,179 @@ const KeySpec* FindKey(const std::string& path) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Table arrays ([[path]]): lists of rows, as rotordynamics input lists shaft segments, disks and
+// supports. Each row key is a KeySpec (type, unit, rule, required or default, doc; its set, get and
+// model unused: the table array's own apply). `set` stores the rows read — each the keys it gives —
+// after every plain key, so a row's default may be a [flexible] key; `get` gives the rows back
+// with every key resolved (ResolvedSceneToml).
+
+using Row = std::map<std::string, Value>;
+
+struct TableArraySpec {
+  std::string path;  // "flexible.rotor_shaft"
+  std::string doc;   // what one row is
+  std::vector<KeySpec> keys;
+  std::function<void(Scene&, const std::vector<Row>&)> set;
+  std::function<std::vector<Row>(const Scene&)> get;
+};
+
+// A row key: required when `default_text` is empty, else optional with that default (markdown).
+KeySpec RowKey(std::string key, ValueType type, std::string unit, Rule rule,
+               std::string default_text, std::string doc) {
+  KeySpec spec;
+  spec.key = std::move(key);
+  spec.type = type;
+  spec.unit = std::move(unit);
+  spec.rule = rule;
+  spec.presence = default_text.empty() ? Presence::kRequired : Presence::kOptional;
+  spec.default_text = std::move(default_text);
+  spec.doc = std::move(doc);
+  return spec;
+}
+
+double RowNumber(const Row& row, const std::string& key, double otherwise) {
+  const auto found = row.find(key);
+  if (found == row.end()) return otherwise;
+  if (const auto* n = std::get_if<std::int64_t>(&found->second)) return static_cast<double>(*n);
+  return std::get<double>(found->second);
+}
+
+std::vector<TableArraySpec> BuildTableArrays() {
+  std::vector<TableArraySpec> arrays;
+  using Rows = std::vector<Row>;
+  for (const std::string body : {"rotor", "stator"}) {
+    const auto rows = [body](Scene& x) -> std::vector<ShaftRow>& {
+      return body == "rotor" ? x.flexible.rotor_shaft : x.flexible.stator_shaft;
+    };
+    TableArraySpec shaft;
+    shaft.path = "flexible." + body + "_shaft";
+    shaft.doc = "One segment of the " + body + "'s shaft, left to right: a uniform hollow circle "
+                "cut into `elements` equal Timoshenko elements. Stations are numbered from 0 at "
+                "the first segment's left end, one more at each element's right end.";
+    shaft.keys = {
+        RowKey("length", ValueType::kFloat, "m", Rule::kPositive, "", "Segment length."),
+        RowKey("outer_diameter", ValueType::kFloat, "m", Rule::kPositive, "", "Outer diameter."),
+        RowKey("inner_diameter", ValueType::kFloat, "m", Rule::kNonNegative, "`0.0`",
+               "Bore (0: solid); below outer_diameter."),
+        RowKey("youngs_modulus", ValueType::kFloat, "Pa", Rule::kPositive,
+               "flexible.youngs_modulus", "E."),
+        RowKey("shear_modulus", ValueType::kFloat, "Pa", Rule::kPositive,
+               "E/(2(1 + poisson_ratio)) with poisson_ratio, else flexible.shear_modulus",
+               "G; with E the Poisson ratio E/(2G) − 1 must lie in (−1, 0.5]."),
+        RowKey("poisson_ratio", ValueType::kFloat, "-", Rule::kFinite, "none (shear_modulus)",
+               "ν in (−1, 0.5], instead of shear_modulus (not both)."),
+        RowKey("density", ValueType::kFloat, "kg/m³", Rule::kNonNegative, "flexible.density",
+               "ρ."),
+        RowKey("elements", ValueType::kInteger, "-", Rule::kCount, "`1`",
+               "Equal elements the segment is cut into."),
+    };
+    shaft.set = [rows](Scene& x, const Rows& given) {
+      const FlexibleSettings& f = x.flexible;
+      std::vector<ShaftRow>& out = rows(x);
+      out.clear();
+      for (const Row& r : given) {
+        ShaftRow row;
+        ShaftElement& e = row.section;
+        e.length = RowNumber(r, "length", 0.0);
+        e.outer_diameter = RowNumber(r, "outer_diameter", 0.0);
+        e.inner_diameter = RowNumber(r, "inner_diameter", 0.0);
+        e.youngs_modulus = RowNumber(r, "youngs_modulus", f.youngs_modulus);
+        e.shear_modulus =
+            r.count("poisson_ratio")
+                ? e.youngs_modulus / (2.0 * (1.0 + RowNumber(r, "poisson_ratio", 0.0)))
+                : RowNumber(r, "shear_modulus", f.shear_modulus);
+        e.density = RowNumber(r, "density", f.density);
+        row.elements = static_cast<int>(RowNumber(r, "elements", 1.0));
+        out.push_back(row);
+      }
+    };
+    shaft.get = [rows](const Scene& x) {
+      Rows out;
+      for (const ShaftRow& row : rows(const_cast<Scene&>(x))) {
+        const ShaftElement& e = row.section;
+        out.push_back({{"length", e.length}, {"outer_diameter", e.outer_diameter},
+                       {"inner_diameter", e.inner_diameter}, {"youngs_modulus", e.youngs_modulus},
+                       {"shear_modulus", e.shear_modulus}, {"density", e.density},
+                       {"elements", std::int64_t{row.elements}}});
+      }
+      return out;
+    };
+    arrays.push_back(shaft);
+
+    const auto disk_rows = [body](Scene& x) -> std::vector<Disk>& {
+      return body == "rotor" ? x.flexible.rotor_disks : x.flexible.stator_disks;
+    };
+    TableArraySpec disks;
+    disks.path = "flexible." + body + "_disks";
+    disks.doc = "A rigid disk (or any lumped mass) on a station of the listed " + body + " shaft.";
+    disks.keys = {
+        RowKey("station", ValueType::kInteger, "-", Rule::kStation, "", "Its station."),
+        RowKey("mass", ValueType::kFloat, "kg", Rule::kNonNegative, "", "Mass."),
+        RowKey("diametral_inertia", ValueType::kFloat, "kg·m²", Rule::kNonNegative, "`0.0`",
+               "I_d, about a diameter through the station."),
+        RowKey("polar_inertia", ValueType::kFloat, "kg·m²", Rule::kNonNegative, "`0.0`",
+               "I_p (gyroscopic moments)."),
+    };
+    disks.set = [disk_rows](Scene& x, const Rows& given) {
+      std::vector<Disk>& out = disk_rows(x);
+      out.clear();
+      for (const Row& r : given) {
+        out.push_back({static_cast<int>(RowNumber(r, "station", 0.0)), RowNumber(r, "mass", 0.0),
+                       RowNumber(r, "diametral_inertia", 0.0), RowNumber(r, "polar_inertia", 0.0)});
+      }
+    };
+    disks.get = [disk_rows](const Scene& x) {
+      Rows out;
+      for (const Disk& d : disk_rows(const_cast<Scene&>(x))) {
+        out.push_back({{"station", std::int64_t{d.node}}, {"mass", d.mass},
+                       {"diametral_inertia", d.diametral_inertia}, {"polar_inertia", d.polar_inertia}});
+      }
+      return out;
+    };
+    arrays.push_back(disks);
+  }
+  TableArraySpec supports;
+  supports.path = "flexible.stator_supports";
+  supports.doc = "A spring and dashpot from a station of the listed stator shaft to ground. The "
+                 "rigid model holds its stator at the contacts: supports go on contact stations, "
+                 "and give [stator]'s stiffness and damping.";
+  supports.keys = {
+      RowKey("station", ValueType::kInteger, "-", Rule::kStation, "", "A contact station."),
+      RowKey("stiffness", ValueType::kFloat, "N/m", Rule::kNonNegative, "", "k."),
+      RowKey("damping", ValueType::kFloat, "N·s/m", Rule::kNonNegative, "`0.0`", "c."),
+  };
+  supports.set = [](Scene& x, const Rows& given) {
+    x.flexible.stator_supports.clear();
+    for (const Row& r : given) {
+      x.flexible.stator_supports.push_back({static_cast<int>(RowNumber(r, "station", 0.0)),
+                                            RowNumber(r, "stiffness", 0.0),
+                                            RowNumber(r, "damping", 0.0)});
+    }
+  };
+  supports.get = [](const Scene& x) {
+    Rows out;
+    for (const SupportRow& r : x.flexible.stator_supports) {
+      out.push_back({{"station", std::int64_t{r.station}}, {"stiffness", r.stiffness},
+                     {"damping", r.damping}});
+    }
+    return out;
+  };
+  arrays.push_back(supports);
+  return arrays;
+}
+
+const std::vector<TableArraySpec>& TableArrays() {
+  static const std::vector<TableArraySpec> arrays = BuildTableArrays();
+  return arrays;
+}
+
+const TableArraySpec* FindTableArray(const std::string& path) {
+  for (const TableArraySpec& spec : TableArrays())
+    if (spec.path == path) return &spec;
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Formatting values as TOML literals.
 
 // TOML literal: the shortest text that reads back as the same double. For people (`human`):
@@ -759,6 +986,9 @@ std::string FormatValue(const Value& value, bool human = false) {
       std::string out = "[";
       for (std::size_t i = 0; i < x.size(); ++i) out += (i ? ", " : "") + Quote(x[i]);
       return out + "]";
+    }
+    std::string operator()(const std::array<std::int64_t, 2>& x) const {
+      return fmt::format("[{}, {}]", x[0], x[1]);
     }
   };
   return std::visit(Visitor{human}, value);
@@ -815,6 +1045,8 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kCount: return fmt::format("1 … {}", kMaxCount);
     case Rule::kSteps: return fmt::format("1 … {}", kMaxSteps);
     case Rule::kOpenUnit: return "0 < x < 1";
+    case Rule::kStation: return fmt::format("0 … {}", kMaxStation);
+    case Rule::kStationPair: return fmt::format("0 ≤ left < right ≤ {}", kMaxStation);
   }
   return "";
 }
@@ -895,6 +1127,17 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
       if (!(x > 0.0 && x < 1.0)) return "must lie strictly between 0 and 1";
       return std::nullopt;
     }
+    case Rule::kStation: {
+      const std::int64_t n = std::get<std::int64_t>(value);
+      if (n < 0 || n > kMaxStation) return fmt::format("must be from 0 to {}", kMaxStation);
+      return std::nullopt;
+    }
+    case Rule::kStationPair: {
+      const auto& pair = std::get<std::array<std::int64_t, 2>>(value);
+      if (pair[0] < 0 || pair[1] > kMaxStation || !(pair[0] < pair[1]))
+        return fmt::format("must be stations 0 ≤ left < right ≤ {}", kMaxStation);
+      return std::nullopt;
+    }
   }
   return std::nullopt;
 }
@@ -933,6 +1176,7 @@ std::string Suggestion(const std::string& path) {
   for (const std::string& section : Sections())
     if (!section.empty()) candidates.push_back(section);
   for (const KeySpec& spec : Schema()) candidates.push_back(spec.key);
+  for (const TableArraySpec& spec : TableArrays()) candidates.push_back(spec.path);
   std::string best;
   std::size_t best_distance = std::string::npos;
   for (const std::string& candidate : candidates) {
@@ -979,6 +1223,9 @@ class Loader {
     const std::optional<Value> model_value = Read(*FindKey("model"));
     if (nodes_.count("model") && !model_value) throw SceneError(problems_);  // rest is moot
     FindKey("model")->set(scene, model_value ? *model_value : FindKey("model")->default_value);
+    // The rows first, so that a key can depend on which shafts are listed; stored again once the
+    // [flexible] material their defaults come from is read.
+    ReadTableArrays(scene);
 
     for (const KeySpec& spec : Schema()) {
       if (spec.model && *spec.model != scene.model) {
@@ -987,12 +1234,20 @@ class Loader {
                                             Quote(ToString(scene.model)));
         continue;
       }
+      if (spec.relevant && !spec.relevant(scene)) {
+        if (nodes_.count(spec.key))
+          Problem(*nodes_.at(spec.key), fmt::format("{} = {}: not used: {}", spec.key,
+                                                    FormatNode(*nodes_.at(spec.key)),
+                                                    spec.irrelevant_reason));
+        continue;
+      }
       std::optional<Value> value = Read(spec);
       if (value) {
         spec.set(scene, *value);
         continue;
       }
       if (nodes_.count(spec.key)) continue;  // present but invalid: already reported
+      if (SuppliedByListing(spec.key)) continue;  // CheckFlexible takes it from the shafts
       const bool section_present = present_sections_.count(spec.Section()) > 0;
       if (spec.presence == Presence::kRequired ||
           (spec.presence == Presence::kRequiredInSection && section_present)) {
@@ -1016,6 +1271,8 @@ class Loader {
       if (spec.Section() == "flexible" && !section_present) continue;
       scene.defaulted_keys.push_back(spec.key);
     }
+    for (const TableArraySpec& spec : TableArrays())
+      if (rows_.count(spec.path)) spec.set(scene, rows_.at(spec.path));
     CheckStagesFitModel(scene);
     if (!ModelOf(scene).parameter.empty()) CheckOrbitsStart(scene);
     scene.flexible.enabled =
@@ -1075,40 +1332,238 @@ class Loader {
     }
   }
 
-  // [flexible]: the rules that tie keys together, then whether the bodies can be built (a shaft
-  // lighter than its body, a disk of positive inertia, modes the interior has).
-  void CheckFlexible(const Scene& scene) {
+  // The rows of every table array given, each key read by its row spec; a row's problems are
+  // reported and its array left out.
+  void ReadTableArrays(Scene& scene) {
+    for (const TableArraySpec& spec : TableArrays()) {
+      const auto found = arrays_.find(spec.path);
+      if (found == arrays_.end()) continue;
+      if (scene.model != ModelKind::kTwoPoint) {
+        Problem(*found->second, fmt::format("[[{}]]: not a table of model {}", spec.path,
+                                            Quote(ToString(scene.model))));
+        continue;
+      }
+      std::string known;
+      for (const KeySpec& k : spec.keys) known += (known.empty() ? "" : ", ") + k.key;
+      // Rows with problems are kept too (without the keys that broke a rule): the body still
+      // counts as listed, so its problems are not followed by those of the other form.
+      std::vector<Row> rows;
+      for (std::size_t i = 0; i < found->second->size(); ++i) {
+        const toml::table& table = *found->second->get(i)->as_table();
+        const std::string row_name = fmt::format("{}[{}]", spec.path, i);
+        Row row;
+        for (auto&& [key, node] : table) {
+          const std::string name = row_name + "." + std::string(key.str());
+          const auto k = std::find_if(spec.keys.begin(), spec.keys.end(),
+                                      [&](const KeySpec& k) { return k.key == key.str(); });
+          if (k == spec.keys.end()) {
+            Problem(key.source(), fmt::format("{}: unknown key (known in [[{}]]: {})", name,
+                                              spec.path, known));
+          } else if (std::optional<Value> value = Read(*k, node, name)) {
+            row[k->key] = *value;
+          }
+        }
+        for (const KeySpec& k : spec.keys) {
+          if (k.presence != Presence::kRequired || table.contains(k.key)) continue;
+          Problem(table, fmt::format("{}.{}: missing; required — {}{}", row_name, k.key, k.doc,
+                                     k.unit == "-" ? "" : " [" + k.unit + "]"));
+        }
+        rows.push_back(std::move(row));
+      }
+      rows_[spec.path] = rows;
+      spec.set(scene, rows);
+    }
+  }
+
+  // The [rotor]/[stator] keys a listed body's shafts supply (their rigid-body data), and the
+  // table array that lists them.
+  static const std::map<std::string, std::string>& SuppliedKeys() {
+    static const std::map<std::string, std::string> keys = {
+        {"rotor.mass", "flexible.rotor_shaft"},          {"rotor.inertia", "flexible.rotor_shaft"},
+        {"rotor.contact_span", "flexible.rotor_shaft"},  {"rotor.mass_center", "flexible.rotor_shaft"},
+        {"stator.mass", "flexible.stator_shaft"},        {"stator.inertia", "flexible.stator_shaft"},
+        {"stator.span", "flexible.stator_shaft"},        {"stator.mass_center", "flexible.stator_shaft"},
+        {"stator.stiffness", "flexible.stator_supports"}, {"stator.damping", "flexible.stator_supports"}};
+    return keys;
+  }
+  bool SuppliedByListing(const std::string& key) const {
+    const auto found = SuppliedKeys().find(key);
+    return found != SuppliedKeys().end() && rows_.count(found->second) > 0;
+  }
+
+  // Reports `rule` at row `i` of table array `path`, at its key `key` (given).
+  void RowProblem(const std::string& path, std::size_t i, const std::string& key,
+                  const std::string& rule) {
+    const toml::node& node = *arrays_.at(path)->get(i)->as_table()->get(key);
+    Problem(node, fmt::format("{}[{}].{} = {}: {}", path, i, key, FormatNode(node), rule));
+  }
+
+  // A [flexible] key's problem, where it was given or at its default.
+  void FlexibleProblem(const Scene& scene, const std::string& key, const std::string& rule) {
+    const std::string full = "flexible." + key;
+    if (nodes_.count(full)) {
+      Problem(*nodes_.at(full), fmt::format("{} = {}: {}", full, FormatNode(*nodes_.at(full)), rule));
+    } else {
+      problems_.push_back(fmt::format("{}: {} = {} (default): {}", source_, full,
+                                      FormatValue(FindKey(full)->get(scene)), rule));
+    }
+  }
+
+  // The rows of a listed body: sections, stations of disks, supports and contacts.
+  void CheckListedBody(Scene& scene, const std::string& body) {
+    FlexibleSettings& f = scene.flexible;
+    const std::string shaft = "flexible." + body + "_shaft", disks = "flexible." + body + "_disks";
+    const bool rotor = body == "rotor";
+    const std::vector<ShaftRow>& rows = rotor ? f.rotor_shaft : f.stator_shaft;
+    const std::vector<Disk>& disk_rows = rotor ? f.rotor_disks : f.stator_disks;
+    std::vector<std::string> station_arrays = {disks};
+    if (!rotor) station_arrays.push_back("flexible.stator_supports");
+    if (rows.empty()) {
+      for (const std::string& path : station_arrays) {
+        if (arrays_.count(path) == 0) continue;
+        Problem(*arrays_.at(path), fmt::format("[[{}]]: stations number a listed shaft: add [[{}]] "
+                                               "rows (a uniform {} gets its disk from [{}])",
+                                               path, shaft, body, body));
+      }
+      return;
+    }
+    int last = 0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const ShaftElement& e = rows[i].section;
+      last += rows[i].elements;
+      if (!(e.inner_diameter < e.outer_diameter))
+        RowProblem(shaft, i, "inner_diameter", fmt::format("must be below outer_diameter = {} m",
+                                                           FormatFloat(e.outer_diameter)));
+      const Row& given = rows_.at(shaft)[i];
+      if (given.count("poisson_ratio") && given.count("shear_modulus")) {
+        RowProblem(shaft, i, "poisson_ratio", "give shear_modulus or poisson_ratio, not both");
+        continue;
+      }
+      const double nu = e.Poisson();
+      if (nu > -1.0 && nu <= 0.5) continue;
+      for (const std::string key : {"poisson_ratio", "shear_modulus", "youngs_modulus"}) {
+        if (!given.count(key)) continue;
+        RowProblem(shaft, i, key, fmt::format("gives the Poisson ratio E/(2G) − 1 = {:.4g}: must "
+                                              "lie in (−1, 0.5]", nu));
+        break;
+      }
+    }
+    std::array<int, 2>& contacts = rotor ? f.rotor_contact_stations : f.stator_contact_stations;
+    if (contacts[1] < 0) contacts[1] = last;  // the default: the last station
+    if (contacts[1] > last)
+      FlexibleProblem(scene, body + "_contact_stations",
+                      fmt::format("must name stations of the listed shaft (0 to {})", last));
+    for (std::size_t i = 0; i < disk_rows.size(); ++i) {
+      if (disk_rows[i].node > last)
+        RowProblem(disks, i, "station", fmt::format("must name a station of the listed {} shaft "
+                                                    "(0 to {})", body, last));
+    }
+    if (rotor) return;
+    for (std::size_t i = 0; i < f.stator_supports.size(); ++i) {
+      const int station = f.stator_supports[i].station;
+      if (station != contacts[0] && station != contacts[1])
+        RowProblem("flexible.stator_supports", i, "station",
+                   fmt::format("must be a contact station, {} or {} (flexible.stator_contact_"
+                               "stations): the rigid model holds the stator there",
+                               contacts[0], contacts[1]));
+    }
+  }
+
+  // A listed body's rigid-body data into [rotor]/[stator]: taken where the file leaves the key
+  // out, checked to 1e-6 (of the value; of the span for a mass centre) where it gives it.
+  void SupplyRigidData(Scene& scene) {
     const FlexibleSettings& f = scene.flexible;
-    auto problem = [&](const std::string& key, const std::string& rule) {
-      const std::string full = "flexible." + key;
-      if (nodes_.count(full)) {
-        Problem(*nodes_.at(full), fmt::format("{} = {}: {}", full, FormatNode(*nodes_.at(full)), rule));
-      } else {
-        problems_.push_back(fmt::format("{}: {} = {} (default): {}", source_, full,
-                                        FormatValue(FindKey(full)->get(scene)), rule));
+    TwoPointParams& p = scene.two_point;
+    auto supply = [&](const std::string& key, double& field, double shafts, double scale,
+                      const std::string& unit) {
+      if (nodes_.count(key) == 0) {
+        field = shafts;
+        scene.supplied_keys.push_back(key);
+      } else if (!(std::abs(field - shafts) <= 1e-6 * scale)) {
+        Problem(*nodes_.at(key),
+                fmt::format("{} = {}: the shaft listed in [[{}]] gives {:.10g} {}: must agree to "
+                            "1e-6, or leave {} out to take the shaft's", key,
+                            FormatNode(*nodes_.at(key)), SuppliedKeys().at(key), shafts, unit, key));
       }
     };
-    if (!(f.rotor_inner_diameter < f.rotor_outer_diameter))
-      problem("rotor_inner_diameter", fmt::format("must be below flexible.rotor_outer_diameter = {} m",
-                                                  FormatFloat(f.rotor_outer_diameter)));
-    if (!(f.stator_inner_diameter < f.stator_outer_diameter))
-      problem("stator_inner_diameter", fmt::format("must be below flexible.stator_outer_diameter = {} m",
-                                                   FormatFloat(f.stator_outer_diameter)));
+    auto body = [&](const std::string& name, const std::vector<ShaftRow>& rows,
+                    const std::vector<Disk>& disks, const std::array<int, 2>& stations,
+                    double& mass, double& span, double& mass_center, double& inertia,
+                    const std::string& span_key) {
+      if (rows.empty()) return;
+      RigidBodyData d;
+      try {
+        d = RigidBodyOf(ListedBody(name, rows, disks, stations));
+      } catch (const std::invalid_argument& e) {
+        problems_.push_back(fmt::format("{}: [[flexible.{}_shaft]]: {}", source_, name, e.what()));
+        return;
+      }
+      supply(name + ".mass", mass, d.mass, d.mass, "kg");
+      supply(name + "." + span_key, span, d.span, d.span, "m");
+      supply(name + ".mass_center", mass_center, d.mass_center, d.span, "m");
+      supply(name + ".inertia", inertia, d.inertia, d.inertia, "kg·m²");
+    };
+    body("rotor", f.rotor_shaft, f.rotor_disks, f.rotor_contact_stations, p.rotor_mass,
+         p.contact_span, p.rotor_mass_center, p.rotor_inertia, "contact_span");
+    body("stator", f.stator_shaft, f.stator_disks, f.stator_contact_stations, p.stator_mass,
+         p.stator_span, p.stator_mass_center, p.stator_inertia, "span");
+    if (f.stator_supports.empty()) return;
+    std::array<double, 2> stiffness{}, damping{};
+    for (const SupportRow& r : f.stator_supports) {
+      const std::size_t side = r.station == f.stator_contact_stations[0] ? 0 : 1;
+      stiffness[side] += r.stiffness;
+      damping[side] += r.damping;
+    }
+    auto supply_pair = [&](const std::string& key, std::array<double, 2>& field,
+                           const std::array<double, 2>& supports, const std::string& unit) {
+      const double scale = std::max(supports[0], supports[1]);
+      if (nodes_.count(key) == 0) {
+        field = supports;
+        scene.supplied_keys.push_back(key);
+      } else if (!(std::abs(field[0] - supports[0]) <= 1e-6 * scale &&
+                   std::abs(field[1] - supports[1]) <= 1e-6 * scale)) {
+        Problem(*nodes_.at(key),
+                fmt::format("{} = {}: [[flexible.stator_supports]] give [{:.10g}, {:.10g}] {} at "
+                            "the contact stations: must agree to 1e-6, or leave {} out to take "
+                            "theirs", key, FormatNode(*nodes_.at(key)), supports[0], supports[1],
+                            unit, key));
+      }
+    };
+    supply_pair("stator.stiffness", p.support_stiffness, stiffness, "N/m");
+    supply_pair("stator.damping", p.support_damping, damping, "N·s/m");
+  }
+
+  // [flexible]: the rules that tie keys together, then whether the bodies can be built (a shaft
+  // lighter than its body, a disk of positive inertia, modes the interior has).
+  void CheckFlexible(Scene& scene) {
+    const FlexibleSettings& f = scene.flexible;
+    if (!f.RotorListed() && !(f.rotor_inner_diameter < f.rotor_outer_diameter))
+      FlexibleProblem(scene, "rotor_inner_diameter",
+                      fmt::format("must be below flexible.rotor_outer_diameter = {} m",
+                                  FormatFloat(f.rotor_outer_diameter)));
+    if (!f.StatorListed() && !(f.stator_inner_diameter < f.stator_outer_diameter))
+      FlexibleProblem(scene, "stator_inner_diameter",
+                      fmt::format("must be below flexible.stator_outer_diameter = {} m",
+                                  FormatFloat(f.stator_outer_diameter)));
     const double nu = f.youngs_modulus / (2.0 * f.shear_modulus) - 1.0;
     if (!(nu > -1.0 && nu <= 0.5))
-      problem("shear_modulus", fmt::format("gives the Poisson ratio E/(2G) − 1 = {:.4g}: must lie in "
-                                           "(−1, 0.5]", nu));
+      FlexibleProblem(scene, "shear_modulus", fmt::format("gives the Poisson ratio E/(2G) − 1 = "
+                                                          "{:.4g}: must lie in (−1, 0.5]", nu));
+    CheckListedBody(scene, "rotor");
+    CheckListedBody(scene, "stator");
+    if (!problems_.empty()) return;
+    SupplyRigidData(scene);
     if (!problems_.empty()) return;
     try {
       BuildFlexibleRub(FlexibleModelOf(scene));
     } catch (const std::invalid_argument& e) {
       const std::string what = e.what();
-      if (what.rfind("rotor shaft", 0) == 0) {
-        problem("rotor_outer_diameter", what);
-      } else if (what.rfind("stator shaft", 0) == 0) {
-        problem("stator_outer_diameter", what);
+      if (what.rfind("rotor shaft: ", 0) == 0 && !f.RotorListed()) {
+        FlexibleProblem(scene, "rotor_outer_diameter", what);
+      } else if (what.rfind("stator shaft: ", 0) == 0 && !f.StatorListed()) {
+        FlexibleProblem(scene, "stator_outer_diameter", what);
       } else if (what.rfind("modes = ", 0) == 0) {
-        problem("modes", what.substr(what.find(": ") + 2));
+        FlexibleProblem(scene, "modes", what.substr(what.find(": ") + 2));
       } else {
         problems_.push_back(fmt::format("{}: [flexible]: {}", source_, what));
       }
@@ -1163,6 +1618,14 @@ class Loader {
         }
       } else if (FindKey(path) != nullptr) {
         nodes_[path] = &node;
+      } else if (FindTableArray(path) != nullptr) {
+        const toml::array* rows = node.as_array();
+        if (rows != nullptr && rows->is_array_of_tables()) {
+          arrays_[path] = rows;
+        } else {
+          Problem(node, fmt::format("{} = {}: must be rows [[{}]] (an array of tables)", path,
+                                    FormatNode(node), path));
+        }
       } else if (IsSection(path)) {
         Problem(node, fmt::format("{} = {}: must be a table [{}]", path, FormatNode(node), path));
       } else {
@@ -1177,6 +1640,7 @@ class Loader {
       case ValueType::kInteger: return "an integer";
       case ValueType::kString: return "a string";
       case ValueType::kFloatPair: return "an array of two numbers";
+      case ValueType::kIntegerPair: return "an array of two integers";
       case ValueType::kStringList: return "an array of strings";
     }
     return "";
@@ -1192,9 +1656,13 @@ class Loader {
   std::optional<Value> Read(const KeySpec& spec) {
     const auto found = nodes_.find(spec.key);
     if (found == nodes_.end()) return std::nullopt;
-    const toml::node& node = *found->second;
+    return Read(spec, *found->second, spec.key);
+  }
+
+  // `node` read as `spec` says, named `name` in problems (a row's key: "flexible.rotor_shaft[2].length").
+  std::optional<Value> Read(const KeySpec& spec, const toml::node& node, const std::string& name) {
     auto type_error = [&]() {
-      Problem(node, fmt::format("{} = {}: must be {}{}", spec.key, FormatNode(node), TypeName(spec),
+      Problem(node, fmt::format("{} = {}: must be {}{}", name, FormatNode(node), TypeName(spec),
                                 UnitSuffix(spec)));
       return std::nullopt;
     };
@@ -1242,9 +1710,21 @@ class Loader {
         value = list;
         break;
       }
+      case ValueType::kIntegerPair: {
+        const auto* a = node.as_array();
+        if (a == nullptr || a->size() != 2) return type_error();
+        std::array<std::int64_t, 2> pair{};
+        for (std::size_t k = 0; k < 2; ++k) {
+          const auto* i = a->get(k)->as_integer();
+          if (i == nullptr) return type_error();
+          pair[k] = i->get();
+        }
+        value = pair;
+        break;
+      }
     }
     if (auto broken = CheckRule(spec, value)) {
-      Problem(node, fmt::format("{} = {}: {}{}", spec.key, FormatNode(node), *broken, UnitSuffix(spec)));
+      Problem(node, fmt::format("{} = {}: {}{}", name, FormatNode(node), *broken, UnitSuffix(spec)));
       return std::nullopt;
     }
     return value;
@@ -1253,6 +1733,8 @@ class Loader {
   std::string source_;
   std::string default_name_;
   std::map<std::string, const toml::node*> nodes_;
+  std::map<std::string, const toml::array*> arrays_;  // table arrays given
+  std::map<std::string, std::vector<Row>> rows_;       // their rows: the keys read without problems
   std::set<std::string> present_sections_;
   std::vector<std::string> problems_;
 };
@@ -1268,7 +1750,22 @@ bool Applies(const KeySpec& spec, ModelKind model) { return !spec.model || *spec
 // Whether a key belongs in the resolved scene: every key of its model, but [flexible] only when the
 // scene has it (its absence, not its defaults, means the rigid model).
 bool Resolved(const KeySpec& spec, const Scene& scene) {
-  return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled);
+  return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled) &&
+         (!spec.relevant || spec.relevant(scene));
+}
+
+// The rows of the table arrays in `section` as TOML ([[path]] blocks), every key resolved.
+std::string ResolvedRows(const Scene& scene, const std::string& section) {
+  std::string out;
+  for (const TableArraySpec& spec : TableArrays()) {
+    if (Parent(spec.path) != section || scene.model != ModelKind::kTwoPoint) continue;
+    for (const Row& row : spec.get(scene)) {
+      out += "\n[[" + spec.path + "]]\n";
+      for (const KeySpec& k : spec.keys)
+        if (row.count(k.key)) out += k.key + " = " + FormatValue(row.at(k.key)) + "\n";
+    }
+  }
+  return out;
 }
 
 std::string DocTypeName(const KeySpec& spec) {
@@ -1278,6 +1775,7 @@ std::string DocTypeName(const KeySpec& spec) {
     case ValueType::kString: return "string";
     case ValueType::kFloatPair:
       return spec.rule == Rule::kIncreasingPositive ? "[float, float]" : "[left, right] floats";
+    case ValueType::kIntegerPair: return "[left, right] integers";
     case ValueType::kStringList: return "array of strings";
   }
   return "";
@@ -1390,7 +1888,7 @@ std::string ResolvedSceneToml(const Scene& scene) {
     }
     if (body.empty()) continue;
     if (!section.empty()) out += "\n[" + section + "]\n";
-    out += body;
+    out += body + ResolvedRows(scene, section);
   }
   return out;
 }
@@ -1401,10 +1899,26 @@ std::string DescribeScene(const Scene& scene) {
     if (!Resolved(spec, scene)) continue;
     const bool defaulted = std::find(scene.defaulted_keys.begin(), scene.defaulted_keys.end(),
                                      spec.key) != scene.defaulted_keys.end();
+    const bool supplied = std::find(scene.supplied_keys.begin(), scene.supplied_keys.end(),
+                                    spec.key) != scene.supplied_keys.end();
     std::string value = FormatValue(spec.get(scene), true);
     if (!spec.unit.empty() && spec.unit != "-") value += " " + spec.unit;
-    out += defaulted ? fmt::format("  {:<38} = {:<28}  (default)\n", spec.key, value)
-                     : fmt::format("  {:<38} = {}\n", spec.key, value);
+    out += defaulted  ? fmt::format("  {:<38} = {:<28}  (default)\n", spec.key, value)
+           : supplied ? fmt::format("  {:<38} = {:<28}  (from the listed shafts)\n", spec.key, value)
+                      : fmt::format("  {:<38} = {}\n", spec.key, value);
+  }
+  for (const TableArraySpec& spec : TableArrays()) {
+    if (scene.model != ModelKind::kTwoPoint) continue;
+    const std::vector<Row> rows = spec.get(scene);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      std::string line;
+      for (const KeySpec& k : spec.keys) {
+        if (!rows[i].count(k.key)) continue;
+        line += (line.empty() ? "" : ", ") + k.key + " " + FormatValue(rows[i].at(k.key), true) +
+                (k.unit == "-" ? "" : " " + k.unit);
+      }
+      out += fmt::format("  {:<38}   {}\n", fmt::format("{}[{}]", spec.path, i), line);
+    }
   }
   if (const ModelEntry& model = ModelOf(scene); model.derived) out += model.derived(scene);
   return out;
@@ -1452,13 +1966,23 @@ std::string SceneKeysMarkdown() {
       if (spec.Section() == section) keys.push_back(&spec);
     if (keys.empty()) continue;
     out += "\n### " + (section.empty() ? std::string("Top level") : "[" + section + "]") + "\n\n";
-    out += "| key | type | unit | rule | required / default | meaning |\n";
-    out += "|---|---|---|---|---|---|\n";
-    for (const KeySpec* spec : keys) {
-      out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", LastComponent(spec->key),
-                         DocTypeName(*spec), spec->unit.empty() || spec->unit == "-" ? "–" : spec->unit,
-                         EscapeTable(RuleText(*spec)), EscapeTable(PresenceText(*spec)),
-                         EscapeTable(spec->doc));
+    auto table = [&out](const std::vector<const KeySpec*>& keys) {
+      out += "| key | type | unit | rule | required / default | meaning |\n";
+      out += "|---|---|---|---|---|---|\n";
+      for (const KeySpec* spec : keys) {
+        out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", LastComponent(spec->key),
+                           DocTypeName(*spec), spec->unit.empty() || spec->unit == "-" ? "–" : spec->unit,
+                           EscapeTable(RuleText(*spec)), EscapeTable(PresenceText(*spec)),
+                           EscapeTable(spec->doc));
+      }
+    };
+    table(keys);
+    for (const TableArraySpec& rows : TableArrays()) {
+      if (Parent(rows.path) != section) continue;
+      out += "\n### [[" + rows.path + "]]\n\n" + rows.doc + " Optional; any number of rows.\n\n";
+      std::vector<const KeySpec*> row_keys;
+      for (const KeySpec& k : rows.keys) row_keys.push_back(&k);
+      table(row_keys);
     }
   }
   return out;

@@ -24,6 +24,7 @@
 
 #include "apps/level.h"
 #include "models/analytic.h"
+#include "models/beam.h"
 #include "models/jeffcott.h"
 #include "models/textbook.h"
 #include "models/two_point_params.h"
@@ -131,25 +132,49 @@ struct TextbookOrbitsSettings {
   int max_steps = 1000;         // continuation steps each way
 };
 
-// [flexible] (model two_point, optional): the rotor and the stator as Timoshenko shafts of one
-// material across their spans, each completed by a disk to the rigid model's mass, mass centre and
-// inertia, reduced by Craig–Bampton to the contact displacements and `modes` fixed-interface modes
-// (level L4, models/flexible.h FlexibleTwoPoint). Absent: the rigid model. The required keys'
-// initializers are the geometry `rubcont flexible` fits to the thesis's Tables 2–3
-// (scenes/thesis_*_flexible.toml); a scene must give them.
+// [flexible] (model two_point, optional): the rotor and the stator as Timoshenko shafts, reduced
+// by Craig–Bampton to the contact displacements and `modes` fixed-interface modes (level L4,
+// models/flexible.h FlexibleTwoPoint). Absent: the rigid model. Each body is either
+// - uniform: one section of the [flexible] material across its span, completed by a disk to the
+//   rigid model's mass, mass centre and inertia ([rotor], [stator]); or
+// - listed: shaft segments ([[flexible.rotor_shaft]]: length, diameters, material; each cut into
+//   `elements` equal elements), disks and (stator) supports on its stations, as rotordynamics
+//   input lists them. Its rigid-body data are then the shafts': [rotor]/[stator] may leave them
+//   out (the loader fills them in, so L0 and the jump table's Mode 1/2 describe the same bodies) or
+//   must agree with them to 1e-6.
+// The required keys' initializers are the geometry `rubcont flexible` fits to the thesis's Tables
+// 2–3 (scenes/thesis_*_flexible.toml); a scene must give them.
+struct ShaftRow {       // one [[flexible.<body>_shaft]] row
+  ShaftElement section;  // its length is the row's; material resolved from [flexible]'s defaults
+  int elements = 1;      // equal elements it is cut into
+};
+struct SupportRow {  // one [[flexible.stator_supports]] row: a spring and dashpot to ground
+  int station = 0;
+  double stiffness = 0.0;  // [N/m]
+  double damping = 0.0;    // [N·s/m]
+};
 struct FlexibleSettings {
   bool enabled = false;  // the section is present
-  double rotor_outer_diameter = 0.04801;   // [m] > 0
+  double rotor_outer_diameter = 0.04801;   // [m] > 0 (uniform rotor)
   double rotor_inner_diameter = 0.0;       // [m] ≥ 0, below the outer one (0: solid)
-  double stator_outer_diameter = 0.13722;  // [m] > 0
+  double stator_outer_diameter = 0.13722;  // [m] > 0 (uniform stator)
   double stator_inner_diameter = 0.07696;  // [m] ≥ 0, below the outer one
-  double youngs_modulus = 2.0684e11;       // E [Pa] > 0
+  double youngs_modulus = 2.0684e11;       // E [Pa] > 0 (listed rows' default)
   double shear_modulus = 7.929e10;         // G [Pa] > 0, E/(2G) − 1 in (−1, 0.5]
   double density = 7833.0;                 // ρ [kg/m³] ≥ 0
-  int elements = 8;                        // per shaft (about; nodes added at the disk etc.)
+  int elements = 8;                        // per uniform shaft (about; nodes added at the disk etc.)
   int modes = 4;                           // fixed-interface modes kept
   double modal_damping = 0.0;              // ζ of the kept modes
   bool gyroscopic = true;                  // keep the polar inertias' −jωG u̇
+  // Listed bodies (empty rows: uniform). Stations count from 0 at the first segment's left end.
+  std::vector<ShaftRow> rotor_shaft, stator_shaft;
+  std::vector<Disk> rotor_disks, stator_disks;  // Disk::node is the station
+  std::vector<SupportRow> stator_supports;      // empty: [stator]'s supports at its contacts
+  std::array<int, 2> rotor_contact_stations{0, -1};   // -1: the last station
+  std::array<int, 2> stator_contact_stations{0, -1};
+
+  bool RotorListed() const { return !rotor_shaft.empty(); }
+  bool StatorListed() const { return !stator_shaft.empty(); }
 };
 
 struct Scene {
@@ -170,6 +195,8 @@ struct Scene {
   // left out (their documented defaults apply).
   std::string source;
   std::vector<std::string> defaulted_keys;
+  // The [rotor]/[stator] keys the file left out because listed shafts supply them.
+  std::vector<std::string> supplied_keys;
 };
 
 // The level of a result file's root: `computed`, or L4 for a scene with [flexible] (whose rotor and

@@ -93,20 +93,60 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
   return out;
 }
 
-namespace {
+RigidBodyData RigidBodyOf(const BodyShaft& body) {
+  const Shaft& shaft = body.shaft;
+  BeamModel{{shaft}, {}}.Validate();
+  const int nodes = shaft.Nodes();
+  for (int side = 0; side < 2; ++side) {
+    const int station = body.contact_stations[static_cast<std::size_t>(side)];
+    if (station < 0 || station >= nodes) {
+      throw std::invalid_argument(fmt::format("{} shaft: contact_stations[{}] = {}: must name a station (0 to {})",
+                                              shaft.name, side, station, nodes - 1));
+    }
+  }
+  const std::vector<double> z = shaft.NodePositions();
+  const double left = z[static_cast<std::size_t>(body.contact_stations[0])];
+  const double right = z[static_cast<std::size_t>(body.contact_stations[1])];
+  if (!(right > left)) {
+    throw std::invalid_argument(fmt::format(
+        "{} shaft: contact_stations = [{}, {}]: the right contact must lie beyond the left one",
+        shaft.name, body.contact_stations[0], body.contact_stations[1]));
+  }
+  // Masses at their centres, then the parallel-axis sum about the common centre.
+  struct Piece { double mass, z, own_inertia; };
+  std::vector<Piece> pieces;
+  for (std::size_t i = 0; i < shaft.elements.size(); ++i) {
+    const ShaftElement& e = shaft.elements[i];
+    const double mass = e.density * e.Area() * e.length;
+    const double d2 = e.outer_diameter * e.outer_diameter + e.inner_diameter * e.inner_diameter;
+    pieces.push_back({mass, z[i] + e.length / 2, mass * (e.length * e.length / 12 + d2 / 16)});
+  }
+  for (const Disk& d : shaft.disks) {
+    pieces.push_back({d.mass, z[static_cast<std::size_t>(d.node)], d.diametral_inertia});
+  }
+  RigidBodyData out;
+  double moment = 0.0;
+  for (const Piece& p : pieces) {
+    out.mass += p.mass;
+    moment += p.mass * p.z;
+  }
+  if (!(out.mass > 0.0)) {
+    throw std::invalid_argument(fmt::format("{} shaft: has no mass (its elements' density and its "
+                                            "disks' masses are all 0)", shaft.name));
+  }
+  const double center = moment / out.mass;
+  for (const Piece& p : pieces) out.inertia += p.own_inertia + p.mass * (p.z - center) * (p.z - center);
+  out.span = right - left;
+  out.mass_center = center - left;
+  return out;
+}
 
-// A shaft of `section` across [0, span] — and on past an end where the disk must sit beyond it —
-// cut into about `elements` pieces, with nodes at both ends of the span, at `extra` positions and
-// at the disk, which completes the body (mass, centre, inertia about the centre).
-struct CompletedBody {
-  Shaft shaft;
-  int node_zero = 0, node_span = 0;  // the nodes at z = 0 and z = span
-  std::vector<int> extra_nodes;      // the node at each `extra` position
-};
-
-CompletedBody Complete(const std::string& name, const ShaftElement& section, double span,
-                       int elements, double mass, double inertia, double mass_center,
-                       const std::vector<double>& extra) {
+BodyShaft UniformBody(const std::string& name, const ShaftElement& section, double span,
+                      int elements, double mass, double inertia, double mass_center,
+                      const std::vector<double>& extra) {
+  if (elements < 1) {
+    throw std::invalid_argument(fmt::format("elements = {}: must be at least 1", elements));
+  }
   const double line_mass = section.density * section.Area();  // [kg/m]
   // The shaft covers [a, b] ⊇ [0, span] and the disk at z_d, where the mass centre is l_g,
   // with a = min(0, z_d), b = max(span, z_d); a fixed-point iteration from [0, span] (the shaft
@@ -164,7 +204,7 @@ CompletedBody Complete(const std::string& name, const ShaftElement& section, dou
   for (double x : z) {
     if (nodes.empty() || x - nodes.back() > 1e-9 * span) nodes.push_back(x);
   }
-  CompletedBody out;
+  BodyShaft out;
   out.shaft.name = name;
   for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
     ShaftElement e = section;
@@ -177,45 +217,85 @@ CompletedBody Complete(const std::string& name, const ShaftElement& section, dou
     });
     return static_cast<int>(it - nodes.begin());
   };
-  out.node_zero = node_at(0.0);
-  out.node_span = node_at(span);
-  for (double e : extra) out.extra_nodes.push_back(node_at(e));
+  out.contact_stations = {node_at(0.0), node_at(span)};
   out.shaft.disks = {{node_at(disk_z), disk_mass, disk_inertia, 2 * disk_inertia}};
   return out;
 }
 
+namespace {
+
+// The station of `body` nearest z (from its left contact) and how far it is from z.
+std::pair<int, double> NearestStation(const BodyShaft& body, double z) {
+  const std::vector<double> nodes = body.shaft.NodePositions();
+  const double target = nodes[static_cast<std::size_t>(body.contact_stations[0])] + z;
+  int best = 0;
+  for (int i = 1; i < body.shaft.Nodes(); ++i) {
+    if (std::abs(nodes[static_cast<std::size_t>(i)] - target) <
+        std::abs(nodes[static_cast<std::size_t>(best)] - target)) {
+      best = i;
+    }
+  }
+  return {best, std::abs(nodes[static_cast<std::size_t>(best)] - target)};
+}
+
+// The station at the mid-span of the body's contacts, which c_d > 0 needs.
+int MidSpanStation(const BodyShaft& body, double center_damping) {
+  const RigidBodyData data = RigidBodyOf(body);
+  const auto [station, distance] = NearestStation(body, data.span / 2);
+  if (distance > 1e-9 * data.span) {
+    throw std::invalid_argument(fmt::format(
+        "{} shaft: center_damping = {} N·s/m acts at the mid-span of the contacts, {:.6g} m from "
+        "the left one, where the shaft has no station (the nearest, {}, is {:.3g} m away)",
+        body.shaft.name, center_damping, data.span / 2, station, distance));
+  }
+  return station;
+}
+
 }  // namespace
 
-FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const ShaftElement& rotor_section,
-                                  const ShaftElement& stator_section, int elements, int modes) {
+FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const BodyShaft& rotor,
+                                  const BodyShaft& stator, int modes) {
   Validate(p);
-  if (elements < 1) {
-    throw std::invalid_argument(fmt::format("elements = {}: must be at least 1", elements));
-  }
-  const CompletedBody rotor =
-      Complete("rotor", rotor_section, p.contact_span, elements, p.rotor_mass, p.rotor_inertia,
-               p.rotor_mass_center, {p.contact_span / 2, p.rotor_mass_center});
-  const CompletedBody stator =
-      Complete("stator", stator_section, p.stator_span, elements, p.stator_mass, p.stator_inertia,
-               p.stator_mass_center, {p.stator_span / 2});
+  const RigidBodyData rotor_data = RigidBodyOf(rotor);
+  RigidBodyOf(stator);
   FlexibleRubModel model;
   model.beams.shafts = {rotor.shaft, stator.shaft};
   model.beams.springs = {
-      {1, stator.node_zero, -1, 0, p.support_stiffness[0], p.support_damping[0]},
-      {1, stator.node_span, -1, 0, p.support_stiffness[1], p.support_damping[1]}};
+      {1, stator.contact_stations[0], -1, 0, p.support_stiffness[0], p.support_damping[0]},
+      {1, stator.contact_stations[1], -1, 0, p.support_stiffness[1], p.support_damping[1]}};
   if (p.center_damping > 0.0) {
-    model.beams.springs.push_back(
-        {0, rotor.extra_nodes[0], 1, stator.extra_nodes[0], 0.0, p.center_damping});
+    model.beams.springs.push_back({0, MidSpanStation(rotor, p.center_damping), 1,
+                                   MidSpanStation(stator, p.center_damping), 0.0,
+                                   p.center_damping});
   }
   model.contacts = {
-      {"left", 0, rotor.node_zero, 1, stator.node_zero, {p.clearance[0], p.radius[0]}},
-      {"right", 0, rotor.node_span, 1, stator.node_span, {p.clearance[1], p.radius[1]}}};
+      {"left", 0, rotor.contact_stations[0], 1, stator.contact_stations[0],
+       {p.clearance[0], p.radius[0]}},
+      {"right", 0, rotor.contact_stations[1], 1, stator.contact_stations[1],
+       {p.clearance[1], p.radius[1]}}};
   model.modes = modes;
   model.law = ContactLawOf(p);
   model.imbalance = p.imbalance;
   model.imbalance_shaft = 0;
-  model.imbalance_node = rotor.extra_nodes[1];
+  model.imbalance_node = NearestStation(rotor, rotor_data.mass_center).first;
   return model;
+}
+
+BodyShaft UniformRotor(const TwoPointParams& p, const ShaftElement& section, int elements) {
+  return UniformBody("rotor", section, p.contact_span, elements, p.rotor_mass, p.rotor_inertia,
+                     p.rotor_mass_center, {p.contact_span / 2, p.rotor_mass_center});
+}
+
+BodyShaft UniformStator(const TwoPointParams& p, const ShaftElement& section, int elements) {
+  return UniformBody("stator", section, p.stator_span, elements, p.stator_mass, p.stator_inertia,
+                     p.stator_mass_center, {p.stator_span / 2});
+}
+
+FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const ShaftElement& rotor_section,
+                                  const ShaftElement& stator_section, int elements, int modes) {
+  Validate(p);
+  return FlexibleTwoPoint(p, UniformRotor(p, rotor_section, elements),
+                          UniformStator(p, stator_section, elements), modes);
 }
 
 std::vector<StructureMode> StructureModes(const RubStructure& structure, bool pinned, double spin,

@@ -10,6 +10,7 @@
 // rigid model (the rigid limit, tested).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -55,17 +56,56 @@ struct FlexibleRub {
 // modes than the interior has, a negative ζ or imbalance).
 FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model);
 
-// The two-point model (TwoPointParams) made flexible: a uniform rotor shaft across the contact span
-// [0, l] and a uniform stator shaft across [0, l_s], each of the section and material given (the
-// sections' `length` is ignored), cut into about `elements` elements with nodes at the mid-span,
-// the mass centre and the disk; on each a rigid disk that makes up the rest of the body's mass,
-// mass-centre position and transverse inertia about the mass centre, so that the rigid-body data
-// equal the rigid model's exactly (the disk sits where the remaining mass must put the mass
-// centre; where that is past a contact plane, the shaft goes on to it). Disk polar inertia 2 I_d
-// (a thin disk). Supports (k, c) at the stator's contact stations, the centre damper between the
-// shafts' mid-span nodes, the imbalance at the rotor's mass-centre node, contacts "left" (z = 0)
-// and "right" (z = l, z = l_s) with the rigid model's geometry and law. Throws std::invalid_argument when a shaft is heavier than its body or leaves
-// its disk a negative inertia (a thinner section is needed), naming which.
+// One body of the two-point model as a shaft (models/beam.h: elements end to end from station 0,
+// disks on stations) and the stations where it touches the other body, left and right.
+struct BodyShaft {
+  Shaft shaft;
+  std::array<int, 2> contact_stations{};
+};
+
+// The rigid-body data of a body shaft, as the rigid two-point model states them: mass, the
+// distance between its contact stations (the rotor's contact_span, the stator's span), the mass
+// centre's distance from the left contact station, and the transverse inertia about the mass
+// centre (the elements' translational and rotary inertia, the disks' diametral). These are exactly
+// what the shaft's consistent mass matrix gives a rigid motion. Throws std::invalid_argument if the
+// shaft breaks its rules (Shaft's, models/beam.h), a contact station is out of range, or the right
+// one is not beyond the left one.
+struct RigidBodyData {
+  double mass = 0.0;         // [kg]
+  double span = 0.0;         // [m]
+  double mass_center = 0.0;  // [m] from the left contact station
+  double inertia = 0.0;      // [kg·m²] about the mass centre
+};
+RigidBodyData RigidBodyOf(const BodyShaft& body);
+
+// A uniform shaft of `section` (its `length` ignored) across the contacts' span [0, span] — and on
+// past an end where the disk must sit beyond it — cut into about `elements` elements, with stations
+// at both contacts, at the `extra` positions and at a rigid disk that makes up the rest of the
+// body's mass, mass-centre position (from the left contact) and transverse inertia about the mass
+// centre, so that RigidBodyOf gives the body's data exactly. Disk polar inertia 2 I_d (a thin
+// disk). Throws std::invalid_argument when the shaft is heavier than the body or leaves its disk a
+// negative inertia (a thinner section is needed), naming the body by `name`.
+BodyShaft UniformBody(const std::string& name, const ShaftElement& section, double span,
+                      int elements, double mass, double inertia, double mass_center,
+                      const std::vector<double>& extra);
+
+// The two-point model (TwoPointParams) on flexible bodies: contacts "left" and "right" at the
+// bodies' contact stations with the rigid model's geometry and law; supports (k, c) to ground at
+// the stator's contact stations; the centre damper c_d between the rotor's and the stator's stations
+// at the mid-span of their contacts (which each must have when c_d > 0); the imbalance at the
+// rotor's station nearest its mass centre. The params' rigid-body data (masses, inertias, spans,
+// mass centres) are not read: the shafts are the bodies (RigidBodyOf says what they are). Throws
+// std::invalid_argument naming the rule broken.
+FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& params, const BodyShaft& rotor,
+                                  const BodyShaft& stator, int modes);
+
+// The two-point model's bodies as uniform shafts: UniformBody with the params' data, stations at
+// the mid-span of the contacts (and the rotor's at its mass centre).
+BodyShaft UniformRotor(const TwoPointParams& params, const ShaftElement& section, int elements);
+BodyShaft UniformStator(const TwoPointParams& params, const ShaftElement& section, int elements);
+
+// The two-point model made flexible with uniform sections (UniformRotor, UniformStator), so that
+// the rigid-body data equal the params' exactly; then as above.
 FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& params, const ShaftElement& rotor_section,
                                   const ShaftElement& stator_section, int elements, int modes);
 

@@ -70,6 +70,27 @@ TEST_CASE("a scene with [flexible]: branches at level L4, its own geometry in ru
                              "model's parameters"));
 }
 
+TEST_CASE("a scene that lists its shafts: branches at level L4, the uniform scene's corner",
+          "[flexible_cli]") {
+  // scenes/thesis_A_a_flexible_listed.toml is thesis_A_a_flexible.toml spelt out by station with
+  // its disks rounded to 5 digits: the Mode 1 whirl's end moves by less than 0.001 rpm.
+  TempDir dir;
+  const fs::path branches = dir.path / "branches.h5";
+  Outcome o = testing::RubcontNoPython("branches scenes/thesis_A_a_flexible_listed.toml --quiet --out " +
+                                       branches.string());
+  INFO(o.err);
+  REQUIRE(o.exit_code == 0);
+  CHECK(ResultReader(branches).ReadStringAttribute("/", "level") == "L4");
+  CHECK_THAT(o.out, Contains("50.412 rpm    84.017 Hz"));
+  // rubcont flexible evaluates uniform sections on the thesis's tables: it says so and stops.
+  o = testing::RubcontNoPython("flexible scenes/thesis_A_a_flexible_listed.toml --quiet --out " +
+                               (dir.path / "flexible.h5").string());
+  CHECK(o.exit_code == 2);
+  CHECK_THAT(o.err, Contains("[flexible] in scene thesis_A_a_flexible_listed lists its shafts: "
+                             "rubcont flexible fits and evaluates uniform sections"));
+  CHECK_FALSE(fs::exists(dir.path / "flexible.h5"));
+}
+
 TEST_CASE("rubcont flexible: bad input is exit code 2 naming it", "[flexible_cli]") {
   TempDir dir;
   const fs::path file = dir.path / "x.h5";

@@ -4,6 +4,7 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "apps/stage_options.h"
 
@@ -77,6 +78,48 @@ TEST_CASE("Sweeps and the two-point commands name the models they need", "[model
   CHECK(ModelsWith(Stage::kOrbits) ==
         "\"two_point\", \"duffing\", \"stuart_landau\", \"van_der_pol\", "
         "\"forced_van_der_pol\"");
+}
+
+TEST_CASE("[flexible]: a listed body written out element by element is the uniform body",
+          "[models]") {
+  // scenes/thesis_A_a_flexible.toml's uniform shafts (each completed by its disk) as rows, every
+  // number to full precision, [rotor]/[stator] supplied by them: the same reduced structure.
+  const Scene uniform = LoadScene("scenes/thesis_A_a_flexible.toml");
+  const FlexibleRubModel model = FlexibleModelOf(uniform);
+  std::string text = "[contact]\nclearance = [3.81e-4, 3.81e-4]\nradius = [38.1e-3, 38.1e-3]\n"
+                     "friction = 0.5\nstiffness = 1.75e11\nstiffness2 = 0.0\ndamping = 1.75e5\n"
+                     "[center_damper]\ndamping = 52.0\n"
+                     "[flexible]\nyoungs_modulus = 2.0684e11\nshear_modulus = 7.929e10\n"
+                     "density = 7833.0\n";
+  for (std::size_t b = 0; b < 2; ++b) {
+    const Shaft& shaft = model.beams.shafts[b];
+    for (const ShaftElement& e : shaft.elements) {
+      text += fmt::format("[[flexible.{}_shaft]]\nlength = {}\nouter_diameter = {}\n"
+                          "inner_diameter = {}\n", shaft.name, e.length, e.outer_diameter,
+                          e.inner_diameter);
+    }
+    for (const Disk& d : shaft.disks) {
+      text += fmt::format("[[flexible.{}_disks]]\nstation = {}\nmass = {}\ndiametral_inertia = {}\n"
+                          "polar_inertia = {}\n", shaft.name, d.node, d.mass, d.diametral_inertia,
+                          d.polar_inertia);
+    }
+  }
+  text += "[[flexible.stator_supports]]\nstation = 0\nstiffness = 4.70e6\ndamping = 324.9\n"
+          "[[flexible.stator_supports]]\nstation = 8\nstiffness = 4.70e6\ndamping = 324.9\n";
+  const Scene listed = ParseScene(text, "listed.toml", "listed");
+  REQUIRE(listed.flexible.RotorListed());
+  REQUIRE(listed.flexible.StatorListed());
+  // The rigid data the rows supply are Eq. 31's.
+  CHECK(listed.two_point.rotor_mass == Approx(9.99).epsilon(1e-13));
+  CHECK(listed.two_point.rotor_inertia == Approx(0.029).epsilon(1e-12));
+  CHECK(listed.two_point.stator_inertia == Approx(0.206).epsilon(1e-12));
+  CHECK(listed.two_point.support_stiffness == uniform.two_point.support_stiffness);
+  const RubStructure a = StructureOf(uniform), b = StructureOf(listed);
+  REQUIRE(a.Coordinates() == b.Coordinates());
+  CHECK((a.mass - b.mass).norm() <= 1e-13 * a.mass.norm());
+  CHECK((a.stiffness - b.stiffness).norm() <= 1e-13 * a.stiffness.norm());
+  CHECK((a.damping - b.damping).norm() <= 1e-13 * a.damping.norm());
+  CHECK((a.gyroscopic - b.gyroscopic).norm() <= 1e-13 * a.gyroscopic.norm());
 }
 
 }  // namespace

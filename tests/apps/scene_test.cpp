@@ -386,6 +386,175 @@ TEST_CASE("Rule: [flexible] names the key, value and rule of a shaft that cannot
              Contains("not a key of model \"van_der_pol\""));
 }
 
+// A listed rotor: one 0.29 m segment in 8 elements with a disk at its middle; [rotor] without the
+// rigid-body data the rows supply.
+const std::string kListedRotor = R"(
+[[flexible.rotor_shaft]]
+length = 0.29
+outer_diameter = 0.04801
+inner_diameter = 0.03281
+elements = 8
+
+[[flexible.rotor_disks]]
+station = 4
+mass = 7.7983
+diametral_inertia = 0.013177
+polar_inertia = 0.026353
+)";
+
+std::string WithoutRigidRotor(const std::string& text) {
+  return Replace(text, "mass = 9.99\ninertia = 0.029\ncontact_span = 0.29\nmass_center = 0.145\n", "");
+}
+
+TEST_CASE("[flexible] lists: shaft segments, disks and supports by station supply the rigid data",
+          "[scene]") {
+  const std::string uniform_stator = R"(
+[flexible]
+stator_outer_diameter = 0.13722
+stator_inner_diameter = 0.07696
+youngs_modulus = 2.0684e11
+shear_modulus = 7.929e10
+density = 7833.0
+)";
+  const Scene scene = Parse(WithoutRigidRotor(kValid) + uniform_stator + kListedRotor);
+  REQUIRE(scene.flexible.RotorListed());
+  CHECK_FALSE(scene.flexible.StatorListed());
+  REQUIRE(scene.flexible.rotor_shaft.size() == 1);
+  CHECK(scene.flexible.rotor_shaft[0].elements == 8);
+  CHECK(scene.flexible.rotor_shaft[0].section.youngs_modulus == 2.0684e11);  // [flexible]'s
+  CHECK(scene.flexible.rotor_contact_stations == std::array<int, 2>{0, 8});  // first and last
+  // The shaft: 0.29 m of π(D² − d²)/4 at 7833 kg/m³ = 2.1916 kg, plus the disk; centre 0.145 m.
+  const double shaft = 7833.0 * M_PI * (0.04801 * 0.04801 - 0.03281 * 0.03281) / 4 * 0.29;
+  CHECK(scene.two_point.rotor_mass == Approx(shaft + 7.7983).epsilon(1e-14));
+  CHECK(scene.two_point.contact_span == Approx(0.29).epsilon(1e-14));
+  CHECK(scene.two_point.rotor_mass_center == Approx(0.145).epsilon(1e-14));
+  CHECK(scene.two_point.rotor_inertia ==
+        Approx(shaft * (0.29 * 0.29 / 12 + (0.04801 * 0.04801 + 0.03281 * 0.03281) / 16) + 0.013177)
+            .epsilon(1e-12));
+  CHECK(scene.supplied_keys == std::vector<std::string>{"rotor.mass", "rotor.contact_span",
+                                                        "rotor.mass_center", "rotor.inertia"});
+  // Resolved, the rows come back with every key and the supplied data as values: the same scene.
+  const std::string resolved = ResolvedSceneToml(scene);
+  CHECK_THAT(resolved, Contains("[[flexible.rotor_shaft]]\nlength = 0.29\nouter_diameter = 0.04801\n"
+                                "inner_diameter = 0.03281\nyoungs_modulus = 206840000000.0\n"
+                                "shear_modulus = 79290000000.0\ndensity = 7833.0\nelements = 8\n"));
+  CHECK_THAT(resolved, !Contains("rotor_outer_diameter"));
+  CHECK_THAT(resolved, Contains("rotor_contact_stations = [0, 8]"));
+  const Scene again = ParseScene(resolved, "resolved.toml", "other");
+  CHECK(again.two_point.rotor_mass == scene.two_point.rotor_mass);
+  CHECK(Body(ResolvedSceneToml(again)) == Body(resolved));
+
+  // A segment's own material; ν instead of G.
+  const Scene own = Parse(WithoutRigidRotor(kValid) + uniform_stator +
+                          Replace(kListedRotor, "elements = 8\n",
+                                  "elements = 8\nyoungs_modulus = 1.1e11\npoisson_ratio = 0.34\n"));
+  CHECK(own.flexible.rotor_shaft[0].section.youngs_modulus == 1.1e11);
+  CHECK(own.flexible.rotor_shaft[0].section.shear_modulus == Approx(1.1e11 / 2.68).epsilon(1e-15));
+
+  // Supports by station supply [stator]'s stiffness and damping.
+  const std::string supports = R"(
+[[flexible.stator_shaft]]
+length = 0.27
+outer_diameter = 0.13722
+inner_diameter = 0.07696
+elements = 4
+
+[[flexible.stator_disks]]
+station = 2
+mass = 0.0017262
+diametral_inertia = 0.042597
+
+[[flexible.stator_supports]]
+station = 0
+stiffness = 4.0e6
+
+[[flexible.stator_supports]]
+station = 4
+stiffness = 5.0e6
+damping = 300.0
+
+[[flexible.stator_supports]]
+station = 4
+stiffness = 1.0e5
+)";
+  const std::string listed_stator =
+      Replace(uniform_stator, "stator_outer_diameter = 0.13722\nstator_inner_diameter = 0.07696\n", "");
+  const Scene both = Parse(
+      Replace(Replace(WithoutRigidRotor(kValid),
+                      "mass = 21.44\ninertia = 0.206\nspan = 0.27\nmass_center = 0.135\n"
+                      "stiffness = [4.70e6, 4.70e6]\ndamping = [324.9, 324.9]\n", ""),
+              "[stator]\n", "") +
+      listed_stator + kListedRotor + supports);
+  CHECK(both.two_point.support_stiffness == std::array<double, 2>{4.0e6, 5.1e6});
+  CHECK(both.two_point.support_damping == std::array<double, 2>{0.0, 300.0});
+  CHECK(both.two_point.stator_span == Approx(0.27).epsilon(1e-14));
+  CHECK(both.two_point.stator_mass_center == Approx(0.135).epsilon(1e-12));
+  CHECK_THAT(ResolvedSceneToml(both), !Contains("elements = 8\n\n[flexible"));  // no uniform key
+  CHECK_THAT(ResolvedSceneToml(both), !Contains("\nelements = 8\nmodes"));
+}
+
+TEST_CASE("Rule: [flexible] lists name the row, key, value and rule", "[scene]") {
+  const std::string material = "\n[flexible]\nstator_outer_diameter = 0.13722\n"
+                               "stator_inner_diameter = 0.07696\nyoungs_modulus = 2.0684e11\n"
+                               "shear_modulus = 7.929e10\ndensity = 7833.0\n";
+  const std::string base = WithoutRigidRotor(kValid) + material;
+  CHECK_NOTHROW(Parse(base + kListedRotor));
+  // Given, the rigid data must agree with the rows.
+  const std::vector<std::string> disagree = Problems(kValid + material + kListedRotor);
+  REQUIRE(disagree.size() == 2);  // the rounded disk: mass and inertia differ, span and centre agree
+  CHECK_THAT(disagree[0], Contains("rotor.mass = 9.99: the shaft listed in [[flexible.rotor_shaft]] "
+                                   "gives 9.989986537 kg: must agree to 1e-6, or leave rotor.mass "
+                                   "out to take the shaft's"));
+  CHECK_THAT(disagree[1], Contains("rotor.inertia = 0.029: the shaft listed in "
+                                   "[[flexible.rotor_shaft]] gives 0.02900026306 kg·m²"));
+  CHECK_THAT(OnlyProblem(base + kListedRotor + "[[flexible.rotor_shaft]]\nlength = 0.1\n"),
+             Contains("flexible.rotor_shaft[1].outer_diameter: missing; required — Outer diameter. [m]"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "elements = 8", "element = 8")),
+             Contains("flexible.rotor_shaft[0].element: unknown key (known in "
+                      "[[flexible.rotor_shaft]]: length, outer_diameter"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "inner_diameter = 0.03281",
+                                        "inner_diameter = 0.05")),
+             Contains("flexible.rotor_shaft[0].inner_diameter = 0.05: must be below "
+                      "outer_diameter = 0.04801 m"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "length = 0.29", "length = -0.29")),
+             Contains("flexible.rotor_shaft[0].length = -0.29: must be positive (m)"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "elements = 8",
+                                        "elements = 8\nshear_modulus = 8e10\npoisson_ratio = 0.3")),
+             Contains("flexible.rotor_shaft[0].poisson_ratio = 0.3: give shear_modulus or "
+                      "poisson_ratio, not both"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "elements = 8", "elements = 8\npoisson_ratio = 0.7")),
+             Contains("flexible.rotor_shaft[0].poisson_ratio = 0.7: gives the Poisson ratio "
+                      "E/(2G) − 1 = 0.7: must lie in (−1, 0.5]"));
+  CHECK_THAT(OnlyProblem(base + Replace(kListedRotor, "station = 4", "station = 9")),
+             Contains("flexible.rotor_disks[0].station = 9: must name a station of the listed "
+                      "rotor shaft (0 to 8)"));
+  CHECK_THAT(OnlyProblem(base + kListedRotor + "\n[[flexible.stator_disks]]\nstation = 1\nmass = 1.0\n"),
+             Contains("[[flexible.stator_disks]]: stations number a listed shaft: add "
+                      "[[flexible.stator_shaft]] rows (a uniform stator gets its disk from [stator])"));
+  // A key of the other form.
+  CHECK_THAT(OnlyProblem(base + "rotor_outer_diameter = 0.05\n" + kListedRotor),
+             Contains("flexible.rotor_outer_diameter = 0.05: not used: [[flexible.rotor_shaft]] "
+                      "lists the rotor's shaft"));
+  CHECK_THAT(OnlyProblem(kValid + material + "rotor_outer_diameter = 0.04801\nstator_contact_stations = [0, 8]\n"),
+             Contains("flexible.stator_contact_stations = [0, 8]: not used: stations number a "
+                      "listed shaft: add [[flexible.stator_shaft]] rows"));
+  CHECK_THAT(OnlyProblem(base + "rotor_contact_stations = [2, 9]\n" + kListedRotor),
+             Contains("flexible.rotor_contact_stations = [2, 9]: must name stations of the listed "
+                      "shaft (0 to 8)"));
+  CHECK_THAT(OnlyProblem(base + "rotor_contact_stations = [3, 3]\n" + kListedRotor),
+             Contains("flexible.rotor_contact_stations = [3, 3]: must be stations 0 ≤ left < right"));
+  // c_d acts at the mid-span of the contacts: stations 1 and 8 leave none there.
+  CHECK_THAT(OnlyProblem(base + "rotor_contact_stations = [1, 8]\n" + kListedRotor),
+             Contains("rotor shaft: center_damping = 52 N·s/m acts at the mid-span of the "
+                      "contacts, 0.126875 m from the left one, where the shaft has no station (the "
+                      "nearest, 4, is 0.0181 m away)"));
+  CHECK_THAT(OnlyProblem(kValid + kFlexible + "rotor_shaft = 3\n"),
+             Contains("flexible.rotor_shaft = 3: must be rows [[flexible.rotor_shaft]] (an array "
+                      "of tables)"));
+  CHECK_THAT(Problems("model = \"van_der_pol\"\n[van_der_pol]\nmu_range = [0.2, 2.0]\n" + kListedRotor)[0],
+             Contains("[[flexible.rotor_shaft]]: not a table of model \"van_der_pol\""));
+}
+
 TEST_CASE("Every scene file in scenes/ loads, with the thesis's Table 1 values", "[scene]") {
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator("scenes")) {

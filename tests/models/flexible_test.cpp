@@ -141,5 +141,101 @@ TEST_CASE("flexible rub model validation names the entry and the rule", "[flexib
                                         "section"));
 }
 
+TEST_CASE("a body shaft's rigid-body data: a uniform body completes to the rigid model's, a listed "
+          "one is the sum of its pieces", "[flexible]") {
+  TwoPointParams beyond = ThesisCaseAa();
+  beyond.rotor_mass_center = 0.35;
+  beyond.rotor_inertia = 0.07;
+  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa(), beyond}) {
+    const RigidBodyData r = RigidBodyOf(UniformBody("rotor", SteelSection(0.02, 0.0), p.contact_span,
+                                                    8, p.rotor_mass, p.rotor_inertia,
+                                                    p.rotor_mass_center, {}));
+    CHECK(r.mass == Approx(p.rotor_mass).epsilon(1e-13));
+    CHECK(r.span == Approx(p.contact_span).epsilon(1e-13));
+    CHECK(r.mass_center == Approx(p.rotor_mass_center).epsilon(1e-12));
+    CHECK(r.inertia == Approx(p.rotor_inertia).epsilon(1e-12));
+  }
+  // A solid rod of length 0.4 m in two elements, contacts at its ends, then a 2 kg disk at the
+  // middle (I_d 0.01) with the contacts at stations 1 and 2: the rod's m, L/2, m(L²/12 + D²/16).
+  BodyShaft rod;
+  ShaftElement half = SteelSection(0.05, 0.0);
+  half.length = 0.2;
+  rod.shaft.name = "rod";
+  rod.shaft.elements = {half, half};
+  rod.contact_stations = {0, 2};
+  const double m = 7810.0 * M_PI * 0.05 * 0.05 / 4 * 0.4;
+  RigidBodyData r = RigidBodyOf(rod);
+  CHECK(r.mass == Approx(m).epsilon(1e-14));
+  CHECK(r.span == Approx(0.4).epsilon(1e-14));
+  CHECK(r.mass_center == Approx(0.2).epsilon(1e-14));
+  CHECK(r.inertia == Approx(m * (0.4 * 0.4 / 12 + 0.05 * 0.05 / 16)).epsilon(1e-14));
+  rod.shaft.disks = {{1, 2.0, 0.01, 0.02}};
+  rod.contact_stations = {1, 2};
+  r = RigidBodyOf(rod);
+  CHECK(r.mass == Approx(m + 2.0).epsilon(1e-14));
+  CHECK(r.span == Approx(0.2).epsilon(1e-14));
+  CHECK(r.mass_center == Approx(0.0).margin(1e-15));
+  CHECK(r.inertia == Approx(m * (0.4 * 0.4 / 12 + 0.05 * 0.05 / 16) + 0.01).epsilon(1e-14));
+
+  rod.contact_stations = {2, 1};
+  CHECK_THROWS_WITH(RigidBodyOf(rod), "rod shaft: contact_stations = [2, 1]: the right contact "
+                                      "must lie beyond the left one");
+  rod.contact_stations = {0, 3};
+  CHECK_THROWS_WITH(RigidBodyOf(rod),
+                    "rod shaft: contact_stations[1] = 3: must name a station (0 to 2)");
+}
+
+TEST_CASE("flexible two-point model on listed shafts: Guyan condensation is the rigid model of "
+          "their rigid-body data", "[flexible]") {
+  // A stepped rotor overhanging both contacts (stations 1 and 4 of six elements), a disk on
+  // station 5; a stator tube with its contacts one element in from each end. Held at the four
+  // contact planes the shafts move rigidly: M, C, K are those of the rigid model whose bodies
+  // have RigidBodyOf's data.
+  auto section = [](double length, double outer, double inner) {
+    ShaftElement e = SteelSection(outer, inner);
+    e.length = length;
+    return e;
+  };
+  BodyShaft rotor;
+  rotor.shaft.name = "rotor";
+  rotor.shaft.elements = {section(0.03, 0.04, 0.0), section(0.1, 0.05, 0.02),
+                          section(0.1, 0.05, 0.02), section(0.1, 0.045, 0.02),
+                          section(0.05, 0.04, 0.0), section(0.02, 0.04, 0.0)};
+  rotor.shaft.disks = {{5, 3.0, 0.004, 0.008}};
+  rotor.contact_stations = {1, 4};
+  BodyShaft stator;
+  stator.shaft.name = "stator";
+  stator.shaft.elements = {section(0.02, 0.16, 0.13), section(0.125, 0.16, 0.1),
+                           section(0.125, 0.16, 0.1), section(0.02, 0.16, 0.13)};
+  stator.contact_stations = {1, 3};
+  TwoPointParams p = ThesisCaseAa();
+  const RigidBodyData r = RigidBodyOf(rotor), s = RigidBodyOf(stator);
+  p.rotor_mass = r.mass;
+  p.contact_span = r.span;
+  p.rotor_mass_center = r.mass_center;
+  p.rotor_inertia = r.inertia;
+  p.stator_mass = s.mass;
+  p.stator_span = s.span;
+  p.stator_mass_center = s.mass_center;
+  p.stator_inertia = s.inertia;
+  p.center_damping = 0.0;  // the rotor has no station at the mid-span of its contacts
+  const RubStructure rigid = TwoPointStructure(p);
+  const RubStructure guyan = BuildFlexibleRub(FlexibleTwoPoint(p, rotor, stator, 0)).structure;
+  CHECK(RelativeDifference(guyan.mass, rigid.mass) < 1e-12);
+  CHECK(RelativeDifference(guyan.stiffness, rigid.stiffness) < 1e-12);
+  CHECK(RelativeDifference(guyan.damping, rigid.damping) < 1e-12);
+
+  p.center_damping = 52.0;
+  CHECK_THROWS_WITH(FlexibleTwoPoint(p, rotor, stator, 0),
+                    Catch::StartsWith("rotor shaft: center_damping = 52 N·s/m acts at the mid-span "
+                                      "of the contacts, 0.15 m from the left one, where the shaft "
+                                      "has no station (the nearest, "));
+  rotor.shaft.elements[2].length = 0.05;  // stations at 0.1 m and 0.15 m from the left contact
+  rotor.shaft.elements.insert(rotor.shaft.elements.begin() + 3, section(0.05, 0.05, 0.02));
+  rotor.contact_stations = {1, 5};
+  rotor.shaft.disks[0].node = 6;
+  CHECK_NOTHROW(BuildFlexibleRub(FlexibleTwoPoint(p, rotor, stator, 4)));
+}
+
 }  // namespace
 }  // namespace rubcont
