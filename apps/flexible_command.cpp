@@ -156,7 +156,8 @@ int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostr
                    p.branch_pattern, p.label, p.rigid_rpm, p.rigid_hz, p.flexible_rpm, p.flexible_hz,
                    p.flexible_rpm - p.rigid_rpm, p.flexible_hz - p.rigid_hz);
       } else {
-        fmt::print(out, "    {:<10} {:<26} {:8.3f} rpm {:8.3f} Hz → none within 10 % of its speed\n",
+        fmt::print(out, "    {:<10} {:<26} {:8.3f} rpm {:8.3f} Hz → none (of its kind within 10 % of its "
+                        "speed, a Hopf point's within a factor 1.5 of its frequency)\n",
                    p.branch_pattern, p.label, p.rigid_rpm, p.rigid_hz);
       }
     }

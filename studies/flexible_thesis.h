@@ -78,8 +78,9 @@ ThesisGeometryFit FitThesisGeometry(const std::array<TwoPointParams, 3>& cases);
 
 // A special point of the rigid model's L1 branch set (fold, Hopf point, stick/slip event,
 // contact loss) and the flexible model's matching one: same kind and label (up to the contact's
-// name) on a branch of the same closed-form pattern, nearest in speed and within 10 % of it (none:
-// `found` false).
+// name) on a branch of the same closed-form pattern, within 10 % of the speed, Hopf points also
+// within a factor 1.5 of the critical frequency; nearest first (relative speed, plus |ln| of the
+// frequency ratio for Hopf points), one to one (none left: `found` false).
 struct MovedPoint {
   std::string branch_pattern;  // "mode1", …
   std::string label;           // "Hopf", "fold", "left stick to slip+", …

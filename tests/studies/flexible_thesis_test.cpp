@@ -89,5 +89,36 @@ TEST_CASE("flexible L1: the rigid limit moves no special point, steel moves the 
   CHECK(steel.flexible_coordinates == 8);
 }
 
+TEST_CASE("flexible L1: Hopf points pair by speed and critical frequency, not by speed alone",
+          "[flexible_thesis]") {
+  // A(a) with the tanh law: the flexible Mode 1 whirl loses stability at 51.369 rpm (critical
+  // eigenvalue 214 Hz against the rigid 242 Hz at 51.685 rpm); a flexible mode's own Hopf point at
+  // 51.724 rpm (2142 Hz) is nearer in speed and is not its partner.
+  const TwoPointParams p = ThesisCaseAa();
+  ThesisGeometry steel;  // the fitted sections (scenes/thesis_A_a_flexible.toml)
+  for (ShaftElement* e : {&steel.rotor, &steel.stator}) {
+    e->youngs_modulus = 2.0684e11;
+    e->shear_modulus = 7.929e10;
+    e->density = 7833.0;
+  }
+  steel.rotor.outer_diameter = 0.04801;
+  steel.rotor.inner_diameter = 0.03281;
+  steel.stator.outer_diameter = 0.13722;
+  steel.stator.inner_diameter = 0.07696;
+  RotatingWaveBranchOptions options = ThesisRange();
+  options.search.speed_max = 100.0 * kRadPerSecondPerRpm;
+  const FlexibilityEffect effect =
+      CompareRigidFlexible(TwoPointStructure(p), BuildFlexibleRub(steel.Model(p, 4)).structure,
+                           FrictionLawKind::kTanh, options);
+  bool first = false;
+  for (const MovedPoint& m : effect.points) {
+    if (m.branch_pattern != "mode1" || m.label != "Hopf" || std::abs(m.rigid_rpm - 51.685) > 0.01) continue;
+    first = true;
+    REQUIRE(m.found);
+    CHECK(m.flexible_rpm == Approx(51.369).margin(0.002));
+  }
+  CHECK(first);
+}
+
 }  // namespace
 }  // namespace rubcont
