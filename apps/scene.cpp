@@ -1556,17 +1556,17 @@ class Loader {
     if (!problems_.empty()) return;
     try {
       BuildFlexibleRub(FlexibleModelOf(scene));
-    } catch (const std::invalid_argument& e) {
+    } catch (const ModelInputError& e) {
       const std::string what = e.what();
-      if (what.rfind("rotor shaft: ", 0) == 0 && !f.RotorListed()) {
-        FlexibleProblem(scene, "rotor_outer_diameter", what);
-      } else if (what.rfind("stator shaft: ", 0) == 0 && !f.StatorListed()) {
-        FlexibleProblem(scene, "stator_outer_diameter", what);
-      } else if (what.rfind("modes = ", 0) == 0) {
-        FlexibleProblem(scene, "modes", what.substr(what.find(": ") + 2));
+      if (e.input() == "modes") {
+        FlexibleProblem(scene, "modes", what.substr(what.find(": ") + 2));  // after "modes = N: "
+      } else if (e.input() == "rotor section" || e.input() == "stator section") {
+        FlexibleProblem(scene, e.input().substr(0, e.input().find(' ')) + "_outer_diameter", what);
       } else {
         problems_.push_back(fmt::format("{}: [flexible]: {}", source_, what));
       }
+    } catch (const std::invalid_argument& e) {
+      problems_.push_back(fmt::format("{}: [flexible]: {}", source_, e.what()));
     }
   }
 

@@ -41,7 +41,7 @@ ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<In
   const Index nb = static_cast<Index>(boundary.size());
   const Index ni = static_cast<Index>(interior.size());
   if (modes < 0) {
-    throw std::invalid_argument("modes = " + std::to_string(modes) + ": must be non-negative");
+    throw ModelInputError("modes", "modes = " + std::to_string(modes) + ": must be non-negative");
   }
 
   const Matrix k_ii = full.stiffness(interior, interior), m_ii = full.mass(interior, interior);
@@ -75,9 +75,9 @@ ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<In
     Index finite = 0;
     for (Index i = 0; i < ni; ++i) finite += mu(i) > 1e-13 * mu_max ? 1 : 0;
     if (modes > finite) {
-      throw std::invalid_argument("modes = " + std::to_string(modes) +
-                                  ": the interior has only " + std::to_string(finite) +
-                                  " fixed-interface modes of finite frequency");
+      throw ModelInputError("modes", "modes = " + std::to_string(modes) +
+                                         ": the interior has only " + std::to_string(finite) +
+                                         " fixed-interface modes of finite frequency");
     }
     interface.resize(ni, modes);
     frequencies.resize(modes);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "models/beam.h"
+#include "models/input_error.h"
 #include "solvers/types.h"
 
 namespace rubcont {
@@ -26,8 +27,9 @@ struct ModalReduction {
 };
 
 // Keeps the `modes` lowest fixed-interface modes (mass-normalized, from K_ii and M_ii at rest).
-// Throws std::invalid_argument for a boundary index out of range or repeated, more modes than the
-// interior has finite frequencies, or a boundary that leaves the interior free to move rigidly.
+// Throws std::invalid_argument for a boundary index out of range or repeated, or a boundary that
+// leaves the interior free to move rigidly; ModelInputError (input "modes") for negative modes or
+// more than the interior has of finite frequency.
 ModalReduction CraigBampton(const StructuralMatrices& full, const std::vector<Index>& boundary,
                             Index modes);
 

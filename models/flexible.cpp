@@ -156,7 +156,7 @@ BodyShaft UniformBody(const std::string& name, const ShaftElement& section, doub
     shaft_mass = line_mass * (b - a);
     disk_mass = mass - shaft_mass;
     if (!(disk_mass > 0.0)) {
-      throw std::invalid_argument(fmt::format(
+      throw ModelInputError(name + " section", fmt::format(
           "{} shaft: {:.4g} kg over {:.4g} m is not lighter than the body ({:.4g} kg): take a "
           "thinner section", name, shaft_mass, b - a, mass));
     }
@@ -167,7 +167,7 @@ BodyShaft UniformBody(const std::string& name, const ShaftElement& section, doub
     const double next_a = std::min(0.0, disk_z), next_b = std::max(span, disk_z);
     if (std::abs(next_a - a) + std::abs(next_b - b) <= 1e-15 * span) break;
     if (iteration == 200) {
-      throw std::invalid_argument(fmt::format(
+      throw ModelInputError(name + " section", fmt::format(
           "{} shaft: no disk position completes the body (the shaft's extension to reach it does "
           "not settle): take a thinner section", name));
     }
@@ -182,7 +182,7 @@ BodyShaft UniformBody(const std::string& name, const ShaftElement& section, doub
   const double disk_inertia =
       inertia - shaft_inertia - disk_mass * std::pow(disk_z - mass_center, 2);
   if (!(disk_inertia >= 0.0)) {
-    throw std::invalid_argument(fmt::format(
+    throw ModelInputError(name + " section", fmt::format(
         "{} shaft: its transverse inertia leaves the disk {:.4g} kg·m²: take a thinner section", name,
         disk_inertia));
   }

@@ -83,8 +83,8 @@ RigidBodyData RigidBodyOf(const BodyShaft& body);
 // at both contacts, at the `extra` positions and at a rigid disk that makes up the rest of the
 // body's mass, mass-centre position (from the left contact) and transverse inertia about the mass
 // centre, so that RigidBodyOf gives the body's data exactly. Disk polar inertia 2 I_d (a thin
-// disk). Throws std::invalid_argument when the shaft is heavier than the body or leaves its disk a
-// negative inertia (a thinner section is needed), naming the body by `name`.
+// disk). Throws ModelInputError (input "<name> section") when the shaft is heavier than the body
+// or leaves its disk a negative inertia (a thinner section is needed).
 BodyShaft UniformBody(const std::string& name, const ShaftElement& section, double span,
                       int elements, double mass, double inertia, double mass_center,
                       const std::vector<double>& extra);

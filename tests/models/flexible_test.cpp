@@ -139,6 +139,20 @@ TEST_CASE("flexible rub model validation names the entry and the rule", "[flexib
                     Catch::StartsWith("rotor shaft: 17.79") &&
                         Catch::EndsWith("is not lighter than the body (9.99 kg): take a thinner "
                                         "section"));
+  // Typed, so that a caller can name its own input: the section, the modes.
+  try {
+    FlexibleTwoPoint(ThesisCaseAa(), SteelSection(0.03, 0.0), SteelSection(0.2, 0.0), 4, 2);
+    FAIL("a stator tube heavier than the stator was accepted");
+  } catch (const ModelInputError& e) {
+    CHECK(e.input() == "stator section");
+  }
+  try {
+    BuildFlexibleRub(FlexibleTwoPoint(ThesisCaseAa(), SteelSection(0.03, 0.0),
+                                      SteelSection(0.16, 0.13), 2, 900));
+    FAIL("900 modes of a 2-element model were accepted");
+  } catch (const ModelInputError& e) {
+    CHECK(e.input() == "modes");
+  }
 }
 
 TEST_CASE("a body shaft's rigid-body data: a uniform body completes to the rigid model's, a listed "
