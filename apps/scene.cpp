@@ -1278,7 +1278,7 @@ class Loader {
     scene.flexible.enabled =
         scene.model == ModelKind::kTwoPoint && present_sections_.count("flexible") > 0;
     if (scene.flexible.enabled && problems_.empty()) CheckFlexible(scene);
-    if (problems_.empty()) CheckSweep(scene.analysis.sweep);
+    if (problems_.empty()) CheckSweep(scene);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
@@ -1398,15 +1398,18 @@ class Loader {
     Problem(node, fmt::format("{}[{}].{} = {}: {}", path, i, key, FormatNode(node), rule));
   }
 
-  // A [flexible] key's problem, where it was given or at its default.
-  void FlexibleProblem(const Scene& scene, const std::string& key, const std::string& rule) {
-    const std::string full = "flexible." + key;
-    if (nodes_.count(full)) {
-      Problem(*nodes_.at(full), fmt::format("{} = {}: {}", full, FormatNode(*nodes_.at(full)), rule));
+  // A problem of a rule that ties keys together, reported at `key` (full name): where the file
+  // gives it, or at its default.
+  void KeyProblem(const Scene& scene, const std::string& key, const std::string& rule) {
+    if (nodes_.count(key)) {
+      Problem(*nodes_.at(key), fmt::format("{} = {}: {}", key, FormatNode(*nodes_.at(key)), rule));
     } else {
-      problems_.push_back(fmt::format("{}: {} = {} (default): {}", source_, full,
-                                      FormatValue(FindKey(full)->get(scene)), rule));
+      problems_.push_back(fmt::format("{}: {} = {} (default): {}", source_, key,
+                                      FormatValue(FindKey(key)->get(scene)), rule));
     }
+  }
+  void FlexibleProblem(const Scene& scene, const std::string& key, const std::string& rule) {
+    KeyProblem(scene, "flexible." + key, rule);
   }
 
   // The rows of a listed body: sections, stations of disks, supports and contacts.
@@ -1576,30 +1579,26 @@ class Loader {
   }
   void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
 
-  // Rules of [analysis.sweep] that tie two keys together; the problem is reported at `key`.
-  void CheckSweep(const SweepSettings& w) {
-    auto problem = [&](const std::string& key, double value, const std::string& rule) {
-      const std::string message = fmt::format("{} = {}: {}", key, FormatFloat(value), rule);
-      if (nodes_.count(key)) Problem(*nodes_.at(key), message);
-      else problems_.push_back(fmt::format("{}: {} (default)", source_, message));
-    };
+  // Rules of [analysis.sweep] that tie two keys together, each reported at the key it names.
+  void CheckSweep(const Scene& scene) {
+    const SweepSettings& w = scene.analysis.sweep;
     const double shortest = (w.settle_windows + 1) * w.settle_window;
     if (w.dwell < shortest * (1.0 - 1e-12))
-      problem("analysis.sweep.dwell", w.dwell,
-              fmt::format("must be at least (settle_windows + 1)·settle_window = {} s", shortest));
+      KeyProblem(scene, "analysis.sweep.dwell",
+                 fmt::format("must be at least (settle_windows + 1)·settle_window = {} s", shortest));
     if (w.analysis_length > shortest * (1.0 + 1e-12))
-      problem("analysis.sweep.analysis_length", w.analysis_length,
-              fmt::format("must not exceed (settle_windows + 1)·settle_window = {} s (the shortest "
-                          "run of a speed)", shortest));
+      KeyProblem(scene, "analysis.sweep.analysis_length",
+                 fmt::format("must not exceed (settle_windows + 1)·settle_window = {} s (the shortest "
+                             "run of a speed)", shortest));
     if (w.settle_window * w.sample_rate_hz < 15.5)
-      problem("analysis.sweep.settle_window", w.settle_window,
-              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+      KeyProblem(scene, "analysis.sweep.settle_window",
+                 fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
     if (w.analysis_length * w.sample_rate_hz < 15.5)
-      problem("analysis.sweep.analysis_length", w.analysis_length,
-              fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
+      KeyProblem(scene, "analysis.sweep.analysis_length",
+                 fmt::format("must hold at least 16 samples at sample_rate_hz = {}", w.sample_rate_hz));
     if (w.spectrum_max_hz > 0.5 * w.sample_rate_hz)
-      problem("analysis.sweep.spectrum_max_hz", w.spectrum_max_hz,
-              fmt::format("must not exceed sample_rate_hz/2 = {} Hz (Nyquist)", 0.5 * w.sample_rate_hz));
+      KeyProblem(scene, "analysis.sweep.spectrum_max_hz",
+                 fmt::format("must not exceed sample_rate_hz/2 = {} Hz (Nyquist)", 0.5 * w.sample_rate_hz));
   }
 
   // Records every value under its dotted path; reports unknown keys and misplaced tables.
