@@ -100,8 +100,9 @@ RigidBodyData RigidBodyOf(const BodyShaft& body) {
   for (int side = 0; side < 2; ++side) {
     const int station = body.contact_stations[static_cast<std::size_t>(side)];
     if (station < 0 || station >= nodes) {
-      throw std::invalid_argument(fmt::format("{} shaft: contact_stations[{}] = {}: must name a station (0 to {})",
-                                              shaft.name, side, station, nodes - 1));
+      throw std::invalid_argument(
+          fmt::format("{} shaft: contact_stations[{}] = {}: must name a station (0 to {})",
+                      shaft.name, side, station, nodes - 1));
     }
   }
   const std::vector<double> z = shaft.NodePositions();
@@ -135,7 +136,9 @@ RigidBodyData RigidBodyOf(const BodyShaft& body) {
                                             "disks' masses are all 0)", shaft.name));
   }
   const double center = moment / out.mass;
-  for (const Piece& p : pieces) out.inertia += p.own_inertia + p.mass * (p.z - center) * (p.z - center);
+  for (const Piece& p : pieces) {
+    out.inertia += p.own_inertia + p.mass * (p.z - center) * (p.z - center);
+  }
   out.span = right - left;
   out.mass_center = center - left;
   return out;
