@@ -14,13 +14,15 @@
 #                   the figures). Use it after a change of the regime rules.
 #   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
 #                   scenes/thesis_A_a_modulated_whip.toml and thesis_A_a_whip_doubling.toml):
-#                   about 20 min on 2 cores.
+#                   about 20 min on 2 cores; and on the flexible shafts
+#                   (thesis_A_a_modulated_whip_flexible.toml: 19 min of CPU).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
 #                   table of results/README.md "What the whip is".
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
-#                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores).
+#                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores), then the
+#                   flexible B(a)'s and C(a)'s sweeps (22 and 5 min of CPU).
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
@@ -121,7 +123,8 @@ if [[ "${1:-}" == "--attractor" ]]; then
 fi
 # Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
 # A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up
-# whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 6 and 5 min on one core).
+# whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 6 and 5 min on one core); then the
+# flexible B(a)'s and C(a)'s sweeps side by side (23 and 6 min of wall).
 if [[ "${1:-}" == "--flexible" ]]; then
   out=results/thesis_A_a_flexible
   mkdir -p "$out"
@@ -134,6 +137,11 @@ if [[ "${1:-}" == "--flexible" ]]; then
     --duration 2 --threads 1 --check-copies 0 --quiet --out "$out/lifetime_161_163rpm.h5" \
     > "$out/lifetime_161_163rpm.txt"
   wait "$sweep_pid"
+  build/rubcont sweep scenes/thesis_B_a_flexible.toml --quiet \
+    --out results/thesis_B_a_flexible/sweep.h5 > results/thesis_B_a_flexible/sweep_summary.txt &
+  build/rubcont sweep scenes/thesis_C_a_flexible.toml --quiet \
+    --out results/thesis_C_a_flexible/sweep.h5 > results/thesis_C_a_flexible/sweep_summary.txt
+  wait
 fi
 if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime() {  # SCENE FROM TO STEP DURATION CHECK-COPIES [ARRIVAL OPTIONS]
