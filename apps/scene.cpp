@@ -1332,8 +1332,8 @@ class Loader {
     }
   }
 
-  // The rows of every table array given, each key read by its row spec; a row's problems are
-  // reported and its array left out.
+  // The rows of every table array given, each key read by its row spec and its problems
+  // reported.
   void ReadTableArrays(Scene& scene) {
     for (const TableArraySpec& spec : TableArrays()) {
       const auto found = arrays_.find(spec.path);
