@@ -1430,10 +1430,8 @@ class Loader {
       }
       return;
     }
-    int last = 0;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const ShaftElement& e = rows[i].section;
-      last += rows[i].elements;
       if (!(e.inner_diameter < e.outer_diameter))
         RowProblem(shaft, i, "inner_diameter", fmt::format("must be below outer_diameter = {} m",
                                                            FormatFloat(e.outer_diameter)));
@@ -1451,8 +1449,11 @@ class Loader {
         break;
       }
     }
+    // The stations as ListedBody numbers them, the default right contact (-1) resolved to the last.
     std::array<int, 2>& contacts = rotor ? f.rotor_contact_stations : f.stator_contact_stations;
-    if (contacts[1] < 0) contacts[1] = last;  // the default: the last station
+    const BodyShaft listed = ListedBody(body, rows, disk_rows, contacts);
+    const int last = listed.shaft.Nodes() - 1;
+    contacts = listed.contact_stations;
     if (contacts[1] > last)
       FlexibleProblem(scene, body + "_contact_stations",
                       fmt::format("must name stations of the listed shaft (0 to {})", last));

@@ -241,9 +241,8 @@ std::pair<int, double> NearestStation(const BodyShaft& body, double z) {
   return {best, std::abs(nodes[static_cast<std::size_t>(best)] - target)};
 }
 
-// The station at the mid-span of the body's contacts, which c_d > 0 needs.
-int MidSpanStation(const BodyShaft& body, double center_damping) {
-  const RigidBodyData data = RigidBodyOf(body);
+// The station at the mid-span of the body's contacts (`data` its RigidBodyOf), which c_d > 0 needs.
+int MidSpanStation(const BodyShaft& body, const RigidBodyData& data, double center_damping) {
   const auto [station, distance] = NearestStation(body, data.span / 2);
   if (distance > 1e-9 * data.span) {
     throw std::invalid_argument(fmt::format(
@@ -259,16 +258,15 @@ int MidSpanStation(const BodyShaft& body, double center_damping) {
 FlexibleRubModel FlexibleTwoPoint(const TwoPointParams& p, const BodyShaft& rotor,
                                   const BodyShaft& stator, int modes) {
   Validate(p);
-  const RigidBodyData rotor_data = RigidBodyOf(rotor);
-  RigidBodyOf(stator);
+  const RigidBodyData rotor_data = RigidBodyOf(rotor), stator_data = RigidBodyOf(stator);
   FlexibleRubModel model;
   model.beams.shafts = {rotor.shaft, stator.shaft};
   model.beams.springs = {
       {1, stator.contact_stations[0], -1, 0, p.support_stiffness[0], p.support_damping[0]},
       {1, stator.contact_stations[1], -1, 0, p.support_stiffness[1], p.support_damping[1]}};
   if (p.center_damping > 0.0) {
-    model.beams.springs.push_back({0, MidSpanStation(rotor, p.center_damping), 1,
-                                   MidSpanStation(stator, p.center_damping), 0.0,
+    model.beams.springs.push_back({0, MidSpanStation(rotor, rotor_data, p.center_damping), 1,
+                                   MidSpanStation(stator, stator_data, p.center_damping), 0.0,
                                    p.center_damping});
   }
   model.contacts = {
