@@ -20,6 +20,7 @@
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
+#include "apps/tori_stage.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
@@ -348,6 +349,11 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       case Stage::kOrbits: {
         model.orbits(scene, context);
         scripts.push_back(model.orbits_figure);
+        break;
+      }
+      case Stage::kTori: {
+        RunRubTori(scene, context);
+        scripts.push_back("rub_tori.py");
         break;
       }
     }

@@ -51,7 +51,8 @@ std::vector<ModelEntry> MakeModels() {
   ModelEntry two_point;  // rigid rotor and rigid stator touching at two planes (Kumar 2010)
   two_point.kind = ModelKind::kTwoPoint;
   two_point.name = "two_point";
-  two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kSweep};
+  two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kTori,
+                      Stage::kSweep};
   two_point.default_stages = {Stage::kAnalytic, Stage::kBranches};
   two_point.structure = [](const Scene& s) {
     return s.flexible.enabled ? BuildFlexibleRub(FlexibleModelOf(s)).structure

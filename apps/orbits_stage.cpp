@@ -58,19 +58,6 @@ ShootingOptions RubShootingOptions(const RubOrbitsSettings& settings) {
   return options;
 }
 
-// One line for the summary and the result: which method and mesh or tolerance.
-std::string RubOrbitsNumerics(const RubOrbitsSettings& settings) {
-  const ShootingOptions options = RubShootingOptions(settings);
-  const std::string segments =
-      fmt::format("{} segment{}", settings.segments, settings.segments == 1 ? "" : "s");
-  if (settings.integrator == OrbitIntegrator::kGauss) {
-    return fmt::format("{}, Gauss collocation of order {} on {} intervals per period", segments,
-                       2 * options.integrator.collocation_stages,
-                       options.integrator.collocation_steps * settings.segments);
-  }
-  return fmt::format("{}, CVODES BDF at tolerance {:g} with sensitivities", segments,
-                     settings.tolerance);
-}
 
 ShootingOptions TextbookShootingOptions(const Scene& scene, IntegrationMethod method) {
   return StageShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
@@ -400,16 +387,13 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                         const std::function<void(const std::string&)>& progress, std::ostream& out,
                         std::vector<std::string>& failures) {
   const SteadyClock::time_point begin = SteadyClock::now();
-  RubStructure structure = StructureOf(scene);
-  const double imbalance = structure.imbalance;
-  structure.imbalance = 0.0;  // not stationary in the co-rotating frame (as for the branches)
-  const std::vector<RotatingWaveBranch> waves =
-      ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
+  RubOrbitsPlan plan = PlanRubOrbits(scene);
+  const RubStructure& structure = plan.structure;
+  const std::vector<RotatingWaveBranch>& waves = plan.waves;
+  const std::vector<RubHopfStart>& starts = plan.starts;
+  const std::size_t followed = plan.followed;
   WriteRotatingWaveBranches(writer, waves, FrictionLawKind::kTanh, scene.analysis.speed_range_rpm,
                             "/orbits/rotating_waves");
-  const std::vector<RubHopfStart> starts = StableBoundaryHopfPoints(waves, structure.Coordinates());
-  const std::size_t followed =
-      std::min(starts.size(), static_cast<std::size_t>(scene.analysis.orbits.hopf_points));
   writer.SetAttribute("/orbits", "friction_law", "tanh");
   writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
   const std::string numerics = RubOrbitsNumerics(scene.analysis.orbits);
@@ -419,32 +403,14 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
                   "friction, ε = {:g} m/s; {} rotating waves in {:.3f} s)\n",
              numerics, followed, starts.size(), structure.law.velocity_scale, waves.size(),
              SecondsSince(begin));
-  if (imbalance != 0.0) {
-    const std::string note = fmt::format(
-        "the imbalance ({} kg·m) is left out: the co-rotating frame needs a balanced rotor",
-        imbalance);
-    writer.SetAttribute("/orbits", "note", note);
-    fmt::print(out, "[orbits] note: {}\n", note);
+  if (!plan.note.empty()) {
+    writer.SetAttribute("/orbits", "note", plan.note);
+    fmt::print(out, "[orbits] note: {}\n", plan.note);
   }
-  for (const RubHopfStart& s : starts) {
-    const auto wave = std::find_if(waves.begin(), waves.end(),
-                                   [&](const RotatingWaveBranch& b) { return b.name == s.branch; });
-    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}{}\n",
-               s.branch, RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession),
-               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above",
-               LyapunovText(wave->branch.special_points[s.special_point]));
-  }
-  HopfOrbitOptions options;
-  options.amplitude = scene.analysis.orbits.amplitude;
-  options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
-  options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
-  // Gauss collocation (the default), or CVODES BDF with the analytic Jacobian and the
-  // sensitivities under error control (without it Newton stalls: the nearly undamped contact mode
-  // of the STM is damped numerically, bench/modulated_whip_bench.cpp).
+  PrintHopfStarts(plan, out);
   const RubOrbitsSettings& settings = scene.analysis.orbits;
   const OrbitTrust trust{structure, scene.analysis.sweep.max_penetration};
-  options.orbits.shooting = RubShootingOptions(settings);
-  options.orbits.continuation = StageContinuationOptions(settings.max_steps);
+  HopfOrbitOptions& options = plan.options;
   for (std::size_t k = 0; k < followed; ++k) {
     const RubHopfStart& start = starts[k];
     const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
@@ -514,6 +480,56 @@ void RunTextbookOrbits(const Scene& scene, StageSetup setup, ResultWriter& write
 }
 
 }  // namespace
+
+RubOrbitsPlan PlanRubOrbits(const Scene& scene) {
+  RubOrbitsPlan plan;
+  plan.structure = StructureOf(scene);
+  if (plan.structure.imbalance != 0.0) {
+    plan.note = fmt::format(
+        "the imbalance ({} kg·m) is left out: the co-rotating frame needs a balanced rotor",
+        plan.structure.imbalance);
+  }
+  plan.structure.imbalance = 0.0;  // not stationary in the co-rotating frame (as for the branches)
+  plan.waves = ComputeRotatingWaveBranches(plan.structure, FrictionLawKind::kTanh,
+                                           BranchOptionsOf(scene));
+  plan.starts = StableBoundaryHopfPoints(plan.waves, plan.structure.Coordinates());
+  plan.followed =
+      std::min(plan.starts.size(), static_cast<std::size_t>(scene.analysis.orbits.hopf_points));
+  HopfOrbitOptions& options = plan.options;
+  options.amplitude = scene.analysis.orbits.amplitude;
+  options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
+  options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
+  // Gauss collocation (the default), or CVODES BDF with the analytic Jacobian and the
+  // sensitivities under error control (without it Newton stalls: the nearly undamped contact mode
+  // of the STM is damped numerically, bench/modulated_whip_bench.cpp).
+  options.orbits.shooting = RubShootingOptions(scene.analysis.orbits);
+  options.orbits.continuation = StageContinuationOptions(scene.analysis.orbits.max_steps);
+  return plan;
+}
+
+void PrintHopfStarts(const RubOrbitsPlan& plan, std::ostream& out) {
+  for (const RubHopfStart& s : plan.starts) {
+    const auto wave = std::find_if(plan.waves.begin(), plan.waves.end(),
+                                   [&](const RotatingWaveBranch& b) { return b.name == s.branch; });
+    fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}{}\n",
+               s.branch, RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession),
+               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above",
+               LyapunovText(wave->branch.special_points[s.special_point]));
+  }
+}
+
+std::string RubOrbitsNumerics(const RubOrbitsSettings& settings) {
+  const ShootingOptions options = RubShootingOptions(settings);
+  const std::string segments =
+      fmt::format("{} segment{}", settings.segments, settings.segments == 1 ? "" : "s");
+  if (settings.integrator == OrbitIntegrator::kGauss) {
+    return fmt::format("{}, Gauss collocation of order {} on {} intervals per period", segments,
+                       2 * options.integrator.collocation_stages,
+                       options.integrator.collocation_steps * settings.segments);
+  }
+  return fmt::format("{}, CVODES BDF at tolerance {:g} with sensitivities", segments,
+                     settings.tolerance);
+}
 
 void RunRubOrbits(const Scene& scene, StageContext& context) {
   RunModulatedOrbits(scene, context.writer, context.progress, context.out, context.failures);

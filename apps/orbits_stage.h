@@ -30,9 +30,32 @@
 //                                    period_doubling_multiplier; its modulation_hz is 1/(2T).
 #pragma once
 
+#include <ostream>
+#include <string>
+#include <vector>
+
 #include "apps/models.h"
+#include "shooting/rub_orbits.h"
 
 namespace rubcont {
+
+// The modulated orbits of model two_point as the scene asks for them (shared by the "orbits" and
+// "tori" stages): the balanced structure, the tanh-law rotating waves over speed_range_rpm, the
+// Hopf points that bound a stable piece of them, how many to follow ([analysis.orbits]
+// hopf_points), and the Hopf-orbit options of [analysis.orbits] (no on_step).
+struct RubOrbitsPlan {
+  RubStructure structure;   // the imbalance set to 0
+  std::string note;         // why the imbalance is left out, or ""
+  std::vector<RotatingWaveBranch> waves;
+  std::vector<RubHopfStart> starts;
+  std::size_t followed = 0;
+  HopfOrbitOptions options;
+};
+RubOrbitsPlan PlanRubOrbits(const Scene& scene);
+// One line per Hopf start: branch, speed, precession, modulation, side, Lyapunov coefficient.
+void PrintHopfStarts(const RubOrbitsPlan& plan, std::ostream& out);
+// One line for summaries and result files: segments, integrator and mesh or tolerance.
+std::string RubOrbitsNumerics(const RubOrbitsSettings& settings);
 
 // Each appends a line to the context's failures when a branch ends on a numerical failure or
 // cannot start, and sends one progress line per finished run.

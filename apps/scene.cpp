@@ -147,7 +147,8 @@ KeySpec Choice(std::string key, std::string doc, std::vector<std::string> choice
   return spec;
 }
 
-const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "sweep"};
+const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "tori",
+                                                     "sweep"};
 std::vector<std::string> ModelNames() {
   std::vector<std::string> names;
   for (const ModelEntry& m : Models()) names.push_back(m.name);
@@ -514,7 +515,10 @@ std::vector<KeySpec> BuildSchema() {
                  "jeffcott; \"orbits\" (L2 periodic orbits by shooting with Floquet stability: the "
                  "textbook models continued in their parameter; for model two_point the modulated "
                  "whirl and whip born at the Hopf points of the tanh-law rotating waves, continued "
-                 "in speed, [analysis.orbits]); \"sweep\" (L3: the speed-up and "
+                 "in speed, [analysis.orbits]); \"tori\" (L2 relative 2-tori of model two_point: "
+                 "the whips modulated at two frequencies, born at the Neimark–Sacker points of "
+                 "those modulated orbits, continued in speed, [analysis.tori]); \"sweep\" (L3: "
+                 "the speed-up and "
                  "speed-down sweeps of [analysis.sweep]) — model two_point.";
     stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
     stages.choices = kImplementedStages;
@@ -526,6 +530,7 @@ std::vector<KeySpec> BuildSchema() {
         if (name == "sweep") x.analysis.stages.push_back(Stage::kSweep);
         if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
         if (name == "orbits") x.analysis.stages.push_back(Stage::kOrbits);
+        if (name == "tori") x.analysis.stages.push_back(Stage::kTori);
       }
     };
     stages.get = [](const Scene& x) {
@@ -726,6 +731,38 @@ std::vector<KeySpec> BuildSchema() {
       [](const Scene& x) {
         return std::string(x.analysis.orbits.follow_branch_points ? "follow" : "mark");
       }));
+
+  // [analysis.tori]: the whips modulated at two frequencies (level L2, shooting/rub_tori.h).
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.harmonics", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      "K: Fourier harmonics of each torus's invariant circle (2K + 1 points, each integrated over "
+      "one modulation period with [analysis.orbits]' integrator and mesh).",
+      [](Scene& x) -> int& { return x.analysis.tori.harmonics; }));
+  s.push_back(Float("analysis.tori.amplitude", "-", Rule::kOpenUnit,
+                    "Size of the first circle off the modulated orbit at its Neimark–Sacker point "
+                    "(scaled state units).",
+                    [](Scene& x) -> double& { return x.analysis.tori.amplitude; }, Presence::kOptional));
+  s.push_back(Float("analysis.tori.max_fourier_tail", "-", Rule::kOpenUnit,
+                    "A torus family ends where its circle's last harmonic reaches this share of "
+                    "the largest: phase locking where the largest harmonic after the first is a q "
+                    "with ρ near p/q, breakdown otherwise (shooting/torus_branches.h).",
+                    [](Scene& x) -> double& { return x.analysis.tori.max_fourier_tail; },
+                    Presence::kOptional));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
+      "Continuation steps from each Neimark–Sacker point.",
+      [](Scene& x) -> int& { return x.analysis.tori.max_steps; }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.lyapunov_iterates", ValueType::kInteger, "-", Rule::kCount,
+      Presence::kOptional,
+      "Iterates of each torus's map for its Lyapunov exponents (stability; the first quarter is "
+      "not counted).",
+      [](Scene& x) -> int& { return x.analysis.tori.lyapunov_iterates; }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.samples", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      "Instants per modulation period at which each torus is sampled for the lines of each "
+      "contact's precession (≥ 4).",
+      [](Scene& x) -> int& { return x.analysis.tori.samples; }));
 
   // Every default is the initializer of its Scene field (and the structs inside it): written once.
   const Scene defaults;
@@ -1279,6 +1316,7 @@ class Loader {
         scene.model == ModelKind::kTwoPoint && present_sections_.count("flexible") > 0;
     if (scene.flexible.enabled && problems_.empty()) CheckFlexible(scene);
     if (problems_.empty()) CheckSweep(scene);
+    if (problems_.empty()) CheckTori(scene);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
@@ -1581,6 +1619,11 @@ class Loader {
   void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
 
   // Rules of [analysis.sweep] that tie two keys together, each reported at the key it names.
+  void CheckTori(const Scene& scene) {
+    if (scene.analysis.tori.samples < 4)
+      KeyProblem(scene, "analysis.tori.samples", "must be at least 4");
+  }
+
   void CheckSweep(const Scene& scene) {
     const SweepSettings& w = scene.analysis.sweep;
     const double shortest = (w.settle_windows + 1) * w.settle_window;
@@ -1826,6 +1869,7 @@ const char* ToString(Stage stage) {
     case Stage::kSweep: return "sweep";
     case Stage::kBranches: return "branches";
     case Stage::kOrbits: return "orbits";
+    case Stage::kTori: return "tori";
   }
   return "?";
 }
@@ -1835,6 +1879,7 @@ Level LevelOf(Stage stage) {
     case Stage::kAnalytic: return Level::kL0;
     case Stage::kBranches: return Level::kL1;
     case Stage::kOrbits: return Level::kL2;
+    case Stage::kTori: return Level::kL2;
     case Stage::kSweep: return Level::kL3;
   }
   return Level::kL0;

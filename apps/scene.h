@@ -52,6 +52,8 @@ enum class Stage {
   kOrbits,    // "orbits": level L2, periodic orbits by shooting with Floquet stability: of a textbook
               // model continued in its parameter (shooting/orbit_branches.h), or the modulated
               // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)
+  kTori,      // "tori": level L2, the relative 2-tori born at the Neimark–Sacker points of model
+              // two_point's modulated whips, continued in speed (shooting/rub_tori.h)
 };
 const char* ToString(Stage stage);
 
@@ -113,6 +115,17 @@ struct RubOrbitsSettings {
   bool follow_branch_points = true;  // follow the other branch through each located branch point
 };
 
+// [analysis.tori]: the whips modulated at two frequencies, born at the Neimark–Sacker points of
+// the modulated orbits of [analysis.orbits] (shooting/rub_tori.h).
+struct RubToriSettings {
+  int harmonics = 8;               // K of the invariant circle (2K + 1 points)
+  double amplitude = 1e-3;         // first circle's size (scaled state units), 0 < x < 1
+  double max_fourier_tail = 1e-2;  // the breakdown / locking event, 0 < x < 1
+  int max_steps = 40;              // continuation steps from each Neimark–Sacker point
+  int lyapunov_iterates = 40;      // iterates of the map for each torus's Lyapunov exponents
+  int samples = 64;                // instants per period for the lines of each contact
+};
+
 // [analysis]: what to compute.
 struct AnalysisOptions {
   std::vector<Stage> stages{Stage::kAnalytic, Stage::kBranches};  // the textbook models: orbits
@@ -120,6 +133,7 @@ struct AnalysisOptions {
   SweepSettings sweep;
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
   RubOrbitsSettings orbits;
+  RubToriSettings tori;
 };
 
 // Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and

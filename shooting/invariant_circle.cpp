@@ -428,6 +428,7 @@ InvariantCircleProblem::TorusStability InvariantCircleProblem::LyapunovStability
   for (Index i : result.trivial) largest_trivial = std::max(largest_trivial, std::abs(result.exponents(i)));
   result.tolerance = std::max(10.0 * largest_trivial, 1e-6);
   result.stable = result.LargestNontrivial() < -result.tolerance;
+  result.unstable = result.LargestNontrivial() > result.tolerance;
   result.valid = true;
   return result;
 }

@@ -116,14 +116,20 @@ class InvariantCircleProblem : public Problem {
   // orbit of u(0) with QR of the tangent maps, after iterates/4 steps not counted (the frame's
   // alignment). `trivial` indexes the 1 + e nearest 0, whose exact
   // value is 0: along the circle, and along the flow (kAutonomous, kRelative) and the group orbit
-  // (kRelative). Stable when every other is below −tolerance, tolerance = max(10 · the largest
-  // |trivial exponent|, 1e-6): the trivial exponents' distance from 0 is the estimate's error.
+  // (kRelative). Stable when every other is below −tolerance, unstable when one is above
+  // +tolerance, tolerance = max(10 · the largest |trivial exponent|, 1e-6): the trivial exponents'
+  // distance from 0 is the estimate's error. Neither (undecided): the largest nontrivial exponent
+  // is within the tolerance of 0 — more iterates, or a torus too close to its birth, where its
+  // attraction is as weak as the estimate's error (C(a) 0.01 rpm past its Neimark–Sacker point).
   struct TorusStability {
     bool valid = false;          // an integration failed
     Vector exponents;            // n, per period
     std::vector<Index> trivial;
     double tolerance = 0.0;
     bool stable = false;
+    bool unstable = false;
+    // "stable", "unstable" or "undecided" (valid estimates only).
+    const char* Verdict() const { return stable ? "stable" : unstable ? "unstable" : "undecided"; }
     // The largest exponent that is not trivial (−∞ when all are).
     double LargestNontrivial() const;
   };

@@ -149,7 +149,7 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
       torus.invariance_error, torus.newton.BriefReport(),
       torus.stability.valid
           ? fmt::format("; {} (largest non-trivial exponent {:.3g} per period, tolerance {:.2g})",
-                        torus.stability.stable ? "stable" : "unstable",
+                        torus.stability.Verdict(),
                         torus.stability.LargestNontrivial(), torus.stability.tolerance)
           : std::string()));
 }

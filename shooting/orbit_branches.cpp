@@ -417,4 +417,12 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   return result;
 }
 
+bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p) {
+  if (p.index < 0 || static_cast<std::size_t>(p.index) + 1 >= branch.points.size()) return false;
+  const BranchPoint& before = branch.points[static_cast<std::size_t>(p.index)];
+  const BranchPoint& after = branch.points[static_cast<std::size_t>(p.index) + 1];
+  if (before.num_unstable < 0 || after.num_unstable < 0) return false;
+  return (before.num_unstable == 0) != (after.num_unstable == 0);
+}
+
 }  // namespace rubcont

@@ -161,4 +161,9 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
                                                      double amplitude = 1e-3,
                                                      const StepCallback& on_step = {});
 
+// Whether the branch is stable on exactly one side of its special point p (the branch points
+// p.index and p.index + 1 around it, both with a computed stability): where a stable state hands
+// over to another.
+bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p);
+
 }  // namespace rubcont

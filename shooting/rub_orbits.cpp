@@ -74,16 +74,6 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
           }};
 }
 
-// Whether a branch is stable on exactly one side of its special point p (the branch points
-// p.index and p.index + 1 around it, both with a computed stability).
-bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p) {
-  if (p.index < 0 || static_cast<std::size_t>(p.index) + 1 >= branch.points.size()) return false;
-  const BranchPoint& before = branch.points[static_cast<std::size_t>(p.index)];
-  const BranchPoint& after = branch.points[static_cast<std::size_t>(p.index) + 1];
-  if (before.num_unstable < 0 || after.num_unstable < 0) return false;
-  return (before.num_unstable == 0) != (after.num_unstable == 0);
-}
-
 }  // namespace
 
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {

@@ -278,6 +278,21 @@ TEST_CASE("Textbook models: their own sections, the orbits stage by default, sta
   CHECK(rotor.analysis.orbits.segments == 4);
   CHECK(rotor.analysis.orbits.tolerance == 1e-7);
 
+  // And the tori born from them, with [analysis.tori].
+  const Scene tori = Parse(kValid + "[analysis]\nstages = [\"orbits\", \"tori\"]\n[analysis.tori]\n"
+                                    "harmonics = 6\nmax_fourier_tail = 1e-3\n");
+  REQUIRE(tori.analysis.stages.size() == 2);
+  CHECK(tori.analysis.stages[1] == Stage::kTori);
+  CHECK(tori.analysis.tori.harmonics == 6);
+  CHECK(tori.analysis.tori.max_fourier_tail == 1e-3);
+  CHECK(tori.analysis.tori.max_steps == 40);
+  CHECK_THAT(OnlyProblem(kValid + "[analysis.tori]\nsamples = 3\n"),
+             Contains("analysis.tori.samples = 3: must be at least 4"));
+  CHECK_THAT(OnlyProblem(kValid + "[analysis.tori]\nmax_fourier_tail = 1.0\n"),
+             Contains("analysis.tori.max_fourier_tail = 1.0: must lie strictly between 0 and 1"));
+  CHECK_THAT(OnlyProblem(kDuffing + "[analysis]\nstages = [\"tori\"]\n"),
+             Contains("\"tori\" does not apply to model \"duffing\""));
+
   const Scene stuart_landau =
       Parse("model = \"stuart_landau\"\n[stuart_landau]\nomega = 1.0\nlambda_range = [0.1, 1.0]\n");
   CHECK(stuart_landau.stuart_landau.gamma == 0.0);  // optional

@@ -1,0 +1,204 @@
+#include "apps/tori_stage.h"
+
+#include <cmath>
+#include <ostream>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "apps/orbit_output.h"
+#include "apps/orbits_stage.h"
+#include "models/units.h"
+#include "shooting/rub_tori.h"
+#include "solvers/stopwatch.h"
+
+namespace rubcont {
+
+namespace {
+
+// The torus families' options from [analysis.tori], over the scene's speed range, on the engine
+// settings of the orbits. Newton on the circle stops at 0.1 × the Gauss tolerance (its own Newton
+// stops at 1e-3 × it, so the map is that smooth) or 100 × the BDF tolerance (the map is only as
+// smooth as the error-controlled integration).
+RubTorusOptions TorusOptionsOf(const Scene& scene, const RubOrbitsPlan& plan) {
+  const RubToriSettings& t = scene.analysis.tori;
+  RubTorusOptions options;
+  options.tori.lambda_min = plan.options.orbits.lambda_min;
+  options.tori.lambda_max = plan.options.orbits.lambda_max;
+  options.tori.harmonics = t.harmonics;
+  options.tori.amplitude = t.amplitude;
+  options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.lyapunov_iterates = t.lyapunov_iterates;
+  options.tori.continuation = plan.options.orbits.continuation;
+  options.tori.continuation.bounds.max_steps = t.max_steps;
+  const bool gauss = scene.analysis.orbits.integrator == OrbitIntegrator::kGauss;
+  options.tori.continuation.corrector.residual_tolerance =
+      (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
+  options.samples = t.samples;
+  return options;
+}
+
+void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std::string& parent,
+                      const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
+                      const RubStructure& structure) {
+  writer.CreateGroup(group);
+  const Branch& b = tori.branch;
+  writer.SetAttribute(group, "parent", parent);
+  writer.SetAttribute(group, "birth_speed_rpm", RadPerSecondToRpm(tori.birth_lambda));
+  writer.SetAttribute(group, "birth_rotation_number", tori.birth_rotation_number);
+  writer.SetAttribute(group, "birth_modulus", tori.birth_modulus);
+  writer.SetAttribute(group, "harmonics", static_cast<double>(tori.harmonics));
+  writer.SetAttribute(group, "end", ToString(tori.end));
+  writer.SetAttribute(group, "end_note", tori.end_note);
+  writer.SetAttribute(group, "status", ToString(b.status));
+  writer.SetAttribute(group, "message", b.message);
+  writer.SetAttribute(group, "summary", b.BriefReport());
+  std::vector<double> speed;
+  for (const BranchPoint& p : b.points) speed.push_back(RadPerSecondToRpm(p.lambda));
+  writer.WriteDoubles(group + "/speed_rpm", speed);
+  for (const std::string& name : b.measure_names) {
+    std::vector<double> column;
+    for (const BranchPoint& p : b.points) column.push_back(p.measures(b.MeasureIndex(name)));
+    writer.WriteDoubles(group + "/" + name, column);
+  }
+  auto column = [&](const std::string& name, const std::function<double(const RubTorusLines&)>& f) {
+    std::vector<double> values;
+    for (const RubTorusLines& l : lines) {
+      values.push_back(l.valid ? f(l) : std::numeric_limits<double>::quiet_NaN());
+    }
+    writer.WriteDoubles(group + "/" + name, values);
+  };
+  column("carrier_hz", [](const RubTorusLines& l) { return l.carrier_hz; });
+  column("first_hz", [](const RubTorusLines& l) { return l.first_hz; });
+  column("second_hz", [](const RubTorusLines& l) { return l.second_hz; });
+  for (std::size_t c = 0; c < structure.contacts.size(); ++c) {
+    const std::string& name = structure.contacts[c].name;
+    column("line_hz_" + name, [c](const RubTorusLines& l) { return l.contacts[c].line_hz; });
+    column("line_l_" + name, [c](const RubTorusLines& l) { return l.contacts[c].line_l; });
+    column("line_k_" + name, [c](const RubTorusLines& l) { return l.contacts[c].line_k; });
+    column("line_ratio_" + name, [c](const RubTorusLines& l) { return l.contacts[c].line_ratio; });
+    column("min_normal_force_" + name,
+           [c](const RubTorusLines& l) { return l.contacts[c].min_normal_force; });
+    column("max_normal_force_" + name,
+           [c](const RubTorusLines& l) { return l.contacts[c].max_normal_force; });
+  }
+  std::vector<int> stable;
+  std::vector<double> largest, tolerance;
+  Matrix exponents = Matrix::Constant(static_cast<Index>(b.points.size()), tori.state_dimension,
+                                      std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    const bool known = i < tori.stability.size() && tori.stability[i].valid;
+    stable.push_back(known && tori.stability[i].stable ? 1
+                     : known && tori.stability[i].unstable ? 0
+                                                           : -1);
+    largest.push_back(known ? tori.stability[i].LargestNontrivial()
+                            : std::numeric_limits<double>::quiet_NaN());
+    tolerance.push_back(known ? tori.stability[i].tolerance
+                              : std::numeric_limits<double>::quiet_NaN());
+    if (known) exponents.row(static_cast<Index>(i)) = tori.stability[i].exponents.transpose();
+  }
+  writer.WriteInts(group + "/stable", stable);
+  writer.WriteDoubles(group + "/largest_exponent", largest);
+  writer.WriteDoubles(group + "/exponent_tolerance", tolerance);
+  writer.WriteMatrix(group + "/exponents", exponents);
+}
+
+// One line per torus: speed, ρ, the two frequencies, each contact's strongest line, stability.
+void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
+               const RubStructure& structure, std::ostream& out) {
+  const Branch& b = tori.branch;
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    const RubTorusLines& l = lines[i];
+    std::string contacts;
+    for (std::size_t c = 0; c < structure.contacts.size() && l.valid; ++c) {
+      const RubTorusLines::Contact& k = l.contacts[c];
+      contacts += fmt::format("  {} {:.2f} Hz ({:+d},{:+d}) ×{:.2g}", structure.contacts[c].name,
+                              k.line_hz, k.line_l, k.line_k, k.line_ratio);
+    }
+    std::string stability = "";
+    if (i < tori.stability.size() && tori.stability[i].valid) {
+      stability = fmt::format("  {} (largest exponent {:+.3g} ± {:.1g} per period)",
+                              tori.stability[i].Verdict(),
+                              tori.stability[i].LargestNontrivial(), tori.stability[i].tolerance);
+    }
+    fmt::print(out, "      {:9.4f} rpm  ρ {:.6f}  f1 {:.3f} Hz  f2 {:.3f} Hz  carrier {:.4f} Hz{}{}\n",
+               RadPerSecondToRpm(b.points[i].lambda), b.points[i].measures(0), l.first_hz,
+               l.second_hz, l.carrier_hz, contacts, stability);
+  }
+}
+
+}  // namespace
+
+void RunRubTori(const Scene& scene, StageContext& context) {
+  const SteadyClock::time_point begin = SteadyClock::now();
+  RubOrbitsPlan plan = PlanRubOrbits(scene);
+  const RubTorusOptions options = TorusOptionsOf(scene, plan);
+  ResultWriter& writer = context.writer;
+  std::ostream& out = context.out;
+  const std::string numerics =
+      fmt::format("invariant circles of {} harmonics ({} points), each point over one period by "
+                  "the orbits' {}",
+                  options.tori.harmonics, 2 * options.tori.harmonics + 1,
+                  RubOrbitsNumerics(scene.analysis.orbits));
+  writer.CreateGroup("/tori");
+  writer.SetAttribute("/tori", "level", "L2");
+  writer.SetAttribute("/tori", "parameter_name", "speed_rpm");
+  writer.SetAttribute("/tori", "friction_law", "tanh");
+  writer.SetAttribute("/tori", "numerics", numerics);
+  fmt::print(out, "[tori] L2 relative 2-tori ({}) from the Neimark–Sacker points of the modulated "
+                  "orbits born at {} of the {} Hopf points bounding a stable rotating wave ({:.3f} s)\n",
+             numerics, plan.followed, plan.starts.size(), SecondsSince(begin));
+  if (!plan.note.empty()) {
+    writer.SetAttribute("/tori", "note", plan.note);
+    fmt::print(out, "[tori] note: {}\n", plan.note);
+  }
+  PrintHopfStarts(plan, out);
+  for (std::size_t k = 0; k < plan.followed; ++k) {
+    const RubHopfStart& start = plan.starts[k];
+    const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
+    const SteadyClock::time_point t0 = SteadyClock::now();
+    plan.options.on_step = [&](const Branch& b) {
+      context.progress(fmt::format("[tori] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name,
+                                   k + 1, plan.followed, b.Size(),
+                                   RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
+      return true;
+    };
+    const RubModulatedTori result = ContinueModulatedTori(
+        plan.structure, plan.waves, start, plan.options, options,
+        [&](std::size_t j, const Branch& b) {
+          context.progress(fmt::format("[tori] {}_ns{}: {} tori, {:.4f} rpm, ρ = {:.6f}, {:.0f} s",
+                                       name, j + 1, b.Size(),
+                                       RadPerSecondToRpm(b.points.back().lambda),
+                                       b.points.back().measures(0), SecondsSince(t0)));
+          return true;
+        });
+    const PeriodicOrbitBranch& family = result.orbits.orbits;
+    WritePeriodicOrbitBranch(writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/tori/orbits");
+    fmt::print(out, "  {}: {}\n", name, family.branch.BriefReport());
+    if (IsFailure(family.branch.status)) {
+      context.failures.push_back(fmt::format("[tori] {}: {}", name, family.branch.message));
+    }
+    if (result.tori.empty()) {
+      fmt::print(out, "    no Neimark–Sacker point bounds a stable piece of it: no tori\n");
+    }
+    for (std::size_t j = 0; j < result.tori.size(); ++j) {
+      const TorusBranch& tori = result.tori[j];
+      const std::string torus_name = fmt::format("{}_ns{}", name, j + 1);
+      if (!tori.ok) {
+        fmt::print(out, "  {}: no start: {}\n", torus_name, tori.message);
+        context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.message));
+        continue;
+      }
+      WriteTorusFamily(writer, "/tori/" + torus_name, name, tori, result.lines[j], plan.structure);
+      fmt::print(out, "  {}: born at {:.4f} rpm (ρ₀ = {:.6f}, |μ| = {:.6f}): {} ({:.1f} s)\n    {}\n",
+                 torus_name, RadPerSecondToRpm(tori.birth_lambda), tori.birth_rotation_number,
+                 tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
+      PrintTori(tori, result.lines[j], plan.structure, out);
+      if (tori.end == TorusEnd::kFailed) {
+        context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
+      }
+    }
+  }
+}
+
+}  // namespace rubcont

@@ -1,0 +1,31 @@
+// The "tori" stage of `rubcont run` for model two_point (level L2): the modulated orbits of
+// [analysis.orbits] (without side branches), and from each of their Neimark–Sacker points that
+// bounds a stable piece the relative 2-tori born there, continued in speed (shooting/rub_tori.h),
+// summarized on `out` and written as
+//   /tori                          attrs level, parameter_name ("speed_rpm"), numerics (the
+//                                  orbits' integrator and mesh, K, points), friction_law
+//   /tori/orbits/<branch>_hopf<k>  the modulated family (apps/orbit_output.h layout)
+//   /tori/<branch>_hopf<k>_ns<j>   the tori from its j-th followed Neimark–Sacker point: attrs
+//                                  parent, birth_speed_rpm, birth_rotation_number, birth_modulus,
+//                                  harmonics, end ("phase locking", "breakdown", "reached the
+//                                  range's end", "reached the step limit", "failed"), end_note,
+//                                  status, message, summary; per torus speed_rpm, rotation_number,
+//                                  fourier_tail, invariance_error, period, rotation, carrier_hz,
+//                                  first_hz (1/T), second_hz (ρ/T), per contact <c> line_hz_<c>,
+//                                  line_l_<c>, line_k_<c> (its f_carrier − (k + lρ)/T),
+//                                  line_ratio_<c>, min_normal_force_<c>, max_normal_force_<c>;
+//                                  stable (1 / 0 / −1 undecided within the tolerance, or not
+//                                  computed), largest_exponent (the largest
+//                                  nontrivial Lyapunov exponent per period), exponent_tolerance,
+//                                  exponents (tori × states, per period).
+#pragma once
+
+#include "apps/models.h"
+
+namespace rubcont {
+
+// Appends a line to the context's failures when a family cannot start or ends on a numerical
+// failure.
+void RunRubTori(const Scene& scene, StageContext& context);
+
+}  // namespace rubcont

@@ -1,0 +1,144 @@
+#include "shooting/rub_tori.h"
+
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace rubcont {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+// Contact c's relative displacement d = u_rotor − u_stator (complex) at a state of either frame.
+Complex Displacement(const RubStructure& structure, std::size_t c, const Vector& x) {
+  const Index r = 2 * structure.contacts[c].rotor, s = 2 * structure.contacts[c].stator;
+  return {x(r) - x(s), x(r + 1) - x(s + 1)};
+}
+
+}  // namespace
+
+RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vector& u,
+                         double lambda, const IntegratorOptions& integrator, int samples) {
+  if (samples < 4) {
+    throw std::invalid_argument(fmt::format("TorusLines: samples = {}: must be at least 4", samples));
+  }
+  auto system = std::make_shared<RubRotatingFrame>(frame);
+  InvariantCircleProblem circle(system, harmonics, OrbitKind::kRelative, integrator);
+  const double period = circle.Period(u, lambda), phi = circle.Rotation(u);
+  const double rho = circle.RotationNumber(u);
+  const RubStructure& structure = frame.structure();
+  const std::size_t contacts = structure.contacts.size();
+  const Index points = 2 * harmonics + 1;
+  RubTorusLines lines;
+  lines.carrier_hz = frame.CarrierPrecession(period, phi) / (2.0 * M_PI);
+  lines.first_hz = 1.0 / period;
+  lines.second_hz = rho / period;
+  lines.contacts.assign(contacts, {});
+  for (auto& c : lines.contacts) {
+    c.min_normal_force = HUGE_VAL;
+    c.max_normal_force = -HUGE_VAL;
+  }
+
+  // G at (θ_j + 2πρ s_m, s_m): d of R_{−φ s_m} Φ_{s_m T}(u(θ_j)), s_m = m / samples (sampled to
+  // s = 1, so that a fixed mesh is the map's).
+  Vector times(samples + 1);
+  for (int m = 0; m <= samples; ++m) times(m) = period * m / samples;
+  std::vector<Eigen::MatrixXcd> grid(contacts, Eigen::MatrixXcd(points, samples));
+  OdeIntegrator integrator_(*system, integrator);
+  RubFixedFrame fixed(structure);
+  fixed.SetParameter(lambda);
+  Matrix states;
+  for (Index j = 0; j < points; ++j) {
+    const double theta = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(points);
+    if (!integrator_.Sample(0.0, circle.PointAt(u, theta), times, states).Succeeded()) return lines;
+    for (int m = 0; m < samples; ++m) {
+      const Vector x = states.col(m);
+      const Complex back = std::polar(1.0, -phi * m / samples);
+      const std::vector<ContactEvaluation> evaluated = fixed.Contacts(frame.ToFixedFrame(times(m), x));
+      for (std::size_t c = 0; c < contacts; ++c) {
+        grid[c](j, m) = back * Displacement(structure, c, x);
+        lines.contacts[c].min_normal_force =
+            std::min(lines.contacts[c].min_normal_force, evaluated[c].normal_force);
+        lines.contacts[c].max_normal_force =
+            std::max(lines.contacts[c].max_normal_force, evaluated[c].normal_force);
+      }
+    }
+  }
+  // c_{l,k}: over θ for each s_m (undoing the shear e^{il2πρ s_m}), then over s.
+  for (std::size_t c = 0; c < contacts; ++c) {
+    double carrier = 0.0, best = -1.0;
+    for (int l = -harmonics; l <= harmonics; ++l) {
+      Eigen::VectorXcd over_s(samples);
+      for (int m = 0; m < samples; ++m) {
+        Complex sum = 0.0;
+        for (Index j = 0; j < points; ++j) {
+          const double theta = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(points);
+          sum += grid[c](j, m) * std::polar(1.0, -l * theta);
+        }
+        over_s(m) = sum / static_cast<double>(points) *
+                    std::polar(1.0, -2.0 * M_PI * l * rho * m / samples);
+      }
+      for (int k = -samples / 2 + 1; k < samples / 2; ++k) {
+        Complex sum = 0.0;
+        for (int m = 0; m < samples; ++m) sum += over_s(m) * std::polar(1.0, -2.0 * M_PI * k * m / samples);
+        const double amplitude = std::abs(sum) / samples;
+        if (l == 0 && k == 0) {
+          carrier = amplitude;
+        } else if (amplitude > best) {
+          best = amplitude;
+          lines.contacts[c].line_l = l;
+          lines.contacts[c].line_k = k;
+        }
+      }
+    }
+    RubTorusLines::Contact& out = lines.contacts[c];
+    out.line_hz = lines.carrier_hz - (out.line_k + out.line_l * rho) / period;
+    out.line_ratio = best / std::max(carrier, 1e-300);
+  }
+  lines.valid = true;
+  return lines;
+}
+
+RubModulatedTori ContinueModulatedTori(
+    const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
+    const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
+  Validate(options.tori);
+  if (options.samples < 4) {
+    throw std::invalid_argument(
+        fmt::format("RubTorusOptions: samples = {}: must be at least 4", options.samples));
+  }
+  RubModulatedTori result;
+  result.orbits = ContinueModulatedOrbits(structure, branches, start, orbits, false);
+  const PeriodicOrbitBranch& family = result.orbits.orbits;
+  // The frame the family was computed in (ContinueModulatedOrbits), and its map's integrator:
+  // the family's segments' mesh over one whole period.
+  const RubRotatingFrame frame(structure, start.precession, start.speed);
+  TorusBranchOptions tori = options.tori;
+  tori.integrator = family.shooting.integrator;
+  tori.integrator.collocation_steps *= family.segments;
+  const std::vector<SpecialPoint>& special = family.branch.special_points;
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    if (special[k].type != SpecialPointType::kNeimarkSacker || !special[k].converged ||
+        !BoundsStablePiece(family.branch, special[k])) {
+      continue;
+    }
+    const std::size_t index = result.tori.size();
+    StepCallback step;
+    if (on_torus_step) step = [&, index](const Branch& b) { return on_torus_step(index, b); };
+    result.tori.push_back(ContinueToriFromNeimarkSacker(std::make_shared<RubRotatingFrame>(frame),
+                                                        family, k, tori, step));
+    std::vector<RubTorusLines> lines;
+    for (const BranchPoint& p : result.tori.back().branch.points) {
+      lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, tori.integrator,
+                                 options.samples));
+    }
+    result.lines.push_back(std::move(lines));
+  }
+  return result;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,71 @@
+// The whip modulated at two frequencies (level L2): the relative 2-tori of a rub structure born at
+// the Neimark–Sacker points of its modulated orbits (shooting/rub_orbits.h), continued in running
+// speed (shooting/torus_branches.h), and read in the fixed frame as a waterfall reads them.
+//
+// The frequencies. In the frame co-rotating at Ω_f the torus is the invariant circle u(θ) of
+// P = R_{−φ} Φ_T with rotation number ρ, and the motion on it is p(t) = R_{φt/T} G(θ₀ + 2πρt/T, t/T)
+// with G doubly 2π/1-periodic, G(ϑ, s) = R_{−φs} Φ_{sT}(u(ϑ − 2πρs)). Expanding each contact's
+// relative displacement d = u_rotor − u_stator of G in e^{i(lϑ + 2πks)} (coefficients c_{l,k}), the
+// fixed-frame d is a sum of backward precessions at
+//     f_{l,k} = f_carrier − (k + lρ)/T,   f_carrier = (Ω_f − φ/T)/2π,
+// with amplitudes |c_{l,k}|: the lattice of lines of f₁ = 1/T and f₂ = ρ/T around the carrier.
+// TorusLines samples G on the circle's N = 2K + 1 points times `samples` instants of one period
+// (Φ_{sT} of the circle's points, each turned back by R_{−φs}: G on a grid sheared by 2πρs, which
+// the transform over θ undoes) and returns, per contact, the strongest line other than the carrier,
+// its amplitude against the carrier's, and the normal force's range over the samples.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "shooting/rub_orbits.h"
+#include "shooting/torus_branches.h"
+
+namespace rubcont {
+
+struct RubTorusLines {
+  bool valid = false;       // false: an integration failed
+  double carrier_hz = 0.0;  // f_carrier
+  double first_hz = 0.0;    // f₁ = 1/T
+  double second_hz = 0.0;   // f₂ = ρ/T
+  struct Contact {
+    double line_hz = 0.0;     // the strongest line other than the carrier
+    int line_l = 0;           // its (l, k): f = f_carrier − (k + lρ)/T
+    int line_k = 0;
+    double line_ratio = 0.0;  // its amplitude over the carrier's
+    double min_normal_force = 0.0;  // [N] over the samples
+    double max_normal_force = 0.0;
+  };
+  std::vector<Contact> contacts;  // in structure.contacts order
+};
+
+// The lines of the torus held in `u` (InvariantCircleProblem::Pack layout, kRelative, of `frame`)
+// at running speed λ = ω [rad/s], from `samples` ≥ 4 instants per period integrated by `integrator`.
+RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vector& u,
+                         double lambda, const IntegratorOptions& integrator, int samples);
+
+struct RubTorusOptions {
+  // Range, harmonics, engine, amplitude, breakdown and locking limits, Lyapunov iterates. The
+  // integrator is the modulated family's (its Gauss mesh covering one period), set here.
+  TorusBranchOptions tori;
+  int samples = 64;  // TorusLines' instants per period
+};
+
+struct RubModulatedTori {
+  RubModulatedOrbits orbits;  // the family (no side branches)
+  // From each located Neimark–Sacker point of the family that bounds a stable piece of it (where a
+  // stable modulated whip hands over to a torus), in the order of its special points.
+  std::vector<TorusBranch> tori;
+  std::vector<std::vector<RubTorusLines>> lines;  // per torus family, per point
+};
+
+// The modulated orbits born at `start` (ContinueModulatedOrbits with `orbits`, no side branches),
+// then the tori from their Neimark–Sacker points; `on_torus_step` is called after every torus
+// continuation step (with the index of the torus family). Throws std::invalid_argument as
+// ContinueModulatedOrbits and for invalid torus options.
+RubModulatedTori ContinueModulatedTori(
+    const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
+    const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step = {});
+
+}  // namespace rubcont

@@ -1,0 +1,210 @@
+#include "shooting/torus_branches.h"
+
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "shooting/shooting.h"
+
+namespace rubcont {
+
+namespace {
+
+// Multipliers closer than this (in ρ) to 0, 1/4, 1/3 or 1/2 are strong resonances.
+constexpr double kStrongResonance = 1e-3;
+// A harmonic at least this many times the one below it stands out of a circle's decaying spectrum.
+constexpr double kLockingExcess = 2.0;
+
+}  // namespace
+
+void Validate(const TorusBranchOptions& options) {
+  auto fail = [](const std::string& field, double value, const std::string& rule) {
+    throw std::invalid_argument(
+        fmt::format("TorusBranchOptions: {} = {}: {}", field, value, rule));
+  };
+  if (!std::isfinite(options.lambda_min) || !std::isfinite(options.lambda_max) ||
+      !(options.lambda_min < options.lambda_max)) {
+    fail("lambda_max", options.lambda_max, "must be finite and above lambda_min");
+  }
+  if (options.harmonics < 1) fail("harmonics", options.harmonics, "must be at least 1");
+  if (!(options.amplitude > 0.0) || !std::isfinite(options.amplitude)) {
+    fail("amplitude", options.amplitude, "must be positive");
+  }
+  if (!(options.max_fourier_tail > 0.0 && options.max_fourier_tail < 1.0)) {
+    fail("max_fourier_tail", options.max_fourier_tail, "must be in (0, 1)");
+  }
+  if (options.lyapunov_iterates < 0) {
+    fail("lyapunov_iterates", options.lyapunov_iterates, "must be ≥ 0");
+  }
+  Validate(options.integrator);
+  Validate(options.continuation);
+}
+
+const char* ToString(TorusEnd end) {
+  switch (end) {
+    case TorusEnd::kBound: return "reached the range's end";
+    case TorusEnd::kSteps: return "reached the step limit";
+    case TorusEnd::kBreakdown: return "breakdown";
+    case TorusEnd::kLocking: return "phase locking";
+    case TorusEnd::kFailed: return "failed";
+  }
+  return "?";
+}
+
+TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
+                                          const PeriodicOrbitBranch& family,
+                                          std::size_t special_point,
+                                          const TorusBranchOptions& options,
+                                          const StepCallback& on_step) {
+  Validate(options);
+  const Branch& branch = family.branch;
+  if (special_point >= branch.special_points.size() ||
+      branch.special_points[special_point].type != SpecialPointType::kNeimarkSacker) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueToriFromNeimarkSacker: special point {} of {} is not a Neimark–Sacker point",
+        special_point, branch.special_points.size()));
+  }
+  if (family.kind == OrbitKind::kForced) {
+    throw std::invalid_argument(
+        "ContinueToriFromNeimarkSacker: the family's orbits are forced: start a forced torus from a "
+        "circle (InvariantCircleProblem) instead");
+  }
+  const SpecialPoint& point = branch.special_points[special_point];
+  TorusBranch result;
+  result.special_point = special_point;
+  result.kind = family.kind;
+  result.harmonics = options.harmonics;
+  result.birth_lambda = point.lambda;
+
+  // The family's return map at the point, and its pair nearest the unit circle.
+  ShootingOptions shooting = family.shooting;
+  shooting.refresh_phase_reference = true;
+  system->SetParameter(point.lambda);
+  ShootingProblem orbit(*system, family.kind, shooting);
+  const Index n = orbit.StateDimension();
+  result.state_dimension = n;
+  const std::vector<Matrix>& stm = orbit.SegmentMonodromies(point.u, point.lambda);
+  if (stm.size() != static_cast<std::size_t>(orbit.SegmentCount())) {
+    result.message = "the segment STMs could not be integrated at the point: " +
+                     orbit.LastFailure().BriefReport();
+    return result;
+  }
+  const double period = orbit.Period(point.u, point.lambda), phi = orbit.Rotation(point.u);
+  Matrix unrotate = Matrix::Identity(n, n);
+  for (Index j = 0; j < n; ++j) system->Rotate(-phi, unrotate.col(j));
+  Matrix map = Matrix::Identity(n, n);
+  for (const Matrix& M : stm) map = M * map;
+  map = unrotate * map;
+  const Eigen::EigenSolver<Matrix> eigen(map);
+  Index critical = -1;
+  for (Index k = 0; k < n; ++k) {
+    const std::complex<double> mu = eigen.eigenvalues()(k);
+    if (mu.imag() <= 1e-8 * std::abs(mu)) continue;  // one of each pair, Im μ > 0
+    if (critical < 0 || std::abs(std::abs(mu) - 1.0) <
+                            std::abs(std::abs(eigen.eigenvalues()(critical)) - 1.0)) {
+      critical = k;
+    }
+  }
+  if (critical < 0 || std::abs(std::abs(eigen.eigenvalues()(critical)) - 1.0) > 0.05) {
+    result.message = "the return map has no complex pair within 0.05 of the unit circle at the point";
+    return result;
+  }
+  const std::complex<double> mu = eigen.eigenvalues()(critical);
+  const double rho = std::arg(mu) / (2.0 * M_PI);  // (0, 1/2)
+  result.birth_rotation_number = rho;
+  result.birth_modulus = std::abs(mu);
+  for (const double resonance : {0.0, 0.25, 1.0 / 3.0, 0.5}) {
+    if (std::abs(rho - resonance) < kStrongResonance) {
+      result.message = fmt::format(
+          "the multiplier's angle gives ρ = {:.6f}, a strong resonance (0, 1/4, 1/3, 1/2): the "
+          "torus is not born from the point as a smooth circle",
+          rho);
+      return result;
+    }
+  }
+
+  // The first circle: x₀ + ε(Re v cos θ − Im v sin θ), ‖v ./ scale‖ = 1.
+  const Vector scale = system->StateScale();
+  const Eigen::VectorXcd v = eigen.eigenvectors().col(critical);
+  const double size = std::sqrt(v.real().cwiseQuotient(scale).squaredNorm() +
+                                v.imag().cwiseQuotient(scale).squaredNorm());
+  InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator);
+  problem.SetMaxFourierTail(options.max_fourier_tail);
+  Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
+  centre.col(0) = orbit.SegmentStart(point.u, 0);
+  ellipse.col(1) = v.real() / size;
+  ellipse.col(2) = -v.imag() / size;
+  const Vector u0 =
+      problem.Pack(centre + options.amplitude * ellipse, rho, period, phi);
+  problem.SetPhaseReference(u0);
+  const Vector du = problem.Pack(ellipse, 0.0, 0.0, 0.0).cwiseQuotient(problem.Scale());
+
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.detect.stability = false;
+  Continuation stepper(problem, continuation);
+  stepper.StartWithTangent(u0, point.lambda, du, 0.0);
+  result.branch = RunToEnd(stepper, on_step);
+  result.ok = true;
+
+  // How it ended: a harmonic standing out of the circle's decaying spectrum names the resonance.
+  const Branch& tori = result.branch;
+  const Vector end_u = tori.points.empty() ? u0 : tori.points.back().u;
+  const double end_rho = problem.RotationNumber(end_u);
+  const Matrix c = problem.Coefficients(end_u);
+  auto harmonic = [&](int k) {
+    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale.replicate(1, 2)).norm();
+  };
+  int q = 0;
+  double excess = 0.0;
+  for (int k = 2; k <= options.harmonics; ++k) {
+    const double ratio = harmonic(k) / std::max(harmonic(k - 1), 1e-300);
+    if (ratio > excess) {
+      excess = ratio;
+      q = k;
+    }
+  }
+  // (K = 1: no harmonic to stand out, q = 0.)
+  const int p = static_cast<int>(std::lround(q * end_rho));
+  const double distance = q > 0 ? std::abs(end_rho - static_cast<double>(p) / q) : 1.0;
+  switch (tori.status) {
+    case BranchStatus::kReachedLambdaBound: result.end = TorusEnd::kBound; break;
+    case BranchStatus::kMaxSteps: result.end = TorusEnd::kSteps; break;
+    case BranchStatus::kSwitchRefused:
+      result.end = excess >= kLockingExcess && distance <= 0.5 / (q * q) ? TorusEnd::kLocking
+                                                                           : TorusEnd::kBreakdown;
+      break;
+    default: result.end = TorusEnd::kFailed; break;
+  }
+  const std::string spectrum =
+      q == 0 ? std::string()
+      : excess >= kLockingExcess
+          ? fmt::format("; harmonic {} stands out ({:.2g} × harmonic {}, {:.2g} of the first), "
+                        "ρ − {}/{} = {:+.2e}",
+                        q, excess, q - 1, harmonic(q) / std::max(harmonic(1), 1e-300), p, q,
+                        end_rho - static_cast<double>(p) / q)
+          : fmt::format("; no harmonic stands out (the largest step up, harmonic {} over {}, is "
+                        "{:.2g})",
+                        q, q - 1, excess);
+  const std::string tail = fmt::format("the Fourier tail reached {:g} at ρ = {:.6f}{}",
+                                       options.max_fourier_tail, end_rho, spectrum);
+  result.end_note =
+      result.end == TorusEnd::kLocking
+          ? fmt::format("phase locking near the {}:{} resonance: {}", p, q, tail)
+      : result.end == TorusEnd::kBreakdown ? "breakdown: " + tail
+                                           : fmt::format("{} at ρ = {:.6f}{}: {}", ToString(result.end),
+                                                         end_rho, spectrum, tori.message);
+
+  if (options.lyapunov_iterates > 0) {
+    for (const BranchPoint& p : tori.points) {
+      result.stability.push_back(problem.LyapunovStability(p.u, p.lambda, options.lyapunov_iterates));
+    }
+  }
+  return result;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,92 @@
+// Invariant tori continued in the system's parameter from a Neimark–Sacker point of a periodic-orbit
+// family (level L2): the torus born where a complex pair of Floquet multipliers μ = e^{±2πiρ₀}
+// crosses the unit circle, as the invariant circle of the return map (shooting/invariant_circle.h)
+// that grows out of the orbit's point.
+//
+// The start. At the point the return map P = R_{−φ} Φ_T (autonomous orbits: φ = 0) of the orbit
+// through x₀ = its first segment start has the pair e^{±2πiρ₀} with eigenvector v; P carries the
+// small ellipse x₀ + ε(Re v cos θ − Im v sin θ) into itself turned by 2πρ₀, to first order in ε.
+// That ellipse (amplitude ε in scaled state units, ‖v ./ StateScale‖ = 1) with ρ = ρ₀, T and φ of
+// the orbit is the first circle; the corrector fixes its projection on the ellipse's direction and
+// solves for λ, on whichever side of the point the tori lie (supercritical or subcritical), as
+// ContinueOrbitsFromPeriodDoubling does for the doubled orbits. Strong resonances (ρ₀ = 0, 1/4,
+// 1/3, 1/2) are refused: there the circle equations of the harmonics k ≤ 4 are singular at the point.
+//
+// How a family ends, as statuses (TorusEnd):
+//   kBreakdown  the circle loses smoothness: its Fourier tail (the last harmonic against the largest)
+//               reaches max_fourier_tail (InvariantCircleProblem's event) — past it the collocation
+//               equations still have solutions, which are no invariant circles;
+//   kLocking    the same event where one harmonic q ≥ 2 of the circle stands out of its decaying
+//               spectrum (at least twice harmonic q − 1) and |ρ − p/q| ≤ 1/(2q²), p = round(qρ):
+//               the circle folds towards q points as the torus meets the p:q resonance, where the
+//               motion on it locks to a periodic orbit of q laps — read as phase locking (C(a):
+//               harmonic 5 grows to 2.5 times harmonic 4 as ρ falls to 0.404);
+//   kBound      the range's end; kFailed the engine's other ends (step too small, ...) with its message;
+//   kSteps      the step limit.
+// Decision: locking is read from the circle's harmonics and ρ at the tail event, not proved by
+// finding the locked orbit (a q-lap shooting problem of its own); the report gives the harmonic,
+// p/q and |ρ − p/q|, so the reader can judge.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "continuation/continuation.h"
+#include "shooting/invariant_circle.h"
+#include "shooting/orbit_branches.h"
+
+namespace rubcont {
+
+struct TorusBranchOptions {
+  double lambda_min = 0.0;  // parameter range (system units), containing the point
+  double lambda_max = 1.0;
+  int harmonics = 8;        // K ≥ 1 (N = 2K + 1 points on the circle)
+  // The return map's integrator. With Gauss collocation, collocation_steps is the mesh over one
+  // period T (the family's steps per segment times its segments).
+  IntegratorOptions integrator;
+  // The engine; bounds are overwritten by the range, detect.stability is switched off (the torus's
+  // stability is the Lyapunov spectrum below, not a spectrum of the Jacobian).
+  ContinuationOptions continuation;
+  double amplitude = 1e-3;           // ε of the first circle (scaled state units)
+  double max_fourier_tail = 1e-4;    // the breakdown event, (0, 1)
+  // Lyapunov exponents of every stored torus from this many iterates of the map
+  // (InvariantCircleProblem::LyapunovStability); 0: no stability.
+  int lyapunov_iterates = 0;
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const TorusBranchOptions& options);
+
+enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kFailed };
+const char* ToString(TorusEnd end);
+
+
+struct TorusBranch {
+  std::size_t special_point = 0;  // index into the family's branch.special_points
+  bool ok = false;                // false: no start (message says why), no branch
+  std::string message;
+  OrbitKind kind = OrbitKind::kAutonomous;
+  Index state_dimension = 0;
+  int harmonics = 0;
+  double birth_lambda = std::numeric_limits<double>::quiet_NaN();
+  double birth_rotation_number = std::numeric_limits<double>::quiet_NaN();  // ρ₀ = arg μ / 2π
+  double birth_modulus = std::numeric_limits<double>::quiet_NaN();          // |μ| at the point
+  Branch branch;  // unknowns: InvariantCircleProblem::Pack layout
+  // Per point of the branch (empty without lyapunov_iterates).
+  std::vector<InvariantCircleProblem::TorusStability> stability;
+  TorusEnd end = TorusEnd::kFailed;
+  std::string end_note;  // one sentence: where and why the family ended, with ρ and p/q
+};
+
+// The tori born at the Neimark–Sacker point `special_point` of `family` (autonomous or relative
+// orbits; `system` the family's), continued over the range; on_step is called after every step.
+// Throws std::invalid_argument when the point is not a Neimark–Sacker point, the family is forced,
+// or the options are invalid; numerical failures are ok = false or the branch's status.
+TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
+                                          const PeriodicOrbitBranch& family,
+                                          std::size_t special_point,
+                                          const TorusBranchOptions& options,
+                                          const StepCallback& on_step = {});
+
+}  // namespace rubcont

@@ -1,0 +1,110 @@
+// The whip of case C(a) modulated at two frequencies: the relative tori born at the Neimark–Sacker
+// point of its modulated whip (level L2).
+#include "shooting/rub_tori.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+#include "models/two_point_params.h"
+
+namespace rubcont {
+namespace {
+
+constexpr double kRpm = 2.0 * M_PI / 60.0;
+
+TwoPointParams CaseCaTanh() {
+  TwoPointParams params = ThesisCaseAa();
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  return params;
+}
+
+// Measured on this case with these numerics (the committed scene runs the same): the modulated whip
+// born at 48.486 rpm loses stability at a Neimark–Sacker point at 48.667 rpm (angle 2π·0.4431); the
+// tori born there have ρ falling from 0.443 towards 2/5 while the circle's fifth harmonic grows to
+// half its first (at 48.867 rpm, 31 tori without the tail event): the 2:5 resonance.
+TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker point locks at 2/5",
+          "[torus][rub]") {
+  const RubStructure structure = TwoPointStructure(CaseCaTanh());
+  RotatingWaveBranchOptions waves;
+  waves.search.speed_min = 20 * kRpm;
+  waves.search.speed_max = 70 * kRpm;
+  waves.search.precession_max = 2 * M_PI * 200;
+  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, waves);
+  const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
+  REQUIRE_FALSE(starts.empty());
+  HopfOrbitOptions hopf;
+  hopf.amplitude = 1e-3;
+  hopf.orbits.lambda_min = 20 * kRpm;
+  hopf.orbits.lambda_max = 48.8 * kRpm;
+  hopf.orbits.shooting.segments = 4;
+  hopf.orbits.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  hopf.orbits.shooting.integrator.collocation_steps = 100;
+  hopf.orbits.shooting.integrator.relative_tolerance = 1e-7;
+  hopf.orbits.shooting.integrator.absolute_tolerance = 1e-7;
+  hopf.orbits.shooting.sensitivities_in_residual = true;
+  hopf.orbits.continuation.bounds.max_steps = 40;
+  hopf.orbits.continuation.step.target_iterations = 5;
+  RubTorusOptions options;
+  options.tori.lambda_min = 20 * kRpm;
+  options.tori.lambda_max = 52.0 * kRpm;
+  options.tori.harmonics = 8;
+  options.tori.max_fourier_tail = 1e-2;
+  options.tori.continuation.bounds.max_steps = 20;
+  options.tori.continuation.step.target_iterations = 5;
+  options.tori.continuation.corrector.residual_tolerance = 1e-8;
+  const RubModulatedTori tori = ContinueModulatedTori(structure, branches, starts.front(), hopf, options);
+  const Branch& orbits = tori.orbits.orbits.branch;
+  INFO(orbits.BriefReport());
+  REQUIRE(tori.tori.size() == 1);
+  const TorusBranch& t = tori.tori[0];
+  INFO(t.message << " / " << t.branch.BriefReport() << " / " << t.end_note);
+  REQUIRE(t.ok);
+  const SpecialPoint& ns = orbits.special_points[t.special_point];
+  CHECK(ns.type == SpecialPointType::kNeimarkSacker);
+  CHECK(t.birth_lambda / kRpm == Approx(48.667).margin(0.01));
+  // The start's ρ₀ is the located multiplier's angle, recomputed from the segment STMs.
+  CHECK(t.birth_rotation_number == Approx(ns.frequency / (2 * M_PI)).margin(1e-4));
+  CHECK(t.birth_modulus == Approx(1.0).margin(1e-4));
+
+  // Supercritical: the tori lie above the point, and the first is the orbit's modulation plus a
+  // second frequency ρ₀/T.
+  const std::vector<BranchPoint>& points = t.branch.points;
+  REQUIRE(points.size() >= 4);
+  const double orbit_modulation = ns.measures(orbits.MeasureIndex("modulation_hz"));
+  const RubTorusLines& first = tori.lines[0].front();
+  REQUIRE(first.valid);
+  CHECK(first.first_hz == Approx(orbit_modulation).epsilon(1e-2));
+  CHECK(first.second_hz == Approx(t.birth_rotation_number * orbit_modulation).epsilon(2e-2));
+  CHECK(first.carrier_hz ==
+        Approx(ns.measures(orbits.MeasureIndex("precession_hz"))).epsilon(1e-5));
+  for (std::size_t i = 0; i < points.size(); ++i) CHECK(points[i].lambda > t.birth_lambda);
+
+  // Where it ends: the circle folds towards 5 points as ρ nears 2/5.
+  CHECK(t.end == TorusEnd::kLocking);
+  CHECK_THAT(t.end_note, Catch::Contains("2:5 resonance"));
+  InvariantCircleProblem circle(std::make_shared<RubRotatingFrame>(structure, starts.front().precession,
+                                                                   starts.front().speed),
+                                8, OrbitKind::kRelative);
+  const double rho_end = circle.RotationNumber(points.back().u);
+  CHECK(rho_end < t.birth_rotation_number);
+  CHECK(std::abs(rho_end - 0.4) < 0.005);
+
+  // Independent check of the Gauss map: the first torus under CVODES BDF at 1e-10 (state only) is
+  // invariant to the same order as the collocation's own defect.
+  IntegratorOptions bdf;
+  bdf.relative_tolerance = bdf.absolute_tolerance = 1e-10;
+  bdf.max_order = 2;
+  bdf.max_steps = 2000000;
+  InvariantCircleProblem check(std::make_shared<RubRotatingFrame>(structure, starts.front().precession,
+                                                                  starts.front().speed),
+                               8, OrbitKind::kRelative, bdf);
+  const double defect = check.InvarianceError(points[1].u, points[1].lambda);
+  INFO("defect under BDF " << defect);
+  CHECK(defect < 1e-5);
+}
+
+}  // namespace
+}  // namespace rubcont

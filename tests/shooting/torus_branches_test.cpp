@@ -1,0 +1,149 @@
+// Tori from a Neimark–Sacker point, with a known answer: a limit cycle z₀ (ż₀ = (1 − |z₀|²)z₀ +
+// iω₀z₀, the unit circle, period T = 2π/ω₀) beside an oscillator ż₁ = (λ − |z₁|²)z₁ + i(ω₁ +
+// s|z₁|²)z₁. The orbits with z₁ = 0 exist for every λ; their multipliers e^{(λ ± iω₁)T} cross the
+// unit circle at λ = 0 (a Neimark–Sacker point, angle 2πω₁/ω₀), and for λ > 0 the torus |z₁| = √λ
+// is born, on which the return map Φ_T turns z₁ by 2π(ω₁ + sλ)/ω₀: ρ(λ) = (ω₁ + sλ)/ω₀. Its
+// Lyapunov exponents per period: 0 (along the circle), 0 (along the flow), −2λT (across, in z₁),
+// −2T (z₀'s radius).
+#include "shooting/torus_branches.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+namespace rubcont {
+namespace {
+
+constexpr double kOmega0 = 1.0, kOmega1 = 0.37, kShear = 0.1;
+
+class CycleBesideOscillator : public OdeSystem {
+ public:
+  Index Dimension() const override { return 4; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const double r0 = x(0) * x(0) + x(1) * x(1), r1 = x(2) * x(2) + x(3) * x(3);
+    const double turn = kOmega1 + kShear * r1;
+    f << (1 - r0) * x(0) - kOmega0 * x(1), (1 - r0) * x(1) + kOmega0 * x(0),
+        (lambda_ - r1) * x(2) - turn * x(3), (lambda_ - r1) * x(3) + turn * x(2);
+  }
+  double Parameter() const override { return lambda_; }
+  void SetParameter(double lambda) override { lambda_ = lambda; }
+  void DfDparameter(double, ConstVectorRef x, VectorRef df) override { df << 0, 0, x(2), x(3); }
+
+ private:
+  double lambda_ = -0.1;
+};
+
+IntegratorOptions Tight() {
+  IntegratorOptions o;
+  o.method = IntegrationMethod::kExplicitRungeKutta;
+  o.explicit_order = 8;
+  o.relative_tolerance = o.absolute_tolerance = 1e-11;
+  return o;
+}
+
+PeriodicOrbitBranch Family(CycleBesideOscillator& system) {
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = -0.1;
+  options.lambda_max = 0.25;
+  options.shooting.segments = 2;
+  options.shooting.integrator = Tight();
+  options.continuation.step.max = 0.1;
+  OrbitStart start;
+  start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  start.period = 2 * M_PI / kOmega0;
+  start.lambda = -0.1;
+  start.valid = true;
+  return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
+}
+
+TorusBranchOptions TorusOptions() {
+  TorusBranchOptions options;
+  options.lambda_min = -0.1;
+  options.lambda_max = 0.25;
+  options.harmonics = 3;  // ρ runs over 0.37–0.395: it crosses 3/8, a rational the circle's K = 3
+                          // cannot see (this system's phases do not interact: at ρ = p/q, q ≤ K,
+                          // its circle equations are singular)
+  options.integrator = Tight();
+  options.continuation.step.max = 0.05;
+  options.continuation.corrector.residual_tolerance = 1e-9;
+  options.lyapunov_iterates = 40;
+  return options;
+}
+
+std::size_t FirstOf(const Branch& branch, SpecialPointType type) {
+  for (std::size_t k = 0; k < branch.special_points.size(); ++k) {
+    if (branch.special_points[k].type == type) return k;
+  }
+  FAIL("no special point of that type: " << branch.BriefReport());
+  return 0;
+}
+
+TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation number and exponents in "
+          "closed form",
+          "[torus]") {
+  auto system = std::make_shared<CycleBesideOscillator>();
+  const PeriodicOrbitBranch family = Family(*system);
+  INFO(family.branch.BriefReport());
+  REQUIRE(family.branch.Count(SpecialPointType::kNeimarkSacker) == 1);
+  const std::size_t k = FirstOf(family.branch, SpecialPointType::kNeimarkSacker);
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-7));
+
+  const TorusBranch tori = ContinueToriFromNeimarkSacker(system, family, k, TorusOptions());
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  CHECK(tori.birth_rotation_number == Approx(kOmega1 / kOmega0).epsilon(1e-6));
+  CHECK(tori.birth_modulus == Approx(1.0).margin(1e-6));
+  CHECK(tori.end == TorusEnd::kBound);
+  REQUIRE(tori.branch.points.size() >= 5);
+  CHECK(tori.branch.points.back().lambda == Approx(0.25));
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  const double period = 2 * M_PI / kOmega0;
+  for (std::size_t i = 0; i < tori.branch.points.size(); ++i) {
+    const BranchPoint& p = tori.branch.points[i];
+    INFO("point " << i << " at lambda = " << p.lambda);
+    // Supercritical: every torus lies at λ > 0 (the first at ~ε², ε = 1e-3).
+    CHECK(p.lambda > 0.0);
+    CHECK(problem.RotationNumber(p.u) == Approx((kOmega1 + kShear * p.lambda) / kOmega0).margin(1e-8));
+    CHECK(problem.Period(p.u, p.lambda) == Approx(period).epsilon(1e-8));
+    for (const double theta : {0.0, 1.0, 2.5, 4.0}) {
+      const Vector x = problem.PointAt(p.u, theta);
+      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).margin(1e-8));
+      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).margin(1e-8));
+    }
+    REQUIRE(tori.stability.size() == tori.branch.points.size());
+    const auto& s = tori.stability[i];
+    REQUIRE(s.valid);
+    CHECK(s.trivial.size() == 2);
+    // Away from the birth, where −2λT is not yet distinguishable from the trivial exponents.
+    if (p.lambda > 0.05) {
+      CHECK(s.stable);
+      CHECK(s.LargestNontrivial() == Approx(-2 * p.lambda * period).epsilon(1e-3));
+      CHECK(s.exponents(3) == Approx(-2 * period).epsilon(1e-3));
+    }
+  }
+}
+
+TEST_CASE("tori from a Neimark-Sacker point: wrong points, kinds and options are refused by name",
+          "[torus]") {
+  auto system = std::make_shared<CycleBesideOscillator>();
+  const PeriodicOrbitBranch family = Family(*system);
+  REQUIRE(family.branch.special_points.size() >= 1);
+  const std::size_t ns = FirstOf(family.branch, SpecialPointType::kNeimarkSacker);
+  CHECK_THROWS_WITH(ContinueToriFromNeimarkSacker(system, family, 99, TorusOptions()),
+                    Catch::Contains("is not a Neimark–Sacker point"));
+  PeriodicOrbitBranch forced = family;
+  forced.kind = OrbitKind::kForced;
+  CHECK_THROWS_WITH(ContinueToriFromNeimarkSacker(system, forced, ns, TorusOptions()),
+                    Catch::Contains("forced"));
+  TorusBranchOptions bad = TorusOptions();
+  bad.max_fourier_tail = 1.5;
+  CHECK_THROWS_WITH(ContinueToriFromNeimarkSacker(system, family, ns, bad),
+                    Catch::Contains("max_fourier_tail = 1.5: must be in (0, 1)"));
+  bad = TorusOptions();
+  bad.harmonics = 0;
+  CHECK_THROWS_WITH(ContinueToriFromNeimarkSacker(system, family, ns, bad),
+                    Catch::Contains("harmonics = 0"));
+}
+
+}  // namespace
+}  // namespace rubcont
