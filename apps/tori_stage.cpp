@@ -127,6 +127,38 @@ void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
   }
 }
 
+// The locked orbits a torus family ended at: /tori/<torus family>_locked, and a summary line.
+void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
+                       const LockedOrbits& locked, std::ostream& out,
+                       std::vector<std::string>& failures) {
+  if (locked.q == 0) return;  // the family did not end in locking
+  if (!locked.ok) {
+    fmt::print(out, "    locked {}:{} orbits: {}\n", locked.p, locked.q, locked.message);
+    failures.push_back(fmt::format("[tori] {}: the locked orbits: {}", torus_group, locked.message));
+    return;
+  }
+  const std::string name = torus_group.substr(torus_group.rfind('/') + 1) + "_locked";
+  WritePeriodicOrbitBranch(writer, name, locked.orbits, {"speed_rpm", kRpmPerRadPerSecond}, "/tori");
+  const std::string group = "/tori/" + name;
+  writer.SetAttribute(group, "resonance_p", static_cast<double>(locked.p));
+  writer.SetAttribute(group, "resonance_q", static_cast<double>(locked.q));
+  std::vector<double> folds;
+  for (const double f : locked.folds) folds.push_back(RadPerSecondToRpm(f));
+  writer.SetAttribute(group, "fold_speeds_rpm", folds);
+  writer.SetAttribute(group, "note", locked.message);
+  const Branch& b = locked.orbits.branch;
+  fmt::print(out, "    locked {}:{} orbits ({} laps, {} segments; {}): {}\n", locked.p, locked.q,
+             locked.q, locked.orbits.segments, locked.message, b.BriefReport());
+  if (folds.size() == 2) {
+    fmt::print(out, "      the torus is locked from {:.5f} to {:.5f} rpm (the folds: a stable and a "
+                    "saddle {}-lap orbit between them)\n",
+               folds[0], folds[1], locked.q);
+  } else {
+    fmt::print(out, "      folds at {} rpm\n", fmt::join(folds, ", "));
+  }
+  if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
+}
+
 }  // namespace
 
 void RunRubTori(const Scene& scene, StageContext& context) {
@@ -194,6 +226,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
                  torus_name, RadPerSecondToRpm(tori.birth_lambda), tori.birth_rotation_number,
                  tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
       PrintTori(tori, result.lines[j], plan.structure, out);
+      WriteLockedOrbits(writer, "/tori/" + torus_name, result.locked[j], out, context.failures);
       if (tori.end == TorusEnd::kFailed) {
         context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
       }

@@ -18,6 +18,10 @@
 //                                  computed), largest_exponent (the largest
 //                                  nontrivial Lyapunov exponent per period), exponent_tolerance,
 //                                  exponents (tori × states, per period).
+//   /tori/<...>_ns<j>_locked       where that family ends in phase locking at p:q: the q-lap
+//                                  relative periodic orbits of the resonance (apps/orbit_output.h
+//                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the
+//                                  tongue's edges), note (where they were found).
 #pragma once
 
 #include "apps/models.h"

@@ -9,7 +9,10 @@ Writes, from the HDF5 file only (layout: apps/tori_stage.h):
                    f1 = 1/T and f2 = rho/T (filled markers: stable by its Lyapunov exponents,
                    open: unstable, grey: undecided within the estimate's error or not computed);
                    second: the tori's rotation number rho, with the rationals p/q (q <= 2K + 1)
-                   near it drawn, and the end of each family labelled (phase locking / breakdown);
+                   near it drawn, the end of each family labelled (phase locking / breakdown),
+                   and where a family locks, its q-lap orbits at p/q (stable solid, unstable
+                   dashed) between their folds, the tongue's edges (also on the top panel:
+                   q / their period);
                    third: each contact's strongest line of precession besides the carrier
                    (fixed frame) and the carrier;
                    bottom: the circle's Fourier tail and invariance error (log), with the tail
@@ -43,7 +46,7 @@ def line_contacts(group):
 
 
 def torus_families(tori):
-    return sorted(name for name in tori if name != "orbits")
+    return sorted(name for name in tori if name != "orbits" and not name.endswith("_locked"))
 
 
 def scatter_stable(ax, x, y, stable, color, label):
@@ -111,6 +114,20 @@ def main(argv):
                         ax_rho.axhline(value, color="#bbbbbb", lw=0.7, zorder=0)
                         ax_rho.annotate(str(Fraction(p, q)), (rpm[0], value), fontsize=7,
                                         color="#777777", va="bottom")
+            if name + "_locked" in tori:
+                lock = tori[name + "_locked"]
+                p, q = int(lock.attrs["resonance_p"]), int(lock.attrs["resonance_q"])
+                lrpm = lock["speed_rpm"][()]
+                for a, b, stable_run in stable_runs(lock["stable"][()]):
+                    ax_rho.plot(lrpm[a:b + 1], np.full(b - a + 1, p / q), "-" if stable_run else "--",
+                                color="#c00000", lw=2.5,
+                                label=f"{q}-lap locked orbits ({p}:{q})" if a == 0 else None)
+                    ax_f.plot(lrpm[a:b + 1], q / lock["period"][()][a:b + 1],
+                              "-" if stable_run else "--", color="#c00000", lw=2.0,
+                              label=f"{q}-lap locked orbits: q / their period" if a == 0 else None)
+                for fold in np.atleast_1d(lock.attrs.get("fold_speeds_rpm", [])):
+                    ax_rho.axvline(float(fold), color="#c00000", lw=0.8, ls=":")
+                ax_rho.legend(fontsize=7, loc="best")
             end = text(g.attrs.get("end", ""))
             ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(4, -12),
                             textcoords="offset points", color=color)

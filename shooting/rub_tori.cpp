@@ -137,6 +137,15 @@ RubModulatedTori ContinueModulatedTori(
                                  options.samples));
     }
     result.lines.push_back(std::move(lines));
+    const TorusBranch& ended = result.tori.back();
+    LockedOrbits locked;
+    if (ended.ok && ended.end == TorusEnd::kLocking && !ended.branch.points.empty()) {
+      locked = ContinueLockedOrbits(std::make_shared<RubRotatingFrame>(frame), family, ended, tori,
+                                    step);
+    } else {
+      locked.message = "the family did not end in phase locking";
+    }
+    result.locked.push_back(std::move(locked));
   }
   return result;
 }

@@ -57,11 +57,15 @@ struct RubModulatedTori {
   // stable modulated whip hands over to a torus), in the order of its special points.
   std::vector<TorusBranch> tori;
   std::vector<std::vector<RubTorusLines>> lines;  // per torus family, per point
+  // Per torus family: the locked orbits where it ended in phase locking (ContinueLockedOrbits:
+  // q-lap relative periodic orbits, folds at the tongue's edges); ok = false otherwise.
+  std::vector<LockedOrbits> locked;
 };
 
 // The modulated orbits born at `start` (ContinueModulatedOrbits with `orbits`, no side branches),
-// then the tori from their Neimark–Sacker points; `on_torus_step` is called after every torus
-// continuation step (with the index of the torus family). Throws std::invalid_argument as
+// then the tori from their Neimark–Sacker points, and the locked orbits where a torus family ends
+// in phase locking; `on_torus_step` is called after every torus (and locked-orbit) continuation
+// step, with the index of the torus family. Throws std::invalid_argument as
 // ContinueModulatedOrbits and for invalid torus options.
 RubModulatedTori ContinueModulatedTori(
     const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,

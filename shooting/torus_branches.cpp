@@ -1,5 +1,6 @@
 #include "shooting/torus_branches.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
@@ -192,6 +193,10 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
                         q, q - 1, excess);
   const std::string tail = fmt::format("the Fourier tail reached {:g} at ρ = {:.6f}{}",
                                        options.max_fourier_tail, end_rho, spectrum);
+  if (result.end == TorusEnd::kLocking) {
+    result.locking_p = p;
+    result.locking_q = q;
+  }
   result.end_note =
       result.end == TorusEnd::kLocking
           ? fmt::format("phase locking near the {}:{} resonance: {}", p, q, tail)
@@ -204,6 +209,80 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
       result.stability.push_back(problem.LyapunovStability(p.u, p.lambda, options.lyapunov_iterates));
     }
   }
+  return result;
+}
+
+LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
+                                  const PeriodicOrbitBranch& family, const TorusBranch& tori,
+                                  const TorusBranchOptions& options,
+                                  const StepCallback& on_step) {
+  Validate(options);
+  const std::vector<BranchPoint>& points = tori.branch.points;
+  if (tori.end != TorusEnd::kLocking || points.empty() || tori.locking_q < 2) {
+    throw std::invalid_argument(
+        "ContinueLockedOrbits: the torus family did not end in phase locking at a p:q resonance");
+  }
+  LockedOrbits result;
+  result.p = tori.locking_p;
+  result.q = tori.locking_q;
+  const int q = result.q;
+  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, options.integrator);
+  const BranchPoint& last = points.back();
+  const double period = circle.Period(last.u, last.lambda), phi = circle.Rotation(last.u);
+  const double rho = circle.RotationNumber(last.u), target = static_cast<double>(result.p) / q;
+  // Where ρ reaches p/q, from the slope of the last two tori (or 1e-3 of the parameter beyond).
+  double step = 1e-3 * std::max(std::abs(last.lambda), 1.0);
+  if (points.size() >= 2) {
+    const BranchPoint& before = points[points.size() - 2];
+    const double slope = (rho - circle.RotationNumber(before.u)) / (last.lambda - before.lambda);
+    if (std::isfinite(slope) && slope != 0.0) step = (target - rho) / slope;
+  }
+  ShootingOptions shooting = family.shooting;
+  shooting.refresh_phase_reference = true;
+  shooting.segments = q * family.segments;
+  shooting.mesh.clear();
+  if (family.shooting.period_scale > 0.0) shooting.period_scale = q * family.shooting.period_scale;
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.detect.stability = true;
+  const Index tries = std::min<Index>(2 * tori.harmonics + 1, 5);
+  std::string tried;
+  for (const double factor : {1.0, 2.0, 3.0, 4.0}) {
+    const double lambda = last.lambda + factor * step;
+    if (lambda < options.lambda_min || lambda > options.lambda_max) break;
+    for (Index j = 0; j < tries; ++j) {
+      const double theta = 2.0 * M_PI * static_cast<double>(j) / (2 * tori.harmonics + 1);
+      system->SetParameter(lambda);
+      ShootingProblem problem(*system, tori.kind, shooting);
+      const Vector u0 =
+          problem.InitialGuess(circle.PointAt(last.u, theta), q * period, lambda, q * phi);
+      Branch branch = Continue(problem, u0, lambda, continuation, on_step);
+      if (branch.status == BranchStatus::kStartFailed) continue;
+      result.ok = true;
+      result.orbits.kind = tori.kind;
+      result.orbits.state_dimension = system->Dimension();
+      result.orbits.segments = shooting.segments;
+      result.orbits.start_lambda = lambda;
+      result.orbits.shooting = shooting;
+      result.orbits.shooting.period_scale = problem.PeriodScale();
+      result.orbits.shooting.lambda_scale = problem.LambdaScale();
+      result.orbits.work = problem.statistics();
+      result.orbits.branch = std::move(branch);
+      for (const SpecialPoint& p : result.orbits.branch.special_points) {
+        if (p.type == SpecialPointType::kFold && p.converged) result.folds.push_back(p.lambda);
+      }
+      std::sort(result.folds.begin(), result.folds.end());
+      result.message = fmt::format("found at λ = {:.9g} from the circle's point θ = {:.4f}", lambda,
+                                   theta);
+      return result;
+    }
+    tried += fmt::format("{}{:.9g}", tried.empty() ? "" : ", ", lambda);
+  }
+  result.message = fmt::format(
+      "no {}-lap orbit converged from the last circle's first {} points at λ = {} (where ρ "
+      "extrapolates to {}/{} and beyond)",
+      q, tries, tried, result.p, q);
   return result;
 }
 

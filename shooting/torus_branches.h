@@ -77,6 +77,8 @@ struct TorusBranch {
   std::vector<InvariantCircleProblem::TorusStability> stability;
   TorusEnd end = TorusEnd::kFailed;
   std::string end_note;  // one sentence: where and why the family ended, with ρ and p/q
+  int locking_p = 0;     // kLocking: the resonance p:q
+  int locking_q = 0;
 };
 
 // The tori born at the Neimark–Sacker point `special_point` of `family` (autonomous or relative
@@ -88,5 +90,32 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
                                           std::size_t special_point,
                                           const TorusBranchOptions& options,
                                           const StepCallback& on_step = {});
+
+// The locked motion a torus family ended at (end kLocking, p:q): relative (or autonomous) periodic
+// orbits of q laps of the family's period, x(qT') = R_{qφ'} x(0), found and continued in the
+// parameter with the family's shooting (q times its segments). Inside the resonance tongue two
+// such orbits exist, a saddle and a node of the q-th power of the map, joined at two folds: the
+// tongue's edges, where the motion on the torus locks and unlocks (the family is typically a closed
+// curve through both folds).
+//
+// The start: where ρ, extrapolated linearly from the family's last two tori, reaches p/q (past the
+// last torus), then up to three times as far again on the same side if Newton fails there; at each
+// speed from the last circle's points θ_j = 2πj/N (the first N' = min(N, 5)), the orbit through
+// u(θ_j) run q laps (period qT, rotation qφ of the last torus).
+struct LockedOrbits {
+  bool ok = false;        // false: not found (message says where it was tried)
+  std::string message;
+  int p = 0;
+  int q = 0;
+  PeriodicOrbitBranch orbits;
+  // The located folds' parameters, ascending: the locking interval when there are two.
+  std::vector<double> folds;
+};
+
+// Throws std::invalid_argument when `tori` did not end in kLocking or has no points.
+LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
+                                  const PeriodicOrbitBranch& family, const TorusBranch& tori,
+                                  const TorusBranchOptions& options,
+                                  const StepCallback& on_step = {});
 
 }  // namespace rubcont

@@ -24,8 +24,10 @@ TwoPointParams CaseCaTanh() {
 // Measured on this case with these numerics (the committed scene runs the same): the modulated whip
 // born at 48.486 rpm loses stability at a Neimark–Sacker point at 48.667 rpm (angle 2π·0.4431); the
 // tori born there have ρ falling from 0.443 towards 2/5 while the circle's fifth harmonic grows to
-// half its first (at 48.867 rpm, 31 tori without the tail event): the 2:5 resonance.
-TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker point locks at 2/5",
+// half its first (at 48.867 rpm, 31 tori without the tail event): the 2:5 resonance, whose locked
+// 5-lap orbits exist between folds at 48.851 and 48.876 rpm.
+TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker point locks at 2/5, "
+          "between the folds of its 5-lap orbits",
           "[torus][rub]") {
   const RubStructure structure = TwoPointStructure(CaseCaTanh());
   RotatingWaveBranchOptions waves;
@@ -91,6 +93,28 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   const double rho_end = circle.RotationNumber(points.back().u);
   CHECK(rho_end < t.birth_rotation_number);
   CHECK(std::abs(rho_end - 0.4) < 0.005);
+  CHECK(t.locking_p == 2);
+  CHECK(t.locking_q == 5);
+
+  // The locked motion: 5-lap relative periodic orbits, a saddle and a stable one joined at two
+  // folds, the edges of the 2:5 tongue; the torus family ends just below the lower one.
+  REQUIRE(tori.locked.size() == 1);
+  const LockedOrbits& locked = tori.locked[0];
+  INFO(locked.message << " / " << locked.orbits.branch.BriefReport());
+  REQUIRE(locked.ok);
+  CHECK(locked.orbits.segments == 20);
+  REQUIRE(locked.folds.size() == 2);
+  CHECK(locked.folds[0] / kRpm == Approx(48.851).margin(0.002));
+  CHECK(locked.folds[1] / kRpm == Approx(48.876).margin(0.002));
+  CHECK(points.back().lambda < locked.folds[0]);
+  CHECK(locked.folds[0] - points.back().lambda < 0.02 * kRpm);  // measured 0.015 rpm
+  bool stable = false;
+  for (const BranchPoint& p : locked.orbits.branch.points) {
+    stable = stable || p.num_unstable == 0;
+    CHECK(p.lambda >= locked.folds[0] - 1e-9);
+    CHECK(p.lambda <= locked.folds[1] + 1e-9);
+  }
+  CHECK(stable);
 
   // Independent check of the Gauss map: the first torus under CVODES BDF at 1e-10 (state only) is
   // invariant to the same order as the collocation's own defect.
