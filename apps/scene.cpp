@@ -147,6 +147,11 @@ KeySpec Choice(std::string key, std::string doc, std::vector<std::string> choice
   return spec;
 }
 
+bool RunsStage(const Scene& scene, Stage stage) {
+  const std::vector<Stage>& stages = scene.analysis.stages;
+  return std::find(stages.begin(), stages.end(), stage) != stages.end();
+}
+
 const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "tori",
                                                      "sweep"};
 std::vector<std::string> ModelNames() {
@@ -1304,8 +1309,10 @@ class Loader {
       } else {
         spec.set(scene, spec.default_value);
       }
-      // The keys of an absent [flexible] are not defaults the scene runs with: it is rigid.
+      // The keys of an absent [flexible] are not defaults the scene runs with: it is rigid; nor
+      // are [analysis.tori]'s of a scene without the stage (its stages precede it in the schema).
       if (spec.Section() == "flexible" && !section_present) continue;
+      if (spec.Section() == "analysis.tori" && !RunsStage(scene, Stage::kTori)) continue;
       scene.defaulted_keys.push_back(spec.key);
     }
     for (const TableArraySpec& spec : TableArrays())
@@ -1791,9 +1798,11 @@ std::string Join(const std::vector<std::string>& lines) {
 bool Applies(const KeySpec& spec, ModelKind model) { return !spec.model || *spec.model == model; }
 
 // Whether a key belongs in the resolved scene: every key of its model, but [flexible] only when the
-// scene has it (its absence, not its defaults, means the rigid model).
+// scene has it (its absence, not its defaults, means the rigid model), and [analysis.tori] only
+// when the scene runs the stage "tori" (the results of every other scene stay as they were).
 bool Resolved(const KeySpec& spec, const Scene& scene) {
   return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled) &&
+         (spec.Section() != "analysis.tori" || RunsStage(scene, Stage::kTori)) &&
          (!spec.relevant || spec.relevant(scene));
 }
 

@@ -74,7 +74,7 @@ def main(argv):
         fig, axes = plt.subplots(4, 1, figsize=(8.5, 12.5), sharex=True,
                                  gridspec_kw={"height_ratios": [3, 2, 2, 1.6]})
         ax_f, ax_rho, ax_lines, ax_tail = axes
-        speeds = []
+        speeds, focus = [], []
         for i, name in enumerate(sorted(orbits)):
             g = orbits[name]
             rpm, modulation = g["speed_rpm"][()], g["modulation_hz"][()]
@@ -95,6 +95,7 @@ def main(argv):
             if len(rpm) == 0:
                 continue
             speeds.append(rpm)
+            focus.append(rpm)
             stable = g["stable"][()]
             color = COLORS[(j + 1) % len(COLORS)]
             scatter_stable(ax_f, rpm, g["first_hz"][()], stable, color, f"{name}: f1 = 1/T")
@@ -118,6 +119,7 @@ def main(argv):
                 lock = tori[name + "_locked"]
                 p, q = int(lock.attrs["resonance_p"]), int(lock.attrs["resonance_q"])
                 lrpm = lock["speed_rpm"][()]
+                focus.append(lrpm)
                 for a, b, stable_run in stable_runs(lock["stable"][()]):
                     ax_rho.plot(lrpm[a:b + 1], np.full(b - a + 1, p / q), "-" if stable_run else "--",
                                 color="#c00000", lw=2.5,
@@ -129,7 +131,7 @@ def main(argv):
                     ax_rho.axvline(float(fold), color="#c00000", lw=0.8, ls=":")
                 ax_rho.legend(fontsize=7, loc="best")
             end = text(g.attrs.get("end", ""))
-            ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(4, -12),
+            ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(-60, -4),
                             textcoords="offset points", color=color)
             carrier = g["carrier_hz"][()]
             ax_lines.plot(rpm, carrier, "-", color="#555555", lw=1.2,
@@ -145,10 +147,14 @@ def main(argv):
         if not families:
             ax_f.text(0.5, 0.5, "no Neimark–Sacker point bounds a stable modulated whip: no tori",
                       transform=ax_f.transAxes, ha="center")
+        # From the families' start to a little past the tori and locked orbits (the modulated
+        # families run on beyond, unstable).
         if speeds:
             every = np.concatenate(speeds)
-            span = max(every.max() - every.min(), 1e-3)
-            ax_tail.set_xlim(every.min() - 0.05 * span, every.max() + 0.05 * span)
+            low = every.min()
+            high = np.concatenate(focus).max() if focus else every.max()
+            span = max(high - low, 1e-3)
+            ax_tail.set_xlim(low - 0.05 * span, high + 0.25 * span)
         ax_f.set_ylabel("modulation frequency [Hz]\n(co-rotating frame)")
         ax_f.legend(fontsize=7, loc="best")
         ax_f.set_title(f"{text(f.attrs.get('scene_name', ''))}: whips modulated at two frequencies (L2 tori)")

@@ -329,27 +329,17 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   OrbitPeriodDoubling result;
   result.special_point = special_point;
 
-  // The family's problem at the point: its segment STMs and the return map's eigenvector for −1.
-  ShootingOptions shooting = family.shooting;
-  shooting.refresh_phase_reference = true;
-  system.SetParameter(point.lambda);
-  ShootingProblem single(system, family.kind, shooting);
-  const Index n = single.StateDimension(), N = single.SegmentCount();
-  const std::vector<Matrix>& stm = single.SegmentMonodromies(point.u, point.lambda);
-  if (stm.size() != static_cast<std::size_t>(N)) {
-    result.message = "the segment STMs could not be integrated at the point: " +
-                     single.LastFailure().BriefReport();
+  // The family's return map at the point, and its eigenvector for −1.
+  const OrbitReturnMap at = ReturnMapAt(system, family, point);
+  if (!at.ok) {
+    result.message = at.message;
     return result;
   }
-  const double period = single.Period(point.u, point.lambda), phi = single.Rotation(point.u);
-  Matrix rotate = Matrix::Identity(n, n), unrotate = Matrix::Identity(n, n);
-  for (Index j = 0; j < n; ++j) {
-    system.Rotate(phi, rotate.col(j));
-    system.Rotate(-phi, unrotate.col(j));
-  }
-  Matrix map = Matrix::Identity(n, n);
-  for (const Matrix& M : stm) map = M * map;
-  map = unrotate * map;
+  const Index n = at.map.rows(), N = static_cast<Index>(at.stms.size());
+  const double period = at.period, phi = at.rotation;
+  Matrix rotate = Matrix::Identity(n, n);
+  for (Index j = 0; j < n; ++j) system.Rotate(phi, rotate.col(j));
+  const Matrix& map = at.map;
   const Eigen::EigenSolver<Matrix> eigen(map);
   Index critical = -1;
   for (Index k = 0; k < n; ++k) {
@@ -372,12 +362,12 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   // The orbit run twice, and the direction [v_i; −R_φ v_i].
   Matrix starts(n, 2 * N), direction(n, 2 * N);
   for (Index i = 0; i < N; ++i) {
-    const Vector x = single.SegmentStart(point.u, i);
+    const Vector x = at.starts.col(i);
     starts.col(i) = x;
     starts.col(N + i) = rotate * x;
     direction.col(i) = v;
     direction.col(N + i) = -(rotate * v);
-    v = stm[static_cast<std::size_t>(i)] * v;
+    v = at.stms[static_cast<std::size_t>(i)] * v;
   }
   ShootingOptions doubled = family.shooting;
   doubled.refresh_phase_reference = true;
@@ -415,6 +405,33 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   result.branch.work = problem.statistics();
   result.ok = true;
   return result;
+}
+
+OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
+                           const SpecialPoint& point) {
+  OrbitReturnMap at;
+  ShootingOptions shooting = family.shooting;
+  shooting.refresh_phase_reference = true;
+  system.SetParameter(point.lambda);
+  ShootingProblem problem(system, family.kind, shooting);
+  const Index n = problem.StateDimension(), N = problem.SegmentCount();
+  at.stms = problem.SegmentMonodromies(point.u, point.lambda);
+  if (at.stms.size() != static_cast<std::size_t>(N)) {
+    at.message = "the segment STMs could not be integrated at the point: " +
+                 problem.LastFailure().BriefReport();
+    return at;
+  }
+  at.starts.resize(n, N);
+  for (Index i = 0; i < N; ++i) at.starts.col(i) = problem.SegmentStart(point.u, i);
+  at.period = problem.Period(point.u, point.lambda);
+  at.rotation = problem.Rotation(point.u);
+  Matrix unrotate = Matrix::Identity(n, n);
+  for (Index j = 0; j < n; ++j) system.Rotate(-at.rotation, unrotate.col(j));
+  at.map = Matrix::Identity(n, n);
+  for (const Matrix& M : at.stms) at.map = M * at.map;
+  at.map = unrotate * at.map;
+  at.ok = true;
+  return at;
 }
 
 bool BoundsStablePiece(const Branch& branch, const SpecialPoint& p) {

@@ -132,6 +132,22 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
                                                 const PeriodicOrbitBranchOptions& options,
                                                 const StepCallback& on_step = {});
 
+// The linearized return map x ↦ R_{−φ} x(T) of a family's orbit at one of its points (`u`, λ of
+// a special point): the product of the segment STMs turned back by the orbit's rotation
+// (autonomous orbits: φ = 0), with the segment starts, T and φ. What the branch switches at period
+// doublings and Neimark–Sacker points start from.
+struct OrbitReturnMap {
+  bool ok = false;
+  std::string message;       // why not (an integration failed)
+  std::vector<Matrix> stms;  // per segment
+  Matrix starts;             // n × segments
+  double period = 0.0;
+  double rotation = 0.0;
+  Matrix map;                // n × n
+};
+OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
+                           const SpecialPoint& point);
+
 // The period-doubled orbits born at a located period doubling of a family (autonomous or
 // relative orbits: x(T) = R_φ x(0)). At the point the return map x ↦ R_{−φ} x(T) has the
 // multiplier −1 with a real eigenvector v; the doubled orbits start there as the orbit run twice

@@ -19,6 +19,21 @@ constexpr double kStrongResonance = 1e-3;
 // A harmonic at least this many times the one below it stands out of a circle's decaying spectrum.
 constexpr double kLockingExcess = 2.0;
 
+// The parameters of a branch's located folds, ascending, each once (a closed curve followed
+// round again meets its folds again, to within the location's tolerance).
+std::vector<double> DistinctFolds(const Branch& branch) {
+  std::vector<double> folds;
+  for (const SpecialPoint& p : branch.special_points) {
+    if (p.type != SpecialPointType::kFold || !p.converged) continue;
+    const bool seen = std::any_of(folds.begin(), folds.end(), [&](double f) {
+      return std::abs(f - p.lambda) <= 1e-8 * std::max(std::abs(f), 1.0);
+    });
+    if (!seen) folds.push_back(p.lambda);
+  }
+  std::sort(folds.begin(), folds.end());
+  return folds;
+}
+
 }  // namespace
 
 void Validate(const TorusBranchOptions& options) {
@@ -81,24 +96,15 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   result.birth_lambda = point.lambda;
 
   // The family's return map at the point, and its pair nearest the unit circle.
-  ShootingOptions shooting = family.shooting;
-  shooting.refresh_phase_reference = true;
-  system->SetParameter(point.lambda);
-  ShootingProblem orbit(*system, family.kind, shooting);
-  const Index n = orbit.StateDimension();
-  result.state_dimension = n;
-  const std::vector<Matrix>& stm = orbit.SegmentMonodromies(point.u, point.lambda);
-  if (stm.size() != static_cast<std::size_t>(orbit.SegmentCount())) {
-    result.message = "the segment STMs could not be integrated at the point: " +
-                     orbit.LastFailure().BriefReport();
+  const OrbitReturnMap at = ReturnMapAt(*system, family, point);
+  if (!at.ok) {
+    result.message = at.message;
     return result;
   }
-  const double period = orbit.Period(point.u, point.lambda), phi = orbit.Rotation(point.u);
-  Matrix unrotate = Matrix::Identity(n, n);
-  for (Index j = 0; j < n; ++j) system->Rotate(-phi, unrotate.col(j));
-  Matrix map = Matrix::Identity(n, n);
-  for (const Matrix& M : stm) map = M * map;
-  map = unrotate * map;
+  const Index n = at.map.rows();
+  result.state_dimension = n;
+  const double period = at.period, phi = at.rotation;
+  const Matrix& map = at.map;
   const Eigen::EigenSolver<Matrix> eigen(map);
   Index critical = -1;
   for (Index k = 0; k < n; ++k) {
@@ -135,7 +141,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator);
   problem.SetMaxFourierTail(options.max_fourier_tail);
   Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
-  centre.col(0) = orbit.SegmentStart(point.u, 0);
+  centre.col(0) = at.starts.col(0);
   ellipse.col(1) = v.real() / size;
   ellipse.col(2) = -v.imag() / size;
   const Vector u0 =
@@ -257,7 +263,15 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       ShootingProblem problem(*system, tori.kind, shooting);
       const Vector u0 =
           problem.InitialGuess(circle.PointAt(last.u, theta), q * period, lambda, q * phi);
-      Branch branch = Continue(problem, u0, lambda, continuation, on_step);
+      // The locked orbits form a closed curve through the tongue's two edges: stop once both
+      // folds are located and the branch is back across its start.
+      const auto closed = [&on_step, lambda](const Branch& b) {
+        if (on_step && !on_step(b)) return false;
+        if (DistinctFolds(b).size() < 2 || b.points.size() < 2) return true;
+        const double now = b.points.back().lambda, before = b.points[b.points.size() - 2].lambda;
+        return (now - lambda) * (before - lambda) > 0.0;
+      };
+      Branch branch = Continue(problem, u0, lambda, continuation, closed);
       if (branch.status == BranchStatus::kStartFailed) continue;
       result.ok = true;
       result.orbits.kind = tori.kind;
@@ -269,10 +283,7 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       result.orbits.shooting.lambda_scale = problem.LambdaScale();
       result.orbits.work = problem.statistics();
       result.orbits.branch = std::move(branch);
-      for (const SpecialPoint& p : result.orbits.branch.special_points) {
-        if (p.type == SpecialPointType::kFold && p.converged) result.folds.push_back(p.lambda);
-      }
-      std::sort(result.folds.begin(), result.folds.end());
+      result.folds = DistinctFolds(result.orbits.branch);
       result.message = fmt::format("found at λ = {:.9g} from the circle's point θ = {:.4f}", lambda,
                                    theta);
       return result;

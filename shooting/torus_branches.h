@@ -101,14 +101,16 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
 // The start: where ρ, extrapolated linearly from the family's last two tori, reaches p/q (past the
 // last torus), then up to three times as far again on the same side if Newton fails there; at each
 // speed from the last circle's points θ_j = 2πj/N (the first N' = min(N, 5)), the orbit through
-// u(θ_j) run q laps (period qT, rotation qφ of the last torus).
+// u(θ_j) run q laps (period qT, rotation qφ of the last torus). The continuation stops (status
+// kStoppedByCaller) once two folds are located and the branch is back across its start: the
+// closed curve followed round once.
 struct LockedOrbits {
   bool ok = false;        // false: not found (message says where it was tried)
   std::string message;
   int p = 0;
   int q = 0;
   PeriodicOrbitBranch orbits;
-  // The located folds' parameters, ascending: the locking interval when there are two.
+  // The located folds' parameters, ascending, each once: the locking interval when there are two.
   std::vector<double> folds;
 };
 
