@@ -1,7 +1,11 @@
 #include "apps/tori_stage.h"
 
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -101,6 +105,12 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   writer.WriteDoubles(group + "/largest_exponent", largest);
   writer.WriteDoubles(group + "/exponent_tolerance", tolerance);
   writer.WriteMatrix(group + "/exponents", exponents);
+  // The circles themselves, so that a torus can be reopened (InvariantCircleProblem::Pack layout).
+  Matrix unknowns(static_cast<Index>(b.points.size()), b.points.empty() ? 0 : b.points[0].u.size());
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    unknowns.row(static_cast<Index>(i)) = b.points[i].u.transpose();
+  }
+  writer.WriteMatrix(group + "/unknowns", unknowns);
 }
 
 // One line per torus: speed, ρ, the two frequencies, each contact's strongest line, stability.
@@ -206,6 +216,11 @@ void RunRubTori(const Scene& scene, StageContext& context) {
         });
     const PeriodicOrbitBranch& family = result.orbits.orbits;
     WritePeriodicOrbitBranch(writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/tori/orbits");
+    const std::string family_group = "/tori/orbits/" + name;
+    writer.SetAttribute(family_group, "hopf_branch", start.branch);
+    writer.SetAttribute(family_group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
+    writer.SetAttribute(family_group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
+    writer.SetAttribute(family_group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
     fmt::print(out, "  {}: {}\n", name, family.branch.BriefReport());
     if (IsFailure(family.branch.status)) {
       context.failures.push_back(fmt::format("[tori] {}: {}", name, family.branch.message));

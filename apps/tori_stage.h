@@ -4,7 +4,9 @@
 // summarized on `out` and written as
 //   /tori                          attrs level, parameter_name ("speed_rpm"), numerics (the
 //                                  orbits' integrator and mesh, K, points), friction_law
-//   /tori/orbits/<branch>_hopf<k>  the modulated family (apps/orbit_output.h layout)
+//   /tori/orbits/<branch>_hopf<k>  the modulated family (apps/orbit_output.h layout), attrs
+//                                  hopf_branch, hopf_speed_rpm, hopf_precession_hz (the frame's
+//                                  rate), hopf_modulation_hz
 //   /tori/<branch>_hopf<k>_ns<j>   the tori from its j-th followed Neimark–Sacker point: attrs
 //                                  parent, birth_speed_rpm, birth_rotation_number, birth_modulus,
 //                                  harmonics, end ("phase locking", "breakdown", "reached the
@@ -17,7 +19,12 @@
 //                                  stable (1 / 0 / −1 undecided within the tolerance, or not
 //                                  computed), largest_exponent (the largest
 //                                  nontrivial Lyapunov exponent per period), exponent_tolerance,
-//                                  exponents (tori × states, per period).
+//                                  exponents (tori × states, per period); unknowns (tori × n(2K + 1)
+//                                  + 3: each circle's Fourier coefficients a₀, a₁, b₁, … column
+//                                  by column in the co-rotating frame's states (SI), then ρ, T
+//                                  [s], φ [rad]: InvariantCircleProblem::Pack), so that a torus
+//                                  can be reopened; the frame turns at its family's
+//                                  hopf_precession_hz.
 //   /tori/<...>_ns<j>_locked       where that family ends in phase locking at p:q: the q-lap
 //                                  relative periodic orbits of the resonance (apps/orbit_output.h
 //                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the

@@ -1,5 +1,6 @@
 #include "shooting/rub_tori.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <stdexcept>

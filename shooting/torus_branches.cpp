@@ -211,8 +211,9 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
                                                          end_rho, spectrum, tori.message);
 
   if (options.lyapunov_iterates > 0) {
-    for (const BranchPoint& p : tori.points) {
-      result.stability.push_back(problem.LyapunovStability(p.u, p.lambda, options.lyapunov_iterates));
+    for (const BranchPoint& torus : tori.points) {
+      result.stability.push_back(
+          problem.LyapunovStability(torus.u, torus.lambda, options.lyapunov_iterates));
     }
   }
   return result;

@@ -71,6 +71,14 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
     CHECK(stable[i] <= 1);
   }
   CHECK(file.ReadMatrix(group + "/exponents").rows() == 3);
+  // The circles, reopenable: 16 states × 9 Fourier columns, then ρ, T and φ.
+  const Matrix unknowns = file.ReadMatrix(group + "/unknowns");
+  REQUIRE(unknowns.rows() == 3);
+  CHECK(unknowns.cols() == 16 * 9 + 3);
+  CHECK(unknowns(0, 16 * 9) == Approx(rho[0]).epsilon(1e-14));
+  CHECK(1.0 / unknowns(0, 16 * 9 + 1) == Approx(f1[0]).epsilon(1e-12));
+  CHECK(file.ReadDoubleAttribute("/tori/orbits/branch1_hopf2", "hopf_precession_hz") ==
+        Approx(79.2834).margin(1e-4));
 }
 
 TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits with code 2",

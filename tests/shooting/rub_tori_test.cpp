@@ -116,7 +116,7 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   }
   CHECK(stable);
 
-  // Independent check of the Gauss map: the first torus under CVODES BDF at 1e-10 (state only) is
+  // Independent check of the Gauss map: the second torus under CVODES BDF at 1e-10 (state only) is
   // invariant to the same order as the collocation's own defect.
   IntegratorOptions bdf;
   bdf.relative_tolerance = bdf.absolute_tolerance = 1e-10;
