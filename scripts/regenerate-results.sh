@@ -17,7 +17,7 @@
 #                   about 20 min on 2 cores; and on the flexible shafts
 #                   (thesis_A_a_modulated_whip_flexible.toml: 19 min of CPU); and case C(a)'s
 #                   whip modulated at two frequencies (stages "orbits" and "tori",
-#                   scenes/thesis_C_a_tori.toml: about 8 min of CPU).
+#                   scenes/thesis_C_a_tori.toml: about 6.5 min of CPU).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
