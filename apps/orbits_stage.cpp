@@ -58,7 +58,6 @@ ShootingOptions RubShootingOptions(const RubOrbitsSettings& settings) {
   return options;
 }
 
-
 ShootingOptions TextbookShootingOptions(const Scene& scene, IntegrationMethod method) {
   return StageShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
 }
