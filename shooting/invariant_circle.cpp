@@ -297,14 +297,14 @@ std::vector<std::string> InvariantCircleProblem::MeasureNames() const {
   return names;
 }
 
+double InvariantCircleProblem::HarmonicSize(const Vector& u, int k) const {
+  return Coefficients(u).middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
+}
+
 double InvariantCircleProblem::FourierTail(const Vector& u) const {
-  const Matrix c = Coefficients(u);
-  auto harmonic = [&](int k) {
-    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
-  };
   double largest = 0.0;
-  for (int k = 1; k <= harmonics_; ++k) largest = std::max(largest, harmonic(k));
-  return harmonic(harmonics_) / std::max(largest, 1e-300);
+  for (int k = 1; k <= harmonics_; ++k) largest = std::max(largest, HarmonicSize(u, k));
+  return HarmonicSize(u, harmonics_) / std::max(largest, 1e-300);
 }
 
 Vector InvariantCircleProblem::Measures(const Vector& u, double lambda) {

@@ -83,6 +83,8 @@ class InvariantCircleProblem : public Problem {
   double Rotation(const Vector& u) const;
   // u(θ) for the circle held in u.
   Vector PointAt(const Vector& u, double theta) const;
+  // ‖(a_k, b_k) ./ scale‖ of harmonic k in 1 … K of the circle held in u.
+  double HarmonicSize(const Vector& u, int k) const;
 
   // The phase conditions' reference circle (its coefficients are taken from u; the flow's
   // direction at the system's present parameter). Set at the start; PointAccepted moves it to

@@ -393,18 +393,25 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   continuation.bounds.lambda_max = options.lambda_max;
   continuation.detect.stability = true;
   Continuation stepper(problem, continuation);
-  result.branch.kind = family.kind;
-  result.branch.state_dimension = n;
-  result.branch.segments = static_cast<int>(2 * N);
-  result.branch.start_lambda = point.lambda;
-  result.branch.shooting = doubled;
-  result.branch.shooting.period_scale = problem.PeriodScale();
-  result.branch.shooting.lambda_scale = problem.LambdaScale();
   stepper.StartWithTangent(u0, point.lambda, du, 0.0);
-  result.branch.branch = RunToEnd(stepper, on_step);
-  result.branch.work = problem.statistics();
+  result.branch = FamilyOf(problem, doubled, point.lambda, RunToEnd(stepper, on_step));
   result.ok = true;
   return result;
+}
+
+PeriodicOrbitBranch FamilyOf(const ShootingProblem& problem, const ShootingOptions& shooting,
+                             double start_lambda, Branch branch) {
+  PeriodicOrbitBranch family;
+  family.kind = problem.kind();
+  family.state_dimension = problem.StateDimension();
+  family.segments = static_cast<int>(problem.SegmentCount());
+  family.start_lambda = start_lambda;
+  family.shooting = shooting;
+  family.shooting.period_scale = problem.PeriodScale();
+  family.shooting.lambda_scale = problem.LambdaScale();
+  family.work = problem.statistics();
+  family.branch = std::move(branch);
+  return family;
 }
 
 OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,

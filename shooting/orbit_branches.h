@@ -132,6 +132,12 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
                                                 const PeriodicOrbitBranchOptions& options,
                                                 const StepCallback& on_step = {});
 
+// The record of a family `problem` computed: its kind, dimensions and work, `shooting` with the
+// scales the problem chose (a branch switch continues in the same scaled variables), and `branch`,
+// started at `start_lambda`.
+PeriodicOrbitBranch FamilyOf(const ShootingProblem& problem, const ShootingOptions& shooting,
+                             double start_lambda, Branch branch);
+
 // The linearized return map x ↦ R_{−φ} x(T) of a family's orbit at one of its points (`u`, λ of
 // a special point): the product of the segment STMs turned back by the orbit's rotation
 // (autonomous orbits: φ = 0), with the segment starts, T and φ. What the branch switches at period

@@ -162,10 +162,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   const Branch& tori = result.branch;
   const Vector end_u = tori.points.empty() ? u0 : tori.points.back().u;
   const double end_rho = problem.RotationNumber(end_u);
-  const Matrix c = problem.Coefficients(end_u);
-  auto harmonic = [&](int k) {
-    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale.replicate(1, 2)).norm();
-  };
+  auto harmonic = [&](int k) { return problem.HarmonicSize(end_u, k); };
   int q = 0;
   double excess = 0.0;
   for (int k = 2; k <= options.harmonics; ++k) {
@@ -275,15 +272,7 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       Branch branch = Continue(problem, u0, lambda, continuation, closed);
       if (branch.status == BranchStatus::kStartFailed) continue;
       result.ok = true;
-      result.orbits.kind = tori.kind;
-      result.orbits.state_dimension = system->Dimension();
-      result.orbits.segments = shooting.segments;
-      result.orbits.start_lambda = lambda;
-      result.orbits.shooting = shooting;
-      result.orbits.shooting.period_scale = problem.PeriodScale();
-      result.orbits.shooting.lambda_scale = problem.LambdaScale();
-      result.orbits.work = problem.statistics();
-      result.orbits.branch = std::move(branch);
+      result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));
       result.folds = DistinctFolds(result.orbits.branch);
       result.message = fmt::format("found at λ = {:.9g} from the circle's point θ = {:.4f}", lambda,
                                    theta);
