@@ -457,13 +457,46 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
     step -= kTwoPi * std::floor(step / kTwoPi);
     advance += step;
   }
-  const double rho = advance / kTwoPi / static_cast<double>(m - 1);
-  Matrix A(m, points_);
-  for (Index k = 0; k < m; ++k) A.row(k) = Basis(theta(k)).transpose();
-  const Matrix c = A.colPivHouseholderQr().solve(points.transpose()).transpose();
+  double rho = advance / kTwoPi / static_cast<double>(m - 1);
+  // The fit in given angles: coefficients and the largest scaled misfit.
+  Matrix A(m, points_), c;
+  auto fit = [&](const Vector& angles) {
+    for (Index k = 0; k < m; ++k) A.row(k) = Basis(angles(k)).transpose();
+    c = A.colPivHouseholderQr().solve(points.transpose()).transpose();
+    return ((c * A.transpose() - points).array().colwise() / scale_.array()).abs().maxCoeff();
+  };
+  double misfit = fit(theta);
+  // The map's own angles: on an invariant circle with rotation number ρ the orbit's points sit at
+  // θ_k = 2πkρ of the circle's conjugating parametrisation, which the Newton solve looks for; the
+  // geometric angles above only approximate it, badly where the points bunch (near a resonance
+  // the orbit lingers at q places). ρ is refined by the least misfit on a grid of ±4/m round the
+  // mean advance (coarse, then 1/50 of the coarse step about the best), and those angles are kept
+  // where they fit better. Measured on C(a) at 60 rpm (sections of 5 modulation periods, ρ = 0.562,
+  // the orbit bunched at 16 places): the first circle's residual 40 with the geometric angles,
+  // 9.1e-4 with the map's (scaled, K = 16).
+  auto orbit_angles = [&](double r) {
+    return Vector(Vector::LinSpaced(m, 0.0, kTwoPi * r * static_cast<double>(m - 1)));
+  };
+  double best_rho = rho, best = std::numeric_limits<double>::infinity();
+  const double width = 4.0 / static_cast<double>(m), coarse = width / 100.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const double step = pass == 0 ? coarse : coarse / 50.0, centre_rho = pass == 0 ? rho : best_rho;
+    for (int i = -100; i <= 100; ++i) {
+      const double r = centre_rho + i * step;
+      const double e = fit(orbit_angles(r));
+      if (e < best) {
+        best = e;
+        best_rho = r;
+      }
+    }
+  }
+  if (best < misfit) {
+    misfit = fit(orbit_angles(best_rho));
+    rho = best_rho - std::floor(best_rho);
+  } else {
+    fit(theta);
+  }
   // The fitted circle must pass through the points (else they are not one winding circle).
-  const double misfit =
-      ((c * A.transpose() - points).array().colwise() / scale_.array()).abs().maxCoeff();
   const double size = scaled.cwiseAbs().maxCoeff();
   if (!(misfit <= 0.1 * size)) {
     throw std::invalid_argument(fmt::format(

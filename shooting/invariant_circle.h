@@ -144,9 +144,11 @@ class InvariantCircleProblem : public Problem {
   // lying on a circle that winds once around its centroid in the plane of its two leading
   // principal directions: each point's angle there gives θ_k, ρ is the mean angle advance per
   // iterate (in [0, 1); the plane's orientation decides between ρ and 1 − ρ, the same torus
-  // traversed the other way), and the coefficients are fitted by least squares in θ; T and φ, those
-  // of the map the points came from, are packed as given. Throws std::invalid_argument when the
-  // points do not wind (a locked or non-circular set).
+  // traversed the other way), and the coefficients are fitted by least squares in θ. Then the
+  // map's own angles θ_k = 2πkρ (the parametrisation in which P turns the circle rigidly), ρ
+  // refined by the least misfit round that estimate, replace them where they fit better. T and φ,
+  // those of the map the points came from, are packed as given. Throws std::invalid_argument when
+  // the points do not wind (a locked or non-circular set).
   Vector CircleFromOrbit(const Matrix& points, double period = 0.0, double rotation = 0.0) const;
 
  private:

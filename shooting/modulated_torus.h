@@ -9,10 +9,19 @@
 // at 60 rpm, "settled" by the sweeps' spectral test, still moved its modulation from 123.3 to
 // 124.4 Hz over the next 0.8 s). Then, as SolveModulatedOrbit, the state is taken into the frame
 // precessing at Ω_f and integrated over a stretch; T = 1 / the dominant frequency of contact 0's slip velocity.
-// Then `iterates` more periods, each sampled 16 times: φ̄, the mean turn of contact 0's
-// d = u_rotor − u_stator per period (its phase unwrapped along the samples), and the points
-// x_k = R_{−kφ̄} x(kT), the orbit of P = R_{−φ̄} Φ_T, near its invariant circle; CircleFromOrbit fits
-// the first circle (K harmonics) and ρ. Newton then solves for the circle, ρ, T and φ.
+// Then `iterates` more sections of m = `laps` periods, sampled 16 times per period: φ̄, the mean turn
+// of contact 0's d = u_rotor − u_stator per section (its phase unwrapped along the samples), and
+// the points x_k = R_{−kφ̄} x(kmT), the orbit of P = R_{−φ̄} Φ_{mT}, near its invariant circle;
+// CircleFromOrbit fits the first circle (K harmonics) and ρ. Newton then solves for the circle, ρ,
+// the section's time and φ.
+//
+// Sections of m periods. Where the torus's first frequency is f₁ = 1/(mT) with T the slip's
+// dominant period (the modulation's m-th harmonic the strongest line: C(a) at 60 rpm, f₁ = 24.874 Hz
+// and T = 1/124.37 Hz, m = 5), the points one period apart visit m arcs of the torus in turn and are
+// no circle; their sequence's strongest line is then near p/m per period. laps = 0 (automatic)
+// tries m = 1, and where the points are no circle and that line names m (2 … 8), m. Decision: the
+// line decides, not a search over m — it is what the points show, and the message says which m was
+// used.
 //
 // The frequencies. On the torus, the co-rotating motion turns by φ per T and is otherwise
 // quasi-periodic with f₁ = 1/T and f₂ = ρ/T (ρ ∈ (0, 1); 1 − ρ describes the same lattice of lines,
@@ -38,6 +47,10 @@ struct ModulatedTorusOptions {
     o.max_order = 2;
     o.relative_tolerance = o.absolute_tolerance = 1e-7;
     o.max_steps = 2000000;
+    // The STM as exact as the state's steps make it: with the sensitivities in the error test
+    // BDF took 830 000 steps over one modulation period of C(a) at 49 rpm, against 12 000 without
+    // (measured) — BDF ≤ 2 keeps the unexcited fast modes of Φ bounded (solvers/ode.h).
+    o.sensitivity_error_control = false;
     return o;
   }();
   NewtonOptions newton = [] {
@@ -54,6 +67,13 @@ struct ModulatedTorusOptions {
   double approach = 1.0;           // [s] ≥ 0
   double search_rate = 20000.0;
   int lyapunov_iterates = 100;     // ≥ 0 (0: no stability)
+  int laps = 0;                    // modulation periods per section, 1 … 64; 0: automatic (above)
+  // The map's integrator (the circle's Newton solve and stability): `integrator` when 0, else
+  // Gauss–Legendre collocation of order 8 on this many intervals per modulation period (as the
+  // orbits stage). Decision: BDF by default — on C(a) at 60 rpm Gauss's Newton did not converge
+  // on the first step from the circle's points with 400 intervals (20 µs) and failed at 2 of 33
+  // with 1000, where BDF steps at ~0.6 µs through the contact's fast transients.
+  int collocation_intervals = 0;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -64,12 +84,14 @@ struct ModulatedTorus {
   std::string message;       // how the search and Newton went, one sentence with numbers
   NewtonResult newton;
   double frame_rate = 0.0;   // Ω_f [rad/s]
-  // T from the search (1 / the slip's dominant frequency) and φ̄ from the first points: the start,
-  // also when Newton does not converge (NaN where the search failed).
+  int laps = 0;              // m: periods per section (0 where the search failed)
+  // T from the search (1 / the slip's dominant frequency; one modulation period, not the section's)
+  // and φ̄ per section from the first points: the start, also when Newton does not converge (NaN
+  // where the search failed).
   double search_period = std::numeric_limits<double>::quiet_NaN();
   double search_rotation = std::numeric_limits<double>::quiet_NaN();
-  double period = std::numeric_limits<double>::quiet_NaN();           // T [s]
-  double rotation = std::numeric_limits<double>::quiet_NaN();         // φ [rad]
+  double period = std::numeric_limits<double>::quiet_NaN();           // the section's time [s]
+  double rotation = std::numeric_limits<double>::quiet_NaN();         // φ per section [rad]
   double rotation_number = std::numeric_limits<double>::quiet_NaN();  // ρ
   double carrier_hz = std::numeric_limits<double>::quiet_NaN();       // (Ω_f − φ/T) / 2π
   double first_hz = std::numeric_limits<double>::quiet_NaN();         // f₁ = 1/T

@@ -151,4 +151,37 @@ RubModulatedTori ContinueModulatedTori(
   return result;
 }
 
+RubTransientTori ContinueTransientTori(
+    const RubStructure& structure, double omega, double frame_rate, const Vector& fixed_state,
+    const ModulatedTorusOptions& start, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
+  TorusBranchOptions tori = options.tori;
+  tori.harmonics = start.harmonics;
+  Validate(tori);
+  if (options.samples < 4) {
+    throw std::invalid_argument(
+        fmt::format("RubTorusOptions: samples = {}: must be at least 4", options.samples));
+  }
+  RubTransientTori result;
+  result.start = SolveModulatedTorus(structure, omega, frame_rate, fixed_state, start);
+  if (!result.start.converged) return result;
+  tori.integrator.collocation_steps *= result.start.laps;
+  const RubRotatingFrame frame(structure, frame_rate, omega);
+  for (const int direction : {-1, +1}) {
+    const std::size_t index = result.tori.size();
+    StepCallback step;
+    if (on_torus_step) step = [&, index](const Branch& b) { return on_torus_step(index, b); };
+    tori.continuation.direction = direction;
+    result.tori.push_back(ContinueTori(std::make_shared<RubRotatingFrame>(frame),
+                                       OrbitKind::kRelative, result.start.u, omega, tori, step));
+    std::vector<RubTorusLines> lines;
+    for (const BranchPoint& p : result.tori.back().branch.points) {
+      lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, tori.integrator,
+                                 options.samples));
+    }
+    result.lines.push_back(std::move(lines));
+  }
+  return result;
+}
+
 }  // namespace rubcont

@@ -15,9 +15,11 @@
 // its amplitude against the carrier's, and the normal force's range over the samples.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "shooting/modulated_torus.h"
 #include "shooting/rub_orbits.h"
 #include "shooting/torus_branches.h"
 
@@ -70,6 +72,32 @@ struct RubModulatedTori {
 RubModulatedTori ContinueModulatedTori(
     const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
     const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step = {});
+
+// The tori through the torus a settled transient lies on: SolveModulatedTorus at running speed ω
+// [rad/s] from `fixed_state` in the frame precessing at `frame_rate` (its options `start`: K, the
+// section's laps, the start's integrator), then ContinueTori towards lower and towards higher speed
+// over options.tori's range with options.tori's integrator (a Gauss mesh given per modulation
+// period: collocation_steps is multiplied by the section's laps), K the start's, each torus read by
+// TorusLines. For whips that no Neimark–Sacker point of a computed family reaches (C(a) beyond the
+// 2:5 tongue). Decision: two integrators — from the circle fitted to a transient's points Newton
+// with the map by Gauss collocation failed (C(a) at 49 rpm, 400 intervals per period: a non-finite
+// residual after 5 iterations; at 60 rpm the collocation equations' own Newton did not converge on
+// the first mesh step at 32 of the 33 points, at 2 with 1000 intervals), with BDF it converged (19
+// iterations); from BDF's solution Gauss continues at 10–13 s a step with exact derivatives,
+// where BDF's steps (sensitivities outside the error test) took 15–60 s and stalled (measured).
+struct RubTransientTori {
+  ModulatedTorus start;
+  // Empty when the start did not converge; else [0] towards lower speed, [1] towards higher.
+  std::vector<TorusBranch> tori;
+  std::vector<std::vector<RubTorusLines>> lines;  // per family, per point
+};
+
+// Throws std::invalid_argument as SolveModulatedTorus and for invalid torus options.
+// on_torus_step is called after every step with the family's index (0 down, 1 up).
+RubTransientTori ContinueTransientTori(
+    const RubStructure& structure, double omega, double frame_rate, const Vector& fixed_state,
+    const ModulatedTorusOptions& start, const RubTorusOptions& options,
     const std::function<bool(std::size_t, const Branch&)>& on_torus_step = {});
 
 }  // namespace rubcont

@@ -34,6 +34,13 @@ std::vector<double> DistinctFolds(const Branch& branch) {
   return folds;
 }
 
+// The engine's options for a torus family: the range, no Jacobian spectrum.
+ContinuationOptions EngineOptions(const TorusBranchOptions& options);
+// The family's end (TorusEnd, end_note, p:q) read from its last circle (u0 when it has none), and
+// the Lyapunov stability of every torus when asked for.
+void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranchOptions& options,
+             TorusBranch& result);
+
 }  // namespace
 
 void Validate(const TorusBranchOptions& options) {
@@ -95,7 +102,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   result.harmonics = options.harmonics;
   result.birth_lambda = point.lambda;
 
-  // The family's return map at the point, and its pair nearest the unit circle.
+  // The family's return map at the point, and its critical pair.
   const OrbitReturnMap at = ReturnMapAt(*system, family, point);
   if (!at.ok) {
     result.message = at.message;
@@ -106,14 +113,20 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   const double period = at.period, phi = at.rotation;
   const Matrix& map = at.map;
   const Eigen::EigenSolver<Matrix> eigen(map);
+  // The pair nearest the multiplier the engine located at the point (Im μ > 0), or, where it
+  // recorded none, the pair nearest the unit circle: the located one decides where two pairs lie
+  // near the circle.
+  std::complex<double> target = point.critical_value;
+  if (target.imag() < 0.0) target = std::conj(target);
+  const bool located = std::abs(target) > 0.0;
+  auto distance = [&](std::complex<double> mu) {
+    return located ? std::abs(mu - target) : std::abs(std::abs(mu) - 1.0);
+  };
   Index critical = -1;
   for (Index k = 0; k < n; ++k) {
     const std::complex<double> mu = eigen.eigenvalues()(k);
     if (mu.imag() <= 1e-8 * std::abs(mu)) continue;  // one of each pair, Im μ > 0
-    if (critical < 0 || std::abs(std::abs(mu) - 1.0) <
-                            std::abs(std::abs(eigen.eigenvalues()(critical)) - 1.0)) {
-      critical = k;
-    }
+    if (critical < 0 || distance(mu) < distance(eigen.eigenvalues()(critical))) critical = k;
   }
   if (critical < 0 || std::abs(std::abs(eigen.eigenvalues()(critical)) - 1.0) > 0.05) {
     result.message = "the return map has no complex pair within 0.05 of the unit circle at the point";
@@ -149,15 +162,53 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   problem.SetPhaseReference(u0);
   const Vector du = problem.Pack(ellipse, 0.0, 0.0, 0.0).cwiseQuotient(problem.Scale());
 
+  Continuation stepper(problem, EngineOptions(options));
+  stepper.StartWithTangent(u0, point.lambda, du, 0.0);
+  result.branch = RunToEnd(stepper, on_step);
+  result.ok = true;
+  ReadEnd(problem, u0, options, result);
+  return result;
+}
+
+TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, const Vector& u0,
+                         double lambda0, const TorusBranchOptions& options,
+                         const StepCallback& on_step) {
+  Validate(options);
+  InvariantCircleProblem problem(system, options.harmonics, kind, options.integrator);
+  if (u0.size() != problem.Dimension()) {
+    throw std::invalid_argument(fmt::format(
+        "ContinueTori: the circle has {} unknowns; {} harmonics of {} states need {}", u0.size(),
+        options.harmonics, problem.states(), problem.Dimension()));
+  }
+  problem.SetMaxFourierTail(options.max_fourier_tail);
+  problem.SetPhaseReference(u0);
+  TorusBranch result;
+  result.kind = kind;
+  result.state_dimension = problem.states();
+  result.harmonics = options.harmonics;
+  Continuation stepper(problem, EngineOptions(options));
+  if (stepper.Start(u0, lambda0) == StepResult::kFailed) {
+    result.message = "the start did not converge: " + stepper.branch().message;
+    return result;
+  }
+  result.branch = RunToEnd(stepper, on_step);
+  result.ok = true;
+  ReadEnd(problem, u0, options, result);
+  return result;
+}
+
+namespace {
+
+ContinuationOptions EngineOptions(const TorusBranchOptions& options) {
   ContinuationOptions continuation = options.continuation;
   continuation.bounds.lambda_min = options.lambda_min;
   continuation.bounds.lambda_max = options.lambda_max;
   continuation.detect.stability = false;
-  Continuation stepper(problem, continuation);
-  stepper.StartWithTangent(u0, point.lambda, du, 0.0);
-  result.branch = RunToEnd(stepper, on_step);
-  result.ok = true;
+  return continuation;
+}
 
+void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranchOptions& options,
+             TorusBranch& result) {
   // How it ended: a harmonic standing out of the circle's decaying spectrum names the resonance.
   const Branch& tori = result.branch;
   const Vector end_u = tori.points.empty() ? u0 : tori.points.back().u;
@@ -213,8 +264,9 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
           problem.LyapunovStability(torus.u, torus.lambda, options.lyapunov_iterates));
     }
   }
-  return result;
 }
+
+}  // namespace
 
 LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
                                   const PeriodicOrbitBranch& family, const TorusBranch& tori,

@@ -91,6 +91,17 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
                                           const TorusBranchOptions& options,
                                           const StepCallback& on_step = {});
 
+// The tori through the circle u0 (InvariantCircleProblem::Pack layout for `kind` and the options'
+// harmonics; a solution or a close guess) at λ0, continued over the range in the direction of
+// options.continuation.direction: the start from a circle found otherwise — from a settled
+// transient (shooting/modulated_torus.h), or a torus family's point to restart from. The family
+// ends as ContinueToriFromNeimarkSacker's (special_point and the birth fields are unset). Throws
+// std::invalid_argument for invalid options or a u0 of the wrong size; a start that does not
+// converge is ok = false with the engine's message.
+TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, const Vector& u0,
+                         double lambda0, const TorusBranchOptions& options,
+                         const StepCallback& on_step = {});
+
 // The locked motion a torus family ended at (end kLocking, p:q): relative (or autonomous) periodic
 // orbits of q laps of the family's period, x(qT') = R_{qφ'} x(0), found and continued in the
 // parameter with the family's shooting (q times its segments). Inside the resonance tongue two

@@ -1,6 +1,8 @@
 #include "shooting/modulated_orbit.h"
 #include "shooting/modulated_torus.h"
+#include "shooting/rub_tori.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -106,14 +108,110 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   // the points x(kT) fall into 5 clusters (their sequence's strongest line is at 0.4 = 2/5 per
   // iterate, and every line of the fixed-frame spectrum found is a multiple of 124.37/5 = 24.87 Hz),
   // and every fifth point turns by ρ = 0.4375 ≈ 7/16 to 1e-5: a torus cut five times by that
-  // section, next to the 7:16 resonance (README). The solver says so instead of fitting a circle.
-  const ModulatedTorus torus = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                   2.0 * M_PI * transient.bp_hz, transient.state);
-  INFO(torus.message);
-  CHECK_FALSE(torus.converged);
-  CHECK_THAT(torus.message, Contains("are no circle"));
-  CHECK_THAT(torus.message, Contains("≈ 2/5: the section may cut the torus 5 times"));
-  CHECK(std::abs(1.0 / torus.search_period - 124.37) < 0.1);
+  // section, next to the 7:16 resonance (README). With one period per section the solver says so
+  // instead of fitting a circle.
+  ModulatedTorusOptions one;
+  one.laps = 1;
+  const ModulatedTorus cut = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
+                                                 2.0 * M_PI * transient.bp_hz, transient.state, one);
+  INFO(cut.message);
+  CHECK_FALSE(cut.converged);
+  CHECK_THAT(cut.message, Contains("are no circle"));
+  CHECK_THAT(cut.message, Contains("≈ 2/5: the section may cut the torus 5 times"));
+  CHECK(std::abs(1.0 / cut.search_period - 124.37) < 0.1);
+  // Left to choose (laps = 0), it takes the sections of 5 periods the points name, and there
+  // they lie on one circle; its rotation number in the map's own angles is 7/16 or 1 − 7/16 (the
+  // same torus, the circle traversed the other way, by the principal plane's orientation):
+  // measured 0.4382 here (K = 8, the default search), 0.5617–0.5627 with K = 16 and 4 s searches.
+  // (Newton is not run to the end: at K = 16 its Jacobian turned singular at that resonance's
+  // edge, measured.)
+  ModulatedTorusOptions automatic;
+  automatic.newton.max_iterations = 1;
+  automatic.lyapunov_iterates = 0;
+  const ModulatedTorus five = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
+                                                  2.0 * M_PI * transient.bp_hz, transient.state,
+                                                  automatic);
+  INFO(five.message);
+  CHECK(five.laps == 5);
+  CHECK_THAT(five.message, Contains("Newton from the transient's circle (5 × T"));
+  const auto frame = std::make_shared<RubRotatingFrame>(TwoPointStructure(params),
+                                                        2.0 * M_PI * transient.bp_hz,
+                                                        RpmToRadPerSecond(60.0));
+  const InvariantCircleProblem circle(frame, automatic.harmonics, OrbitKind::kRelative);
+  const double rho = circle.RotationNumber(five.u);
+  CHECK(std::min(std::abs(rho - 7.0 / 16.0), std::abs(rho - 9.0 / 16.0)) < 2e-3);
+}
+
+TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settles on, solved by "
+          "BDF and continued both ways by Gauss collocation",
+          "[modulated_orbit][torus]") {
+  TwoPointParams params = ThesisCaseAa();
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  const RubStructure structure = TwoPointStructure(params);
+  const Transient transient = Settle(params, 49.0, 8.0);
+  REQUIRE(transient.settled);
+  ModulatedTorusOptions start;
+  start.harmonics = 16;
+  start.approach = 4.0;
+  start.search_duration = 4.0;
+  start.newton.max_iterations = 30;
+  start.lyapunov_iterates = 0;
+  RubTorusOptions options;
+  options.samples = 4;
+  options.tori.lambda_min = RpmToRadPerSecond(48.85);
+  options.tori.lambda_max = RpmToRadPerSecond(49.1);
+  options.tori.max_fourier_tail = 0.2;
+  options.tori.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.tori.integrator.collocation_steps = 400;
+  options.tori.continuation.bounds.max_steps = 1;
+  options.tori.continuation.step.initial = 0.005;
+  options.tori.continuation.corrector.residual_tolerance = 1e-6;
+  options.tori.continuation.corrector.max_iterations = 12;
+  const RubTransientTori tori =
+      ContinueTransientTori(structure, RpmToRadPerSecond(49.0), 2.0 * M_PI * transient.bp_hz,
+                            transient.state, start, options);
+  INFO(tori.start.message);
+  REQUIRE(tori.start.converged);
+  // One period per section: the points of the map lie on one circle (measured ρ = 0.37893,
+  // f₁ = 129.558 Hz, f₂ = 49.093 Hz, carrier 79.2833 Hz, the Fourier tail 0.013 at K = 16):
+  // between the 2:5 tongue (48.851–48.876 rpm) and 3/8.
+  CHECK(tori.start.laps == 1);
+  CHECK(tori.start.rotation_number > 3.0 / 8.0);
+  CHECK(tori.start.rotation_number < 2.0 / 5.0);
+  CHECK(tori.start.first_hz == Approx(129.56).margin(0.05));
+  CHECK(tori.start.second_hz == Approx(tori.start.rotation_number * tori.start.first_hz));
+  // The carrier is the transient's precession, which the sweep's spectrum found independently
+  // (measured 0.0012 Hz apart).
+  CHECK(std::abs(tori.start.carrier_hz - transient.bp_hz) < 0.01);
+  REQUIRE(tori.tori.size() == 2);
+  const InvariantCircleProblem circle(std::make_shared<RubRotatingFrame>(
+                                          structure, 2.0 * M_PI * transient.bp_hz,
+                                          RpmToRadPerSecond(49.0)),
+                                      16, OrbitKind::kRelative);
+  for (std::size_t side = 0; side < 2; ++side) {
+    const TorusBranch& family = tori.tori[side];
+    INFO("family " << side << ": " << family.message << " / " << family.branch.BriefReport());
+    REQUIRE(family.ok);
+    REQUIRE(family.branch.points.size() >= 2);
+    CHECK(family.end == TorusEnd::kSteps);
+    // ρ falls with speed, as on the tori born at the Neimark–Sacker point (0.443 → 0.4016
+    // over 48.67–48.85 rpm): towards 2/5 going down, towards 3/8 going up.
+    const BranchPoint& first = family.branch.points.front();
+    const BranchPoint& last = family.branch.points.back();
+    const double sign = side == 0 ? -1.0 : 1.0;
+    CHECK(sign * (last.lambda - first.lambda) > 0.0);
+    CHECK(sign * (circle.RotationNumber(last.u) - circle.RotationNumber(first.u)) < 0.0);
+    for (std::size_t i = 0; i < family.branch.points.size(); ++i) {
+      const double rho = circle.RotationNumber(family.branch.points[i].u);
+      CHECK(rho > 3.0 / 8.0);
+      CHECK(rho < 2.0 / 5.0);
+      const RubTorusLines& lines = tori.lines[side][i];
+      REQUIRE(lines.valid);
+      CHECK(lines.carrier_hz == Approx(tori.start.carrier_hz).margin(0.01));
+      CHECK(lines.second_hz == Approx(rho * lines.first_hz));
+    }
+  }
 }
 
 TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[modulated_orbit]") {
@@ -145,6 +243,12 @@ TEST_CASE("modulated torus inputs outside their rules are rejected by name", "[m
   o = {};
   o.iterates = 10;  // K = 8 needs ≥ 18
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("iterates = 10: must be 0"));
+  o = {};
+  o.laps = 65;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("laps = 65: must be 0"));
+  o = {};
+  o.collocation_intervals = -1;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("collocation_intervals = -1"));
   o = {};
   o.approach = -1.0;
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("approach = -1"));

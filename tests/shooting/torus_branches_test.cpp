@@ -145,5 +145,44 @@ TEST_CASE("tori from a Neimark-Sacker point: wrong points, kinds and options are
                     Catch::Contains("harmonics = 0"));
 }
 
+TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected and continued down "
+          "to 0.02, every torus in closed form",
+          "[torus]") {
+  auto system = std::make_shared<CycleBesideOscillator>();
+  TorusBranchOptions options = TorusOptions();
+  options.lambda_min = 0.02;
+  options.lambda_max = 0.25;
+  options.lyapunov_iterates = 0;
+  options.continuation.direction = -1;
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  // The circle θ ↦ (cos θ₀, sin θ₀, r cos θ, r sin θ) off by 2 % in r, T and ρ.
+  const double lambda0 = 0.2, r = 1.02 * std::sqrt(lambda0), period = 2 * M_PI / kOmega0;
+  Matrix c = Matrix::Zero(4, 7);
+  c(0, 0) = 1.0;
+  c(2, 1) = r;
+  c(3, 2) = r;
+  const Vector u0 = problem.Pack(c, 1.02 * (kOmega1 + kShear * lambda0) / kOmega0, 1.02 * period);
+  const TorusBranch tori = ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options);
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  CHECK(tori.end == TorusEnd::kBound);
+  REQUIRE(tori.branch.points.size() >= 4);
+  CHECK(tori.branch.points.front().lambda == Approx(lambda0));
+  CHECK(tori.branch.points.back().lambda == Approx(0.02));
+  for (const BranchPoint& p : tori.branch.points) {
+    INFO("lambda = " << p.lambda);
+    CHECK(p.lambda <= lambda0 + 1e-12);
+    CHECK(problem.RotationNumber(p.u) == Approx((kOmega1 + kShear * p.lambda) / kOmega0).margin(1e-8));
+    CHECK(problem.Period(p.u, p.lambda) == Approx(period).epsilon(1e-8));
+    for (const double theta : {0.0, 2.0, 5.0}) {
+      const Vector x = problem.PointAt(p.u, theta);
+      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).margin(1e-8));
+      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).margin(1e-8));
+    }
+  }
+  CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kAutonomous, u0.head(10), lambda0, options),
+                    Catch::Contains("the circle has 10 unknowns; 3 harmonics of 4 states need 30"));
+}
+
 }  // namespace
 }  // namespace rubcont

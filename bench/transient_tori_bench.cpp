@@ -1,0 +1,109 @@
+// Experiment (not part of the test suite): case C(a)'s two-frequency whip from a settled transient
+// (shooting/rub_tori.h, ContinueTransientTori) — the sweep's time-marching model settled at one
+// speed from rest and a 1 N·s impulse, the torus it lies on solved by BDF, and the family through
+// it continued both ways in running speed — with every torus printed and the cost of each part.
+// Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS]]]]
+// COLLOCATION_STEPS > 0: the continuation by Gauss collocation of that many steps per modulation
+// period; 0: by the start's BDF (sensitivities outside the error test). Defaults 49, 12, 16, 400.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "models/units.h"
+#include "shooting/rub_tori.h"
+#include "solvers/stopwatch.h"
+#include "sweeps/rub_sweep.h"
+
+namespace rubcont {
+namespace {
+
+int Main(int argc, char** argv) {
+  const double rpm = argc > 1 ? std::atof(argv[1]) : 49.0;
+  const int steps = argc > 2 ? std::atoi(argv[2]) : 12;
+  const int harmonics = argc > 3 ? std::atoi(argv[3]) : 16;
+  const long collocation_steps = argc > 4 ? std::atol(argv[4]) : 400;
+  TwoPointParams params = ThesisCaseAa();  // case C(a): the overhung rotor
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  const RubStructure structure = TwoPointStructure(params);
+  const double omega = RpmToRadPerSecond(rpm);
+
+  // The transient: 8 s at the speed from rest plus the impulse, settled by 0.5 s windows.
+  const double settle_start = ProcessCpuSeconds();
+  RubFixedFrame system(structure);
+  RubSweepObservables observables(system);
+  SweepOptions sweep;
+  sweep.parameters = {omega};
+  sweep.dwell = 8.0;
+  sweep.window = 0.5;
+  sweep.analysis_length = 1.0;
+  sweep.integrator.max_order = 2;
+  sweep.integrator.relative_tolerance = sweep.integrator.absolute_tolerance = 1e-6;
+  sweep.integrator.max_steps = 100000000;
+  SweepStepper stepper(system, observables, sweep, RubImpulseIncrement(structure, 1.0));
+  stepper.Step();
+  const SweepPoint& point = stepper.points().back();
+  const double precession_hz = -point.channels[0].peak.frequency;
+  std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", rpm,
+              point.status == SweepPointStatus::kSettled ? "settled" : "did not settle",
+              precession_hz, CpuSecondsSince(settle_start));
+
+  ModulatedTorusOptions start;
+  start.harmonics = harmonics;
+  start.approach = 4.0;
+  start.search_duration = 4.0;
+  start.newton.max_iterations = 30;
+  start.lyapunov_iterates = 0;
+  RubTorusOptions options;
+  options.tori.lambda_min = RpmToRadPerSecond(rpm - 0.5);
+  options.tori.lambda_max = RpmToRadPerSecond(rpm + 0.5);
+  options.tori.max_fourier_tail = 0.2;
+  if (collocation_steps > 0) {
+    options.tori.integrator.method = IntegrationMethod::kGaussCollocation;
+    options.tori.integrator.collocation_steps = collocation_steps;
+    options.tori.continuation.corrector.residual_tolerance = 1e-8;
+  } else {
+    options.tori.integrator = start.integrator;
+    options.tori.continuation.corrector.residual_tolerance = 1e-5;
+    options.tori.continuation.corrector.step_tolerance = 1e-4;
+  }
+  options.tori.continuation.corrector.max_iterations = 15;
+  options.tori.continuation.bounds.max_steps = steps;
+  options.tori.continuation.step.initial = 0.005;
+  const double tori_start = ProcessCpuSeconds();
+  double step_start = tori_start;
+  const auto frame = std::make_shared<RubRotatingFrame>(structure, 2 * M_PI * precession_hz, omega);
+  InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative);
+  const RubTransientTori tori = ContinueTransientTori(
+      structure, omega, 2 * M_PI * precession_hz, stepper.state(), start, options,
+      [&](std::size_t family, const Branch& branch) {
+        const BranchPoint& p = branch.points.back();
+        const double rho = circle.RotationNumber(p.u);
+        const double period = circle.Period(p.u, p.lambda);
+        // The harmonics of the resonances met: 5:13, 3:8 and 2:5.
+        std::printf("  %s %.5f rpm: ρ = %.6f, f1 = %.4f Hz, f2 = %.4f Hz, tail %.3g, |c5| %.2e, "
+                    "|c8| %.2e, |c13| %.2e (%.1f s CPU)\n",
+                    family == 0 ? "down" : "up  ", RadPerSecondToRpm(p.lambda), rho, 1.0 / period,
+                    rho / period, p.measures(1), circle.HarmonicSize(p.u, 5),
+                    circle.HarmonicSize(p.u, 8), circle.HarmonicSize(p.u, std::min(13, harmonics)),
+                    CpuSecondsSince(step_start));
+        std::fflush(stdout);
+        step_start = ProcessCpuSeconds();
+        return true;
+      });
+  std::printf("start (%.1f s wall: the search and Newton): %s\n", tori.start.seconds,
+              tori.start.message.c_str());
+  for (std::size_t k = 0; k < tori.tori.size(); ++k) {
+    const TorusBranch& family = tori.tori[k];
+    std::printf("%s: %zu tori, %s; %s\n", k == 0 ? "down" : "up", family.branch.points.size(),
+                ToString(family.end), family.ok ? family.end_note.c_str() : family.message.c_str());
+  }
+  std::printf("CPU: transient %.1f s, start and families %.1f s\n", tori_start - settle_start,
+              CpuSecondsSince(tori_start));
+  return tori.start.converged ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace rubcont
+
+int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
