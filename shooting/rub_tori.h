@@ -85,7 +85,7 @@ RubModulatedTori ContinueModulatedTori(
 // residual after 5 iterations; at 60 rpm the collocation equations' own Newton did not converge on
 // the first mesh step at 32 of the 33 points, at 2 with 1000 intervals), with BDF it converged (19
 // iterations); from BDF's solution Gauss continues at 10–13 s a step with exact derivatives,
-// where BDF's steps (sensitivities outside the error test) took 15–60 s and stalled (measured).
+// where BDF's steps (sensitivities outside the error test) took 3–163 s, median 17 s (measured).
 struct RubTransientTori {
   ModulatedTorus start;
   // Empty when the start did not converge; else [0] towards lower speed, [1] towards higher.
