@@ -5,9 +5,12 @@
 // Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS]]]]
 // COLLOCATION_STEPS > 0: the continuation by Gauss collocation of that many steps per modulation
 // period; 0: by the start's BDF (sensitivities outside the error test). Defaults 49, 12, 16, 400.
+// STEPS = 0: the start only, and its circle's residual under other maps (BDF at tighter
+// tolerances, Gauss on finer meshes): how accurate the start's own map is.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "models/units.h"
 #include "shooting/rub_tori.h"
@@ -54,6 +57,37 @@ int Main(int argc, char** argv) {
   start.search_duration = 4.0;
   start.newton.max_iterations = 30;
   start.lyapunov_iterates = 0;
+  if (steps == 0) {
+    const ModulatedTorus torus =
+        SolveModulatedTorus(structure, omega, 2 * M_PI * precession_hz, stepper.state(), start);
+    std::printf("start (%.1f s wall): %s\n", torus.seconds, torus.message.c_str());
+    if (!torus.converged) return 1;
+    const auto frame = std::make_shared<RubRotatingFrame>(structure, 2 * M_PI * precession_hz, omega);
+    auto residual = [&](const IntegratorOptions& integrator, const std::string& name) {
+      InvariantCircleProblem problem(frame, harmonics, OrbitKind::kRelative, integrator);
+      problem.SetPhaseReference(torus.u);
+      Vector F;
+      problem.Residual(torus.u, omega, F);
+      std::printf("  its residual under %-34s %.4e (scaled, max)\n", (name + ":").c_str(),
+                  F.cwiseQuotient(problem.ResidualScale()).lpNorm<Eigen::Infinity>());
+    };
+    IntegratorOptions bdf = start.integrator;
+    residual(bdf, "BDF <= 2 at 1e-7 (the start's map)");
+    bdf.relative_tolerance = bdf.absolute_tolerance = 1e-9;
+    residual(bdf, "BDF <= 2 at 1e-9");
+    bdf.max_order = 0;
+    bdf.relative_tolerance = bdf.absolute_tolerance = 1e-11;
+    bdf.max_steps = 20000000;
+    residual(bdf, "BDF <= 5 at 1e-11");
+    for (const long intervals : {200L, 400L, 800L, 1600L}) {
+      IntegratorOptions gauss = start.integrator;
+      gauss.method = IntegrationMethod::kGaussCollocation;
+      gauss.collocation_stages = 4;
+      gauss.collocation_steps = intervals * torus.laps;
+      residual(gauss, "Gauss, " + std::to_string(intervals) + " intervals per period");
+    }
+    return 0;
+  }
   RubTorusOptions options;
   options.tori.lambda_min = RpmToRadPerSecond(rpm - 0.5);
   options.tori.lambda_max = RpmToRadPerSecond(rpm + 0.5);
