@@ -19,6 +19,21 @@ Complex Displacement(const RubStructure& structure, std::size_t c, const Vector&
   return {x(r) - x(s), x(r + 1) - x(s + 1)};
 }
 
+// Throws std::invalid_argument, before any family is computed, where TorusLines would after it.
+void CheckSamples(const RubTorusOptions& options) {
+  if (options.samples < 4) {
+    throw std::invalid_argument(
+        fmt::format("RubTorusOptions: samples = {}: must be at least 4", options.samples));
+  }
+}
+
+// on_torus_step for the family numbered `index` (none where there is none).
+StepCallback FamilyStep(const std::function<bool(std::size_t, const Branch&)>& on_torus_step,
+                        std::size_t index) {
+  if (!on_torus_step) return {};
+  return [&on_torus_step, index](const Branch& b) { return on_torus_step(index, b); };
+}
+
 }  // namespace
 
 RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vector& u,
@@ -103,15 +118,26 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
   return lines;
 }
 
+namespace {
+
+// The lines of every torus of `tori` (TorusLines at each point).
+std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBranch& tori,
+                                   const IntegratorOptions& integrator, int samples) {
+  std::vector<RubTorusLines> lines;
+  for (const BranchPoint& p : tori.branch.points) {
+    lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, integrator, samples));
+  }
+  return lines;
+}
+
+}  // namespace
+
 RubModulatedTori ContinueModulatedTori(
     const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
     const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
     const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
   Validate(options.tori);
-  if (options.samples < 4) {
-    throw std::invalid_argument(
-        fmt::format("RubTorusOptions: samples = {}: must be at least 4", options.samples));
-  }
+  CheckSamples(options);
   RubModulatedTori result;
   result.orbits = ContinueModulatedOrbits(structure, branches, start, orbits, false);
   const PeriodicOrbitBranch& family = result.orbits.orbits;
@@ -127,17 +153,10 @@ RubModulatedTori ContinueModulatedTori(
         !BoundsStablePiece(family.branch, special[k])) {
       continue;
     }
-    const std::size_t index = result.tori.size();
-    StepCallback step;
-    if (on_torus_step) step = [&, index](const Branch& b) { return on_torus_step(index, b); };
+    const StepCallback step = FamilyStep(on_torus_step, result.tori.size());
     result.tori.push_back(ContinueToriFromNeimarkSacker(std::make_shared<RubRotatingFrame>(frame),
                                                         family, k, tori, step));
-    std::vector<RubTorusLines> lines;
-    for (const BranchPoint& p : result.tori.back().branch.points) {
-      lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, tori.integrator,
-                                 options.samples));
-    }
-    result.lines.push_back(std::move(lines));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori.integrator, options.samples));
     const TorusBranch& ended = result.tori.back();
     LockedOrbits locked;
     if (ended.ok && ended.end == TorusEnd::kLocking && !ended.branch.points.empty()) {
@@ -158,28 +177,18 @@ RubTransientTori ContinueTransientTori(
   TorusBranchOptions tori = options.tori;
   tori.harmonics = start.harmonics;
   Validate(tori);
-  if (options.samples < 4) {
-    throw std::invalid_argument(
-        fmt::format("RubTorusOptions: samples = {}: must be at least 4", options.samples));
-  }
+  CheckSamples(options);
   RubTransientTori result;
   result.start = SolveModulatedTorus(structure, omega, frame_rate, fixed_state, start);
   if (!result.start.converged) return result;
   tori.integrator.collocation_steps *= result.start.laps;
   const RubRotatingFrame frame(structure, frame_rate, omega);
   for (const int direction : {-1, +1}) {
-    const std::size_t index = result.tori.size();
-    StepCallback step;
-    if (on_torus_step) step = [&, index](const Branch& b) { return on_torus_step(index, b); };
     tori.continuation.direction = direction;
     result.tori.push_back(ContinueTori(std::make_shared<RubRotatingFrame>(frame),
-                                       OrbitKind::kRelative, result.start.u, omega, tori, step));
-    std::vector<RubTorusLines> lines;
-    for (const BranchPoint& p : result.tori.back().branch.points) {
-      lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, tori.integrator,
-                                 options.samples));
-    }
-    result.lines.push_back(std::move(lines));
+                                       OrbitKind::kRelative, result.start.u, omega, tori,
+                                       FamilyStep(on_torus_step, result.tori.size())));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori.integrator, options.samples));
   }
   return result;
 }
