@@ -152,6 +152,12 @@ bool RunsStage(const Scene& scene, Stage stage) {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();
 }
 
+// A key of [analysis.tori] or of its sub-table [analysis.tori.transient].
+bool IsToriKey(const KeySpec& spec) {
+  const std::string section = spec.Section();
+  return section == "analysis.tori" || section.rfind("analysis.tori.", 0) == 0;
+}
+
 const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits", "tori",
                                                      "sweep"};
 std::vector<std::string> ModelNames() {
@@ -755,7 +761,8 @@ std::vector<KeySpec> BuildSchema() {
                     Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.tori.max_steps", ValueType::kInteger, "-", Rule::kSteps, Presence::kOptional,
-      "Continuation steps from each Neimark–Sacker point.",
+      "Continuation steps from each Neimark–Sacker point, and each way from the torus of "
+      "[analysis.tori.transient].",
       [](Scene& x) -> int& { return x.analysis.tori.max_steps; }));
   s.push_back(Make<int, std::int64_t>(
       "analysis.tori.lyapunov_iterates", ValueType::kInteger, "-", Rule::kCount,
@@ -768,6 +775,45 @@ std::vector<KeySpec> BuildSchema() {
       "Instants per modulation period at which each torus is sampled for the lines of each "
       "contact's precession (≥ 4).",
       [](Scene& x) -> int& { return x.analysis.tori.samples; }));
+  s.push_back(Choice(
+      "analysis.tori.neimark_sacker",
+      "\"follow\": the tori born at the Neimark–Sacker points of the modulated orbits of "
+      "[analysis.orbits]; \"skip\": no modulated orbits and none of those tori — only the tori "
+      "of [analysis.tori.transient], which must then be given.",
+      {"follow", "skip"},
+      [](Scene& x, const std::string& name) { x.analysis.tori.from_neimark_sacker = name == "follow"; },
+      [](const Scene& x) {
+        return std::string(x.analysis.tori.from_neimark_sacker ? "follow" : "skip");
+      }));
+  // [analysis.tori.transient]: the tori through the torus a settled transient lies on.
+  s.push_back(Float("analysis.tori.transient.speed_rpm", "rpm", Rule::kPositive,
+                    "Running speed of the transient: one speed of the scene's sweep model "
+                    "([analysis.sweep]: integrator, windows, impulse) run from rest and the impulse "
+                    "for `seconds`; the torus it settles on is solved there (its map by CVODES "
+                    "BDF) and continued towards lower and higher speed over speed_range_rpm (the "
+                    "map by [analysis.orbits]' integrator); inside analysis.speed_range_rpm.",
+                    [](Scene& x) -> double& { return x.analysis.tori.transient.speed_rpm; },
+                    Presence::kRequiredInSection));
+  s.back().default_text = "no transient";
+  s.push_back(Float("analysis.tori.transient.seconds", "s", Rule::kPositive,
+                    "Length of the transient from rest and the impulse, at least "
+                    "(settle_windows + 1)·settle_window of [analysis.sweep] (C(a) at 49 rpm: 8 s; "
+                    "the torus then attracts for 4 s more before its points are taken).",
+                    [](Scene& x) -> double& { return x.analysis.tori.transient.seconds; },
+                    Presence::kOptional));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.transient.harmonics", ValueType::kInteger, "-", Rule::kCount,
+      Presence::kOptional,
+      "K of the transient's circles (2K + 1 points). C(a) at 49 rpm: K = 4 fits no circle to "
+      "the transient's points; at K = 16 Newton met a singular Jacobian from the Dormand–Prince "
+      "transient of the sweep's defaults (it converged from a BDF one: "
+      "tests/shooting/modulated_orbit_test.cpp); K = 8 converged from both.",
+      [](Scene& x) -> int& { return x.analysis.tori.transient.harmonics; }));
+  s.push_back(Float("analysis.tori.transient.max_fourier_tail", "-", Rule::kOpenUnit,
+                    "As analysis.tori.max_fourier_tail, for the transient's families (a torus far "
+                    "from its birth is less smooth: C(a) at 49 rpm has a tail of 0.016 at K = 8).",
+                    [](Scene& x) -> double& { return x.analysis.tori.transient.max_fourier_tail; },
+                    Presence::kOptional));
 
   // Every default is the initializer of its Scene field (and the structs inside it): written once.
   const Scene defaults;
@@ -1312,7 +1358,8 @@ class Loader {
       // The keys of an absent [flexible] are not defaults the scene runs with: it is rigid; nor
       // are [analysis.tori]'s of a scene without the stage (its stages precede it in the schema).
       if (spec.Section() == "flexible" && !section_present) continue;
-      if (spec.Section() == "analysis.tori" && !RunsStage(scene, Stage::kTori)) continue;
+      if (IsToriKey(spec) && !RunsStage(scene, Stage::kTori)) continue;
+      if (spec.Section() == "analysis.tori.transient" && !section_present) continue;
       scene.defaulted_keys.push_back(spec.key);
     }
     for (const TableArraySpec& spec : TableArrays())
@@ -1321,6 +1368,7 @@ class Loader {
     if (!ModelOf(scene).parameter.empty()) CheckOrbitsStart(scene);
     scene.flexible.enabled =
         scene.model == ModelKind::kTwoPoint && present_sections_.count("flexible") > 0;
+    scene.analysis.tori.transient.enabled = present_sections_.count("analysis.tori.transient") > 0;
     if (scene.flexible.enabled && problems_.empty()) CheckFlexible(scene);
     if (problems_.empty()) CheckSweep(scene);
     if (problems_.empty()) CheckTori(scene);
@@ -1627,8 +1675,24 @@ class Loader {
 
   // Rules of [analysis.sweep] that tie two keys together, each reported at the key it names.
   void CheckTori(const Scene& scene) {
-    if (scene.analysis.tori.samples < 4)
-      KeyProblem(scene, "analysis.tori.samples", "must be at least 4");
+    const RubToriSettings& t = scene.analysis.tori;
+    if (t.samples < 4) KeyProblem(scene, "analysis.tori.samples", "must be at least 4");
+    if (!RunsStage(scene, Stage::kTori)) return;
+    if (!t.from_neimark_sacker && !t.transient.enabled)
+      KeyProblem(scene, "analysis.tori.neimark_sacker",
+                 "leaves the stage \"tori\" nothing to compute: give [analysis.tori.transient]");
+    if (!t.transient.enabled) return;
+    const auto& range = scene.analysis.speed_range_rpm;
+    if (t.transient.speed_rpm < range[0] || t.transient.speed_rpm > range[1])
+      KeyProblem(scene, "analysis.tori.transient.speed_rpm",
+                 fmt::format("must lie in analysis.speed_range_rpm = [{}, {}]", FormatFloat(range[0]),
+                             FormatFloat(range[1])));
+    const SweepSettings& w = scene.analysis.sweep;
+    const double shortest = (w.settle_windows + 1) * w.settle_window;
+    if (t.transient.seconds < shortest * (1.0 - 1e-12))
+      KeyProblem(scene, "analysis.tori.transient.seconds",
+                 fmt::format("must be at least (settle_windows + 1)·settle_window of "
+                             "[analysis.sweep] = {} s", shortest));
   }
 
   void CheckSweep(const Scene& scene) {
@@ -1802,7 +1866,8 @@ bool Applies(const KeySpec& spec, ModelKind model) { return !spec.model || *spec
 // when the scene runs the stage "tori" (the results of every other scene stay as they were).
 bool Resolved(const KeySpec& spec, const Scene& scene) {
   return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled) &&
-         (spec.Section() != "analysis.tori" || RunsStage(scene, Stage::kTori)) &&
+         (!IsToriKey(spec) || RunsStage(scene, Stage::kTori)) &&
+         (spec.Section() != "analysis.tori.transient" || scene.analysis.tori.transient.enabled) &&
          (!spec.relevant || spec.relevant(scene));
 }
 

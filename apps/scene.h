@@ -124,6 +124,16 @@ struct RubToriSettings {
   int max_steps = 40;              // continuation steps from each Neimark–Sacker point
   int lyapunov_iterates = 40;      // iterates of the map for each torus's Lyapunov exponents
   int samples = 64;                // instants per period for the lines of each contact
+  bool from_neimark_sacker = true;  // neimark_sacker = "follow" (else "skip")
+  // [analysis.tori.transient]: the tori through the torus a settled transient lies on
+  // (ContinueTransientTori), for whips no Neimark–Sacker point of a computed family reaches.
+  struct Transient {
+    bool enabled = false;           // the section is given
+    double speed_rpm = 49.0;        // required in the section, inside speed_range_rpm
+    double seconds = 8.0;           // the transient from rest and the impulse [s]
+    int harmonics = 8;              // K of its circles
+    double max_fourier_tail = 0.2;  // its families' breakdown / locking event
+  } transient;
 };
 
 // [analysis]: what to compute.

@@ -12,9 +12,11 @@
 
 #include "apps/orbit_output.h"
 #include "apps/orbits_stage.h"
+#include "apps/stage_options.h"
 #include "models/units.h"
 #include "shooting/rub_tori.h"
 #include "solvers/stopwatch.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 
@@ -48,9 +50,11 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   writer.CreateGroup(group);
   const Branch& b = tori.branch;
   writer.SetAttribute(group, "parent", parent);
-  writer.SetAttribute(group, "birth_speed_rpm", RadPerSecondToRpm(tori.birth_lambda));
-  writer.SetAttribute(group, "birth_rotation_number", tori.birth_rotation_number);
-  writer.SetAttribute(group, "birth_modulus", tori.birth_modulus);
+  if (std::isfinite(tori.birth_lambda)) {  // born at a Neimark–Sacker point
+    writer.SetAttribute(group, "birth_speed_rpm", RadPerSecondToRpm(tori.birth_lambda));
+    writer.SetAttribute(group, "birth_rotation_number", tori.birth_rotation_number);
+    writer.SetAttribute(group, "birth_modulus", tori.birth_modulus);
+  }
   writer.SetAttribute(group, "harmonics", static_cast<double>(tori.harmonics));
   writer.SetAttribute(group, "end", ToString(tori.end));
   writer.SetAttribute(group, "end_note", tori.end_note);
@@ -169,6 +173,110 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
 
+// The tori through the torus a transient settles on ([analysis.tori.transient]): the transient,
+// its torus, both families written as /tori/transient_down and /tori/transient_up.
+void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOptions options,
+                      StageContext& context) {
+  const RubToriSettings::Transient& t = scene.analysis.tori.transient;
+  std::ostream& out = context.out;
+  const SteadyClock::time_point t0 = SteadyClock::now();
+  const double omega = RpmToRadPerSecond(t.speed_rpm);
+  SweepOptions sweep = SweepOptionsOf(scene, SweepDirection::kUp);
+  sweep.parameters = {omega};
+  sweep.dwell = t.seconds;
+  sweep.rotate_forcing_phase = false;  // the plan's structure is balanced
+  context.progress(fmt::format("[tori] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
+  const RubSettledSpeed transient = SettleAtSpeed(plan.structure, sweep, scene.analysis.sweep.impulse);
+  fmt::print(out, "[tori] transient at {:g} rpm, {:g} s from rest and a {:g} N·s impulse ({}): "
+                  "{}, backward precession {:.4f} Hz at the {} contact ({:.1f} s)\n",
+             t.speed_rpm, t.seconds, scene.analysis.sweep.impulse, ToString(sweep.integrator.method),
+             transient.settled ? "settled" : "not settled", transient.precession_hz,
+             plan.structure.contacts[0].name, SecondsSince(t0));
+  if (!(transient.precession_hz > 0.0)) {
+    const std::string why = fmt::format(
+        "the transient at {:g} rpm shows no backward precession at the {} contact ({}): no frame "
+        "to solve its torus in", t.speed_rpm, plan.structure.contacts[0].name,
+        transient.point.message);
+    fmt::print(out, "  transient: {}\n", why);
+    context.failures.push_back("[tori] " + why);
+    return;
+  }
+  ModulatedTorusOptions start;
+  start.harmonics = t.harmonics;
+  // C(a) at 49 rpm: with 2 s of approach and search the points were no circle (misfit 15 % of
+  // their size); with 4 s each they were (README.md, "Tori from a settled transient").
+  start.approach = 4.0;
+  start.search_duration = 4.0;
+  start.newton.max_iterations = 30;
+  start.lyapunov_iterates = 0;  // the families' first torus has its exponents
+  options.tori.max_fourier_tail = t.max_fourier_tail;
+  if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {
+    // The start's BDF at the orbits' tolerance: with the sensitivities under error control a
+    // torus's map took 70 times the steps (ModulatedTorusOptions::integrator).
+    options.tori.integrator = start.integrator;
+    options.tori.integrator.relative_tolerance = options.tori.integrator.absolute_tolerance =
+        scene.analysis.orbits.tolerance;
+  } else {
+    options.tori.integrator = plan.options.orbits.shooting.integrator;  // a share of the period's mesh
+    options.tori.integrator.collocation_steps *= plan.options.orbits.shooting.segments;
+  }
+  context.progress(fmt::format("[tori] transient at {:g} rpm: its torus ({} harmonics)", t.speed_rpm,
+                               t.harmonics));
+  const RubTransientTori result = ContinueTransientTori(
+      plan.structure, omega, 2.0 * M_PI * transient.precession_hz, transient.state, start, options,
+      [&](std::size_t j, const Branch& b) {
+        context.progress(fmt::format("[tori] transient_{}: {} tori, {:.4f} rpm, ρ = {:.6f}, {:.0f} s",
+                                     j == 0 ? "down" : "up", b.Size(),
+                                     RadPerSecondToRpm(b.points.back().lambda),
+                                     b.points.back().measures(0), SecondsSince(t0)));
+        return true;
+      });
+  const ModulatedTorus& torus = result.start;
+  fmt::print(out, "  its torus ({} harmonics, {} modulation period{} per section; {:.1f} s): {}\n",
+             t.harmonics, torus.laps, torus.laps == 1 ? "" : "s", torus.seconds, torus.message);
+  if (!torus.converged) {
+    context.failures.push_back(fmt::format("[tori] the torus of the transient at {:g} rpm: {}",
+                                           t.speed_rpm, torus.message));
+    return;
+  }
+  for (std::size_t j = 0; j < result.tori.size(); ++j) {
+    const TorusBranch& tori = result.tori[j];
+    const std::string name = j == 0 ? "transient_down" : "transient_up";
+    if (!tori.ok) {
+      fmt::print(out, "  {}: no start: {}\n", name, tori.message);
+      context.failures.push_back(fmt::format("[tori] {}: {}", name, tori.message));
+      continue;
+    }
+    const std::string group = "/tori/" + name;
+    WriteTorusFamily(context.writer, group, "transient", tori, result.lines[j], plan.structure);
+    ResultWriter& w = context.writer;
+    w.SetAttribute(group, "numerics",
+                   fmt::format("invariant circles of {} harmonics ({} points); the first solved "
+                               "with each point over one period by CVODES BDF ≤ 2 at {:g} "
+                               "(sensitivities outside the error test), then by the orbits' {}",
+                               t.harmonics, 2 * t.harmonics + 1, start.integrator.relative_tolerance,
+                               RubOrbitsNumerics(scene.analysis.orbits)));
+    w.SetAttribute(group, "transient_speed_rpm", t.speed_rpm);
+    w.SetAttribute(group, "transient_seconds", t.seconds);
+    w.SetAttribute(group, "transient_settled", transient.settled ? 1.0 : 0.0);
+    w.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
+    w.SetAttribute(group, "start_laps", static_cast<double>(torus.laps));
+    w.SetAttribute(group, "start_rotation_number", torus.rotation_number);
+    w.SetAttribute(group, "start_first_hz", torus.first_hz);
+    w.SetAttribute(group, "start_second_hz", torus.second_hz);
+    w.SetAttribute(group, "start_carrier_hz", torus.carrier_hz);
+    w.SetAttribute(group, "start_fourier_tail", torus.fourier_tail);
+    w.SetAttribute(group, "start_invariance_error", torus.invariance_error);
+    w.SetAttribute(group, "start_message", torus.message);
+    fmt::print(out, "  {}: {} ({:.1f} s)\n    {}\n", name, tori.branch.BriefReport(),
+               SecondsSince(t0), tori.end_note);
+    PrintTori(tori, result.lines[j], plan.structure, out);
+    if (tori.end == TorusEnd::kFailed) {
+      context.failures.push_back(fmt::format("[tori] {}: {}", name, tori.end_note));
+    }
+  }
+}
+
 }  // namespace
 
 void RunRubTori(const Scene& scene, StageContext& context) {
@@ -177,25 +285,36 @@ void RunRubTori(const Scene& scene, StageContext& context) {
   const RubTorusOptions options = TorusOptionsOf(scene, plan);
   ResultWriter& writer = context.writer;
   std::ostream& out = context.out;
+  const RubToriSettings& settings = scene.analysis.tori;
+  // K of the Neimark–Sacker families, or of the transient's when those are skipped.
+  const int harmonics = settings.from_neimark_sacker ? settings.harmonics : settings.transient.harmonics;
   const std::string numerics =
       fmt::format("invariant circles of {} harmonics ({} points), each point over one period by "
                   "the orbits' {}",
-                  options.tori.harmonics, 2 * options.tori.harmonics + 1,
-                  RubOrbitsNumerics(scene.analysis.orbits));
+                  harmonics, 2 * harmonics + 1, RubOrbitsNumerics(scene.analysis.orbits));
   writer.CreateGroup("/tori");
   writer.SetAttribute("/tori", "level", "L2");
   writer.SetAttribute("/tori", "parameter_name", "speed_rpm");
   writer.SetAttribute("/tori", "friction_law", "tanh");
   writer.SetAttribute("/tori", "numerics", numerics);
-  fmt::print(out, "[tori] L2 relative 2-tori ({}) from the Neimark–Sacker points of the modulated "
-                  "orbits born at {} of the {} Hopf points bounding a stable rotating wave ({:.3f} s)\n",
-             numerics, plan.followed, plan.starts.size(), SecondsSince(begin));
+  const std::string transient =
+      settings.transient.enabled
+          ? fmt::format("through the torus a transient settles on at {:g} rpm", settings.transient.speed_rpm)
+          : "";
+  const std::string neimark_sacker =
+      settings.from_neimark_sacker
+          ? fmt::format("from the Neimark–Sacker points of the modulated orbits born at {} of the {} "
+                        "Hopf points bounding a stable rotating wave", plan.followed, plan.starts.size())
+          : "";
+  fmt::print(out, "[tori] L2 relative 2-tori ({}) {}{}{} ({:.3f} s)\n", numerics, neimark_sacker,
+             neimark_sacker.empty() || transient.empty() ? "" : "; ", transient, SecondsSince(begin));
   if (!plan.note.empty()) {
     writer.SetAttribute("/tori", "note", plan.note);
     fmt::print(out, "[tori] note: {}\n", plan.note);
   }
-  PrintHopfStarts(plan, out);
-  for (std::size_t k = 0; k < plan.followed; ++k) {
+  if (settings.from_neimark_sacker) PrintHopfStarts(plan, out);
+  const std::size_t followed = settings.from_neimark_sacker ? plan.followed : 0;
+  for (std::size_t k = 0; k < followed; ++k) {
     const RubHopfStart& start = plan.starts[k];
     const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
     const SteadyClock::time_point t0 = SteadyClock::now();
@@ -247,6 +366,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
       }
     }
   }
+  if (settings.transient.enabled) RunTransientTori(scene, plan, options, context);
 }
 
 }  // namespace rubcont

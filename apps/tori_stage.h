@@ -1,6 +1,8 @@
 // The "tori" stage of `rubcont run` for model two_point (level L2): the modulated orbits of
 // [analysis.orbits] (without side branches), and from each of their Neimark–Sacker points that
-// bounds a stable piece the relative 2-tori born there, continued in speed (shooting/rub_tori.h),
+// bounds a stable piece the relative 2-tori born there, continued in speed (shooting/rub_tori.h;
+// [analysis.tori] neimark_sacker = "skip": none), and with [analysis.tori.transient] the tori
+// through the torus a transient settles on,
 // summarized on `out` and written as
 //   /tori                          attrs level, parameter_name ("speed_rpm"), numerics (the
 //                                  orbits' integrator and mesh, K, points), friction_law
@@ -25,6 +27,17 @@
 //                                  [s], φ [rad]: InvariantCircleProblem::Pack), so that a torus
 //                                  can be reopened; the frame turns at its family's
 //                                  hopf_precession_hz.
+//   /tori/transient_down, _up    with [analysis.tori.transient]: the tori through the torus a
+//                                  transient settles on, continued towards lower / higher speed
+//                                  (as the families above without birth_*; parent "transient"),
+//                                  attrs numerics, transient_speed_rpm, transient_seconds,
+//                                  transient_settled (1 / 0), frame_precession_hz (the
+//                                  transient's backward precession at the first contact: the
+//                                  frame's rate), start_laps, start_rotation_number,
+//                                  start_first_hz, start_second_hz, start_carrier_hz,
+//                                  start_fourier_tail, start_invariance_error, start_message (the
+//                                  torus solved on the transient's points, before the families'
+//                                  first correction by the orbits' integrator).
 //   /tori/<...>_ns<j>_locked       where that family ends in phase locking at p:q: the q-lap
 //                                  relative periodic orbits of the resonance (apps/orbit_output.h
 //                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the

@@ -33,8 +33,6 @@ int Main(int argc, char** argv) {
 
   // The transient: 8 s at the speed from rest plus the impulse, settled by 0.5 s windows.
   const double settle_start = ProcessCpuSeconds();
-  RubFixedFrame system(structure);
-  RubSweepObservables observables(system);
   SweepOptions sweep;
   sweep.parameters = {omega};
   sweep.dwell = 8.0;
@@ -43,13 +41,11 @@ int Main(int argc, char** argv) {
   sweep.integrator.max_order = 2;
   sweep.integrator.relative_tolerance = sweep.integrator.absolute_tolerance = 1e-6;
   sweep.integrator.max_steps = 100000000;
-  SweepStepper stepper(system, observables, sweep, RubImpulseIncrement(structure, 1.0));
-  stepper.Step();
-  const SweepPoint& point = stepper.points().back();
-  const double precession_hz = -point.channels[0].peak.frequency;
+  const RubSettledSpeed transient = SettleAtSpeed(structure, sweep, 1.0);
+  const double precession_hz = transient.precession_hz;
   std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", rpm,
-              point.status == SweepPointStatus::kSettled ? "settled" : "did not settle",
-              precession_hz, CpuSecondsSince(settle_start));
+              transient.settled ? "settled" : "did not settle", precession_hz,
+              CpuSecondsSince(settle_start));
 
   ModulatedTorusOptions start;
   start.harmonics = harmonics;
@@ -59,7 +55,7 @@ int Main(int argc, char** argv) {
   start.lyapunov_iterates = 0;
   if (steps == 0) {
     const ModulatedTorus torus =
-        SolveModulatedTorus(structure, omega, 2 * M_PI * precession_hz, stepper.state(), start);
+        SolveModulatedTorus(structure, omega, 2 * M_PI * precession_hz, transient.state, start);
     std::printf("start (%.1f s wall): %s\n", torus.seconds, torus.message.c_str());
     if (!torus.converged) return 1;
     const auto frame = std::make_shared<RubRotatingFrame>(structure, 2 * M_PI * precession_hz, omega);
@@ -109,7 +105,7 @@ int Main(int argc, char** argv) {
   const auto frame = std::make_shared<RubRotatingFrame>(structure, 2 * M_PI * precession_hz, omega);
   InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative);
   const RubTransientTori tori = ContinueTransientTori(
-      structure, omega, 2 * M_PI * precession_hz, stepper.state(), start, options,
+      structure, omega, 2 * M_PI * precession_hz, transient.state, start, options,
       [&](std::size_t family, const Branch& branch) {
         const BranchPoint& p = branch.points.back();
         const double rho = circle.RotationNumber(p.u);

@@ -137,6 +137,10 @@ void BorderedCorrector::SolveTangent(Vector& tangent) {
   tangent /= tangent.norm();
 }
 
+namespace {
+constexpr int kMaxHalvings = 4;  // of a Newton step whose end has no finite residual
+}  // namespace
+
 CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& border,
                                            double sigma, const Vector& guess,
                                            CorrectedPoint& out, bool accept_singular_solution) {
@@ -163,12 +167,20 @@ CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& bo
     rhs_.head(n) = -F_;
     rhs_(n) = constraint;
     lu_.Solve(rhs_, delta_);
+    if (!delta_.allFinite()) return CorrectorStatus::kNonFinite;
     out.x += delta_;
     out.iterations = iteration;
-    out.step_norm = delta_.lpNorm<Eigen::Infinity>();
-    if (!system_.Residual(out.x, F_) || !std::isfinite(out.step_norm)) {
-      return CorrectorStatus::kNonFinite;
+    // A Newton step that leaves the residual's domain (a shooting problem's integration failing
+    // on the way: C(a)'s torus at 49 rpm, corrected by Gauss collocation from BDF's solution) is
+    // halved until the residual is finite again, at most kMaxHalvings times.
+    bool finite = system_.Residual(out.x, F_);
+    for (int halving = 0; !finite && halving < kMaxHalvings; ++halving) {
+      delta_ *= 0.5;
+      out.x -= delta_;
+      finite = system_.Residual(out.x, F_);
     }
+    if (!finite) return CorrectorStatus::kNonFinite;
+    out.step_norm = delta_.lpNorm<Eigen::Infinity>();
     const double previous_norm = out.residual_norm;
     out.residual_norm = F_.lpNorm<Eigen::Infinity>();
     // The round-off floor of an ill-conditioned system: the residual is already below tolerance

@@ -54,8 +54,7 @@ def scatter_stable(ax, x, y, stable, color, label):
     for flag, face, edge in ((1, color, color), (0, "none", color), (-1, "none", "#999999")):
         pick = stable == flag
         if np.any(pick):
-            ax.plot(x[pick], y[pick], "o", ms=4, mfc=face, mec=edge, lw=0,
-                    label=label if flag != -1 else None)
+            ax.plot(x[pick], y[pick], "o", ms=4, mfc=face, mec=edge, lw=0, label=label)
             label = None
 
 

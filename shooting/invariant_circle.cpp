@@ -165,17 +165,21 @@ const InvariantCircleProblem::Integrated& InvariantCircleProblem::Integrate(cons
   if (sensitivities) {
     cached_.stms.assign(static_cast<size_t>(points_), Matrix());
     cached_.dpdp.resize(n_, points_);
+    cached_.dpdt.resize(n_, points_);
   }
-  Vector end(n_), dxdp(n_);
+  Vector end(n_), dxdp(n_), dxdt(n_);
   for (Index j = 0; j < points_; ++j) {
     const Vector start = PointAt(u, Node(j));
     const IntegrationResult result =
         sensitivities ? integrator.Integrate(0.0, start, period, end,
-                                             &cached_.stms[static_cast<size_t>(j)], &dxdp)
+                                             &cached_.stms[static_cast<size_t>(j)], &dxdp, &dxdt)
                       : integrator.Integrate(0.0, start, period, end);
     if (!result.Succeeded()) return cached_;  // ok stays false
     cached_.ends.col(j) = end;
-    if (sensitivities) cached_.dpdp.col(j) = dxdp;
+    if (sensitivities) {
+      cached_.dpdp.col(j) = dxdp;
+      cached_.dpdt.col(j) = dxdt;
+    }
   }
   cached_.ok = true;
   return cached_;
@@ -223,7 +227,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
   const double phi = Rotation(u);
   const Matrix R = RotationMatrix(phi);
   const Index rho_column = n_ * points_;
-  Vector f(n_), g(n_);
+  Vector g(n_);
   for (Index j = 0; j < points_; ++j) {
     const double theta = Node(j);
     const Vector at = Basis(theta);
@@ -237,10 +241,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
       }
     }
     J.block(n_ * j, rho_column, n_, 1) = -kTwoPi * (R * (c * BasisDerivative(theta + kTwoPi * rho)));
-    if (kind_ != OrbitKind::kForced) {
-      system_->Rhs(0.0, data.ends.col(j), f);
-      J.block(n_ * j, rho_column + 1, n_, 1) = f;
-    }
+    if (kind_ != OrbitKind::kForced) J.block(n_ * j, rho_column + 1, n_, 1) = data.dpdt.col(j);
     if (kind_ == OrbitKind::kRelative) {
       system_->RotationGenerator(R * (c * shifted), g);
       J.block(n_ * j, rho_column + 2, n_, 1) = -g;

@@ -157,6 +157,9 @@ class InvariantCircleProblem : public Problem {
     Matrix ends;                  // n × N: P(u(θ_j))
     std::vector<Matrix> stms;     // M_j (with sensitivities)
     Matrix dpdp;                  // n × N: ∂P/∂λ (with sensitivities)
+    // n × N: ∂P/∂T, the integrator's own (OdeIntegrator::Integrate's dxdt1: for Gauss collocation
+    // its map's, not f at the end); with sensitivities.
+    Matrix dpdt;
   };
   // The collocation point θ_j = 2πj/N.
   double Node(Index j) const;

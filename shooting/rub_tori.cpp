@@ -185,8 +185,14 @@ RubTransientTori ContinueTransientTori(
   const RubRotatingFrame frame(structure, frame_rate, omega);
   for (const int direction : {-1, +1}) {
     tori.continuation.direction = direction;
+    // Upwards from the downward family's first torus: the start corrected by `tori.integrator`
+    // once (30–60 s on C(a) at 49 rpm), not twice.
+    const bool corrected = !result.tori.empty() && result.tori[0].ok &&
+                           !result.tori[0].branch.points.empty();
+    const BranchPoint* first = corrected ? &result.tori[0].branch.points.front() : nullptr;
     result.tori.push_back(ContinueTori(std::make_shared<RubRotatingFrame>(frame),
-                                       OrbitKind::kRelative, result.start.u, omega, tori,
+                                       OrbitKind::kRelative, first ? first->u : result.start.u,
+                                       first ? first->lambda : omega, tori,
                                        FamilyStep(on_torus_step, result.tori.size())));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori.integrator, options.samples));
   }

@@ -79,7 +79,8 @@ RubModulatedTori ContinueModulatedTori(
 // section's laps, the start's integrator), then ContinueTori towards lower and towards higher speed
 // over options.tori's range with options.tori's integrator (a Gauss mesh given per modulation
 // period: collocation_steps is multiplied by the section's laps), K the start's, each torus read by
-// TorusLines. For whips that no Neimark–Sacker point of a computed family reaches (C(a) beyond the
+// TorusLines; the family upwards starts from the downward family's first torus (the start once
+// corrected by that integrator). For whips that no Neimark–Sacker point of a computed family reaches (C(a) beyond the
 // 2:5 tongue). Decision: two integrators — from the circle fitted to a transient's points Newton
 // with the map by Gauss collocation failed (C(a) at 49 rpm, 400 intervals per period: a non-finite
 // residual after 5 iterations; at 60 rpm the collocation equations' own Newton did not converge on

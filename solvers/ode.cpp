@@ -368,7 +368,7 @@ double ParameterScale(const IntegratorOptions& options, double p) {
 }  // namespace
 
 IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double t1, VectorRef x1,
-                                           Matrix* stm, Vector* dxdp) {
+                                           Matrix* stm, Vector* dxdp, Vector* dxdt1) {
   const Index n = impl_->n();
   CheckSize("x0", x0.size(), n);
   CheckSize("x1", x1.size(), n);
@@ -377,8 +377,13 @@ IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double 
   if (dxdp != nullptr && stm == nullptr) {
     throw std::invalid_argument("OdeIntegrator::Integrate: dxdp requires stm as well");
   }
+  if (dxdt1 != nullptr && stm == nullptr) {
+    throw std::invalid_argument("OdeIntegrator::Integrate: dxdt1 requires stm as well");
+  }
   if (stm != nullptr) stm->resize(n, n);
   if (dxdp != nullptr) dxdp->resize(n);
+  if (dxdt1 != nullptr) dxdt1->resize(n);
+  const bool gauss = impl_->options().method == IntegrationMethod::kGaussCollocation;
   Vector& x0_copy = impl_->x0_buffer();
   x0_copy = x0;
   detail::IntegrationRequest request;
@@ -389,8 +394,11 @@ IntegrationResult OdeIntegrator::Integrate(double t0, ConstVectorRef x0, double 
   request.x_final = x1.data();
   request.stm = stm != nullptr ? stm->data() : nullptr;
   request.dxdp = dxdp != nullptr ? dxdp->data() : nullptr;
+  request.dxdt1 = dxdt1 != nullptr && gauss ? dxdt1->data() : nullptr;
   request.parameter_scale = ParameterScale(impl_->options(), impl_->system().Parameter());
-  return impl_->Run(request);
+  IntegrationResult result = impl_->Run(request);
+  if (dxdt1 != nullptr && !gauss && result.Succeeded()) impl_->system().Rhs(t1, x1, *dxdt1);
+  return result;
 }
 
 IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0, double t1,

@@ -18,6 +18,8 @@
 // Differentiating G(Z(x_n, p), x_n, p) = 0:
 //   M W = h (A ⊗ I) [J_i Φ_n]_i,             Φ_{n+1} = Φ_n + Σ d_i W_i;
 //   M w = h (A ⊗ I) [J_i q_n + ∂f/∂p(X_i)]_i,  q_{n+1} = q_n + Σ d_i w_i,
+// and with h = (t1 − t0)/N, the derivative of the whole map in its end time t1 (Z = h (A ⊗ I) F):
+//   M v = h (A ⊗ I) [J_i r_n + ∂f/∂t(X_i)·(n + c_i)/N]_i + Z/(t1 − t0),  r_{n+1} = r_n + Σ d_i v_i,
 // with the factorisation of M from the last Newton iteration (its Jacobians one increment below
 // the converged stages: a relative error of the Newton tolerance in Φ).
 //
@@ -211,12 +213,19 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
   Eigen::Map<Vector> x_final(request.x_final, n);
   const bool with_stm = request.stm != nullptr;
   const bool with_dxdp = request.dxdp != nullptr;
+  const bool with_dxdt1 = request.dxdt1 != nullptr;
   x_ = x0;
   const Index stm_columns = request.StmColumns(n);
   Eigen::Map<Matrix> stm(request.stm, with_stm ? n : 0, stm_columns);
   Eigen::Map<Vector> dxdp(request.dxdp, with_dxdp ? n : 0);
   for (Index j = 0; j < stm_columns; ++j) stm.col(j) = request.InitialColumn(j, n);
   if (with_dxdp) dxdp.setZero();
+  Eigen::Map<Vector> dxdt1(request.dxdt1, with_dxdt1 ? n : 0);
+  if (with_dxdt1) {
+    dxdt1.setZero();
+    later_.resize(n);
+    earlier_.resize(n);
+  }
   Index output = 0;  // outputs at t0 are x0
   while (output < request.count && request.times[output] == t0) {
     if (request.states != nullptr) Eigen::Map<Vector>(request.states + output * n, n) = x_;
@@ -263,19 +272,37 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
       ++output;
     }
     if (with_stm) {
-      // Right-hand sides h (A ⊗ I) [J_i Φ_n, J_i q_n + ∂f/∂p]: stm's columns (+1).
-      const Index columns = with_dxdp ? stm_columns + 1 : stm_columns;
+      // Right-hand sides h (A ⊗ I) [J_i Φ_n, J_i q_n + ∂f/∂p, J_i r_n + ∂f/∂t·(step + c_i)/N]
+      // (+ Z/(t1 − t0) for r): stm's columns, then dxdp's and dxdt1's when asked for.
+      const Index p_column = stm_columns;
+      const Index t1_column = stm_columns + (with_dxdp ? 1 : 0);
+      const Index columns = t1_column + (with_dxdt1 ? 1 : 0);
       sensitivity_rhs_.resize(n * s, columns);
       blocks_.resize(n * s, columns);
       for (Index i = 0; i < s; ++i) {
         const Matrix& J = jacobians_[static_cast<std::size_t>(i)];
+        const double ti = t + coefficients_.c(i) * h;
         blocks_.block(i * n, 0, n, stm_columns).noalias() = J * stm;
+        stage_state_ = x_ + stages_.col(i);
         if (with_dxdp) {
-          stage_state_ = x_ + stages_.col(i);
-          if (EvaluateDfDparameter(context_, t + coefficients_.c(i) * h, stage_state_.data()) != 0) {
+          if (EvaluateDfDparameter(context_, ti, stage_state_.data()) != 0) {
             return Fail(IntegrationStatus::kRhsFailure, t, "∂f/∂p failed");
           }
-          blocks_.block(i * n, stm_columns, n, 1).noalias() = J * dxdp + context_.dfdp;
+          blocks_.block(i * n, p_column, n, 1).noalias() = J * dxdp;
+          blocks_.block(i * n, p_column, n, 1) += context_.dfdp;
+        }
+        if (with_dxdt1) {
+          blocks_.block(i * n, t1_column, n, 1).noalias() = J * dxdt1;
+          // ∂f/∂t by a central difference (exactly 0 for an autonomous f): the stage time
+          // t0 + (step + c_i)(t1 − t0)/N moves with t1 at (step + c_i)/N.
+          const double dt = 1e-6 * std::max(std::abs(ti), std::abs(h));
+          if (EvaluateRhs(context_, ti + dt, stage_state_.data(), later_.data()) != 0 ||
+              EvaluateRhs(context_, ti - dt, stage_state_.data(), earlier_.data()) != 0) {
+            return Fail(IntegrationStatus::kRhsFailure, t, "the right-hand side failed");
+          }
+          blocks_.block(i * n, t1_column, n, 1) +=
+              (later_ - earlier_) / (2.0 * dt) *
+              ((static_cast<double>(step) + coefficients_.c(i)) / static_cast<double>(steps));
         }
       }
       for (Index i = 0; i < s; ++i) {
@@ -283,11 +310,14 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
         for (Index j = 0; j < s; ++j) {
           sensitivity_rhs_.middleRows(i * n, n) += (h * coefficients_.A(i, j)) * blocks_.middleRows(j * n, n);
         }
+        // The step h = (t1 − t0)/N itself: ∂G/∂t1 = −(A ⊗ I) F / N = −Z/(t1 − t0) at the stages.
+        if (with_dxdt1) sensitivity_rhs_.block(i * n, t1_column, n, 1) += stages_.col(i) / (t1 - t0);
       }
       blocks_ = lu_.solve(sensitivity_rhs_);
       for (Index i = 0; i < s; ++i) {
         stm += coefficients_.d(i) * blocks_.block(i * n, 0, n, stm_columns);
-        if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, stm_columns, n, 1);
+        if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, p_column, n, 1);
+        if (with_dxdt1) dxdt1 += coefficients_.d(i) * blocks_.block(i * n, t1_column, n, 1);
       }
     }
     previous_x_ = x_;

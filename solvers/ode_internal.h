@@ -102,6 +102,9 @@ struct IntegrationRequest {
   double* x_final = nullptr;      // n
   double* stm = nullptr;          // n × columns (below), column-major, or null
   double* dxdp = nullptr;         // n, or null (only with stm and without seeds)
+  // ∂x(t1)/∂t1 of the method's own map, n, or null (only with stm and without seeds; Gauss only:
+  // OdeIntegrator computes f(t1, x1) for the others).
+  double* dxdt1 = nullptr;
   // The sensitivities' initial columns: null for the identity (stm is then Φ, n × n), otherwise
   // n × seed_count (1 ≤ seed_count ≤ n) and stm receives Φ·seeds, n × seed_count.
   const double* seeds = nullptr;
@@ -189,7 +192,7 @@ class GaussBackend {
   IntegratorOptions options_;
   GaussCoefficients coefficients_;
   IntegrationStatistics statistics_;
-  Vector x_, previous_x_, stage_state_;
+  Vector x_, previous_x_, stage_state_, later_, earlier_;
   Matrix stages_, previous_stages_, derivatives_;  // n × s: Z, Z of the previous step, F
   std::vector<Matrix> jacobians_;                   // J at each stage
   std::vector<Vector> extrapolation_;               // γ(1 + c_i)

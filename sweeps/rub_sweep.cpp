@@ -69,6 +69,25 @@ Vector RubImpulseIncrement(const RubStructure& structure, double impulse) {
   return dx;
 }
 
+RubSettledSpeed SettleAtSpeed(const RubStructure& structure, const SweepOptions& options,
+                              double impulse) {
+  if (options.parameters.size() != 1) {
+    throw std::invalid_argument(fmt::format(
+        "SettleAtSpeed: options.parameters holds {} speeds: must hold exactly one",
+        options.parameters.size()));
+  }
+  RubFixedFrame system(structure);
+  RubSweepObservables observables(system);
+  SweepStepper stepper(system, observables, options, RubImpulseIncrement(structure, impulse));
+  stepper.Step();
+  RubSettledSpeed out;
+  out.state = stepper.state();
+  out.point = stepper.points().back();
+  out.precession_hz = out.point.channels.empty() ? kNaN : -out.point.channels[0].peak.frequency;
+  out.settled = out.point.status == SweepPointStatus::kSettled;
+  return out;
+}
+
 std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm) {
   if (!std::isfinite(from_rpm) || !std::isfinite(to_rpm) || !(from_rpm > 0.0) || !(to_rpm > 0.0)) {
     throw std::invalid_argument(fmt::format(

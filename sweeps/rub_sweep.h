@@ -50,6 +50,22 @@ class RubSweepObservables : public SweepObservables {
 // (Mode 1 excitation, as the thesis's impulse; its §4.2 could not start Mode 2 either way).
 Vector RubImpulseIncrement(const RubStructure& structure, double impulse);
 
+// The time-marching model at one running speed, options.parameters[0] (its only entry), from
+// rest plus an impulse [N·s] (RubImpulseIncrement): one speed of a sweep (SweepStepper, settled by
+// options' windows within options.dwell). For a start on the attractor a transient settles on
+// (shooting/rub_tori.h: the torus of a two-frequency whip). Throws std::invalid_argument when
+// options.parameters does not hold exactly one speed, and as RubImpulseIncrement and SweepStepper.
+struct RubSettledSpeed {
+  Vector state;      // fixed frame, where the run ended
+  SweepPoint point;  // what the sweep read there (status, each contact's spectrum)
+  // The backward precession of the first contact [Hz]: minus its spectrum's peak (on the default
+  // peak_side, negative frequencies); NaN when the run failed before a spectrum.
+  double precession_hz = 0.0;
+  bool settled = false;  // point.status == kSettled
+};
+RubSettledSpeed SettleAtSpeed(const RubStructure& structure, const SweepOptions& options,
+                              double impulse);
+
 // Running speeds from `from_rpm` towards `to_rpm` in steps of `step_rpm` (> 0): from, from ± step,
 // …, up to and including `to_rpm` when it lies on the grid (within 1e-9 steps), otherwise the
 // last value before it. Throws std::invalid_argument for non-finite or non-positive inputs.

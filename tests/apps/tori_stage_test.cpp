@@ -1,6 +1,7 @@
 // The "tori" stage, run as a user runs it: `rubcont run` on case C(a) writes /tori with the
 // modulated family and the tori born at its Neimark–Sacker point (a short family: the committed
 // scene's numerics on 4 harmonics and 2 steps).
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -20,6 +21,13 @@ using testing::Outcome;
 using testing::Slurp;
 using testing::TempDir;
 
+// `text` written as <dir>/<name>.toml and run by `rubcont run --quiet` into dir.
+Outcome RunQuiet(const TempDir& dir, const std::string& name, const std::string& text) {
+  const fs::path scene = dir.path / (name + ".toml");
+  std::ofstream(scene) << text;
+  return testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+}
+
 TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the modulated whip's "
           "Neimark-Sacker point, their frequencies and stability in /tori",
           "[tori][cli]") {
@@ -28,10 +36,7 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
   text = text.substr(0, text.find("[analysis.orbits]"));
   text += "[analysis.orbits]\nhopf_points = 1\nmax_steps = 6\n"
           "[analysis.tori]\nharmonics = 4\nmax_steps = 2\nlyapunov_iterates = 8\nsamples = 8\n";
-  const fs::path scene = dir.path / "ca_tori.toml";
-  std::ofstream(scene) << text;
-  const Outcome run =
-      testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+  const Outcome run = RunQuiet(dir, "ca_tori", text);
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("[tori] L2 relative 2-tori (invariant circles of 4 harmonics (9 points)"));
@@ -81,6 +86,78 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
         Approx(79.2834).margin(1e-4));
 }
 
+TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a transient "
+          "settles on past the 2:5 tongue, continued both ways, in /tori/transient_down and _up",
+          "[tori][cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_C_a_tori.toml");
+  text = text.substr(0, text.find("[analysis]"));
+  // No modulated orbits: only the transient's tori (K = 8; K = 4 fits no circle to its points).
+  text += "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [20.0, 52.0]\n"
+          "[analysis.tori]\nneimark_sacker = \"skip\"\nmax_steps = 1\nlyapunov_iterates = 1\n"
+          "samples = 4\n[analysis.tori.transient]\nspeed_rpm = 49.0\nharmonics = 8\n";
+  const Outcome run = RunQuiet(dir, "ca_transient", text);
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("through the torus a transient settles on at 49 rpm"));
+  CHECK_THAT(run.out, Contains("[tori] transient at 49 rpm, 8 s from rest and a 1 N·s impulse"));
+  const ResultReader file(dir.path / "ca_transient" / "ca_transient.h5");
+  CHECK_FALSE(file.Exists("/tori/orbits"));  // neimark_sacker = "skip"
+  CHECK_THAT(file.ReadStringAttribute("/tori", "numerics"), Contains("8 harmonics (17 points)"));
+  double previous_rho = 0.0;
+  for (const std::string side : {"down", "up"}) {
+    const std::string group = "/tori/transient_" + side;
+    INFO(group);
+    REQUIRE(file.Exists(group));
+    CHECK(file.ReadStringAttribute(group, "parent") == "transient");
+    CHECK_FALSE(file.HasAttribute(group, "birth_speed_rpm"));  // no Neimark–Sacker point
+    CHECK(file.ReadStringAttribute(group, "end") == "reached the step limit");
+    CHECK_THAT(file.ReadStringAttribute(group, "numerics"), Contains("CVODES BDF"));
+    CHECK(file.ReadDoubleAttribute(group, "transient_speed_rpm") == 49.0);
+    CHECK(file.ReadDoubleAttribute(group, "transient_settled") == 1.0);
+    // The torus on the transient's points: one modulation period per section, ρ between the 2:5
+    // tongue and 3/8 (measured 0.37964, f₁ = 129.602 Hz, carrier 79.2833 Hz; the transient's
+    // precession 79.2793 Hz by Dormand–Prince over its last 0.5 s).
+    CHECK(file.ReadDoubleAttribute(group, "start_laps") == 1.0);
+    const double rho0 = file.ReadDoubleAttribute(group, "start_rotation_number");
+    CHECK(rho0 > 3.0 / 8.0);
+    CHECK(rho0 < 2.0 / 5.0);
+    CHECK(file.ReadDoubleAttribute(group, "start_first_hz") == Approx(129.60).margin(0.05));
+    const double carrier0 = file.ReadDoubleAttribute(group, "start_carrier_hz");
+    CHECK(std::abs(carrier0 - file.ReadDoubleAttribute(group, "frame_precession_hz")) < 0.01);
+    const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+    const auto rho = file.ReadDoubles(group + "/rotation_number");
+    const auto f1 = file.ReadDoubles(group + "/first_hz");
+    const auto f2 = file.ReadDoubles(group + "/second_hz");
+    const auto carrier = file.ReadDoubles(group + "/carrier_hz");
+    const auto stable = file.ReadInts(group + "/stable");
+    REQUIRE(rpm.size() == 2);
+    REQUIRE(stable.size() == 2);
+    // Both families start on the same corrected torus at 49 rpm and leave it on their own side,
+    // ρ falling as speed rises (towards 2/5 going down, towards 3/8 going up).
+    CHECK(rpm[0] == Approx(49.0).epsilon(1e-12));
+    if (side == "down") {
+      previous_rho = rho[0];
+      CHECK(rpm[1] < rpm[0]);
+      CHECK(rho[1] > rho[0]);
+    } else {
+      // Corrected again at its start: the same torus to the corrector's tolerance (1e-8).
+      CHECK(rho[0] == Approx(previous_rho).epsilon(1e-8));
+      CHECK(rpm[1] > rpm[0]);
+      CHECK(rho[1] < rho[0]);
+    }
+    for (std::size_t i = 0; i < rpm.size(); ++i) {
+      CHECK(rho[i] > 3.0 / 8.0);
+      CHECK(rho[i] < 2.0 / 5.0);
+      CHECK(f2[i] == Approx(rho[i] * f1[i]).epsilon(1e-12));
+      CHECK(carrier[i] == Approx(carrier0).margin(0.01));
+    }
+    const Matrix unknowns = file.ReadMatrix(group + "/unknowns");
+    CHECK(unknowns.rows() == 2);
+    CHECK(unknowns.cols() == 16 * 17 + 3);
+  }
+}
+
 TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits with code 2",
           "[tori][cli]") {
   TempDir dir;
@@ -97,6 +174,21 @@ TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits w
   const Outcome wrong = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(wrong.exit_code == 2);
   CHECK_THAT(wrong.err, Contains("\"tori\" does not apply to model \"duffing\""));
+  // Nothing left to compute, a transient outside the speed range, too short for the sweep's windows.
+  text = Slurp("scenes/thesis_C_a_tori.toml");
+  text = text.substr(0, text.find("[analysis.tori]"));
+  std::ofstream(scene) << text << "[analysis.tori]\nneimark_sacker = \"skip\"\n";
+  const Outcome nothing = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(nothing.exit_code == 2);
+  CHECK_THAT(nothing.err, Contains("analysis.tori.neimark_sacker = \"skip\": leaves the stage "
+                                   "\"tori\" nothing to compute: give [analysis.tori.transient]"));
+  std::ofstream(scene) << text << "[analysis.tori.transient]\nspeed_rpm = 60.0\nseconds = 0.1\n";
+  const Outcome outside = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(outside.exit_code == 2);
+  CHECK_THAT(outside.err, Contains("analysis.tori.transient.speed_rpm = 60.0: must lie in "
+                                   "analysis.speed_range_rpm = [20.0, 52.0]"));
+  CHECK_THAT(outside.err, Contains("analysis.tori.transient.seconds = 0.1: must be at least "
+                                   "(settle_windows + 1)·settle_window of [analysis.sweep] = 0.75 s"));
 }
 
 }  // namespace

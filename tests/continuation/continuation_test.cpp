@@ -1,6 +1,7 @@
 #include "continuation/continuation.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
@@ -341,6 +342,36 @@ TEST_CASE("a start exactly at a fold: along a given tangent, or by the null-vect
     CHECK(branch.points.front().residual_norm <= 1e-12);
     CHECK(std::abs(branch.points.back().u(0)) == Approx(1.0).margin(1e-9));
   }
+}
+
+TEST_CASE("a Newton step that leaves the residual's domain is halved until it is back inside",
+          "[continuation][stepper]") {
+  // x² − λ with no residual beyond x = 3 (as a shooting problem whose integration fails there).
+  // From x = 0.1 at λ = 1 the full Newton step lands at 5.05: halved once, at 2.575, Newton goes
+  // on to x = 1.
+  LambdaProblem problem(
+      1,
+      [](const Vector& u, double l, double, Vector& F) {
+        F(0) = u(0) < 3.0 ? u(0) * u(0) - l : std::numeric_limits<double>::quiet_NaN();
+      },
+      [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 2.0 * u(0); },
+      [](const Vector&, double, double, Vector& dF) { dF(0) = -1.0; });
+  ContinuationOptions options;
+  options.bounds.lambda_min = 0.5;
+  options.bounds.lambda_max = 2.0;
+  options.bounds.max_steps = 1;
+  Continuation continuation(problem, options);
+  REQUIRE(continuation.Start(Vec({0.1}), 1.0) == StepResult::kContinue);
+  const BranchPoint& start = continuation.branch().points.front();
+  CHECK(start.lambda == 1.0);
+  CHECK(start.u(0) == Approx(1.0).epsilon(1e-10));
+  // A step past every halving (the residual non-finite for x > 0.2: the start's own neighbourhood
+  // after 4 halvings of 4.95 is still 0.41) is refused as before.
+  LambdaProblem narrow(1, [](const Vector& u, double l, double, Vector& F) {
+    F(0) = u(0) < 0.2 ? u(0) * u(0) - l : std::numeric_limits<double>::quiet_NaN();
+  });
+  Continuation refused(narrow, options);
+  CHECK(refused.Start(Vec({0.1}), 1.0) == StepResult::kFailed);
 }
 
 TEST_CASE("the per-step callback sees every step and can stop the branch",

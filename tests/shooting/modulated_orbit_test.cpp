@@ -1,6 +1,5 @@
 #include "shooting/modulated_orbit.h"
 #include "shooting/modulated_torus.h"
-#include "shooting/rub_tori.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,18 +15,9 @@ namespace {
 
 using Catch::Matchers::Contains;
 
-struct Transient {
-  Vector state;     // where it ended (fixed frame)
-  double bp_hz = 0.0;  // the sweep's precession at contact 0 over its last second
-  bool settled = false;
-};
-
 // The scene's time-marching model at one speed from rest plus a 1 N·s impulse, settled by 0.5 s
 // windows (the modulated whip needs more than the sweeps' 0.75 s from rest).
-Transient Settle(const TwoPointParams& params, double rpm, double dwell = 3.0) {
-  const RubStructure s = TwoPointStructure(params);
-  RubFixedFrame system(s);
-  RubSweepObservables observables(system);
+RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 3.0) {
   SweepOptions o;
   o.parameters = {RpmToRadPerSecond(rpm)};
   o.dwell = dwell;
@@ -36,10 +26,7 @@ Transient Settle(const TwoPointParams& params, double rpm, double dwell = 3.0) {
   o.integrator.max_order = 2;
   o.integrator.relative_tolerance = o.integrator.absolute_tolerance = 1e-6;
   o.integrator.max_steps = 100000000;
-  SweepStepper stepper(system, observables, o, RubImpulseIncrement(s, 1.0));
-  stepper.Step();
-  const SweepPoint& p = stepper.points().back();
-  return {stepper.state(), -p.channels[0].peak.frequency, p.status == SweepPointStatus::kSettled};
+  return SettleAtSpeed(TwoPointStructure(params), o, 1.0);
 }
 
 ModulatedOrbitOptions Options(double tolerance) {
@@ -55,10 +42,10 @@ ModulatedOrbitOptions Options(double tolerance) {
 TEST_CASE("case A(a) at 60 rpm: the modulated whip is a relative periodic orbit whose dominant "
           "precession is the sweep's, 0.1 Hz below the circular whip's", "[modulated_orbit]") {
   const TwoPointParams params = ThesisCaseAa();  // the tanh law at ε = 1e-3 m/s, as the sweeps
-  const Transient transient = Settle(params, 60.0);
+  const RubSettledSpeed transient = Settle(params, 60.0);
   REQUIRE(transient.settled);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                   2.0 * M_PI * transient.bp_hz, transient.state,
+                                                   2.0 * M_PI * transient.precession_hz, transient.state,
                                                    Options(1e-6));
   INFO(orbit.message);
   REQUIRE(orbit.converged);
@@ -70,7 +57,7 @@ TEST_CASE("case A(a) at 60 rpm: the modulated whip is a relative periodic orbit 
   CHECK(orbit.dominant_harmonic == 0);
   CHECK(orbit.dominant_hz == orbit.carrier_hz);
   // The sweep's refined peak over 1 s agrees to 0.005 Hz (measured 0.0014 Hz).
-  CHECK(std::abs(orbit.dominant_hz - transient.bp_hz) < 5e-3);
+  CHECK(std::abs(orbit.dominant_hz - transient.precession_hz) < 5e-3);
   // The modulation (sidebands 0.049 of the carrier) moves the precession 0.107 Hz below the
   // circular whip's, which turns at the closed form's μ crossing.
   double crossing_hz = 0.0;
@@ -94,9 +81,9 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   params.rotor_mass_center = 0.26;
   // 3 s from rest is not enough here: the modulation still moves from 123.3 to 124.4 Hz over the
   // next 0.8 s (measured), and the torus's first points need it steady.
-  const Transient transient = Settle(params, 60.0, 8.0);
+  const RubSettledSpeed transient = Settle(params, 60.0, 8.0);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                   2.0 * M_PI * transient.bp_hz, transient.state,
+                                                   2.0 * M_PI * transient.precession_hz, transient.state,
                                                    Options(1e-6));
   INFO(orbit.message);
   CHECK_FALSE(orbit.converged);
@@ -113,7 +100,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   ModulatedTorusOptions one;
   one.laps = 1;
   const ModulatedTorus cut = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                 2.0 * M_PI * transient.bp_hz, transient.state, one);
+                                                 2.0 * M_PI * transient.precession_hz, transient.state, one);
   INFO(cut.message);
   CHECK_FALSE(cut.converged);
   CHECK_THAT(cut.message, Contains("are no circle"));
@@ -129,13 +116,13 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   automatic.newton.max_iterations = 1;
   automatic.lyapunov_iterates = 0;
   const ModulatedTorus five = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                  2.0 * M_PI * transient.bp_hz, transient.state,
+                                                  2.0 * M_PI * transient.precession_hz, transient.state,
                                                   automatic);
   INFO(five.message);
   CHECK(five.laps == 5);
   CHECK_THAT(five.message, Contains("Newton from the transient's circle (5 × T"));
   const auto frame = std::make_shared<RubRotatingFrame>(TwoPointStructure(params),
-                                                        2.0 * M_PI * transient.bp_hz,
+                                                        2.0 * M_PI * transient.precession_hz,
                                                         RpmToRadPerSecond(60.0));
   const InvariantCircleProblem circle(frame, automatic.harmonics, OrbitKind::kRelative);
   const double rho = circle.RotationNumber(five.u);
@@ -143,13 +130,13 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
 }
 
 TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settles on, solved by "
-          "BDF and continued both ways by Gauss collocation",
-          "[modulated_orbit][torus]") {
+          "BDF on one period per section", "[modulated_orbit][torus]") {
+  // Its continuation both ways (ContinueTransientTori) runs in tests/apps/tori_stage_test.cpp,
+  // through the scene key that calls it, at K = 8.
   TwoPointParams params = ThesisCaseAa();
   params.rotor_inertia = 0.07;
   params.rotor_mass_center = 0.26;
-  const RubStructure structure = TwoPointStructure(params);
-  const Transient transient = Settle(params, 49.0, 8.0);
+  const RubSettledSpeed transient = Settle(params, 49.0, 8.0);
   REQUIRE(transient.settled);
   ModulatedTorusOptions start;
   start.harmonics = 16;
@@ -157,61 +144,23 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
   start.search_duration = 4.0;
   start.newton.max_iterations = 30;
   start.lyapunov_iterates = 0;
-  RubTorusOptions options;
-  options.samples = 4;
-  options.tori.lambda_min = RpmToRadPerSecond(48.85);
-  options.tori.lambda_max = RpmToRadPerSecond(49.1);
-  options.tori.max_fourier_tail = 0.2;
-  options.tori.integrator.method = IntegrationMethod::kGaussCollocation;
-  options.tori.integrator.collocation_steps = 400;
-  options.tori.continuation.bounds.max_steps = 1;
-  options.tori.continuation.step.initial = 0.005;
-  options.tori.continuation.corrector.residual_tolerance = 1e-6;
-  options.tori.continuation.corrector.max_iterations = 12;
-  const RubTransientTori tori =
-      ContinueTransientTori(structure, RpmToRadPerSecond(49.0), 2.0 * M_PI * transient.bp_hz,
-                            transient.state, start, options);
-  INFO(tori.start.message);
-  REQUIRE(tori.start.converged);
+  const ModulatedTorus torus =
+      SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(49.0),
+                          2.0 * M_PI * transient.precession_hz, transient.state, start);
+  INFO(torus.message);
+  REQUIRE(torus.converged);
   // One period per section: the points of the map lie on one circle (measured ρ = 0.37893,
   // f₁ = 129.558 Hz, f₂ = 49.093 Hz, carrier 79.2833 Hz, the Fourier tail 0.013 at K = 16):
   // between the 2:5 tongue (48.851–48.876 rpm) and 3/8.
-  CHECK(tori.start.laps == 1);
-  CHECK(tori.start.rotation_number > 3.0 / 8.0);
-  CHECK(tori.start.rotation_number < 2.0 / 5.0);
-  CHECK(tori.start.first_hz == Approx(129.56).margin(0.05));
-  CHECK(tori.start.second_hz == Approx(tori.start.rotation_number * tori.start.first_hz));
+  CHECK(torus.laps == 1);
+  CHECK(torus.rotation_number > 3.0 / 8.0);
+  CHECK(torus.rotation_number < 2.0 / 5.0);
+  CHECK(torus.first_hz == Approx(129.56).margin(0.05));
+  CHECK(torus.second_hz == Approx(torus.rotation_number * torus.first_hz));
+  CHECK(torus.fourier_tail < 0.05);
   // The carrier is the transient's precession, which the sweep's spectrum found independently
   // (measured 0.0012 Hz apart).
-  CHECK(std::abs(tori.start.carrier_hz - transient.bp_hz) < 0.01);
-  REQUIRE(tori.tori.size() == 2);
-  const InvariantCircleProblem circle(std::make_shared<RubRotatingFrame>(
-                                          structure, 2.0 * M_PI * transient.bp_hz,
-                                          RpmToRadPerSecond(49.0)),
-                                      16, OrbitKind::kRelative);
-  for (std::size_t side = 0; side < 2; ++side) {
-    const TorusBranch& family = tori.tori[side];
-    INFO("family " << side << ": " << family.message << " / " << family.branch.BriefReport());
-    REQUIRE(family.ok);
-    REQUIRE(family.branch.points.size() >= 2);
-    CHECK(family.end == TorusEnd::kSteps);
-    // ρ falls with speed, as on the tori born at the Neimark–Sacker point (0.443 → 0.4016
-    // over 48.67–48.85 rpm): towards 2/5 going down, towards 3/8 going up.
-    const BranchPoint& first = family.branch.points.front();
-    const BranchPoint& last = family.branch.points.back();
-    const double sign = side == 0 ? -1.0 : 1.0;
-    CHECK(sign * (last.lambda - first.lambda) > 0.0);
-    CHECK(sign * (circle.RotationNumber(last.u) - circle.RotationNumber(first.u)) < 0.0);
-    for (std::size_t i = 0; i < family.branch.points.size(); ++i) {
-      const double rho = circle.RotationNumber(family.branch.points[i].u);
-      CHECK(rho > 3.0 / 8.0);
-      CHECK(rho < 2.0 / 5.0);
-      const RubTorusLines& lines = tori.lines[side][i];
-      REQUIRE(lines.valid);
-      CHECK(lines.carrier_hz == Approx(tori.start.carrier_hz).margin(0.01));
-      CHECK(lines.second_hz == Approx(rho * lines.first_hz));
-    }
-  }
+  CHECK(std::abs(torus.carrier_hz - transient.precession_hz) < 0.01);
 }
 
 TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[modulated_orbit]") {

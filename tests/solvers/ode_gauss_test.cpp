@@ -126,6 +126,58 @@ TEST_CASE("an unresolved undamped stiff mode keeps its energy under Gauss colloc
   CHECK(energy(x) < 1e-3 * energy(x0));
 }
 
+TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end time, not f(t1, x1)",
+          "[ode][gauss]") {
+  // The map on N uniform steps of [0, t1] moves with t1 through h = t1/N: where the mesh does not
+  // resolve a mode the two differ. Central differences of the map in t1 (steps 1e-7 of t1).
+  auto difference = [](OdeIntegrator& integrator, const Vector& x0, double t1) {
+    const double dt = 1e-7 * t1;
+    Vector later(x0.size()), earlier(x0.size());
+    REQUIRE(integrator.Integrate(0.0, x0, t1 + dt, later).Succeeded());
+    REQUIRE(integrator.Integrate(0.0, x0, t1 - dt, earlier).Succeeded());
+    return Vector((later - earlier) / (2.0 * dt));
+  };
+  SECTION("the unresolved stiff oscillator (ωh = 20): f(t1, x1) is off by its whole size") {
+    StiffOscillator system;
+    const double t1 = 0.01;
+    const Vector x0 = (Vector(2) << 1e-6, 0.0).finished();
+    OdeIntegrator gauss(system, Gauss(4, 50));
+    Vector x(2), dxdt1, f(2);
+    Matrix stm;
+    REQUIRE(gauss.Integrate(0.0, x0, t1, x, &stm, nullptr, &dxdt1).Succeeded());
+    const Vector scale = system.StateScale();
+    const Vector fd = difference(gauss, x0, t1);
+    CHECK((dxdt1 - fd).cwiseQuotient(scale).norm() <= 1e-5 * dxdt1.cwiseQuotient(scale).norm());
+    system.Rhs(t1, x, f);
+    CHECK((f - fd).cwiseQuotient(scale).norm() > 0.5 * fd.cwiseQuotient(scale).norm());
+  }
+  SECTION("the forced Duffing oscillator (f depends on t), dx/dp asked for as well") {
+    DuffingOscillator system;
+    const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
+    const double t1 = 2 * M_PI / system.Parameter();
+    OdeIntegrator gauss(system, Gauss(3, 25));
+    Vector x(2), dxdp, dxdt1, f(2);
+    Matrix stm;
+    REQUIRE(gauss.Integrate(0.0, x0, t1, x, &stm, &dxdp, &dxdt1).Succeeded());
+    const Vector fd = difference(gauss, x0, t1);
+    CHECK((dxdt1 - fd).norm() <= 1e-6 * dxdt1.norm());
+    // Resolved: here the map's derivative is near the flow's.
+    system.Rhs(t1, x, f);
+    CHECK((f - fd).norm() <= 1e-2 * fd.norm());
+  }
+  SECTION("an error-controlled method returns f(t1, x1)") {
+    DuffingOscillator system;
+    const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
+    OdeIntegrator bdf(system, IntegratorOptions());
+    Vector x(2), dxdt1, f(2);
+    Matrix stm;
+    REQUIRE(bdf.Integrate(0.0, x0, 1.0, x, &stm, nullptr, &dxdt1).Succeeded());
+    system.Rhs(1.0, x, f);
+    CHECK(dxdt1 == f);
+    CHECK_THROWS_AS(bdf.Integrate(0.0, x0, 1.0, x, nullptr, nullptr, &dxdt1), std::invalid_argument);
+  }
+}
+
 TEST_CASE("Gauss collocation's dense output is the collocation polynomial", "[ode][gauss]") {
   const StuartLandauParams p = Shear();
   StuartLandauOscillator system(p);
