@@ -133,6 +133,7 @@ struct RubToriSettings {
     double seconds = 8.0;           // the transient from rest and the impulse [s]
     int harmonics = 8;              // K of its circles
     double max_fourier_tail = 0.2;  // its families' breakdown / locking event
+    int max_steps = 20;             // continuation steps each way
   } transient;
 };
 

@@ -34,6 +34,7 @@ RubTorusOptions TorusOptionsOf(const Scene& scene, const RubOrbitsPlan& plan) {
   options.tori.harmonics = t.harmonics;
   options.tori.amplitude = t.amplitude;
   options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.continuation.bounds.max_steps = t.max_steps;
   options.tori.lyapunov_iterates = t.lyapunov_iterates;
   options.tori.continuation = plan.options.orbits.continuation;
   options.tori.continuation.bounds.max_steps = t.max_steps;
@@ -210,6 +211,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
   start.newton.max_iterations = 30;
   start.lyapunov_iterates = 0;  // the families' first torus has its exponents
   options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.continuation.bounds.max_steps = t.max_steps;
   if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {
     // The start's BDF at the orbits' tolerance: with the sensitivities under error control a
     // torus's map took 70 times the steps (ModulatedTorusOptions::integrator).

@@ -94,8 +94,8 @@ TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a
   text = text.substr(0, text.find("[analysis]"));
   // No modulated orbits: only the transient's tori (K = 8; K = 4 fits no circle to its points).
   text += "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [20.0, 52.0]\n"
-          "[analysis.tori]\nneimark_sacker = \"skip\"\nmax_steps = 1\nlyapunov_iterates = 1\n"
-          "samples = 4\n[analysis.tori.transient]\nspeed_rpm = 49.0\nharmonics = 8\n";
+          "[analysis.tori]\nneimark_sacker = \"skip\"\nlyapunov_iterates = 1\nsamples = 4\n"
+          "[analysis.tori.transient]\nspeed_rpm = 49.0\nharmonics = 8\nmax_steps = 1\n";
   const Outcome run = RunQuiet(dir, "ca_transient", text);
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
