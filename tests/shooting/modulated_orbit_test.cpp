@@ -29,6 +29,14 @@ RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 
   return SettleAtSpeed(TwoPointStructure(params), o, 1.0);
 }
 
+// Case C(a): A(a) with the overhung rotor's inertia and mass centre (thesis Table 1).
+TwoPointParams CaseCa() {
+  TwoPointParams params = ThesisCaseAa();
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  return params;
+}
+
 ModulatedOrbitOptions Options(double tolerance) {
   ModulatedOrbitOptions o;
   o.shooting.integrator.relative_tolerance = o.shooting.integrator.absolute_tolerance = tolerance;
@@ -76,9 +84,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
           "shooting for one reports that it did not converge", "[modulated_orbit][failure]") {
   // Measured (sweep spectra at 49.5–60 rpm): the left contact carries lines at −79 ± 121 Hz, the
   // right at −79 ± 325 Hz; 325/121 is not an integer, so no period T fits both.
-  TwoPointParams params = ThesisCaseAa();
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
+  const TwoPointParams params = CaseCa();
   // 3 s from rest is not enough here: the modulation still moves from 123.3 to 124.4 Hz over the
   // next 0.8 s (measured), and the torus's first points need it steady.
   const RubSettledSpeed transient = Settle(params, 60.0, 8.0);
@@ -133,9 +139,7 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
           "BDF on one period per section", "[modulated_orbit][torus]") {
   // Its continuation both ways (ContinueTransientTori) runs in tests/apps/tori_stage_test.cpp,
   // through the scene key that calls it, at K = 8.
-  TwoPointParams params = ThesisCaseAa();
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
+  const TwoPointParams params = CaseCa();
   const RubSettledSpeed transient = Settle(params, 49.0, 8.0);
   REQUIRE(transient.settled);
   ModulatedTorusOptions start;
