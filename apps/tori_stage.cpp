@@ -202,14 +202,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
     context.failures.push_back("[tori] " + why);
     return;
   }
-  ModulatedTorusOptions start;
-  start.harmonics = t.harmonics;
-  // C(a) at 49 rpm: with 2 s of approach and search the points were no circle (misfit 15 % of
-  // their size); with 4 s each they were (README.md, "Tori from a settled transient").
-  start.approach = 4.0;
-  start.search_duration = 4.0;
-  start.newton.max_iterations = 30;
-  start.lyapunov_iterates = 0;  // the families' first torus has its exponents
+  const ModulatedTorusOptions start = SettledTransientStart(t.harmonics);
   options.tori.max_fourier_tail = t.max_fourier_tail;
   options.tori.continuation.bounds.max_steps = t.max_steps;
   if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {

@@ -25,10 +25,7 @@ int Main(int argc, char** argv) {
   const int steps = argc > 2 ? std::atoi(argv[2]) : 12;
   const int harmonics = argc > 3 ? std::atoi(argv[3]) : 16;
   const long collocation_steps = argc > 4 ? std::atol(argv[4]) : 400;
-  TwoPointParams params = ThesisCaseAa();  // case C(a): the overhung rotor
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
-  const RubStructure structure = TwoPointStructure(params);
+  const RubStructure structure = TwoPointStructure(ThesisCaseCa());
   const double omega = RpmToRadPerSecond(rpm);
 
   // The transient: 8 s at the speed from rest plus the impulse, settled by 0.5 s windows.
@@ -47,12 +44,7 @@ int Main(int argc, char** argv) {
               transient.settled ? "settled" : "did not settle", precession_hz,
               CpuSecondsSince(settle_start));
 
-  ModulatedTorusOptions start;
-  start.harmonics = harmonics;
-  start.approach = 4.0;
-  start.search_duration = 4.0;
-  start.newton.max_iterations = 30;
-  start.lyapunov_iterates = 0;
+  const ModulatedTorusOptions start = SettledTransientStart(harmonics);
   if (steps == 0) {
     const ModulatedTorus torus =
         SolveModulatedTorus(structure, omega, 2 * M_PI * precession_hz, transient.state, start);

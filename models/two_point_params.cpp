@@ -13,6 +13,13 @@ TwoPointParams ThesisCaseAa() {
   return params;
 }
 
+TwoPointParams ThesisCaseCa() {
+  TwoPointParams params = ThesisCaseAa();
+  params.rotor_inertia = 0.07;
+  params.rotor_mass_center = 0.26;
+  return params;
+}
+
 namespace {
 
 enum class Sign { kPositive, kNonNegative, kAny };

@@ -65,6 +65,10 @@ struct TwoPointParams {
 // 52 N·s/m (scenes/thesis_A_a.toml).
 TwoPointParams ThesisCaseAa();
 
+// The thesis's case C(a) (Table 1): case A(a) with the disk near the right contact — rotor inertia
+// 0.07 kg·m², mass centre 0.26 m from the left contact (scenes/thesis_C_a.toml).
+TwoPointParams ThesisCaseCa();
+
 // Throws std::invalid_argument naming the first field that breaks its rule above (e.g.
 // "TwoPointParams.rotor_mass = -1: must be positive (kg)"); every value must also be finite.
 void Validate(const TwoPointParams& p);

@@ -81,6 +81,10 @@ void Validate(const ModulatedOrbitOptions& options) {
     throw std::invalid_argument(
         fmt::format("ModulatedOrbitOptions.harmonics = {}: must be ≥ 0", options.harmonics));
   }
+  if (options.laps < 1 || options.laps > 64) {
+    throw std::invalid_argument(
+        fmt::format("ModulatedOrbitOptions.laps = {}: must be in 1 … 64", options.laps));
+  }
 }
 
 void CheckModulationInputs(const std::string& solver, const RubStructure& structure, double omega,
@@ -101,6 +105,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   CheckModulationInputs("SolveModulatedOrbit", structure, omega, frame_rate, fixed_state);
   ModulatedOrbit orbit;
   orbit.frame_rate = frame_rate;
+  orbit.laps = options.laps;
   RubRotatingFrame frame(structure, frame_rate, omega);
   const ModulationSearch search = SearchModulation(frame, fixed_state, options.shooting.integrator,
                                                    options.search_duration, options.search_rate);
@@ -108,13 +113,14 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
     orbit.message = search.message;
     return orbit;
   }
-  const double period = search.period;
+  const double period = options.laps * search.period;
   const Vector& x0 = search.state;
   OdeIntegrator integrator(frame, Adaptive(options.shooting.integrator));
   Vector x_period(x0.size());
   const IntegrationResult turn = integrator.Integrate(0.0, x0, period, x_period);
   if (!turn.Succeeded()) {
-    orbit.message = "integrating one period failed: " + turn.BriefReport();
+    orbit.message = fmt::format("integrating {} period{} failed: {}", options.laps,
+                                options.laps > 1 ? "s" : "", turn.BriefReport());
     return orbit;
   }
   const double phi = std::arg(FirstContactGap(structure, x_period) / FirstContactGap(structure, x0));
@@ -130,12 +136,14 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
                              orbit.u, options.newton, problem.Scale(), problem.ResidualScale());
   orbit.work = problem.statistics();
   if (!orbit.newton.Converged()) {
-    orbit.message = fmt::format("Newton from the transient's orbit (T ≈ {:.6g} s, φ ≈ {:.4g}): {}",
+    orbit.message = fmt::format("Newton from the transient's orbit ({}T ≈ {:.6g} s, φ ≈ {:.4g}): {}",
+                                options.laps > 1 ? fmt::format("{} × ", options.laps) : "",
                                 period, phi, orbit.newton.BriefReport());
     return orbit;
   }
   orbit.period = problem.Period(orbit.u, omega);
   orbit.rotation = problem.Rotation(orbit.u);
+  orbit.x0 = problem.SegmentStart(orbit.u, 0);
   orbit.carrier_hz = frame.CarrierPrecession(orbit.period, orbit.rotation) / kTwoPi;
 
   // Fourier coefficients of q = e^{−jφt/T} d over one period (trapezoidal rule on the samples).
@@ -177,10 +185,24 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   orbit.sideband_ratio = other / std::abs(c[static_cast<std::size_t>(best + K)]);
   orbit.converged = true;
   orbit.message = fmt::format(
-      "T = {:.9g} s, φ = {:+.6g} rad, carrier {:.6f} Hz, dominant k = {} at {:.6f} Hz, largest "
-      "other component {:.3g} of it; {}", T, orbit.rotation, orbit.carrier_hz, best,
-      orbit.dominant_hz, orbit.sideband_ratio, orbit.newton.BriefReport());
+      "T = {:.9g} s{}, φ = {:+.6g} rad, carrier {:.6f} Hz, dominant k = {} at {:.6f} Hz, largest "
+      "other component {:.3g} of it; {}", T,
+      options.laps > 1 ? fmt::format(" ({} modulation periods)", options.laps) : "", orbit.rotation,
+      orbit.carrier_hz, best, orbit.dominant_hz, orbit.sideband_ratio, orbit.newton.BriefReport());
   return orbit;
+}
+
+OrbitStart StartOf(const ModulatedOrbit& orbit, double omega) {
+  if (!orbit.converged) {
+    throw std::invalid_argument("StartOf: the modulated orbit did not converge: " + orbit.message);
+  }
+  OrbitStart start;
+  start.x0 = orbit.x0;
+  start.period = orbit.period;
+  start.rotation = orbit.rotation;
+  start.lambda = omega;
+  start.valid = true;
+  return start;
 }
 
 }  // namespace rubcont

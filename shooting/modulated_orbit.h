@@ -23,6 +23,12 @@
 // and the transient's own precession is Ω_f. The component of largest amplitude among the
 // backward ones (Ω_k > 0) is what a sweep reports as its precession (the dominant negative
 // frequency of d, sweeps/rub_sweep.h).
+//
+// Locked orbits (`laps` m > 1). Where a two-frequency whip (a relative 2-torus, shooting/
+// modulated_torus.h) locks at a p:m resonance, the motion is again a relative periodic orbit, but
+// one of m modulation periods: the slip's dominant line still gives T, the orbit closes after mT
+// (C(a) at 49.4 rpm: R_{−φ}x(mT) − x(0) is 7e-3 of |x| for m = 1, 2.5e-5 for m = 3, scaled). T
+// and the harmonics below are then the whole orbit's: the lines are k/(mT) apart.
 #pragma once
 
 #include <complex>
@@ -30,6 +36,7 @@
 #include <string>
 
 #include "models/rub_model.h"
+#include "shooting/orbit_branches.h"
 #include "shooting/shooting.h"
 #include "solvers/newton.h"
 
@@ -45,6 +52,7 @@ struct ModulatedOrbitOptions {
   double search_duration = 0.05;   // the sampled stretch [s] > 0: 1/T to about 1/(duration·N)
   double search_rate = 20000.0;    // its samples per second [1/s], ≥ 16/search_duration
   int harmonics = 3;              // Fourier components |k| ≤ harmonics examined (≥ 0)
+  int laps = 1;                   // modulation periods per orbit, 1 … 64 (above: locked orbits)
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -79,7 +87,8 @@ struct ModulatedOrbit {
   std::string message;       // how the search and Newton went, one sentence with numbers
   NewtonResult newton;
   double frame_rate = 0.0;   // Ω_f [rad/s]
-  double period = std::numeric_limits<double>::quiet_NaN();    // T [s]
+  int laps = 1;              // modulation periods per orbit (the options')
+  double period = std::numeric_limits<double>::quiet_NaN();    // T [s], all laps
   double rotation = std::numeric_limits<double>::quiet_NaN();  // φ [rad]
   double carrier_hz = std::numeric_limits<double>::quiet_NaN();   // Ω_0 / 2π [Hz]
   double dominant_hz = std::numeric_limits<double>::quiet_NaN();  // the largest backward Ω_k / 2π [Hz]
@@ -87,6 +96,7 @@ struct ModulatedOrbit {
   // The largest other component over the dominant one, |c_k| / |c_dominant| (modulation depth).
   double sideband_ratio = std::numeric_limits<double>::quiet_NaN();
   Vector u;                   // the shooting unknowns (ShootingProblem::Pack layout)
+  Vector x0;                  // the orbit's state at t = 0 (co-rotating frame; empty until converged)
   ShootingStatistics work;    // integrations of Newton (the search adds one more)
 };
 
@@ -97,5 +107,10 @@ struct ModulatedOrbit {
 // Newton not converged) are `converged = false` with the message.
 ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, double frame_rate,
                                    const Vector& fixed_state, const ModulatedOrbitOptions& options);
+
+// A converged orbit at ω as the start of its family (ContinuePeriodicOrbits, kRelative, in a
+// RubRotatingFrame precessing at orbit.frame_rate): its first segment's start, T and φ. Throws
+// std::invalid_argument for an orbit that did not converge.
+OrbitStart StartOf(const ModulatedOrbit& orbit, double omega);
 
 }  // namespace rubcont

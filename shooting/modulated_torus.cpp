@@ -91,6 +91,16 @@ void Validate(const ModulatedTorusOptions& options) {
   }
 }
 
+ModulatedTorusOptions SettledTransientStart(int harmonics) {
+  ModulatedTorusOptions start;
+  start.harmonics = harmonics;
+  start.approach = 4.0;
+  start.search_duration = 4.0;
+  start.newton.max_iterations = 30;
+  start.lyapunov_iterates = 0;
+  return start;
+}
+
 ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, double frame_rate,
                                    const Vector& fixed_state, const ModulatedTorusOptions& options) {
   Validate(options);

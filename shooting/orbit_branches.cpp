@@ -159,7 +159,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     ShootingProblem problem(system, kind, shooting);
     if (!options.measures.empty()) problem.SetMeasures(options.measures);
     problem.SetTestFunctions(options.test_functions);
-    const Vector u0 = problem.InitialGuess(start.x0, start.period, start.lambda);
+    const Vector u0 = problem.InitialGuess(start.x0, start.period, start.lambda, start.rotation);
     result.shooting = shooting;
     result.shooting.period_scale = problem.PeriodScale();
     result.shooting.lambda_scale = problem.LambdaScale();
@@ -168,7 +168,11 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     continuation.bounds.lambda_max = options.lambda_max;
     continuation.detect.stability = true;
     continuation.direction = direction;
-    Branch branch = Continue(problem, u0, start.lambda, continuation);
+    const StepCallback step = [&options, &start](const Branch& b) {
+      if (options.on_step && !options.on_step(b)) return false;
+      return !(options.stop_round_closed_curve && RoundClosedCurve(b, start.lambda));
+    };
+    Branch branch = Continue(problem, u0, start.lambda, continuation, step);
     Accumulate(result.work, problem.statistics());
     return branch;
   };
@@ -180,7 +184,8 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
   } else {
     const Branch backward = run(-1);
     // A closed curve (isola) followed round backwards already holds the forward run's points.
-    if (backward.status == BranchStatus::kClosed) {
+    if (backward.status == BranchStatus::kClosed ||
+        (options.stop_round_closed_curve && RoundClosedCurve(backward, start.lambda))) {
       result.branch = backward;
       return result;
     }
@@ -192,6 +197,26 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     }
   }
   return result;
+}
+
+std::vector<double> DistinctFolds(const Branch& branch) {
+  std::vector<double> folds;
+  for (const SpecialPoint& p : branch.special_points) {
+    if (p.type != SpecialPointType::kFold || !p.converged) continue;
+    const bool seen = std::any_of(folds.begin(), folds.end(), [&](double f) {
+      return std::abs(f - p.lambda) <= 1e-8 * std::max(std::abs(f), 1.0);
+    });
+    if (!seen) folds.push_back(p.lambda);
+  }
+  std::sort(folds.begin(), folds.end());
+  return folds;
+}
+
+bool RoundClosedCurve(const Branch& branch, double start_lambda) {
+  if (DistinctFolds(branch).size() < 2 || branch.points.size() < 2) return false;
+  const double now = branch.points.back().lambda;
+  const double before = branch.points[branch.points.size() - 2].lambda;
+  return (now - start_lambda) * (before - start_lambda) <= 0.0;
 }
 
 bool OrbitBranchSwitch::RejoinedNear(double lambda) const {

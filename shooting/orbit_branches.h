@@ -39,6 +39,7 @@ struct OrbitStart {
   double lambda = 0.0;  // the system's parameter there
   bool valid = false;
   std::string message;  // why not, when !valid
+  double rotation = 0.0;  // φ guess, x(T) = R_φ x(0) (kRelative; ignored otherwise)
 };
 
 // Integrates the autonomous system from x0 over `duration` at its current parameter, recording the
@@ -66,7 +67,22 @@ struct PeriodicOrbitBranchOptions {
   std::vector<OrbitMeasure> measures;
   // Located along the branch where they change sign (e.g. Grazing); none by default.
   std::vector<OrbitTestFunction> test_functions;
+  // Stop a run once it is round a closed curve (RoundClosedCurve), and then do not run the other
+  // way: a resonance tongue's locked orbits. The engine's own closure test compares the unknowns,
+  // and with the phase reference moved along the family (refresh_phase_reference) an orbit met
+  // again has other segment starts: measured on C(a)'s 1:3 orbits, followed round and round.
+  bool stop_round_closed_curve = false;
+  // Called after every step of either run (progress of long runs); returning false ends that run.
+  StepCallback on_step;
 };
+
+// The parameters of a branch's located folds, ascending, each once (a closed curve followed
+// round again meets its folds again, to within the location's tolerance).
+std::vector<double> DistinctFolds(const Branch& branch);
+
+// Whether a branch started at `start_lambda` has gone round a closed curve: two distinct folds
+// located and its last step back across start_lambda.
+bool RoundClosedCurve(const Branch& branch, double start_lambda);
 
 // Throws std::invalid_argument naming the field (an empty or non-finite range).
 void Validate(const PeriodicOrbitBranchOptions& options);

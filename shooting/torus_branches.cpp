@@ -19,21 +19,6 @@ constexpr double kStrongResonance = 1e-3;
 // A harmonic at least this many times the one below it stands out of a circle's decaying spectrum.
 constexpr double kLockingExcess = 2.0;
 
-// The parameters of a branch's located folds, ascending, each once (a closed curve followed
-// round again meets its folds again, to within the location's tolerance).
-std::vector<double> DistinctFolds(const Branch& branch) {
-  std::vector<double> folds;
-  for (const SpecialPoint& p : branch.special_points) {
-    if (p.type != SpecialPointType::kFold || !p.converged) continue;
-    const bool seen = std::any_of(folds.begin(), folds.end(), [&](double f) {
-      return std::abs(f - p.lambda) <= 1e-8 * std::max(std::abs(f), 1.0);
-    });
-    if (!seen) folds.push_back(p.lambda);
-  }
-  std::sort(folds.begin(), folds.end());
-  return folds;
-}
-
 // The engine's options for a torus family: the range, no Jacobian spectrum.
 ContinuationOptions EngineOptions(const TorusBranchOptions& options);
 // The family's end (TorusEnd, end_note, p:q) read from its last circle (u0 when it has none), and
@@ -313,13 +298,10 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       ShootingProblem problem(*system, tori.kind, shooting);
       const Vector u0 =
           problem.InitialGuess(circle.PointAt(last.u, theta), q * period, lambda, q * phi);
-      // The locked orbits form a closed curve through the tongue's two edges: stop once both
-      // folds are located and the branch is back across its start.
+      // The locked orbits form a closed curve through the tongue's two edges.
       const auto closed = [&on_step, lambda](const Branch& b) {
         if (on_step && !on_step(b)) return false;
-        if (DistinctFolds(b).size() < 2 || b.points.size() < 2) return true;
-        const double now = b.points.back().lambda, before = b.points[b.points.size() - 2].lambda;
-        return (now - lambda) * (before - lambda) > 0.0;
+        return !RoundClosedCurve(b, lambda);
       };
       Branch branch = Continue(problem, u0, lambda, continuation, closed);
       if (branch.status == BranchStatus::kStartFailed) continue;

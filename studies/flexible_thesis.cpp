@@ -64,11 +64,9 @@ ThreeModes XltrcStatorModes(const FlexibleRubModel& model) {
 }
 
 std::array<TwoPointParams, 3> ThesisCases() {
-  std::array<TwoPointParams, 3> cases{ThesisCaseAa(), ThesisCaseAa(), ThesisCaseAa()};
+  std::array<TwoPointParams, 3> cases{ThesisCaseAa(), ThesisCaseAa(), ThesisCaseCa()};
   cases[1].rotor_mass_center = 0.22;
   cases[1].rotor_inertia = 0.04;
-  cases[2].rotor_mass_center = 0.26;
-  cases[2].rotor_inertia = 0.07;
   return cases;
 }
 

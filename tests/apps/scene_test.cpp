@@ -1,10 +1,12 @@
 #include "apps/scene.h"
+#include "models/two_point_params.h"
 
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -581,6 +583,15 @@ TEST_CASE("Every scene file in scenes/ loads, with the thesis's Table 1 values",
     ++count;
   }
   CHECK(count >= 11);
+  // The library's cases are the scenes' (the tests and benches build them from ThesisCaseAa/Ca).
+  for (const auto& [file, params] : {std::pair{"scenes/thesis_A_a.toml", ThesisCaseAa()},
+                                     std::pair{"scenes/thesis_C_a.toml", ThesisCaseCa()}}) {
+    INFO(file);
+    const TwoPointParams& loaded = LoadScene(file).two_point;
+    CHECK(loaded.rotor_mass_center == params.rotor_mass_center);
+    CHECK(loaded.rotor_inertia == params.rotor_inertia);
+    CHECK(loaded.center_damping == params.center_damping);
+  }
   const Scene c_b = LoadScene("scenes/thesis_C_b.toml");
   CHECK(c_b.two_point.rotor_mass_center == 0.26);
   CHECK(c_b.two_point.rotor_inertia == 0.07);

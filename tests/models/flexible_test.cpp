@@ -23,13 +23,6 @@ ShaftElement SteelSection(double outer, double inner, double stiffening = 1.0) {
   return e;
 }
 
-TwoPointParams CaseCa() {  // the overhung disk of cases C (design.md §3)
-  TwoPointParams p = ThesisCaseAa();
-  p.rotor_mass_center = 0.26;
-  p.rotor_inertia = 0.07;
-  return p;
-}
-
 double RelativeDifference(const Matrix& a, const Matrix& b) { return (a - b).norm() / b.norm(); }
 
 TEST_CASE("flexible two-point model: Guyan condensation is the rigid model, whatever E",
@@ -40,7 +33,7 @@ TEST_CASE("flexible two-point model: Guyan condensation is the rigid model, what
   TwoPointParams beyond = ThesisCaseAa();
   beyond.rotor_mass_center = 0.35;
   beyond.rotor_inertia = 0.07;
-  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa(), beyond}) {
+  for (const TwoPointParams& p : {ThesisCaseAa(), ThesisCaseCa(), beyond}) {
     TwoPointParams imbalanced = p;
     imbalanced.imbalance = 3.43e-5;
     const RubStructure rigid = TwoPointStructure(imbalanced);
@@ -160,7 +153,7 @@ TEST_CASE("a body shaft's rigid-body data: a uniform body completes to the rigid
   TwoPointParams beyond = ThesisCaseAa();
   beyond.rotor_mass_center = 0.35;
   beyond.rotor_inertia = 0.07;
-  for (const TwoPointParams& p : {ThesisCaseAa(), CaseCa(), beyond}) {
+  for (const TwoPointParams& p : {ThesisCaseAa(), ThesisCaseCa(), beyond}) {
     const RigidBodyData r = RigidBodyOf(UniformBody("rotor", SteelSection(0.02, 0.0), p.contact_span,
                                                     8, p.rotor_mass, p.rotor_inertia,
                                                     p.rotor_mass_center, {}));

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "shooting/orbit_branches.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -27,14 +28,6 @@ RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 
   o.integrator.relative_tolerance = o.integrator.absolute_tolerance = 1e-6;
   o.integrator.max_steps = 100000000;
   return SettleAtSpeed(TwoPointStructure(params), o, 1.0);
-}
-
-// Case C(a): A(a) with the overhung rotor's inertia and mass centre (thesis Table 1).
-TwoPointParams CaseCa() {
-  TwoPointParams params = ThesisCaseAa();
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
-  return params;
 }
 
 ModulatedOrbitOptions Options(double tolerance) {
@@ -84,7 +77,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
           "shooting for one reports that it did not converge", "[modulated_orbit][failure]") {
   // Measured (sweep spectra at 49.5–60 rpm): the left contact carries lines at −79 ± 121 Hz, the
   // right at −79 ± 325 Hz; 325/121 is not an integer, so no period T fits both.
-  const TwoPointParams params = CaseCa();
+  const TwoPointParams params = ThesisCaseCa();
   // 3 s from rest is not enough here: the modulation still moves from 123.3 to 124.4 Hz over the
   // next 0.8 s (measured), and the torus's first points need it steady.
   const RubSettledSpeed transient = Settle(params, 60.0, 8.0);
@@ -139,15 +132,10 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
           "BDF on one period per section", "[modulated_orbit][torus]") {
   // Its continuation both ways (ContinueTransientTori) runs in tests/apps/tori_stage_test.cpp,
   // through the scene key that calls it, at K = 8.
-  const TwoPointParams params = CaseCa();
+  const TwoPointParams params = ThesisCaseCa();
   const RubSettledSpeed transient = Settle(params, 49.0, 8.0);
   REQUIRE(transient.settled);
-  ModulatedTorusOptions start;
-  start.harmonics = 16;
-  start.approach = 4.0;
-  start.search_duration = 4.0;
-  start.newton.max_iterations = 30;
-  start.lyapunov_iterates = 0;
+  const ModulatedTorusOptions start = SettledTransientStart(16);
   const ModulatedTorus torus =
       SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(49.0),
                           2.0 * M_PI * transient.precession_hz, transient.state, start);
@@ -167,6 +155,77 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
   CHECK(std::abs(torus.carrier_hz - transient.precession_hz) < 0.01);
 }
 
+TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of three modulation "
+          "periods, stable from the tongue's edge (a fold) to a period doubling",
+          "[modulated_orbit][torus]") {
+  // The references are L3's, independent of shooting (results/thesis_C_a/attractor_49_50rpm:
+  // Lyapunov exponents of the speed-up whip): a relative 2-torus at 49.1 and 49.2 rpm, a relative
+  // periodic orbit (two zero exponents, the next −8 to −9 per s) at 49.3–49.6 rpm, chaotic from
+  // 49.7 rpm. One modulation period later the transient's state is 7e-3 of itself away from its
+  // start, three periods later 2.5e-5 (measured).
+  const TwoPointParams params = ThesisCaseCa();
+  const RubStructure structure = TwoPointStructure(params);
+  const double omega = RpmToRadPerSecond(49.4);
+  const RubSettledSpeed transient = Settle(params, 49.4, 8.0);
+  REQUIRE(transient.settled);
+  ModulatedOrbitOptions options;
+  options.laps = 3;
+  options.search_duration = 1.0;
+  options.shooting.segments = 6;
+  options.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.shooting.integrator.collocation_stages = 4;
+  options.shooting.integrator.collocation_steps = 200;
+  options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
+  const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, 2.0 * M_PI * transient.precession_hz,
+                                                   transient.state, options);
+  INFO(orbit.message);
+  REQUIRE(orbit.converged);
+  CHECK(orbit.laps == 3);
+  CHECK_THAT(orbit.message, Contains("(3 modulation periods)"));
+  // Three periods of the slip's modulation (measured 125.66 Hz), the carrier the transient's.
+  CHECK(3.0 / orbit.period == Approx(125.66).margin(0.05));
+  CHECK(std::abs(orbit.carrier_hz - transient.precession_hz) < 0.01);
+
+  // Its family over 49.15–49.55 rpm: the stable orbit the transient found, a fold below it (the
+  // 1:3 tongue's edge, between L3's torus at 49.2 and orbit at 49.3 rpm), a period doubling above
+  // it (between L3's orbit at 49.3 and its chaos at 49.7 rpm); measured 49.24472 and 49.47091 rpm.
+  RubRotatingFrame frame(structure, orbit.frame_rate, omega);
+  PeriodicOrbitBranchOptions family_options;
+  family_options.lambda_min = RpmToRadPerSecond(49.15);
+  family_options.lambda_max = RpmToRadPerSecond(49.55);
+  family_options.shooting = options.shooting;
+  family_options.continuation.corrector.residual_tolerance = 1e-8;
+  family_options.continuation.step.initial = 0.01;
+  family_options.continuation.bounds.max_steps = 200;
+  const PeriodicOrbitBranch family =
+      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(orbit, omega), family_options);
+  const Branch& b = family.branch;
+  INFO(b.BriefReport());
+  REQUIRE(b.points.front().StableFlag() >= 0);
+  std::vector<double> folds, doublings;
+  for (const SpecialPoint& p : b.special_points) {
+    if (!p.converged) continue;
+    if (p.type == SpecialPointType::kFold) folds.push_back(RadPerSecondToRpm(p.lambda));
+    if (p.type == SpecialPointType::kPeriodDoubling) doublings.push_back(RadPerSecondToRpm(p.lambda));
+  }
+  REQUIRE(folds.size() == 1);
+  REQUIRE(doublings.size() == 1);
+  CHECK(folds[0] > 49.2);
+  CHECK(folds[0] < 49.3);
+  CHECK(doublings[0] > 49.3);
+  CHECK(doublings[0] < 49.7);
+  // Stable only between them (the saddle orbits past the fold lie there too, unstable).
+  for (const BranchPoint& p : b.points) {
+    if (p.StableFlag() != 1) continue;
+    const double rpm = RadPerSecondToRpm(p.lambda);
+    INFO("a stable orbit at " << rpm << " rpm");
+    CHECK(rpm > folds[0] - 1e-4);
+    CHECK(rpm < doublings[0] + 1e-4);
+  }
+  CHECK(std::count_if(b.points.begin(), b.points.end(),
+                      [](const BranchPoint& p) { return p.StableFlag() == 1; }) >= 3);
+}
+
 TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[modulated_orbit]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
   const Vector x = Vector::Zero(s.States());
@@ -179,6 +238,10 @@ TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[m
   o = {};
   o.harmonics = -1;
   CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, x, o), Contains("harmonics = -1"));
+  o = {};
+  o.laps = 0;
+  CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, x, o), Contains("laps = 0: must be in 1 … 64"));
+  CHECK_THROWS_WITH(StartOf(ModulatedOrbit{}, 6.0), Contains("did not converge"));
   CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, -1.0, x, {}), Contains("frame_rate = -1"));
   CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, Vector::Zero(3), {}), Contains("3 entries"));
   // No modulation: a rotor at rest has a constant slip velocity.

@@ -6,6 +6,7 @@
 #include "shooting/orbit_branches.h"
 
 #include <cmath>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -252,6 +253,115 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   std::size_t not_doubling = family.branch.special_points.size();
   CHECK_THROWS_AS(ContinueOrbitsFromPeriodDoubling(system, family, not_doubling, Options()),
                   std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// An isola of limit cycles: ṙ = r g, θ̇ = 1 + r² with g = 1 − (r² − 2)² − λ². The cycles r² = 2 ±
+// √(1 − λ²) form one closed curve in (λ, r²) with folds at λ = ±1 (r² = 2); the outer ones are
+// stable (dṙ/dr = −4r²(r² − 2) on a cycle), the inner ones not. Their period 2π/(1 + r²) changes
+// round the curve, so the phase reference moves with the family.
+class IsolaOscillator : public OdeSystem {
+ public:
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const double r2 = x(0) * x(0) + x(1) * x(1), g = G(r2), w = 1.0 + r2;
+    f << g * x(0) - w * x(1), g * x(1) + w * x(0);
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override {
+    const double r2 = x(0) * x(0) + x(1) * x(1), g = G(r2), w = 1.0 + r2;
+    const double gx = -4 * x(0) * (r2 - 2), gy = -4 * x(1) * (r2 - 2);
+    J << g + x(0) * gx - 2 * x(1) * x(0), x(0) * gy - w - 2 * x(1) * x(1),  //
+        x(1) * gx + w + 2 * x(0) * x(0), g + x(1) * gy + 2 * x(0) * x(1);
+  }
+  double Parameter() const override { return lambda_; }
+  void SetParameter(double lambda) override { lambda_ = lambda; }
+  void DfDparameter(double, ConstVectorRef x, VectorRef df) override {
+    df << -2 * lambda_ * x(0), -2 * lambda_ * x(1);
+  }
+
+ private:
+  double G(double r2) const { return 1.0 - (r2 - 2) * (r2 - 2) - lambda_ * lambda_; }
+  double lambda_ = 0.0;
+};
+
+TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_curve", "[shooting]") {
+  IsolaOscillator system;
+  OrbitStart start;
+  start.x0 = Eigen::Vector2d(std::sqrt(3.0), 0.0);  // the outer cycle at λ = 0
+  start.period = 2 * M_PI / 4.0;
+  start.lambda = 0.0;
+  start.valid = true;
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = -2.0;
+  options.lambda_max = 2.0;
+  options.shooting.segments = 2;
+  options.shooting.integrator.method = IntegrationMethod::kExplicitRungeKutta;
+  options.shooting.integrator.explicit_order = 8;
+  options.shooting.sensitivities_in_residual = true;
+  options.continuation.step.max = 0.1;
+  options.continuation.bounds.max_steps = 2000;
+  options.stop_round_closed_curve = true;
+  const PeriodicOrbitBranch family =
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
+  const Branch& b = family.branch;
+  INFO(b.BriefReport() << " — " << b.message);
+  // Once round: the two folds, each once, and no run the other way.
+  const std::vector<double> folds = DistinctFolds(b);
+  REQUIRE(folds.size() == 2);
+  CHECK(folds[0] == Approx(-1.0).margin(1e-6));
+  CHECK(folds[1] == Approx(1.0).margin(1e-6));
+  CHECK(b.Count(SpecialPointType::kFold) == 2);
+  // Here the engine's own closure test ends the first run (the circular cycles come back with
+  // their segment starts); on C(a)'s 1:3 orbits it did not, and the folds' test does
+  // (bench/locked_whip_bench.cpp).
+  CHECK((b.status == BranchStatus::kClosed || RoundClosedCurve(b, 0.0)));
+  CHECK(b.points.size() < 2000);
+  for (const BranchPoint& p : b.points) {
+    const double r2 = p.u(0) * p.u(0) + p.u(1) * p.u(1);
+    CAPTURE(p.lambda, r2);
+    CHECK((r2 - 2) * (r2 - 2) + p.lambda * p.lambda == Approx(1.0).margin(1e-7));
+    CHECK(p.u(4) == Approx(2 * M_PI / (1 + r2)).epsilon(1e-8));  // the period
+    if (std::abs(r2 - 2) > 1e-2) CHECK(p.StableFlag() == (r2 > 2 ? 1 : 0));
+  }
+}
+
+}  // namespace
+}  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+TEST_CASE("RoundClosedCurve: two distinct folds located and a step back across the start",
+          "[shooting]") {
+  Branch b;
+  for (const double lambda : {0.0, -0.5, -0.9, -0.5, 0.5, 0.9, 0.5, 0.1}) {
+    BranchPoint p;
+    p.lambda = lambda;
+    b.points.push_back(p);
+  }
+  auto fold = [](double lambda) {
+    SpecialPoint p;
+    p.type = SpecialPointType::kFold;
+    p.lambda = lambda;
+    p.converged = true;
+    return p;
+  };
+  b.special_points = {fold(-1.0), fold(1.0), fold(1.0 + 1e-12)};  // the last met again
+  CHECK(DistinctFolds(b) == std::vector<double>{-1.0, 1.0});
+  CHECK_FALSE(RoundClosedCurve(b, 0.0));  // not back across 0 yet
+  BranchPoint across;
+  across.lambda = -0.1;
+  b.points.push_back(across);
+  CHECK(RoundClosedCurve(b, 0.0));
+  b.special_points.pop_back();
+  b.special_points.back().converged = false;  // a fold not located is no fold here
+  CHECK_FALSE(RoundClosedCurve(b, 0.0));
 }
 
 }  // namespace

@@ -14,9 +14,7 @@ namespace {
 constexpr double kRpm = 2.0 * M_PI / 60.0;
 
 TwoPointParams CaseCaTanh() {
-  TwoPointParams params = ThesisCaseAa();
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
+  TwoPointParams params = ThesisCaseCa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   return params;
 }

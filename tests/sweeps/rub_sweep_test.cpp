@@ -205,10 +205,7 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
 
 TEST_CASE("Rolling is decided by the slip: case C(a)'s whip locked next to the rolling line is whip",
           "[rub_sweep]") {
-  TwoPointParams params = ThesisCaseAa();  // case C(a)
-  params.rotor_inertia = 0.07;
-  params.rotor_mass_center = 0.26;
-  const RubStructure s = TwoPointStructure(params);
+  const RubStructure s = TwoPointStructure(ThesisCaseCa());
   // Readings of the C(a) speed-up sweep (results/thesis_C_a/sweep.h5, ε = 1e-3 m/s), left and
   // right: BP [Hz], mean slip velocity [m/s], contact fraction. Rolling is 100·rpm/60 Hz.
   const std::vector<SweepPoint> points = {
