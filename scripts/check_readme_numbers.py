@@ -233,9 +233,29 @@ def whip_end_cases(results):
                  if os.path.exists(os.path.join(results, path)))
 
 
+def c_a_attractor(results):
+    """C(a)'s speed-up whip by `rubcont attractor`: chaotic from 49.7 to 57.2 rpm, and λ₁ there and
+    in the impacting whip from 82 rpm."""
+    rows = {}
+    for name in ("49_50", "49_60", "57_61", "62_98", "100_124"):
+        with h5(results, f"thesis_C_a/attractor_{name}rpm.h5") as f:
+            a = f["attractor"]
+            for speed, motion, exponents, errors in zip(a["speed_rpm"][()], a["motion"][()],
+                                                        a["exponents"][()], a["standard_errors"][()]):
+                rows[round(float(speed), 2)] = (text(motion), exponents[0], errors[0])
+    chaotic = [s for s in rows if 49.7 <= s <= 57.25]
+    verdict = ("chaotic" if all(rows[s][0] == "chaotic" for s in chaotic)
+               else "not chaotic at every speed from 49.7 to 57.25 rpm (the files)")
+    impacting = [rows[s][1] for s in rows if 100 <= s <= 124]
+    return (f"**{verdict}**: +{rows[49.7][1]:.1f} ± {rows[49.7][2]:.1f} (49.7)",
+            f"+{rows[57.25][1]:.1f} ± {rows[57.25][2]:.1f} (57.25)",
+            f"+{rows[82.0][1]:.0f} ± {rows[82.0][2]:.0f} (82)",
+            f"+{min(impacting):.0f} … +{max(impacting):.0f} (100–124)")
+
+
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
           forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes,
-          whip_end_cases]
+          whip_end_cases, c_a_attractor]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",

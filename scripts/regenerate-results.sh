@@ -22,7 +22,10 @@
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
-#                   table of results/README.md "What the whip is".
+#                   table of results/README.md "What the whip is"; then what C(a)'s speed-up whip
+#                   is at 49–124 rpm (results/thesis_C_a/attractor_*rpm.*: five runs, two side
+#                   by side, about 30 min on 2 cores; results/README.md, "C(a)'s speed-up whip,
+#                   speed by speed").
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
 #                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores), then the
 #                   flexible B(a)'s and C(a)'s sweeps (22 and 5 min of CPU).
@@ -123,6 +126,20 @@ if [[ "${1:-}" == "--attractor" ]]; then
   /usr/bin/python3 scripts/attractor_table.py results/thesis_A_a/attractor_52_128rpm.h5 \
     results/thesis_A_a/attractor_132_144rpm.h5 results/thesis_A_a/attractor_148_184rpm.h5 \
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
+  # C(a): the torus's end, the chaos and the torus again (49–61 rpm), the smooth whip to its
+  # contact loss (62–98 rpm) and the impacting whip around the left contact's departure (100–124).
+  attractor_c() {  # FROM TO STEP DURATION DISCARD
+    local name="results/thesis_C_a/attractor_$1_$2rpm"
+    build/rubcont attractor scenes/thesis_C_a.toml --from "$1" --to "$2" --step "$3" \
+      --duration "$4" --discard "$5" --tolerance 1e-7 --quiet --out "$name.h5" > "$name.txt"
+  }
+  attractor_c 49 60 1 2 1 & first=$!
+  attractor_c 100 124 2 1 0.5 & second=$!
+  wait "$first"
+  attractor_c 49 50 0.1 4 2
+  attractor_c 57 61 0.25 4 2
+  wait "$second"
+  attractor_c 62 98 4 2 1
 fi
 # Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
 # A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up
