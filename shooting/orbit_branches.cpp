@@ -173,6 +173,13 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
       return !(options.stop_round_closed_curve && RoundClosedCurve(b, start.lambda));
     };
     Branch branch = Continue(problem, u0, start.lambda, continuation, step);
+    if (options.stop_round_closed_curve && branch.status == BranchStatus::kStoppedByCaller &&
+        RoundClosedCurve(branch, start.lambda)) {
+      const std::vector<double> folds = DistinctFolds(branch);
+      branch.status = BranchStatus::kClosed;
+      branch.message = fmt::format("closed: round the curve through its folds at {:.9g} and {:.9g}",
+                                   folds.front(), folds.back());
+    }
     Accumulate(result.work, problem.statistics());
     return branch;
   };
@@ -184,8 +191,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
   } else {
     const Branch backward = run(-1);
     // A closed curve (isola) followed round backwards already holds the forward run's points.
-    if (backward.status == BranchStatus::kClosed ||
-        (options.stop_round_closed_curve && RoundClosedCurve(backward, start.lambda))) {
+    if (backward.status == BranchStatus::kClosed) {
       result.branch = backward;
       return result;
     }

@@ -67,8 +67,8 @@ struct PeriodicOrbitBranchOptions {
   std::vector<OrbitMeasure> measures;
   // Located along the branch where they change sign (e.g. Grazing); none by default.
   std::vector<OrbitTestFunction> test_functions;
-  // Stop a run once it is round a closed curve (RoundClosedCurve), and then do not run the other
-  // way: a resonance tongue's locked orbits. The engine's own closure test compares the unknowns,
+  // End a run once it is round a closed curve (RoundClosedCurve; status kClosed, the message names
+  // the folds), and then do not run the other way: a resonance tongue's locked orbits. The engine's own closure test compares the unknowns,
   // and with the phase reference moved along the family (refresh_phase_reference) an orbit met
   // again has other segment starts: measured on C(a)'s 1:3 orbits, followed round and round.
   bool stop_round_closed_curve = false;
