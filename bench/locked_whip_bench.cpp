@@ -110,7 +110,12 @@ int Main(int argc, char** argv) {
     Vector state = transient.state;
     RubFixedFrame fixed(structure, omega);
     OdeIntegrator approach(fixed, SettledTransientStart(1).integrator);
-    if (!approach.Integrate(0.0, transient.state, 4.0, state).Succeeded()) state = transient.state;
+    const IntegrationResult approached = approach.Integrate(0.0, transient.state, 4.0, state);
+    if (!approached.Succeeded()) {
+      std::printf("  (the approach failed: %s; the settled state instead)\n",
+                  approached.BriefReport().c_str());
+      state = transient.state;
+    }
     const double settled = ProcessCpuSeconds();
     const ModulatedOrbit orbit = SolveModulatedOrbit(
         structure, omega, 2 * M_PI * transient.precession_hz, state, solve);
