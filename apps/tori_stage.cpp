@@ -34,7 +34,6 @@ RubTorusOptions TorusOptionsOf(const Scene& scene, const RubOrbitsPlan& plan) {
   options.tori.harmonics = t.harmonics;
   options.tori.amplitude = t.amplitude;
   options.tori.max_fourier_tail = t.max_fourier_tail;
-  options.tori.continuation.bounds.max_steps = t.max_steps;
   options.tori.lyapunov_iterates = t.lyapunov_iterates;
   options.tori.continuation = plan.options.orbits.continuation;
   options.tori.continuation.bounds.max_steps = t.max_steps;
