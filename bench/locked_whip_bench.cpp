@@ -25,20 +25,6 @@
 namespace rubcont {
 namespace {
 
-// The transient as the tori's start has it (bench/transient_tori_bench.cpp): 8 s from rest and a
-// 1 N·s impulse, BDF ≤ 2 at 1e-6, 0.5 s windows.
-RubSettledSpeed Settle(const RubStructure& structure, double omega) {
-  SweepOptions sweep;
-  sweep.parameters = {omega};
-  sweep.dwell = 8.0;
-  sweep.window = 0.5;
-  sweep.analysis_length = 1.0;
-  sweep.integrator.max_order = 2;
-  sweep.integrator.relative_tolerance = sweep.integrator.absolute_tolerance = 1e-6;
-  sweep.integrator.max_steps = 100000000;
-  return SettleAtSpeed(structure, sweep, 1.0);
-}
-
 // Gauss–Legendre collocation of order 8, 400 intervals per modulation period, two segments per
 // lap (the orbits stage's mesh for C(a)).
 ShootingOptions LockedShooting(int laps) {
@@ -103,7 +89,7 @@ int Main(int argc, char** argv) {
   auto locked_orbit = [&](double at_rpm) {
     const double omega = RpmToRadPerSecond(at_rpm);
     const double start = ProcessCpuSeconds();
-    const RubSettledSpeed transient = Settle(structure, omega);
+    const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega), 1.0);
     // 4 s more, as the tori's start (SettledTransientStart): at 58 rpm, next to the chaos, the
     // settled transient's slip still had its strongest line at 123.16 Hz, no line of the orbit
     // (3/T = 121.41 Hz), and Newton failed (measured).

@@ -30,15 +30,7 @@ int Main(int argc, char** argv) {
 
   // The transient: 8 s at the speed from rest plus the impulse, settled by 0.5 s windows.
   const double settle_start = ProcessCpuSeconds();
-  SweepOptions sweep;
-  sweep.parameters = {omega};
-  sweep.dwell = 8.0;
-  sweep.window = 0.5;
-  sweep.analysis_length = 1.0;
-  sweep.integrator.max_order = 2;
-  sweep.integrator.relative_tolerance = sweep.integrator.absolute_tolerance = 1e-6;
-  sweep.integrator.max_steps = 100000000;
-  const RubSettledSpeed transient = SettleAtSpeed(structure, sweep, 1.0);
+  const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega), 1.0);
   const double precession_hz = transient.precession_hz;
   std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", rpm,
               transient.settled ? "settled" : "did not settle", precession_hz,

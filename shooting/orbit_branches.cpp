@@ -417,15 +417,28 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   const Vector twice = problem.Pack(starts, 2.0 * period, 2.0 * phi);
   problem.SetPhaseReference(twice, point.lambda);
   const Vector du = problem.Pack(direction, 0.0, 0.0).cwiseQuotient(problem.Scale());
-  const Vector u0 = twice + amplitude * problem.Pack(direction, 0.0, 0.0);
 
   ContinuationOptions continuation = options.continuation;
   continuation.bounds.lambda_min = options.lambda_min;
   continuation.bounds.lambda_max = options.lambda_max;
   continuation.detect.stability = true;
-  Continuation stepper(problem, continuation);
-  stepper.StartWithTangent(u0, point.lambda, du, 0.0);
-  result.branch = FamilyOf(problem, doubled, point.lambda, RunToEnd(stepper, on_step));
+  // A start too far off the orbit for the flow (a stiff contact pressed in further than the
+  // integrator survives) is tried again ten and a hundred times closer: the same doubled orbits.
+  std::string failed;
+  for (int attempt = 0; attempt < kDoublingStartAttempts; ++attempt, amplitude /= 10.0) {
+    Continuation stepper(problem, continuation);
+    const Vector u0 = twice + amplitude * problem.Pack(direction, 0.0, 0.0);
+    if (stepper.StartWithTangent(u0, point.lambda, du, 0.0) == StepResult::kFailed &&
+        attempt + 1 < kDoublingStartAttempts) {
+      failed += fmt::format("{}the start at amplitude {:g} failed ({})", failed.empty() ? "" : "; ",
+                            amplitude, stepper.branch().message);
+      continue;
+    }
+    result.amplitude = amplitude;
+    result.message = failed.empty() ? "" : failed + fmt::format("; amplitude {:g} used", amplitude);
+    result.branch = FamilyOf(problem, doubled, point.lambda, RunToEnd(stepper, on_step));
+    break;
+  }
   result.ok = true;
   return result;
 }

@@ -180,11 +180,16 @@ OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
 // of the point the doubled orbits lie on: supercritical or subcritical). Both signs of the
 // amplitude give the same orbits shifted by T: one side is followed. The doubled problem keeps
 // the family's integrator, steps per segment and measures, so a Gauss mesh resolves each lap as
-// before (twice the intervals per doubled period).
+// before (twice the intervals per doubled period). A start whose correction fails (C(a)'s stiff
+// contact at 1e-3: a non-finite residual) is tried again at amplitude/10 and amplitude/100
+// (kDoublingStartAttempts in all); the message names the failed starts and `amplitude` the one
+// the family started from.
+inline constexpr int kDoublingStartAttempts = 3;
 struct OrbitPeriodDoubling {
   std::size_t special_point = 0;  // index into the family's branch.special_points
   bool ok = false;                // false: no start (message says why), no branch
-  std::string message;
+  std::string message;            // why not; or the starts that failed before the one used
+  double amplitude = std::numeric_limits<double>::quiet_NaN();  // the start's, scaled units
   double multiplier = std::numeric_limits<double>::quiet_NaN();  // the real one nearest −1
   PeriodicOrbitBranch branch;     // the doubled family: period 2T, 2N segments
 };

@@ -69,6 +69,18 @@ Vector RubImpulseIncrement(const RubStructure& structure, double impulse) {
   return dx;
 }
 
+SweepOptions LongSettleOptions(double omega, double dwell) {
+  SweepOptions options;
+  options.parameters = {omega};
+  options.dwell = dwell;
+  options.window = 0.5;
+  options.analysis_length = 1.0;
+  options.integrator.max_order = 2;
+  options.integrator.relative_tolerance = options.integrator.absolute_tolerance = 1e-6;
+  options.integrator.max_steps = 100000000;
+  return options;
+}
+
 RubSettledSpeed SettleAtSpeed(const RubStructure& structure, const SweepOptions& options,
                               double impulse) {
   if (options.parameters.size() != 1) {

@@ -66,6 +66,12 @@ struct RubSettledSpeed {
 RubSettledSpeed SettleAtSpeed(const RubStructure& structure, const SweepOptions& options,
                               double impulse);
 
+// SettleAtSpeed's options for a modulated whip or a torus at `omega` [rad/s]: `dwell` s from rest
+// (the sweeps' 0.75 s is too short for them), 0.5 s windows over 1 s of analysis, CVODES BDF of
+// order ≤ 2 at 1e-6 (A-stable: the nearly undamped contact modes do not limit the step; see
+// apps/stage_options.cpp).
+SweepOptions LongSettleOptions(double omega, double dwell = 8.0);
+
 // Running speeds from `from_rpm` towards `to_rpm` in steps of `step_rpm` (> 0): from, from ± step,
 // …, up to and including `to_rpm` when it lies on the grid (within 1e-9 steps), otherwise the
 // last value before it. Throws std::invalid_argument for non-finite or non-positive inputs.

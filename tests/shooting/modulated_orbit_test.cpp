@@ -19,15 +19,7 @@ using Catch::Matchers::Contains;
 // The scene's time-marching model at one speed from rest plus a 1 N·s impulse, settled by 0.5 s
 // windows (the modulated whip needs more than the sweeps' 0.75 s from rest).
 RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 3.0) {
-  SweepOptions o;
-  o.parameters = {RpmToRadPerSecond(rpm)};
-  o.dwell = dwell;
-  o.window = 0.5;
-  o.analysis_length = 1.0;
-  o.integrator.max_order = 2;
-  o.integrator.relative_tolerance = o.integrator.absolute_tolerance = 1e-6;
-  o.integrator.max_steps = 100000000;
-  return SettleAtSpeed(TwoPointStructure(params), o, 1.0);
+  return SettleAtSpeed(TwoPointStructure(params), LongSettleOptions(RpmToRadPerSecond(rpm), dwell), 1.0);
 }
 
 ModulatedOrbitOptions Options(double tolerance) {

@@ -6,6 +6,7 @@
 #include "shooting/orbit_branches.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -253,6 +254,59 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   std::size_t not_doubling = family.branch.special_points.size();
   CHECK_THROWS_AS(ContinueOrbitsFromPeriodDoubling(system, family, not_doubling, Options()),
                   std::invalid_argument);
+}
+
+// The same flow, defined only within 0.05 of the cycle (|w| ≤ 0.05): like the stiff contact's
+// flow, which the integrator does not survive far inside the stator. A doubled start at amplitude
+// 0.1 cannot be corrected; the retry at 0.01 starts the same doubled orbits.
+class CycleWithMoebiusBandNearby : public CycleWithMoebiusBand {
+ public:
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override {
+    CycleWithMoebiusBand::Rhs(t, x, f);
+    if (std::hypot(x(2), x(3)) > 0.05) f.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+};
+
+TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
+          "[shooting][period_doubling]") {
+  CycleWithMoebiusBandNearby system;
+  OrbitStart start;
+  start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  start.period = 2 * M_PI;
+  start.lambda = -0.5;
+  start.valid = true;
+  PeriodicOrbitBranchOptions options = Options();
+  options.lambda_max = 1e-3;  // the doubled orbits' a = √λ stay within 0.032 of the cycle
+  const PeriodicOrbitBranch family =
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
+  INFO(family.branch.BriefReport());
+  REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
+
+  const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, options, 0.1);
+  INFO(doubling.message);
+  REQUIRE(doubling.ok);
+  CHECK(doubling.amplitude == Approx(0.01));
+  CHECK_THAT(doubling.message, Catch::Contains("the start at amplitude 0.1 failed") &&
+                                   Catch::Contains("amplitude 0.01 used"));
+  const Branch& doubled = doubling.branch.branch;
+  INFO(doubled.BriefReport() << " — " << doubled.message);
+  REQUIRE(doubled.status == BranchStatus::kReachedLambdaBound);
+  REQUIRE(doubled.Size() > 3);
+  for (const BranchPoint& p : doubled.points) {
+    for (int i = 0; i < 4; ++i) {
+      CHECK(std::hypot(p.u(4 * i + 2), p.u(4 * i + 3)) ==
+            Approx(std::sqrt(std::max(p.lambda, 0.0))).margin(1e-7));
+    }
+  }
+
+  // Three starts that all fail: the family says so (no point), with each failure named.
+  const OrbitPeriodDoubling far = ContinueOrbitsFromPeriodDoubling(system, family, k, options, 10.0);
+  CHECK(far.branch.branch.status == BranchStatus::kStartFailed);
+  CHECK(far.branch.branch.Size() == 0);
+  CHECK_THAT(far.message, Catch::Contains("amplitude 10 failed") &&
+                              Catch::Contains("amplitude 1 failed"));
 }
 
 }  // namespace
