@@ -253,9 +253,35 @@ def c_a_attractor(results):
             f"+{min(impacting):.0f} … +{max(impacting):.0f} (100–124)")
 
 
+def c_bc_attractor(results):
+    """C(b)'s and C(c)'s speed-up whips by `rubcont attractor`: the impacting chaos's λ₁ and where it
+    starts, C(c)'s torus at every speed 58–70 rpm, C(b)'s weak chaos at 56 and 58 rpm."""
+    def rows(case, names):
+        out = {}
+        for name in names:
+            with h5(results, f"thesis_C_{case}/attractor_{name}rpm.h5") as f:
+                a = f["attractor"]
+                for speed, motion, exponents, errors in zip(a["speed_rpm"][()], a["motion"][()],
+                                                            a["exponents"][()], a["standard_errors"][()]):
+                    out.setdefault(round(float(speed), 2), []).append((text(motion), exponents[0], errors[0]))
+        return out
+    b, c = rows("b", ("40_112", "52_60")), rows("c", ("44_112", "48_70"))
+    b_high = [r[1] for s, v in b.items() if 80 <= s <= 112 for r in v]
+    c_high = [r[1] for s, v in c.items() if 76 <= s <= 108 for r in v]
+    torus = all(r[0] == "relative 2-torus" for s, v in c.items() if 58 <= s <= 70 for r in v)
+    fine_b = {s: v[-1] for s, v in b.items()}  # the 1 rpm run where both ran
+    return (f"| 80–112 | chaotic and impacting: +{min(b_high):.0f} … +{max(b_high):.0f} | chaotic and "
+            f"impacting at 80–108 (+{min(c_high):.0f} … +{max(c_high):.0f})",
+            f"**chaotic and impacting** (+{b[76.0][0][1]:.0f} ± {b[76.0][0][2]:.0f})",
+            f"from 72 (+{c[72.0][0][1]:.0f} ± {c[72.0][0][2]:.0f} at 72",
+            f"**chaotic** at 56 (+{fine_b[56.0][1]:.1f} ± {fine_b[56.0][2]:.1f}) and 58 "
+            f"(+{fine_b[58.0][1]:.1f} ± {fine_b[58.0][2]:.1f})",
+            "**relative 2-torus at every speed 58–70**" if torus else "C(c): not a torus at every speed 58–70 rpm (the files)")
+
+
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
           forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes,
-          whip_end_cases, c_a_attractor]
+          whip_end_cases, c_a_attractor, c_bc_attractor]
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",

@@ -25,7 +25,8 @@
 #                   table of results/README.md "What the whip is"; then what C(a)'s speed-up whip
 #                   is at 49–124 rpm (results/thesis_C_a/attractor_*rpm.*: five runs, two side
 #                   by side, about 30 min on 2 cores; results/README.md, "C(a)'s speed-up whip,
-#                   speed by speed").
+#                   speed by speed"); then C(b)'s and C(c)'s (results/thesis_C_{b,c}/attractor_*:
+#                   four runs, two side by side, about 25 min on 2 cores).
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
 #                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores), then the
 #                   flexible B(a)'s and C(a)'s sweeps (22 and 5 min of CPU).
@@ -140,6 +141,18 @@ if [[ "${1:-}" == "--attractor" ]]; then
   attractor_c 57 61 0.25 4 2
   wait "$second"
   attractor_c 62 98 4 2 1
+  # C(b) and C(c): the whip from its birth to the impacting chaos, then the speeds between.
+  attractor_bc() {  # CASE FROM TO STEP DURATION DISCARD
+    local name="results/thesis_C_$1/attractor_$2_$3rpm"
+    build/rubcont attractor "scenes/thesis_C_$1.toml" --from "$2" --to "$3" --step "$4" \
+      --duration "$5" --discard "$6" --tolerance 1e-7 --quiet --out "$name.h5" > "$name.txt"
+  }
+  attractor_bc b 40 112 4 2 1 & first=$!
+  attractor_bc c 44 112 4 2 1
+  wait "$first"
+  attractor_bc b 52 60 1 4 2 & first=$!
+  attractor_bc c 48 70 2 4 2
+  wait "$first"
 fi
 # Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
 # A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up

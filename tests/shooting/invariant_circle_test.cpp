@@ -426,6 +426,44 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   CHECK(!Solve(plain, v, mu).Converged());
 }
 
+// Only the points matter to CircleFromOrbit: a forced system of four states that does nothing.
+class FourStatesAtRest : public OdeSystem {
+ public:
+  Index Dimension() const override { return 4; }
+  void Rhs(double, ConstVectorRef, VectorRef f) override { f.setZero(); }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+  double ForcingPeriod() const override { return 1.0; }
+};
+
+TEST_CASE("invariant circle: points on a curve that winds twice round its centre in its principal "
+          "plane are fitted once round, not as a circle covered twice",
+          "[torus]") {
+  // u(θ) = (cos 2θ, sin 2θ, 0.3 cos θ, 0.3 sin θ) at θ_k = 2πkρ, ρ = 0.694: in the (x, y) plane the
+  // points advance 2ρ − 1 = 0.388 turns per iterate, and angles 2πk·ρ/2 fit them exactly with
+  // harmonics 2 and 4 (u = w(2θ)): a circle covered twice, whose invariance equation is singular
+  // (C(c) at 64 rpm). The fit must return ρ = 0.694 and the curve itself.
+  const double rho = 0.694;
+  const int harmonics = 8;
+  InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), harmonics, OrbitKind::kForced);
+  auto curve = [](double theta) {
+    return Eigen::Vector4d(std::cos(2 * theta), std::sin(2 * theta), 0.3 * std::cos(theta),
+                           0.3 * std::sin(theta));
+  };
+  Matrix points(4, 4 * (2 * harmonics + 1));
+  for (Index k = 0; k < points.cols(); ++k) points.col(k) = curve(2 * M_PI * rho * static_cast<double>(k));
+  const Vector u = problem.CircleFromOrbit(points);
+  // To the fit's grid in ρ (steps of 4/(5000 m)); Newton refines from there.
+  CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-5);
+  for (const double theta : {0.0, 0.37, 1.9, 4.4}) {
+    CAPTURE(theta);
+    CHECK((problem.PointAt(u, theta) - curve(theta)).norm() <= 1e-3);
+  }
+  CHECK(problem.HarmonicSize(u, 1) == Approx(0.3 * std::sqrt(2.0)).epsilon(1e-6));
+  CHECK(problem.HarmonicSize(u, 2) == Approx(std::sqrt(2.0)).epsilon(1e-6));
+  for (int k = 3; k <= harmonics; ++k) CHECK(problem.HarmonicSize(u, k) <= 1e-3);
+}
+
 TEST_CASE("invariant circle: a kind the system cannot have is rejected", "[torus][failure]") {
   auto plain = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 1.7},
                                                    std::vector<double>{0.0, 0.0}, 0.5, 0.0, false);
