@@ -6,8 +6,9 @@
 // running speed (ContinuePeriodicOrbits, Floquet stability, folds and period doublings located),
 // with the period-doubled family from each located doubling; every special point and the cost of
 // each part printed. Then the same at a second speed, to show that both stable pieces lie on one
-// family. Usage: locked_whip_bench [RPM [LAPS [FROM TO [CHECK_RPM [AMPLITUDE]]]]], defaults 49.4 3
-// 49 59 58 1e-5 (AMPLITUDE: the doubled orbits' first step off the doubling, scaled).
+// family. Usage: locked_whip_bench [RPM [LAPS [FROM TO [CHECK_RPM [AMPLITUDE [CASE]]]]]], defaults
+// 49.4 3 49 59 58 1e-5 a (AMPLITUDE: the doubled orbits' first step off the doubling, scaled, tried
+// again 10 and 100 times closer where its start fails; CASE: a, b or c of case C).
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -78,7 +79,17 @@ int Main(int argc, char** argv) {
   const double to_rpm = argc > 4 ? std::atof(argv[4]) : 59.0;
   const double check_rpm = argc > 5 ? std::atof(argv[5]) : 58.0;
   const double doubling_amplitude = argc > 6 ? std::atof(argv[6]) : 1e-5;
-  const RubStructure structure = TwoPointStructure(ThesisCaseCa());
+  // Case C's three RCI pairs share all but the clearances (scenes/thesis_C_b|c.toml).
+  const std::string which = argc > 7 ? argv[7] : "a";
+  TwoPointParams params = ThesisCaseCa();
+  if (which == "b") params.clearance = {3.81e-4, 3.048e-4};
+  if (which == "c") params.clearance = {3.048e-4, 3.81e-4};
+  if (which != "a" && which != "b" && which != "c") {
+    std::fprintf(stderr, "locked_whip_bench: CASE = %s: must be a, b or c\n", which.c_str());
+    return 2;
+  }
+  const std::string name = "C(" + which + ")";
+  const RubStructure structure = TwoPointStructure(params);
   ModulatedOrbitOptions solve;
   solve.shooting = LockedShooting(laps);
   solve.search_duration = 1.0;
@@ -105,10 +116,10 @@ int Main(int argc, char** argv) {
     const double settled = ProcessCpuSeconds();
     const ModulatedOrbit orbit = SolveModulatedOrbit(
         structure, omega, 2 * M_PI * transient.precession_hz, state, solve);
-    std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU); the %d-lap "
-                "orbit (%.1f s CPU): %s\n", at_rpm, transient.settled ? "settled" : "did not settle",
-                transient.precession_hz, settled - start, laps, CpuSecondsSince(settled),
-                orbit.message.c_str());
+    std::printf("%s at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU); the %d-lap "
+                "orbit (%.1f s CPU): %s\n", name.c_str(), at_rpm,
+                transient.settled ? "settled" : "did not settle", transient.precession_hz,
+                settled - start, laps, CpuSecondsSince(settled), orbit.message.c_str());
     return orbit;
   };
   const ModulatedOrbit orbit = locked_orbit(rpm);

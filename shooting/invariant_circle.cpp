@@ -17,6 +17,12 @@ constexpr double kTwoPi = 2.0 * M_PI;
 // CircleFromOrbit: a fitted circle is taken as covered q times where the harmonics that are not
 // multiples of q stay below this share of the largest multiple's.
 constexpr double kCoverRatio = 0.05;
+// CircleFromOrbit: passes of its grid search for ρ. Four passes fit a curve known exactly within
+// 5e-6 of its size instead of 3e-4 (tests/shooting/invariant_circle_test.cpp), but left C(c)'s
+// first circle at 64 rpm as far from invariant (residual 3.47e-3 against 3.37e-3) and C(a)'s at
+// 49 rpm, K = 16, out of Newton's reach (|F| 1.1e-5 after 30 iterations; it converges in 19 from
+// two passes' circle): the misfit's least is no better a start.
+constexpr int kRhoGridPasses = 2;
 
 }  // namespace
 
@@ -474,27 +480,33 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
   // θ_k = 2πkρ of the circle's conjugating parametrisation, which the Newton solve looks for; the
   // geometric angles above only approximate it, badly where the points bunch (near a resonance
   // the orbit lingers at q places). ρ is refined by the least misfit on a grid of ±4/m round the
-  // mean advance (coarse, then 1/50 of the coarse step about the best), and those angles are kept
+  // mean advance (each pass 1/50 of the last one's step, about its best), and those angles are kept
   // where they fit better. Measured on C(a) at 60 rpm (sections of 5 modulation periods, ρ = 0.562,
   // the orbit bunched at 16 places): the first circle's residual 40 with the geometric angles,
   // 9.1e-4 with the map's (scaled, K = 16).
   auto orbit_angles = [&](double r) {
     return Vector(Vector::LinSpaced(m, 0.0, kTwoPi * r * static_cast<double>(m - 1)));
   };
-  double best_rho = rho, best = std::numeric_limits<double>::infinity();
-  const double width = 4.0 / static_cast<double>(m), coarse = width / 100.0;
-  for (int pass = 0; pass < 2; ++pass) {
-    const double step = pass == 0 ? coarse : coarse / 50.0, centre_rho = pass == 0 ? rho : best_rho;
-    for (int i = -100; i <= 100; ++i) {
-      const double r = centre_rho + i * step;
-      const double e = fit(orbit_angles(r));
-      if (e < best) {
-        best = e;
-        best_rho = r;
+  // The least misfit on grids of 201 values of ρ round `centre`, each pass 50 times finer about
+  // the best of the last (kRhoGridPasses passes).
+  auto refine = [&](double centre, double& best_rho) {
+    double best = std::numeric_limits<double>::infinity(), step = 4.0 / static_cast<double>(m) / 100.0;
+    best_rho = centre;
+    for (int pass = 0; pass < kRhoGridPasses; ++pass, step /= 50.0) {
+      const double around = best_rho;
+      for (int i = -100; i <= 100; ++i) {
+        const double r = around + i * step;
+        const double e = fit(orbit_angles(r));
+        if (e < best) {
+          best = e;
+          best_rho = r;
+        }
       }
     }
-  }
-  if (best < misfit) {
+    return best;
+  };
+  double best_rho = rho;
+  if (refine(rho, best_rho) < misfit) {
     misfit = fit(orbit_angles(best_rho));
     rho = best_rho - std::floor(best_rho);
   } else {
@@ -503,9 +515,9 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
   // A fit at angles 2πkρ' with ρ' = ρ/q fits as well as the one at 2πkρ (u(θ) = w(qθ)): a circle
   // covered q times, whose invariance equation is singular (u(θ + 2π/q) is the same circle). Where
   // only multiples of some q > 1 carry the circle (every other harmonic below kCoverRatio of the
-  // largest multiple's), it is unwound: ρ ← qρ mod 1 and refitted. Measured on C(c) at 64 rpm
-  // (sections of one modulation period, K = 8): harmonic 2 at 0.21, the odd ones ≤ 4.9e-3, Newton
-  // met a singular Jacobian (rcond < 1e-14) before this.
+  // largest multiple's), it is unwound: ρ ← qρ mod 1, refined and refitted. Measured on C(c) at
+  // 64 rpm (sections of one modulation period, K = 8): harmonic 2 at 0.21, the odd ones ≤ 4.9e-3,
+  // Newton met a singular Jacobian (rcond < 1e-14) before this.
   const auto harmonic = [&](int k) {
     return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
   };
@@ -516,7 +528,8 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
       largest = std::max(largest, harmonic(k));
     }
     if (multiples > 0.0 && others <= kCoverRatio * multiples) {
-      rho = q * rho - std::floor(q * rho);
+      refine(q * rho, best_rho);
+      rho = best_rho - std::floor(best_rho);
       misfit = fit(orbit_angles(rho));
       break;
     }

@@ -453,7 +453,7 @@ TEST_CASE("invariant circle: points on a curve that winds twice round its centre
   Matrix points(4, 4 * (2 * harmonics + 1));
   for (Index k = 0; k < points.cols(); ++k) points.col(k) = curve(2 * M_PI * rho * static_cast<double>(k));
   const Vector u = problem.CircleFromOrbit(points);
-  // To the fit's grid in ρ (steps of 4/(5000 m)); Newton refines from there.
+  // To the fit's grid in ρ (its last step 4/(100 m · 50) = 1.2e-5): a start for Newton.
   CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-5);
   for (const double theta : {0.0, 0.37, 1.9, 4.4}) {
     CAPTURE(theta);

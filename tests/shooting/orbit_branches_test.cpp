@@ -204,15 +204,21 @@ class CycleWithMoebiusBand : public OdeSystem {
   double lambda_ = -0.5;
 };
 
-TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts the doubled "
-          "orbits, a^2 = lambda, period 4 pi, multipliers in closed form",
-          "[shooting][period_doubling]") {
-  CycleWithMoebiusBand system;
+// The band's cycle (w = 0) at λ = −0.5, where it is stable.
+OrbitStart MoebiusCycleStart() {
   OrbitStart start;
   start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
   start.period = 2 * M_PI;
   start.lambda = -0.5;
   start.valid = true;
+  return start;
+}
+
+TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts the doubled "
+          "orbits, a^2 = lambda, period 4 pi, multipliers in closed form",
+          "[shooting][period_doubling]") {
+  CycleWithMoebiusBand system;
+  const OrbitStart start = MoebiusCycleStart();
   const PeriodicOrbitBranch family =
       ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
   INFO(family.branch.BriefReport());
@@ -270,11 +276,7 @@ class CycleWithMoebiusBandNearby : public CycleWithMoebiusBand {
 TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
           "[shooting][period_doubling]") {
   CycleWithMoebiusBandNearby system;
-  OrbitStart start;
-  start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
-  start.period = 2 * M_PI;
-  start.lambda = -0.5;
-  start.valid = true;
+  const OrbitStart start = MoebiusCycleStart();
   PeriodicOrbitBranchOptions options = Options();
   options.lambda_max = 1e-3;  // the doubled orbits' a = √λ stay within 0.032 of the cycle
   const PeriodicOrbitBranch family =
