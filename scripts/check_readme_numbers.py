@@ -261,9 +261,10 @@ def c_bc_attractor(results):
         for name in names:
             with h5(results, f"thesis_C_{case}/attractor_{name}rpm.h5") as f:
                 a = f["attractor"]
-                for speed, motion, exponents, errors in zip(a["speed_rpm"][()], a["motion"][()],
-                                                            a["exponents"][()], a["standard_errors"][()]):
-                    out.setdefault(round(float(speed), 2), []).append((text(motion), exponents[0], errors[0]))
+                for speed, motion, exponents, errors in zip(
+                        a["speed_rpm"][()], a["motion"][()], a["exponents"][()], a["standard_errors"][()]):
+                    out.setdefault(round(float(speed), 2), []).append(
+                        (text(motion), exponents[0], errors[0]))
         return out
     b, c = rows("b", ("40_112", "52_60")), rows("c", ("44_112", "48_70"))
     b_high = [r[1] for s, v in b.items() if 80 <= s <= 112 for r in v]
@@ -276,7 +277,8 @@ def c_bc_attractor(results):
             f"from 72 (+{c[72.0][0][1]:.0f} ± {c[72.0][0][2]:.0f} at 72",
             f"**chaotic** at 56 (+{fine_b[56.0][1]:.1f} ± {fine_b[56.0][2]:.1f}) and 58 "
             f"(+{fine_b[58.0][1]:.1f} ± {fine_b[58.0][2]:.1f})",
-            "**relative 2-torus at every speed 58–70**" if torus else "C(c): not a torus at every speed 58–70 rpm (the files)")
+            "**relative 2-torus at every speed 58–70**" if torus
+            else "C(c): not a torus at every speed 58–70 rpm (the files)")
 
 
 CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,

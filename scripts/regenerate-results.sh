@@ -129,29 +129,24 @@ if [[ "${1:-}" == "--attractor" ]]; then
     --orbits results/thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5
   # C(a): the torus's end, the chaos and the torus again (49–61 rpm), the smooth whip to its
   # contact loss (62–98 rpm) and the impacting whip around the left contact's departure (100–124).
-  attractor_c() {  # FROM TO STEP DURATION DISCARD
-    local name="results/thesis_C_a/attractor_$1_$2rpm"
-    build/rubcont attractor scenes/thesis_C_a.toml --from "$1" --to "$2" --step "$3" \
-      --duration "$4" --discard "$5" --tolerance 1e-7 --quiet --out "$name.h5" > "$name.txt"
-  }
-  attractor_c 49 60 1 2 1 & first=$!
-  attractor_c 100 124 2 1 0.5 & second=$!
-  wait "$first"
-  attractor_c 49 50 0.1 4 2
-  attractor_c 57 61 0.25 4 2
-  wait "$second"
-  attractor_c 62 98 4 2 1
-  # C(b) and C(c): the whip from its birth to the impacting chaos, then the speeds between.
-  attractor_bc() {  # CASE FROM TO STEP DURATION DISCARD
+  attractor_case() {  # CASE (a, b or c) FROM TO STEP DURATION DISCARD
     local name="results/thesis_C_$1/attractor_$2_$3rpm"
     build/rubcont attractor "scenes/thesis_C_$1.toml" --from "$2" --to "$3" --step "$4" \
       --duration "$5" --discard "$6" --tolerance 1e-7 --quiet --out "$name.h5" > "$name.txt"
   }
-  attractor_bc b 40 112 4 2 1 & first=$!
-  attractor_bc c 44 112 4 2 1
+  attractor_case a 49 60 1 2 1 & first=$!
+  attractor_case a 100 124 2 1 0.5 & second=$!
   wait "$first"
-  attractor_bc b 52 60 1 4 2 & first=$!
-  attractor_bc c 48 70 2 4 2
+  attractor_case a 49 50 0.1 4 2
+  attractor_case a 57 61 0.25 4 2
+  wait "$second"
+  attractor_case a 62 98 4 2 1
+  # C(b) and C(c): the whip from its birth to the impacting chaos, then the speeds between.
+  attractor_case b 40 112 4 2 1 & first=$!
+  attractor_case c 44 112 4 2 1
+  wait "$first"
+  attractor_case b 52 60 1 4 2 & first=$!
+  attractor_case c 48 70 2 4 2
   wait "$first"
 fi
 # Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
