@@ -490,7 +490,8 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
   // The least misfit on grids of 201 values of ρ round `centre`, each pass 50 times finer about
   // the best of the last (kRhoGridPasses passes).
   auto refine = [&](double centre, double& best_rho) {
-    double best = std::numeric_limits<double>::infinity(), step = 4.0 / static_cast<double>(m) / 100.0;
+    double best = std::numeric_limits<double>::infinity();
+    double step = 4.0 / static_cast<double>(m) / 100.0;
     best_rho = centre;
     for (int pass = 0; pass < kRhoGridPasses; ++pass, step /= 50.0) {
       const double around = best_rho;

@@ -445,13 +445,16 @@ TEST_CASE("invariant circle: points on a curve that winds twice round its centre
   // (C(c) at 64 rpm). The fit must return ρ = 0.694 and the curve itself.
   const double rho = 0.694;
   const int harmonics = 8;
-  InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), harmonics, OrbitKind::kForced);
+  InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), harmonics,
+                                 OrbitKind::kForced);
   auto curve = [](double theta) {
     return Eigen::Vector4d(std::cos(2 * theta), std::sin(2 * theta), 0.3 * std::cos(theta),
                            0.3 * std::sin(theta));
   };
   Matrix points(4, 4 * (2 * harmonics + 1));
-  for (Index k = 0; k < points.cols(); ++k) points.col(k) = curve(2 * M_PI * rho * static_cast<double>(k));
+  for (Index k = 0; k < points.cols(); ++k) {
+    points.col(k) = curve(2 * M_PI * rho * static_cast<double>(k));
+  }
   const Vector u = problem.CircleFromOrbit(points);
   // To the fit's grid in ρ (its last step 4/(100 m · 50) = 1.2e-5): a start for Newton.
   CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-5);

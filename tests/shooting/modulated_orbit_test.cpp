@@ -19,7 +19,8 @@ using Catch::Matchers::Contains;
 // The scene's time-marching model at one speed from rest plus a 1 N·s impulse, settled by 0.5 s
 // windows (the modulated whip needs more than the sweeps' 0.75 s from rest).
 RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 3.0) {
-  return SettleAtSpeed(TwoPointStructure(params), LongSettleOptions(RpmToRadPerSecond(rpm), dwell), 1.0);
+  return SettleAtSpeed(TwoPointStructure(params), LongSettleOptions(RpmToRadPerSecond(rpm), dwell),
+                       1.0);
 }
 
 ModulatedOrbitOptions Options(double tolerance) {

@@ -286,7 +286,8 @@ TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
 
-  const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, options, 0.1);
+  const OrbitPeriodDoubling doubling =
+      ContinueOrbitsFromPeriodDoubling(system, family, k, options, 0.1);
   INFO(doubling.message);
   REQUIRE(doubling.ok);
   CHECK(doubling.amplitude == Approx(0.01));
@@ -304,7 +305,8 @@ TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
   }
 
   // Three starts that all fail: the family says so (no point), with each failure named.
-  const OrbitPeriodDoubling far = ContinueOrbitsFromPeriodDoubling(system, family, k, options, 10.0);
+  const OrbitPeriodDoubling far =
+      ContinueOrbitsFromPeriodDoubling(system, family, k, options, 10.0);
   CHECK(far.branch.branch.status == BranchStatus::kStartFailed);
   CHECK(far.branch.branch.Size() == 0);
   CHECK_THAT(far.message, Catch::Contains("amplitude 10 failed") &&
