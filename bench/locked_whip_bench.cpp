@@ -106,8 +106,10 @@ int Main(int argc, char** argv) {
     // (3/T = 121.41 Hz), and Newton failed (measured).
     Vector state = transient.state;
     RubFixedFrame fixed(structure, omega);
-    OdeIntegrator approach(fixed, SettledTransientStart(1).integrator);
-    const IntegrationResult approached = approach.Integrate(0.0, transient.state, 4.0, state);
+    const ModulatedTorusOptions tori_start = SettledTransientStart(1);
+    OdeIntegrator approach(fixed, tori_start.integrator);
+    const IntegrationResult approached =
+        approach.Integrate(0.0, transient.state, tori_start.approach, state);
     if (!approached.Succeeded()) {
       std::printf("  (the approach failed: %s; the settled state instead)\n",
                   approached.BriefReport().c_str());

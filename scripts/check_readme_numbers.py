@@ -233,16 +233,24 @@ def whip_end_cases(results):
                  if os.path.exists(os.path.join(results, path)))
 
 
+def attractor_rows(results, case, names):
+    """Case C(<case>)'s `rubcont attractor` files attractor_<name>rpm.h5, in the order given: for
+    each speed (rpm, rounded to 0.01) the (motion, λ₁, its standard error) of every file that ran it."""
+    rows = {}
+    for name in names:
+        with h5(results, f"thesis_C_{case}/attractor_{name}rpm.h5") as f:
+            a = f["attractor"]
+            for speed, motion, exponents, errors in zip(
+                    a["speed_rpm"][()], a["motion"][()], a["exponents"][()], a["standard_errors"][()]):
+                rows.setdefault(round(float(speed), 2), []).append((text(motion), exponents[0], errors[0]))
+    return rows
+
+
 def c_a_attractor(results):
     """C(a)'s speed-up whip by `rubcont attractor`: chaotic from 49.7 to 57.2 rpm, and λ₁ there and
     in the impacting whip from 82 rpm."""
-    rows = {}
-    for name in ("49_50", "49_60", "57_61", "62_98", "100_124"):
-        with h5(results, f"thesis_C_a/attractor_{name}rpm.h5") as f:
-            a = f["attractor"]
-            for speed, motion, exponents, errors in zip(a["speed_rpm"][()], a["motion"][()],
-                                                        a["exponents"][()], a["standard_errors"][()]):
-                rows[round(float(speed), 2)] = (text(motion), exponents[0], errors[0])
+    rows = {s: v[-1] for s, v in attractor_rows(results, "a", ("49_50", "49_60", "57_61", "62_98",
+                                                                "100_124")).items()}
     chaotic = [s for s in rows if 49.7 <= s <= 57.25]
     verdict = ("chaotic" if all(rows[s][0] == "chaotic" for s in chaotic)
                else "not chaotic at every speed from 49.7 to 57.25 rpm (the files)")
@@ -256,17 +264,8 @@ def c_a_attractor(results):
 def c_bc_attractor(results):
     """C(b)'s and C(c)'s speed-up whips by `rubcont attractor`: the impacting chaos's λ₁ and where it
     starts, C(c)'s torus at every speed 58–70 rpm, C(b)'s weak chaos at 56 and 58 rpm."""
-    def rows(case, names):
-        out = {}
-        for name in names:
-            with h5(results, f"thesis_C_{case}/attractor_{name}rpm.h5") as f:
-                a = f["attractor"]
-                for speed, motion, exponents, errors in zip(
-                        a["speed_rpm"][()], a["motion"][()], a["exponents"][()], a["standard_errors"][()]):
-                    out.setdefault(round(float(speed), 2), []).append(
-                        (text(motion), exponents[0], errors[0]))
-        return out
-    b, c = rows("b", ("40_112", "52_60")), rows("c", ("44_112", "48_70"))
+    b = attractor_rows(results, "b", ("40_112", "52_60"))
+    c = attractor_rows(results, "c", ("44_112", "48_70"))
     b_high = [r[1] for s, v in b.items() if 80 <= s <= 112 for r in v]
     c_high = [r[1] for s, v in c.items() if 76 <= s <= 108 for r in v]
     torus = all(r[0] == "relative 2-torus" for s, v in c.items() if 58 <= s <= 70 for r in v)

@@ -308,7 +308,11 @@ std::vector<std::string> InvariantCircleProblem::MeasureNames() const {
 }
 
 double InvariantCircleProblem::HarmonicSize(const Vector& u, int k) const {
-  return Coefficients(u).middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
+  return HarmonicSizeOf(Coefficients(u), k);
+}
+
+double InvariantCircleProblem::HarmonicSizeOf(const Matrix& coefficients, int k) const {
+  return coefficients.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
 }
 
 double InvariantCircleProblem::FourierTail(const Vector& u) const {
@@ -519,14 +523,11 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
   // largest multiple's), it is unwound: ρ ← qρ mod 1, refined and refitted. Measured on C(c) at
   // 64 rpm (sections of one modulation period, K = 8): harmonic 2 at 0.21, the odd ones ≤ 4.9e-3,
   // Newton met a singular Jacobian (rcond < 1e-14) before this.
-  const auto harmonic = [&](int k) {
-    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
-  };
   for (int q = harmonics_; q >= 2; --q) {
     double multiples = 0.0, others = 0.0;
     for (int k = 1; k <= harmonics_; ++k) {
       double& largest = k % q == 0 ? multiples : others;
-      largest = std::max(largest, harmonic(k));
+      largest = std::max(largest, HarmonicSizeOf(c, k));
     }
     if (multiples > 0.0 && others <= kCoverRatio * multiples) {
       refine(q * rho, best_rho);

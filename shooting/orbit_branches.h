@@ -68,9 +68,10 @@ struct PeriodicOrbitBranchOptions {
   // Located along the branch where they change sign (e.g. Grazing); none by default.
   std::vector<OrbitTestFunction> test_functions;
   // End a run once it is round a closed curve (RoundClosedCurve; status kClosed, the message names
-  // the folds), and then do not run the other way: a resonance tongue's locked orbits. The engine's own closure test compares the unknowns,
-  // and with the phase reference moved along the family (refresh_phase_reference) an orbit met
-  // again has other segment starts: measured on C(a)'s 1:3 orbits, followed round and round.
+  // the folds), and then do not run the other way: a resonance tongue's locked orbits. The
+  // engine's own closure test compares the unknowns, and with the phase reference moved along the
+  // family (refresh_phase_reference) an orbit met again has other segment starts: measured on
+  // C(a)'s 1:3 orbits, followed round and round.
   bool stop_round_closed_curve = false;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;
