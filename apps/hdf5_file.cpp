@@ -197,8 +197,9 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
     WithObject(impl_->file, object, [&](H5::H5Object& target) {
       if (target.attrExists(name)) target.removeAttr(name);
       const hsize_t size = values.size();
-      target.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &size))
-          .write(H5::PredType::NATIVE_DOUBLE, values.data());
+      H5::Attribute attribute =
+          target.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &size));
+      if (!values.empty()) attribute.write(H5::PredType::NATIVE_DOUBLE, values.data());
     });
   });
 }

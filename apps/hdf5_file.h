@@ -7,7 +7,8 @@
 //
 // Paths are absolute HDF5 paths ("/analytic/mode1/precession_hz"); missing parent groups are
 // created. Datasets: double 1-D / 2-D (row-major on disk, as h5py and MATLAB expect), int 1-D,
-// variable-length UTF-8 string 1-D. Attributes: double or string scalars on any group or dataset.
+// variable-length UTF-8 string 1-D. Attributes: double or string scalars, or 1-D double lists (may
+// be empty), on any group or dataset.
 // Object modification times are not recorded, so equal content gives equal bytes.
 //
 // Errors (HDF5 failures, I/O) throw std::runtime_error naming the file and the object.

@@ -380,11 +380,86 @@ void WritePeriodDoublings(const RubModulatedOrbits& orbits, const std::string& n
   }
 }
 
+// The family through the orbit a transient settles on ([analysis.orbits.transient]): the
+// transient, its orbit, the family as /orbits/transient and its side branches.
+void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const OrbitTrust& trust,
+                        StageContext& context) {
+  const RubOrbitsSettings::Transient& t = scene.analysis.orbits.transient;
+  std::ostream& out = context.out;
+  const SteadyClock::time_point t0 = SteadyClock::now();
+  context.progress(fmt::format("[orbits] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
+  const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
+  if (!ReportTransient("[orbits]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds, transient,
+                       SecondsSince(t0), context)) {
+    return;
+  }
+  // The start: each lap with the stage's segments and mesh; the slip's modulation searched over
+  // 1 s (T to ~1e-5 of itself: laps > 1 need it, bench/locked_whip_bench.cpp); Newton to the
+  // continuation corrector's tolerance.
+  ModulatedOrbitOptions start;
+  start.shooting = plan.options.orbits.shooting;
+  start.shooting.segments *= t.laps;
+  start.laps = t.laps;
+  start.search_duration = 1.0;
+  start.newton.residual_tolerance = plan.options.orbits.continuation.corrector.residual_tolerance;
+  start.newton.step_tolerance = plan.options.orbits.continuation.corrector.step_tolerance;
+  start.newton.max_iterations = 20;
+  PeriodicOrbitBranchOptions options = plan.options.orbits;
+  options.continuation.bounds.max_steps = t.max_steps;
+  options.on_step = [&](const Branch& b) {
+    context.progress(fmt::format("[orbits] transient: {} orbits, {:.4f} rpm, {:.0f} s", b.Size(),
+                                 RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
+    return true;
+  };
+  context.progress(fmt::format("[orbits] transient at {:g} rpm: its orbit ({} lap{})", t.speed_rpm,
+                               t.laps, t.laps == 1 ? "" : "s"));
+  const RubTransientOrbits result = ContinueTransientOrbits(
+      plan.structure, RpmToRadPerSecond(t.speed_rpm), 2.0 * M_PI * transient.precession_hz,
+      transient.state, start, options, scene.analysis.orbits.follow_branch_points);
+  const ModulatedOrbit& orbit = result.start;
+  fmt::print(out, "  its orbit ({} modulation period{}): {}\n", t.laps, t.laps == 1 ? "" : "s",
+             orbit.message);
+  if (!orbit.converged) {
+    context.failures.push_back(fmt::format("[orbits] the orbit of the transient at {:g} rpm: {}",
+                                           t.speed_rpm, orbit.message));
+    return;
+  }
+  const PeriodicOrbitBranch& family = result.family.orbits;
+  const std::string name = "transient";
+  WritePeriodicOrbitBranch(context.writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/orbits");
+  const std::string group = "/orbits/" + name;
+  ResultWriter& w = context.writer;
+  w.SetAttribute(group, "transient_speed_rpm", t.speed_rpm);
+  w.SetAttribute(group, "transient_seconds", t.seconds);
+  w.SetAttribute(group, "transient_settled", transient.settled ? 1.0 : 0.0);
+  w.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
+  w.SetAttribute(group, "laps", static_cast<double>(t.laps));
+  w.SetAttribute(group, "start_period", orbit.period);
+  w.SetAttribute(group, "start_rotation", orbit.rotation);
+  w.SetAttribute(group, "start_carrier_hz", orbit.carrier_hz);
+  w.SetAttribute(group, "start_dominant_hz", orbit.dominant_hz);
+  w.SetAttribute(group, "start_message", orbit.message);
+  std::vector<double> folds;
+  for (const double f : DistinctFolds(family.branch)) folds.push_back(RadPerSecondToRpm(f));
+  w.SetAttribute(group, "fold_speeds_rpm", folds);
+  const Branch& branch = family.branch;
+  fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
+             SecondsSince(t0), family.work.steps);
+  PrintSpecialPoints(branch, out);
+  ReportOrbitChecks(branch, group, trust, w, out);
+  if (IsFailure(branch.status)) {
+    context.failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
+  }
+  WriteBranchSwitches(result.family, name, trust, w, out, context.failures);
+  WritePeriodDoublings(result.family, name, trust, w, out, context.failures);
+}
+
 // Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
 // orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece of them.
-void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
-                        const std::function<void(const std::string&)>& progress, std::ostream& out,
-                        std::vector<std::string>& failures) {
+void RunModulatedOrbits(const Scene& scene, StageContext& context) {
+  ResultWriter& writer = context.writer;
+  std::ostream& out = context.out;
+  std::vector<std::string>& failures = context.failures;
   const SteadyClock::time_point begin = SteadyClock::now();
   RubOrbitsPlan plan = PlanRubOrbits(scene);
   const RubStructure& structure = plan.structure;
@@ -416,8 +491,8 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     const SteadyClock::time_point t0 = SteadyClock::now();
     options.on_step = [&](const Branch& b) {
       const double rpm = b.points.empty() ? 0.0 : RadPerSecondToRpm(b.points.back().lambda);
-      progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name, k + 1,
-                           followed, b.Size(), rpm, SecondsSince(t0)));
+      context.progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name,
+                                   k + 1, followed, b.Size(), rpm, SecondsSince(t0)));
       return true;
     };
     const RubModulatedOrbits orbits =
@@ -440,6 +515,7 @@ void RunModulatedOrbits(const Scene& scene, ResultWriter& writer,
     WriteBranchSwitches(orbits, name, trust, writer, out, failures);
     WritePeriodDoublings(orbits, name, trust, writer, out, failures);
   }
+  if (settings.transient.enabled) RunTransientOrbits(scene, plan, trust, context);
 }
 
 // A textbook model: its periodic orbits continued in its parameter from the first one.
@@ -530,8 +606,36 @@ std::string RubOrbitsNumerics(const RubOrbitsSettings& settings) {
                      settings.tolerance);
 }
 
+RubSettledSpeed SceneTransient(const Scene& scene, const RubStructure& structure, double speed_rpm,
+                               double seconds) {
+  SweepOptions sweep = SweepOptionsOf(scene, SweepDirection::kUp);
+  sweep.parameters = {RpmToRadPerSecond(speed_rpm)};
+  sweep.dwell = seconds;
+  sweep.rotate_forcing_phase = false;  // the plan's structure is balanced
+  return SettleAtSpeed(structure, sweep, scene.analysis.sweep.impulse);
+}
+
+bool ReportTransient(const std::string& prefix, const std::string& what, const Scene& scene,
+                     const RubStructure& structure, double speed_rpm, double seconds,
+                     const RubSettledSpeed& transient, double elapsed_seconds,
+                     StageContext& context) {
+  const IntegrationMethod method = SweepOptionsOf(scene, SweepDirection::kUp).integrator.method;
+  fmt::print(context.out, "{} transient at {:g} rpm, {:g} s from rest and a {:g} N·s impulse ({}): "
+                          "{}, backward precession {:.4f} Hz at the {} contact ({:.1f} s)\n",
+             prefix, speed_rpm, seconds, scene.analysis.sweep.impulse, ToString(method),
+             transient.settled ? "settled" : "not settled", transient.precession_hz,
+             structure.contacts[0].name, elapsed_seconds);
+  if (transient.precession_hz > 0.0) return true;
+  const std::string why = fmt::format(
+      "the transient at {:g} rpm shows no backward precession at the {} contact ({}): no frame to "
+      "solve its {} in", speed_rpm, structure.contacts[0].name, transient.point.message, what);
+  fmt::print(context.out, "  transient: {}\n", why);
+  context.failures.push_back(prefix + " " + why);
+  return false;
+}
+
 void RunRubOrbits(const Scene& scene, StageContext& context) {
-  RunModulatedOrbits(scene, context.writer, context.progress, context.out, context.failures);
+  RunModulatedOrbits(scene, context);
 }
 
 void RunDuffingOrbits(const Scene& scene, StageContext& context) {

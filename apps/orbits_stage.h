@@ -28,6 +28,16 @@
 //                                    attrs parent, branch_point_speed_rpm,
 //                                    branch_point_precession_hz, branch_point_note,
 //                                    period_doubling_multiplier; its modulation_hz is 1/(2T).
+//     /orbits/transient              with [analysis.orbits.transient]: the family through the
+//                                    orbit a transient settles on (ContinueTransientOrbits), both
+//                                    ways joined, the same layout, attrs transient_speed_rpm,
+//                                    transient_seconds, transient_settled (1 / 0),
+//                                    frame_precession_hz (the transient's backward precession at
+//                                    the first contact: the frame's rate), laps, fold_speeds_rpm,
+//                                    start_period, start_rotation, start_carrier_hz,
+//                                    start_dominant_hz, start_message (the orbit solved on the
+//                                    transient); its side branches /orbits/transient_bp<k>[b] and
+//                                    /orbits/transient_pd<k> as above.
 #pragma once
 
 #include <ostream>
@@ -36,6 +46,7 @@
 
 #include "apps/models.h"
 #include "shooting/rub_orbits.h"
+#include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 
@@ -56,6 +67,20 @@ RubOrbitsPlan PlanRubOrbits(const Scene& scene);
 void PrintHopfStarts(const RubOrbitsPlan& plan, std::ostream& out);
 // One line for summaries and result files: segments, integrator and mesh or tolerance.
 std::string RubOrbitsNumerics(const RubOrbitsSettings& settings);
+
+// One speed of the scene's sweep model (model two_point; [analysis.sweep]'s integrator, windows and
+// impulse) from rest for `seconds`: the transient the orbits' and the tori's
+// [analysis.*.transient] start from. `structure` is the plan's (balanced).
+RubSettledSpeed SceneTransient(const Scene& scene, const RubStructure& structure, double speed_rpm,
+                               double seconds);
+
+// Prints the transient's line ("<prefix> transient at … rpm: settled, backward precession … Hz");
+// false, with a failure in the context, when it shows no backward precession at the first contact
+// (no frame to solve its `what` in).
+bool ReportTransient(const std::string& prefix, const std::string& what, const Scene& scene,
+                     const RubStructure& structure, double speed_rpm, double seconds,
+                     const RubSettledSpeed& transient, double elapsed_seconds,
+                     StageContext& context);
 
 // Each appends a line to the context's failures when a branch ends on a numerical failure or
 // cannot start, and sends one progress line per finished run.

@@ -47,6 +47,7 @@ enum class Rule {
   kIncreasingPositive,    // pair 0 < low < high
   kGridPoints,            // integer 2 … kMaxGridPoints
   kCount,                 // integer 1 … kMaxCount
+  kCountOrNone,           // integer 0 … kMaxCount
   kSteps,                 // integer 1 … kMaxSteps
   kOpenUnit,              // 0 < x < 1
   kStation,               // integer 0 … kMaxStation
@@ -153,6 +154,14 @@ bool RunsStage(const Scene& scene, Stage stage) {
 }
 
 // A key of [analysis.tori] or of its sub-table [analysis.tori.transient].
+// Sub-tables whose absence means "not computed", not "computed with the defaults": their keys are
+// resolved only when the table is given.
+bool IsOptionalSubsection(const std::string& section) {
+  return section == "analysis.tori.transient" || section == "analysis.orbits.transient";
+}
+
+constexpr int kMaxLaps = 64;  // ModulatedOrbitOptions::laps
+
 bool IsToriKey(const KeySpec& spec) {
   const std::string section = spec.Section();
   return section == "analysis.tori" || section.rfind("analysis.tori.", 0) == 0;
@@ -693,9 +702,11 @@ std::vector<KeySpec> BuildSchema() {
 
   // [analysis.orbits]: the modulated whirl and whip (level L2, shooting/rub_orbits.h).
   s.push_back(Make<int, std::int64_t>(
-      "analysis.orbits.hopf_points", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      "analysis.orbits.hopf_points", ValueType::kInteger, "-", Rule::kCountOrNone,
+      Presence::kOptional,
       "How many Hopf points to follow: those that bound a stable piece of a tanh-law rotating "
-      "wave, in order of speed (mirror images once).",
+      "wave, in order of speed (mirror images once); 0: none, only the orbits of "
+      "[analysis.orbits.transient], which must then be given.",
       [](Scene& x) -> int& { return x.analysis.orbits.hopf_points; }));
   s.push_back(Float("analysis.orbits.amplitude", "-", Rule::kOpenUnit,
                     "Amplitude of the first orbit off the rotating wave (scaled state units).",
@@ -742,6 +753,36 @@ std::vector<KeySpec> BuildSchema() {
       [](const Scene& x) {
         return std::string(x.analysis.orbits.follow_branch_points ? "follow" : "mark");
       }));
+
+  // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.
+  s.push_back(Float("analysis.orbits.transient.speed_rpm", "rpm", Rule::kPositive,
+                    "Running speed of the transient: one speed of the scene's sweep model "
+                    "([analysis.sweep]: integrator, windows, impulse) run from rest and the impulse "
+                    "for `seconds`; the relative periodic orbit it settles on (of `laps` modulation "
+                    "periods) is solved there and its family continued towards lower and higher "
+                    "speed over speed_range_rpm with [analysis.orbits]' shooting; inside "
+                    "analysis.speed_range_rpm.",
+                    [](Scene& x) -> double& { return x.analysis.orbits.transient.speed_rpm; },
+                    Presence::kRequiredInSection));
+  s.back().default_text = "no transient";
+  s.push_back(Float("analysis.orbits.transient.seconds", "s", Rule::kPositive,
+                    "Length of the transient from rest and the impulse, at least "
+                    "(settle_windows + 1)·settle_window of [analysis.sweep] (C(a) at 49.4 rpm: 8 s).",
+                    [](Scene& x) -> double& { return x.analysis.orbits.transient.seconds; },
+                    Presence::kOptional));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.transient.laps", ValueType::kInteger, "-", Rule::kCount,
+      Presence::kOptional,
+      "Modulation periods per orbit, at most 64: 1 for a modulated whip; m for a two-frequency "
+      "whip locked at p:m (C(a) at 49.4 rpm: 3, the 1:3 tongue), whose orbit closes only after m "
+      "modulation periods. Each lap gets [analysis.orbits]' segments and mesh.",
+      [](Scene& x) -> int& { return x.analysis.orbits.transient.laps; }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.orbits.transient.max_steps", ValueType::kInteger, "-", Rule::kSteps,
+      Presence::kOptional,
+      "Continuation steps each way from the transient's orbit (a closed curve of locked orbits "
+      "is followed once round and ends there).",
+      [](Scene& x) -> int& { return x.analysis.orbits.transient.max_steps; }));
 
   // [analysis.tori]: the whips modulated at two frequencies (level L2, shooting/rub_tori.h).
   s.push_back(Make<int, std::int64_t>(
@@ -1137,6 +1178,7 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kIncreasingPositive: return "0 < low < high";
     case Rule::kGridPoints: return fmt::format("2 … {}", kMaxGridPoints);
     case Rule::kCount: return fmt::format("1 … {}", kMaxCount);
+    case Rule::kCountOrNone: return fmt::format("0 … {}", kMaxCount);
     case Rule::kSteps: return fmt::format("1 … {}", kMaxSteps);
     case Rule::kOpenUnit: return "0 < x < 1";
     case Rule::kStation: return fmt::format("0 … {}", kMaxStation);
@@ -1213,6 +1255,11 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
       const std::int64_t n = std::get<std::int64_t>(value);
       const std::int64_t most = spec.rule == Rule::kCount ? kMaxCount : kMaxSteps;
       if (n < 1 || n > most) return fmt::format("must be from 1 to {}", most);
+      return std::nullopt;
+    }
+    case Rule::kCountOrNone: {
+      const std::int64_t n = std::get<std::int64_t>(value);
+      if (n < 0 || n > kMaxCount) return fmt::format("must be from 0 to {}", kMaxCount);
       return std::nullopt;
     }
     case Rule::kOpenUnit: {
@@ -1365,7 +1412,7 @@ class Loader {
       // are [analysis.tori]'s of a scene without the stage (its stages precede it in the schema).
       if (spec.Section() == "flexible" && !section_present) continue;
       if (IsToriKey(spec) && !RunsStage(scene, Stage::kTori)) continue;
-      if (spec.Section() == "analysis.tori.transient" && !section_present) continue;
+      if (IsOptionalSubsection(spec.Section()) && !section_present) continue;
       scene.defaulted_keys.push_back(spec.key);
     }
     for (const TableArraySpec& spec : TableArrays())
@@ -1375,8 +1422,11 @@ class Loader {
     scene.flexible.enabled =
         scene.model == ModelKind::kTwoPoint && present_sections_.count("flexible") > 0;
     scene.analysis.tori.transient.enabled = present_sections_.count("analysis.tori.transient") > 0;
+    scene.analysis.orbits.transient.enabled =
+        present_sections_.count("analysis.orbits.transient") > 0;
     if (scene.flexible.enabled && problems_.empty()) CheckFlexible(scene);
     if (problems_.empty()) CheckSweep(scene);
+    if (problems_.empty()) CheckOrbits(scene);
     if (problems_.empty()) CheckTori(scene);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
@@ -1679,7 +1729,36 @@ class Loader {
   }
   void Problem(const toml::node& node, const std::string& message) { Problem(node.source(), message); }
 
-  // Rules of [analysis.sweep] that tie two keys together, each reported at the key it names.
+  // A transient's speed inside the scene's range and its length enough for the sweep's windows.
+  void CheckTransient(const Scene& scene, const std::string& section, double speed_rpm,
+                      double seconds) {
+    const auto& range = scene.analysis.speed_range_rpm;
+    if (speed_rpm < range[0] || speed_rpm > range[1])
+      KeyProblem(scene, section + ".speed_rpm",
+                 fmt::format("must lie in analysis.speed_range_rpm = [{}, {}]", FormatFloat(range[0]),
+                             FormatFloat(range[1])));
+    const SweepSettings& w = scene.analysis.sweep;
+    const double shortest = (w.settle_windows + 1) * w.settle_window;
+    if (seconds < shortest * (1.0 - 1e-12))
+      KeyProblem(scene, section + ".seconds",
+                 fmt::format("must be at least (settle_windows + 1)·settle_window of "
+                             "[analysis.sweep] = {} s", shortest));
+  }
+
+  // Rules of [analysis.orbits] that tie keys together, each reported at the key it names.
+  void CheckOrbits(const Scene& scene) {
+    const RubOrbitsSettings& o = scene.analysis.orbits;
+    if (o.transient.laps > kMaxLaps)
+      KeyProblem(scene, "analysis.orbits.transient.laps", fmt::format("must be at most {}", kMaxLaps));
+    if (!RunsStage(scene, Stage::kOrbits) || scene.model != ModelKind::kTwoPoint) return;
+    if (o.hopf_points == 0 && !o.transient.enabled)
+      KeyProblem(scene, "analysis.orbits.hopf_points",
+                 "leaves the stage \"orbits\" nothing to compute: give [analysis.orbits.transient]");
+    if (o.transient.enabled)
+      CheckTransient(scene, "analysis.orbits.transient", o.transient.speed_rpm, o.transient.seconds);
+  }
+
+  // Rules of [analysis.tori] that tie keys together, each reported at the key it names.
   void CheckTori(const Scene& scene) {
     const RubToriSettings& t = scene.analysis.tori;
     if (t.samples < 4) KeyProblem(scene, "analysis.tori.samples", "must be at least 4");
@@ -1687,18 +1766,8 @@ class Loader {
     if (!t.from_neimark_sacker && !t.transient.enabled)
       KeyProblem(scene, "analysis.tori.neimark_sacker",
                  "leaves the stage \"tori\" nothing to compute: give [analysis.tori.transient]");
-    if (!t.transient.enabled) return;
-    const auto& range = scene.analysis.speed_range_rpm;
-    if (t.transient.speed_rpm < range[0] || t.transient.speed_rpm > range[1])
-      KeyProblem(scene, "analysis.tori.transient.speed_rpm",
-                 fmt::format("must lie in analysis.speed_range_rpm = [{}, {}]", FormatFloat(range[0]),
-                             FormatFloat(range[1])));
-    const SweepSettings& w = scene.analysis.sweep;
-    const double shortest = (w.settle_windows + 1) * w.settle_window;
-    if (t.transient.seconds < shortest * (1.0 - 1e-12))
-      KeyProblem(scene, "analysis.tori.transient.seconds",
-                 fmt::format("must be at least (settle_windows + 1)·settle_window of "
-                             "[analysis.sweep] = {} s", shortest));
+    if (t.transient.enabled)
+      CheckTransient(scene, "analysis.tori.transient", t.transient.speed_rpm, t.transient.seconds);
   }
 
   void CheckSweep(const Scene& scene) {
@@ -1874,6 +1943,7 @@ bool Resolved(const KeySpec& spec, const Scene& scene) {
   return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled) &&
          (!IsToriKey(spec) || RunsStage(scene, Stage::kTori)) &&
          (spec.Section() != "analysis.tori.transient" || scene.analysis.tori.transient.enabled) &&
+         (spec.Section() != "analysis.orbits.transient" || scene.analysis.orbits.transient.enabled) &&
          (!spec.relevant || spec.relevant(scene));
 }
 

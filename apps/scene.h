@@ -105,7 +105,7 @@ const char* ToString(OrbitIntegrator integrator);
 // [analysis.orbits]: the modulated whirl and whip of model two_point, born at Hopf points
 // (shooting/rub_orbits.h).
 struct RubOrbitsSettings {
-  int hopf_points = 2;        // Hopf points followed, in order of speed
+  int hopf_points = 2;        // Hopf points followed, in order of speed (0: none)
   double amplitude = 1e-3;    // first orbit's amplitude (scaled state units), 0 < x < 1
   int segments = 4;           // shooting segments per modulation period (1: single shooting)
   OrbitIntegrator integrator = OrbitIntegrator::kGauss;
@@ -113,6 +113,15 @@ struct RubOrbitsSettings {
   double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states); Gauss: its Newton's 1e-3·x
   int max_steps = 40;         // continuation steps from each Hopf point (and each branch point)
   bool follow_branch_points = true;  // follow the other branch through each located branch point
+  // [analysis.orbits.transient]: the orbits through the relative periodic orbit a settled
+  // transient lies on (ContinueTransientOrbits), for whips no Hopf point's family reaches.
+  struct Transient {
+    bool enabled = false;     // the section is given
+    double speed_rpm = 49.4;  // required in the section, inside speed_range_rpm
+    double seconds = 8.0;     // the transient from rest and the impulse [s]
+    int laps = 1;             // modulation periods per orbit, 1 … 64 (> 1: a locked whip)
+    int max_steps = 40;       // continuation steps each way
+  } transient;
 };
 
 // [analysis.tori]: the whips modulated at two frequencies, born at the Neimark–Sacker points of

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/branch_output.h"
 #include "apps/orbit_output.h"
 #include "apps/orbits_stage.h"
 #include "apps/stage_options.h"
@@ -61,14 +62,16 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   writer.SetAttribute(group, "status", ToString(b.status));
   writer.SetAttribute(group, "message", b.message);
   writer.SetAttribute(group, "summary", b.BriefReport());
-  std::vector<double> speed;
-  for (const BranchPoint& p : b.points) speed.push_back(RadPerSecondToRpm(p.lambda));
-  writer.WriteDoubles(group + "/speed_rpm", speed);
-  for (const std::string& name : b.measure_names) {
-    std::vector<double> column;
-    for (const BranchPoint& p : b.points) column.push_back(p.measures(b.MeasureIndex(name)));
-    writer.WriteDoubles(group + "/" + name, column);
+  // The engine's columns and special points (the family's folds and its end event), each torus's
+  // stability from its Lyapunov spectrum (stable 1, unstable 0, undecided or not computed −1;
+  // unstable_count: the nontrivial exponents above the tolerance).
+  Branch columns = b;
+  for (std::size_t i = 0; i < columns.points.size(); ++i) {
+    columns.points[i].num_unstable = i < tori.stability.size() ? tori.stability[i].UnstableCount() : -1;
   }
+  const ParameterColumn speed{"speed_rpm", kRpmPerRadPerSecond};
+  WriteBranchPointColumns(writer, group, columns, speed);
+  WriteSpecialPointColumns(writer, group + "/special_points", columns, speed);
   auto column = [&](const std::string& name, const std::function<double(const RubTorusLines&)>& f) {
     std::vector<double> values;
     for (const RubTorusLines& l : lines) {
@@ -90,22 +93,17 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
     column("max_normal_force_" + name,
            [c](const RubTorusLines& l) { return l.contacts[c].max_normal_force; });
   }
-  std::vector<int> stable;
   std::vector<double> largest, tolerance;
   Matrix exponents = Matrix::Constant(static_cast<Index>(b.points.size()), tori.state_dimension,
                                       std::numeric_limits<double>::quiet_NaN());
   for (std::size_t i = 0; i < b.points.size(); ++i) {
     const bool known = i < tori.stability.size() && tori.stability[i].valid;
-    stable.push_back(known && tori.stability[i].stable ? 1
-                     : known && tori.stability[i].unstable ? 0
-                                                           : -1);
     largest.push_back(known ? tori.stability[i].LargestNontrivial()
                             : std::numeric_limits<double>::quiet_NaN());
     tolerance.push_back(known ? tori.stability[i].tolerance
                               : std::numeric_limits<double>::quiet_NaN());
     if (known) exponents.row(static_cast<Index>(i)) = tori.stability[i].exponents.transpose();
   }
-  writer.WriteInts(group + "/stable", stable);
   writer.WriteDoubles(group + "/largest_exponent", largest);
   writer.WriteDoubles(group + "/exponent_tolerance", tolerance);
   writer.WriteMatrix(group + "/exponents", exponents);
@@ -181,24 +179,10 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
   std::ostream& out = context.out;
   const SteadyClock::time_point t0 = SteadyClock::now();
   const double omega = RpmToRadPerSecond(t.speed_rpm);
-  SweepOptions sweep = SweepOptionsOf(scene, SweepDirection::kUp);
-  sweep.parameters = {omega};
-  sweep.dwell = t.seconds;
-  sweep.rotate_forcing_phase = false;  // the plan's structure is balanced
   context.progress(fmt::format("[tori] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
-  const RubSettledSpeed transient = SettleAtSpeed(plan.structure, sweep, scene.analysis.sweep.impulse);
-  fmt::print(out, "[tori] transient at {:g} rpm, {:g} s from rest and a {:g} N·s impulse ({}): "
-                  "{}, backward precession {:.4f} Hz at the {} contact ({:.1f} s)\n",
-             t.speed_rpm, t.seconds, scene.analysis.sweep.impulse, ToString(sweep.integrator.method),
-             transient.settled ? "settled" : "not settled", transient.precession_hz,
-             plan.structure.contacts[0].name, SecondsSince(t0));
-  if (!(transient.precession_hz > 0.0)) {
-    const std::string why = fmt::format(
-        "the transient at {:g} rpm shows no backward precession at the {} contact ({}): no frame "
-        "to solve its torus in", t.speed_rpm, plan.structure.contacts[0].name,
-        transient.point.message);
-    fmt::print(out, "  transient: {}\n", why);
-    context.failures.push_back("[tori] " + why);
+  const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
+  if (!ReportTransient("[tori]", "torus", scene, plan.structure, t.speed_rpm, t.seconds, transient,
+                       SecondsSince(t0), context)) {
     return;
   }
   const ModulatedTorusOptions start = SettledTransientStart(t.harmonics);

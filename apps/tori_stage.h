@@ -19,14 +19,16 @@
 //                                  line_l_<c>, line_k_<c> (its f_carrier − (k + lρ)/T),
 //                                  line_ratio_<c>, min_normal_force_<c>, max_normal_force_<c>;
 //                                  stable (1 / 0 / −1 undecided within the tolerance, or not
-//                                  computed), largest_exponent (the largest
+//                                  computed), unstable_count (the nontrivial exponents above
+//                                  it; −1 as stable), arclength, largest_exponent (the largest
 //                                  nontrivial Lyapunov exponent per period), exponent_tolerance,
 //                                  exponents (tori × states, per period); unknowns (tori × n(2K + 1)
 //                                  + 3: each circle's Fourier coefficients a₀, a₁, b₁, … column
 //                                  by column in the co-rotating frame's states (SI), then ρ, T
 //                                  [s], φ [rad]: InvariantCircleProblem::Pack), so that a torus
 //                                  can be reopened; the frame turns at its family's
-//                                  hopf_precession_hz.
+//                                  hopf_precession_hz; special_points/ (apps/branch_output.h
+//                                  layout: the family's folds in speed and its end event).
 //   /tori/transient_down, _up    with [analysis.tori.transient]: the tori through the torus a
 //                                  transient settles on, continued towards lower / higher speed
 //                                  (as the families above without birth_*; parent "transient"),

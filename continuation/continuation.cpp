@@ -1449,10 +1449,11 @@ StepResult Continuation::StartFromBranchPoint(const SpecialPoint& branch_point, 
 
 StepResult Continuation::Step() { return impl_->StepOnce(); }
 
-void Continuation::Stop(const std::string& reason) {
-  if (impl_->branch.status == BranchStatus::kRunning) {
-    impl_->End(BranchStatus::kStoppedByCaller, reason);
+void Continuation::Stop(const std::string& reason, BranchStatus status) {
+  if (status == BranchStatus::kRunning) {
+    throw std::invalid_argument("Continuation::Stop: status = running: must be one that ends a branch");
   }
+  if (impl_->branch.status == BranchStatus::kRunning) impl_->End(status, reason);
 }
 
 const Branch& Continuation::branch() const { return impl_->branch; }
@@ -1466,21 +1467,27 @@ Branch Continuation::TakeBranch() {
 
 double Continuation::step_size() const { return impl_->ds; }
 
-Branch RunToEnd(Continuation& continuation, const StepCallback& callback) {
+Branch RunToEnd(Continuation& continuation, const StepCallback& callback, const EndTest& end_test) {
   while (continuation.branch().status == BranchStatus::kRunning) {
     continuation.Step();
     if (callback && !callback(continuation.branch())) {
       continuation.Stop("stopped by the per-step callback");
+    }
+    if (end_test && continuation.branch().status == BranchStatus::kRunning) {
+      if (const std::optional<BranchEnd> end = end_test(continuation.branch())) {
+        continuation.Stop(end->message, end->status);
+      }
     }
   }
   return continuation.TakeBranch();
 }
 
 Branch Continue(Problem& problem, const Vector& u0, double lambda0,
-                const ContinuationOptions& options, const StepCallback& callback) {
+                const ContinuationOptions& options, const StepCallback& callback,
+                const EndTest& end_test) {
   Continuation continuation(problem, options);
   continuation.Start(u0, lambda0);
-  return RunToEnd(continuation, callback);
+  return RunToEnd(continuation, callback, end_test);
 }
 
 }  // namespace rubcont

@@ -79,6 +79,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "continuation/branch.h"
@@ -122,8 +123,10 @@ class Continuation {
   // returns kStop or kFailed again without doing anything.
   StepResult Step();
 
-  // Ends the branch with status kStoppedByCaller and the given reason.
-  void Stop(const std::string& reason);
+  // Ends the branch with the given reason and status: kStoppedByCaller (the caller's decision), or
+  // what the caller found by its own test (e.g. kClosed: round a closed curve that the engine's
+  // comparison of the unknowns does not see). Throws std::invalid_argument for kRunning.
+  void Stop(const std::string& reason, BranchStatus status = BranchStatus::kStoppedByCaller);
 
   const Branch& branch() const;
   // Moves the branch out (the stepper is done after this).
@@ -139,11 +142,22 @@ class Continuation {
 // Called after every step with the branch so far; return false to stop the branch.
 using StepCallback = std::function<bool(const Branch& branch)>;
 
-// The thin driver: Start, then Step until the branch ends, calling `callback` after each step.
+// A caller's own end of a branch, with the status and message it ends with.
+struct BranchEnd {
+  BranchStatus status = BranchStatus::kStoppedByCaller;
+  std::string message;
+};
+// Called after every step (after the StepCallback): the end to end the branch with, or none.
+using EndTest = std::function<std::optional<BranchEnd>(const Branch& branch)>;
+
+// The thin driver: Start, then Step until the branch ends, calling `callback` and then
+// `end_test` after each step.
 Branch Continue(Problem& problem, const Vector& u0, double lambda0,
-                const ContinuationOptions& options = {}, const StepCallback& callback = {});
+                const ContinuationOptions& options = {}, const StepCallback& callback = {},
+                const EndTest& end_test = {});
 
 // Runs a Continuation already started (any of its Start variants) to its end.
-Branch RunToEnd(Continuation& continuation, const StepCallback& callback = {});
+Branch RunToEnd(Continuation& continuation, const StepCallback& callback = {},
+                const EndTest& end_test = {});
 
 }  // namespace rubcont

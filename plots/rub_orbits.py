@@ -14,8 +14,11 @@ Writes, from the HDF5 file only (layout: apps/orbits_stage.h):
                      then the largest Floquet multiplier modulus of the orbits, |mu| = 1 drawn;
                      bottom (left–right symmetric rotors): the orbits' asymmetry (0 on orbits
                      whose two contacts move alike, /orbits/<family>/asymmetry).
-                     Families from a Hopf point start at an open circle, the branches followed
-                     from a branch point (<family>_bp<k>) at a cross.
+                     Families from a Hopf point start at a filled circle, the branches followed
+                     from a branch point (<family>_bp<k>) at a cross, the family through a
+                     transient's orbit (/orbits/transient) at a filled square. The speeds shown
+                     reach 10 rpm beyond the orbits, or, where no family starts at a Hopf point,
+                     a quarter of their span (a locked family spans tenths of an rpm).
 Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import os
@@ -49,9 +52,22 @@ def orbit_special_points(group):
     return [(text(t), float(r), k) for k, (t, r) in enumerate(zip(sp["type"][()], sp["speed_rpm"][()]))]
 
 
+START_KEYS = (("hopf_speed_rpm", "hopf_precession_hz"),
+              ("transient_speed_rpm", "start_carrier_hz"),
+              ("branch_point_speed_rpm", "branch_point_precession_hz"))
+
+
+def start_of(group):
+    """Where a family starts (speed [rpm], carrier [Hz], attribute kind): its Hopf point, the
+    transient's orbit, or the branch point it was followed from."""
+    for speed, precession in START_KEYS:
+        if speed in group.attrs:
+            return float(group.attrs[speed]), float(group.attrs[precession]), speed
+    return 0.0, float("nan"), ""
+
+
 def start_speed(group):
-    """Where a family starts: its Hopf point, or the branch point it was followed from."""
-    return float(group.attrs.get("hopf_speed_rpm", group.attrs.get("branch_point_speed_rpm", 0.0)))
+    return start_of(group)[0]
 
 
 def main(argv):
@@ -73,7 +89,9 @@ def main(argv):
         # Speeds shown: around the Hopf points followed and the orbits.
         speeds = [start_speed(g) for _, g in orbits]
         speeds += [v for _, g in orbits for v in g["speed_rpm"][()]]
-        lo, hi = (min(speeds) - 10.0, max(speeds) + 10.0) if speeds else (None, None)
+        from_hopf = any(start_of(g)[2] == "hopf_speed_rpm" for _, g in orbits)
+        margin = (10.0 if from_hopf else max(0.05, 0.25 * (max(speeds) - min(speeds)))) if speeds else 0.0
+        lo, hi = (min(speeds) - margin, max(speeds) + margin) if speeds else (None, None)
 
         symmetric = any("asymmetry" in g for _, g in orbits)
         ratios = [3, 2, 1.2] + ([1.2] if symmetric else [])
@@ -105,18 +123,21 @@ def main(argv):
             bottom.semilogy(rpm, g["max_multiplier_modulus"][()], color=color, lw=1.2)
             if symmetric and "asymmetry" in g:
                 axes[3].semilogy(rpm, np.maximum(g["asymmetry"][()], 1e-16), color=color, lw=1.2)
-            start = start_speed(g)
-            from_hopf = "hopf_speed_rpm" in g.attrs
-            top.plot(start, float(g.attrs["hopf_precession_hz" if from_hopf else
-                                          "branch_point_precession_hz"]),
-                     "o" if from_hopf else "X", ms=7, mfc=color, mec=color)
+            start, start_hz, kind = start_of(g)
+            from_hopf = kind == "hopf_speed_rpm"
+            transient = kind == "transient_speed_rpm"
+            top.plot(start, start_hz, "o" if from_hopf else "s" if transient else "X", ms=7,
+                     mfc=color, mec=color)
             for t, r, i in orbit_special_points(g):
                 y = g["special_points"]["precession_hz"][()][i]
                 top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
                 bottom.axvline(r, color=color, lw=0.8, ls=":")
                 types.add(t)
             doubled = "period_doubling_multiplier" in g.attrs
+            laps = int(g.attrs.get("laps", 1))
             origin = (f"the Hopf point at {start:.2f} rpm" if from_hopf else
+                      f"the transient's orbit at {start:.2f} rpm"
+                      + (f" ({laps} modulation periods: locked)" if laps > 1 else "") if transient else
                       f"the period doubling at {start:.2f} rpm (period 2T)" if doubled else
                       f"the branch point at {start:.2f} rpm"
                       + (", one of two mirror images" if "mirror" in text(g.attrs.get("branch_point_note", ""))

@@ -401,6 +401,16 @@ double InvariantCircleProblem::TorusStability::LargestNontrivial() const {
   return largest;
 }
 
+int InvariantCircleProblem::TorusStability::UnstableCount() const {
+  if (!valid || !(stable || unstable)) return -1;
+  int count = 0;
+  for (Index i = 0; i < exponents.size(); ++i) {
+    const bool is_trivial = std::find(trivial.begin(), trivial.end(), i) != trivial.end();
+    if (!is_trivial && exponents(i) > tolerance) ++count;
+  }
+  return count;
+}
+
 InvariantCircleProblem::TorusStability InvariantCircleProblem::LyapunovStability(
     const Vector& u, double lambda, int iterates) {
   if (iterates < 1) {

@@ -134,6 +134,9 @@ class InvariantCircleProblem : public Problem {
     const char* Verdict() const { return stable ? "stable" : unstable ? "unstable" : "undecided"; }
     // The largest exponent that is not trivial (−∞ when all are).
     double LargestNontrivial() const;
+    // The nontrivial exponents above the tolerance: 0 when stable; −1 when undecided or not
+    // computed (BranchPoint::num_unstable's convention).
+    int UnstableCount() const;
   };
   TorusStability LyapunovStability(const Vector& u, double lambda, int iterates = 200);
 

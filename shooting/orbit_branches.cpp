@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -168,18 +169,9 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     continuation.bounds.lambda_max = options.lambda_max;
     continuation.detect.stability = true;
     continuation.direction = direction;
-    const StepCallback step = [&options, &start](const Branch& b) {
-      if (options.on_step && !options.on_step(b)) return false;
-      return !(options.stop_round_closed_curve && RoundClosedCurve(b, start.lambda));
-    };
-    Branch branch = Continue(problem, u0, start.lambda, continuation, step);
-    if (options.stop_round_closed_curve && branch.status == BranchStatus::kStoppedByCaller &&
-        RoundClosedCurve(branch, start.lambda)) {
-      const std::vector<double> folds = DistinctFolds(branch);
-      branch.status = BranchStatus::kClosed;
-      branch.message = fmt::format("closed: round the curve through its folds at {:.9g} and {:.9g}",
-                                   folds.front(), folds.back());
-    }
+    Branch branch = Continue(problem, u0, start.lambda, continuation, options.on_step,
+                             options.stop_round_closed_curve ? EndRoundClosedCurve(start.lambda)
+                                                             : EndTest{});
     Accumulate(result.work, problem.statistics());
     return branch;
   };
@@ -223,6 +215,16 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda) {
   const double now = branch.points.back().lambda;
   const double before = branch.points[branch.points.size() - 2].lambda;
   return (now - start_lambda) * (before - start_lambda) <= 0.0;
+}
+
+EndTest EndRoundClosedCurve(double start_lambda) {
+  return [start_lambda](const Branch& branch) -> std::optional<BranchEnd> {
+    if (!RoundClosedCurve(branch, start_lambda)) return std::nullopt;
+    const std::vector<double> folds = DistinctFolds(branch);
+    return BranchEnd{BranchStatus::kClosed,
+                     fmt::format("closed: round the curve through its folds at {:.9g} and {:.9g}",
+                                 folds.front(), folds.back())};
+  };
 }
 
 bool OrbitBranchSwitch::RejoinedNear(double lambda) const {

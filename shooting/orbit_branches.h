@@ -85,6 +85,11 @@ std::vector<double> DistinctFolds(const Branch& branch);
 // located and its last step back across start_lambda.
 bool RoundClosedCurve(const Branch& branch, double start_lambda);
 
+// The engine's end test for that (stop_round_closed_curve, and the locked orbits of
+// ContinueLockedOrbits): status kClosed once RoundClosedCurve(branch, start_lambda), the message
+// naming the folds.
+EndTest EndRoundClosedCurve(double start_lambda);
+
 // Throws std::invalid_argument naming the field (an empty or non-finite range).
 void Validate(const PeriodicOrbitBranchOptions& options);
 

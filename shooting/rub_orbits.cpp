@@ -181,15 +181,70 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
   return starts;
 }
 
+namespace {
+
+// The measures of a family's orbits run `laps` times per shooting period (period-doubled
+// families: 2): the unresolved-mode check needs the mesh's steps per period, which doubles with
+// the period.
+std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame, const ShootingOptions& shooting,
+                                         int laps) {
+  std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
+  const IntegratorOptions& integrator = shooting.integrator;
+  if (integrator.method == IntegrationMethod::kGaussCollocation) {
+    measures.push_back(UnresolvedMultiplier(std::make_shared<RubRotatingFrame>(frame),
+                                            integrator.collocation_stages,
+                                            integrator.collocation_steps * shooting.segments * laps));
+  }
+  return measures;
+}
+
+// The side branches of result.orbits (ContinueModulatedOrbits with switch_at_branch_points).
+void FollowSideBranches(RubRotatingFrame& frame, const PeriodicOrbitBranchOptions& options,
+                        const StepCallback& on_step, RubModulatedOrbits& result) {
+  const std::vector<SpecialPoint>& special = result.orbits.branch.special_points;
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    // A branch point not located to tolerance is still tried on a mirror-symmetric rotor: the
+    // symmetry fixes the new direction, and ComputeBranchSwitch says when the point is too far.
+    if (special[k].type != SpecialPointType::kBranchPoint ||
+        !(special[k].converged || frame.HasMirrorSymmetry())) {
+      continue;
+    }
+    // The far end of a bubble already followed from its near end: not again.
+    const double lambda = special[k].lambda;
+    const bool reached = std::any_of(
+        result.switches.begin(), result.switches.end(),
+        [lambda](const OrbitBranchSwitch& s) { return s.RejoinedNear(lambda); });
+    if (reached) continue;
+    result.switches.push_back(
+        ContinueOrbitsFromBranchPoint(frame, result.orbits, k, options, on_step));
+  }
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    if (special[k].type != SpecialPointType::kPeriodDoubling || !special[k].converged ||
+        !BoundsStablePiece(result.orbits.branch, special[k])) {
+      continue;
+    }
+    PeriodicOrbitBranchOptions doubled = options;
+    doubled.measures = FamilyMeasures(frame, options.shooting, 2);
+    result.doublings.push_back(
+        ContinueOrbitsFromPeriodDoubling(frame, result.orbits, k, doubled, 1e-3, on_step));
+  }
+}
+
+void RequireBalanced(const char* function, const RubStructure& structure) {
+  if (structure.imbalance != 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "{}: imbalance = {} kg·m: the co-rotating frame needs a balanced rotor (the imbalance "
+        "turns forward, the frame backward)", function, structure.imbalance));
+  }
+}
+
+}  // namespace
+
 RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
                                            const std::vector<RotatingWaveBranch>& branches,
                                            const RubHopfStart& start, HopfOrbitOptions options,
                                            bool switch_at_branch_points) {
-  if (structure.imbalance != 0.0) {
-    throw std::invalid_argument(fmt::format(
-        "ContinueModulatedOrbits: imbalance = {} kg·m: the co-rotating frame needs a balanced "
-        "rotor (the imbalance turns forward, the frame backward)", structure.imbalance));
-  }
+  RequireBalanced("ContinueModulatedOrbits", structure);
   const auto branch = std::find_if(branches.begin(), branches.end(),
                                    [&](const RotatingWaveBranch& b) { return b.name == start.branch; });
   if (branch == branches.end() || start.special_point >= branch->branch.special_points.size() ||
@@ -206,52 +261,32 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u = Vector::Zero(4 * nc);
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
-  // The measures of orbits run `laps` times per shooting period (period-doubled families: 2):
-  // the unresolved-mode check needs the mesh's steps per period, which doubles with the period.
-  const auto measures = [&frame, &options](int laps) {
-    std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
-    const IntegratorOptions& integrator = options.orbits.shooting.integrator;
-    if (integrator.method == IntegrationMethod::kGaussCollocation) {
-      measures.push_back(UnresolvedMultiplier(
-          std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
-          integrator.collocation_steps * options.orbits.shooting.segments * laps));
-    }
-    return measures;
-  };
-  options.orbits.measures = measures(1);
+  options.orbits.measures = FamilyMeasures(frame, options.orbits.shooting, 1);
   options.orbits.test_functions = RubGrazingTests(structure);
   RubModulatedOrbits result;
   result.hopf = start;
   result.orbits = ContinueOrbitsFromHopf(frame, hopf, options);
-  if (switch_at_branch_points) {
-    const std::vector<SpecialPoint>& special = result.orbits.branch.special_points;
-    for (std::size_t k = 0; k < special.size(); ++k) {
-      // A branch point not located to tolerance is still tried on a mirror-symmetric rotor: the
-      // symmetry fixes the new direction, and ComputeBranchSwitch says when the point is too far.
-      if (special[k].type != SpecialPointType::kBranchPoint ||
-          !(special[k].converged || frame.HasMirrorSymmetry())) {
-        continue;
-      }
-      // The far end of a bubble already followed from its near end: not again.
-      const double lambda = special[k].lambda;
-      const bool reached = std::any_of(
-          result.switches.begin(), result.switches.end(),
-          [lambda](const OrbitBranchSwitch& s) { return s.RejoinedNear(lambda); });
-      if (reached) continue;
-      result.switches.push_back(
-          ContinueOrbitsFromBranchPoint(frame, result.orbits, k, options.orbits, options.on_step));
-    }
-    for (std::size_t k = 0; k < special.size(); ++k) {
-      if (special[k].type != SpecialPointType::kPeriodDoubling || !special[k].converged ||
-          !BoundsStablePiece(result.orbits.branch, special[k])) {
-        continue;
-      }
-      PeriodicOrbitBranchOptions doubled = options.orbits;
-      doubled.measures = measures(2);
-      result.doublings.push_back(ContinueOrbitsFromPeriodDoubling(frame, result.orbits, k, doubled,
-                                                                  1e-3, options.on_step));
-    }
-  }
+  if (switch_at_branch_points) FollowSideBranches(frame, options.orbits, options.on_step, result);
+  return result;
+}
+
+RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double omega,
+                                           double frame_rate, const Vector& fixed_state,
+                                           const ModulatedOrbitOptions& start,
+                                           PeriodicOrbitBranchOptions options,
+                                           bool switch_at_branch_points) {
+  RequireBalanced("ContinueTransientOrbits", structure);
+  RubTransientOrbits result;
+  result.start = SolveModulatedOrbit(structure, omega, frame_rate, fixed_state, start);
+  if (!result.start.converged) return result;
+  RubRotatingFrame frame(structure, frame_rate, omega);
+  options.shooting = start.shooting;
+  options.measures = FamilyMeasures(frame, options.shooting, 1);
+  options.test_functions = RubGrazingTests(structure);
+  options.stop_round_closed_curve = true;
+  result.family.orbits =
+      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(result.start, omega), options);
+  if (switch_at_branch_points) FollowSideBranches(frame, options, options.on_step, result.family);
   return result;
 }
 

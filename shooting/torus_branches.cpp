@@ -299,11 +299,8 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       const Vector u0 =
           problem.InitialGuess(circle.PointAt(last.u, theta), q * period, lambda, q * phi);
       // The locked orbits form a closed curve through the tongue's two edges.
-      const auto closed = [&on_step, lambda](const Branch& b) {
-        if (on_step && !on_step(b)) return false;
-        return !RoundClosedCurve(b, lambda);
-      };
-      Branch branch = Continue(problem, u0, lambda, continuation, closed);
+      Branch branch =
+          Continue(problem, u0, lambda, continuation, on_step, EndRoundClosedCurve(lambda));
       if (branch.status == BranchStatus::kStartFailed) continue;
       result.ok = true;
       result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));

@@ -112,9 +112,9 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
 // The start: where ρ, extrapolated linearly from the family's last two tori, reaches p/q (past the
 // last torus), then up to three times as far again on the same side if Newton fails there; at each
 // speed from the last circle's points θ_j = 2πj/N (the first N' = min(N, 5)), the orbit through
-// u(θ_j) run q laps (period qT, rotation qφ of the last torus). The continuation stops (status
-// kStoppedByCaller) once two folds are located and the branch is back across its start: the
-// closed curve followed round once.
+// u(θ_j) run q laps (period qT, rotation qφ of the last torus). The continuation ends with status
+// kClosed (EndRoundClosedCurve) once two folds are located and the branch is back across its
+// start: the closed curve followed round once.
 struct LockedOrbits {
   bool ok = false;        // false: not found (message says where it was tried)
   std::string message;

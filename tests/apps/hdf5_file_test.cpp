@@ -54,6 +54,7 @@ TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
     writer.SetAttribute("/a", "friction", 0.5);
     writer.SetAttribute("/a/matrix", "unit", "N");
     writer.SetAttribute("/a/matrix", "unit", "N·s/m");  // overwrite
+    writer.SetAttribute("/a", "no_folds", std::vector<double>{});  // a list may be empty
     writer.Commit();
   }
   const ResultReader reader(file);
@@ -74,6 +75,7 @@ TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
   CHECK(reader.ReadStringAttribute("/a/matrix", "unit") == "N·s/m");
   CHECK(reader.HasAttribute("/a", "friction"));
   CHECK_FALSE(reader.HasAttribute("/a", "nothing"));
+  CHECK(reader.HasAttribute("/a", "no_folds"));
   CHECK(reader.Exists("/c/d"));
   CHECK_FALSE(reader.Exists("/c/e"));
   CHECK_FALSE(reader.Exists("/x/y/z"));

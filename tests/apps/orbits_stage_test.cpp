@@ -2,6 +2,7 @@
 // scenes writes /branches/periodic_orbits with Floquet stability and special points; of a rotor
 // scene, /orbits with the modulated whirl and whip; a bad scene exits with code 2 naming the key,
 // the value and the rule.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -241,6 +242,59 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   }
 }
 
+TEST_CASE("rubcont run, [analysis.orbits.transient] on C(a) at 49.4 rpm: the whip locked at 1:3, "
+          "solved on a transient as an orbit of three modulation periods and continued to its "
+          "period doubling, in /orbits/transient", "[orbits][cli][rub_orbits]") {
+  // L3's verdicts (results/thesis_C_a/attractor_49_50rpm): an orbit at 49.3–49.6 rpm, chaos from
+  // 49.7; bench/locked_whip_bench follows the same family between folds at 49.24472 and 58.65088
+  // rpm, with its first period doubling at 49.47091 rpm (measured).
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_C_a_tori.toml");
+  text = text.substr(0, text.find("[analysis]"));
+  text += "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [49.35, 49.5]\n"
+          "[analysis.orbits]\nhopf_points = 0\nmax_steps = 20\n"
+          "[analysis.orbits.transient]\nspeed_rpm = 49.4\nlaps = 3\nmax_steps = 10\n";
+  const fs::path scene = dir.path / "ca_locked.toml";
+  std::ofstream(scene) << text;
+  const Outcome run =
+      testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("from 0 of the"));
+  CHECK_THAT(run.out, Contains("[orbits] transient at 49.4 rpm, 8 s from rest and a 1 N·s impulse"));
+  CHECK_THAT(run.out, Contains("its orbit (3 modulation periods): T = "));
+  const ResultReader file(dir.path / "ca_locked" / "ca_locked.h5");
+  const std::string group = "/orbits/transient";
+  REQUIRE(file.Exists(group));
+  CHECK(file.ReadStringAttribute(group, "orbit_kind") == "relative");
+  CHECK(file.ReadDoubleAttribute(group, "laps") == 3.0);
+  CHECK(file.ReadDoubleAttribute(group, "transient_speed_rpm") == 49.4);
+  CHECK(file.ReadDoubleAttribute(group, "transient_settled") == 1.0);
+  // Three modulation periods of the slip (125.66 Hz), the carrier the transient's precession.
+  CHECK(3.0 / file.ReadDoubleAttribute(group, "start_period") == Approx(125.66).margin(0.05));
+  CHECK(std::abs(file.ReadDoubleAttribute(group, "start_carrier_hz") -
+                 file.ReadDoubleAttribute(group, "frame_precession_hz")) < 0.01);
+  // Both ways from 49.4 rpm: stable below the period doubling, which is located between L3's
+  // orbit and its chaos.
+  const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+  const auto stable = file.ReadInts(group + "/stable");
+  REQUIRE(rpm.size() >= 4);
+  CHECK(*std::min_element(rpm.begin(), rpm.end()) < 49.4);
+  CHECK(*std::max_element(rpm.begin(), rpm.end()) > 49.47);
+  const auto types = file.ReadStrings(group + "/special_points/type");
+  const auto at = file.ReadDoubles(group + "/special_points/speed_rpm");
+  REQUIRE(types.size() == 1);
+  CHECK(types[0] == "period doubling");
+  CHECK(at[0] == Approx(49.4709).margin(1e-3));
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    INFO(rpm[i] << " rpm");
+    CHECK(stable[i] == (rpm[i] < at[0] ? 1 : 0));
+  }
+  // The doubled orbits born there (branch_points = "follow"), six modulation periods each.
+  REQUIRE(file.Exists("/orbits/transient_pd1"));
+  CHECK(file.ReadStringAttribute("/orbits/transient_pd1", "parent") == "transient");
+}
+
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
           "[orbits][cli]") {
   TempDir dir;
@@ -248,7 +302,22 @@ TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exi
   std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 0\n");
   const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(run.exit_code == 2);
-  CHECK_THAT(run.err, Contains("analysis.orbits.hopf_points = 0: must be from 1 to 1000"));
+  CHECK_THAT(run.err, Contains("analysis.orbits.hopf_points = 0: leaves the stage \"orbits\" "
+                               "nothing to compute: give [analysis.orbits.transient]"));
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = -1\n");
+  const Outcome negative = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(negative.exit_code == 2);
+  CHECK_THAT(negative.err, Contains("analysis.orbits.hopf_points = -1: must be from 0 to 1000"));
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 0\n"
+                                     "[analysis.orbits.transient]\nspeed_rpm = 300.0\nlaps = 65\n"
+                                     "seconds = 0.5\n");
+  const Outcome transient = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(transient.exit_code == 2);
+  CHECK_THAT(transient.err, Contains("analysis.orbits.transient.laps = 65: must be at most 64"));
+  CHECK_THAT(transient.err, Contains("analysis.orbits.transient.speed_rpm = 300.0: must lie in "
+                                     "analysis.speed_range_rpm"));
+  CHECK_THAT(transient.err, Contains("analysis.orbits.transient.seconds = 0.5: must be at least "
+                                     "(settle_windows + 1)·settle_window"));
   std::string jeffcott = Slurp("scenes/jeffcott.toml");
   jeffcott = jeffcott.substr(0, jeffcott.find("[analysis]"));
   std::ofstream(scene) << jeffcott << "[analysis]\nstages = [\"orbits\"]\n";

@@ -64,16 +64,29 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
   const auto carrier = file.ReadDoubles(group + "/carrier_hz");
   const auto left = file.ReadDoubles(group + "/line_hz_left");
   const auto stable = file.ReadInts(group + "/stable");
+  const auto unstable = file.ReadInts(group + "/unstable_count");
+  const auto largest = file.ReadDoubles(group + "/largest_exponent");
+  const auto tolerance = file.ReadDoubles(group + "/exponent_tolerance");
   REQUIRE(stable.size() == rpm.size());
+  REQUIRE(unstable.size() == rpm.size());
+  // The engine's columns as every branch group has them, with the special points (none here:
+  // the family ends at its step limit).
+  CHECK(file.ReadDoubles(group + "/arclength").size() == rpm.size());
+  CHECK(file.ReadStrings(group + "/special_points/type").empty());
   for (std::size_t i = 0; i < rpm.size(); ++i) {
     CHECK(rpm[i] > birth);
+    // Stability from the Lyapunov spectrum: stable with no exponent above the tolerance,
+    // unstable with at least one, undecided (−1) when the largest lies within it.
+    INFO("torus " << i << ": largest exponent " << largest[i] << " ± " << tolerance[i]);
+    CHECK(stable[i] == (largest[i] < -tolerance[i] ? 1 : largest[i] > tolerance[i] ? 0 : -1));
+    if (stable[i] == 1) CHECK(unstable[i] == 0);
+    if (stable[i] == 0) CHECK(unstable[i] >= 1);
+    if (stable[i] == -1) CHECK(unstable[i] == -1);
     CHECK(f2[i] == Approx(rho[i] * f1[i]).epsilon(1e-12));
     // Near the orbit's modulation at the point (136.22 Hz), falling with speed (133.9 Hz 0.085 rpm on).
     CHECK(f1[i] == Approx(136.22).epsilon(0.02));
     CHECK(carrier[i] == Approx(79.285).margin(0.01));
     CHECK(left[i] == Approx(carrier[i] + f1[i]).epsilon(1e-9));  // its (0, −1) sideband
-    CHECK(stable[i] >= -1);
-    CHECK(stable[i] <= 1);
   }
   CHECK(file.ReadMatrix(group + "/exponents").rows() == 3);
   // The circles, reopenable: 16 states × 9 Fourier columns, then ρ, T and φ.

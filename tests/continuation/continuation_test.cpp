@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
@@ -386,6 +387,33 @@ TEST_CASE("the per-step callback sees every step and can stop the branch",
   CHECK(calls == 4);
   CHECK(branch.points.size() == 5u);
   CHECK(branch.status == BranchStatus::kStoppedByCaller);
+}
+
+TEST_CASE("an end test ends the branch with the caller's status and message, after the callback",
+          "[continuation][stepper]") {
+  LambdaProblem problem = Cubic(true);
+  int calls = 0;
+  const Branch branch = Continue(
+      problem, Vec({1.3}), -1.0, {}, [&calls](const Branch&) { return ++calls > 0; },
+      [](const Branch& b) -> std::optional<BranchEnd> {
+        if (b.points.size() < 4) return std::nullopt;
+        return BranchEnd{BranchStatus::kClosed, "closed: found by the caller"};
+      });
+  CHECK(calls == 3);
+  CHECK(branch.points.size() == 4u);
+  CHECK(branch.status == BranchStatus::kClosed);
+  CHECK(branch.message == "closed: found by the caller");
+  // Where the callback stops the branch at the same step, the end test is not asked.
+  const Branch stopped = Continue(
+      problem, Vec({1.3}), -1.0, {}, [](const Branch& b) { return b.points.size() < 3; },
+      [](const Branch& b) -> std::optional<BranchEnd> {
+        if (b.points.size() < 3) return std::nullopt;
+        return BranchEnd{BranchStatus::kClosed, "never"};
+      });
+  CHECK(stopped.status == BranchStatus::kStoppedByCaller);
+  Continuation running(problem, {});
+  REQUIRE(running.Start(Vec({1.3}), -1.0) == StepResult::kContinue);
+  CHECK_THROWS_WITH(running.Stop("no", BranchStatus::kRunning), Catch::Contains("status = running"));
 }
 
 TEST_CASE("state bounds and the step limit end the branch and say why", "[continuation][bounds]") {
