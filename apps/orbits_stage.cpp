@@ -429,10 +429,7 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   WritePeriodicOrbitBranch(context.writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/orbits");
   const std::string group = "/orbits/" + name;
   ResultWriter& w = context.writer;
-  w.SetAttribute(group, "transient_speed_rpm", t.speed_rpm);
-  w.SetAttribute(group, "transient_seconds", t.seconds);
-  w.SetAttribute(group, "transient_settled", transient.settled ? 1.0 : 0.0);
-  w.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
+  WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
   w.SetAttribute(group, "laps", static_cast<double>(t.laps));
   w.SetAttribute(group, "start_period", orbit.period);
   w.SetAttribute(group, "start_rotation", orbit.rotation);
@@ -632,6 +629,14 @@ bool ReportTransient(const std::string& prefix, const std::string& what, const S
   fmt::print(context.out, "  transient: {}\n", why);
   context.failures.push_back(prefix + " " + why);
   return false;
+}
+
+void WriteTransientAttributes(ResultWriter& writer, const std::string& group, double speed_rpm,
+                              double seconds, const RubSettledSpeed& transient) {
+  writer.SetAttribute(group, "transient_speed_rpm", speed_rpm);
+  writer.SetAttribute(group, "transient_seconds", seconds);
+  writer.SetAttribute(group, "transient_settled", transient.settled ? 1.0 : 0.0);
+  writer.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
 }
 
 void RunRubOrbits(const Scene& scene, StageContext& context) {

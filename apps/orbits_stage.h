@@ -82,6 +82,11 @@ bool ReportTransient(const std::string& prefix, const std::string& what, const S
                      const RubSettledSpeed& transient, double elapsed_seconds,
                      StageContext& context);
 
+// The attributes both stages give a family from a transient: transient_speed_rpm,
+// transient_seconds, transient_settled (1 / 0) and frame_precession_hz (the frame's rate).
+void WriteTransientAttributes(ResultWriter& writer, const std::string& group, double speed_rpm,
+                              double seconds, const RubSettledSpeed& transient);
+
 // Each appends a line to the context's failures when a branch ends on a numerical failure or
 // cannot start, and sends one progress line per finished run.
 void RunRubOrbits(const Scene& scene, StageContext& context);           // model two_point

@@ -234,10 +234,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
                                "(sensitivities outside the error test), then by the orbits' {}",
                                t.harmonics, 2 * t.harmonics + 1, start.integrator.relative_tolerance,
                                RubOrbitsNumerics(scene.analysis.orbits)));
-    w.SetAttribute(group, "transient_speed_rpm", t.speed_rpm);
-    w.SetAttribute(group, "transient_seconds", t.seconds);
-    w.SetAttribute(group, "transient_settled", transient.settled ? 1.0 : 0.0);
-    w.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
+    WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
     w.SetAttribute(group, "start_laps", static_cast<double>(torus.laps));
     w.SetAttribute(group, "start_rotation_number", torus.rotation_number);
     w.SetAttribute(group, "start_first_hz", torus.first_hz);
