@@ -1,0 +1,153 @@
+// Experiment (not part of the test suite): case A(a)'s period-1 modulated whip past its grazing,
+// by two integrators of the shooting segments. On Gauss collocation's fixed mesh (the orbits
+// stage's default, 400 intervals per period) the family grazes at 132.539 rpm (both contacts
+// lift off once per modulation) and then creeps in halving steps to 132.864 rpm, where the
+// corrector fails (results/README.md, "What the whip is, speed by speed"): a fold of the impacting
+// orbits, or the mesh's limit (a fixed mesh is of lower order past a kink)? CVODES BDF with the
+// segments stopped and restarted where a contact opens or closes (ShootingOptions::
+// restart_at_switches) has no such limit. The orbit is solved on a settled transient at START_RPM
+// (from rest and an impulse the rotor whips at 60 rpm; at 110 rpm it whirls: measured), continued
+// with Gauss to SWITCH_RPM, and from that orbit both ways' integrators continue to TO_RPM with the
+// grazing test functions; each step printed with its cost.
+// Usage: past_grazing_bench [START_RPM [SWITCH_RPM [TO_RPM [BDF_TOLERANCE]]]], defaults 60 125
+// 133.5 1e-7 (BDF's corrector diverged from the Gauss orbit at 132.45 rpm, 7 N from grazing; from
+// 125 rpm it starts: results/bench/past_grazing.txt).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "models/units.h"
+#include "shooting/modulated_orbit.h"
+#include "shooting/orbit_branches.h"
+#include "shooting/rub_orbits.h"
+#include "solvers/stopwatch.h"
+#include "sweeps/rub_sweep.h"
+
+namespace rubcont {
+namespace {
+
+// The orbits stage's shooting: 4 segments, Gauss–Legendre of order 8 on 100 intervals each, or
+// CVODES BDF with the sensitivities under error control at `tolerance` (apps/orbits_stage.cpp).
+ShootingOptions Shooting(IntegrationMethod method, double tolerance) {
+  ShootingOptions shooting;
+  shooting.segments = 4;
+  shooting.integrator.method = method;
+  shooting.integrator.relative_tolerance = shooting.integrator.absolute_tolerance = tolerance;
+  shooting.integrator.max_steps = 2000000;
+  shooting.integrator.collocation_stages = 4;
+  shooting.integrator.collocation_steps = 100;
+  shooting.sensitivities_in_residual = true;
+  return shooting;
+}
+
+// The orbits stage's step control (apps/orbits_stage.cpp, StageContinuationOptions).
+ContinuationOptions Steps(int max_steps) {
+  ContinuationOptions options;
+  options.step.max = 1.0;
+  options.step.target_angle = 0.3;
+  options.step.target_iterations = 5;
+  options.bounds.max_steps = max_steps;
+  return options;
+}
+
+double Largest(const BranchPoint& p) {
+  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : NAN;
+}
+
+void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
+  const Branch& b = family.branch;
+  std::printf("%s: %s\n", name, b.BriefReport().c_str());
+  for (const SpecialPoint& p : b.special_points) {
+    std::printf("  %-16s %-16s %.5f rpm  %s\n", ToString(p.type), p.label.c_str(),
+                RadPerSecondToRpm(p.lambda), p.converged ? "located" : "not located");
+  }
+}
+
+int Main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress as it comes
+  const double start_rpm = argc > 1 ? std::atof(argv[1]) : 60.0;
+  const double switch_rpm = argc > 2 ? std::atof(argv[2]) : 125.0;
+  const double to_rpm = argc > 3 ? std::atof(argv[3]) : 133.5;
+  const double bdf_tolerance = argc > 4 ? std::atof(argv[4]) : 1e-7;
+  const RubStructure structure = TwoPointStructure(ThesisCaseAa());
+  const double omega = RpmToRadPerSecond(start_rpm);
+
+  double start = ProcessCpuSeconds();
+  const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega, 3.0), 1.0);
+  ModulatedOrbitOptions solve;
+  solve.shooting = Shooting(IntegrationMethod::kGaussCollocation, 1e-7);
+  solve.search_duration = 1.0;
+  solve.newton.residual_tolerance = 1e-10;
+  solve.newton.step_tolerance = 1e-8;
+  solve.newton.max_iterations = 20;
+  const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, 2 * M_PI * transient.precession_hz,
+                                                   transient.state, solve);
+  std::printf("A(a) at %.2f rpm: the transient %s, precession %.4f Hz; its orbit (%.1f s CPU): %s\n",
+              start_rpm, transient.settled ? "settled" : "did not settle", transient.precession_hz,
+              CpuSecondsSince(start), orbit.message.c_str());
+  if (!orbit.converged) return 1;
+
+  RubRotatingFrame frame(structure, orbit.frame_rate, omega);
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = omega;
+  options.lambda_max = RpmToRadPerSecond(switch_rpm);
+  options.shooting = solve.shooting;
+  options.measures = RubOrbitMeasures(frame);
+  options.test_functions = RubGrazingTests(structure);
+  options.continuation = Steps(400);
+  start = ProcessCpuSeconds();
+  const PeriodicOrbitBranch approach =
+      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(orbit, omega), options);
+  std::printf("Gauss from %.2f to %.2f rpm (%.1f s CPU)\n", start_rpm, switch_rpm,
+              CpuSecondsSince(start));
+  PrintFamily("  approach", approach);
+  if (approach.branch.points.empty()) return 1;
+
+  // The last orbit as the start of both continuations.
+  const BranchPoint& last = approach.branch.points.back();
+  ShootingProblem unpack(frame, OrbitKind::kRelative, approach.shooting);
+  OrbitStart from;
+  from.x0 = unpack.SegmentStart(last.u, 0);
+  from.period = unpack.Period(last.u, last.lambda);
+  from.rotation = unpack.Rotation(last.u);
+  from.lambda = last.lambda;
+  from.valid = true;
+  const Index forces[2] = {approach.branch.MeasureIndex("min_normal_force_left"),
+                           approach.branch.MeasureIndex("min_normal_force_right")};
+
+  for (const IntegrationMethod method :
+       {IntegrationMethod::kBdf, IntegrationMethod::kGaussCollocation}) {
+    const bool bdf = method == IntegrationMethod::kBdf;
+    PeriodicOrbitBranchOptions past = options;
+    past.lambda_min = last.lambda;
+    past.lambda_max = RpmToRadPerSecond(to_rpm);
+    past.shooting = Shooting(method, bdf ? bdf_tolerance : 1e-7);
+    past.continuation = Steps(120);
+    double step_start = ProcessCpuSeconds();
+    past.on_step = [&](const Branch& b) {
+      const BranchPoint& p = b.points.back();
+      std::printf("    %3zu: %.5f rpm, min N left %9.3f right %9.3f N, largest |mu| %9.4g, %d "
+                  "Newton iterations (%.1f s CPU)\n", b.points.size(), RadPerSecondToRpm(p.lambda),
+                  p.measures(forces[0]), p.measures(forces[1]), Largest(p), p.newton_iterations,
+                  CpuSecondsSince(step_start));
+      step_start = ProcessCpuSeconds();
+      return true;
+    };
+    start = ProcessCpuSeconds();
+    std::printf("%s from %.5f to %.2f rpm:\n",
+                bdf ? "CVODES BDF, restarted at contact switches," : "Gauss collocation (400/period)",
+                RadPerSecondToRpm(last.lambda), to_rpm);
+    const PeriodicOrbitBranch family = ContinuePeriodicOrbits(frame, OrbitKind::kRelative, from, past);
+    std::printf("  (%.1f s CPU, %ld integrator steps)\n", CpuSecondsSince(start),
+                static_cast<long>(family.work.steps));
+    PrintFamily(bdf ? "  BDF" : "  Gauss", family);
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace rubcont
+
+int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
