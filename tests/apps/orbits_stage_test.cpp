@@ -242,9 +242,9 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   }
 }
 
-TEST_CASE("rubcont run, [analysis.orbits.transient] on C(a) at 49.4 rpm: the whip locked at 1:3, "
-          "solved on a transient as an orbit of three modulation periods and continued to its "
-          "period doubling, in /orbits/transient", "[orbits][cli][rub_orbits]") {
+TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient] solves the whip "
+          "locked at 1:3 as an orbit of three modulation periods and continues it to its period "
+          "doubling, in /orbits/transient", "[orbits][cli][rub_orbits]") {
   // L3's verdicts (results/thesis_C_a/attractor_49_50rpm): an orbit at 49.3–49.6 rpm, chaos from
   // 49.7; bench/locked_whip_bench follows the same family between folds at 49.24472 and 58.65088
   // rpm, with its first period doubling at 49.47091 rpm (measured).
