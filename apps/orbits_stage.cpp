@@ -387,10 +387,11 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   const RubOrbitsSettings::Transient& t = scene.analysis.orbits.transient;
   std::ostream& out = context.out;
   const SteadyClock::time_point t0 = SteadyClock::now();
-  context.progress(fmt::format("[orbits] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
+  context.progress(
+      fmt::format("[orbits] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
   const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
-  if (!ReportTransient("[orbits]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds, transient,
-                       SecondsSince(t0), context)) {
+  if (!ReportTransient("[orbits]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds,
+                       transient, SecondsSince(t0), context)) {
     return;
   }
   // The start: each lap with the stage's segments and mesh; the slip's modulation searched over
@@ -426,7 +427,8 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   }
   const PeriodicOrbitBranch& family = result.family.orbits;
   const std::string name = "transient";
-  WritePeriodicOrbitBranch(context.writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/orbits");
+  WritePeriodicOrbitBranch(context.writer, name, family, {"speed_rpm", kRpmPerRadPerSecond},
+                           "/orbits");
   const std::string group = "/orbits/" + name;
   ResultWriter& w = context.writer;
   WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
@@ -617,8 +619,9 @@ bool ReportTransient(const std::string& prefix, const std::string& what, const S
                      const RubSettledSpeed& transient, double elapsed_seconds,
                      StageContext& context) {
   const IntegrationMethod method = SweepOptionsOf(scene, SweepDirection::kUp).integrator.method;
-  fmt::print(context.out, "{} transient at {:g} rpm, {:g} s from rest and a {:g} N·s impulse ({}): "
-                          "{}, backward precession {:.4f} Hz at the {} contact ({:.1f} s)\n",
+  fmt::print(context.out,
+             "{} transient at {:g} rpm, {:g} s from rest and a {:g} N·s impulse ({}): "
+             "{}, backward precession {:.4f} Hz at the {} contact ({:.1f} s)\n",
              prefix, speed_rpm, seconds, scene.analysis.sweep.impulse, ToString(method),
              transient.settled ? "settled" : "not settled", transient.precession_hz,
              structure.contacts[0].name, elapsed_seconds);

@@ -74,9 +74,9 @@ std::string RubOrbitsNumerics(const RubOrbitsSettings& settings);
 RubSettledSpeed SceneTransient(const Scene& scene, const RubStructure& structure, double speed_rpm,
                                double seconds);
 
-// Prints the transient's line ("<prefix> transient at … rpm: settled, backward precession … Hz");
-// false, with a failure in the context, when it shows no backward precession at the first contact
-// (no frame to solve its `what` in).
+// Prints the transient's line ("<prefix> transient at … rpm: settled, backward precession …
+// Hz"); false, with a failure in the context, when it shows no backward precession at the first
+// contact (no frame to solve its `what` in).
 bool ReportTransient(const std::string& prefix, const std::string& what, const Scene& scene,
                      const RubStructure& structure, double speed_rpm, double seconds,
                      const RubSettledSpeed& transient, double elapsed_seconds,

@@ -755,21 +755,23 @@ std::vector<KeySpec> BuildSchema() {
       }));
 
   // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.
-  s.push_back(Float("analysis.orbits.transient.speed_rpm", "rpm", Rule::kPositive,
-                    "Running speed of the transient: one speed of the scene's sweep model "
-                    "([analysis.sweep]: integrator, windows, impulse) run from rest and the impulse "
-                    "for `seconds`; the relative periodic orbit it settles on (of `laps` modulation "
-                    "periods) is solved there and its family continued towards lower and higher "
-                    "speed over speed_range_rpm with [analysis.orbits]' shooting; inside "
-                    "analysis.speed_range_rpm.",
-                    [](Scene& x) -> double& { return x.analysis.orbits.transient.speed_rpm; },
-                    Presence::kRequiredInSection));
+  s.push_back(Float(
+      "analysis.orbits.transient.speed_rpm", "rpm", Rule::kPositive,
+      "Running speed of the transient: one speed of the scene's sweep model "
+      "([analysis.sweep]: integrator, windows, impulse) run from rest and the impulse "
+      "for `seconds`; the relative periodic orbit it settles on (of `laps` modulation "
+      "periods) is solved there and its family continued towards lower and higher "
+      "speed over speed_range_rpm with [analysis.orbits]' shooting; inside "
+      "analysis.speed_range_rpm.",
+      [](Scene& x) -> double& { return x.analysis.orbits.transient.speed_rpm; },
+      Presence::kRequiredInSection));
   s.back().default_text = "no transient";
-  s.push_back(Float("analysis.orbits.transient.seconds", "s", Rule::kPositive,
-                    "Length of the transient from rest and the impulse, at least "
-                    "(settle_windows + 1)·settle_window of [analysis.sweep] (C(a) at 49.4 rpm: 8 s).",
-                    [](Scene& x) -> double& { return x.analysis.orbits.transient.seconds; },
-                    Presence::kOptional));
+  s.push_back(Float(
+      "analysis.orbits.transient.seconds", "s", Rule::kPositive,
+      "Length of the transient from rest and the impulse, at least "
+      "(settle_windows + 1)·settle_window of [analysis.sweep] (C(a) at 49.4 rpm: 8 s).",
+      [](Scene& x) -> double& { return x.analysis.orbits.transient.seconds; },
+      Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.transient.laps", ValueType::kInteger, "-", Rule::kCount,
       Presence::kOptional,
@@ -1749,13 +1751,16 @@ class Loader {
   void CheckOrbits(const Scene& scene) {
     const RubOrbitsSettings& o = scene.analysis.orbits;
     if (o.transient.laps > kMaxLaps)
-      KeyProblem(scene, "analysis.orbits.transient.laps", fmt::format("must be at most {}", kMaxLaps));
+      KeyProblem(scene, "analysis.orbits.transient.laps",
+                 fmt::format("must be at most {}", kMaxLaps));
     if (!RunsStage(scene, Stage::kOrbits) || scene.model != ModelKind::kTwoPoint) return;
     if (o.hopf_points == 0 && !o.transient.enabled)
-      KeyProblem(scene, "analysis.orbits.hopf_points",
-                 "leaves the stage \"orbits\" nothing to compute: give [analysis.orbits.transient]");
+      KeyProblem(
+          scene, "analysis.orbits.hopf_points",
+          "leaves the stage \"orbits\" nothing to compute: give [analysis.orbits.transient]");
     if (o.transient.enabled)
-      CheckTransient(scene, "analysis.orbits.transient", o.transient.speed_rpm, o.transient.seconds);
+      CheckTransient(scene, "analysis.orbits.transient", o.transient.speed_rpm,
+                     o.transient.seconds);
   }
 
   // Rules of [analysis.tori] that tie keys together, each reported at the key it names.
@@ -1943,7 +1948,8 @@ bool Resolved(const KeySpec& spec, const Scene& scene) {
   return Applies(spec, scene.model) && (spec.Section() != "flexible" || scene.flexible.enabled) &&
          (!IsToriKey(spec) || RunsStage(scene, Stage::kTori)) &&
          (spec.Section() != "analysis.tori.transient" || scene.analysis.tori.transient.enabled) &&
-         (spec.Section() != "analysis.orbits.transient" || scene.analysis.orbits.transient.enabled) &&
+         (spec.Section() != "analysis.orbits.transient" ||
+          scene.analysis.orbits.transient.enabled) &&
          (!spec.relevant || spec.relevant(scene));
 }
 

@@ -67,7 +67,8 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   // unstable_count: the nontrivial exponents above the tolerance).
   Branch columns = b;
   for (std::size_t i = 0; i < columns.points.size(); ++i) {
-    columns.points[i].num_unstable = i < tori.stability.size() ? tori.stability[i].UnstableCount() : -1;
+    columns.points[i].num_unstable =
+        i < tori.stability.size() ? tori.stability[i].UnstableCount() : -1;
   }
   const ParameterColumn speed{"speed_rpm", kRpmPerRadPerSecond};
   WriteBranchPointColumns(writer, group, columns, speed);

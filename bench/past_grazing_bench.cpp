@@ -82,11 +82,12 @@ int Main(int argc, char** argv) {
   solve.newton.residual_tolerance = 1e-10;
   solve.newton.step_tolerance = 1e-8;
   solve.newton.max_iterations = 20;
-  const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, 2 * M_PI * transient.precession_hz,
-                                                   transient.state, solve);
-  std::printf("A(a) at %.2f rpm: the transient %s, precession %.4f Hz; its orbit (%.1f s CPU): %s\n",
-              start_rpm, transient.settled ? "settled" : "did not settle", transient.precession_hz,
-              CpuSecondsSince(start), orbit.message.c_str());
+  const ModulatedOrbit orbit = SolveModulatedOrbit(
+      structure, omega, 2 * M_PI * transient.precession_hz, transient.state, solve);
+  std::printf(
+      "A(a) at %.2f rpm: the transient %s, precession %.4f Hz; its orbit (%.1f s CPU): %s\n",
+      start_rpm, transient.settled ? "settled" : "did not settle", transient.precession_hz,
+      CpuSecondsSince(start), orbit.message.c_str());
   if (!orbit.converged) return 1;
 
   RubRotatingFrame frame(structure, orbit.frame_rate, omega);
@@ -136,10 +137,12 @@ int Main(int argc, char** argv) {
       return true;
     };
     start = ProcessCpuSeconds();
-    std::printf("%s from %.5f to %.2f rpm:\n",
-                bdf ? "CVODES BDF, restarted at contact switches," : "Gauss collocation (400/period)",
-                RadPerSecondToRpm(last.lambda), to_rpm);
-    const PeriodicOrbitBranch family = ContinuePeriodicOrbits(frame, OrbitKind::kRelative, from, past);
+    std::printf(
+        "%s from %.5f to %.2f rpm:\n",
+        bdf ? "CVODES BDF, restarted at contact switches," : "Gauss collocation (400/period)",
+        RadPerSecondToRpm(last.lambda), to_rpm);
+    const PeriodicOrbitBranch family =
+        ContinuePeriodicOrbits(frame, OrbitKind::kRelative, from, past);
     std::printf("  (%.1f s CPU, %ld integrator steps)\n", CpuSecondsSince(start),
                 static_cast<long>(family.work.steps));
     PrintFamily(bdf ? "  BDF" : "  Gauss", family);

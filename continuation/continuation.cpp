@@ -1451,7 +1451,8 @@ StepResult Continuation::Step() { return impl_->StepOnce(); }
 
 void Continuation::Stop(const std::string& reason, BranchStatus status) {
   if (status == BranchStatus::kRunning) {
-    throw std::invalid_argument("Continuation::Stop: status = running: must be one that ends a branch");
+    throw std::invalid_argument(
+        "Continuation::Stop: status = running: must be one that ends a branch");
   }
   if (impl_->branch.status == BranchStatus::kRunning) impl_->End(status, reason);
 }

@@ -186,14 +186,14 @@ namespace {
 // The measures of a family's orbits run `laps` times per shooting period (period-doubled
 // families: 2): the unresolved-mode check needs the mesh's steps per period, which doubles with
 // the period.
-std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame, const ShootingOptions& shooting,
-                                         int laps) {
+std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame,
+                                         const ShootingOptions& shooting, int laps) {
   std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
   const IntegratorOptions& integrator = shooting.integrator;
   if (integrator.method == IntegrationMethod::kGaussCollocation) {
-    measures.push_back(UnresolvedMultiplier(std::make_shared<RubRotatingFrame>(frame),
-                                            integrator.collocation_stages,
-                                            integrator.collocation_steps * shooting.segments * laps));
+    measures.push_back(UnresolvedMultiplier(
+        std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
+        integrator.collocation_steps * shooting.segments * laps));
   }
   return measures;
 }

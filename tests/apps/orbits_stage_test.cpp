@@ -261,7 +261,8 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("from 0 of the"));
-  CHECK_THAT(run.out, Contains("[orbits] transient at 49.4 rpm, 8 s from rest and a 1 N·s impulse"));
+  CHECK_THAT(run.out,
+             Contains("[orbits] transient at 49.4 rpm, 8 s from rest and a 1 N·s impulse"));
   CHECK_THAT(run.out, Contains("its orbit (3 modulation periods): T = "));
   const ResultReader file(dir.path / "ca_locked" / "ca_locked.h5");
   const std::string group = "/orbits/transient";
@@ -305,13 +306,15 @@ TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exi
   CHECK_THAT(run.err, Contains("analysis.orbits.hopf_points = 0: leaves the stage \"orbits\" "
                                "nothing to compute: give [analysis.orbits.transient]"));
   std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = -1\n");
-  const Outcome negative = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  const Outcome negative =
+      testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(negative.exit_code == 2);
   CHECK_THAT(negative.err, Contains("analysis.orbits.hopf_points = -1: must be from 0 to 1000"));
   std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 0\n"
                                      "[analysis.orbits.transient]\nspeed_rpm = 300.0\nlaps = 65\n"
                                      "seconds = 0.5\n");
-  const Outcome transient = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  const Outcome transient =
+      testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(transient.exit_code == 2);
   CHECK_THAT(transient.err, Contains("analysis.orbits.transient.laps = 65: must be at most 64"));
   CHECK_THAT(transient.err, Contains("analysis.orbits.transient.speed_rpm = 300.0: must lie in "

@@ -413,7 +413,8 @@ TEST_CASE("an end test ends the branch with the caller's status and message, aft
   CHECK(stopped.status == BranchStatus::kStoppedByCaller);
   Continuation running(problem, {});
   REQUIRE(running.Start(Vec({1.3}), -1.0) == StepResult::kContinue);
-  CHECK_THROWS_WITH(running.Stop("no", BranchStatus::kRunning), Catch::Contains("status = running"));
+  CHECK_THROWS_WITH(running.Stop("no", BranchStatus::kRunning),
+                    Catch::Contains("status = running"));
 }
 
 TEST_CASE("state bounds and the step limit end the branch and say why", "[continuation][bounds]") {
