@@ -79,11 +79,9 @@ int Main(int argc, char** argv) {
   const double to_rpm = argc > 4 ? std::atof(argv[4]) : 59.0;
   const double check_rpm = argc > 5 ? std::atof(argv[5]) : 58.0;
   const double doubling_amplitude = argc > 6 ? std::atof(argv[6]) : 1e-5;
-  // Case C's three RCI pairs share all but the clearances (scenes/thesis_C_b|c.toml).
   const std::string which = argc > 7 ? argv[7] : "a";
-  TwoPointParams params = ThesisCaseCa();
-  if (which == "b") params.clearance = {3.81e-4, 3.048e-4};
-  if (which == "c") params.clearance = {3.048e-4, 3.81e-4};
+  const TwoPointParams params =
+      which == "b" ? ThesisCaseCb() : which == "c" ? ThesisCaseCc() : ThesisCaseCa();
   if (which != "a" && which != "b" && which != "c") {
     std::fprintf(stderr, "locked_whip_bench: CASE = %s: must be a, b or c\n", which.c_str());
     return 2;

@@ -20,6 +20,18 @@ TwoPointParams ThesisCaseCa() {
   return params;
 }
 
+TwoPointParams ThesisCaseCb() {
+  TwoPointParams params = ThesisCaseCa();
+  params.clearance = {3.81e-4, 3.048e-4};
+  return params;
+}
+
+TwoPointParams ThesisCaseCc() {
+  TwoPointParams params = ThesisCaseCa();
+  params.clearance = {3.048e-4, 3.81e-4};
+  return params;
+}
+
 namespace {
 
 enum class Sign { kPositive, kNonNegative, kAny };

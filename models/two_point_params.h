@@ -68,6 +68,10 @@ TwoPointParams ThesisCaseAa();
 // The thesis's case C(a) (Table 1): case A(a) with the disk near the right contact — rotor inertia
 // 0.07 kg·m², mass centre 0.26 m from the left contact (scenes/thesis_C_a.toml).
 TwoPointParams ThesisCaseCa();
+// Its RCI pairs 100 / 125 (C(b): the right clearance 0.3048 mm) and 125 / 100 (C(c): the left)
+// (scenes/thesis_C_b.toml, thesis_C_c.toml).
+TwoPointParams ThesisCaseCb();
+TwoPointParams ThesisCaseCc();
 
 // Throws std::invalid_argument naming the first field that breaks its rule above (e.g.
 // "TwoPointParams.rotor_mass = -1: must be positive (kg)"); every value must also be finite.

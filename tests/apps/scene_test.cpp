@@ -583,14 +583,17 @@ TEST_CASE("Every scene file in scenes/ loads, with the thesis's Table 1 values",
     ++count;
   }
   CHECK(count >= 11);
-  // The library's cases are the scenes' (the tests and benches build them from ThesisCaseAa/Ca).
+  // The library's cases are the scenes' (the tests and benches build them from ThesisCase*).
   for (const auto& [file, params] : {std::pair{"scenes/thesis_A_a.toml", ThesisCaseAa()},
-                                     std::pair{"scenes/thesis_C_a.toml", ThesisCaseCa()}}) {
+                                     std::pair{"scenes/thesis_C_a.toml", ThesisCaseCa()},
+                                     std::pair{"scenes/thesis_C_b.toml", ThesisCaseCb()},
+                                     std::pair{"scenes/thesis_C_c.toml", ThesisCaseCc()}}) {
     INFO(file);
     const TwoPointParams& loaded = LoadScene(file).two_point;
     CHECK(loaded.rotor_mass_center == params.rotor_mass_center);
     CHECK(loaded.rotor_inertia == params.rotor_inertia);
     CHECK(loaded.center_damping == params.center_damping);
+    CHECK(loaded.clearance == params.clearance);
   }
   const Scene c_b = LoadScene("scenes/thesis_C_b.toml");
   CHECK(c_b.two_point.rotor_mass_center == 0.26);
