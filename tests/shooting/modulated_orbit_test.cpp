@@ -9,6 +9,7 @@
 
 #include "models/analytic.h"
 #include "shooting/orbit_branches.h"
+#include "shooting/rub_orbits.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -245,6 +246,19 @@ TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[m
   const ModulatedOrbit still = SolveModulatedOrbit(s, 6.0, 500.0, x, {});
   CHECK_FALSE(still.converged);
   CHECK_THAT(still.message, Contains("no modulation"));
+  // Its family from a transient: no start, no family, the start's message kept.
+  PeriodicOrbitBranchOptions family;
+  family.lambda_min = 5.0;
+  family.lambda_max = 7.0;
+  const RubTransientOrbits none = ContinueTransientOrbits(s, 6.0, 500.0, x, {}, family);
+  CHECK_FALSE(none.start.converged);
+  CHECK_THAT(none.start.message, Contains("no modulation"));
+  CHECK(none.family.orbits.branch.points.empty());
+  TwoPointParams unbalanced = ThesisCaseAa();
+  unbalanced.imbalance = 3.43e-5;
+  CHECK_THROWS_WITH(
+      ContinueTransientOrbits(TwoPointStructure(unbalanced), 6.0, 500.0, x, {}, family),
+      Contains("ContinueTransientOrbits: imbalance = 3.43e-05 kg·m"));
 }
 
 TEST_CASE("modulated torus inputs outside their rules are rejected by name", "[modulated_orbit][torus]") {
