@@ -405,8 +405,7 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   start.newton.residual_tolerance = plan.options.orbits.continuation.corrector.residual_tolerance;
   start.newton.step_tolerance = plan.options.orbits.continuation.corrector.step_tolerance;
   start.newton.max_iterations = 20;
-  PeriodicOrbitBranchOptions options = plan.options.orbits;
-  options.continuation.bounds.max_steps = t.max_steps;
+  PeriodicOrbitBranchOptions options = plan.options.orbits;  // the side branches' max_steps
   options.on_step = [&](const Branch& b) {
     context.progress(fmt::format("[orbits] transient: {} orbits, {:.4f} rpm, {:.0f} s", b.Size(),
                                  RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
@@ -416,7 +415,7 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
                                t.laps, t.laps == 1 ? "" : "s"));
   const RubTransientOrbits result = ContinueTransientOrbits(
       plan.structure, RpmToRadPerSecond(t.speed_rpm), 2.0 * M_PI * transient.precession_hz,
-      transient.state, start, options, scene.analysis.orbits.follow_branch_points);
+      transient.state, start, options, t.max_steps, scene.analysis.orbits.follow_branch_points);
   const ModulatedOrbit& orbit = result.start;
   fmt::print(out, "  its orbit ({} modulation period{}): {}\n", t.laps, t.laps == 1 ? "" : "s",
              orbit.message);

@@ -274,7 +274,7 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
                                            double frame_rate, const Vector& fixed_state,
                                            const ModulatedOrbitOptions& start,
                                            PeriodicOrbitBranchOptions options,
-                                           bool switch_at_branch_points) {
+                                           int family_max_steps, bool switch_at_branch_points) {
   RequireBalanced("ContinueTransientOrbits", structure);
   RubTransientOrbits result;
   result.start = SolveModulatedOrbit(structure, omega, frame_rate, fixed_state, start);
@@ -283,9 +283,11 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
   options.shooting = start.shooting;
   options.measures = FamilyMeasures(frame, options.shooting, 1);
   options.test_functions = RubGrazingTests(structure);
-  options.stop_round_closed_curve = true;
+  PeriodicOrbitBranchOptions family = options;
+  family.stop_round_closed_curve = true;
+  family.continuation.bounds.max_steps = family_max_steps;
   result.family.orbits =
-      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(result.start, omega), options);
+      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(result.start, omega), family);
   if (switch_at_branch_points) FollowSideBranches(frame, options, options.on_step, result.family);
   return result;
 }

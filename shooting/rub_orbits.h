@@ -103,10 +103,10 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
 // at running speed ω [rad/s] from `fixed_state` (RubFixedFrame layout) in the frame precessing at
 // `frame_rate` with `start` (its `laps` > 1: a whip locked at p:laps, an orbit of laps modulation
 // periods), then its family continued both ways over options' range with start.shooting (the
-// orbit's own segments and mesh; options.shooting is replaced), the measures and grazing tests of
-// ContinueModulatedOrbits, stop_round_closed_curve set (a resonance's locked orbits form a closed
-// curve between the tongue's two folds), and with switch_at_branch_points the side branches as
-// there. For whips no Hopf point of a computed family reaches (C(a)'s whip locked at 1:3 above
+// orbit's own segments and mesh; options.shooting is replaced) and `family_max_steps` steps each
+// way, the measures and grazing tests of ContinueModulatedOrbits, stop_round_closed_curve set (a
+// resonance's locked orbits form a closed curve between the tongue's two folds), and with
+// switch_at_branch_points the side branches as there, each with options' own step limit. For whips no Hopf point of a computed family reaches (C(a)'s whip locked at 1:3 above
 // 49.2 rpm; bench/locked_whip_bench.cpp). Throws std::invalid_argument as SolveModulatedOrbit
 // and for invalid options; a start that does not converge leaves `family` empty (start.message).
 struct RubTransientOrbits {
@@ -117,6 +117,7 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
                                            double frame_rate, const Vector& fixed_state,
                                            const ModulatedOrbitOptions& start,
                                            PeriodicOrbitBranchOptions options,
+                                           int family_max_steps,
                                            bool switch_at_branch_points = false);
 
 }  // namespace rubcont

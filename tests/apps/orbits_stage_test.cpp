@@ -252,7 +252,7 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   std::string text = Slurp("scenes/thesis_C_a_tori.toml");
   text = text.substr(0, text.find("[analysis]"));
   text += "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [49.35, 49.5]\n"
-          "[analysis.orbits]\nhopf_points = 0\nmax_steps = 20\n"
+          "[analysis.orbits]\nhopf_points = 0\nmax_steps = 3\n"
           "[analysis.orbits.transient]\nspeed_rpm = 49.4\nlaps = 3\nmax_steps = 10\n";
   const fs::path scene = dir.path / "ca_locked.toml";
   std::ofstream(scene) << text;
@@ -294,6 +294,9 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   // The doubled orbits born there (branch_points = "follow"), six modulation periods each.
   REQUIRE(file.Exists("/orbits/transient_pd1"));
   CHECK(file.ReadStringAttribute("/orbits/transient_pd1", "parent") == "transient");
+  // Side branches take [analysis.orbits] max_steps (3), the family the transient's (10).
+  CHECK(file.ReadDoubles("/orbits/transient_pd1/speed_rpm").size() <= 4);
+  CHECK(rpm.size() <= 2 * 10 + 1);
 }
 
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",

@@ -250,14 +250,14 @@ TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[m
   PeriodicOrbitBranchOptions family;
   family.lambda_min = 5.0;
   family.lambda_max = 7.0;
-  const RubTransientOrbits none = ContinueTransientOrbits(s, 6.0, 500.0, x, {}, family);
+  const RubTransientOrbits none = ContinueTransientOrbits(s, 6.0, 500.0, x, {}, family, 10);
   CHECK_FALSE(none.start.converged);
   CHECK_THAT(none.start.message, Contains("no modulation"));
   CHECK(none.family.orbits.branch.points.empty());
   TwoPointParams unbalanced = ThesisCaseAa();
   unbalanced.imbalance = 3.43e-5;
   CHECK_THROWS_WITH(
-      ContinueTransientOrbits(TwoPointStructure(unbalanced), 6.0, 500.0, x, {}, family),
+      ContinueTransientOrbits(TwoPointStructure(unbalanced), 6.0, 500.0, x, {}, family, 10),
       Contains("ContinueTransientOrbits: imbalance = 3.43e-05 kg·m"));
 }
 
