@@ -46,6 +46,26 @@ void Validate(const ShootingOptions& options) {
       }
     }
   }
+  for (std::size_t j = 0; j < options.event_boundaries.size(); ++j) {
+    const ShootingOptions::EventBoundary& event = options.event_boundaries[j];
+    if (event.boundary < 1 || event.boundary >= options.segments) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingOptions.event_boundaries[{}].boundary = {}: must lie in [1, segments − 1 = {}]",
+          j, event.boundary, options.segments - 1));
+    }
+    if (event.surface < 0) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingOptions.event_boundaries[{}].surface = {}: must be non-negative", j,
+          event.surface));
+    }
+    for (std::size_t i = 0; i < j; ++i) {
+      if (options.event_boundaries[i].boundary == event.boundary) {
+        throw std::invalid_argument(fmt::format(
+            "ShootingOptions.event_boundaries[{}].boundary = {}: already event_boundaries[{}]'s",
+            j, event.boundary, i));
+      }
+    }
+  }
   Validate(options.integrator);
   if (!(options.period_scale >= 0.0) || std::isinf(options.period_scale)) {
     throw std::invalid_argument(fmt::format(
@@ -259,6 +279,20 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     throw std::invalid_argument(
         "ShootingProblem: kind kRelative needs a system with HasRotationSymmetry()");
   }
+  if (!options.event_boundaries.empty() && kind == OrbitKind::kForced) {
+    throw std::invalid_argument(
+        "ShootingProblem: event_boundaries need kind kAutonomous or kRelative, not kForced");
+  }
+  for (const ShootingOptions::EventBoundary& event : options.event_boundaries) {
+    if (event.surface >= system.SwitchingCount()) {
+      throw std::invalid_argument(fmt::format(
+          "ShootingProblem: event boundary {} is on surface {}, but the system has {} switching "
+          "functions",
+          event.boundary, event.surface, system.SwitchingCount()));
+    }
+  }
+  h_work_.resize(system.SwitchingCount());
+  event_scale_ = Vector::Ones(static_cast<Index>(options.event_boundaries.size()));
   mesh_ = options.mesh;
   if (mesh_.empty()) {
     for (Index i = 0; i <= segments_; ++i) {
@@ -266,6 +300,7 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     }
     mesh_.back() = 1.0;
   }
+  base_mesh_ = mesh_;
   state_scale_ = system.StateScale();
   lambda_scale_ = options.lambda_scale > 0.0 ? options.lambda_scale
                                              : std::max(std::abs(system.Parameter()), 1.0);
@@ -296,12 +331,59 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     data->ends.assign(segments_, Vector::Zero(n_));
     data->stm.assign(segments_, Matrix::Zero(n_, n_));
     data->dxdp.assign(segments_, Vector::Zero(n_));
+    data->dxdt1.assign(segments_, Vector::Zero(n_));
   }
 }
 
-Index ShootingProblem::Dimension() const {
+Index ShootingProblem::EventOffset() const {
   const Index extra = kind_ == OrbitKind::kForced ? 0 : (kind_ == OrbitKind::kAutonomous ? 1 : 2);
   return segments_ * n_ + extra;
+}
+
+Index ShootingProblem::Dimension() const {
+  return EventOffset() + static_cast<Index>(options_.event_boundaries.size());
+}
+
+std::vector<double> ShootingProblem::Mesh(const Vector& u) const {
+  CheckUnknowns(u, "Mesh");
+  std::vector<double> mesh = base_mesh_;
+  for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
+    mesh[options_.event_boundaries[j].boundary] = u(EventOffset() + static_cast<Index>(j));
+  }
+  return mesh;
+}
+
+bool ShootingProblem::UseMesh(const Vector& u) {
+  if (options_.event_boundaries.empty()) return true;
+  mesh_ = Mesh(u);
+  for (std::size_t i = 1; i < mesh_.size(); ++i) {
+    if (!(mesh_[i] > mesh_[i - 1])) {
+      last_failure_ = IntegrationResult();
+      last_failure_.status = IntegrationStatus::kOther;
+      last_failure_.message = fmt::format(
+          "the segment boundaries {} = {} and {} = {} are out of order (an event boundary moved "
+          "past its neighbour: the switching pattern changed)",
+          i - 1, mesh_[i - 1], i, mesh_[i]);
+      return false;
+    }
+  }
+  return true;
+}
+
+Vector ShootingProblem::SwitchingGradient(int surface, ConstVectorRef x) {
+  Vector gradient(n_);
+  x_work_ = x;
+  for (Index k = 0; k < n_; ++k) {
+    const double h = CentralDifferenceStep(x(k), state_scale_(k));
+    x_work_(k) = x(k) + h;
+    system_.SwitchingFunctions(0.0, x_work_, h_work_);
+    const double plus = h_work_(surface);
+    x_work_(k) = x(k) - h;
+    system_.SwitchingFunctions(0.0, x_work_, h_work_);
+    gradient(k) = (plus - h_work_(surface)) / (2.0 * h);
+    x_work_(k) = x(k);
+  }
+  return gradient;
 }
 
 void ShootingProblem::CheckUnknowns(const Vector& u, const char* where) const {
@@ -322,6 +404,9 @@ Vector ShootingProblem::Pack(const Matrix& starts, double period, double rotatio
   for (Index i = 0; i < segments_; ++i) u.segment(i * n_, n_) = starts.col(i);
   if (kind_ != OrbitKind::kForced) u(segments_ * n_) = period;
   if (kind_ == OrbitKind::kRelative) u(segments_ * n_ + 1) = rotation;
+  for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
+    u(EventOffset() + static_cast<Index>(j)) = base_mesh_[options_.event_boundaries[j].boundary];
+  }
   return u;
 }
 
@@ -389,6 +474,16 @@ void ShootingProblem::SetPhaseReference(const Vector& u, double lambda) {
     }
     rotation_normal_ = (scaled_g / scaled_g.norm()).cwiseQuotient(state_scale_);
   }
+  if (!has_reference_) {
+    // h measured per unit of scaled state: |∇h_k| S at the boundary's start.
+    for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
+      const ShootingOptions::EventBoundary& event = options_.event_boundaries[j];
+      const double size = SwitchingGradient(event.surface, u.segment(event.boundary * n_, n_))
+                              .cwiseProduct(state_scale_)
+                              .norm();
+      event_scale_(static_cast<Index>(j)) = size > 0.0 && std::isfinite(size) ? size : 1.0;
+    }
+  }
   has_reference_ = true;
   if (period_scale_ == 0.0) {
     const double T = std::abs(u(segments_ * n_));
@@ -417,12 +512,14 @@ Vector ShootingProblem::Scale() const {
   for (Index i = 0; i < segments_; ++i) scale.segment(i * n_, n_) = state_scale_;
   if (kind_ != OrbitKind::kForced) scale(segments_ * n_) = period_scale_ > 0.0 ? period_scale_ : 1.0;
   if (kind_ == OrbitKind::kRelative) scale(segments_ * n_ + 1) = 1.0;  // radians
+  scale.tail(event_scale_.size()).setConstant(1.0 / static_cast<double>(segments_));
   return scale;
 }
 
 Vector ShootingProblem::ResidualScale() const {
   Vector scale = Vector::Ones(Dimension());
   for (Index i = 0; i < segments_; ++i) scale.segment(i * n_, n_) = state_scale_;
+  scale.tail(event_scale_.size()) = event_scale_;
   return scale;  // the phase conditions are dimensionless already
 }
 
@@ -451,12 +548,15 @@ bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need nee
     last_failure_.message = fmt::format("the period T = {} is not positive and finite", T);
     return false;
   }
+  if (!UseMesh(u)) return false;
+  const bool events = !options_.event_boundaries.empty();
   for (Index i = 0; i < segments_; ++i) {
     Matrix* stm = need == Need::kState ? nullptr : &data.stm[i];
     Vector* dxdp = need == Need::kStmAndParameter ? &data.dxdp[i] : nullptr;
+    Vector* dxdt1 = events && stm != nullptr ? &data.dxdt1[i] : nullptr;
     const IntegrationResult result =
         integrator.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
-                             data.ends[i], stm, dxdp);
+                             data.ends[i], stm, dxdp, dxdt1);
     statistics_.steps += result.statistics.steps;
     if (stm == nullptr) {
       ++statistics_.residual_integrations;
@@ -527,6 +627,11 @@ void ShootingProblem::AssembleResidual(const Vector& u, const SegmentData& data,
   if (kind_ == OrbitKind::kRelative) {
     F(segments_ * n_ + 1) = rotation_normal_.dot(u.head(n_) - reference_);
   }
+  for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
+    const ShootingOptions::EventBoundary& event = options_.event_boundaries[j];
+    system_.SwitchingFunctions(0.0, u.segment(event.boundary * n_, n_), h_work_);
+    F(EventOffset() + static_cast<Index>(j)) = h_work_(event.surface);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -563,9 +668,23 @@ void ShootingProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
   if (kind_ == OrbitKind::kForced) return;
   const double T = u(N * n);
   system_.SetParameter(lambda);
+  UseMesh(u);  // in order: the integration above succeeded
+  const bool events = !options_.event_boundaries.empty();
   for (Index i = 0; i < N; ++i) {
-    system_.Rhs(SegmentTime(T, i + 1), cache_.ends[i], f_work_);
+    if (events) {
+      f_work_ = cache_.dxdt1[i];
+    } else {
+      system_.Rhs(SegmentTime(T, i + 1), cache_.ends[i], f_work_);
+    }
     J.block(i * n, N * n, n, 1) = f_work_ * (mesh_[i + 1] - mesh_[i]);
+  }
+  for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
+    const ShootingOptions::EventBoundary& event = options_.event_boundaries[j];
+    const Index b = event.boundary, column = EventOffset() + static_cast<Index>(j);
+    J.block((b - 1) * n, column, n, 1) = T * cache_.dxdt1[b - 1];
+    J.block(b * n, column, n, 1) = -T * cache_.dxdt1[b];
+    J.block(column, b * n, 1, n) =
+        SwitchingGradient(event.surface, u.segment(b * n, n)).transpose();
   }
   J.block(N * n, 0, 1, n) = time_normal_.transpose();
   if (kind_ == OrbitKind::kRelative) {
@@ -653,6 +772,7 @@ FloquetResult ShootingProblem::Floquet(const Vector& u, double lambda) {
     return result;
   }
   const Index N = segments_, n = n_;
+  UseMesh(u);  // in order: the integration above succeeded
   // Factors in scaled coordinates S⁻¹ M_i S (a similarity: the multipliers do not change, the
   // blocks are balanced when states have different units).
   std::vector<Matrix> factors(N);
@@ -713,7 +833,7 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   const Index m = segments_ * s + 1;
   orbit.times.resize(m);
   orbit.states.resize(n_, m);
-  if (!u.allFinite() || !(T > 0.0) || !std::isfinite(T)) {
+  if (!u.allFinite() || !(T > 0.0) || !std::isfinite(T) || !UseMesh(u)) {
     orbit.states.setConstant(kNaN);
     return orbit;
   }
@@ -801,6 +921,7 @@ Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double la
     throw std::invalid_argument(fmt::format(
         "ShootingProblem::InitialGuess: period = {} must be positive and finite", T));
   }
+  mesh_ = base_mesh_;
   Matrix starts(n_, segments_);
   starts.col(0) = x0;
   for (Index i = 1; i < segments_; ++i) {

@@ -15,7 +15,12 @@
 //
 // Unknowns (N segments, n states; mesh 0 = τ_0 < τ_1 < … < τ_N = 1, segment i covers
 // [T τ_i, T τ_{i+1}]):
-//   u = [x_0, x_1, …, x_{N−1}, T (kAutonomous, kRelative), φ (kRelative)],   size N n + 0/1/2.
+//   u = [x_0, x_1, …, x_{N−1}, T (kAutonomous, kRelative), φ (kRelative), τ_b (event boundaries)],
+// size N n + 0/1/2 + m. An event boundary b on surface k adds the row e = h_k(x_b) and moves
+// with its unknown τ_b: ∂r_{b−1}/∂τ_b = T d_{b−1}, ∂r_b/∂τ_b = −T d_b, ∂e/∂x_b = ∇h_k (central
+// differences), with d_i = ∂y_i/∂t_{i+1} the integrator's (Gauss: its discrete map's exact
+// derivative; OdeIntegrator::Integrate's dxdt1), which then also gives
+// ∂r_i/∂T = d_i (τ_{i+1} − τ_i).
 // Residual, with y_i = x(T τ_{i+1}; T τ_i, x_i) the end of segment i:
 //   r_i = y_i − x_{i+1}   (i < N−1),       r_{N−1} = y_{N−1} − R_φ x_0   (R = I unless kRelative),
 //   p_t = n̂_fᵀ S⁻¹ (x_0 − x_ref),           p_φ = n̂_gᵀ S⁻¹ (x_0 − x_ref)   (kRelative),
@@ -69,7 +74,21 @@ struct ShootingOptions {
   int segments = 1;
   // Segment boundaries as fractions of the period, N + 1 values 0 = τ_0 < … < τ_N = 1. Empty:
   // uniform. Put boundaries before fast phases (relaxation jumps) to keep each segment benign.
+  // With event_boundaries, the starting values of the boundaries that move.
   std::vector<double> mesh;
+  // Boundaries that sit on switching surfaces (piecewise-smooth orbits: a contact's touchdown and
+  // lift-off): boundary b (1 ≤ b < segments, distinct) gets its fraction τ_b as an unknown and the
+  // equation h_k(x_b) = 0 (k = surface, OdeSystem::SwitchingFunctions, which must not depend on
+  // t or λ). Each segment then stays on one side of every surface that its ends switch, so that a
+  // fixed Gauss mesh integrates only smooth pieces and keeps its order (tests/shooting/
+  // grazing_test.cpp measures it). Autonomous and relative kinds only (a segment's end then
+  // depends on its duration alone). The number of switches per period is fixed: where it changes
+  // (at grazing) the family must be restarted with another list.
+  struct EventBoundary {
+    int boundary = 1;
+    int surface = 0;
+  };
+  std::vector<EventBoundary> event_boundaries;
   // Integrator for every segment. Tight defaults: the Newton tolerances of the caller cannot be
   // met below the integration error (rtol 1e-10 gives residuals of order 1e-9).
   IntegratorOptions integrator = [] {
@@ -237,11 +256,15 @@ class ShootingProblem : public Problem {
   Index StateDimension() const { return n_; }
   Index SegmentCount() const { return segments_; }
   const ShootingOptions& options() const { return options_; }
-  // u from segment starts (n × N), T and φ (ignored where not unknowns).
+  // u from segment starts (n × N), T and φ (ignored where not unknowns); event boundaries at
+  // their starting fractions (ShootingOptions::mesh).
   Vector Pack(const Matrix& starts, double period, double rotation = 0.0) const;
   Eigen::VectorBlock<const Vector> SegmentStart(const Vector& u, Index segment) const;
   // T: the unknown (kAutonomous, kRelative) or ForcingPeriod() at λ (kForced).
   double Period(const Vector& u, double lambda);
+  // The N + 1 segment boundaries of u as fractions of the period (the event boundaries' unknowns
+  // in their places).
+  std::vector<double> Mesh(const Vector& u) const;
   double Rotation(const Vector& u) const;  // φ (kRelative), else 0
 
   // An initial guess from one point x0 near the orbit: integrates from x0 over one period guess
@@ -278,9 +301,10 @@ class ShootingProblem : public Problem {
  private:
   enum class Need { kState, kStm, kStmAndParameter };
   struct SegmentData {
-    std::vector<Vector> ends;  // y_i
-    std::vector<Matrix> stm;   // M_i
-    std::vector<Vector> dxdp;  // ∂y_i/∂p
+    std::vector<Vector> ends;   // y_i
+    std::vector<Matrix> stm;    // M_i
+    std::vector<Vector> dxdp;   // ∂y_i/∂p
+    std::vector<Vector> dxdt1;  // ∂y_i/∂t_{i+1}, with the STM when there are event boundaries
     bool has_stm = false;
     bool has_dxdp = false;
   };
@@ -296,6 +320,13 @@ class ShootingProblem : public Problem {
   bool Ensure(const Vector& u, double lambda, Need need);
   void AssembleResidual(const Vector& u, const SegmentData& data, Vector& F);
   double SegmentTime(double period, Index boundary) const { return period * mesh_[boundary]; }
+  // Index of the first event unknown (and row) in u.
+  Index EventOffset() const;
+  // Copies u's event boundaries into mesh_; false (last_failure_ set) unless they lie strictly
+  // inside their neighbours.
+  bool UseMesh(const Vector& u);
+  // ∇h_k at x by central differences in the scaled states.
+  Vector SwitchingGradient(int surface, ConstVectorRef x);
   double ForcingPeriodAt(double lambda);
   double ForcingPeriodDerivative(double lambda);
   void RotationMatrix(double phi, Matrix& R) const;
@@ -307,7 +338,10 @@ class ShootingProblem : public Problem {
   std::unique_ptr<OdeIntegrator> stability_integrator_;  // see accurate_stability
   Index n_;
   Index segments_;
-  std::vector<double> mesh_;  // N + 1 fractions
+  std::vector<double> mesh_;       // N + 1 fractions (the event boundaries of the last u used)
+  std::vector<double> base_mesh_;  // options' mesh or uniform: the event boundaries' start
+  Vector event_scale_;        // per event row: |∇h_k| in scaled states at the first reference
+  Vector h_work_;
   Vector state_scale_;
   double period_scale_ = 0.0;
   double lambda_scale_ = 1.0;
