@@ -405,12 +405,17 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   ShootingOptions doubled = family.shooting;
   doubled.refresh_phase_reference = true;
   doubled.segments = 2 * N;
-  if (!family.shooting.mesh.empty()) {
+  // The point's own mesh run twice (its event boundaries where they moved), each event boundary
+  // in both halves; a uniform mesh stays uniform.
+  if (!family.shooting.mesh.empty() || !family.shooting.event_boundaries.empty()) {
     doubled.mesh.clear();
-    for (const double tau : family.shooting.mesh) doubled.mesh.push_back(0.5 * tau);
-    for (std::size_t k = 1; k < family.shooting.mesh.size(); ++k) {
-      doubled.mesh.push_back(0.5 + 0.5 * family.shooting.mesh[k]);
+    for (const double tau : at.mesh) doubled.mesh.push_back(0.5 * tau);
+    for (std::size_t k = 1; k < at.mesh.size(); ++k) {
+      doubled.mesh.push_back(0.5 + 0.5 * at.mesh[k]);
     }
+  }
+  for (const ShootingOptions::EventBoundary& event : family.shooting.event_boundaries) {
+    doubled.event_boundaries.push_back({event.boundary + static_cast<int>(N), event.surface});
   }
   if (family.shooting.period_scale > 0.0) doubled.period_scale = 2.0 * family.shooting.period_scale;
   ShootingProblem problem(system, family.kind, doubled);
@@ -476,6 +481,7 @@ OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
   }
   at.starts.resize(n, N);
   for (Index i = 0; i < N; ++i) at.starts.col(i) = problem.SegmentStart(point.u, i);
+  at.mesh = problem.Mesh(point.u);
   at.period = problem.Period(point.u, point.lambda);
   at.rotation = problem.Rotation(point.u);
   Matrix unrotate = Matrix::Identity(n, n);

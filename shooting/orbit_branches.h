@@ -169,6 +169,7 @@ struct OrbitReturnMap {
   std::string message;       // why not (an integration failed)
   std::vector<Matrix> stms;  // per segment
   Matrix starts;             // n × segments
+  std::vector<double> mesh;  // the segment boundaries (event boundaries where the point has them)
   double period = 0.0;
   double rotation = 0.0;
   Matrix map;                // n × n

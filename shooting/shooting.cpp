@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/core.h>
@@ -938,6 +939,82 @@ Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double la
   Vector u = Pack(starts, T, rotation);
   if (kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
   return u;
+}
+
+EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
+                              const Vector& u, double lambda, int samples, double min_gap) {
+  EventMesh result;
+  result.options = options;
+  if (!options.event_boundaries.empty()) {
+    throw std::invalid_argument(
+        "WithEventBoundaries: the options have event boundaries already; pass the orbit's "
+        "options without them");
+  }
+  ShootingOptions sampling = options;
+  sampling.samples_per_segment = std::max(2, samples / options.segments);
+  ShootingProblem problem(system, kind, sampling);
+  const OrbitSamples& orbit = problem.Orbit(u, lambda);
+  if (!orbit.valid) {
+    result.message = "the orbit could not be sampled: " + problem.LastFailure().BriefReport();
+    return result;
+  }
+  // Zeros of every switching function between neighbouring samples, as fractions of the period.
+  const int surfaces = system.SwitchingCount();
+  const Index m = orbit.times.size();
+  Matrix h(surfaces, m);
+  for (Index j = 0; j < m; ++j)
+    system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h.col(j));
+  std::vector<std::pair<double, int>> zeros;  // (τ, surface)
+  for (int k = 0; k < surfaces; ++k) {
+    for (Index j = 1; j < m; ++j) {
+      const double a = h(k, j - 1), b = h(k, j);
+      if ((a > 0.0) == (b > 0.0)) continue;
+      const double t = orbit.times(j - 1) + a / (a - b) * (orbit.times(j) - orbit.times(j - 1));
+      zeros.emplace_back(t / orbit.period, k);
+    }
+  }
+  result.zeros = static_cast<int>(zeros.size());
+  std::sort(zeros.begin(), zeros.end());
+  for (const auto& [tau, surface] : zeros) {
+    if (tau < min_gap || tau > 1.0 - min_gap) {
+      result.message = fmt::format(
+          "surface {} switches at {:.6g} of the period, within {} of the start: the phase "
+          "condition's boundary cannot be an event boundary (start the orbit elsewhere)",
+          surface, tau, min_gap);
+      return result;
+    }
+  }
+  // The new mesh: the events (one per cluster), then the old boundaries clear of them.
+  std::vector<std::pair<double, int>> boundaries;  // (τ, surface or −1)
+  for (const auto& zero : zeros) {
+    if (boundaries.empty() || zero.first - boundaries.back().first >= min_gap) {
+      boundaries.push_back(zero);
+    }
+  }
+  const std::size_t events = boundaries.size();
+  std::vector<double> mesh = options.mesh;
+  if (mesh.empty()) {
+    for (int i = 0; i <= options.segments; ++i) mesh.push_back(double(i) / options.segments);
+  }
+  for (std::size_t i = 1; i + 1 < mesh.size(); ++i) {
+    bool clear = true;
+    for (std::size_t e = 0; e < events; ++e)
+      clear = clear && std::abs(mesh[i] - boundaries[e].first) >= min_gap;
+    if (clear) boundaries.emplace_back(mesh[i], -1);
+  }
+  std::sort(boundaries.begin(), boundaries.end());
+  ShootingOptions& out = result.options;
+  out.segments = static_cast<int>(boundaries.size()) + 1;
+  out.mesh = {0.0};
+  out.event_boundaries.clear();
+  for (const auto& [tau, surface] : boundaries) {
+    out.mesh.push_back(tau);
+    if (surface >= 0)
+      out.event_boundaries.push_back({static_cast<int>(out.mesh.size()) - 1, surface});
+  }
+  out.mesh.push_back(1.0);
+  result.ok = true;
+  return result;
 }
 
 }  // namespace rubcont

@@ -212,6 +212,26 @@ enum class GrazingSide { kLiftOff, kTouchdown };
 OrbitTestFunction Grazing(std::function<double(ConstVectorRef)> surface, GrazingSide side,
                           std::string name);
 
+// Shooting options for an orbit that crosses switching surfaces (past grazing): the segment
+// boundaries of `options` (uniform when its mesh is empty) with one more at every zero of a
+// switching function along the orbit u (solved with `options`, which must have no event
+// boundaries), each an event boundary on its surface (ShootingOptions::event_boundaries). The
+// zeros are found on the orbit sampled `samples` times per period and refined linearly (starting
+// values: Newton corrects them); a boundary of the old mesh within `min_gap` (a fraction of the
+// period) of a zero is dropped, and zeros of several surfaces within min_gap of each other share
+// one boundary on the first surface (a symmetric orbit's contacts that switch together). ok =
+// false with a message when the orbit cannot be sampled or a zero lies within min_gap of t = 0
+// (the phase condition's boundary: start the orbit elsewhere). No zeros: the options unchanged.
+struct EventMesh {
+  bool ok = false;
+  std::string message;
+  ShootingOptions options;
+  int zeros = 0;  // zeros found, before sharing
+};
+EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
+                              const Vector& u, double lambda, int samples = 8192,
+                              double min_gap = 1e-3);
+
 // Work done, summed over calls (for benchmarks).
 struct ShootingStatistics {
   long residual_integrations = 0;     // segment integrations without sensitivities

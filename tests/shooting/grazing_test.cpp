@@ -8,6 +8,7 @@
 // them is measured against CVODES under error control.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -252,71 +253,73 @@ class AutonomousSoftImpact : public OdeSystem {
 };
 
 // The striking orbit at w as an autonomous orbit of AutonomousSoftImpact, by Gauss collocation
-// with `steps` per segment on three segments: with `events`, boundaries 1 and 2 sit on the stop
-// (touchdown and lift-off, their fractions unknowns), else the mesh is uniform. Returns its
+// on 3·steps steps: with `events`, three segments of `steps` whose boundaries 1 and 2 sit on the
+// stop (touchdown and lift-off, their fractions unknowns; WithEventBoundaries places them), else
+// one segment, uniform. Returns its
 // largest error against the forced reference orbit (`reference`, x(0) of the forced orbit solved by
 // CVODES at 1e-13): the state at its start against the reference's state at the same forcing
 // phase, and its period against 2π/w.
 double EventMeshError(double w, const Vector& reference, long steps, bool events) {
   SoftImpactParams params;
   params.frequency = w;
-  SoftImpactOscillator forced(params);
   AutonomousSoftImpact system(params);
   const double T = kTwoPi / w;
-  // The reference orbit sampled finely: its stop crossings place the event boundaries' starts.
-  IntegratorOptions accurate;
-  accurate.relative_tolerance = accurate.absolute_tolerance = 1e-13;
-  OdeIntegrator integrator(forced, accurate);
-  const Vector times = Vector::LinSpaced(4001, 0.0, T);
-  Matrix states;
-  REQUIRE(integrator.Sample(0.0, reference, times, states).Succeeded());
-  std::vector<double> crossings;
-  for (Index k = 1; k < times.size(); ++k) {
-    const double a = states(0, k - 1) - params.gap, b = states(0, k) - params.gap;
-    if ((a > 0.0) != (b > 0.0)) {
-      crossings.push_back((times(k - 1) - a * (times(k) - times(k - 1)) / (b - a)) / T);
-    }
-  }
-  REQUIRE(crossings.size() == 2);
-
-  ShootingOptions shooting = Gauss(steps);
-  shooting.segments = 3;
-  if (events) {
-    shooting.mesh = {0.0, crossings[0], crossings[1], 1.0};
-    shooting.event_boundaries = {{1, 0}, {2, 0}};
-  }
-  ShootingProblem problem(system, OrbitKind::kAutonomous, shooting);
+  const auto solve = [&](ShootingProblem& problem, Vector& u) {
+    NewtonOptions newton;
+    newton.residual_tolerance = 1e-12;
+    newton.step_tolerance = 1e-12;
+    const NewtonResult result =
+        NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
+                    [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
+                    problem.Scale(), problem.ResidualScale());
+    INFO(result.BriefReport());
+    REQUIRE(result.Converged());
+  };
+  // The orbit by single shooting on 3·steps uniform steps, from the forced reference's start
+  // (forcing phase 0).
+  ShootingOptions shooting = Gauss(3 * steps);
+  ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
   const Vector x0 = (Vector(4) << reference(0), reference(1), 1.0, 0.0).finished();
-  Vector u = problem.InitialGuess(x0, T, w);
-  NewtonOptions newton;
-  newton.residual_tolerance = 1e-12;
-  newton.step_tolerance = 1e-12;
-  const NewtonResult result =
-      NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
-                  [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
-                  problem.Scale(), problem.ResidualScale());
-  INFO(result.BriefReport());
-  REQUIRE(result.Converged());
+  Vector u = uniform.InitialGuess(x0, T, w);
+  solve(uniform, u);
+  ShootingProblem* problem = &uniform;
+  std::unique_ptr<ShootingProblem> on_stop;
   if (events) {
+    // Its two crossings of the stop become boundaries: three segments of `steps` each.
+    shooting.integrator.collocation_steps = steps;
+    const EventMesh mesh = WithEventBoundaries(system, OrbitKind::kAutonomous, shooting, u, w);
+    INFO(mesh.message);
+    REQUIRE(mesh.ok);
+    CHECK(mesh.zeros == 2);
+    REQUIRE(mesh.options.event_boundaries.size() == 2);
+    on_stop = std::make_unique<ShootingProblem>(system, OrbitKind::kAutonomous, mesh.options);
+    problem = on_stop.get();
+    u = problem->InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
+    solve(*problem, u);
     // The event rows and columns, and ∂/∂T from the discrete map's dxdt1, against differences.
     Matrix J;
-    problem.Jacobian(u, w, J);
-    const Vector scale = problem.Scale();
+    problem->Jacobian(u, w, J);
+    const Vector scale = problem->Scale();
     // Entries below 1e-6 of their row's largest are compared against that floor: ∂p/∂T is ~1e-11
     // where the start's forcing phase is 0, at the differences' round-off (ε/h ≈ 2e-11 of the row;
     // measured errors up to 1.9e-5 of the floor there, 1.2e-6 elsewhere).
     const JacobianCheck check = CheckJacobian(
-        [&](const Vector& v, Vector& F) { problem.Residual(v, w, F); }, u, J, 1e-4, &scale, 1e-6);
+        [&](const Vector& v, Vector& F) { problem->Residual(v, w, F); }, u, J, 1e-4, &scale, 1e-6);
     CAPTURE(check.max_error, check.worst_row, check.worst_col);
     CHECK(check.ok);
   }
-  // The forcing phase of the solution's start, and the reference's state there.
+  // The forcing phase of the solution's start, and the forced reference's state there (backwards
+  // from 0 when the phase is negative: no kink crossed on the way).
+  SoftImpactOscillator forced(params);
+  IntegratorOptions accurate;
+  accurate.relative_tolerance = accurate.absolute_tolerance = 1e-13;
+  OdeIntegrator integrator(forced, accurate);
   const double phase = std::atan2(u(3), u(2)) / w;
   Vector shifted(2);
-  REQUIRE(integrator.Integrate(0.0, reference, phase < 0.0 ? phase + T : phase, shifted)
+  REQUIRE(integrator.Integrate(0.0, reference, phase, shifted)
               .Succeeded());
   const double state_error = std::max(std::abs(u(0) - shifted(0)), std::abs(u(1) - shifted(1)));
-  return std::max(state_error, std::abs(problem.Period(u, w) - T) / T);
+  return std::max(state_error, std::abs(problem->Period(u, w) - T) / T);
 }
 
 TEST_CASE("soft impact oscillator past grazing: segment boundaries on the stop give Gauss "
@@ -337,13 +340,13 @@ TEST_CASE("soft impact oscillator past grazing: segment boundaries on the stop g
     events.push_back(EventMeshError(w, reference, steps, true));
   }
   CAPTURE(uniform, events);
-  // On the stop: order 8 until the reference's own error (measured 4.5e-7, 2.2e-9, 1.0e-11,
-  // 2.8e-11 at 4, 8, 16, 32 steps per segment: orders 7.6 and 7.8).
+  // On the stop: order 8 down to the reference's own error (measured 4.5e-7, 2.2e-9, 1.0e-11,
+  // 1.4e-12 at 4, 8, 16, 32 steps per segment: orders 7.6 and 7.8, then the floor).
   CHECK(std::log2(events[0] / events[1]) > 7.0);
   CHECK(std::log2(events[1] / events[2]) > 7.0);
   CHECK(events[2] < 1e-10);
-  // Uniform: the kinks inside mesh intervals (measured 7.7e-3, 9.7e-4, 7.5e-4, 1.3e-4: order 2
-  // over the range, uneven as the kinks move relative to the mesh).
+  // Uniform, 3·steps in one segment: the kinks inside mesh intervals (measured 7.7e-3, 9.7e-4,
+  // 7.5e-4, 1.3e-4: order 2 over the range, uneven as the kinks move relative to the mesh).
   for (std::size_t k = 0; k < uniform.size(); ++k) CHECK(uniform[k] > 1e3 * events[k]);
   CHECK(std::log2(uniform.front() / uniform.back()) / 3.0 < 3.0);
 }
