@@ -358,6 +358,7 @@ bool ShootingProblem::UseMesh(const Vector& u) {
   if (options_.event_boundaries.empty()) return true;
   mesh_ = Mesh(u);
   for (std::size_t i = 1; i < mesh_.size(); ++i) {
+    if (EventSegment(static_cast<Index>(i) - 1)) continue;  // may shrink past 0: see EventNames
     if (!(mesh_[i] > mesh_[i - 1])) {
       last_failure_ = IntegrationResult();
       last_failure_.status = IntegrationStatus::kOther;
@@ -369,6 +370,33 @@ bool ShootingProblem::UseMesh(const Vector& u) {
     }
   }
   return true;
+}
+
+bool ShootingProblem::EventSegment(Index segment) const {
+  bool start = false, end = false;
+  for (const ShootingOptions::EventBoundary& event : options_.event_boundaries) {
+    start = start || event.boundary == segment;
+    end = end || event.boundary == segment + 1;
+  }
+  return start && end;
+}
+
+std::vector<std::string> ShootingProblem::EventNames() const {
+  std::vector<std::string> names;
+  for (Index i = 0; i < segments_; ++i) {
+    if (EventSegment(i)) names.push_back(fmt::format("switches_{}_{}", i, i + 1));
+  }
+  return names;
+}
+
+Vector ShootingProblem::EventFunctions(const Vector& u, double /*lambda*/) {
+  CheckUnknowns(u, "EventFunctions");
+  const std::vector<double> mesh = Mesh(u);
+  std::vector<double> margins;
+  for (Index i = 0; i < segments_; ++i) {
+    if (EventSegment(i)) margins.push_back(mesh[i + 1] - mesh[i]);
+  }
+  return Eigen::Map<const Vector>(margins.data(), static_cast<Index>(margins.size()));
 }
 
 Vector ShootingProblem::SwitchingGradient(int surface, ConstVectorRef x) {
@@ -942,7 +970,8 @@ Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double la
 }
 
 EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
-                              const Vector& u, double lambda, int samples, double min_gap) {
+                              const Vector& u, double lambda, int samples, double min_gap,
+                              double coincide) {
   EventMesh result;
   result.options = options;
   if (!options.event_boundaries.empty()) {
@@ -984,10 +1013,11 @@ EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingO
       return result;
     }
   }
-  // The new mesh: the events (one per cluster), then the old boundaries clear of them.
+  // The new mesh: the events (zeros of different surfaces that coincide share one), then the old
+  // boundaries clear of them.
   std::vector<std::pair<double, int>> boundaries;  // (τ, surface or −1)
   for (const auto& zero : zeros) {
-    if (boundaries.empty() || zero.first - boundaries.back().first >= min_gap) {
+    if (boundaries.empty() || zero.first - boundaries.back().first > coincide) {
       boundaries.push_back(zero);
     }
   }

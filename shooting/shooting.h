@@ -116,7 +116,8 @@ struct ShootingOptions {
   // CVODES never steps across a kink of the vector field: across one, its error control makes the
   // segment ends a rough function of the unknowns and Newton stalls (measured on the soft impact
   // oscillator, tests/shooting/grazing_test.cpp). No effect with Gauss collocation (a fixed mesh
-  // has no events) or for a system without switching functions.
+  // has no events: event_boundaries put its segment ends on the switches instead) or for a system
+  // without switching functions.
   bool restart_at_switches = true;
   // Samples per segment for measures and Orbit() (≥ 2).
   int samples_per_segment = 64;
@@ -203,7 +204,8 @@ struct OrbitTestFunction {
 // surface with a jump in its derivative (a linear contact spring, N = k1 δ + …), the family goes on
 // through the point (the flow stays C¹ at transversal crossings, Filippov/di Bernardo), but its
 // orbits past it are smooth only piecewise, which a fixed collocation mesh resolves at a lower
-// order (tests/shooting/grazing_test.cpp measures it). The extremum is taken over the orbit's
+// order unless its segments end on the switches (ShootingOptions::event_boundaries;
+// tests/shooting/grazing_test.cpp measures both). The extremum is taken over the orbit's
 // samples and refined by a parabola through the extreme sample and its neighbours, so it is as
 // accurate as ShootingOptions::samples_per_segment makes it (the test measures that too). h must
 // be a function of the state alone and, for relative orbits, invariant under the system's
@@ -218,10 +220,11 @@ OrbitTestFunction Grazing(std::function<double(ConstVectorRef)> surface, Grazing
 // boundaries), each an event boundary on its surface (ShootingOptions::event_boundaries). The
 // zeros are found on the orbit sampled `samples` times per period and refined linearly (starting
 // values: Newton corrects them); a boundary of the old mesh within `min_gap` (a fraction of the
-// period) of a zero is dropped, and zeros of several surfaces within min_gap of each other share
-// one boundary on the first surface (a symmetric orbit's contacts that switch together). ok =
-// false with a message when the orbit cannot be sampled or a zero lies within min_gap of t = 0
-// (the phase condition's boundary: start the orbit elsewhere). No zeros: the options unchanged.
+// period) of a zero is dropped, and zeros within `coincide` of each other (necessarily of
+// different surfaces: a symmetric orbit's contacts that switch together) share one boundary on
+// the first surface. ok = false with a message when the orbit cannot be sampled or a zero lies
+// within min_gap of t = 0 (the phase condition's boundary: start the orbit elsewhere). No zeros:
+// the options unchanged.
 struct EventMesh {
   bool ok = false;
   std::string message;
@@ -230,7 +233,7 @@ struct EventMesh {
 };
 EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
                               const Vector& u, double lambda, int samples = 8192,
-                              double min_gap = 1e-3);
+                              double min_gap = 1e-3, double coincide = 1e-6);
 
 // Work done, summed over calls (for benchmarks).
 struct ShootingStatistics {
@@ -270,6 +273,15 @@ class ShootingProblem : public Problem {
   SpecialPointType TestFunctionType(int k) const override;
   // SetPhaseReference(u, λ) when options().refresh_phase_reference.
   void PointAccepted(const Vector& u, double lambda) override;
+  // With event boundaries: one margin per segment between two of them (a contact phase or an
+  // open phase, "switches_<b>_<b+1>"), its length τ_{b+1} − τ_b as a fraction of the period. It
+  // vanishes where the orbit becomes tangent to the surface (grazing: the phase shrinks to
+  // nothing and the switching pattern changes); such a segment may take a negative length while
+  // the engine brackets that point (integrated backwards: the equations stay smooth through it),
+  // which the engine locates as an event and where the family ends (SwitchAt is the default's
+  // refusal: the other side is another pattern — start it anew, e.g. by WithEventBoundaries).
+  std::vector<std::string> EventNames() const override;
+  Vector EventFunctions(const Vector& u, double lambda) override;
 
   // --- Building and reading unknowns ---
   OrbitKind kind() const { return kind_; }
@@ -342,6 +354,8 @@ class ShootingProblem : public Problem {
   double SegmentTime(double period, Index boundary) const { return period * mesh_[boundary]; }
   // Index of the first event unknown (and row) in u.
   Index EventOffset() const;
+  // Whether both ends of the segment are event boundaries.
+  bool EventSegment(Index segment) const;
   // Copies u's event boundaries into mesh_; false (last_failure_ set) unless they lie strictly
   // inside their neighbours.
   bool UseMesh(const Vector& u);

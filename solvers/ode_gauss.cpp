@@ -233,6 +233,12 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
   }
   if (t1 == t0) {
     x_final = x_;
+    if (with_dxdt1) {  // the map's derivative in its length at 0: f
+      ++statistics_.rhs_evaluations;
+      if (EvaluateRhs(context_, t0, x_.data(), dxdt1.data()) != 0) {
+        return Fail(IntegrationStatus::kRhsFailure, t0, "the right-hand side failed at t0");
+      }
+    }
     IntegrationResult result;
     result.t_reached = t1;
     return result;

@@ -63,6 +63,19 @@ Vector SolveOrbit(SoftImpactOscillator& system, ShootingProblem& problem, double
   return u;
 }
 
+// Newton on an autonomous orbit at w, to 1e-12.
+void SolveAutonomous(ShootingProblem& problem, Vector& u, double w) {
+  NewtonOptions newton;
+  newton.residual_tolerance = 1e-12;
+  newton.step_tolerance = 1e-12;
+  const NewtonResult result =
+      NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
+                  [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
+                  problem.Scale(), problem.ResidualScale());
+  INFO(result.BriefReport());
+  REQUIRE(result.Converged());
+}
+
 OrbitTestFunction Touchdown(double gap) {
   return Grazing([gap](ConstVectorRef x) { return x(0) - gap; }, GrazingSide::kTouchdown,
                  "touchdown");
@@ -264,24 +277,13 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
   params.frequency = w;
   AutonomousSoftImpact system(params);
   const double T = kTwoPi / w;
-  const auto solve = [&](ShootingProblem& problem, Vector& u) {
-    NewtonOptions newton;
-    newton.residual_tolerance = 1e-12;
-    newton.step_tolerance = 1e-12;
-    const NewtonResult result =
-        NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
-                    [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
-                    problem.Scale(), problem.ResidualScale());
-    INFO(result.BriefReport());
-    REQUIRE(result.Converged());
-  };
   // The orbit by single shooting on 3·steps uniform steps, from the forced reference's start
   // (forcing phase 0).
   ShootingOptions shooting = Gauss(3 * steps);
   ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
   const Vector x0 = (Vector(4) << reference(0), reference(1), 1.0, 0.0).finished();
   Vector u = uniform.InitialGuess(x0, T, w);
-  solve(uniform, u);
+  SolveAutonomous(uniform, u, w);
   ShootingProblem* problem = &uniform;
   std::unique_ptr<ShootingProblem> on_stop;
   if (events) {
@@ -295,7 +297,7 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
     on_stop = std::make_unique<ShootingProblem>(system, OrbitKind::kAutonomous, mesh.options);
     problem = on_stop.get();
     u = problem->InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
-    solve(*problem, u);
+    SolveAutonomous(*problem, u, w);
     // The event rows and columns, and ∂/∂T from the discrete map's dxdt1, against differences.
     Matrix J;
     problem->Jacobian(u, w, J);
@@ -349,6 +351,63 @@ TEST_CASE("soft impact oscillator past grazing: segment boundaries on the stop g
   // 7.5e-4, 1.3e-4: order 2 over the range, uneven as the kinks move relative to the mesh).
   for (std::size_t k = 0; k < uniform.size(); ++k) CHECK(uniform[k] > 1e3 * events[k]);
   CHECK(std::log2(uniform.front() / uniform.back()) / 3.0 < 3.0);
+}
+
+TEST_CASE("soft impact oscillator on event boundaries: the striking family continued both ways "
+          "ends where its contact shrinks to nothing, at the closed-form grazing frequencies",
+          "[grazing][shooting][branch]") {
+  SoftImpactParams params;
+  params.damping = 0.3;
+  params.stiffness = 1.0;
+  params.frequency = 0.9;
+  AutonomousSoftImpact system(params);
+  const std::vector<double> grazing = SoftImpactOscillator(params).GrazingFrequencies();
+  REQUIRE(grazing.size() == 2);
+  // The striking orbit at w = 0.9 on a uniform mesh, then its switches as boundaries.
+  const double w = params.frequency;
+  ShootingOptions shooting = Gauss(60);
+  ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
+  const Vector free = FreeStart(params);
+  Vector u = uniform.InitialGuess((Vector(4) << free(0), free(1), 1.0, 0.0).finished(),
+                                  kTwoPi / w, w);
+  SolveAutonomous(uniform, u, w);
+  const EventMesh mesh = WithEventBoundaries(system, OrbitKind::kAutonomous, shooting, u, w);
+  INFO(mesh.message);
+  REQUIRE(mesh.ok);
+  REQUIRE(mesh.options.event_boundaries.size() == 2);
+  ShootingProblem problem(system, OrbitKind::kAutonomous, mesh.options);
+  Vector u0 = problem.InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
+  SolveAutonomous(problem, u0, w);
+  const Index first = problem.Dimension() - 2;  // the two event fractions
+  for (const int side : {+1, -1}) {
+    CAPTURE(side);
+    ContinuationOptions options;
+    options.bounds.lambda_min = 0.3;
+    options.bounds.lambda_max = 2.0;
+    options.direction = side;
+    options.step.max = 0.05;
+    const Branch branch = Continue(problem, u0, w, options);
+    INFO(branch.BriefReport() << " — " << branch.message);
+    // The phase between the two switches (segment 1) shrinks to nothing at grazing: located as
+    // the event "switches_1_2", where the family ends. (The engine reports a branch point there
+    // too: with the phase at zero length the second switch's equation is the first's, so orbits
+    // with both boundaries at one crossing solve the equations as well and meet the family.)
+    REQUIRE(branch.status == BranchStatus::kSwitchRefused);
+    const SpecialPoint& end = branch.special_points.back();
+    CHECK(end.type == SpecialPointType::kEvent);
+    CHECK(end.label == "switches_1_2");
+    CHECK(end.converged);
+    // Measured 1.5e-11 and 1.2e-11 from the closed form.
+    CHECK(end.lambda == Approx(grazing[side > 0 ? 1 : 0]).margin(1e-9));
+    const Vector margins = problem.EventFunctions(branch.points.back().u, end.lambda);
+    REQUIRE(margins.size() == 1);  // segment 1; the other phase wraps round t = 0
+    CHECK(std::abs(margins(0)) < 1e-6);
+    // Every orbit before the end strikes: the phase has positive length.
+    for (std::size_t i = 0; i + 1 < branch.points.size(); ++i) {
+      const BranchPoint& p = branch.points[i];
+      CHECK(problem.EventFunctions(p.u, p.lambda)(0) > 0.0);
+    }
+  }
 }
 
 TEST_CASE("event boundaries: refused by name on a forced orbit, at an end of the period, twice, or "
