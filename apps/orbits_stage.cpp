@@ -452,70 +452,6 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   WritePeriodDoublings(result.family, name, trust, w, out, context.failures);
 }
 
-// Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
-// orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece of them.
-void RunModulatedOrbits(const Scene& scene, StageContext& context) {
-  ResultWriter& writer = context.writer;
-  std::ostream& out = context.out;
-  std::vector<std::string>& failures = context.failures;
-  const SteadyClock::time_point begin = SteadyClock::now();
-  RubOrbitsPlan plan = PlanRubOrbits(scene);
-  const RubStructure& structure = plan.structure;
-  const std::vector<RotatingWaveBranch>& waves = plan.waves;
-  const std::vector<RubHopfStart>& starts = plan.starts;
-  const std::size_t followed = plan.followed;
-  WriteRotatingWaveBranches(writer, waves, FrictionLawKind::kTanh, scene.analysis.speed_range_rpm,
-                            "/orbits/rotating_waves");
-  writer.SetAttribute("/orbits", "friction_law", "tanh");
-  writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
-  const std::string numerics = RubOrbitsNumerics(scene.analysis.orbits);
-  writer.SetAttribute("/orbits", "numerics", numerics);
-  fmt::print(out, "[orbits] L2 modulated orbits (relative periodic orbits in the co-rotating frame, "
-                  "{}) from {} of the {} Hopf points bounding a stable rotating wave (tanh "
-                  "friction, ε = {:g} m/s; {} rotating waves in {:.3f} s)\n",
-             numerics, followed, starts.size(), structure.law.velocity_scale, waves.size(),
-             SecondsSince(begin));
-  if (!plan.note.empty()) {
-    writer.SetAttribute("/orbits", "note", plan.note);
-    fmt::print(out, "[orbits] note: {}\n", plan.note);
-  }
-  PrintHopfStarts(plan, out);
-  const RubOrbitsSettings& settings = scene.analysis.orbits;
-  const OrbitTrust trust{structure, scene.analysis.sweep.max_penetration};
-  HopfOrbitOptions& options = plan.options;
-  for (std::size_t k = 0; k < followed; ++k) {
-    const RubHopfStart& start = starts[k];
-    const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
-    const SteadyClock::time_point t0 = SteadyClock::now();
-    options.on_step = [&](const Branch& b) {
-      const double rpm = b.points.empty() ? 0.0 : RadPerSecondToRpm(b.points.back().lambda);
-      context.progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name,
-                                   k + 1, followed, b.Size(), rpm, SecondsSince(t0)));
-      return true;
-    };
-    const RubModulatedOrbits orbits =
-        ContinueModulatedOrbits(structure, waves, start, options, settings.follow_branch_points);
-    WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", kRpmPerRadPerSecond},
-                             "/orbits");
-    const std::string group = "/orbits/" + name;
-    writer.SetAttribute(group, "hopf_branch", start.branch);
-    writer.SetAttribute(group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
-    writer.SetAttribute(group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
-    writer.SetAttribute(group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
-    const Branch& branch = orbits.orbits.branch;
-    fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
-               SecondsSince(t0), orbits.orbits.work.steps);
-    PrintSpecialPoints(branch, out);
-    ReportOrbitChecks(branch, group, trust, writer, out);
-    if (IsFailure(branch.status)) {
-      failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
-    }
-    WriteBranchSwitches(orbits, name, trust, writer, out, failures);
-    WritePeriodDoublings(orbits, name, trust, writer, out, failures);
-  }
-  if (settings.transient.enabled) RunTransientOrbits(scene, plan, trust, context);
-}
-
 // A textbook model: its periodic orbits continued in its parameter from the first one.
 void RunTextbookOrbits(const Scene& scene, StageSetup setup, ResultWriter& writer,
                        const std::function<void(const std::string&)>& progress, std::ostream& out,
@@ -641,8 +577,69 @@ void WriteTransientAttributes(ResultWriter& writer, const std::string& group, do
   writer.SetAttribute(group, "frame_precession_hz", transient.precession_hz);
 }
 
+// Model two_point: the tanh-law rotating waves (the law shooting integrates), then the modulated
+// orbits born at the first scene.analysis.orbits.hopf_points Hopf points that bound a stable piece
+// of them, and the orbits on a settled transient ([analysis.orbits.transient]).
 void RunRubOrbits(const Scene& scene, StageContext& context) {
-  RunModulatedOrbits(scene, context);
+  ResultWriter& writer = context.writer;
+  std::ostream& out = context.out;
+  std::vector<std::string>& failures = context.failures;
+  const SteadyClock::time_point begin = SteadyClock::now();
+  RubOrbitsPlan plan = PlanRubOrbits(scene);
+  const RubStructure& structure = plan.structure;
+  const std::vector<RotatingWaveBranch>& waves = plan.waves;
+  const std::vector<RubHopfStart>& starts = plan.starts;
+  const std::size_t followed = plan.followed;
+  WriteRotatingWaveBranches(writer, waves, FrictionLawKind::kTanh, scene.analysis.speed_range_rpm,
+                            "/orbits/rotating_waves");
+  writer.SetAttribute("/orbits", "friction_law", "tanh");
+  writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
+  const std::string numerics = RubOrbitsNumerics(scene.analysis.orbits);
+  writer.SetAttribute("/orbits", "numerics", numerics);
+  fmt::print(out, "[orbits] L2 modulated orbits (relative periodic orbits in the co-rotating frame, "
+                  "{}) from {} of the {} Hopf points bounding a stable rotating wave (tanh "
+                  "friction, ε = {:g} m/s; {} rotating waves in {:.3f} s)\n",
+             numerics, followed, starts.size(), structure.law.velocity_scale, waves.size(),
+             SecondsSince(begin));
+  if (!plan.note.empty()) {
+    writer.SetAttribute("/orbits", "note", plan.note);
+    fmt::print(out, "[orbits] note: {}\n", plan.note);
+  }
+  PrintHopfStarts(plan, out);
+  const RubOrbitsSettings& settings = scene.analysis.orbits;
+  const OrbitTrust trust{structure, scene.analysis.sweep.max_penetration};
+  HopfOrbitOptions& options = plan.options;
+  for (std::size_t k = 0; k < followed; ++k) {
+    const RubHopfStart& start = starts[k];
+    const std::string name = fmt::format("{}_hopf{}", start.branch, start.special_point);
+    const SteadyClock::time_point t0 = SteadyClock::now();
+    options.on_step = [&](const Branch& b) {
+      const double rpm = b.points.empty() ? 0.0 : RadPerSecondToRpm(b.points.back().lambda);
+      context.progress(fmt::format("[orbits] {} ({}/{}): {} orbits, {:.2f} rpm, {:.0f} s", name,
+                                   k + 1, followed, b.Size(), rpm, SecondsSince(t0)));
+      return true;
+    };
+    const RubModulatedOrbits orbits =
+        ContinueModulatedOrbits(structure, waves, start, options, settings.follow_branch_points);
+    WritePeriodicOrbitBranch(writer, name, orbits.orbits, {"speed_rpm", kRpmPerRadPerSecond},
+                             "/orbits");
+    const std::string group = "/orbits/" + name;
+    writer.SetAttribute(group, "hopf_branch", start.branch);
+    writer.SetAttribute(group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
+    writer.SetAttribute(group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
+    writer.SetAttribute(group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
+    const Branch& branch = orbits.orbits.branch;
+    fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
+               SecondsSince(t0), orbits.orbits.work.steps);
+    PrintSpecialPoints(branch, out);
+    ReportOrbitChecks(branch, group, trust, writer, out);
+    if (IsFailure(branch.status)) {
+      failures.push_back(fmt::format("[orbits] {}: {}", name, branch.message));
+    }
+    WriteBranchSwitches(orbits, name, trust, writer, out, failures);
+    WritePeriodDoublings(orbits, name, trust, writer, out, failures);
+  }
+  if (settings.transient.enabled) RunTransientOrbits(scene, plan, trust, context);
 }
 
 void RunDuffingOrbits(const Scene& scene, StageContext& context) {

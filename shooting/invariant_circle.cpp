@@ -393,10 +393,14 @@ std::vector<double> InvariantCircleProblem::CircleMultipliers(const Vector& u, d
   return moduli;
 }
 
+bool InvariantCircleProblem::TorusStability::IsTrivial(Index i) const {
+  return std::find(trivial.begin(), trivial.end(), i) != trivial.end();
+}
+
 double InvariantCircleProblem::TorusStability::LargestNontrivial() const {
   double largest = -std::numeric_limits<double>::infinity();
   for (Index i = 0; i < exponents.size(); ++i) {
-    if (std::find(trivial.begin(), trivial.end(), i) == trivial.end()) largest = std::max(largest, exponents(i));
+    if (!IsTrivial(i)) largest = std::max(largest, exponents(i));
   }
   return largest;
 }
@@ -405,8 +409,7 @@ int InvariantCircleProblem::TorusStability::UnstableCount() const {
   if (!valid || !(stable || unstable)) return -1;
   int count = 0;
   for (Index i = 0; i < exponents.size(); ++i) {
-    const bool is_trivial = std::find(trivial.begin(), trivial.end(), i) != trivial.end();
-    if (!is_trivial && exponents(i) > tolerance) ++count;
+    if (!IsTrivial(i) && exponents(i) > tolerance) ++count;
   }
   return count;
 }

@@ -132,6 +132,8 @@ class InvariantCircleProblem : public Problem {
     bool unstable = false;
     // "stable", "unstable" or "undecided" (valid estimates only).
     const char* Verdict() const { return stable ? "stable" : unstable ? "unstable" : "undecided"; }
+    // Whether exponent i is one of the trivial ones.
+    bool IsTrivial(Index i) const;
     // The largest exponent that is not trivial (−∞ when all are).
     double LargestNontrivial() const;
     // The nontrivial exponents above the tolerance: 0 when stable; −1 when undecided or not

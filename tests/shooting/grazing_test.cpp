@@ -378,7 +378,6 @@ TEST_CASE("soft impact oscillator on event boundaries: the striking family conti
   ShootingProblem problem(system, OrbitKind::kAutonomous, mesh.options);
   Vector u0 = problem.InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
   SolveAutonomous(problem, u0, w);
-  const Index first = problem.Dimension() - 2;  // the two event fractions
   for (const int side : {+1, -1}) {
     CAPTURE(side);
     ContinuationOptions options;
