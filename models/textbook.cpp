@@ -286,5 +286,47 @@ std::vector<double> SoftImpactOscillator::GrazingFrequencies() const {
   return result;
 }
 
+AutonomousSoftImpactOscillator::AutonomousSoftImpactOscillator(const SoftImpactParams& params)
+    : params_(params) {
+  Validate(params);
+}
+
+void AutonomousSoftImpactOscillator::Rhs(double /*t*/, ConstVectorRef x, VectorRef f) {
+  const SoftImpactParams& p = params_;
+  const double r = 1.0 - x(2) * x(2) - x(3) * x(3);
+  f(0) = x(1);
+  f(1) = -p.damping * x(1) - x(0) - p.stiffness * std::max(0.0, x(0) - p.gap) + p.force * x(2);
+  f(2) = x(2) * r - p.frequency * x(3);
+  f(3) = x(3) * r + p.frequency * x(2);
+}
+
+void AutonomousSoftImpactOscillator::JacobianX(double /*t*/, ConstVectorRef x, MatrixRef J) {
+  const SoftImpactParams& p = params_;
+  const double r = 1.0 - x(2) * x(2) - x(3) * x(3);
+  J.setZero();
+  J(0, 1) = 1.0;
+  J(1, 0) = -1.0 - (x(0) > p.gap ? p.stiffness : 0.0);
+  J(1, 1) = -p.damping;
+  J(1, 2) = p.force;
+  J(2, 2) = r - 2.0 * x(2) * x(2);
+  J(2, 3) = -2.0 * x(2) * x(3) - p.frequency;
+  J(3, 2) = -2.0 * x(2) * x(3) + p.frequency;
+  J(3, 3) = r - 2.0 * x(3) * x(3);
+}
+
+Vector AutonomousSoftImpactOscillator::StateScale() const {
+  return (Vector(4) << params_.gap, params_.gap, 1.0, 1.0).finished();
+}
+
+void AutonomousSoftImpactOscillator::SwitchingFunctions(double /*t*/, ConstVectorRef x,
+                                                        VectorRef h) const {
+  h(0) = x(0) - params_.gap;
+}
+
+std::string AutonomousSoftImpactOscillator::StateName(Index i) const {
+  static const char* const kNames[] = {"x", "v", "p", "q"};
+  return kNames[i];
+}
+
 }  // namespace rubcont
 

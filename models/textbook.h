@@ -6,6 +6,7 @@
 //   ForcedVanDerPolOscillator ẍ − μ (1 − x²) ẋ + x = F cos(w t)  parameter w  (entrainment, tori)
 //   LorenzSystem          ẋ = σ(y − x), ẏ = x(ρ − z) − y, ż = xy − βz   parameter ρ  (chaos)
 //   SoftImpactOscillator  ẍ + c ẋ + x + k max(0, x − g) = F cos(w t)   parameter w  (grazing)
+//   AutonomousSoftImpactOscillator  the same, forced by a limit cycle          (grazing, autonomous)
 // All are dimensionless; "time" below means the model's time unit.
 #pragma once
 
@@ -232,6 +233,31 @@ class SoftImpactOscillator : public OdeSystem {
   // The forcing frequencies at which the linear response grazes the stop, ascending: none when
   // F/g is below the response's smallest gain, else one or two.
   std::vector<double> GrazingFrequencies() const;
+
+ private:
+  SoftImpactParams params_;
+};
+
+// The soft impact oscillator made autonomous: the forcing F p comes from a stable limit cycle
+// ṗ = p(1 − p² − q²) − w q, q̇ = q(1 − p² − q²) + w p, on which p = cos(w t + θ). State
+// (x, v, p, q); its periodic orbits are SoftImpactOscillator's shifted by θ/w, with period 2π/w
+// (kAutonomous shooting, for what needs an autonomous system: segment boundaries on the stop,
+// ShootingOptions::event_boundaries). Switching function h = x − g; StateScale (g, g, 1, 1).
+class AutonomousSoftImpactOscillator : public OdeSystem {
+ public:
+  explicit AutonomousSoftImpactOscillator(const SoftImpactParams& params = {});
+  const SoftImpactParams& params() const { return params_; }
+
+  Index Dimension() const override { return 4; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override;
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double t, ConstVectorRef x, MatrixRef J) override;
+  double Parameter() const override { return params_.frequency; }
+  void SetParameter(double w) override { params_.frequency = w; }
+  Vector StateScale() const override;
+  int SwitchingCount() const override { return 1; }
+  void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override;
+  std::string StateName(Index i) const override;
 
  private:
   SoftImpactParams params_;

@@ -302,6 +302,23 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     mesh_.back() = 1.0;
   }
   base_mesh_ = mesh_;
+  // Event boundaries, and the anchors that place the others (nearest event boundary or end on
+  // each side, and the fraction of the way between them on the base mesh).
+  event_at_.assign(segments_ + 1, -1);
+  for (std::size_t j = 0; j < options.event_boundaries.size(); ++j) {
+    event_at_[options.event_boundaries[j].boundary] = static_cast<int>(j);
+  }
+  anchor_left_.assign(segments_ + 1, 0);
+  anchor_right_.assign(segments_ + 1, segments_);
+  anchor_alpha_.assign(segments_ + 1, 0.0);
+  for (Index i = 1; i < segments_; ++i) {
+    Index left = i - 1, right = i + 1;
+    while (left > 0 && event_at_[left] < 0) --left;
+    while (right < segments_ && event_at_[right] < 0) ++right;
+    anchor_left_[i] = left;
+    anchor_right_[i] = right;
+    anchor_alpha_[i] = (base_mesh_[i] - base_mesh_[left]) / (base_mesh_[right] - base_mesh_[left]);
+  }
   state_scale_ = system.StateScale();
   lambda_scale_ = options.lambda_scale > 0.0 ? options.lambda_scale
                                              : std::max(std::abs(system.Parameter()), 1.0);
@@ -351,52 +368,74 @@ std::vector<double> ShootingProblem::Mesh(const Vector& u) const {
   for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
     mesh[options_.event_boundaries[j].boundary] = u(EventOffset() + static_cast<Index>(j));
   }
+  // The other boundaries keep their places between their anchors.
+  for (Index i = 1; i < segments_; ++i) {
+    if (event_at_[i] >= 0 || options_.event_boundaries.empty()) continue;
+    const double left = mesh[anchor_left_[i]], right = mesh[anchor_right_[i]];
+    mesh[i] = left + anchor_alpha_[i] * (right - left);
+  }
   return mesh;
+}
+
+double ShootingProblem::MeshWeight(Index boundary, int event) const {
+  if (event_at_[boundary] >= 0) return event_at_[boundary] == event ? 1.0 : 0.0;
+  if (boundary == 0 || boundary == segments_) return 0.0;
+  double weight = 0.0;
+  if (event_at_[anchor_left_[boundary]] == event) weight += 1.0 - anchor_alpha_[boundary];
+  if (event_at_[anchor_right_[boundary]] == event) weight += anchor_alpha_[boundary];
+  return weight;
 }
 
 bool ShootingProblem::UseMesh(const Vector& u) {
   if (options_.event_boundaries.empty()) return true;
   mesh_ = Mesh(u);
-  for (std::size_t i = 1; i < mesh_.size(); ++i) {
-    if (EventSegment(static_cast<Index>(i) - 1)) continue;  // may shrink past 0: see EventNames
-    if (!(mesh_[i] > mesh_[i - 1])) {
+  for (Index i = 0; i < segments_; ++i) {
+    if (InPhase(i)) continue;  // may shrink past 0: see EventNames
+    if (!(mesh_[i + 1] > mesh_[i])) {
       last_failure_ = IntegrationResult();
       last_failure_.status = IntegrationStatus::kOther;
       last_failure_.message = fmt::format(
           "the segment boundaries {} = {} and {} = {} are out of order (an event boundary moved "
-          "past its neighbour: the switching pattern changed)",
-          i - 1, mesh_[i - 1], i, mesh_[i]);
+          "past the start of the period)",
+          i, mesh_[i], i + 1, mesh_[i + 1]);
       return false;
     }
   }
   return true;
 }
 
-bool ShootingProblem::EventSegment(Index segment) const {
-  bool start = false, end = false;
-  for (const ShootingOptions::EventBoundary& event : options_.event_boundaries) {
-    start = start || event.boundary == segment;
-    end = end || event.boundary == segment + 1;
+bool ShootingProblem::InPhase(Index segment) const {
+  const Index right = event_at_[segment + 1] >= 0 ? segment + 1 : anchor_right_[segment + 1];
+  const Index left = event_at_[segment] >= 0 ? segment : anchor_left_[segment];
+  return event_at_[left] >= 0 && event_at_[right] >= 0;
+}
+
+std::vector<std::pair<Index, Index>> ShootingProblem::Phases() const {
+  std::vector<std::pair<Index, Index>> phases;
+  Index previous = -1;
+  for (Index i = 1; i < segments_; ++i) {
+    if (event_at_[i] < 0) continue;
+    if (previous >= 0) phases.emplace_back(previous, i);
+    previous = i;
   }
-  return start && end;
+  return phases;
 }
 
 std::vector<std::string> ShootingProblem::EventNames() const {
   std::vector<std::string> names;
-  for (Index i = 0; i < segments_; ++i) {
-    if (EventSegment(i)) names.push_back(fmt::format("switches_{}_{}", i, i + 1));
-  }
+  for (const auto& [from, to] : Phases()) names.push_back(fmt::format("switches_{}_{}", from, to));
   return names;
 }
 
 Vector ShootingProblem::EventFunctions(const Vector& u, double /*lambda*/) {
   CheckUnknowns(u, "EventFunctions");
   const std::vector<double> mesh = Mesh(u);
-  std::vector<double> margins;
-  for (Index i = 0; i < segments_; ++i) {
-    if (EventSegment(i)) margins.push_back(mesh[i + 1] - mesh[i]);
+  const std::vector<std::pair<Index, Index>> phases = Phases();
+  Vector margins(static_cast<Index>(phases.size()));
+  for (std::size_t k = 0; k < phases.size(); ++k) {
+    margins(static_cast<Index>(k)) = mesh[phases[k].second] - mesh[phases[k].first];
   }
-  return Eigen::Map<const Vector>(margins.data(), static_cast<Index>(margins.size()));
+  return margins;
 }
 
 Vector ShootingProblem::SwitchingGradient(int surface, ConstVectorRef x) {
@@ -710,8 +749,11 @@ void ShootingProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
   for (std::size_t j = 0; j < options_.event_boundaries.size(); ++j) {
     const ShootingOptions::EventBoundary& event = options_.event_boundaries[j];
     const Index b = event.boundary, column = EventOffset() + static_cast<Index>(j);
-    J.block((b - 1) * n, column, n, 1) = T * cache_.dxdt1[b - 1];
-    J.block(b * n, column, n, 1) = -T * cache_.dxdt1[b];
+    // Segment i lasts T (τ_{i+1} − τ_i); τ_b moves the boundaries anchored to it too.
+    for (Index i = 0; i < N; ++i) {
+      const double weight = MeshWeight(i + 1, static_cast<int>(j)) - MeshWeight(i, static_cast<int>(j));
+      if (weight != 0.0) J.block(i * n, column, n, 1) = weight * T * cache_.dxdt1[i];
+    }
     J.block(column, b * n, 1, n) =
         SwitchingGradient(event.surface, u.segment(b * n, n)).transpose();
   }

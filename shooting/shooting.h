@@ -53,6 +53,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "continuation/problem.h"
@@ -354,8 +355,13 @@ class ShootingProblem : public Problem {
   double SegmentTime(double period, Index boundary) const { return period * mesh_[boundary]; }
   // Index of the first event unknown (and row) in u.
   Index EventOffset() const;
-  // Whether both ends of the segment are event boundaries.
-  bool EventSegment(Index segment) const;
+  // ∂τ_boundary/∂(event unknown `event`): 1 at its own boundary, the anchoring weights at the
+  // boundaries placed between it and the next event boundary or end.
+  double MeshWeight(Index boundary, int event) const;
+  // Whether the segment lies between two event boundaries (in a phase: it may shrink past 0).
+  bool InPhase(Index segment) const;
+  // Consecutive event boundaries (b, b'), the phases between switches, in boundary order.
+  std::vector<std::pair<Index, Index>> Phases() const;
   // Copies u's event boundaries into mesh_; false (last_failure_ set) unless they lie strictly
   // inside their neighbours.
   bool UseMesh(const Vector& u);
@@ -374,6 +380,11 @@ class ShootingProblem : public Problem {
   Index segments_;
   std::vector<double> mesh_;       // N + 1 fractions (the event boundaries of the last u used)
   std::vector<double> base_mesh_;  // options' mesh or uniform: the event boundaries' start
+  // Per boundary: the event it is (index into event_boundaries) or −1; for the others the nearest
+  // event boundary or end on each side and the fraction of the way between them (base mesh).
+  std::vector<int> event_at_;
+  std::vector<Index> anchor_left_, anchor_right_;
+  std::vector<double> anchor_alpha_;
   Vector event_scale_;        // per event row: |∇h_k| in scaled states at the first reference
   Vector h_work_;
   Vector state_scale_;

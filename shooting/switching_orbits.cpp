@@ -1,0 +1,186 @@
+#include "shooting/switching_orbits.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/core.h>
+
+namespace rubcont {
+namespace {
+
+void Add(ShootingStatistics& total, const ShootingStatistics& more) {
+  total.residual_integrations += more.residual_integrations;
+  total.sensitivity_integrations += more.sensitivity_integrations;
+  total.steps += more.steps;
+  total.cache_hits += more.cache_hits;
+}
+
+// The orbit of a branch point as a start (its first segment's start, period, rotation).
+OrbitStart StartAt(OdeSystem& system, OrbitKind kind, const ShootingOptions& shooting,
+                   const BranchPoint& point) {
+  ShootingProblem problem(system, kind, shooting);
+  OrbitStart start;
+  start.x0 = problem.SegmentStart(point.u, 0);
+  start.period = problem.Period(point.u, point.lambda);
+  start.rotation = problem.Rotation(point.u);
+  start.lambda = point.lambda;
+  start.valid = true;
+  return start;
+}
+
+// The switches of the orbit at `point` (solved on `base`) as segment boundaries, with the start
+// moved to the middle of the orbit's longest stretch without a switch.
+std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
+                                            const ShootingOptions& base, const BranchPoint& point,
+                                            int samples) {
+  ShootingOptions sampling = base;
+  sampling.samples_per_segment = std::max(2, samples / base.segments);
+  ShootingProblem problem(system, kind, sampling);
+  const OrbitSamples& orbit = problem.Orbit(point.u, point.lambda);
+  OrbitStart start = StartAt(system, kind, base, point);
+  EventMesh mesh;
+  if (!orbit.valid) {
+    mesh.message = "the orbit could not be sampled: " + problem.LastFailure().BriefReport();
+    return {start, mesh};
+  }
+  Vector h(system.SwitchingCount()), previous(system.SwitchingCount());
+  std::vector<Index> switches;  // sample indices just after a sign change of any surface
+  const Index m = orbit.times.size();
+  system.SwitchingFunctions(orbit.times(0), orbit.states.col(0), previous);
+  for (Index j = 1; j < m; ++j) {
+    system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h);
+    for (Index k = 0; k < h.size(); ++k) {
+      if ((h(k) > 0.0) != (previous(k) > 0.0)) {
+        switches.push_back(j);
+        break;
+      }
+    }
+    previous = h;
+  }
+  if (!switches.empty()) {
+    // The longest stretch between switches, round the period (the last sample is the first's
+    // image under the return map: the stretch wraps from the last switch to the first).
+    Index best_from = switches.back(), best_length = (m - 1) - switches.back() + switches.front();
+    for (std::size_t k = 1; k < switches.size(); ++k) {
+      if (switches[k] - switches[k - 1] > best_length) {
+        best_from = switches[k - 1];
+        best_length = switches[k] - switches[k - 1];
+      }
+    }
+    // Any state of the orbit starts it (of a relative one too: the rotation commutes with the
+    // flow), so a stretch that wraps round the end starts one period earlier.
+    start.x0 = orbit.states.col((best_from + best_length / 2) % (m - 1));
+  }
+  ShootingProblem moved(system, kind, base);
+  const Vector u = moved.InitialGuess(start.x0, start.period, start.lambda, start.rotation);
+  mesh = WithEventBoundaries(system, kind, base, u, start.lambda, samples);
+  return {start, mesh};
+}
+
+}  // namespace
+
+void Validate(const SwitchingOrbitOptions& options) {
+  Validate(options.family);
+  if (!options.family.shooting.event_boundaries.empty()) {
+    throw std::invalid_argument(
+        "SwitchingOrbitOptions.family.shooting.event_boundaries: must be empty (the pieces on "
+        "switches get theirs from WithEventBoundaries)");
+  }
+  if (options.direction != 1 && options.direction != -1) {
+    throw std::invalid_argument(fmt::format(
+        "SwitchingOrbitOptions.direction = {}: must be +1 or -1", options.direction));
+  }
+  if (options.max_pieces < 1) {
+    throw std::invalid_argument(fmt::format(
+        "SwitchingOrbitOptions.max_pieces = {}: must be at least 1", options.max_pieces));
+  }
+  if (options.samples < 16) {
+    throw std::invalid_argument(fmt::format(
+        "SwitchingOrbitOptions.samples = {}: must be at least 16", options.samples));
+  }
+}
+
+SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
+                                            const OrbitStart& start,
+                                            const SwitchingOrbitOptions& options) {
+  Validate(options);
+  if (kind == OrbitKind::kForced) {
+    throw std::invalid_argument(
+        "ContinueAcrossSwitches: kind kForced cannot have segment boundaries on switches; make "
+        "the system autonomous (e.g. AutonomousSoftImpactOscillator)");
+  }
+  if (system.SwitchingCount() == 0) {
+    throw std::invalid_argument("ContinueAcrossSwitches: the system has no switching functions");
+  }
+  SwitchingOrbitFamily result;
+  const ShootingOptions& base = options.family.shooting;
+  OrbitStart from = start;
+  int direction = options.direction;
+  EventMesh mesh;  // the switches of the next piece (none: the options' mesh)
+  for (int piece = 0; piece < options.max_pieces; ++piece) {
+    PeriodicOrbitBranchOptions o = options.family;
+    if (direction > 0) {
+      o.lambda_min = from.lambda;
+    } else {
+      o.lambda_max = from.lambda;
+    }
+    if (!(o.lambda_min < o.lambda_max)) {
+      result.message = fmt::format("at the end of the range, λ = {:.10g}", from.lambda);
+      return result;
+    }
+    const bool on_switches = !mesh.options.event_boundaries.empty();
+    bool crossed = false;
+    if (on_switches) {
+      o.shooting = mesh.options;
+    } else {
+      // The first orbit that crosses a surface ends the piece.
+      o.on_step = [&](const Branch& b) {
+        if (options.family.on_step && !options.family.on_step(b)) return false;
+        const BranchPoint& p = b.points.back();
+        crossed = WithEventBoundaries(system, kind, base, p.u, p.lambda, options.samples).zeros > 0;
+        return !crossed;
+      };
+    }
+    SwitchingOrbitPiece current;
+    current.switches = static_cast<int>(mesh.options.event_boundaries.size());
+    current.family = ContinuePeriodicOrbits(system, kind, from, o);
+    Add(result.work, current.family.work);
+    const Branch& branch = current.family.branch;
+    const bool kept = branch.points.size() >= 2;
+    if (kept) {
+      const double last = branch.points.back().lambda;
+      direction = last >= branch.points[branch.points.size() - 2].lambda ? +1 : -1;
+    }
+    mesh = EventMesh();
+    if (!on_switches && crossed && kept) {
+      auto [moved, switches] = OnSwitches(system, kind, base, branch.points.back(), options.samples);
+      if (!switches.ok) {
+        current.end = fmt::format("crosses a surface at λ = {:.10g}, but: {}",
+                                  branch.points.back().lambda, switches.message);
+        result.message = current.end;
+        result.pieces.push_back(std::move(current));
+        return result;
+      }
+      current.end = fmt::format("crosses a surface at λ = {:.10g}: {} switches, {} boundaries",
+                                moved.lambda, switches.zeros,
+                                switches.options.event_boundaries.size());
+      from = moved;
+      mesh = std::move(switches);
+    } else if (on_switches && branch.status == BranchStatus::kSwitchRefused && kept) {
+      current.end = branch.message + "; on the options' mesh from there";
+      from = StartAt(system, kind, current.family.shooting, branch.points.back());
+    } else {
+      current.end = branch.message;
+      result.message = branch.message;
+      result.pieces.push_back(std::move(current));
+      return result;
+    }
+    result.pieces.push_back(std::move(current));
+  }
+  result.message = fmt::format("reached the maximum of {} pieces", options.max_pieces);
+  return result;
+}
+
+}  // namespace rubcont
