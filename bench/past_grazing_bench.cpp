@@ -5,16 +5,19 @@
 // whip is, speed by speed"): a fold of the impacting orbits, or the mesh's limit (a fixed mesh is
 // of lower order past a kink)? (1) CVODES BDF with the segments stopped and restarted where a
 // contact opens or closes (ShootingOptions::restart_at_switches); (2) Gauss on its fixed mesh;
-// (3) Gauss to the first orbit past grazing, then with the contacts' switches as segment
-// boundaries (WithEventBoundaries, ShootingOptions::event_boundaries): every segment smooth. The
+// (3) Gauss across the switching patterns (ContinueAcrossSwitches): to the first orbit past
+// grazing on the fixed mesh, then with the contacts' switches as segment boundaries
+// (ShootingOptions::event_boundaries), every segment smooth, restarted where the pattern
+// changes. The
 // orbit is solved on a settled transient at START_RPM (from rest and an impulse the rotor whips at
 // 60 rpm; at 110 rpm it whirls: measured), continued with Gauss to SWITCH_RPM, and from that orbit
 // the chosen ways continue to TO_RPM with the grazing test functions; each step printed with its
 // cost.
 // Usage: past_grazing_bench [START_RPM [SWITCH_RPM [TO_RPM [BDF_TOLERANCE [METHODS
-// [EVENT_STEPS]]]]]], defaults 60 125 133.5 1e-7 bdf,gauss,events 100 (BDF's corrector diverged
-// from the Gauss orbit at 132.45 rpm, 7 N from grazing; from 125 rpm it starts; EVENT_STEPS: Gauss
-// steps per segment on the event mesh: results/bench/past_grazing.txt).
+// [EVENT_STEPS [PIECES]]]]]]], defaults 60 125 133.5 1e-7 bdf,gauss,events 100 8 (BDF's corrector
+// diverged from the Gauss orbit at 132.45 rpm, 7 N from grazing; from 125 rpm it starts;
+// EVENT_STEPS: Gauss steps per segment in the third way, PIECES its patterns at most:
+// results/bench/past_grazing.txt).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +28,7 @@
 #include "shooting/modulated_orbit.h"
 #include "shooting/orbit_branches.h"
 #include "shooting/rub_orbits.h"
+#include "shooting/switching_orbits.h"
 #include "solvers/stopwatch.h"
 #include "sweeps/rub_sweep.h"
 
@@ -68,75 +72,43 @@ void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
   }
 }
 
-// Gauss from `from` until the family has grazed (both contacts open once per modulation), then
-// on with the contacts' switches as segment boundaries (WithEventBoundaries): every segment smooth.
-void PastGrazingOnEvents(RubRotatingFrame& frame, const OrbitStart& from,
-                         const PeriodicOrbitBranchOptions& options, double to_rpm, long steps) {
-  PeriodicOrbitBranchOptions approach = options;
-  approach.lambda_min = from.lambda;
-  approach.lambda_max = RpmToRadPerSecond(to_rpm);
-  approach.continuation = Steps(120);
-  approach.on_step = [](const Branch& b) {
-    int grazed = 0;
-    for (const SpecialPoint& p : b.special_points) grazed += p.type == SpecialPointType::kGrazing;
-    return grazed == 0 || b.points.back().lambda > b.special_points.back().lambda;
-  };
-  double start = ProcessCpuSeconds();
-  const PeriodicOrbitBranch grazing =
-      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, from, approach);
-  std::printf("Gauss (400/period) from %.5f rpm to the first orbit past grazing (%.1f s CPU)\n",
-              RadPerSecondToRpm(from.lambda), CpuSecondsSince(start));
-  PrintFamily("  to grazing", grazing);
-  if (grazing.branch.points.empty()) return;
-  const BranchPoint& past = grazing.branch.points.back();
-  const EventMesh mesh = WithEventBoundaries(frame, OrbitKind::kRelative, grazing.shooting, past.u,
-                                             past.lambda);
-  if (!mesh.ok) {
-    std::printf("  no event mesh at %.5f rpm: %s\n", RadPerSecondToRpm(past.lambda),
-                mesh.message.c_str());
-    return;
-  }
-  std::printf("  at %.5f rpm: %d switches, mesh", RadPerSecondToRpm(past.lambda), mesh.zeros);
-  for (const double tau : mesh.options.mesh) std::printf(" %.5f", tau);
-  std::printf(" (events at");
-  for (const auto& event : mesh.options.event_boundaries) {
-    std::printf(" %d on %d", event.boundary, event.surface);
-  }
-  std::printf(")\n");
-
-  ShootingProblem unpack(frame, OrbitKind::kRelative, grazing.shooting);
-  OrbitStart on_events;
-  on_events.x0 = unpack.SegmentStart(past.u, 0);
-  on_events.period = unpack.Period(past.u, past.lambda);
-  on_events.rotation = unpack.Rotation(past.u);
-  on_events.lambda = past.lambda;
-  on_events.valid = true;
-  PeriodicOrbitBranchOptions events = options;
-  events.lambda_min = past.lambda;
-  events.lambda_max = RpmToRadPerSecond(to_rpm);
-  events.shooting = mesh.options;
-  events.shooting.integrator.collocation_steps = steps;
-  events.continuation = Steps(120);
-  ShootingProblem layout(frame, OrbitKind::kRelative, mesh.options);
+// Gauss across the switching patterns (ContinueAcrossSwitches): on the fixed mesh to the first
+// orbit past grazing, then with the contacts' switches as segment boundaries (every segment
+// smooth), restarted wherever a phase between two switches vanishes.
+void AcrossSwitches(RubRotatingFrame& frame, const OrbitStart& from,
+                    const PeriodicOrbitBranchOptions& options, double to_rpm, long steps,
+                    int max_pieces) {
+  SwitchingOrbitOptions across;
+  across.family = options;
+  across.family.lambda_min = from.lambda;
+  across.family.lambda_max = RpmToRadPerSecond(to_rpm);
+  across.family.shooting.integrator.collocation_steps = steps;
+  across.family.continuation = Steps(120);
+  across.max_pieces = max_pieces;
   double step_start = ProcessCpuSeconds();
-  events.on_step = [&](const Branch& b) {
+  across.family.on_step = [&](const Branch& b) {
     const BranchPoint& p = b.points.back();
-    const std::vector<double> at = layout.Mesh(p.u);
-    std::printf("    %3zu: %.5f rpm, switches at", b.points.size(), RadPerSecondToRpm(p.lambda));
-    for (const auto& event : mesh.options.event_boundaries) std::printf(" %.5f", at[event.boundary]);
-    std::printf(" of the period, largest |mu| %9.4g, %d Newton iterations (%.1f s CPU)\n",
-                Largest(p), p.newton_iterations, CpuSecondsSince(step_start));
+    std::printf("    %3zu: %.5f rpm, largest |mu| %9.4g, %d Newton iterations (%.1f s CPU)\n",
+                b.points.size(), RadPerSecondToRpm(p.lambda), Largest(p), p.newton_iterations,
+                CpuSecondsSince(step_start));
     step_start = ProcessCpuSeconds();
     return true;
   };
-  start = ProcessCpuSeconds();
-  std::printf("Gauss with the switches as segment boundaries (%ld steps each) from %.5f to %.2f "
-              "rpm:\n", steps, RadPerSecondToRpm(past.lambda), to_rpm);
-  const PeriodicOrbitBranch family =
-      ContinuePeriodicOrbits(frame, OrbitKind::kRelative, on_events, events);
-  std::printf("  (%.1f s CPU, %ld integrator steps)\n", CpuSecondsSince(start),
-              static_cast<long>(family.work.steps));
-  PrintFamily("  events", family);
+  const double start = ProcessCpuSeconds();
+  std::printf("Gauss across the switching patterns (%ld steps per segment) from %.5f to %.2f "
+              "rpm:\n", steps, RadPerSecondToRpm(from.lambda), to_rpm);
+  const SwitchingOrbitFamily family =
+      ContinueAcrossSwitches(frame, OrbitKind::kRelative, from, across);
+  std::printf("  (%.1f s CPU, %ld integrator steps) %s\n", CpuSecondsSince(start),
+              static_cast<long>(family.work.steps), family.message.c_str());
+  for (std::size_t k = 0; k < family.pieces.size(); ++k) {
+    const SwitchingOrbitPiece& piece = family.pieces[k];
+    const std::vector<double> mesh = piece.family.shooting.mesh;
+    std::printf("  piece %zu, %d switches as boundaries (mesh", k, piece.switches);
+    for (const double tau : mesh) std::printf(" %.5f", tau);
+    std::printf(" at its start): %s\n", piece.end.c_str());
+    PrintFamily("   ", piece.family);
+  }
 }
 
 int Main(int argc, char** argv) {
@@ -147,6 +119,7 @@ int Main(int argc, char** argv) {
   const double bdf_tolerance = argc > 4 ? std::atof(argv[4]) : 1e-7;
   const std::string methods = argc > 5 ? argv[5] : "bdf,gauss,events";
   const long event_steps = argc > 6 ? std::atol(argv[6]) : 100;
+  const int max_pieces = argc > 7 ? std::atoi(argv[7]) : 8;
   const RubStructure structure = TwoPointStructure(ThesisCaseAa());
   const double omega = RpmToRadPerSecond(start_rpm);
 
@@ -225,7 +198,7 @@ int Main(int argc, char** argv) {
     PrintFamily(bdf ? "  BDF" : "  Gauss", family);
   }
   if (methods.find("events") != std::string::npos) {
-    PastGrazingOnEvents(frame, from, options, to_rpm, event_steps);
+    AcrossSwitches(frame, from, options, to_rpm, event_steps, max_pieces);
   }
   return 0;
 }

@@ -6,7 +6,7 @@
 //   ForcedVanDerPolOscillator ẍ − μ (1 − x²) ẋ + x = F cos(w t)  parameter w  (entrainment, tori)
 //   LorenzSystem          ẋ = σ(y − x), ẏ = x(ρ − z) − y, ż = xy − βz   parameter ρ  (chaos)
 //   SoftImpactOscillator  ẍ + c ẋ + x + k max(0, x − g) = F cos(w t)   parameter w  (grazing)
-//   AutonomousSoftImpactOscillator  the same, forced by a limit cycle          (grazing, autonomous)
+//   AutonomousSoftImpactOscillator  the same, forced by a limit cycle   (grazing, autonomous)
 // All are dimensionless; "time" below means the model's time unit.
 #pragma once
 

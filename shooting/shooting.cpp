@@ -751,7 +751,8 @@ void ShootingProblem::Jacobian(const Vector& u, double lambda, Matrix& J) {
     const Index b = event.boundary, column = EventOffset() + static_cast<Index>(j);
     // Segment i lasts T (τ_{i+1} − τ_i); τ_b moves the boundaries anchored to it too.
     for (Index i = 0; i < N; ++i) {
-      const double weight = MeshWeight(i + 1, static_cast<int>(j)) - MeshWeight(i, static_cast<int>(j));
+      const int e = static_cast<int>(j);
+      const double weight = MeshWeight(i + 1, e) - MeshWeight(i, e);
       if (weight != 0.0) J.block(i * n, column, n, 1) = weight * T * cache_.dxdt1[i];
     }
     J.block(column, b * n, 1, n) =

@@ -155,7 +155,8 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
     }
     mesh = EventMesh();
     if (!on_switches && crossed && kept) {
-      auto [moved, switches] = OnSwitches(system, kind, base, branch.points.back(), options.samples);
+      auto [moved, switches] =
+          OnSwitches(system, kind, base, branch.points.back(), options.samples);
       if (!switches.ok) {
         current.end = fmt::format("crosses a surface at λ = {:.10g}, but: {}",
                                   branch.points.back().lambda, switches.message);

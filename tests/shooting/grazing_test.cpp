@@ -225,13 +225,12 @@ TEST_CASE("soft impact oscillator past grazing: a fixed Gauss mesh converges at 
   }
 }
 
-// The striking orbit at w as an autonomous orbit of AutonomousSoftImpactOscillator, by Gauss collocation
-// on 3·steps steps: with `events`, three segments of `steps` whose boundaries 1 and 2 sit on the
-// stop (touchdown and lift-off, their fractions unknowns; WithEventBoundaries places them), else
-// one segment, uniform. Returns its
-// largest error against the forced reference orbit (`reference`, x(0) of the forced orbit solved by
-// CVODES at 1e-13): the state at its start against the reference's state at the same forcing
-// phase, and its period against 2π/w.
+// The striking orbit at w as an autonomous orbit of AutonomousSoftImpactOscillator, by Gauss
+// collocation on 3·steps steps: with `events`, three segments of `steps` whose boundaries 1 and 2
+// sit on the stop (touchdown and lift-off, their fractions unknowns; WithEventBoundaries places
+// them), else one segment, uniform. Returns its largest error against the forced reference orbit
+// (`reference`, x(0) of the forced orbit solved by CVODES at 1e-13): the state at its start
+// against the reference's state at the same forcing phase, and its period against 2π/w.
 double EventMeshError(double w, const Vector& reference, long steps, bool events) {
   SoftImpactParams params;
   params.frequency = w;
