@@ -82,9 +82,12 @@ struct ShootingOptions {
   // equation h_k(x_b) = 0 (k = surface, OdeSystem::SwitchingFunctions, which must not depend on
   // t or λ). Each segment then stays on one side of every surface that its ends switch, so that a
   // fixed Gauss mesh integrates only smooth pieces and keeps its order (tests/shooting/
-  // grazing_test.cpp measures it). Autonomous and relative kinds only (a segment's end then
-  // depends on its duration alone). The number of switches per period is fixed: where it changes
-  // (at grazing) the family must be restarted with another list.
+  // grazing_test.cpp measures it). The other boundaries keep their places between the nearest
+  // event boundaries (or ends) on either side, as fractions of the way on `mesh`, so that a
+  // switch never overtakes them. Autonomous and relative kinds only (a segment's end then depends
+  // on its duration alone). The number of switches per period is fixed: where it changes (at
+  // grazing) the family is restarted with another list (ContinueAcrossSwitches,
+  // shooting/switching_orbits.h, does that).
   struct EventBoundary {
     int boundary = 1;
     int surface = 0;
@@ -274,13 +277,14 @@ class ShootingProblem : public Problem {
   SpecialPointType TestFunctionType(int k) const override;
   // SetPhaseReference(u, λ) when options().refresh_phase_reference.
   void PointAccepted(const Vector& u, double lambda) override;
-  // With event boundaries: one margin per segment between two of them (a contact phase or an
-  // open phase, "switches_<b>_<b+1>"), its length τ_{b+1} − τ_b as a fraction of the period. It
-  // vanishes where the orbit becomes tangent to the surface (grazing: the phase shrinks to
-  // nothing and the switching pattern changes); such a segment may take a negative length while
-  // the engine brackets that point (integrated backwards: the equations stay smooth through it),
-  // which the engine locates as an event and where the family ends (SwitchAt is the default's
-  // refusal: the other side is another pattern — start it anew, e.g. by WithEventBoundaries).
+  // With event boundaries: one margin per phase between two consecutive ones b < b' (a contact
+  // phase or an open phase, "switches_<b>_<b'>"), its length τ_b' − τ_b as a fraction of the
+  // period. It vanishes where the orbit becomes tangent to the surface (grazing: the phase
+  // shrinks to nothing and the switching pattern changes); the phase's segments may take negative
+  // lengths while the engine brackets that point (integrated backwards: the equations stay smooth
+  // through it), which the engine locates as an event and where the family ends (SwitchAt is the
+  // default's refusal: the other side is another pattern, started anew by
+  // ContinueAcrossSwitches). The phase that wraps round t = 0 has no margin.
   std::vector<std::string> EventNames() const override;
   Vector EventFunctions(const Vector& u, double lambda) override;
 
