@@ -47,7 +47,7 @@ TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds 
   const auto w = file.ReadDoubles(group + "/frequency");
   REQUIRE(w.size() > 10);
   CHECK(w.front() == 0.5);
-  CHECK(w.back() == Approx(2.5).margin(1e-9));
+  CHECK(w.back() == Approx(2.5).epsilon(0).margin(1e-9));
 
   // Both folds, against the harmonic balance's (tests/shooting/duffing_harmonic_balance.h).
   DuffingParams params;
@@ -63,8 +63,9 @@ TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds 
   const auto types = file.ReadStrings(group + "/special_points/type");
   const auto folds = file.ReadDoubles(group + "/special_points/frequency");
   REQUIRE(types == std::vector<std::string>{"fold", "fold"});
-  CHECK(folds[0] == Approx(hb[1]).margin(1e-8));  // the upper fold comes first along the branch
-  CHECK(folds[1] == Approx(hb[0]).margin(1e-8));
+  CHECK(folds[0] ==
+        Approx(hb[1]).epsilon(0).margin(1e-8));  // the upper fold comes first along the branch
+  CHECK(folds[1] == Approx(hb[0]).epsilon(0).margin(1e-8));
   CHECK(file.ReadInts(group + "/special_points/converged") == std::vector<int>{1, 1});
 
   // Stability: stable, then one multiplier outside the unit circle between the folds, then stable.
@@ -93,7 +94,7 @@ TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multiplier
   const auto lambda = file.ReadDoubles(group + "/lambda");
   REQUIRE(lambda.size() > 5);
   CHECK(lambda.front() == 0.05);
-  CHECK(lambda.back() == Approx(1.5).margin(1e-9));  // the bound is located on arclength
+  CHECK(lambda.back() == Approx(1.5).epsilon(0).margin(1e-9));  // the bound is located on arclength
   // The closed-form comparison the stage writes, recomputed here from the raw columns.
   const auto radius = file.ReadDoubles(group + "/mean_radius");
   const auto period = file.ReadDoubles(group + "/period");
@@ -103,9 +104,10 @@ TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multiplier
   const double omega = 1.0, gamma = 0.5;  // scenes/stuart_landau.toml
   for (std::size_t i = 0; i < lambda.size(); ++i) {
     const double T = 2 * M_PI / std::abs(omega - gamma * lambda[i]);
-    CHECK(radius[i] == Approx(std::sqrt(lambda[i])).margin(1e-7));
+    CHECK(radius[i] == Approx(std::sqrt(lambda[i])).epsilon(0).margin(1e-7));
     CHECK(period[i] == Approx(T).epsilon(1e-8));
-    CHECK(real(static_cast<Index>(i), 0) == Approx(std::exp(-2 * lambda[i] * T)).margin(1e-7));
+    CHECK(real(static_cast<Index>(i), 0) ==
+          Approx(std::exp(-2 * lambda[i] * T)).epsilon(0).margin(1e-7));
     CHECK(imag(static_cast<Index>(i), 0) == 0.0);
   }
   for (int s : file.ReadInts(group + "/stable")) CHECK(s == 1);
@@ -127,7 +129,7 @@ TEST_CASE("rubcont run scenes/van_der_pol.toml: a stable cycle from harmonic to 
   const auto period = file.ReadDoubles(group + "/period");
   const auto max_x = file.ReadDoubles(group + "/max_x");
   REQUIRE(mu.size() > 5);
-  CHECK(mu.back() == Approx(20.0).margin(1e-9));
+  CHECK(mu.back() == Approx(20.0).epsilon(0).margin(1e-9));
   // Near-harmonic at μ = 0.2 (T → 2π, amplitude → 2), relaxation at μ = 20: T = (3 − 2 ln 2) μ
   // + 7.014 μ^(−1/3) + O(ln μ / μ) (Dorodnitsyn), amplitude → 2.
   CHECK(period.front() == Approx(2 * M_PI).epsilon(0.01));
@@ -201,7 +203,7 @@ TEST_CASE("rubcont run on a rotor scene with stage orbits: the tanh rotating wav
   CHECK(file.ReadStringAttribute(group, "parameter_name") == "speed_rpm");
   const double hopf_rpm = file.ReadDoubleAttribute(group, "hopf_speed_rpm");
   const double hopf_hz = file.ReadDoubleAttribute(group, "hopf_precession_hz");
-  CHECK(hopf_rpm == Approx(53.66).margin(0.05));
+  CHECK(hopf_rpm == Approx(53.66).epsilon(0).margin(0.05));
   const auto rpm = file.ReadDoubles(group + "/speed_rpm");
   const auto carrier = file.ReadDoubles(group + "/precession_hz");
   const auto stable = file.ReadInts(group + "/stable");
@@ -272,7 +274,8 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   CHECK(file.ReadDoubleAttribute(group, "transient_speed_rpm") == 49.4);
   CHECK(file.ReadDoubleAttribute(group, "transient_settled") == 1.0);
   // Three modulation periods of the slip (125.66 Hz), the carrier the transient's precession.
-  CHECK(3.0 / file.ReadDoubleAttribute(group, "start_period") == Approx(125.66).margin(0.05));
+  CHECK(3.0 / file.ReadDoubleAttribute(group, "start_period") ==
+        Approx(125.66).epsilon(0).margin(0.05));
   CHECK(std::abs(file.ReadDoubleAttribute(group, "start_carrier_hz") -
                  file.ReadDoubleAttribute(group, "frame_precession_hz")) < 0.01);
   // Both ways from 49.4 rpm: stable below the period doubling, which is located between L3's
@@ -286,7 +289,7 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   const auto at = file.ReadDoubles(group + "/special_points/speed_rpm");
   REQUIRE(types.size() == 1);
   CHECK(types[0] == "period doubling");
-  CHECK(at[0] == Approx(49.4709).margin(1e-3));
+  CHECK(at[0] == Approx(49.4709).epsilon(0).margin(1e-3));
   for (std::size_t i = 0; i < rpm.size(); ++i) {
     INFO(rpm[i] << " rpm");
     CHECK(stable[i] == (rpm[i] < at[0] ? 1 : 0));

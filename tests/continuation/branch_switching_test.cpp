@@ -52,8 +52,9 @@ TEST_CASE("the pitchfork of x(λ − x²) is detected, located, and both new bra
 
   const BranchSwitch change = ComputeBranchSwitch(problem, bp);
   REQUIRE(change.ok);
-  CHECK(std::abs(change.tangent(0)) == Approx(1.0).margin(1e-6));  // the other branch is vertical
-  CHECK(change.angle == Approx(M_PI / 2).margin(1e-6));
+  CHECK(std::abs(change.tangent(0)) ==
+        Approx(1.0).epsilon(0).margin(1e-6));  // the other branch is vertical
+  CHECK(change.angle == Approx(M_PI / 2).epsilon(0).margin(1e-6));
 
   double end_x[2] = {0.0, 0.0};
   for (int side : {+1, -1}) {
@@ -66,13 +67,13 @@ TEST_CASE("the pitchfork of x(λ − x²) is detected, located, and both new bra
       CHECK(std::abs(p.u(0) * p.u(0) - p.lambda) <= 1e-10);  // on the parabola, not x = 0
       CHECK(p.u(0) * side > 0.0);
     }
-    CHECK(other.points.back().lambda == Approx(1.0).margin(1e-12));
+    CHECK(other.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-12));
     end_x[side > 0 ? 0 : 1] = other.points.back().u(0);
     // Nothing is detected in the first step out of the branch point.
     CHECK(other.Count(SpecialPointType::kBranchPoint) == 0);
   }
-  CHECK(end_x[0] == Approx(1.0).margin(1e-9));
-  CHECK(end_x[1] == Approx(-1.0).margin(1e-9));
+  CHECK(end_x[0] == Approx(1.0).epsilon(0).margin(1e-9));
+  CHECK(end_x[1] == Approx(-1.0).epsilon(0).margin(1e-9));
 }
 
 // x(λ − x²) = 0 in coordinates that mix the unknowns, (x, y) = (a + b, a − b), with y = λ/2 on
@@ -118,7 +119,7 @@ TEST_CASE("a branch point located on the determinant keeps the incoming tangent 
     REQUIRE(other.status == BranchStatus::kReachedLambdaBound);
     const BranchPoint& end = other.points.back();
     const double x = end.u(0) + end.u(1);
-    CHECK(x * x == Approx(end.lambda).margin(1e-9));  // on the parabola, not on x = 0
+    CHECK(x * x == Approx(end.lambda).epsilon(0).margin(1e-9));  // on the parabola, not on x = 0
     CHECK(x * side > 0.5);
   }
 }
@@ -133,15 +134,15 @@ TEST_CASE("switching at a transcritical point follows the oblique branch x = λ"
   const BranchSwitch change = ComputeBranchSwitch(problem, bp);
   REQUIRE(change.ok);
   // The ABE gives the direction (1, 1)/√2 and the angle π/4 between the branches.
-  CHECK(change.tangent(0) == Approx(M_SQRT1_2).margin(1e-6));
-  CHECK(change.tangent(1) == Approx(M_SQRT1_2).margin(1e-6));
-  CHECK(change.angle == Approx(M_PI / 4).margin(1e-6));
+  CHECK(change.tangent(0) == Approx(M_SQRT1_2).epsilon(0).margin(1e-6));
+  CHECK(change.tangent(1) == Approx(M_SQRT1_2).epsilon(0).margin(1e-6));
+  CHECK(change.angle == Approx(M_PI / 4).epsilon(0).margin(1e-6));
   for (int side : {+1, -1}) {
     const Branch other = ContinueFromBranchPoint(problem, bp, side, Bounded());
     INFO(other.BriefReport());
     REQUIRE(other.status == BranchStatus::kReachedLambdaBound);
     for (const BranchPoint& p : other.points) CHECK(std::abs(p.u(0) - p.lambda) <= 1e-10);
-    CHECK(other.points.back().lambda == Approx(side).margin(1e-12));
+    CHECK(other.points.back().lambda == Approx(side).epsilon(0).margin(1e-12));
   }
 }
 

@@ -59,8 +59,8 @@ TEST_CASE("the fold of x² − λ is located to 1e-9", "[continuation][fold]") {
   CHECK(fold.residual_norm <= 1e-10);
   CHECK(std::abs(fold.tangent(1)) <= 1e-8);  // the tangent is vertical at a fold
   // The branch came round the fold and ends on the other half at the bound.
-  CHECK(branch.points.back().lambda == Approx(1.0).margin(1e-12));
-  CHECK(branch.points.back().u(0) == Approx(-1.0).margin(1e-9));
+  CHECK(branch.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-12));
+  CHECK(branch.points.back().u(0) == Approx(-1.0).epsilon(0).margin(1e-9));
   CHECK(branch.Count(SpecialPointType::kBranchPoint) == 0);
 }
 
@@ -90,8 +90,8 @@ TEST_CASE("a test function's pole at a fold is no special point, its zero is",
     if (p.type != SpecialPointType::kTestFunction) continue;
     CHECK(p.label == "slope");
     CHECK(p.converged);
-    CHECK(p.u(0) == Approx(2.0).margin(1e-8));
-    CHECK(p.lambda == Approx(4.0).margin(1e-8));
+    CHECK(p.u(0) == Approx(2.0).epsilon(0).margin(1e-8));
+    CHECK(p.lambda == Approx(4.0).epsilon(0).margin(1e-8));
   }
 }
 
@@ -183,7 +183,7 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
   INFO(branch.BriefReport());
   CHECK(branch.statistics.corrector_failures > 0);
   REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
-  CHECK(branch.points.back().lambda == Approx(3.0).margin(1e-12));
+  CHECK(branch.points.back().lambda == Approx(3.0).epsilon(0).margin(1e-12));
   for (const BranchPoint& p : branch.points) {
     CHECK(std::abs(p.u(0) - std::sin(3.0 * p.lambda)) <= 1e-10);
   }
@@ -332,7 +332,7 @@ TEST_CASE("a start exactly at a fold: along a given tangent, or by the null-vect
       const Branch branch = RunToEnd(continuation);
       INFO(branch.BriefReport());
       REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
-      CHECK(branch.points.back().u(0) == Approx(side).margin(1e-9));
+      CHECK(branch.points.back().u(0) == Approx(side).epsilon(0).margin(1e-9));
       for (const BranchPoint& p : branch.points) CHECK(p.u(0) * side >= 0.0);
     }
   }
@@ -341,7 +341,7 @@ TEST_CASE("a start exactly at a fold: along a given tangent, or by the null-vect
     INFO(branch.BriefReport());
     CHECK(branch.status == BranchStatus::kReachedLambdaBound);
     CHECK(branch.points.front().residual_norm <= 1e-12);
-    CHECK(std::abs(branch.points.back().u(0)) == Approx(1.0).margin(1e-9));
+    CHECK(std::abs(branch.points.back().u(0)) == Approx(1.0).epsilon(0).margin(1e-9));
   }
 }
 

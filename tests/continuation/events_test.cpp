@@ -138,11 +138,11 @@ TEST_CASE("an event is located, the problem switches (changing dimension) and th
   for (const BranchPoint& p : branch.points) {
     CHECK(std::abs(p.u(0) * p.u(0) * p.u(0) + p.u(0) - p.lambda) <= 1e-10);
     if (p.piece == "A") CHECK(p.u(0) <= 0.5 + 1e-10);
-    if (p.piece == "B") CHECK(p.u(1) == Approx(p.u(0) - 0.5).margin(1e-10));
+    if (p.piece == "B") CHECK(p.u(1) == Approx(p.u(0) - 0.5).epsilon(0).margin(1e-10));
   }
   CHECK(branch.points.back().piece == "B");
-  CHECK(branch.points.back().u(0) == Approx(1.0).margin(1e-9));
-  CHECK(branch.points.back().u(1) == Approx(0.5).margin(1e-9));
+  CHECK(branch.points.back().u(0) == Approx(1.0).epsilon(0).margin(1e-9));
+  CHECK(branch.points.back().u(1) == Approx(0.5).epsilon(0).margin(1e-9));
   // Column accessors pad the missing second unknown of piece A with NaN.
   CHECK(std::isnan(branch.StateComponent(1)(0)));
 }
@@ -173,8 +173,8 @@ TEST_CASE("a switch onto a piece that is valid only backwards is a non-smooth fo
   if (s < 1.0) CHECK(event.note.find("turns back into the region") != std::string::npos);
   // The branch went back down in λ along B and ends at λ_min = −1 with x = 1 + 2s.
   CHECK(branch.points.back().piece == "B");
-  CHECK(branch.points.back().lambda == Approx(-1.0).margin(1e-12));
-  CHECK(branch.points.back().u(0) == Approx(1.0 + 2.0 * s).margin(1e-9));
+  CHECK(branch.points.back().lambda == Approx(-1.0).epsilon(0).margin(1e-12));
+  CHECK(branch.points.back().u(0) == Approx(1.0 + 2.0 * s).epsilon(0).margin(1e-9));
   for (const BranchPoint& p : branch.points) {
     if (p.piece == "B") CHECK(p.u(0) >= 1.0 - 1e-10);
   }
@@ -197,8 +197,8 @@ TEST_CASE("a switch onto a piece that continues forwards keeps the direction",
   REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
   REQUIRE(branch.Count(SpecialPointType::kEvent) == 1);
   CHECK_FALSE(branch.special_points.front().nonsmooth_fold);
-  CHECK(branch.points.back().lambda == Approx(2.0).margin(1e-12));
-  CHECK(branch.points.back().u(0) == Approx(3.0).margin(1e-9));
+  CHECK(branch.points.back().lambda == Approx(2.0).epsilon(0).margin(1e-12));
+  CHECK(branch.points.back().u(0) == Approx(3.0).epsilon(0).margin(1e-9));
 }
 
 TEST_CASE("a refused switch ends the branch at the event", "[continuation][events]") {

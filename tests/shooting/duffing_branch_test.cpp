@@ -56,13 +56,13 @@ TEST_CASE("harmonic balance folds of the Duffing curve are converged in the harm
     const auto fold = fine.LocateFold(fine.FirstHarmonic(one_term[k].amplitude, one_term[k].phase),
                                       one_term[k].frequency);
     REQUIRE(fold.newton.Converged());
-    CHECK(fold.frequency == Approx(folds[k].frequency).margin(1e-12));
-    CHECK(fine.Displacement0(fold.coefficients) == Approx(folds[k].x0).margin(1e-12));
+    CHECK(fold.frequency == Approx(folds[k].frequency).epsilon(0).margin(1e-12));
+    CHECK(fine.Displacement0(fold.coefficients) == Approx(folds[k].x0).epsilon(0).margin(1e-12));
   }
   // The lower fold (jump up on a downward sweep) below the upper one (jump down on an upward
   // sweep), which lies near the backbone estimate w⁴ − w² = ¾(F/c)²: w ≈ 2.39.
   CHECK(folds[0].frequency < folds[1].frequency);
-  CHECK(folds[1].frequency == Approx(2.39).margin(0.05));
+  CHECK(folds[1].frequency == Approx(2.39).epsilon(0).margin(0.05));
 }
 
 TEST_CASE("Duffing resonance curve over w in [0.5, 2.5]: both folds located by single and "
@@ -115,7 +115,7 @@ TEST_CASE("Duffing resonance curve over w in [0.5, 2.5]: both folds located by s
     REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
     // Placed on the bound by the engine's location on the arc, to its tolerance (1e-10; ERK8
     // lands within 1e-14, Gauss 1.1e-12).
-    CHECK(branch.points.back().lambda == Approx(2.5).margin(1e-10));
+    CHECK(branch.points.back().lambda == Approx(2.5).epsilon(0).margin(1e-10));
 
     // Exactly two folds, nothing else (no period doubling or torus on this curve), the upper one
     // (w ≈ 2.39) first along the branch.
@@ -128,12 +128,12 @@ TEST_CASE("Duffing resonance curve over w in [0.5, 2.5]: both folds located by s
     const SpecialPoint& lower = branch.special_points[1];
     // Integration at rtol = atol = 1e-10 leaves a global error of a few 1e-9 in the orbit; the
     // located folds agree with harmonic balance to that level.
-    CHECK(upper.lambda == Approx(hb[1].frequency).margin(1e-8));
-    CHECK(lower.lambda == Approx(hb[0].frequency).margin(1e-8));
-    CHECK(upper.u(0) == Approx(hb[1].x0).margin(1e-7));
-    CHECK(upper.u(1) == Approx(hb[1].v0).margin(1e-7));
-    CHECK(lower.u(0) == Approx(hb[0].x0).margin(1e-7));
-    CHECK(lower.u(1) == Approx(hb[0].v0).margin(1e-7));
+    CHECK(upper.lambda == Approx(hb[1].frequency).epsilon(0).margin(1e-8));
+    CHECK(lower.lambda == Approx(hb[0].frequency).epsilon(0).margin(1e-8));
+    CHECK(upper.u(0) == Approx(hb[1].x0).epsilon(0).margin(1e-7));
+    CHECK(upper.u(1) == Approx(hb[1].v0).epsilon(0).margin(1e-7));
+    CHECK(lower.u(0) == Approx(hb[0].x0).epsilon(0).margin(1e-7));
+    CHECK(lower.u(1) == Approx(hb[0].v0).epsilon(0).margin(1e-7));
 
     // Stability from the Floquet multipliers: stable up to the upper fold, one multiplier > 1
     // between the folds (the saddle), stable again after the lower fold. Liouville on every point:

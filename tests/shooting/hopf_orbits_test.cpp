@@ -35,7 +35,7 @@ TEST_CASE("Stuart–Landau: Hopf point of the equilibrium located, the orbits bo
     if (p.type == SpecialPointType::kHopf) hopf = &p;
   }
   CHECK(hopf->converged);
-  CHECK(hopf->lambda == Approx(0.0).margin(1e-8));
+  CHECK(hopf->lambda == Approx(0.0).epsilon(0).margin(1e-8));
   CHECK(hopf->frequency == Approx(params.omega).epsilon(1e-8));
 
   for (int segments : {1, 4}) {
@@ -57,18 +57,19 @@ TEST_CASE("Stuart–Landau: Hopf point of the equilibrium located, the orbits bo
     REQUIRE(branch.Size() > 5);
     // Supercritical: the orbits lie at λ > 0, the first one at λ = a² (r = a = 1e-2).
     CHECK(branch.points.front().lambda == Approx(1e-4).epsilon(1e-6));
-    CHECK(branch.points.back().lambda == Approx(1.0).margin(1e-9));
+    CHECK(branch.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-9));
     const Vector period = branch.Measure("period");
     for (Index i = 0; i < branch.Size(); ++i) {
       const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
       CAPTURE(p.lambda);
       // On the circle r = √λ every point has |x| = r; the phase condition picks one of them.
-      CHECK(p.u.head(2).norm() == Approx(std::sqrt(p.lambda)).margin(1e-9));
+      CHECK(p.u.head(2).norm() == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-9));
       const double T = 2 * M_PI / std::abs(params.omega - params.gamma * p.lambda);
       CHECK(period(i) == Approx(T).epsilon(1e-9));
       REQUIRE(p.spectrum.valid);
       REQUIRE(p.spectrum.values.size() == 1);
-      CHECK(p.spectrum.values(0).real() == Approx(std::exp(-2 * p.lambda * T)).margin(1e-8));
+      CHECK(p.spectrum.values(0).real() ==
+            Approx(std::exp(-2 * p.lambda * T)).epsilon(0).margin(1e-8));
       CHECK(p.num_unstable == 0);
     }
   }
@@ -145,22 +146,24 @@ TEST_CASE("Hopf point of a relative equilibrium: the orbits born there continued
   INFO(branch.BriefReport() << " — " << branch.message);
   REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
   REQUIRE(branch.Size() > 5);
-  CHECK(branch.points.back().lambda == Approx(1.0).margin(1e-9));
+  CHECK(branch.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-9));
   const Vector period = branch.Measure("period"), rotation = branch.Measure("rotation");
   const double T = 2 * M_PI / CarriedOscillator::kNu;
   for (Index i = 0; i < branch.Size(); ++i) {
     const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
     CAPTURE(p.lambda);
-    CHECK(p.u.segment(2, 2).norm() == Approx(std::sqrt(p.lambda)).margin(1e-9));
-    CHECK(p.u.head(2).norm() == Approx(1.0).margin(1e-9));
+    CHECK(p.u.segment(2, 2).norm() == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-9));
+    CHECK(p.u.head(2).norm() == Approx(1.0).epsilon(0).margin(1e-9));
     CHECK(period(i) == Approx(T).epsilon(1e-9));
-    CHECK(rotation(i) == Approx(CarriedOscillator::kC * p.lambda * T).margin(1e-9));
+    CHECK(rotation(i) == Approx(CarriedOscillator::kC * p.lambda * T).epsilon(0).margin(1e-9));
     REQUIRE(p.spectrum.valid);
     REQUIRE(p.spectrum.values.size() == 2);
     CHECK(p.spectrum.trivial_removed == 2);
     const double radial_w = std::exp(-2 * p.lambda * T), radial_p = std::exp(-2 * T);
-    CHECK(p.spectrum.values(0).real() == Approx(std::max(radial_w, radial_p)).margin(1e-8));
-    CHECK(p.spectrum.values(1).real() == Approx(std::min(radial_w, radial_p)).margin(1e-8));
+    CHECK(p.spectrum.values(0).real() ==
+          Approx(std::max(radial_w, radial_p)).epsilon(0).margin(1e-8));
+    CHECK(p.spectrum.values(1).real() ==
+          Approx(std::min(radial_w, radial_p)).epsilon(0).margin(1e-8));
     CHECK(p.num_unstable == 0);
   }
 }

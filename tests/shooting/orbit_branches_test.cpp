@@ -76,7 +76,7 @@ TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 b
   REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 1);
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
-  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-6));
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-6));
 
   const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, Options());
   INFO(change.message);
@@ -94,7 +94,7 @@ TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 b
     const BranchPoint& p = other.points[i];
     CAPTURE(p.lambda);
     const double z = p.u(2);  // z is constant along the orbit
-    CHECK(z * z == Approx(p.lambda).margin(1e-8));
+    CHECK(z * z == Approx(p.lambda).epsilon(0).margin(1e-8));
     CHECK(p.u.size() == 2 * 3 + 1);
     CHECK(p.u(6) == Approx(2 * M_PI).epsilon(1e-8));  // the period
     // The nontrivial multipliers: e^{−4πλ} (the pitchfork) and e^{−4π} (the cycle's radius).
@@ -103,7 +103,7 @@ TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 b
     CHECK(largest == Approx(std::exp(-4 * M_PI * p.lambda)).epsilon(1e-6));
     CHECK(p.num_unstable == 0);
   }
-  CHECK(other.points.back().lambda == Approx(0.5).margin(1e-9));
+  CHECK(other.points.back().lambda == Approx(0.5).epsilon(0).margin(1e-9));
 }
 
 TEST_CASE("cycle times pitchfork without a declared mirror: both sides of the new branch are "
@@ -147,7 +147,7 @@ TEST_CASE("cycle times bubble: the asymmetric orbits from lambda = -1 end where 
   REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 2);
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
-  CHECK(family.branch.special_points[k].lambda == Approx(-1.0).margin(1e-6));
+  CHECK(family.branch.special_points[k].lambda == Approx(-1.0).epsilon(0).margin(1e-6));
   const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, options);
   REQUIRE(change.ok);
   CHECK(change.breaks_mirror_symmetry);
@@ -164,7 +164,7 @@ TEST_CASE("cycle times bubble: the asymmetric orbits from lambda = -1 end where 
   for (std::size_t i = 1; i + 1 < bubble.points.size(); ++i) {
     const BranchPoint& p = bubble.points[i];
     CAPTURE(p.lambda);
-    CHECK(p.u(2) * p.u(2) == Approx(1 - p.lambda * p.lambda).margin(1e-8));
+    CHECK(p.u(2) * p.u(2) == Approx(1 - p.lambda * p.lambda).epsilon(0).margin(1e-8));
   }
 }
 
@@ -226,13 +226,13 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
-  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-8));
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-8));
   CHECK(family.branch.Count(SpecialPointType::kBranchPoint) == 0);
 
   const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, Options());
   INFO(doubling.message);
   REQUIRE(doubling.ok);
-  CHECK(doubling.multiplier == Approx(-1.0).margin(1e-6));
+  CHECK(doubling.multiplier == Approx(-1.0).epsilon(0).margin(1e-6));
   const Branch& doubled = doubling.branch.branch;
   INFO(doubled.BriefReport() << " — " << doubled.message);
   REQUIRE(doubled.status == BranchStatus::kReachedLambdaBound);
@@ -246,14 +246,14 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
     // |w| = a at every segment start.
     for (int i = 0; i < 4; ++i) {
       CHECK(std::hypot(p.u(4 * i + 2), p.u(4 * i + 3)) ==
-            Approx(std::sqrt(std::max(p.lambda, 0.0))).margin(1e-7));
+            Approx(std::sqrt(std::max(p.lambda, 0.0))).epsilon(0).margin(1e-7));
     }
     if (p.lambda < 1e-3) continue;
     REQUIRE(p.spectrum.values.size() == 3);
     CHECK(std::abs(p.spectrum.values(0)) == Approx(std::exp(-8 * M_PI * p.lambda)).epsilon(1e-6));
     CHECK(p.num_unstable == 0);
   }
-  CHECK(doubled.points.back().lambda == Approx(0.5).margin(1e-9));
+  CHECK(doubled.points.back().lambda == Approx(0.5).epsilon(0).margin(1e-9));
 
   CHECK_THROWS_WITH(ContinueOrbitsFromPeriodDoubling(system, family, k, Options(), 0.0),
                     Catch::Contains("amplitude = 0: must be positive"));
@@ -300,7 +300,7 @@ TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
   for (const BranchPoint& p : doubled.points) {
     for (int i = 0; i < 4; ++i) {
       CHECK(std::hypot(p.u(4 * i + 2), p.u(4 * i + 3)) ==
-            Approx(std::sqrt(std::max(p.lambda, 0.0))).margin(1e-7));
+            Approx(std::sqrt(std::max(p.lambda, 0.0))).epsilon(0).margin(1e-7));
     }
   }
 
@@ -372,8 +372,8 @@ TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_cu
   // Once round: the two folds, each once, and no run the other way.
   const std::vector<double> folds = DistinctFolds(b);
   REQUIRE(folds.size() == 2);
-  CHECK(folds[0] == Approx(-1.0).margin(1e-6));
-  CHECK(folds[1] == Approx(1.0).margin(1e-6));
+  CHECK(folds[0] == Approx(-1.0).epsilon(0).margin(1e-6));
+  CHECK(folds[1] == Approx(1.0).epsilon(0).margin(1e-6));
   CHECK(b.Count(SpecialPointType::kFold) == 2);
   // Here the engine's own closure test ends the first run (the circular cycles come back with
   // their segment starts); on C(a)'s 1:3 orbits it did not, and the folds' test does
@@ -383,7 +383,7 @@ TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_cu
   for (const BranchPoint& p : b.points) {
     const double r2 = p.u(0) * p.u(0) + p.u(1) * p.u(1);
     CAPTURE(p.lambda, r2);
-    CHECK((r2 - 2) * (r2 - 2) + p.lambda * p.lambda == Approx(1.0).margin(1e-7));
+    CHECK((r2 - 2) * (r2 - 2) + p.lambda * p.lambda == Approx(1.0).epsilon(0).margin(1e-7));
     CHECK(p.u(4) == Approx(2 * M_PI / (1 + r2)).epsilon(1e-8));  // the period
     if (std::abs(r2 - 2) > 1e-2) CHECK(p.StableFlag() == (r2 > 2 ? 1 : 0));
   }

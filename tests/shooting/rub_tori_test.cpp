@@ -64,10 +64,10 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   REQUIRE(t.ok);
   const SpecialPoint& ns = orbits.special_points[t.special_point];
   CHECK(ns.type == SpecialPointType::kNeimarkSacker);
-  CHECK(t.birth_lambda / kRpm == Approx(48.667).margin(0.01));
+  CHECK(t.birth_lambda / kRpm == Approx(48.667).epsilon(0).margin(0.01));
   // The start's ρ₀ is the located multiplier's angle, recomputed from the segment STMs.
-  CHECK(t.birth_rotation_number == Approx(ns.frequency / (2 * M_PI)).margin(1e-4));
-  CHECK(t.birth_modulus == Approx(1.0).margin(1e-4));
+  CHECK(t.birth_rotation_number == Approx(ns.frequency / (2 * M_PI)).epsilon(0).margin(1e-4));
+  CHECK(t.birth_modulus == Approx(1.0).epsilon(0).margin(1e-4));
 
   // Supercritical: the tori lie above the point, and the first is the orbit's modulation plus a
   // second frequency ρ₀/T.
@@ -102,8 +102,8 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   REQUIRE(locked.ok);
   CHECK(locked.orbits.segments == 20);
   REQUIRE(locked.folds.size() == 2);
-  CHECK(locked.folds[0] / kRpm == Approx(48.851).margin(0.002));
-  CHECK(locked.folds[1] / kRpm == Approx(48.876).margin(0.002));
+  CHECK(locked.folds[0] / kRpm == Approx(48.851).epsilon(0).margin(0.002));
+  CHECK(locked.folds[1] / kRpm == Approx(48.876).epsilon(0).margin(0.002));
   CHECK(points.back().lambda < locked.folds[0]);
   CHECK(locked.folds[0] - points.back().lambda < 0.02 * kRpm);  // measured 0.015 rpm
   bool stable = false;

@@ -86,13 +86,13 @@ TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation numbe
   INFO(family.branch.BriefReport());
   REQUIRE(family.branch.Count(SpecialPointType::kNeimarkSacker) == 1);
   const std::size_t k = FirstOf(family.branch, SpecialPointType::kNeimarkSacker);
-  CHECK(family.branch.special_points[k].lambda == Approx(0.0).margin(1e-7));
+  CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-7));
 
   const TorusBranch tori = ContinueToriFromNeimarkSacker(system, family, k, TorusOptions());
   INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
   REQUIRE(tori.ok);
   CHECK(tori.birth_rotation_number == Approx(kOmega1 / kOmega0).epsilon(1e-6));
-  CHECK(tori.birth_modulus == Approx(1.0).margin(1e-6));
+  CHECK(tori.birth_modulus == Approx(1.0).epsilon(0).margin(1e-6));
   CHECK(tori.end == TorusEnd::kBound);
   REQUIRE(tori.branch.points.size() >= 5);
   CHECK(tori.branch.points.back().lambda == Approx(0.25));
@@ -103,12 +103,13 @@ TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation numbe
     INFO("point " << i << " at lambda = " << p.lambda);
     // Supercritical: every torus lies at λ > 0 (the first at ~ε², ε = 1e-3).
     CHECK(p.lambda > 0.0);
-    CHECK(problem.RotationNumber(p.u) == Approx((kOmega1 + kShear * p.lambda) / kOmega0).margin(1e-8));
+    CHECK(problem.RotationNumber(p.u) ==
+          Approx((kOmega1 + kShear * p.lambda) / kOmega0).epsilon(0).margin(1e-8));
     CHECK(problem.Period(p.u, p.lambda) == Approx(period).epsilon(1e-8));
     for (const double theta : {0.0, 1.0, 2.5, 4.0}) {
       const Vector x = problem.PointAt(p.u, theta);
-      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).margin(1e-8));
-      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).margin(1e-8));
+      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).epsilon(0).margin(1e-8));
+      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-8));
     }
     REQUIRE(tori.stability.size() == tori.branch.points.size());
     const auto& s = tori.stability[i];
@@ -172,12 +173,13 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
   for (const BranchPoint& p : tori.branch.points) {
     INFO("lambda = " << p.lambda);
     CHECK(p.lambda <= lambda0 + 1e-12);
-    CHECK(problem.RotationNumber(p.u) == Approx((kOmega1 + kShear * p.lambda) / kOmega0).margin(1e-8));
+    CHECK(problem.RotationNumber(p.u) ==
+          Approx((kOmega1 + kShear * p.lambda) / kOmega0).epsilon(0).margin(1e-8));
     CHECK(problem.Period(p.u, p.lambda) == Approx(period).epsilon(1e-8));
     for (const double theta : {0.0, 2.0, 5.0}) {
       const Vector x = problem.PointAt(p.u, theta);
-      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).margin(1e-8));
-      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).margin(1e-8));
+      CHECK(std::hypot(x(0), x(1)) == Approx(1.0).epsilon(0).margin(1e-8));
+      CHECK(std::hypot(x(2), x(3)) == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-8));
     }
   }
   CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kAutonomous, u0.head(10), lambda0, options),

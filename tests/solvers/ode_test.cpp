@@ -286,7 +286,7 @@ TEST_CASE("a finite-time blow-up is reported as a status with the reason, and no
     CHECK_FALSE(result.flag_name.empty());
     CHECK_THAT(result.message, Catch::Contains("state_bound"));
     // It stopped just before the singularity at t = 1 (x = 1e12 at t = 1 − 1e-12).
-    CHECK(result.t_reached == Approx(1.0).margin(1e-6));
+    CHECK(result.t_reached == Approx(1.0).epsilon(0).margin(1e-6));
     CHECK(result.t_reached < 1.0);
     // The same integrator recovers on the next call: x(0.5) = 1/(1 − 0.5). (On this growing
     // solution, ∂x(t)/∂x0 = 1/(1 − t)², BDF's global error is ≈ 2e-9 at rtol 1e-11.)
@@ -370,9 +370,12 @@ TEST_CASE("dense output samples the solution at requested times", "[ode]") {
     const Vector x0 = (Vector(2) << 1.0, 0.0).finished();
     REQUIRE(integrator.Sample(0.0, x0, times, states).Succeeded());
     REQUIRE(states.cols() == 41);
+    // The global error of one period at tolerances 1e-11: BDF's interpolated output measured up
+    // to 1.6e-9, the Runge–Kutta one's below 1e-9.
+    const double tolerance = method == IntegrationMethod::kBdf ? 3e-9 : 1e-9;
     for (Index k = 0; k < times.size(); ++k) {
-      CHECK(states(0, k) == Approx(std::cos(times(k))).margin(1e-9));
-      CHECK(states(1, k) == Approx(-std::sin(times(k))).margin(1e-9));
+      CHECK(states(0, k) == Approx(std::cos(times(k))).epsilon(0).margin(tolerance));
+      CHECK(states(1, k) == Approx(-std::sin(times(k))).epsilon(0).margin(tolerance));
     }
   }
 }
@@ -395,7 +398,9 @@ TEST_CASE("events: zeros located with direction filters, terminal or recorded", 
     CHECK(result.events[0].t == Approx(1.5 * kPi).epsilon(1e-10));
     CHECK(result.events[1].t == Approx(3.5 * kPi).epsilon(1e-10));
     CHECK(result.events[0].direction == 1);
-    CHECK(x(0) == Approx(std::cos(12.0)).margin(1e-9));
+    // BDF's global error at t = 12 measured 1.6e-9 (tolerances 1e-11), Runge–Kutta's below 1e-9.
+    const double tolerance = method == IntegrationMethod::kBdf ? 3e-9 : 1e-9;
+    CHECK(x(0) == Approx(std::cos(12.0)).epsilon(0).margin(tolerance));
 
     events.directions.clear();
     events.terminal = true;
@@ -405,8 +410,8 @@ TEST_CASE("events: zeros located with direction filters, terminal or recorded", 
     REQUIRE(result.Succeeded());
     CHECK(result.stopped_at_event);
     CHECK(result.t_reached == Approx(0.5 * kPi).epsilon(1e-10));
-    CHECK(x(0) == Approx(0.0).margin(1e-9));
-    CHECK(stm(0, 0) == Approx(0.0).margin(1e-8));  // Φ(t) = rotation by −t
+    CHECK(x(0) == Approx(0.0).epsilon(0).margin(1e-9));
+    CHECK(stm(0, 0) == Approx(0.0).epsilon(0).margin(1e-8));  // Φ(t) = rotation by −t
 
     integrator.ClearEvents();
     result = integrator.Integrate(0.0, x0, 12.0, x);
@@ -499,7 +504,7 @@ TEST_CASE("stiff system: BDF takes few steps, the explicit method is stability-l
   const IntegrationResult implicit_result = bdf.Integrate(0.0, x0, 10.0, x);
   REQUIRE(implicit_result.Succeeded());
   // x0 ≈ 4.5e-5 at t = 10 is below the absolute tolerance's reach: its global error is a few atol.
-  CHECK(x(0) == Approx(std::exp(-10.0) * (1 + 1 / (1e5 - 1))).margin(5e-8));
+  CHECK(x(0) == Approx(std::exp(-10.0) * (1 + 1 / (1e5 - 1))).epsilon(0).margin(5e-8));
   CHECK(implicit_result.statistics.steps < 1000);
 
   options.method = IntegrationMethod::kExplicitRungeKutta;
@@ -576,7 +581,7 @@ TEST_CASE("Odeint Dormand-Prince: blow-up, NaN and too much work are statuses, a
   IntegrationResult result = integrator.Integrate(0.0, Vector::Ones(1), 2.0, x);
   CHECK(result.status == IntegrationStatus::kStateBound);
   CHECK_THAT(result.message, Catch::Contains("state_bound"));
-  CHECK(result.t_reached == Approx(1.0).margin(1e-6));
+  CHECK(result.t_reached == Approx(1.0).epsilon(0).margin(1e-6));
   CHECK(result.t_reached < 1.0);
   REQUIRE(integrator.Integrate(0.0, Vector::Ones(1), 0.5, x).Succeeded());
   CHECK(x(0) == Approx(2.0).epsilon(1e-9));

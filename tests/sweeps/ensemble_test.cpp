@@ -78,7 +78,7 @@ TEST_CASE("Ensemble copies start from seeded normal perturbations of the state's
   const double mean = xi.mean();
   const double deviation = std::sqrt((xi.array() - mean).square().mean());
   CHECK(std::abs(mean) < 0.03);       // 4.2 standard errors of the mean (1/√20000)
-  CHECK(deviation == Approx(1.0).margin(0.02));
+  CHECK(deviation == Approx(1.0).epsilon(0).margin(0.02));
   o.perturbation = 0.0;
   CHECK(PerturbedStart(x0, scale, o, 5) == x0);
 }
@@ -124,7 +124,7 @@ TEST_CASE("An ensemble leaves an unstable state when the closed form says, the s
     CHECK(end - copy.points[first].simulated_time <= t_reach);
     // Active share of that stretch: (end − t_reach)/0.1 s, to a sample.
     CHECK(copy.points[first].channels[0].active_fraction ==
-          Approx((end - t_reach) / 0.1).margin(2.0 / 102.4));
+          Approx((end - t_reach) / 0.1).epsilon(0).margin(2.0 / 102.4));
   }
   // Different perturbations, different times; the same copies on one thread, bit for bit.
   CHECK(copies[0].start != copies[1].start);

@@ -351,7 +351,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
       whip_onset_hz = t.precession_hz;
       break;
     }
-  REQUIRE(whip_onset_hz == Approx(84.478).margin(0.01));
+  REQUIRE(whip_onset_hz == Approx(84.478).epsilon(0).margin(0.01));
   for (std::size_t i = 0; i < rpm.size(); ++i) {
     for (int k = 0; k < 2; ++k) {
       CAPTURE(rpm[i], k);
@@ -372,7 +372,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
         CHECK(std::abs(v_loose) < 1e-3);
       } else {
         CHECK(loose.regimes.regime[k][i] == RubRegime::kWhip);
-        CHECK(bp == Approx(whip_onset_hz).margin(0.1));
+        CHECK(bp == Approx(whip_onset_hz).epsilon(0).margin(0.1));
         CHECK(v_loose > 1e-3);
       }
     }
@@ -529,7 +529,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
       options.search.speed_min);
   REQUIRE(limit.found);
   const double hopf_rpm = RadPerSecondToRpm(limit.speed);
-  REQUIRE(hopf_rpm == Approx(51.685).margin(0.01));
+  REQUIRE(hopf_rpm == Approx(51.685).epsilon(0).margin(0.01));
 
   // 4 rpm steps: the jump lies between two speeds 4 rpm apart, and the whip at 55 rpm, just
   // entered, has not settled within its 0.75 s (measured): the jump is flagged.

@@ -80,10 +80,10 @@ TEST_CASE("A Stuart-Landau sweep finds the closed-form orbit at every parameter 
     CHECK(p.simulated_time == Approx(p.windows * 1.0));
     CHECK(p.statistics.steps > 0);
     const ChannelSummary& c = p.channels.at(0);
-    CHECK(c.peak.frequency == Approx(20.0 - p.parameter).margin(1e-4));
+    CHECK(c.peak.frequency == Approx(20.0 - p.parameter).epsilon(0).margin(1e-4));
     CHECK(c.peak.amplitude == Approx(std::sqrt(p.parameter)).epsilon(1e-4));
     CHECK(c.mean_modulus == Approx(std::sqrt(p.parameter)).epsilon(1e-6));
-    CHECK(c.active_fraction == Approx(0.5).margin(0.01));
+    CHECK(c.active_fraction == Approx(0.5).epsilon(0).margin(0.01));
     // Settled to spectrum_tolerance = 1e-3: r² = λ to that order (the transient decays as e^{−2λt}).
     CHECK(std::abs(c.measures.at(0).mean) < 1e-3 * p.parameter);
     CHECK(std::abs(c.measures.at(0).min) < 1e-3 * p.parameter);
@@ -142,16 +142,17 @@ TEST_CASE("A drifting response runs to the dwell and is flagged not settled", "[
     CHECK(p.status == SweepPointStatus::kNotSettled);
     CHECK(p.windows == 6);
     CHECK(p.simulated_time == Approx(6.0));
-    CHECK(p.frequency_change == Approx(0.5).margin(0.02));
+    CHECK(p.frequency_change == Approx(0.5).epsilon(0).margin(0.02));
     // The analysed stretch is the last 2 s: mean frequency 10 + 0.5·5.
-    CHECK(p.channels.at(0).peak.frequency == Approx(12.5).margin(0.05));
+    CHECK(p.channels.at(0).peak.frequency == Approx(12.5).epsilon(0).margin(0.05));
   }
   SECTION("steady") {
     SweepStepper stepper(system, observables, o, (Vector(2) << 1.0, 0.0).finished());
     stepper.Step();
     CHECK(stepper.points().at(0).status == SweepPointStatus::kSettled);
     CHECK(stepper.points().at(0).windows == 3);
-    CHECK(stepper.points().at(0).channels.at(0).peak.frequency == Approx(10.0).margin(1e-4));
+    CHECK(stepper.points().at(0).channels.at(0).peak.frequency ==
+          Approx(10.0).epsilon(0).margin(1e-4));
   }
 }
 
@@ -218,7 +219,7 @@ TEST_CASE("Rotating the state keeps the forcing phase continuous across paramete
     }
     // With the rotation the second value continues the steady response; without it the forcing
     // jumps in phase at t = 0 and the transient (decay rate ζω₀ = 6.3/s) is still seen 1 s later.
-    CHECK(stepper.points()[1].channels[0].peak.frequency == Approx(3.3).margin(1e-5));
+    CHECK(stepper.points()[1].channels[0].peak.frequency == Approx(3.3).epsilon(0).margin(1e-5));
     const double amplitude_error = std::abs(stepper.points()[1].channels[0].peak.amplitude / std::abs(A) - 1.0);
     if (rotate) CHECK(amplitude_error < 1e-7);
     else CHECK(amplitude_error > 1e-7);
@@ -281,7 +282,7 @@ TEST_CASE("A window after intermittent activity is integrated by the intermitten
   for (std::size_t i = 1; i < 3; ++i) CHECK(stepper.points()[i].intermittent_windows == stepper.points()[i].windows);
   for (const SweepPoint& p : stepper.points()) {
     CHECK(p.status == SweepPointStatus::kSettled);
-    CHECK(p.channels[0].peak.frequency == Approx(20.0 - p.parameter).margin(1e-4));
+    CHECK(p.channels[0].peak.frequency == Approx(20.0 - p.parameter).epsilon(0).margin(1e-4));
   }
   // Explicit windows build no Newton matrix: the last speed, all explicit, has none.
   CHECK(stepper.points()[2].statistics.jacobian_evaluations == 0);
