@@ -1030,7 +1030,15 @@ EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingO
     result.message = "the orbit could not be sampled: " + problem.LastFailure().BriefReport();
     return result;
   }
-  // Zeros of every switching function between neighbouring samples, as fractions of the period.
+  return EventMeshOf(system, options, orbit, 0.0, min_gap, coincide);
+}
+
+EventMesh EventMeshOf(const OdeSystem& system, const ShootingOptions& options,
+                      const OrbitSamples& orbit, double start, double min_gap, double coincide) {
+  EventMesh result;
+  result.options = options;
+  // Zeros of every switching function between neighbouring samples, as fractions of the period
+  // from `start`.
   const int surfaces = system.SwitchingCount();
   const Index m = orbit.times.size();
   Matrix h(surfaces, m);
@@ -1042,7 +1050,8 @@ EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingO
       const double a = h(k, j - 1), b = h(k, j);
       if ((a > 0.0) == (b > 0.0)) continue;
       const double t = orbit.times(j - 1) + a / (a - b) * (orbit.times(j) - orbit.times(j - 1));
-      zeros.emplace_back(t / orbit.period, k);
+      const double tau = t / orbit.period - start;
+      zeros.emplace_back(tau - std::floor(tau), k);
     }
   }
   result.zeros = static_cast<int>(zeros.size());

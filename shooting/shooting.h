@@ -238,6 +238,11 @@ struct EventMesh {
 EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
                               const Vector& u, double lambda, int samples = 8192,
                               double min_gap = 1e-3, double coincide = 1e-6);
+// The same from samples of an orbit over one period (any shooting's), for the orbit started at
+// `start` (a fraction of the period: the zeros' times are taken from there, modulo the period).
+EventMesh EventMeshOf(const OdeSystem& system, const ShootingOptions& options,
+                      const OrbitSamples& orbit, double start = 0.0, double min_gap = 1e-3,
+                      double coincide = 1e-6);
 
 // Work done, summed over calls (for benchmarks).
 struct ShootingStatistics {

@@ -30,35 +30,54 @@ OrbitStart StartAt(OdeSystem& system, OrbitKind kind, const ShootingOptions& sho
   return start;
 }
 
-// The switches of the orbit at `point` (solved on `base`) as segment boundaries, with the start
-// moved to the middle of the orbit's longest stretch without a switch.
-std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
-                                            const ShootingOptions& base, const BranchPoint& point,
-                                            int samples) {
-  ShootingOptions sampling = base;
-  sampling.samples_per_segment = std::max(2, samples / base.segments);
-  ShootingProblem problem(system, kind, sampling);
-  const OrbitSamples& orbit = problem.Orbit(point.u, point.lambda);
-  OrbitStart start = StartAt(system, kind, base, point);
-  EventMesh mesh;
-  if (!orbit.valid) {
-    mesh.message = "the orbit could not be sampled: " + problem.LastFailure().BriefReport();
-    return {start, mesh};
-  }
+// The sign changes of the switching functions along an orbit sampled `samples` times per period
+// (a coincident change of several surfaces counted once per surface): sample indices just after
+// one, and their number.
+std::vector<Index> SwitchSamples(OdeSystem& system, const OrbitSamples& orbit, int* zeros) {
   Vector h(system.SwitchingCount()), previous(system.SwitchingCount());
-  std::vector<Index> switches;  // sample indices just after a sign change of any surface
+  std::vector<Index> switches;
+  *zeros = 0;
   const Index m = orbit.times.size();
   system.SwitchingFunctions(orbit.times(0), orbit.states.col(0), previous);
   for (Index j = 1; j < m; ++j) {
     system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h);
-    for (Index k = 0; k < h.size(); ++k) {
-      if ((h(k) > 0.0) != (previous(k) > 0.0)) {
-        switches.push_back(j);
-        break;
-      }
-    }
+    int changes = 0;
+    for (Index k = 0; k < h.size(); ++k) changes += (h(k) > 0.0) != (previous(k) > 0.0);
+    if (changes > 0) switches.push_back(j);
+    *zeros += changes;
     previous = h;
   }
+  return switches;
+}
+
+// The orbit at `point` (solved with `options`) sampled `samples` times per period.
+OrbitSamples Sampled(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
+                     const BranchPoint& point, int samples, std::string* failure) {
+  ShootingOptions sampling = options;
+  sampling.samples_per_segment = std::max(2, samples / options.segments);
+  ShootingProblem problem(system, kind, sampling);
+  OrbitSamples orbit = problem.Orbit(point.u, point.lambda);
+  if (!orbit.valid) *failure = problem.LastFailure().BriefReport();
+  return orbit;
+}
+
+// The switches of the orbit at `point` (solved with `options`) as segment boundaries on `base`,
+// with the start moved to the middle of the orbit's longest stretch without a switch.
+std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
+                                            const ShootingOptions& options,
+                                            const ShootingOptions& base, const BranchPoint& point,
+                                            int samples) {
+  std::string failure;
+  const OrbitSamples orbit = Sampled(system, kind, options, point, samples, &failure);
+  OrbitStart start = StartAt(system, kind, options, point);
+  EventMesh mesh;
+  if (!orbit.valid) {
+    mesh.message = "the orbit could not be sampled: " + failure;
+    return {start, mesh};
+  }
+  int zeros = 0;
+  const std::vector<Index> switches = SwitchSamples(system, orbit, &zeros);
+  const Index m = orbit.times.size();
   if (!switches.empty()) {
     // The longest stretch between switches, round the period (the last sample is the first's
     // image under the return map: the stretch wraps from the last switch to the first).
@@ -71,11 +90,12 @@ std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
     }
     // Any state of the orbit starts it (of a relative one too: the rotation commutes with the
     // flow), so a stretch that wraps round the end starts one period earlier.
-    start.x0 = orbit.states.col((best_from + best_length / 2) % (m - 1));
+    const Index middle = (best_from + best_length / 2) % (m - 1);
+    start.x0 = orbit.states.col(middle);
+    mesh = EventMeshOf(system, base, orbit, orbit.times(middle) / orbit.period);
+    return {start, mesh};
   }
-  ShootingProblem moved(system, kind, base);
-  const Vector u = moved.InitialGuess(start.x0, start.period, start.lambda, start.rotation);
-  mesh = WithEventBoundaries(system, kind, base, u, start.lambda, samples);
+  mesh = EventMeshOf(system, base, orbit);
   return {start, mesh};
 }
 
@@ -131,18 +151,20 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
       return result;
     }
     const bool on_switches = !mesh.options.event_boundaries.empty();
+    if (on_switches) o.shooting = mesh.options;
+    // The first orbit that crosses a surface more often than the piece's mesh has switches
+    // (on the options' mesh: at all) ends the piece.
     bool crossed = false;
-    if (on_switches) {
-      o.shooting = mesh.options;
-    } else {
-      // The first orbit that crosses a surface ends the piece.
-      o.on_step = [&](const Branch& b) {
-        if (options.family.on_step && !options.family.on_step(b)) return false;
-        const BranchPoint& p = b.points.back();
-        crossed = WithEventBoundaries(system, kind, base, p.u, p.lambda, options.samples).zeros > 0;
-        return !crossed;
-      };
-    }
+    o.on_step = [&](const Branch& b) {
+      if (options.family.on_step && !options.family.on_step(b)) return false;
+      std::string failure;
+      const OrbitSamples orbit =
+          Sampled(system, kind, o.shooting, b.points.back(), options.samples, &failure);
+      int zeros = 0;
+      if (orbit.valid) SwitchSamples(system, orbit, &zeros);
+      crossed = zeros > mesh.zeros;
+      return !crossed;
+    };
     SwitchingOrbitPiece current;
     current.switches = static_cast<int>(mesh.options.event_boundaries.size());
     current.family = ContinuePeriodicOrbits(system, kind, from, o);
@@ -154,9 +176,9 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
       direction = last >= branch.points[branch.points.size() - 2].lambda ? +1 : -1;
     }
     mesh = EventMesh();
-    if (!on_switches && crossed && kept) {
-      auto [moved, switches] =
-          OnSwitches(system, kind, base, branch.points.back(), options.samples);
+    if (crossed && kept) {
+      auto [moved, switches] = OnSwitches(system, kind, current.family.shooting, base,
+                                          branch.points.back(), options.samples);
       if (!switches.ok) {
         current.end = fmt::format("crosses a surface at λ = {:.10g}, but: {}",
                                   branch.points.back().lambda, switches.message);
@@ -164,9 +186,10 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
         result.pieces.push_back(std::move(current));
         return result;
       }
-      current.end = fmt::format("crosses a surface at λ = {:.10g}: {} switches, {} boundaries",
-                                moved.lambda, switches.zeros,
-                                switches.options.event_boundaries.size());
+      current.end = fmt::format(
+          "crosses a surface{} at λ = {:.10g}: {} switches, {} boundaries",
+          on_switches ? " where it had none" : "", moved.lambda, switches.zeros,
+          switches.options.event_boundaries.size());
       from = moved;
       mesh = std::move(switches);
     } else if (on_switches && branch.status == BranchStatus::kSwitchRefused && kept) {

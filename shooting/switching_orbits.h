@@ -11,7 +11,9 @@
 //     the pattern changes there, and the next piece starts on the options' mesh from that orbit,
 //     in the direction of λ the piece was going (at a grazing point the orbits on the other side
 //     of it have the other pattern), and becomes a piece on switches again at once if the orbit
-//     still crosses.
+//     still crosses — or where, sampled after a step, the orbit switches more often than its
+//     boundaries do (a new phase opened inside a segment: a contact that flickers open), and the
+//     next piece starts on the switches of that orbit.
 //
 // Any other end of a piece (the range, the step limit, a failure, a user's on_step returning false)
 // ends the family. Use:
