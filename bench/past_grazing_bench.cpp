@@ -157,13 +157,7 @@ int Main(int argc, char** argv) {
 
   // The last orbit as the start of both continuations.
   const BranchPoint& last = approach.branch.points.back();
-  ShootingProblem unpack(frame, OrbitKind::kRelative, approach.shooting);
-  OrbitStart from;
-  from.x0 = unpack.SegmentStart(last.u, 0);
-  from.period = unpack.Period(last.u, last.lambda);
-  from.rotation = unpack.Rotation(last.u);
-  from.lambda = last.lambda;
-  from.valid = true;
+  const OrbitStart from = OrbitStartAt(frame, OrbitKind::kRelative, approach.shooting, last);
   const Index forces[2] = {approach.branch.MeasureIndex("min_normal_force_left"),
                            approach.branch.MeasureIndex("min_normal_force_right")};
 

@@ -15,13 +15,6 @@ namespace rubcont {
 
 namespace {
 
-void Accumulate(ShootingStatistics& total, const ShootingStatistics& part) {
-  total.residual_integrations += part.residual_integrations;
-  total.sensitivity_integrations += part.sensitivity_integrations;
-  total.steps += part.steps;
-  total.cache_hits += part.cache_hits;
-}
-
 // κ applied to every segment start of u (T and φ are invariant).
 Vector MirrorStarts(const OdeSystem& system, const ShootingProblem& problem, const Vector& u) {
   Vector mirrored = u;
@@ -172,7 +165,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     Branch branch = Continue(problem, u0, start.lambda, continuation, options.on_step,
                              options.stop_round_closed_curve ? EndRoundClosedCurve(start.lambda)
                                                              : EndTest{});
-    Accumulate(result.work, problem.statistics());
+    result.work += problem.statistics();
     return branch;
   };
 
@@ -195,6 +188,18 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     }
   }
   return result;
+}
+
+OrbitStart OrbitStartAt(OdeSystem& system, OrbitKind kind, const ShootingOptions& shooting,
+                        const BranchPoint& point) {
+  ShootingProblem problem(system, kind, shooting);
+  OrbitStart start;
+  start.x0 = problem.SegmentStart(point.u, 0);
+  start.period = problem.Period(point.u, point.lambda);
+  start.rotation = problem.Rotation(point.u);
+  start.lambda = point.lambda;
+  start.valid = true;
+  return start;
 }
 
 std::vector<double> DistinctFolds(const Branch& branch) {

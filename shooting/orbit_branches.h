@@ -77,6 +77,11 @@ struct PeriodicOrbitBranchOptions {
   StepCallback on_step;
 };
 
+// The orbit of a branch point computed with `shooting` as a start: its first segment's start,
+// period and rotation, at the point's λ.
+OrbitStart OrbitStartAt(OdeSystem& system, OrbitKind kind, const ShootingOptions& shooting,
+                        const BranchPoint& point);
+
 // The parameters of a branch's located folds, ascending, each once (a closed curve followed
 // round again meets its folds again, to within the location's tolerance).
 std::vector<double> DistinctFolds(const Branch& branch);

@@ -250,6 +250,13 @@ struct ShootingStatistics {
   long sensitivity_integrations = 0;  // segment integrations with the STM
   long steps = 0;                     // integrator steps, all integrations
   long cache_hits = 0;                // evaluations served from the cache
+  ShootingStatistics& operator+=(const ShootingStatistics& more) {
+    residual_integrations += more.residual_integrations;
+    sensitivity_integrations += more.sensitivity_integrations;
+    steps += more.steps;
+    cache_hits += more.cache_hits;
+    return *this;
+  }
 };
 
 class ShootingProblem : public Problem {

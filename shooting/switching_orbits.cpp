@@ -10,26 +10,6 @@
 namespace rubcont {
 namespace {
 
-void Add(ShootingStatistics& total, const ShootingStatistics& more) {
-  total.residual_integrations += more.residual_integrations;
-  total.sensitivity_integrations += more.sensitivity_integrations;
-  total.steps += more.steps;
-  total.cache_hits += more.cache_hits;
-}
-
-// The orbit of a branch point as a start (its first segment's start, period, rotation).
-OrbitStart StartAt(OdeSystem& system, OrbitKind kind, const ShootingOptions& shooting,
-                   const BranchPoint& point) {
-  ShootingProblem problem(system, kind, shooting);
-  OrbitStart start;
-  start.x0 = problem.SegmentStart(point.u, 0);
-  start.period = problem.Period(point.u, point.lambda);
-  start.rotation = problem.Rotation(point.u);
-  start.lambda = point.lambda;
-  start.valid = true;
-  return start;
-}
-
 // The sign changes of the switching functions along an orbit sampled `samples` times per period
 // (a coincident change of several surfaces counted once per surface): sample indices just after
 // one, and their number.
@@ -69,7 +49,7 @@ std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
                                             int samples) {
   std::string failure;
   const OrbitSamples orbit = Sampled(system, kind, options, point, samples, &failure);
-  OrbitStart start = StartAt(system, kind, options, point);
+  OrbitStart start = OrbitStartAt(system, kind, options, point);
   EventMesh mesh;
   if (!orbit.valid) {
     mesh.message = "the orbit could not be sampled: " + failure;
@@ -168,7 +148,7 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
     SwitchingOrbitPiece current;
     current.switches = static_cast<int>(mesh.options.event_boundaries.size());
     current.family = ContinuePeriodicOrbits(system, kind, from, o);
-    Add(result.work, current.family.work);
+    result.work += current.family.work;
     const Branch& branch = current.family.branch;
     const bool kept = branch.points.size() >= 2;
     if (kept) {
@@ -194,7 +174,7 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
       mesh = std::move(switches);
     } else if (on_switches && branch.status == BranchStatus::kSwitchRefused && kept) {
       current.end = branch.message + "; on the options' mesh from there";
-      from = StartAt(system, kind, current.family.shooting, branch.points.back());
+      from = OrbitStartAt(system, kind, current.family.shooting, branch.points.back());
     } else {
       current.end = branch.message;
       result.message = branch.message;

@@ -46,34 +46,26 @@ ShootingOptions Gauss(long steps) {
   return shooting;
 }
 
+// Newton on an orbit at w (any kind), to `tolerance`.
+void Solve(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-12) {
+  NewtonOptions newton;
+  newton.residual_tolerance = tolerance;
+  newton.step_tolerance = tolerance;
+  const NewtonResult result =
+      NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
+                  [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
+                  problem.Scale(), problem.ResidualScale());
+  INFO(result.BriefReport());
+  REQUIRE(result.Converged());
+}
+
 // The orbit at w from the free response's start (Newton; the start is exact off the stop).
 Vector SolveOrbit(SoftImpactOscillator& system, ShootingProblem& problem, double w) {
   system.SetParameter(w);
   SoftImpactParams p = system.params();
   Vector u = problem.InitialGuess(FreeStart(p), 0.0, w);
-  NewtonOptions newton;
-  newton.residual_tolerance = 1e-11;
-  newton.step_tolerance = 1e-11;
-  const NewtonResult result =
-      NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
-                  [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
-                  problem.Scale(), problem.ResidualScale());
-  INFO(result.BriefReport());
-  REQUIRE(result.Converged());
+  Solve(problem, u, w, 1e-11);
   return u;
-}
-
-// Newton on an autonomous orbit at w, to 1e-12.
-void SolveAutonomous(ShootingProblem& problem, Vector& u, double w) {
-  NewtonOptions newton;
-  newton.residual_tolerance = 1e-12;
-  newton.step_tolerance = 1e-12;
-  const NewtonResult result =
-      NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, w, F); },
-                  [&](const Vector& v, Matrix& J) { problem.Jacobian(v, w, J); }, u, newton,
-                  problem.Scale(), problem.ResidualScale());
-  INFO(result.BriefReport());
-  REQUIRE(result.Converged());
 }
 
 OrbitTestFunction Touchdown(double gap) {
@@ -242,7 +234,7 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
   ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
   const Vector x0 = (Vector(4) << reference(0), reference(1), 1.0, 0.0).finished();
   Vector u = uniform.InitialGuess(x0, T, w);
-  SolveAutonomous(uniform, u, w);
+  Solve(uniform, u, w);
   ShootingProblem* problem = &uniform;
   std::unique_ptr<ShootingProblem> on_stop;
   if (events) {
@@ -256,7 +248,7 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
     on_stop = std::make_unique<ShootingProblem>(system, OrbitKind::kAutonomous, mesh.options);
     problem = on_stop.get();
     u = problem->InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
-    SolveAutonomous(*problem, u, w);
+    Solve(*problem, u, w);
     // The event rows and columns, and ∂/∂T from the discrete map's dxdt1, against differences.
     Matrix J;
     problem->Jacobian(u, w, J);
@@ -329,14 +321,14 @@ TEST_CASE("soft impact oscillator on event boundaries: the striking family conti
   const Vector free = FreeStart(params);
   Vector u = uniform.InitialGuess((Vector(4) << free(0), free(1), 1.0, 0.0).finished(),
                                   kTwoPi / w, w);
-  SolveAutonomous(uniform, u, w);
+  Solve(uniform, u, w);
   const EventMesh mesh = WithEventBoundaries(system, OrbitKind::kAutonomous, shooting, u, w);
   INFO(mesh.message);
   REQUIRE(mesh.ok);
   REQUIRE(mesh.options.event_boundaries.size() == 2);
   ShootingProblem problem(system, OrbitKind::kAutonomous, mesh.options);
   Vector u0 = problem.InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
-  SolveAutonomous(problem, u0, w);
+  Solve(problem, u0, w);
   for (const int side : {+1, -1}) {
     CAPTURE(side);
     ContinuationOptions options;
