@@ -124,6 +124,11 @@ void Validate(const PeriodicOrbitBranchOptions& options) {
         "lambda_min < lambda_max",
         options.lambda_min, options.lambda_max));
   }
+  if (options.direction < -1 || options.direction > 1) {
+    throw std::invalid_argument(fmt::format(
+        "PeriodicOrbitBranchOptions.direction = {}: must be -1, 0 (both ways) or +1",
+        options.direction));
+  }
   Validate(options.shooting);
   Validate(options.continuation);
 }
@@ -169,7 +174,9 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     return branch;
   };
 
-  if (start.lambda <= options.lambda_min) {
+  if (options.direction != 0) {
+    result.branch = run(options.direction);
+  } else if (start.lambda <= options.lambda_min) {
     result.branch = run(+1);
   } else if (start.lambda >= options.lambda_max) {
     result.branch = run(-1);

@@ -75,6 +75,8 @@ struct PeriodicOrbitBranchOptions {
   bool stop_round_closed_curve = false;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;
+  // 0: both ways from the start (one way from an end of the range); ±1: only that way in λ.
+  int direction = 0;
 };
 
 // The orbit of a branch point computed with `shooting` as a start: its first segment's start,

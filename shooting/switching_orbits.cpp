@@ -121,12 +121,8 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
   EventMesh mesh;  // the switches of the next piece (none: the options' mesh)
   for (int piece = 0; piece < options.max_pieces; ++piece) {
     PeriodicOrbitBranchOptions o = options.family;
-    if (direction > 0) {
-      o.lambda_min = from.lambda;
-    } else {
-      o.lambda_max = from.lambda;
-    }
-    if (!(o.lambda_min < o.lambda_max)) {
+    o.direction = direction;
+    if (direction > 0 ? from.lambda >= o.lambda_max : from.lambda <= o.lambda_min) {
       result.message = fmt::format("at the end of the range, λ = {:.10g}", from.lambda);
       return result;
     }
