@@ -59,18 +59,28 @@ std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
   const std::vector<Index> switches = SwitchSamples(system, orbit, &zeros);
   const Index m = orbit.times.size();
   if (!switches.empty()) {
-    // The longest stretch between switches, round the period (the last sample is the first's
-    // image under the return map: the stretch wraps from the last switch to the first).
-    Index best_from = switches.back(), best_length = (m - 1) - switches.back() + switches.front();
+    // The longest stretch in time between switches, round the period (the last sample is the
+    // first's image under the return map: the stretch wraps from the last switch to the first).
+    const double T = orbit.period;
+    double best_from = orbit.times(switches.back());
+    double best_length = T - best_from + orbit.times(switches.front());
     for (std::size_t k = 1; k < switches.size(); ++k) {
-      if (switches[k] - switches[k - 1] > best_length) {
-        best_from = switches[k - 1];
-        best_length = switches[k] - switches[k - 1];
+      const double length = orbit.times(switches[k]) - orbit.times(switches[k - 1]);
+      if (length > best_length) {
+        best_from = orbit.times(switches[k - 1]);
+        best_length = length;
       }
     }
     // Any state of the orbit starts it (of a relative one too: the rotation commutes with the
-    // flow), so a stretch that wraps round the end starts one period earlier.
-    const Index middle = (best_from + best_length / 2) % (m - 1);
+    // flow), so a stretch that wraps round the end starts one period earlier: the sample nearest
+    // its middle.
+    const double t_middle = std::fmod(best_from + 0.5 * best_length, T);
+    Index middle = 0;
+    for (Index j = 1; j + 1 < m; ++j) {
+      if (std::abs(orbit.times(j) - t_middle) < std::abs(orbit.times(middle) - t_middle)) {
+        middle = j;
+      }
+    }
     start.x0 = orbit.states.col(middle);
     mesh = EventMeshOf(system, base, orbit, orbit.times(middle) / orbit.period);
     return {start, mesh};
