@@ -128,7 +128,8 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
   const ShootingOptions& base = options.family.shooting;
   OrbitStart from = start;
   int direction = options.direction;
-  EventMesh mesh;  // the switches of the next piece (none: the options' mesh)
+  EventMesh mesh;             // the switches of the next piece (none: the options' mesh)
+  bool after_change = false;  // the piece starts where a phase vanished
   for (int piece = 0; piece < options.max_pieces; ++piece) {
     PeriodicOrbitBranchOptions o = options.family;
     o.direction = direction;
@@ -155,6 +156,26 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
     current.switches = static_cast<int>(mesh.options.event_boundaries.size());
     current.family = ContinuePeriodicOrbits(system, kind, from, o);
     result.work += current.family.work;
+    // Past a vanished phase the family goes on where its orbits stay clear of the surface, which
+    // may be back the way it came (a grazing fold: the hardening soft impact oscillator's upper
+    // grazing, approached from its fold): one step that crosses again at once is tried the
+    // other way.
+    const auto crossed_at_once = [&](const PeriodicOrbitBranch& family) {
+      return crossed && family.branch.points.size() <= 2;
+    };
+    const bool room = -direction > 0 ? from.lambda < o.lambda_max : from.lambda > o.lambda_min;
+    if (after_change && !on_switches && crossed_at_once(current.family) && room) {
+      o.direction = -direction;
+      crossed = false;
+      PeriodicOrbitBranch other = ContinuePeriodicOrbits(system, kind, from, o);
+      result.work += other.work;
+      if (!crossed_at_once(other)) {
+        current.family = std::move(other);
+      } else {
+        crossed = true;  // both ways: keep the first
+      }
+    }
+    after_change = false;
     const Branch& branch = current.family.branch;
     const bool kept = branch.points.size() >= 2;
     if (kept) {
@@ -167,6 +188,7 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
     const bool changed =
         on_switches && branch.status == BranchStatus::kSwitchRefused && kept;
     if (changed) {
+      after_change = true;
       current.end = branch.message + "; on the options' mesh from there";
       from = OrbitStartAt(system, kind, current.family.shooting, branch.points.back());
     } else if (crossed && kept) {

@@ -2,6 +2,7 @@
 // oscillator made autonomous (models/textbook.h), whose free orbit grazes the stop at closed-form
 // frequencies: from w = 0.5 (free) on its own mesh, on its switches between the grazing points,
 // and free again to w = 2.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -120,6 +121,85 @@ TEST_CASE("soft impact oscillator across its switches: free, striking on its swi
   REQUIRE(back.Integrate(0.0, v, phase, shifted).Succeeded());
   CAPTURE(middle.lambda, (shifted - middle.u.head(2)).lpNorm<Eigen::Infinity>());
   CHECK((shifted - middle.u.head(2)).lpNorm<Eigen::Infinity>() < 1e-8);
+}
+
+TEST_CASE("hardening soft impact oscillator across its switches: back free past the grazing fold, "
+          "and a period doubling on switches doubled with its switches",
+          "[switching][shooting][branch]") {
+  SoftImpactParams params;  // c = 0.1, k = 10, F = 0.5: the striking orbits fold at w ≈ 1.41
+  params.frequency = 0.3;
+  AutonomousSoftImpactOscillator system(params);
+  const std::vector<double> grazing = SoftImpactOscillator(params).GrazingFrequencies();
+  REQUIRE(grazing.size() == 2);
+  const double w = params.frequency;
+  const double a = params.force / std::hypot(1.0 - w * w, params.damping * w);
+  const double psi = std::atan2(params.damping * w, 1.0 - w * w);
+  OrbitStart start;
+  start.x0 = (Vector(4) << a * std::cos(psi), a * w * std::sin(psi), 1.0, 0.0).finished();
+  start.period = kTwoPi / w;
+  start.lambda = w;
+  start.valid = true;
+  SwitchingOrbitOptions options;
+  options.family.lambda_min = 0.3;
+  options.family.lambda_max = 3.0;
+  options.family.shooting.segments = 2;
+  options.family.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.family.shooting.integrator.collocation_steps = 60;
+  options.family.shooting.sensitivities_in_residual = true;
+  options.family.continuation.step.max = 0.5;
+  const SwitchingOrbitFamily family =
+      ContinueAcrossSwitches(system, OrbitKind::kAutonomous, start, options);
+  INFO(family.message);
+  // Free, striking up to the fold and back to the upper grazing point, where the striking
+  // orbits and the free ones both lie above it (a grazing fold): the free piece goes on upwards,
+  // not back down into the striking range (measured: 3 pieces, to w = 3).
+  REQUIRE(family.pieces.size() == 3);
+  const Branch& striking = family.pieces[1].family.branch;
+  CHECK(family.pieces[1].switches == 2);
+  CHECK(striking.status == BranchStatus::kSwitchRefused);
+  std::vector<double> folds, doublings;
+  for (const SpecialPoint& p : striking.special_points) {
+    if (p.type == SpecialPointType::kFold) folds.push_back(p.lambda);
+    if (p.type == SpecialPointType::kPeriodDoubling) doublings.push_back(p.lambda);
+  }
+  REQUIRE(!folds.empty());
+  CHECK(*std::max_element(folds.begin(), folds.end()) > 1.4);  // measured 1.409628
+  // A fold at the grazing point, at the closed form (measured 1.218574 against 1.2185744; the
+  // family turns once more just below it, at 1.218326).
+  double nearest = folds.front();
+  for (const double f : folds) {
+    if (std::abs(f - grazing[1]) < std::abs(nearest - grazing[1])) nearest = f;
+  }
+  CHECK(nearest == Approx(grazing[1]).epsilon(0).margin(1e-5));
+  const Branch& free = family.pieces[2].family.branch;
+  CHECK(free.status == BranchStatus::kReachedLambdaBound);
+  CHECK(free.points.back().lambda == Approx(3.0));
+  CHECK(free.points[1].lambda > free.points[0].lambda);
+
+  // Two period doublings on switches (measured 0.710932 and 0.855469); the doubled family from
+  // the second has twice the segments and both impacts as boundaries, and ends where one of its
+  // two impacts grazes (measured 0.852637).
+  REQUIRE(doublings.size() == 2);
+  std::size_t index = 0;
+  for (std::size_t k = 0; k < striking.special_points.size(); ++k) {
+    if (striking.special_points[k].type == SpecialPointType::kPeriodDoubling &&
+        striking.special_points[k].lambda > 0.8) {
+      index = k;
+    }
+  }
+  PeriodicOrbitBranchOptions around = options.family;
+  around.lambda_min = 0.6;
+  around.lambda_max = 1.0;
+  around.continuation.bounds.max_steps = 100;
+  const OrbitPeriodDoubling doubled =
+      ContinueOrbitsFromPeriodDoubling(system, family.pieces[1].family, index, around);
+  INFO(doubled.message);
+  REQUIRE(doubled.ok);
+  CHECK(doubled.multiplier == Approx(-1.0).epsilon(0).margin(1e-4));
+  CHECK(doubled.branch.shooting.segments == 2 * family.pieces[1].family.shooting.segments);
+  CHECK(doubled.branch.shooting.event_boundaries.size() == 4);
+  CHECK(doubled.branch.branch.status == BranchStatus::kSwitchRefused);
+  CHECK(doubled.branch.branch.points.back().lambda < striking.special_points[index].lambda);
 }
 
 TEST_CASE("ContinueAcrossSwitches: options and kinds refused by name", "[switching][errors]") {
