@@ -17,6 +17,33 @@
 namespace rubcont {
 namespace {
 
+// The free linear response at the params' w, as the start of its autonomous orbit:
+// x = a cos(w t − ψ), forcing phase 0 at t = 0.
+OrbitStart FreeStart(const SoftImpactParams& params) {
+  const double w = params.frequency;
+  const double a = params.force / std::hypot(1.0 - w * w, params.damping * w);
+  const double psi = std::atan2(params.damping * w, 1.0 - w * w);
+  OrbitStart start;
+  start.x0 = (Vector(4) << a * std::cos(psi), a * w * std::sin(psi), 1.0, 0.0).finished();
+  start.period = kTwoPi / w;
+  start.lambda = w;
+  start.valid = true;
+  return start;
+}
+
+// Gauss collocation, 2 segments of 60 steps, over [lambda_min, lambda_max].
+SwitchingOrbitOptions GaussAcross(double lambda_min, double lambda_max) {
+  SwitchingOrbitOptions options;
+  options.family.lambda_min = lambda_min;
+  options.family.lambda_max = lambda_max;
+  options.family.shooting.segments = 2;
+  options.family.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.family.shooting.integrator.collocation_steps = 60;
+  options.family.shooting.sensitivities_in_residual = true;
+  options.family.continuation.step.max = 0.5;
+  return options;
+}
+
 TEST_CASE("soft impact oscillator across its switches: free, striking on its switches between the "
           "closed-form grazing frequencies, free again",
           "[switching][shooting][branch]") {
@@ -27,26 +54,9 @@ TEST_CASE("soft impact oscillator across its switches: free, striking on its swi
   AutonomousSoftImpactOscillator system(params);
   const std::vector<double> grazing = SoftImpactOscillator(params).GrazingFrequencies();
   REQUIRE(grazing.size() == 2);
-
-  // The free linear response at w = 0.5: x = a cos(w t − ψ), forcing phase 0 at t = 0.
-  const double w = params.frequency;
-  const double a = params.force / std::hypot(1.0 - w * w, params.damping * w);
-  const double psi = std::atan2(params.damping * w, 1.0 - w * w);
-  OrbitStart start;
-  start.x0 = (Vector(4) << a * std::cos(psi), a * w * std::sin(psi), 1.0, 0.0).finished();
-  start.period = kTwoPi / w;
-  start.lambda = w;
-  start.valid = true;
-
-  SwitchingOrbitOptions options;
-  options.family.lambda_min = 0.5;
-  options.family.lambda_max = 2.0;
-  options.family.shooting.segments = 2;
-  options.family.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
-  options.family.shooting.integrator.collocation_steps = 60;
-  options.family.shooting.sensitivities_in_residual = true;
+  const OrbitStart start = FreeStart(params);
+  SwitchingOrbitOptions options = GaussAcross(0.5, 2.0);
   options.family.shooting.samples_per_segment = 256;  // the touchdown test's extremum
-  options.family.continuation.step.max = 0.5;
   options.family.test_functions = {Grazing([&](ConstVectorRef x) { return x(0) - params.gap; },
                                            GrazingSide::kTouchdown, "touchdown")};
   const SwitchingOrbitFamily family =
@@ -131,22 +141,8 @@ TEST_CASE("hardening soft impact oscillator across its switches: back free past 
   AutonomousSoftImpactOscillator system(params);
   const std::vector<double> grazing = SoftImpactOscillator(params).GrazingFrequencies();
   REQUIRE(grazing.size() == 2);
-  const double w = params.frequency;
-  const double a = params.force / std::hypot(1.0 - w * w, params.damping * w);
-  const double psi = std::atan2(params.damping * w, 1.0 - w * w);
-  OrbitStart start;
-  start.x0 = (Vector(4) << a * std::cos(psi), a * w * std::sin(psi), 1.0, 0.0).finished();
-  start.period = kTwoPi / w;
-  start.lambda = w;
-  start.valid = true;
-  SwitchingOrbitOptions options;
-  options.family.lambda_min = 0.3;
-  options.family.lambda_max = 3.0;
-  options.family.shooting.segments = 2;
-  options.family.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
-  options.family.shooting.integrator.collocation_steps = 60;
-  options.family.shooting.sensitivities_in_residual = true;
-  options.family.continuation.step.max = 0.5;
+  const OrbitStart start = FreeStart(params);
+  const SwitchingOrbitOptions options = GaussAcross(0.3, 3.0);
   const SwitchingOrbitFamily family =
       ContinueAcrossSwitches(system, OrbitKind::kAutonomous, start, options);
   INFO(family.message);
