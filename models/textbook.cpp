@@ -271,6 +271,14 @@ double SoftImpactOscillator::FreeAmplitude() const {
   return std::abs(p.force) / std::hypot(1.0 - w * w, p.damping * w);
 }
 
+Vector SoftImpactOscillator::FreeState() const {
+  const SoftImpactParams& p = params_;
+  const double w = p.frequency;
+  const double a = p.force / std::hypot(1.0 - w * w, p.damping * w);
+  const double psi = std::atan2(p.damping * w, 1.0 - w * w);
+  return (Vector(2) << a * std::cos(psi), a * w * std::sin(psi)).finished();
+}
+
 std::vector<double> SoftImpactOscillator::GrazingFrequencies() const {
   const SoftImpactParams& p = params_;
   const double ratio = p.force / p.gap;

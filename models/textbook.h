@@ -230,6 +230,9 @@ class SoftImpactOscillator : public OdeSystem {
 
   // The amplitude a(w) of the linear response at the current w.
   double FreeAmplitude() const;
+  // (x, ẋ) at t = 0 of the linear response x = (F/D) cos(w t − ψ), D = √((1 − w²)² + (c w)²),
+  // tan ψ = c w / (1 − w²): the periodic orbit's start while it stays off the stop.
+  Vector FreeState() const;
   // The forcing frequencies at which the linear response grazes the stop, ascending: none when
   // F/g is below the response's smallest gain, else one or two.
   std::vector<double> GrazingFrequencies() const;

@@ -106,8 +106,9 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
 // orbit's own segments and mesh; options.shooting is replaced) and `family_max_steps` steps each
 // way, the measures and grazing tests of ContinueModulatedOrbits, stop_round_closed_curve set (a
 // resonance's locked orbits form a closed curve between the tongue's two folds), and with
-// switch_at_branch_points the side branches as there, each with options' own step limit. For whips no Hopf point of a computed family reaches (C(a)'s whip locked at 1:3 above
-// 49.2 rpm; bench/locked_whip_bench.cpp). Throws std::invalid_argument as SolveModulatedOrbit
+// switch_at_branch_points the side branches as there, each with options' own step limit. For
+// whips no Hopf point of a computed family reaches (C(a)'s whip locked at 1:3 above 49.2 rpm;
+// bench/locked_whip_bench.cpp). Throws std::invalid_argument as SolveModulatedOrbit
 // and for invalid options; a start that does not converge leaves `family` empty (start.message).
 struct RubTransientOrbits {
   ModulatedOrbit start;

@@ -1022,15 +1022,42 @@ EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingO
         "WithEventBoundaries: the options have event boundaries already; pass the orbit's "
         "options without them");
   }
-  ShootingOptions sampling = options;
-  sampling.samples_per_segment = std::max(2, samples / options.segments);
-  ShootingProblem problem(system, kind, sampling);
-  const OrbitSamples& orbit = problem.Orbit(u, lambda);
+  std::string failure;
+  const OrbitSamples orbit = SampleOrbit(system, kind, options, u, lambda, samples, &failure);
   if (!orbit.valid) {
-    result.message = "the orbit could not be sampled: " + problem.LastFailure().BriefReport();
+    result.message = "the orbit could not be sampled: " + failure;
     return result;
   }
   return EventMeshOf(system, options, orbit, 0.0, min_gap, coincide);
+}
+
+OrbitSamples SampleOrbit(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
+                         const Vector& u, double lambda, int samples, std::string* failure) {
+  ShootingOptions sampling = options;
+  sampling.samples_per_segment = std::max(2, samples / options.segments);
+  ShootingProblem problem(system, kind, sampling);
+  OrbitSamples orbit = problem.Orbit(u, lambda);
+  if (!orbit.valid) *failure = problem.LastFailure().BriefReport();
+  return orbit;
+}
+
+std::vector<SurfaceCrossing> SurfaceCrossings(const OdeSystem& system, const OrbitSamples& orbit) {
+  const int surfaces = system.SwitchingCount();
+  const Index m = orbit.times.size();
+  Matrix h(surfaces, m);
+  for (Index j = 0; j < m; ++j) {
+    system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h.col(j));
+  }
+  std::vector<SurfaceCrossing> crossings;
+  for (int k = 0; k < surfaces; ++k) {
+    for (Index j = 1; j < m; ++j) {
+      const double a = h(k, j - 1), b = h(k, j);
+      if ((a > 0.0) == (b > 0.0)) continue;
+      const double t = orbit.times(j - 1) + a / (a - b) * (orbit.times(j) - orbit.times(j - 1));
+      crossings.push_back({t / orbit.period, k, j});
+    }
+  }
+  return crossings;
 }
 
 EventMesh EventMeshOf(const OdeSystem& system, const ShootingOptions& options,
@@ -1039,20 +1066,10 @@ EventMesh EventMeshOf(const OdeSystem& system, const ShootingOptions& options,
   result.options = options;
   // Zeros of every switching function between neighbouring samples, as fractions of the period
   // from `start`.
-  const int surfaces = system.SwitchingCount();
-  const Index m = orbit.times.size();
-  Matrix h(surfaces, m);
-  for (Index j = 0; j < m; ++j)
-    system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h.col(j));
   std::vector<std::pair<double, int>> zeros;  // (τ, surface)
-  for (int k = 0; k < surfaces; ++k) {
-    for (Index j = 1; j < m; ++j) {
-      const double a = h(k, j - 1), b = h(k, j);
-      if ((a > 0.0) == (b > 0.0)) continue;
-      const double t = orbit.times(j - 1) + a / (a - b) * (orbit.times(j) - orbit.times(j - 1));
-      const double tau = t / orbit.period - start;
-      zeros.emplace_back(tau - std::floor(tau), k);
-    }
+  for (const SurfaceCrossing& crossing : SurfaceCrossings(system, orbit)) {
+    const double tau = crossing.tau - start;
+    zeros.emplace_back(tau - std::floor(tau), crossing.surface);
   }
   result.zeros = static_cast<int>(zeros.size());
   std::sort(zeros.begin(), zeros.end());

@@ -238,8 +238,22 @@ struct EventMesh {
 EventMesh WithEventBoundaries(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
                               const Vector& u, double lambda, int samples = 8192,
                               double min_gap = 1e-3, double coincide = 1e-6);
-// The same from samples of an orbit over one period (any shooting's), for the orbit started at
-// `start` (a fraction of the period: the zeros' times are taken from there, modulo the period).
+// An orbit u (solved with `options`) sampled `samples` times per period (samples_per_segment =
+// samples / segments, at least 2); on failure orbit.valid is false and *failure says why.
+OrbitSamples SampleOrbit(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
+                         const Vector& u, double lambda, int samples, std::string* failure);
+// A sign change of a switching function between two samples of an orbit: where (linearly between
+// them, a fraction of the period), on which surface, and the index of the sample after it.
+struct SurfaceCrossing {
+  double tau = 0.0;
+  int surface = 0;
+  Index sample = 0;
+};
+// Every sign change of the system's switching functions along the samples, by surface, then time.
+std::vector<SurfaceCrossing> SurfaceCrossings(const OdeSystem& system, const OrbitSamples& orbit);
+// WithEventBoundaries from samples of an orbit over one period (any shooting's), for the orbit
+// started at `start` (a fraction of the period: the zeros' times are taken from there, modulo the
+// period).
 EventMesh EventMeshOf(const OdeSystem& system, const ShootingOptions& options,
                       const OrbitSamples& orbit, double start = 0.0, double min_gap = 1e-3,
                       double coincide = 1e-6);

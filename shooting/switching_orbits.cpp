@@ -10,37 +10,6 @@
 namespace rubcont {
 namespace {
 
-// The sign changes of the switching functions along an orbit sampled `samples` times per period
-// (a coincident change of several surfaces counted once per surface): sample indices just after
-// one, and their number.
-std::vector<Index> SwitchSamples(OdeSystem& system, const OrbitSamples& orbit, int* zeros) {
-  Vector h(system.SwitchingCount()), previous(system.SwitchingCount());
-  std::vector<Index> switches;
-  *zeros = 0;
-  const Index m = orbit.times.size();
-  system.SwitchingFunctions(orbit.times(0), orbit.states.col(0), previous);
-  for (Index j = 1; j < m; ++j) {
-    system.SwitchingFunctions(orbit.times(j), orbit.states.col(j), h);
-    int changes = 0;
-    for (Index k = 0; k < h.size(); ++k) changes += (h(k) > 0.0) != (previous(k) > 0.0);
-    if (changes > 0) switches.push_back(j);
-    *zeros += changes;
-    previous = h;
-  }
-  return switches;
-}
-
-// The orbit at `point` (solved with `options`) sampled `samples` times per period.
-OrbitSamples Sampled(OdeSystem& system, OrbitKind kind, const ShootingOptions& options,
-                     const BranchPoint& point, int samples, std::string* failure) {
-  ShootingOptions sampling = options;
-  sampling.samples_per_segment = std::max(2, samples / options.segments);
-  ShootingProblem problem(system, kind, sampling);
-  OrbitSamples orbit = problem.Orbit(point.u, point.lambda);
-  if (!orbit.valid) *failure = problem.LastFailure().BriefReport();
-  return orbit;
-}
-
 // The switches of the orbit at `point` (solved with `options`) as segment boundaries on `base`,
 // with the start moved to the middle of the orbit's longest stretch without a switch.
 std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
@@ -48,15 +17,21 @@ std::pair<OrbitStart, EventMesh> OnSwitches(OdeSystem& system, OrbitKind kind,
                                             const ShootingOptions& base, const BranchPoint& point,
                                             int samples) {
   std::string failure;
-  const OrbitSamples orbit = Sampled(system, kind, options, point, samples, &failure);
+  const OrbitSamples orbit =
+      SampleOrbit(system, kind, options, point.u, point.lambda, samples, &failure);
   OrbitStart start = OrbitStartAt(system, kind, options, point);
   EventMesh mesh;
   if (!orbit.valid) {
     mesh.message = "the orbit could not be sampled: " + failure;
     return {start, mesh};
   }
-  int zeros = 0;
-  const std::vector<Index> switches = SwitchSamples(system, orbit, &zeros);
+  // The samples just after a switch, in time, each once.
+  std::vector<Index> switches;
+  for (const SurfaceCrossing& crossing : SurfaceCrossings(system, orbit)) {
+    switches.push_back(crossing.sample);
+  }
+  std::sort(switches.begin(), switches.end());
+  switches.erase(std::unique(switches.begin(), switches.end()), switches.end());
   const Index m = orbit.times.size();
   if (!switches.empty()) {
     // The longest stretch in time between switches, round the period (the last sample is the
@@ -145,10 +120,10 @@ SwitchingOrbitFamily ContinueAcrossSwitches(OdeSystem& system, OrbitKind kind,
     o.on_step = [&](const Branch& b) {
       if (options.family.on_step && !options.family.on_step(b)) return false;
       std::string failure;
+      const BranchPoint& p = b.points.back();
       const OrbitSamples orbit =
-          Sampled(system, kind, o.shooting, b.points.back(), options.samples, &failure);
-      int zeros = 0;
-      if (orbit.valid) SwitchSamples(system, orbit, &zeros);
+          SampleOrbit(system, kind, o.shooting, p.u, p.lambda, options.samples, &failure);
+      const int zeros = orbit.valid ? static_cast<int>(SurfaceCrossings(system, orbit).size()) : 0;
       crossed = zeros > mesh.zeros;
       return !crossed;
     };

@@ -24,14 +24,6 @@
 namespace rubcont {
 namespace {
 
-// The linear response's state at t = 0: x = a cos(w t − ψ), tan ψ = c w / (1 − w²).
-Vector FreeStart(const SoftImpactParams& p) {
-  const double w = p.frequency;
-  const double a = p.force / std::hypot(1.0 - w * w, p.damping * w);
-  const double psi = std::atan2(p.damping * w, 1.0 - w * w);
-  return (Vector(2) << a * std::cos(psi), a * w * std::sin(psi)).finished();
-}
-
 ShootingOptions Cvodes() {
   ShootingOptions shooting;  // CVODES BDF, rtol = atol = 1e-10
   shooting.sensitivities_in_residual = true;
@@ -62,8 +54,7 @@ void Solve(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-
 // The orbit at w from the free response's start (Newton; the start is exact off the stop).
 Vector SolveOrbit(SoftImpactOscillator& system, ShootingProblem& problem, double w) {
   system.SetParameter(w);
-  SoftImpactParams p = system.params();
-  Vector u = problem.InitialGuess(FreeStart(p), 0.0, w);
+  Vector u = problem.InitialGuess(system.FreeState(), 0.0, w);
   Solve(problem, u, w, 1e-11);
   return u;
 }
@@ -141,7 +132,7 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
     system.SetParameter(0.5);
     ShootingProblem problem(system, OrbitKind::kForced, shooting);
     problem.SetTestFunctions({Touchdown(params.gap)});
-    const Vector u0 = problem.InitialGuess(FreeStart(system.params()), 0.0, 0.5);
+    const Vector u0 = problem.InitialGuess(system.FreeState(), 0.0, 0.5);
 
     ContinuationOptions options;
     options.bounds.lambda_min = 0.5;
@@ -168,7 +159,7 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
       CHECK(p.lambda == Approx(expected[k]).epsilon(0).margin(1e-8));
       // The orbit there is the linear response of amplitude g.
       system.SetParameter(p.lambda);
-      const Vector free = FreeStart(system.params());
+      const Vector free = system.FreeState();
       CHECK(p.u(0) == Approx(free(0)).epsilon(0).margin(1e-8));
       CHECK(p.u(1) == Approx(free(1)).epsilon(0).margin(1e-8));
     }
@@ -318,7 +309,7 @@ TEST_CASE("soft impact oscillator on event boundaries: the striking family conti
   const double w = params.frequency;
   ShootingOptions shooting = Gauss(60);
   ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
-  const Vector free = FreeStart(params);
+  const Vector free = SoftImpactOscillator(params).FreeState();
   Vector u = uniform.InitialGuess((Vector(4) << free(0), free(1), 1.0, 0.0).finished(),
                                   kTwoPi / w, w);
   Solve(uniform, u, w);

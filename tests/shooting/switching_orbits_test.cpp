@@ -17,16 +17,14 @@
 namespace rubcont {
 namespace {
 
-// The free linear response at the params' w, as the start of its autonomous orbit:
-// x = a cos(w t − ψ), forcing phase 0 at t = 0.
+// The free linear response at the params' w, as the start of its autonomous orbit (forcing
+// phase 0 at t = 0).
 OrbitStart FreeStart(const SoftImpactParams& params) {
-  const double w = params.frequency;
-  const double a = params.force / std::hypot(1.0 - w * w, params.damping * w);
-  const double psi = std::atan2(params.damping * w, 1.0 - w * w);
+  const Vector free = SoftImpactOscillator(params).FreeState();
   OrbitStart start;
-  start.x0 = (Vector(4) << a * std::cos(psi), a * w * std::sin(psi), 1.0, 0.0).finished();
-  start.period = kTwoPi / w;
-  start.lambda = w;
+  start.x0 = (Vector(4) << free(0), free(1), 1.0, 0.0).finished();
+  start.period = kTwoPi / params.frequency;
+  start.lambda = params.frequency;
   start.valid = true;
   return start;
 }
