@@ -13,8 +13,6 @@
 namespace rubcont {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
-
 [[noreturn]] void Reject(const std::string& key, double value, const std::string& rule) {
   std::ostringstream message;
   message << key << " = " << value << ": " << rule;

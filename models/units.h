@@ -2,9 +2,10 @@
 // models take rad/s. Every conversion goes through these functions.
 #pragma once
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
-inline constexpr double kTwoPi = 6.283185307179586;              // 2π
 inline constexpr double kRadPerSecondPerRpm = kTwoPi / 60.0;    // 1 rpm = 2π/60 rad/s
 inline constexpr double kRpmPerRadPerSecond = 60.0 / kTwoPi;
 

@@ -9,11 +9,11 @@
 #include <fmt/core.h>
 #include <unsupported/Eigen/FFT>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // |W(δ)| / W(0) of the Hann window's transform in the continuous limit: sinc(δ)/(1 − δ²).
 double HannGain(double delta) {
