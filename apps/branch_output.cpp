@@ -7,12 +7,11 @@
 
 #include "apps/level.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 

@@ -17,13 +17,12 @@
 #include "apps/models.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "studies/flexible_thesis.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 

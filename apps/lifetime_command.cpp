@@ -19,13 +19,12 @@
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "sweeps/lifetime.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void Check(const LifetimeRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {

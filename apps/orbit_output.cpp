@@ -1,5 +1,6 @@
 #include "apps/orbit_output.h"
 #include "apps/level.h"
+#include "solvers/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +25,6 @@ const char* OrbitKindName(OrbitKind kind) {
 void WritePeriodicOrbitBranch(ResultWriter& writer, const std::string& name,
                               const PeriodicOrbitBranch& orbits, const ParameterColumn& parameter,
                               const std::string& root) {
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   writer.CreateGroup(root);
   writer.SetAttribute(root, "level", ToString(Level::kL2));
   writer.SetAttribute(root, "parameter_name", parameter.name);

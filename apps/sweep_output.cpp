@@ -7,10 +7,10 @@
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string Group(SweepDirection direction) { return std::string("/sweeps/") + ToString(direction); }
 

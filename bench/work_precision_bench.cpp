@@ -54,14 +54,13 @@
 #include "models/analytic.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "studies/whirl_limits.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One answer: a row of the CSV.
 struct Row {

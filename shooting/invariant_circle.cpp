@@ -7,13 +7,13 @@
 
 #include <fmt/format.h>
 
+#include "solvers/constants.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * M_PI;
 // CircleFromOrbit: a fitted circle is taken as covered q times where the harmonics that are not
 // multiples of q stay below this share of the largest multiple's.
 constexpr double kCoverRatio = 0.05;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "shooting/modulated_orbit.h"
+#include "solvers/constants.h"
 #include "solvers/spectrum.h"
 #include "solvers/stopwatch.h"
 
@@ -15,7 +16,6 @@ namespace rubcont {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * M_PI;
 constexpr int kSamplesPerPeriod = 16;
 
 // Why points one period apart may be no circle although the motion is a torus: the section cuts

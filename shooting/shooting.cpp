@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -89,8 +90,6 @@ void Validate(const ShootingOptions& options) {
 // Measures
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Value at the extremum of the parabola through samples k−1, k, k+1 of `values` (one per sample
 // of `orbit`), when the extremum lies between them (sign = +1: maximum, −1: minimum); otherwise

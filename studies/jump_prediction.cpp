@@ -1,5 +1,6 @@
 #include "studies/jump_prediction.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +8,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct BranchMatch {
   const RotatingWaveBranch* branch = nullptr;

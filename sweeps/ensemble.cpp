@@ -8,13 +8,12 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/parallel.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A uniform draw in (0, 1) from 53 random bits (never 0, so that log() is finite).
 double Uniform(std::mt19937_64& generator) {

@@ -1,5 +1,6 @@
 #include "sweeps/rub_sweep.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +21,6 @@ std::string TooDeep(const RubContact& contact, double depth, double max_penetrat
       contact.name, depth, depth / contact.geometry.clearance, max_penetration);
 }
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
 RubSweepObservables::RubSweepObservables(RubFixedFrame& system) : system_(system) {}

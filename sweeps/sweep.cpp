@@ -8,16 +8,10 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
-
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-}  // namespace
 
 const char* ToString(SweepPointStatus status) {
   switch (status) {

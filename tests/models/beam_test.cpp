@@ -1,4 +1,5 @@
 #include "models/beam.h"
+#include "solvers/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +11,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kPi = 3.141592653589793;
 
 ShaftElement Steel(double length, double outer, double inner = 0.0) {
   ShaftElement e;

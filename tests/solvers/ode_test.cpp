@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "solvers/ode.h"
 
 #include <cmath>
@@ -17,8 +18,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // ẋ = A(p) x with A(p) = A0 + p A1: x(t) = e^{A(p) t} x0, Φ = e^{A(p) t}, and ∂x/∂p from the
 // derivative of the exponential (evaluated below by differences of the exact exponential).

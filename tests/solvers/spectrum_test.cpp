@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "solvers/spectrum.h"
 
 #include <cmath>
@@ -11,7 +12,6 @@ namespace {
 
 using Catch::Matchers::Contains;
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
 
 ComplexVector Tone(Index n, double sample_rate, double frequency, Complex amplitude,
                    Complex offset = 0.0) {

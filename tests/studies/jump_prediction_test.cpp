@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "studies/jump_prediction.h"
 
 #include <cmath>
@@ -7,8 +8,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Case A(a) (the scene defaults are the thesis's): its L1 branches over 20–80 rpm.
 struct CaseAa {

@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "sweeps/rub_sweep.h"
 
 #include <algorithm>
@@ -18,7 +19,6 @@ namespace rubcont {
 namespace {
 
 using Catch::Matchers::Contains;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 TEST_CASE("The impulse translates the rotor at J/m_r and leaves everything else at rest", "[rub_sweep]") {
   TwoPointParams p = ThesisCaseAa();

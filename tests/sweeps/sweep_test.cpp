@@ -9,13 +9,13 @@
 #include <catch2/catch.hpp>
 
 #include "models/textbook.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 namespace {
 
 using Catch::Matchers::Contains;
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------------------------
 // The stepper.
