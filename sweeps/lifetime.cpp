@@ -115,15 +115,33 @@ const char* ToString(EscapeRateStatus status) {
 }
 
 EscapeRate EstimateEscapeRate(const EscapeObservations& o) {
-  Validate(o);
+  return EstimateEscapeRate(std::vector<EscapeObservations>{o});
+}
+
+EscapeRate EstimateEscapeRate(const std::vector<EscapeObservations>& groups) {
+  if (groups.empty()) throw std::invalid_argument("EstimateEscapeRate: no observations");
+  for (const EscapeObservations& g : groups) {
+    Validate(g);
+    if (g.parameter != groups.front().parameter || g.stretch != groups.front().stretch) {
+      throw std::invalid_argument(fmt::format(
+          "EstimateEscapeRate: observations at parameter {} with stretch {} pooled with parameter {} "
+          "and stretch {}: pooled groups must share both", g.parameter, g.stretch,
+          groups.front().parameter, groups.front().stretch));
+    }
+  }
   EscapeRate r;
-  r.escapes = static_cast<int>(o.escape_stretch.size());
-  r.copies = r.escapes + o.stayed;
-  const double exposure = Exposure(o);
-  const double d = r.escapes, delta = o.stretch;
-  // Below the maximum the log-likelihood rises, above it falls: each limit is one sign change,
-  // bracketed in log κ between the maximum and a point 1.92 below it.
-  auto below = [&](double rate) { return EscapeLogLikelihood(o, rate) - (EscapeLogLikelihood(o, r.rate) - kDrop); };
+  double exposure = 0.0;
+  for (const EscapeObservations& g : groups) {
+    r.escapes += static_cast<int>(g.escape_stretch.size());
+    r.copies += static_cast<int>(g.escape_stretch.size()) + g.stayed;
+    exposure += Exposure(g);
+  }
+  const double d = r.escapes, delta = groups.front().stretch;
+  auto log_likelihood = [&](double rate) {
+    double sum = 0.0;
+    for (const EscapeObservations& g : groups) sum += EscapeLogLikelihood(g, rate);
+    return sum;
+  };
   if (r.escapes == 0) {
     r.status = EscapeRateStatus::kNoEscape;
     r.rate = 0.0;
@@ -140,6 +158,10 @@ EscapeRate EstimateEscapeRate(const EscapeObservations& o) {
     return r;
   }
   r.rate = std::log1p(d * delta / exposure) / delta;
+  // Below the maximum the log-likelihood rises, above it falls: each limit is one sign change,
+  // bracketed in log κ between the maximum and a point 1.92 below it.
+  const double top = log_likelihood(r.rate);
+  auto below = [&](double rate) { return log_likelihood(rate) - (top - kDrop); };
   const double log_rate = std::log(r.rate);
   double lo = log_rate - 1.0, hi = log_rate + 1.0;
   while (below(std::exp(lo)) >= 0.0) lo -= 1.0;

@@ -55,6 +55,10 @@ struct EscapeRate {
 // κ = ln(1 + d·Δ/E)/Δ, E = Σ (j − 1)·Δ + stayed·duration: the closed-form maximum of the
 // interval-censored likelihood (d escapes, stretch Δ); its limits by bisection.
 EscapeRate EstimateEscapeRate(const EscapeObservations& observations);
+// The same for several groups of copies at one parameter value with one stretch (e.g. ensembles run
+// for different durations): their likelihoods add, E and d are summed. Throws
+// std::invalid_argument when the groups differ in parameter or stretch, or there are none.
+EscapeRate EstimateEscapeRate(const std::vector<EscapeObservations>& groups);
 
 // The direction in which the state ceases to exist: kAbove, κ = A (p − p_c)^γ for p > p_c and 0
 // below (the end of a speed-up whip); kBelow, the mirror image.
