@@ -32,6 +32,14 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& job) {
   if (error) std::rethrow_exception(error);
 }
 
+JobRunner ThreadJobs(int threads) {
+  return [threads](int n, const std::function<std::string(int)>& job) {
+    std::vector<std::string> results(static_cast<std::size_t>(std::max(n, 0)));
+    ParallelFor(n, threads, [&](int i) { results[static_cast<std::size_t>(i)] = job(i); });
+    return results;
+  };
+}
+
 int ThreadsFor(int requested) {
   return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace rubcont {
 
@@ -14,5 +16,15 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& job);
 
 // The threads for a "threads" option: the value itself when positive, one per core for 0.
 int ThreadsFor(int requested);
+
+// Independent jobs whose results are byte strings, run somewhere — over the threads of this
+// process (ThreadJobs), or over the ranks of an MPI run (apps/ranks.h) — and returned in index order
+// to every caller. A job's result must depend on its index alone, so that a study that uses them
+// computes the same numbers however the jobs are spread.
+using JobRunner =
+    std::function<std::vector<std::string>(int n, const std::function<std::string(int)>& job)>;
+
+// The jobs over `threads` threads (ParallelFor; threads ≥ 1).
+JobRunner ThreadJobs(int threads);
 
 }  // namespace rubcont

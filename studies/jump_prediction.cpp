@@ -13,6 +13,8 @@ struct BranchMatch {
   const RotatingWaveBranch* branch = nullptr;
   double score = std::numeric_limits<double>::infinity();
   int stable = -1;
+  int index = -1;   // of the branch in the set
+  Index point = -1;  // the branch's point nearest in speed
 };
 
 // What the sweep saw at one speed, per contact.
@@ -40,7 +42,8 @@ BranchMatch MatchState(const SweepState& state, const RubStructure& structure,
     any_touching = true;
   }
   if (!any_touching) return best;
-  for (const RotatingWaveBranch& b : branches) {
+  for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+    const RotatingWaveBranch& b = branches[bi];
     const auto& names = b.branch.measure_names;
     auto index = [&](const std::string& name) -> Index {
       const auto it = std::find(names.begin(), names.end(), name);
@@ -78,12 +81,15 @@ BranchMatch MatchState(const SweepState& state, const RubStructure& structure,
         }
       }
       if (!matches) continue;
-      const BranchPoint& nearer = s < 0.5 ? points[i] : points[i + 1];
+      const std::size_t near = s < 0.5 ? i : i + 1;
+      const BranchPoint& nearer = points[near];
       const bool stable = nearer.num_unstable == 0;
       if ((stable && !best_stable) || (stable == best_stable && score < best.score)) {
         best.branch = &b;
         best.score = score;
         best.stable = nearer.num_unstable < 0 ? -1 : stable ? 1 : 0;
+        best.index = static_cast<int>(bi);
+        best.point = static_cast<Index>(near);
         best_stable = stable;
       }
     }
@@ -91,24 +97,29 @@ BranchMatch MatchState(const SweepState& state, const RubStructure& structure,
   return best;
 }
 
-SweepState StateAt(double speed_rpm, const RubStructure& structure,
-                   const std::vector<SweepPoint>& points, const RubSweepRegimes& regimes) {
+SweepState StateOf(std::size_t i, const RubStructure& structure, const std::vector<SweepPoint>& points,
+                   const RubSweepRegimes& regimes) {
   SweepState state;
   const std::size_t m = structure.contacts.size();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (std::abs(RadPerSecondToRpm(points[i].parameter) - speed_rpm) > 1e-9) continue;
-    if (points[i].channels.size() != m) return state;
-    state.speed_rpm = speed_rpm;
-    for (std::size_t k = 0; k < m; ++k) {
-      const ChannelSummary& c = points[i].channels[k];
-      state.touching.push_back(c.active_fraction >= 0.5 ? 1 : 0);
-      state.precession_hz.push_back(regimes.precession_hz[k][i]);
-      state.normal_force.push_back(c.measures.size() > kNormalForceMeasure
-                                       ? c.measures[kNormalForceMeasure].mean : kNaN);
-    }
-    return state;
+  if (points[i].channels.size() != m) return state;
+  state.speed_rpm = RadPerSecondToRpm(points[i].parameter);
+  for (std::size_t k = 0; k < m; ++k) {
+    const ChannelSummary& c = points[i].channels[k];
+    state.touching.push_back(c.active_fraction >= 0.5 ? 1 : 0);
+    state.precession_hz.push_back(regimes.precession_hz[k][i]);
+    state.normal_force.push_back(c.measures.size() > kNormalForceMeasure
+                                     ? c.measures[kNormalForceMeasure].mean : kNaN);
   }
   return state;
+}
+
+SweepState StateAt(double speed_rpm, const RubStructure& structure,
+                   const std::vector<SweepPoint>& points, const RubSweepRegimes& regimes) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (std::abs(RadPerSecondToRpm(points[i].parameter) - speed_rpm) > 1e-9) continue;
+    return StateOf(i, structure, points, regimes);
+  }
+  return SweepState{};
 }
 
 // The special point of `b` nearest the speed interval [lo, hi] (distance 0 inside it; the first
@@ -140,6 +151,18 @@ int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, doubl
 }
 
 }  // namespace
+
+WaveMatch MatchWave(const RubStructure& structure, const std::vector<SweepPoint>& points,
+                    const RubSweepRegimes& regimes, std::size_t index,
+                    const std::vector<RotatingWaveBranch>& branches, const JumpMatchOptions& options) {
+  WaveMatch match;
+  if (index >= points.size() || points[index].status == SweepPointStatus::kIntegrationFailure) return match;
+  const BranchMatch m = MatchState(StateOf(index, structure, points, regimes), structure, branches, options);
+  match.branch = m.index;
+  match.point = m.point;
+  match.stable = m.stable;
+  return match;
+}
 
 std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,
                                         const std::vector<SweepPoint>& points,

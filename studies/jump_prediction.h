@@ -47,6 +47,20 @@ struct PredictedJump {
   double difference_rpm;              // middle of the jump's interval − bifurcation speed
 };
 
+// The wave a state of a sweep lies on (the rule above: the same contacts touching, each touching
+// contact's precession within the tolerance, stable branches first, then the smallest normal-force
+// mismatch): the branch's index in `branches` and its point nearest in speed, and whether it is
+// stable there (1 / 0 / −1 unknown); branch −1 when the state lies on none (or the point failed).
+// `points` and `regimes` as for PredictJumps; `index` the point asked about.
+struct WaveMatch {
+  int branch = -1;
+  Index point = -1;
+  int stable = -1;
+};
+WaveMatch MatchWave(const RubStructure& structure, const std::vector<SweepPoint>& points,
+                    const RubSweepRegimes& regimes, std::size_t index,
+                    const std::vector<RotatingWaveBranch>& branches, const JumpMatchOptions& options = {});
+
 // The prediction of every jump of one direction's classified sweep.
 // `points` and `regimes` are one direction's sweep (SweepStepper::points(), ClassifySweep).
 std::vector<PredictedJump> PredictJumps(const std::string& direction, const RubStructure& structure,

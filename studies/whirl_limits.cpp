@@ -112,6 +112,17 @@ void CheckBiasArguments(double epsilon, double tolerance) {
 
 }  // namespace
 
+WhirlLimit StableLimitFrom(const std::vector<RotatingWaveBranch>& branches, int branch, Index point,
+                           int direction) {
+  CheckDirection(direction);
+  if (branch < 0 || branch >= static_cast<int>(branches.size()) || point < 0 ||
+      point >= branches[static_cast<std::size_t>(branch)].branch.Size()) {
+    throw std::invalid_argument(fmt::format("stable limit: branch {}, point {}: not a point of the branch set",
+                                            branch, point));
+  }
+  return Walk(branches[static_cast<std::size_t>(branch)], branch, point, direction);
+}
+
 WhirlLimit FindWhirlLimit(const std::vector<RotatingWaveBranch>& branches, int direction,
                           double range_end, const std::vector<std::string>& patterns) {
   CheckDirection(direction);

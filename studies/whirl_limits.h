@@ -53,6 +53,14 @@ WhirlLimit FindWhirlLimit(const std::vector<RotatingWaveBranch>& branches, int d
                           double range_end,
                           const std::vector<std::string>& patterns = {"mode1", "mode2"});
 
+// The same walk from any point of a branch: from point `point` of branches[branch] in `direction`
+// while the points stay stable and the speed keeps moving that way (the point itself is taken as
+// the start, stable or not). Where a sweep that stands on a stable wave stays until it must leave
+// (studies/loop.h). Throws std::invalid_argument for a direction other than ±1 or a point that is
+// not in the set.
+WhirlLimit StableLimitFrom(const std::vector<RotatingWaveBranch>& branches, int branch, Index point,
+                           int direction);
+
 // A value read off a branch, or why there is none.
 struct BranchReading {
   bool found = false;

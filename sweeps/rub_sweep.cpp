@@ -279,6 +279,24 @@ std::string Describe(const RubStructure& structure, const ArrivalTarget& target)
   return fmt::format("{} on the {} contact", what, structure.contacts.at(static_cast<std::size_t>(target.contact)).name);
 }
 
+bool Arrived(const RubSweepRegimes& regimes, std::size_t point, const ArrivalTarget& target) {
+  const int contacts = static_cast<int>(regimes.regime.size());
+  const bool by_precession = std::isfinite(target.precession_above_hz);
+  auto there = [&](int k) {
+    const auto c = static_cast<std::size_t>(k);
+    return by_precession ? regimes.precession_hz[c][point] > target.precession_above_hz
+                         : regimes.regime[c][point] == target.regime;
+  };
+  int in_target = 0;
+  for (int k = 0; k < contacts; ++k) in_target += there(k) ? 1 : 0;
+  switch (target.contacts) {
+    case ArrivalContacts::kEvery: return in_target == contacts;
+    case ArrivalContacts::kAny: return in_target > 0;
+    case ArrivalContacts::kOne: return there(target.contact);
+  }
+  return false;
+}
+
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, const ArrivalTarget& target,
                                     const RubRegimeOptions& options) {
@@ -286,32 +304,18 @@ std::vector<RubArrival> RubArrivals(const RubStructure& structure,
   if (target.contacts == ArrivalContacts::kOne && (target.contact < 0 || target.contact >= contacts)) {
     throw std::invalid_argument(fmt::format("RubArrivals: contact {} of {}", target.contact, contacts));
   }
-  const bool by_precession = std::isfinite(target.precession_above_hz);
   std::vector<RubArrival> out;
   out.reserve(copies.size());
   for (const EnsembleCopy& copy : copies) {
     RubArrival a;
     a.failed = copy.failed;
     a.regimes = ClassifySweep(structure, copy.points, options);
-    auto there = [&](int k, std::size_t i) {
-      const auto c = static_cast<std::size_t>(k);
-      return by_precession ? a.regimes.precession_hz[c][i] > target.precession_above_hz
-                           : a.regimes.regime[c][i] == target.regime;
-    };
     double t = 0.0;
     for (std::size_t i = 0; i < copy.points.size(); ++i) {
       t += copy.points[i].simulated_time;
       if (copy.points[i].status == SweepPointStatus::kIntegrationFailure) break;
       if (!a.reached && a.untrusted.empty()) a.untrusted = a.regimes.untrusted[i];
-      int in_target = 0;
-      for (int k = 0; k < contacts; ++k) in_target += there(k, i) ? 1 : 0;
-      bool arrived = false;
-      switch (target.contacts) {
-        case ArrivalContacts::kEvery: arrived = in_target == contacts; break;
-        case ArrivalContacts::kAny: arrived = in_target > 0; break;
-        case ArrivalContacts::kOne: arrived = there(target.contact, i); break;
-      }
-      if (arrived && !a.reached) {
+      if (Arrived(a.regimes, i, target) && !a.reached) {
         a.reached = true;
         a.time = t;
         a.point = static_cast<int>(i);

@@ -219,6 +219,9 @@ struct RubArrival {
 std::vector<RubArrival> RubArrivals(const RubStructure& structure,
                                     const std::vector<EnsembleCopy>& copies, const ArrivalTarget& target,
                                     const RubRegimeOptions& options = {});
+// Whether the classified point `point` of `regimes` is at the target (the rule of RubArrivals;
+// target.contact must be a contact of theirs for ArrivalContacts::kOne).
+bool Arrived(const RubSweepRegimes& regimes, std::size_t point, const ArrivalTarget& target);
 
 // The rub's Poincaré section for MeasureAttractor (sweeps/attractor.h), in two steps.
 // RubPenetrations: the signals are the contacts' penetrations δ_k, sampled every `interval`
