@@ -10,7 +10,6 @@
 #include <fmt/ostream.h>
 
 #include "apps/hdf5_file.h"
-#include "apps/level.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
 #include "solvers/constants.h"
@@ -33,12 +32,9 @@ void WriteAttractorResult(const std::filesystem::path& file, const Scene& scene,
   const AttractorStudyOptions& o = result.options;
   const AttractorOptions& options = o.attractor;
   const std::size_t contacts = structure.contacts.size();
-  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-  ResultWriter writer(file);
-  WriteSceneAttributes(writer, scene);
-  writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
   const std::string g = "/attractor";
-  writer.CreateGroup(g);
+  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
+  ResultWriter& writer = *file_writer;
   writer.SetAttribute(g, "direction", ToString(o.direction));
   writer.SetAttribute(g, "approach", ToString(o.approach.direction));
   writer.SetAttribute(g, "duration", options.duration);
@@ -51,9 +47,7 @@ void WriteAttractorResult(const std::filesystem::path& file, const Scene& scene,
   writer.SetAttribute(g, "integrator", ToString(options.integrator.method));
   writer.SetAttribute(g, "relative_tolerance", options.integrator.relative_tolerance);
   writer.SetAttribute(g, "absolute_tolerance", options.integrator.absolute_tolerance);
-  const std::vector<double>& before = result.approach.speeds;
-  writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
-  writer.SetAttribute(g, "approach_to_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.back()));
+  WriteApproachSpeeds(writer, g, result.approach);
   writer.SetAttribute(g, "wall_seconds", result.wall_seconds);
   const Index count = static_cast<Index>(result.speeds.size());
   Matrix exponents(count, options.exponents), errors(count, options.exponents);

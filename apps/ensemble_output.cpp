@@ -9,7 +9,6 @@
 #include <fmt/ostream.h>
 
 #include "apps/hdf5_file.h"
-#include "apps/level.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
 #include "solvers/constants.h"
@@ -21,13 +20,9 @@ void WriteEnsembleResult(const std::filesystem::path& file, const Scene& scene, 
   const EnsembleStudyOptions& o = result.options;
   const std::vector<EnsembleCopy>& copies = result.run.copies;
   const std::vector<RubArrival>& arrivals = result.run.arrivals;
-  const std::vector<double>& before = result.approach.speeds;
-  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-  ResultWriter writer(file);
-  WriteSceneAttributes(writer, scene);
-  writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
   const std::string g = "/ensemble";
-  writer.CreateGroup(g);
+  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
+  ResultWriter& writer = *file_writer;
   writer.SetAttribute(g, "speed_rpm", o.speed_rpm);
   writer.SetAttribute(g, "direction", ToString(o.sweep.direction));
   writer.SetAttribute(g, "copies", static_cast<double>(o.ensemble.copies));
@@ -41,8 +36,7 @@ void WriteEnsembleResult(const std::filesystem::path& file, const Scene& scene, 
   writer.SetAttribute(g, "arrival", result.arrival);
   writer.SetAttribute(g, "threads", static_cast<double>(o.ensemble.threads));
   writer.SetAttribute(g, "wall_seconds", result.run.wall_seconds);
-  writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
-  writer.SetAttribute(g, "approach_to_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.back()));
+  WriteApproachSpeeds(writer, g, result.approach);
   std::vector<double> arrival, simulated, cpu;
   std::vector<int> reached, failed;
   std::vector<std::string> untrusted;

@@ -1,6 +1,7 @@
 #include "apps/lifetime_output.h"
 
 #include <cmath>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -9,7 +10,6 @@
 #include <fmt/ostream.h>
 
 #include "apps/hdf5_file.h"
-#include "apps/level.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
 #include "solvers/constants.h"
@@ -50,13 +50,9 @@ void WriteLifetimeResult(const std::filesystem::path& file, const Scene& scene, 
                          const LifetimeStudyResult& result) {
   const LifetimeStudyOptions& o = result.options;
   const EscapeObservations& first = result.escapes.front().observations;
-  const std::vector<double>& before = result.approach.speeds;
-  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-  ResultWriter writer(file);
-  WriteSceneAttributes(writer, scene);
-  writer.SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
   const std::string g = "/lifetime";
-  writer.CreateGroup(g);
+  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
+  ResultWriter& writer = *file_writer;
   writer.SetAttribute(g, "direction", ToString(o.sweep.direction));
   writer.SetAttribute(g, "copies", static_cast<double>(o.sampling.ensemble.copies));
   writer.SetAttribute(g, "duration", first.duration);
@@ -71,8 +67,7 @@ void WriteLifetimeResult(const std::filesystem::path& file, const Scene& scene, 
   writer.SetAttribute(g, "threads", static_cast<double>(o.sampling.ensemble.threads));
   writer.SetAttribute(g, "wall_seconds", result.wall_seconds);
   writer.SetAttribute(g, "cpu_seconds", result.cpu_seconds);
-  writer.SetAttribute(g, "approach_from_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.front()));
-  writer.SetAttribute(g, "approach_to_rpm", before.empty() ? kNaN : RadPerSecondToRpm(before.back()));
+  WriteApproachSpeeds(writer, g, result.approach);
   std::vector<double> rate, lower, upper;
   std::vector<int> escapes, stayed, failed, untrusted;
   std::vector<std::string> status;

@@ -1,6 +1,7 @@
 #include "apps/sweep_output.h"
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -411,6 +412,22 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
   const std::vector<double> state = reader.ReadDoubles("/checkpoint/state");
   checkpoint.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
   return checkpoint;
+}
+
+std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
+                                              const std::string& group) {
+  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+  auto writer = std::make_unique<ResultWriter>(file);
+  WriteSceneAttributes(*writer, scene);
+  writer->SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
+  writer->CreateGroup(group);
+  return writer;
+}
+
+void WriteApproachSpeeds(ResultWriter& writer, const std::string& group, const SweepApproach& approach) {
+  const std::vector<double>& speeds = approach.speeds;
+  writer.SetAttribute(group, "approach_from_rpm", speeds.empty() ? kNaN : RadPerSecondToRpm(speeds.front()));
+  writer.SetAttribute(group, "approach_to_rpm", speeds.empty() ? kNaN : RadPerSecondToRpm(speeds.back()));
 }
 
 void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {

@@ -58,6 +58,7 @@
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -128,6 +129,15 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
                                                          const Scene& scene, SweepDirection direction);
+
+// The result file of a study driven by sweeps (lifetime, attractor, ensemble), to be committed
+// when complete: its directory created, the scene's root attributes and level (ResultLevel of L3)
+// written, and the group `group` created.
+std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
+                                              const std::string& group);
+// The attributes approach_from_rpm and approach_to_rpm of `group`: the first and the last speed of
+// the approach (NaN: none).
+void WriteApproachSpeeds(ResultWriter& writer, const std::string& group, const SweepApproach& approach);
 
 // Writes /sweeps/jump_table (layout above).
 void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows);
