@@ -10,17 +10,8 @@
 // re-orthonormalizing the `exponents` tangent directions every `interval` seconds. The integrator
 // is the scene's sweep integrator (CVODES BDF), at `tolerance` when given.
 //
-// HDF5 layout (written atomically): root attributes as every result (scene_toml, level "L3", ...);
-// /attractor attributes direction, duration, discard, interval, sample_interval, exponents, blocks,
-// zero_tolerance, integrator, relative_tolerance, absolute_tolerance, approach_from_rpm /
-// approach_to_rpm (NaN without an approach), wall_seconds; datasets (one row per speed) speed_rpm, exponents and standard_errors
-// [speeds × k, 1/s], zero_exponents, positive_exponents, section_period (RubSectionPeriod, 0:
-// none), motion (RubMotion), status, message, untrusted (UntrustedSection: why, or ""; absent
-// in files made before it),
-// counted_s, cpu_seconds, steps; per contact the section, one entry per point in speed order:
-// section_speed_rpm_<contact>, section_time_s_<contact> (from the start of the counted record),
-// section_penetration_<contact> [m], section_normal_force_<contact> [N]; and per speed i
-// /attractor/running/<i> [k × intervals]: the running estimates, with running_time_s.
+// The study is studies/attractor_study.h's; the file (its HDF5 layout) and the summary are
+// apps/attractor_output.h's.
 #pragma once
 
 #include <iosfwd>

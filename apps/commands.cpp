@@ -69,6 +69,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                 std::vector<std::string>& failures, std::vector<std::filesystem::path>& checkpoints) {
   // Runs first (resumed or new), so the ETA can count every speed still to do. A direction not
   // asked for is carried over from an earlier result file of this scene, when there is one.
+  const RubStructure structure = SweepStructureOf(scene);
   std::vector<std::unique_ptr<SweepRun>> runs;
   std::vector<bool> carried;
   std::size_t remaining = 0;
@@ -79,8 +80,8 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
       if (std::optional<std::vector<SweepPoint>> earlier = ReadFinishedSweep(h5_file, scene, direction)) {
         progress("[sweep {}] kept from {}: {} speeds", ToString(direction), h5_file.string(),
                  earlier->size());
-        const Index n = SweepStructureOf(scene).States();
-        runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*earlier), Vector::Zero(n)));
+        runs.push_back(std::make_unique<SweepRun>(structure, RubSweepOptionsOf(scene, direction),
+                                                  std::move(*earlier), Vector::Zero(structure.States())));
         carried.push_back(true);
       }
       continue;
@@ -107,13 +108,14 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     if (saved) {
       progress("[sweep {}] resuming from {}: {} speeds done", ToString(direction),
                checkpoint.string(), saved->points.size());
-      runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(saved->points), saved->state));
+      runs.push_back(std::make_unique<SweepRun>(structure, RubSweepOptionsOf(scene, direction),
+                                                std::move(saved->points), saved->state));
     } else if (finished) {
       progress("[sweep {}] complete in {}: not run again", ToString(direction), h5_file.string());
-      const Index n = SweepStructureOf(scene).States();
-      runs.push_back(std::make_unique<SweepRun>(scene, direction, std::move(*finished), Vector::Zero(n)));
+      runs.push_back(std::make_unique<SweepRun>(structure, RubSweepOptionsOf(scene, direction),
+                                                std::move(*finished), Vector::Zero(structure.States())));
     } else {
-      runs.push_back(std::make_unique<SweepRun>(scene, direction));
+      runs.push_back(std::make_unique<SweepRun>(structure, RubSweepOptionsOf(scene, direction)));
     }
     carried.push_back(false);
     const SweepRun& run = *runs.back();
@@ -146,7 +148,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   for (std::size_t r = 0; r < runs.size(); ++r) {
     SweepRun& run = *runs[r];
     if (carried[r]) {
-      WriteSweep(writer, run);
+      WriteSweep(writer, scene, run);
       continue;
     }
     SweepStepper& stepper = run.stepper();
@@ -163,7 +165,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                  RadPerSecondToRpm(p.parameter), p.message);
         break;
       }
-      WriteSweepCheckpoint(checkpoint, run);
+      WriteSweepCheckpoint(checkpoint, scene, run);
       const RubSweepRegimes regimes = run.Regimes();
       const std::size_t i = stepper.points().size() - 1;
       const double elapsed = SecondsSince(start);
@@ -178,7 +180,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                Duration(elapsed / static_cast<double>(done) * static_cast<double>(remaining - done)));
       if (!regimes.untrusted[i].empty()) progress("{} {:.1f} rpm: untrusted: {}", label, RadPerSecondToRpm(p.parameter), regimes.untrusted[i]);
     }
-    WriteSweep(writer, run);
+    WriteSweep(writer, scene, run);
 
     // Summary on stdout.
     const std::vector<SweepPoint>& points = stepper.points();
@@ -221,7 +223,6 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
   // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
   // they can, and the sweeps do.
   const SteadyClock::time_point branches_start = SteadyClock::now();
-  const RubStructure structure = SweepStructureOf(scene);
   const std::vector<RotatingWaveBranch> branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));
   WriteRotatingWaveBranches(writer, branches, FrictionLawKind::kTanh,

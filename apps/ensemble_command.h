@@ -8,17 +8,8 @@
 // the regime `until`, or, with `until_above_hz` > 0, precesses faster than that. The copies run on
 // `threads` threads (0: one per core) and give the same numbers on any number.
 //
-// HDF5 layout (written atomically): root attributes as every result (scene_toml, level "L3", ...);
-// /ensemble attributes speed_rpm, direction, copies, duration, window, perturbation, seed, until,
-// until_contacts (absent in files made before it: every), until_above_hz and arrival (the target
-// in words; both absent in files made before them: 0, by regime),
-// approach_from_rpm / approach_to_rpm (NaN without an approach), approach_regime_left/_right,
-// wall_seconds, threads; datasets (one entry per copy) arrival_time_s (NaN: not reached),
-// reached, failed, untrusted (why the copy is untrusted, RubArrival::untrusted, or ""; absent in
-// files made before it), simulated_s, cpu_seconds; time_s (the end of each stretch); matrices copies ×
-// stretches precession_hz_<contact>, contact_fraction_<contact>, slip_velocity_<contact> and
-// regime codes regime_<contact> (the RubRegime order: 0 unknown, 1 no_contact, 2 intermittent,
-// 3 whirl, 4 whip).
+// The study is studies/ensemble_study.h's; the file (its HDF5 layout) and the summary are
+// apps/ensemble_output.h's.
 #pragma once
 
 #include <cstdint>

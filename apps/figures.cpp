@@ -1,11 +1,14 @@
 #include "apps/figures.h"
 
 #include <cstdlib>
+#include <ostream>
 #include <system_error>
 #include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <fmt/ostream.h>
 
 namespace rubcont {
 namespace {
@@ -80,6 +83,17 @@ FigureOutcome MakeFigures(const std::string& script, const std::filesystem::path
                       ")" + keep;
   }
   return outcome;
+}
+
+void DrawFigures(const std::string& script, const std::filesystem::path& h5_file, std::ostream& out,
+                 std::ostream& err) {
+  const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
+  const FigureOutcome figures = MakeFigures(script, h5_file, out_dir);
+  if (figures.made) {
+    fmt::print(out, "wrote figures ({}) in {}\n", script, out_dir.string());
+  } else {
+    fmt::print(err, "rubcont: warning: {}\n", figures.warning);
+  }
 }
 
 }  // namespace rubcont

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
 #include <string>
 
 namespace rubcont {
@@ -28,5 +29,10 @@ struct FigureOutcome {
 // missing interpreter or a failing script (see FigureOutcome).
 FigureOutcome MakeFigures(const std::string& script, const std::filesystem::path& h5_file,
                           const std::filesystem::path& out_dir);
+
+// MakeFigures into the directory of `h5_file` (or "."), then "wrote figures (<script>) in <dir>" on
+// `out`, or the warning on `err` ("rubcont: warning: ...").
+void DrawFigures(const std::string& script, const std::filesystem::path& h5_file, std::ostream& out,
+                 std::ostream& err);
 
 }  // namespace rubcont

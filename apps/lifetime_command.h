@@ -12,19 +12,8 @@
 // `check_step`, `check_dwell` seconds per speed, and where each leaves, beside the probabilities
 // the fitted law predicts for that schedule.
 //
-// HDF5 layout (written atomically): root attributes as every result; /lifetime attributes
-// direction, copies, duration, window, perturbation, seed, until, until_contacts (absent in
-// files made before it: every), until_above_hz and arrival (the target in words; both absent in
-// files made before them: 0, by regime), approach_from_rpm /
-// approach_to_rpm, wall_seconds, cpu_seconds, threads; datasets speed_rpm, escapes, stayed, failed,
-// untrusted (copies with a stretch beyond [analysis.sweep] max_penetration before they arrived,
-// RubArrival::untrusted; absent in files made before it), escape_rate (1/s; +inf: every copy in its first stretch), rate_lower, rate_upper, rate_status
-// ("estimated", "no escape", "all in the first stretch"), arrival_time_s (speeds × copies; NaN:
-// stayed); /lifetime/crisis attributes status, message, critical_speed_rpm, critical_lower_rpm,
-// critical_upper_rpm, lower_bounded, upper_bounded (0/1), exponent, amplitude (1/s per rpm^γ),
-// log_likelihood; /lifetime/check (when check_copies > 0) attributes dwell, step_rpm; datasets
-// speed_rpm (the schedule), predicted_leave_probability (per speed), jump_speed_rpm (per copy:
-// the speed at which it arrived; NaN: kept the state to the end), jump_time_s.
+// The study is studies/lifetime_study.h's; the file (its HDF5 layout) and the summary are
+// apps/lifetime_output.h's.
 #pragma once
 
 #include <cstdint>

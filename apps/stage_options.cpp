@@ -60,10 +60,6 @@ const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user) {
   return scene.two_point;
 }
 
-const char* ToString(SweepDirection direction) {
-  return direction == SweepDirection::kUp ? "up" : "down";
-}
-
 SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
   const SweepSettings& s = scene.analysis.sweep;
   SweepOptions o;
@@ -110,6 +106,29 @@ RubRegimeOptions RegimeOptionsOf(const Scene& scene) {
   o.whirl_tolerance = scene.analysis.sweep.whirl_tolerance;
   o.frequency_jump_hz = scene.analysis.sweep.frequency_jump_hz;
   o.max_penetration = scene.analysis.sweep.max_penetration;
+  return o;
+}
+
+RubSweepOptions RubSweepOptionsOf(const Scene& scene, SweepDirection direction) {
+  RubSweepOptions o;
+  o.direction = direction;
+  o.sweep = SweepOptionsOf(scene, direction);
+  o.regimes = RegimeOptionsOf(scene);
+  o.impulse = scene.analysis.sweep.impulse;
+  return o;
+}
+
+Scene AttractorSceneOf(const Scene& scene) {
+  Scene bdf = scene;
+  bdf.analysis.sweep.integrator = SweepIntegrator::kBdf;
+  return bdf;
+}
+
+AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection approach) {
+  AttractorStudyOptions o;
+  o.approach = RubSweepOptionsOf(AttractorSceneOf(scene), approach);
+  o.attractor.integrator = o.approach.sweep.integrator;
+  o.attractor.integrator.sensitivity_error_control = false;
   return o;
 }
 

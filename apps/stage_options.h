@@ -5,6 +5,8 @@
 #include "apps/scene.h"
 #include "models/analytic.h"
 #include "models/rub_model.h"
+#include "studies/attractor_study.h"
+#include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 #include "waves/rotating_wave_branches.h"
 
@@ -32,14 +34,26 @@ int ThreadsOption(int requested);
 // scene's model for any other model, and for a scene with [flexible] (level L4).
 const TwoPointParams& TwoPointParamsOf(const Scene& scene, const char* user);
 
-enum class SweepDirection { kUp, kDown };
-const char* ToString(SweepDirection direction);  // "up", "down"
-
 // The structure a sweep integrates: the two-point rotor's. Throws std::invalid_argument naming the
 // scene's model for any other.
 RubStructure SweepStructureOf(const Scene& scene);
 // The library options of one direction of the scene's sweep (speeds in rad/s), and its regime rule.
 SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction);
 RubRegimeOptions RegimeOptionsOf(const Scene& scene);
+// All of one direction of the scene's sweep as sweeps/rub_runs.h runs it: SweepOptionsOf,
+// RegimeOptionsOf and the impulse.
+RubSweepOptions RubSweepOptionsOf(const Scene& scene, SweepDirection direction);
+
+// The scene as the attractor study runs it: its sweeps integrated by CVODES BDF whatever its
+// [analysis.sweep] integrator, since the Lyapunov exponents integrate the variational equations as
+// forward sensitivities, which Odeint's Dormand–Prince does not (the committed attractor runs were
+// made so); the approach uses the same integrator. `rubcont attractor` records this scene.
+Scene AttractorSceneOf(const Scene& scene);
+// The attractor study's options from the scene (AttractorSceneOf): the approach sweep in
+// `approach` and the exponents' integrator, the sweep's BDF at its tolerances with the tangents
+// (sensitivities) outside the error test, as the committed attractor runs were made (in the error
+// test they cost the rub's torus maps 830 000 steps per period against 12 000: README.md, C(a) at
+// 49 rpm). The schedule and the record are the caller's.
+AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection approach);
 
 }  // namespace rubcont

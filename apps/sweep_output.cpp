@@ -1,7 +1,7 @@
 #include "apps/sweep_output.h"
 
 #include <cmath>
-#include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -66,14 +66,14 @@ std::vector<double> PerChannel(const std::vector<SweepPoint>& points, std::size_
   });
 }
 
-void WriteAttributes(ResultWriter& writer, const std::string& group, const SweepRun& run) {
+void WriteAttributes(ResultWriter& writer, const std::string& group, const Scene& scene, const SweepRun& run) {
   const SweepOptions& o = run.stepper().options();
   writer.SetAttribute(group, "direction", ToString(run.direction()));
   writer.SetAttribute(group, "level", ToString(Level::kL3));
   writer.SetAttribute(group, "speeds_planned", static_cast<double>(o.parameters.size()));
   // Every [analysis.sweep] key under its own name (a range as two numbers; `integrator` the
   // scene's choice), then the methods it stands for.
-  for (const auto& [key, value] : SweepKeyValues(run.scene())) {
+  for (const auto& [key, value] : SweepKeyValues(scene)) {
     if (const auto* text = std::get_if<std::string>(&value)) {
       writer.SetAttribute(group, key, *text);
     } else if (const auto& values = std::get<std::vector<double>>(value); values.size() == 1) {
@@ -91,13 +91,12 @@ void WriteAttributes(ResultWriter& writer, const std::string& group, const Sweep
   writer.SetAttribute(group, "velocity_scale", run.structure().law.velocity_scale);
 }
 
-void WritePoints(ResultWriter& writer, const std::string& group, const SweepRun& run,
+void WritePoints(ResultWriter& writer, const std::string& group, const Scene& scene, const SweepRun& run,
                  const std::vector<SweepPoint>& points) {
   const RubStructure& structure = run.structure();
   writer.CreateGroup(group);
-  WriteAttributes(writer, group, run);
-  const RubSweepRegimes regimes =
-      ClassifySweep(structure, points, RegimeOptionsOf(run.scene()));
+  WriteAttributes(writer, group, scene, run);
+  const RubSweepRegimes regimes = ClassifySweep(structure, points, run.options().regimes);
   double wall = 0.0;
   for (const SweepPoint& p : points) wall += p.wall_seconds;
   writer.SetAttribute(group, "wall_seconds", wall);
@@ -212,76 +211,10 @@ SweepPointStatus ParseStatus(const std::string& text) {
 
 }  // namespace
 
-SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double speed,
-                            const std::function<void(const SweepRun& run)>& progress) {
-  SweepOptions options = SweepOptionsOf(scene, direction);
-  const double sign = direction == SweepDirection::kUp ? 1.0 : -1.0;
-  SweepApproach approach;
-  for (double p : options.parameters)
-    if (sign * (speed - p) > 1e-9 * speed) approach.speeds.push_back(p);
-  const RubStructure structure = SweepStructureOf(scene);
-  approach.state = RubImpulseIncrement(structure, scene.analysis.sweep.impulse);
-  approach.regimes.assign(structure.contacts.size(), RubRegime::kUnknown);
-  if (approach.speeds.empty()) return approach;
-  options.parameters = approach.speeds;
-  SweepRun run(scene, direction, options);
-  while (!run.stepper().Done() && !run.stepper().Failed()) {
-    run.stepper().Step();
-    if (progress) progress(run);
-  }
-  if (run.stepper().Failed()) {
-    throw std::runtime_error("the approach sweep failed: " + run.stepper().points().back().message);
-  }
-  const RubSweepRegimes regimes = run.Regimes();
-  for (std::size_t k = 0; k < approach.regimes.size(); ++k) approach.regimes[k] = regimes.regime[k].back();
-  approach.state = run.stepper().state();
-  return approach;
-}
-
-RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
-                       double window, const Vector& x0, const EnsembleOptions& options,
-                       const ArrivalTarget& target, const EnsembleProgress& progress) {
-  SweepOptions stretches = SweepOptionsOf(scene, direction);
-  stretches.parameters = speeds;
-  stretches.window = window;
-  stretches.settle_windows = 1;
-  stretches.dwell = 2.0 * window;
-  stretches.analysis_length = 2.0 * window;
-  const RubStructure structure = SweepStructureOf(scene);
-  RubCopies out;
-  const SteadyClock::time_point start = SteadyClock::now();
-  out.copies = RunEnsemble(
-      [&] { return std::make_unique<RubFixedFrame>(structure); },
-      [](OdeSystem& system) { return std::make_unique<RubSweepObservables>(static_cast<RubFixedFrame&>(system)); },
-      stretches, x0, options, progress);
-  out.wall_seconds = SecondsSince(start);
-  out.stretch_seconds = 2.0 * window;
-  for (const EnsembleCopy& copy : out.copies) {
-    if (!copy.points.empty() && copy.points.front().status != SweepPointStatus::kIntegrationFailure) {
-      out.stretch_seconds = copy.points.front().simulated_time;
-      break;
-    }
-  }
-  out.arrivals = RubArrivals(structure, out.copies, target, RegimeOptionsOf(scene));
-  return out;
-}
-
-int StretchCount(double seconds, double window) {
-  return static_cast<int>(std::ceil(seconds / (2.0 * window) - 1e-9));
-}
-
 SweepDirection ParseDirection(const char* option, const std::string& value) {
   if (value == "up") return SweepDirection::kUp;
   if (value == "down") return SweepDirection::kDown;
   throw std::invalid_argument(fmt::format("--{} = {}: must be up or down", option, value));
-}
-
-std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes) {
-  std::string list;
-  for (std::size_t k = 0; k < regimes.size(); ++k) {
-    list += fmt::format("{}{} {}", k ? ", " : "", structure.contacts[k].name, ToString(regimes[k]));
-  }
-  return list;
 }
 
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads) {
@@ -326,6 +259,19 @@ ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regim
   throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", regime));
 }
 
+std::string UntilContacts(const RubStructure& structure, const ArrivalTarget& target) {
+  switch (target.contacts) {
+    case ArrivalContacts::kEvery: return "every";
+    case ArrivalContacts::kAny: return "any";
+    case ArrivalContacts::kOne: return structure.contacts.at(static_cast<std::size_t>(target.contact)).name;
+  }
+  return "?";
+}
+
+double UntilAboveHz(const ArrivalTarget& target) {
+  return std::isnan(target.precession_above_hz) ? 0.0 : target.precession_above_hz;
+}
+
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start) {
   return [&err, tag, start](const SweepRun& run) {
@@ -337,31 +283,8 @@ std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err
   };
 }
 
-SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::optional<SweepOptions> options)
-    : scene_(scene), direction_(direction) {
-  system_ = std::make_unique<RubFixedFrame>(SweepStructureOf(scene));
-  observables_ = std::make_unique<RubSweepObservables>(*system_);
-  const Vector x0 = RubImpulseIncrement(system_->structure(), scene.analysis.sweep.impulse);
-  stepper_ = std::make_unique<SweepStepper>(
-      *system_, *observables_, options ? std::move(*options) : SweepOptionsOf(scene, direction), x0);
-}
-
-SweepRun::SweepRun(const Scene& scene, SweepDirection direction, std::vector<SweepPoint> finished,
-                   const Vector& state, std::optional<SweepOptions> options)
-    : scene_(scene), direction_(direction) {
-  system_ = std::make_unique<RubFixedFrame>(SweepStructureOf(scene));
-  observables_ = std::make_unique<RubSweepObservables>(*system_);
-  stepper_ = std::make_unique<SweepStepper>(
-      *system_, *observables_, options ? std::move(*options) : SweepOptionsOf(scene, direction),
-      std::move(finished), state);
-}
-
-RubSweepRegimes SweepRun::Regimes() const {
-  return ClassifySweep(structure(), stepper_->points(), RegimeOptionsOf(scene_));
-}
-
-void WriteSweep(ResultWriter& writer, const SweepRun& run) {
-  WritePoints(writer, Group(run.direction()), run, run.stepper().points());
+void WriteSweep(ResultWriter& writer, const Scene& scene, const SweepRun& run) {
+  WritePoints(writer, Group(run.direction()), scene, run, run.stepper().points());
 }
 
 std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirection direction) {
@@ -458,12 +381,12 @@ std::filesystem::path CheckpointPath(const std::filesystem::path& h5_file, Sweep
   return path;
 }
 
-void WriteSweepCheckpoint(const std::filesystem::path& file, const SweepRun& run) {
+void WriteSweepCheckpoint(const std::filesystem::path& file, const Scene& scene, const SweepRun& run) {
   std::vector<SweepPoint> points = run.stepper().points();
   if (!points.empty() && points.back().status == SweepPointStatus::kIntegrationFailure) points.pop_back();
   ResultWriter writer(file);
-  WriteSceneAttributes(writer, run.scene());
-  WritePoints(writer, Group(run.direction()), run, points);
+  WriteSceneAttributes(writer, scene);
+  WritePoints(writer, Group(run.direction()), scene, run, points);
   writer.WriteDoubles("/checkpoint/state", run.stepper().state());
   writer.SetAttribute("/checkpoint", "direction", ToString(run.direction()));
   writer.SetAttribute("/checkpoint", "next_index", static_cast<double>(points.size()));
@@ -489,6 +412,22 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
   const std::vector<double> state = reader.ReadDoubles("/checkpoint/state");
   checkpoint.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
   return checkpoint;
+}
+
+std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
+                                              const std::string& group) {
+  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+  auto writer = std::make_unique<ResultWriter>(file);
+  WriteSceneAttributes(*writer, scene);
+  writer->SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));
+  writer->CreateGroup(group);
+  return writer;
+}
+
+void WriteApproachSpeeds(ResultWriter& writer, const std::string& group, const SweepApproach& approach) {
+  const std::vector<double>& speeds = approach.speeds;
+  writer.SetAttribute(group, "approach_from_rpm", speeds.empty() ? kNaN : RadPerSecondToRpm(speeds.front()));
+  writer.SetAttribute(group, "approach_to_rpm", speeds.empty() ? kNaN : RadPerSecondToRpm(speeds.back()));
 }
 
 void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows) {

@@ -1,5 +1,6 @@
-// The sweep stage of a scene (level L3): its set-up from [analysis.sweep], the /sweeps part of a
-// result file, and the checkpoints that let an interrupted sweep resume.
+// The sweep stage of a scene (level L3) on file: the /sweeps part of a result file, the checkpoints
+// that let an interrupted sweep resume, and the sweep-driven commands' options (the runs
+// themselves are sweeps/rub_runs.h's, their options from the scene apps/stage_options.h's).
 //
 //   /sweeps/up, /sweeps/down     attrs direction, level = "L3", status ("complete" | "partial" |
 //                                "failure"), speeds_planned, wall_seconds, integrator, max_order,
@@ -67,84 +68,21 @@
 #include "apps/stage_options.h"
 #include "solvers/stopwatch.h"
 #include "studies/jump_prediction.h"
-#include "sweeps/ensemble.h"
+#include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 
-// One direction of a scene's sweep: the model, its observables and the stepper. Throws
-// std::invalid_argument when the scene's model is not the two-point rotor.
-class SweepRun {
- public:
-  // A new sweep: rotor and stator centred and at rest, plus the scene's impulse. `options`
-  // replaces SweepOptionsOf(scene, direction) (benchmarks and tests vary the integrator).
-  SweepRun(const Scene& scene, SweepDirection direction,
-           std::optional<SweepOptions> options = std::nullopt);
-  // Resumes from finished points and the state after the last one.
-  SweepRun(const Scene& scene, SweepDirection direction, std::vector<SweepPoint> finished,
-           const Vector& state, std::optional<SweepOptions> options = std::nullopt);
-  SweepRun(const SweepRun&) = delete;
-  SweepRun& operator=(const SweepRun&) = delete;
-
-  SweepDirection direction() const { return direction_; }
-  SweepStepper& stepper() { return *stepper_; }
-  const SweepStepper& stepper() const { return *stepper_; }
-  const RubStructure& structure() const { return system_->structure(); }
-  const Scene& scene() const { return scene_; }
-  RubSweepRegimes Regimes() const;
-
- private:
-  Scene scene_;
-  SweepDirection direction_;
-  std::unique_ptr<RubFixedFrame> system_;
-  std::unique_ptr<RubSweepObservables> observables_;
-  std::unique_ptr<SweepStepper> stepper_;
-};
-
-// The state a sweep of the scene reaches before `speed` [rad/s]: the scene's schedule in
-// `direction` up to the last speed before `speed`, from the impulse (the impulse alone when no
-// speed of the schedule comes before). `progress` is called after each speed. Throws
-// std::runtime_error when the sweep fails.
-struct SweepApproach {
-  Vector state;
-  std::vector<double> speeds;      // [rad/s] the speeds swept (empty: none)
-  std::vector<RubRegime> regimes;  // per contact, at the last of them (kUnknown: none)
-};
-SweepApproach ApproachSweep(const Scene& scene, SweepDirection direction, double speed,
-                            const std::function<void(const SweepRun& run)>& progress = {});
-
-// ApproachSweep's progress on `err`, one line per speed: "rubcont: [<tag>] approach <direction>
-// <rpm> rpm (<done>/<speeds>, <seconds since start> s)".
+// ApproachSweep's progress (sweeps/rub_runs.h) on `err`, one line per speed: "rubcont: [<tag>]
+// approach <direction> <rpm> rpm (<done>/<speeds>, <seconds since start> s)".
 std::function<void(const SweepRun& run)> PrintApproachProgress(std::ostream& err, const std::string& tag,
                                                                SteadyClock::time_point start);
-
-// Perturbed copies of `x0` (sweeps/ensemble.h) marched through `speeds` [rad/s], one stretch of two
-// `window`s per entry (repeat a speed to stay at it), each stretch classified as a sweep speed of
-// the scene (its regime rules), and when each copy arrives at `target` (RubArrivals).
-struct RubCopies {
-  std::vector<EnsembleCopy> copies;
-  std::vector<RubArrival> arrivals;
-  double wall_seconds = 0.0;
-  // The time simulated per stretch (a window is a whole number of samples, so a stretch is
-  // 2·round(window·rate)/rate), read off the first copy whose first stretch did not fail;
-  // 2·window when none.
-  double stretch_seconds = 0.0;
-};
-RubCopies RunRubCopies(const Scene& scene, SweepDirection direction, const std::vector<double>& speeds,
-                       double window, const Vector& x0, const EnsembleOptions& options,
-                       const ArrivalTarget& target, const EnsembleProgress& progress = {});
-
-// "left whip, right whip": each contact's name and regime.
-std::string RegimeList(const RubStructure& structure, const std::vector<RubRegime>& regimes);
-
-// The stretches of two `window`s that cover `seconds`: ⌈seconds / (2·window)⌉.
-int StretchCount(double seconds, double window);
 
 // The sweep direction named by option `option` ("up" or "down"); throws std::invalid_argument
 // naming the option, the value and the rule.
 SweepDirection ParseDirection(const char* option, const std::string& value);
 
-// The options of RunRubCopies as a command takes them (--copies, --window, --duration,
+// The options of RunRubCopies (sweeps/rub_runs.h) as a command takes them (--copies, --window, --duration,
 // --perturbation, --threads); throws std::invalid_argument naming the option, value and rule.
 void CheckCopyOptions(int copies, double window, double duration, double perturbation, int threads);
 
@@ -153,17 +91,22 @@ void CheckCopyOptions(int copies, double window, double duration, double perturb
 // name); throws std::invalid_argument naming the option, the value and the rule.
 ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regime, double above_hz,
                          const std::string& contacts);
+// The options --until-contacts and --until-above that ParseUntil reads as `target`: "every", "any"
+// or the contact's name; the precession threshold [Hz], 0 when by regime. (--until is
+// ToString(target.regime).)
+std::string UntilContacts(const RubStructure& structure, const ArrivalTarget& target);
+double UntilAboveHz(const ArrivalTarget& target);
 
-// Writes /sweeps/<direction> for the points finished so far.
-void WriteSweep(ResultWriter& writer, const SweepRun& run);
+// Writes /sweeps/<direction> for the points finished so far of `run`, a sweep of `scene`.
+void WriteSweep(ResultWriter& writer, const Scene& scene, const SweepRun& run);
 
 // The points of /sweeps/<direction> read back (what resuming needs; bins of the peaks are not
 // stored). Throws std::runtime_error when the group is missing or malformed.
 std::vector<SweepPoint> ReadSweepPoints(const ResultReader& reader, SweepDirection direction);
 
-// Writes the checkpoint of `run` (its finished speeds that did not fail, and the state)
-// atomically to `file`.
-void WriteSweepCheckpoint(const std::filesystem::path& file, const SweepRun& run);
+// Writes the checkpoint of `run`, a sweep of `scene` (its finished speeds that did not fail, and
+// the state), atomically to `file`.
+void WriteSweepCheckpoint(const std::filesystem::path& file, const Scene& scene, const SweepRun& run);
 
 struct SweepCheckpoint {
   std::vector<SweepPoint> points;
@@ -186,6 +129,15 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 // under the scene's current rules (and the current code's) without integrating again.
 std::optional<std::vector<SweepPoint>> ReadFinishedSweep(const std::filesystem::path& file,
                                                          const Scene& scene, SweepDirection direction);
+
+// The result file of a study driven by sweeps (lifetime, attractor, ensemble), to be committed
+// when complete: its directory created, the scene's root attributes and level (ResultLevel of L3)
+// written, and the group `group` created.
+std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
+                                              const std::string& group);
+// The attributes approach_from_rpm and approach_to_rpm of `group`: the first and the last speed of
+// the approach (NaN: none).
+void WriteApproachSpeeds(ResultWriter& writer, const std::string& group, const SweepApproach& approach);
 
 // Writes /sweeps/jump_table (layout above).
 void WriteJumpTable(ResultWriter& writer, const std::vector<PredictedJump>& rows);

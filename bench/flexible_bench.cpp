@@ -15,7 +15,6 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/sweep_output.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
 
@@ -37,7 +36,7 @@ double SweepCpuSeconds(Scene scene, std::string& last) {
   scene.analysis.sweep.up_range_rpm = {52.0, 60.0};
   scene.analysis.sweep.speed_step_rpm = 4.0;
   const double start = ProcessCpuSeconds();
-  SweepRun run(scene, SweepDirection::kUp);
+  SweepRun run(SweepStructureOf(scene), RubSweepOptionsOf(scene, SweepDirection::kUp));
   while (!run.stepper().Done() && !run.stepper().Failed()) run.stepper().Step();
   const double seconds = ProcessCpuSeconds() - start;
   const RubSweepRegimes regimes = run.Regimes();

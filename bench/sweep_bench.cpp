@@ -23,7 +23,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/sweep_output.h"
+#include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 
 namespace {
@@ -124,7 +124,9 @@ int main(int argc, char** argv) {
       options.integrator.max_order = 0;
       if (order > 0) options.integrator.explicit_order = options.integrator.implicit_order = order;
     }
-    rubcont::SweepRun run(scene, dir, options);
+    rubcont::RubSweepOptions run_options = rubcont::RubSweepOptionsOf(scene, dir);
+    run_options.sweep = options;
+    rubcont::SweepRun run(rubcont::SweepStructureOf(scene), run_options);
     std::map<std::string, Totals> by_regime;
     Totals total;
     while (!run.stepper().Done() && !run.stepper().Failed()) {

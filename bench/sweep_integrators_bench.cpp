@@ -31,9 +31,10 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/sweep_output.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
+#include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 
 namespace {
@@ -90,8 +91,9 @@ Outcome Run(const rubcont::Scene& scene, double rpm, const rubcont::Vector& x0, 
   Outcome out;
   std::vector<double> cpu;
   for (int r = 0; r < repeats; ++r) {
-    rubcont::SweepRun run(scene, rubcont::SweepDirection::kUp, {}, x0,
-                          OneSpeed(scene, rpm, length, m.options));
+    rubcont::RubSweepOptions options = rubcont::RubSweepOptionsOf(scene, rubcont::SweepDirection::kUp);
+    options.sweep = OneSpeed(scene, rpm, length, m.options);
+    rubcont::SweepRun run(rubcont::SweepStructureOf(scene), options, {}, x0);
     const double c0 = rubcont::ProcessCpuSeconds();
     run.stepper().Step();
     cpu.push_back(rubcont::CpuSecondsSince(c0));
@@ -207,7 +209,7 @@ double Worst(const double (&a)[2], const double (&b)[2]) {
   double worst = 0.0;
   for (int k = 0; k < 2; ++k) {
     const double d = std::isnan(a[k]) && std::isnan(b[k]) ? 0.0 : std::abs(a[k] - b[k]);
-    worst = std::max(worst, std::isnan(d) ? INFINITY : d);
+    worst = std::max(worst, std::isnan(d) ? rubcont::kInfinity : d);
   }
   return worst;
 }
@@ -264,9 +266,9 @@ int main(int argc, char** argv) {
     rubcont::Scene s = scene;
     s.analysis.sweep.up_range_rpm = {regime.from_rpm, regime.to_rpm};
     s.analysis.sweep.speed_step_rpm = regime.step_rpm;
-    rubcont::SweepOptions o = rubcont::SweepOptionsOf(s, rubcont::SweepDirection::kUp);
-    o.integrator = approach.options;
-    rubcont::SweepRun run(s, rubcont::SweepDirection::kUp, o);
+    rubcont::RubSweepOptions o = rubcont::RubSweepOptionsOf(s, rubcont::SweepDirection::kUp);
+    o.sweep.integrator = approach.options;
+    rubcont::SweepRun run(rubcont::SweepStructureOf(s), o);
     while (!run.stepper().Done() && !run.stepper().Failed()) run.stepper().Step();
     if (run.stepper().Failed()) {
       std::printf("%s: the approach failed: %s\n", regime.name, run.stepper().points().back().message.c_str());

@@ -50,13 +50,13 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
-#include "apps/sweep_output.h"
 #include "models/analytic.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "studies/whirl_limits.h"
+#include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -299,9 +299,10 @@ Row RunJumpWindow(const Scene& scene, SweepDirection direction, const SweepSetti
     r.note = fmt::format("no stable whirl at {:g} rpm to start from", rpm.front());
     return r;
   }
-  SweepRun run(scene, direction, {},
-               FixedFrameState(structure, whirl, RpmToRadPerSecond(rpm.front())),
-               OptionsFor(scene, direction, s, rpm));
+  RubSweepOptions options = RubSweepOptionsOf(scene, direction);
+  options.sweep = OptionsFor(scene, direction, s, rpm);
+  SweepRun run(SweepStructureOf(scene), options, {},
+               FixedFrameState(structure, whirl, RpmToRadPerSecond(rpm.front())));
   const RubSweepJump* jump = nullptr;
   RubSweepRegimes regimes;
   while (!run.stepper().Done() && !run.stepper().Failed() && jump == nullptr) {
@@ -359,7 +360,9 @@ PrecessionRun RunPrecession(const Scene& scene, const SweepSetting& s, double q1
   r.method = "sweep";
   r.setting = s.name + ": " + Describe(s, false);
   const double start = ProcessCpuSeconds();
-  SweepRun run(scene, SweepDirection::kUp, OptionsFor(scene, SweepDirection::kUp, s, {q1_rpm}));
+  RubSweepOptions options = RubSweepOptionsOf(scene, SweepDirection::kUp);
+  options.sweep = OptionsFor(scene, SweepDirection::kUp, s, {q1_rpm});
+  SweepRun run(SweepStructureOf(scene), options);
   run.stepper().Step();
   r.cpu_s = ProcessCpuSeconds() - start;
   const SweepPoint& p = run.stepper().points().back();

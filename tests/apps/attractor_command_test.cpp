@@ -1,5 +1,4 @@
 // `rubcont attractor`, run as a user runs it: the verdict on a whirl, the file, bad input.
-#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -36,14 +35,9 @@ TEST_CASE("rubcont attractor: the whirl is a rotating wave, one zero exponent, i
   CHECK(r.ReadStrings("/attractor/motion") == std::vector<std::string>{"rotating wave"});
   CHECK(r.ReadStrings("/attractor/untrusted") == std::vector<std::string>{""});
   CHECK(r.ReadInts("/attractor/zero_exponents") == std::vector<int>{1});
-  const Matrix exponents = r.ReadMatrix("/attractor/exponents");
-  const Matrix errors = r.ReadMatrix("/attractor/standard_errors");
-  REQUIRE(exponents.cols() == 3);
-  CAPTURE(exponents, errors);
-  // The rotation (= the time shift) is neutral: zero within its error (measured −1.27 ± 1.79/s
-  // over 0.2 s); the next ones decay (−10.8, −11.3/s).
-  CHECK(std::abs(exponents(0, 0)) <= 3.0 * errors(0, 0));
-  CHECK(exponents(0, 1) < -3.0 * errors(0, 1));
+  // The exponents' values are tests/studies/attractor_study_test.cpp's; here their shape.
+  CHECK(r.ReadMatrix("/attractor/exponents").cols() == 3);
+  CHECK(r.ReadMatrix("/attractor/standard_errors").cols() == 3);
   CHECK(r.ReadDoubles("/attractor/counted_s").at(0) == Approx(0.2));
   CHECK(r.ReadMatrix("/attractor/running/0").cols() == 20);
   // Rolling in full contact, still settling 0.05 s after the step to 48 rpm (the exponents'

@@ -20,8 +20,10 @@ using testing::Slurp;
 using testing::TempDir;
 using testing::WhirlScene;
 
+// The study's numbers (arrivals, quantiles, threads) are tests/studies/ensemble_study_test.cpp's;
+// here the command: options, summary, file.
 TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it or arrive at "
-          "once, the same on one thread and on two", "[ensemble_cli]") {
+          "once", "[ensemble_cli]") {
   TempDir dir;
   const fs::path scene = WhirlScene(dir.path);
   auto run = [&](const std::string& until, int threads, const fs::path& h5) {
@@ -37,7 +39,6 @@ TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it
   const Outcome whirl = run("whirl", 2, dir.path / "whirl.h5");
   CHECK_THAT(whirl.out, Contains("from the up sweep 40 → 44 rpm (left whirl, right whirl)"));
   CHECK_THAT(whirl.out, Contains("3 of 3 reached whirl on every contact, after 0.10 s (min)"));
-  run("whirl", 1, dir.path / "serial.h5");
   const Outcome whip = run("whip", 2, dir.path / "whip.h5");
   CHECK_THAT(whip.out, Contains("0 of 3 reached whip"));
   {
@@ -59,9 +60,6 @@ TEST_CASE("rubcont ensemble: copies of the whirl reached by the sweep stay in it
     REQUIRE(bp.cols() == 3);
     CHECK((bp.array() - 80.0).abs().maxCoeff() < 0.8);
     CHECK(r.ReadMatrix("/ensemble/regime_left") == Matrix::Constant(3, 3, 3.0));  // whirl
-    ResultReader serial(dir.path / "serial.h5");
-    CHECK(serial.ReadMatrix("/ensemble/precession_hz_right") == r.ReadMatrix("/ensemble/precession_hz_right"));
-    CHECK(serial.ReadMatrix("/ensemble/contact_fraction_left") == r.ReadMatrix("/ensemble/contact_fraction_left"));
   }
   {
     ResultReader r(dir.path / "whip.h5");
