@@ -12,6 +12,7 @@
 #include "apps/batch_command.h"
 #include "apps/ensemble_command.h"
 #include "apps/lifetime_command.h"
+#include "apps/loop_command.h"
 #include "apps/fit_command.h"
 #include "apps/flexible_command.h"
 #include "apps/map_command.h"
@@ -203,6 +204,24 @@ int main(int argc, char** argv) {
   lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
 
+  rubcont::LoopRequest loop_request;
+  std::vector<double> loop_schedule;
+  double loop_budget = 0.0;
+  std::string loop_out;
+  CLI::App* loop = app.add_subcommand(
+      "loop", "the hysteresis loop of the scene's rotor, explained: every jump of a run-up and a run-down, its "
+              "cause (L1 rotating waves; L3 escape rates for a whip that ends by chance), how sure, and the level");
+  loop->add_option("SCENE", loop_request.scene_file, "scene file (TOML), model two_point")->required();
+  loop->add_option("--schedule", loop_schedule,
+                   "STEP_RPM DWELL_S: the run's speed step and time per speed; default the scene's "
+                   "[analysis.sweep] speed_step_rpm and dwell")
+      ->expected(2);
+  loop->add_option("--budget", loop_budget, "CPU seconds for the whole loop; default 300");
+  loop->add_option("--threads", loop_request.threads, "threads (0: one per core)")->capture_default_str();
+  loop->add_option("--out", loop_out, "HDF5 file; default results/<scene>/loop.h5");
+  loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");
+  loop->add_flag("-q,--quiet", loop_request.quiet, "no progress on stderr");
+
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
   int flexible_modes = 4;
@@ -298,6 +317,15 @@ int main(int argc, char** argv) {
   if (*lifetime) {
     if (!lifetime_out.empty()) lifetime_request.out_file = lifetime_out;
     return rubcont::LifetimeCommand(lifetime_request, std::cout, std::cerr);
+  }
+  if (*loop) {
+    if (loop_schedule.size() == 2) {
+      loop_request.step_rpm = loop_schedule[0];
+      loop_request.dwell = loop_schedule[1];
+    }
+    if (loop->count("--budget") > 0) loop_request.budget = loop_budget;
+    if (!loop_out.empty()) loop_request.out_file = loop_out;
+    return rubcont::LoopCommand(loop_request, std::cout, std::cerr);
   }
   if (*attractor) {
     if (!attractor_out.empty()) attractor_request.out_file = attractor_out;

@@ -113,4 +113,23 @@ std::vector<std::string> Ranks::Gather(const std::string& mine, bool everywhere)
 #endif
 }
 
+JobRunner RankJobs(const Ranks& ranks, int threads) {
+  if (ranks.size() == 1) return ThreadJobs(threads);
+  return [&ranks, threads](int n, const std::function<std::string(int)>& job) {
+    const int size = ranks.size(), rank = ranks.rank();
+    const int mine = n > rank ? (n - rank + size - 1) / size : 0;
+    const std::vector<std::string> local =
+        ThreadJobs(threads)(mine, [&](int k) { return job(rank + k * size); });
+    Packer packer;
+    for (const std::string& r : local) packer.Put(r);
+    const std::vector<std::string> parts = ranks.AllGather(packer.str());
+    std::vector<std::string> results(static_cast<std::size_t>(n));
+    for (int r = 0; r < size; ++r) {
+      Unpacker unpacker(parts[static_cast<std::size_t>(r)]);
+      for (int i = r; i < n; i += size) results[static_cast<std::size_t>(i)] = unpacker.GetString();
+    }
+    return results;
+  };
+}
+
 }  // namespace rubcont

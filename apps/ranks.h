@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "solvers/parallel.h"
+
 namespace rubcont {
 
 // Values into one string and back, to send over GatherToRoot (same machine type on every rank).
@@ -80,5 +82,9 @@ class Ranks {
   int size_ = 1;
   bool mpi_ = false;
 };
+
+// Jobs over the ranks and, within each, `threads` threads: rank r runs the jobs r, r + N, r + 2N, …
+// and every rank receives every result, in order (AllGather). With one rank it is ThreadJobs.
+JobRunner RankJobs(const Ranks& ranks, int threads);
 
 }  // namespace rubcont

@@ -141,4 +141,14 @@ RubStructure SweepStructureOf(const Scene& scene) {
   return StructureOf(scene);
 }
 
+LoopOptions LoopOptionsOf(const Scene& scene) {
+  LoopOptions o;
+  o.up = RubSweepOptionsOf(scene, SweepDirection::kUp);
+  o.down = RubSweepOptionsOf(scene, SweepDirection::kDown);
+  o.step_rpm = scene.analysis.sweep.speed_step_rpm;
+  o.dwell = scene.analysis.sweep.dwell;
+  o.waves = BranchOptionsOf(scene);
+  return o;
+}
+
 }  // namespace rubcont

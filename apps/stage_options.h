@@ -6,6 +6,7 @@
 #include "models/analytic.h"
 #include "models/rub_model.h"
 #include "studies/attractor_study.h"
+#include "studies/loop.h"
 #include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 #include "waves/rotating_wave_branches.h"
@@ -55,5 +56,12 @@ Scene AttractorSceneOf(const Scene& scene);
 // test they cost the rub's torus maps 830 000 steps per period against 12 000: README.md, C(a) at
 // 49 rpm). The schedule and the record are the caller's.
 AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection approach);
+
+// The loop study's options (studies/loop.h): the scene's sweeps in both directions (their ranges,
+// integrators, windows, regime rules, impulse) with their step and dwell as the run's schedule, and
+// the branch set of the sweep stage (BranchOptionsOf) as its waves, so that its L1 corners are the
+// sweep's jump table's. The budget, the escape design's settings and a schedule given on the command
+// line are the caller's.
+LoopOptions LoopOptionsOf(const Scene& scene);
 
 }  // namespace rubcont

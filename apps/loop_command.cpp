@@ -1,0 +1,60 @@
+#include "apps/loop_command.h"
+
+#include <cmath>
+#include <filesystem>
+#include <ostream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "apps/commands.h"
+#include "apps/figures.h"
+#include "apps/guarded.h"
+#include "apps/loop_output.h"
+#include "apps/ranks.h"
+#include "apps/scene.h"
+#include "apps/stage_options.h"
+#include "studies/loop.h"
+
+namespace rubcont {
+namespace {
+
+void Check(const LoopRequest& r) {
+  auto fail = [](const char* option, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
+  };
+  if (r.step_rpm && (!(*r.step_rpm > 0.0) || !std::isfinite(*r.step_rpm))) {
+    fail("schedule", fmt::format("{} {}", *r.step_rpm, r.dwell.value_or(0.0)), "the speed step must be positive (rpm)");
+  }
+  if (r.dwell && (!(*r.dwell > 0.0) || !std::isfinite(*r.dwell))) {
+    fail("schedule", fmt::format("{} {}", r.step_rpm.value_or(0.0), *r.dwell), "the time per speed must be positive (s)");
+  }
+  if (r.budget && (!(*r.budget > 0.0) || !std::isfinite(*r.budget))) fail("budget", *r.budget, "must be positive (CPU seconds)");
+}
+
+}  // namespace
+
+int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err) {
+  return Guarded(err, [&] {
+    Check(request);
+    const Scene scene = LoadScene(request.scene_file);
+    const RubStructure structure = SweepStructureOf(scene);
+    LoopOptions options = LoopOptionsOf(scene);
+    if (request.step_rpm) options.step_rpm = *request.step_rpm;
+    if (request.dwell) options.dwell = *request.dwell;
+    if (request.budget) options.budget = *request.budget;
+    const Ranks& ranks = Ranks::World();
+    const bool talk = !request.quiet && ranks.rank() == 0;
+    const LoopResult result = ComputeLoop(structure, options, RankJobs(ranks, ThreadsOption(request.threads)),
+                                          talk ? PrintLoopProgress(err, SteadyClock::now()) : LoopProgress{});
+    if (ranks.rank() != 0) return kExitSuccess;  // rank 0 writes
+    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
+                                                        : std::filesystem::path("results") / scene.name / "loop.h5";
+    WriteLoopResult(file, scene, structure, options, result);
+    PrintLoopSummary(out, scene, options, result, file);
+    if (request.figures) DrawFigures("loop.py", file, out, err);
+    return result.status == LoopStatus::kRunFailed ? kExitFailure : kExitSuccess;
+  });
+}
+
+}  // namespace rubcont

@@ -1,0 +1,241 @@
+#include "apps/loop_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <ostream>
+#include <set>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "apps/branch_output.h"
+#include "apps/hdf5_file.h"
+#include "apps/level.h"
+#include "apps/sweep_output.h"
+#include "models/units.h"
+#include "solvers/constants.h"
+
+namespace rubcont {
+namespace {
+
+// The levels that decided corners, "L1, L3"; a flexible scene's as L4 (…).
+std::string Levels(const Scene& scene, const LoopResult& result) {
+  std::set<std::string> levels;
+  for (const LoopCorner& c : result.corners)
+    if (!c.level.empty()) levels.insert(c.level);
+  std::string s;
+  for (const std::string& l : levels) s += (s.empty() ? "" : ", ") + l;
+  return scene.flexible.enabled && !s.empty() ? "L4 (" + s + " on the flexible structure)" : s;
+}
+
+void WriteRun(ResultWriter& writer, const std::string& group, const RubStructure& structure, const LoopRun& run) {
+  writer.CreateGroup(group);
+  writer.SetAttribute(group, "end", run.end);
+  writer.SetAttribute(group, "message", run.message);
+  writer.SetAttribute(group, "cpu_seconds", run.cpu_seconds);
+  writer.WriteDoubles(group + "/schedule_rpm", run.schedule_rpm);
+  std::vector<double> speed;
+  std::vector<int> settled;
+  for (const SweepPoint& p : run.points) {
+    speed.push_back(RadPerSecondToRpm(p.parameter));
+    settled.push_back(p.status == SweepPointStatus::kSettled ? 1 : 0);
+  }
+  writer.WriteDoubles(group + "/speed_rpm", speed);
+  writer.WriteInts(group + "/settled", settled);
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    const std::string side = "_" + structure.contacts[k].name;
+    std::vector<std::string> regime;
+    std::vector<double> fraction;
+    for (std::size_t i = 0; i < run.points.size(); ++i) {
+      regime.push_back(ToString(run.regimes.regime[k][i]));
+      fraction.push_back(run.points[i].channels.size() > k ? run.points[i].channels[k].active_fraction : kNaN);
+    }
+    writer.WriteStrings(group + "/regime" + side, regime);
+    writer.WriteDoubles(group + "/precession_hz" + side, run.regimes.precession_hz[k]);
+    writer.WriteDoubles(group + "/contact_fraction" + side, fraction);
+  }
+  const std::string skips = group + "/skips";
+  writer.CreateGroup(skips);
+  std::vector<double> from, to;
+  std::vector<std::string> branch, limit;
+  for (const LoopSkip& s : run.skips) {
+    from.push_back(s.from_rpm);
+    to.push_back(s.to_rpm);
+    branch.push_back(s.branch);
+    limit.push_back(s.limit);
+  }
+  writer.WriteDoubles(skips + "/from_rpm", from);
+  writer.WriteDoubles(skips + "/to_rpm", to);
+  writer.WriteStrings(skips + "/branch", branch);
+  writer.WriteStrings(skips + "/limit", limit);
+}
+
+void WriteEscapes(ResultWriter& writer, const std::string& group, const LoopEscapeDesign& record) {
+  const EscapeDesign& d = record.design;
+  writer.CreateGroup(group);
+  writer.SetAttribute(group, "direction", record.direction);
+  writer.SetAttribute(group, "seen_from_rpm", record.seen_from_rpm);
+  writer.SetAttribute(group, "seen_to_rpm", record.seen_to_rpm);
+  writer.SetAttribute(group, "target", record.target);
+  writer.SetAttribute(group, "status", ToString(d.status));
+  writer.SetAttribute(group, "message", d.message);
+  writer.SetAttribute(group, "median_rpm", d.leave.median);
+  writer.SetAttribute(group, "low_rpm", d.leave.low);
+  writer.SetAttribute(group, "high_rpm", d.leave.high);
+  writer.SetAttribute(group, "median_lower_rpm", d.median_lower);
+  writer.SetAttribute(group, "median_upper_rpm", d.median_upper);
+  writer.SetAttribute(group, "median_open", d.median_open);
+  writer.SetAttribute(group, "crisis_status", ToString(d.fit.status));
+  writer.SetAttribute(group, "critical_rpm", d.fit.critical);
+  writer.SetAttribute(group, "critical_lower_rpm", d.fit.critical_lower);
+  writer.SetAttribute(group, "critical_upper_rpm", d.fit.critical_upper);
+  writer.SetAttribute(group, "lower_bounded", d.fit.lower_bounded ? 1.0 : 0.0);
+  writer.SetAttribute(group, "upper_bounded", d.fit.upper_bounded ? 1.0 : 0.0);
+  writer.SetAttribute(group, "exponent", d.fit.exponent);
+  writer.SetAttribute(group, "amplitude", d.fit.amplitude);
+  writer.SetAttribute(group, "cost_cpu_seconds", d.cost);
+  writer.SetAttribute(group, "rounds", static_cast<double>(d.rounds));
+  std::vector<double> speed, duration, rate, lower, upper;
+  std::vector<int> copies, escapes, stayed;
+  for (const EscapeObservations& o : d.observations) {
+    const EscapeRate r = EstimateEscapeRate(o);
+    speed.push_back(o.parameter);
+    duration.push_back(o.duration);
+    copies.push_back(r.copies);
+    escapes.push_back(r.escapes);
+    stayed.push_back(o.stayed);
+    rate.push_back(r.rate);
+    lower.push_back(r.lower);
+    upper.push_back(r.upper);
+  }
+  writer.WriteDoubles(group + "/speed_rpm", speed);
+  writer.WriteInts(group + "/copies", copies);
+  writer.WriteDoubles(group + "/duration_s", duration);
+  writer.WriteInts(group + "/escapes", escapes);
+  writer.WriteInts(group + "/stayed", stayed);
+  writer.WriteDoubles(group + "/rate", rate);
+  writer.WriteDoubles(group + "/rate_lower", lower);
+  writer.WriteDoubles(group + "/rate_upper", upper);
+  writer.WriteStrings(group + "/log", d.log);
+}
+
+// "50.74 … 50.96" or "below 177.9": an interval with NaN ends said as one-sided.
+std::string Interval(double lower, double upper) {
+  if (std::isnan(lower) && std::isnan(upper)) return "–";
+  if (std::isnan(lower)) return fmt::format("below {:.2f}", upper);
+  if (std::isnan(upper)) return fmt::format("above {:.2f}", lower);
+  if (lower == upper) return fmt::format("{:.2f}", lower);
+  return fmt::format("{:.2f} … {:.2f}", lower, upper);
+}
+
+}  // namespace
+
+void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
+                     const LoopOptions& options, const LoopResult& result) {
+  const std::string g = "/loop";
+  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
+  ResultWriter& writer = *file_writer;
+  writer.SetAttribute(g, "status", ToString(result.status));
+  writer.SetAttribute(g, "message", result.message);
+  writer.SetAttribute(g, "step_rpm", options.step_rpm);
+  writer.SetAttribute(g, "dwell_s", options.dwell);
+  writer.SetAttribute(g, "budget_cpu_s", options.budget);
+  writer.SetAttribute(g, "cpu_seconds", result.cpu_seconds);
+  writer.SetAttribute(g, "wall_seconds", result.wall_seconds);
+  writer.SetAttribute(g, "levels", Levels(scene, result));
+
+  const std::string c = g + "/corners";
+  writer.CreateGroup(c);
+  auto strings = [&](const char* name, auto get) {
+    std::vector<std::string> v;
+    for (const LoopCorner& x : result.corners) v.push_back(get(x));
+    writer.WriteStrings(c + "/" + name, v);
+  };
+  auto doubles = [&](const char* name, auto get) {
+    std::vector<double> v;
+    for (const LoopCorner& x : result.corners) v.push_back(get(x));
+    writer.WriteDoubles(c + "/" + name, v);
+  };
+  strings("direction", [](const LoopCorner& x) { return x.direction; });
+  strings("kind", [](const LoopCorner& x) { return x.kind; });
+  strings("contact", [](const LoopCorner& x) { return x.contact; });
+  doubles("speed_rpm", [](const LoopCorner& x) { return x.speed_rpm; });
+  doubles("lower_rpm", [](const LoopCorner& x) { return x.lower_rpm; });
+  doubles("upper_rpm", [](const LoopCorner& x) { return x.upper_rpm; });
+  strings("interval", [](const LoopCorner& x) { return x.interval; });
+  strings("cause", [](const LoopCorner& x) { return x.cause; });
+  strings("level", [&](const LoopCorner& x) {
+    return x.level.empty() || !scene.flexible.enabled ? x.level : "L4 (" + x.level + ")";
+  });
+  strings("evidence", [&](const LoopCorner& x) { return g + "/" + x.evidence; });
+  doubles("cpu_seconds", [](const LoopCorner& x) { return x.cpu_seconds; });
+  doubles("crisis_lower_rpm", [](const LoopCorner& x) { return x.crisis_lower_rpm; });
+  doubles("crisis_upper_rpm", [](const LoopCorner& x) { return x.crisis_upper_rpm; });
+  strings("note", [](const LoopCorner& x) { return x.note; });
+  doubles("seen_from_rpm", [](const LoopCorner& x) { return x.seen_from_rpm; });
+  doubles("seen_to_rpm", [](const LoopCorner& x) { return x.seen_to_rpm; });
+  doubles("precession_from_hz", [](const LoopCorner& x) { return x.precession_from_hz; });
+  doubles("precession_to_hz", [](const LoopCorner& x) { return x.precession_to_hz; });
+
+  writer.WriteStrings(g + "/decisions", result.decisions);
+  const LoopOptions& o = options;
+  const std::array<double, 2> range{RadPerSecondToRpm(o.waves.search.speed_min), RadPerSecondToRpm(o.waves.search.speed_max)};
+  WriteRotatingWaveBranches(writer, result.waves, FrictionLawKind::kTanh, range, g + "/branches");
+  writer.CreateGroup(g + "/runs");
+  WriteRun(writer, g + "/runs/up", structure, result.up);
+  WriteRun(writer, g + "/runs/down", structure, result.down);
+  writer.CreateGroup(g + "/escapes");
+  for (std::size_t k = 0; k < result.escape_designs.size(); ++k) {
+    WriteEscapes(writer, fmt::format("{}/escapes/{}", g, k), result.escape_designs[k]);
+    const EscapeDesign& d = result.escape_designs[k].design;
+    const std::string e = fmt::format("{}/escapes/{}", g, k);
+    const LoopRun& run = result.escape_designs[k].direction == "up" ? result.up : result.down;
+    writer.WriteDoubles(e + "/schedule_rpm", run.schedule_rpm);
+    writer.WriteDoubles(e + "/leave_probability", d.leave.probability);
+  }
+  writer.Commit();
+}
+
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
+                      const std::filesystem::path& file) {
+  fmt::print(out, "scene {} from {}: the hysteresis loop of a run with {:g} rpm steps and {:g} s per speed\n",
+             scene.name, scene.source, options.step_rpm, options.dwell);
+  fmt::print(out, "  {:4}  {:14}  {:11}  {:>9}  {:24}  {:28}  {}\n", "run", "jump", "contact", "speed rpm",
+             "interval rpm", "cause", "level");
+  for (const LoopCorner& c : result.corners) {
+    std::string level = c.level.empty() ? "–" : scene.flexible.enabled ? "L4 (" + c.level + ")" : c.level;
+    fmt::print(out, "  {:4}  {:14}  {:11}  {:9.2f}  {:24}  {:28}  {}\n", c.direction, c.kind, c.contact, c.speed_rpm,
+               Interval(c.lower_rpm, c.upper_rpm), c.cause, level);
+  }
+  for (const LoopCorner& c : result.corners) {
+    fmt::print(out, "  {} {} {:g} → {:g} rpm ({}): {}; interval: {}{}\n", c.direction, c.kind, c.seen_from_rpm,
+               c.seen_to_rpm, c.contact, c.note, c.interval,
+               std::isnan(c.crisis_lower_rpm) && std::isnan(c.crisis_upper_rpm)
+                   ? std::string()
+                   : fmt::format("; the crisis p_c: {} rpm", Interval(c.crisis_lower_rpm, c.crisis_upper_rpm)));
+  }
+  fmt::print(out, "  the run-up ends in {}; the run-down in {}\n", result.up.end, result.down.end);
+  fmt::print(out, "  {}\n  {:.1f} s wall\nwrote {}\n", result.BriefReport(), result.wall_seconds, file.string());
+}
+
+LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start) {
+  // The two runs are tracked on two threads: one line at a time.
+  auto mutex = std::make_shared<std::mutex>();
+  LoopProgress progress;
+  progress.note = [&err, start, mutex](const std::string& line) {
+    std::lock_guard<std::mutex> lock(*mutex);
+    fmt::print(err, "rubcont: [loop] {} ({:.1f} s)\n", line, SecondsSince(start));
+    err.flush();
+  };
+  progress.speed = [&err, start, mutex](SweepDirection direction, double rpm) {
+    std::lock_guard<std::mutex> lock(*mutex);
+    fmt::print(err, "rubcont: [loop] run-{} at {:g} rpm ({:.1f} s)\n", ToString(direction), rpm, SecondsSince(start));
+    err.flush();
+  };
+  return progress;
+}
+
+}  // namespace rubcont

@@ -1,0 +1,54 @@
+// The loop study's result file and summary (`rubcont loop`, stage "loop"; studies/loop.h).
+//
+// HDF5 layout (written atomically), beside the root attributes of every result:
+//   /loop                 attrs status, message, step_rpm, dwell_s (the run's schedule), budget_cpu_s,
+//                         cpu_seconds, wall_seconds, levels (the levels that decided corners, e.g.
+//                         "L1, L3"; L4 for a flexible scene)
+//     corners/            one row per jump of the loop, run-up first, each direction in speed order:
+//       direction ("up" | "down"), kind (RubJumpKind), contact ("left", "right", "left, right"),
+//       speed_rpm (where the run jumps: the bifurcation, or the median of a jump by chance),
+//       lower_rpm, upper_rpm and interval (what they are: the point at ε and at ε/10; the run's
+//       5–95 % for its schedule; the run's step when nothing explains it), cause, level ("L1",
+//       "L3"; "" when not explained), evidence (the dataset that shows it), cpu_seconds (spent on
+//       deciding it beyond the waves and the tracker), crisis_lower_rpm, crisis_upper_rpm (p_c's
+//       95 % interval of a crisis; NaN where the data do not bound it), note (the numbers and what
+//       was tried), seen_from_rpm, seen_to_rpm, precession_from_hz, precession_to_hz (the jump as
+//       the tracker saw it)
+//     decisions           every escalation and why, in order (strings)
+//     branches/           the rotating waves of the tanh law (layout of apps/branch_output.h)
+//     runs/up, runs/down  the tracker: schedule_rpm (every speed of the run), speed_rpm (those
+//                         integrated), regime_<c>, precession_hz_<c>, contact_fraction_<c>,
+//                         settled (1/0); attrs end (where the run ends), message, cpu_seconds;
+//                         skips/{from_rpm, to_rpm, branch, limit} (the stretches L1 decided)
+//     escapes/<k>         the escape design of corner k's jump (sweeps/escape_design.h): attrs
+//                         direction, seen_from_rpm, seen_to_rpm, target, status, message,
+//                         median_rpm, low_rpm, high_rpm (5 / 50 / 95 % of the leave speed),
+//                         median_lower_rpm, median_upper_rpm, median_open, critical_rpm,
+//                         critical_lower_rpm, critical_upper_rpm, lower_bounded, upper_bounded,
+//                         exponent, amplitude (1/s per rpm^γ), crisis_status, cost_cpu_seconds,
+//                         rounds; datasets speed_rpm, copies, duration_s, escapes, stayed (per
+//                         ensemble), rate, rate_lower, rate_upper (1/s, per ensemble),
+//                         schedule_rpm, leave_probability (per speed of the run), log (strings)
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+
+#include "apps/scene.h"
+#include "solvers/stopwatch.h"
+#include "studies/loop.h"
+
+namespace rubcont {
+
+void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
+                     const LoopOptions& options, const LoopResult& result);
+
+// The table first (one line per corner), then where each run ends, the decisions and the cost.
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
+                      const std::filesystem::path& file);
+
+// The study's progress on `err`: its decisions, and a line per tracked speed every 10 speeds.
+LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start);
+
+}  // namespace rubcont

@@ -1,0 +1,590 @@
+#include "studies/loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "models/units.h"
+#include "solvers/constants.h"
+#include "solvers/stopwatch.h"
+#include "studies/whirl_limits.h"
+#include "sweeps/ensemble.h"
+
+namespace rubcont {
+namespace {
+
+int Sign(SweepDirection d) { return d == SweepDirection::kUp ? 1 : -1; }
+
+// The run's schedule in one direction: the sweep's first speed to its last, step_rpm apart.
+std::vector<double> ScheduleOf(const RubSweepOptions& sweep, double step_rpm) {
+  const std::vector<double>& p = sweep.sweep.parameters;
+  return SpeedSchedule(RadPerSecondToRpm(p.front()), RadPerSecondToRpm(p.back()), step_rpm);
+}
+
+// The fixed-frame state at t = 0 of the rotating wave with unknowns u = [p, Ω, …]
+// (RotatingWaveProblem): u = p, u̇ = −jΩp.
+Vector WaveState(const RubStructure& structure, const Vector& u) {
+  const Index n = 2 * structure.Coordinates();
+  RubRotatingFrame frame(structure, u(n));
+  Vector x = Vector::Zero(2 * n);
+  x.head(n) = u.head(n);
+  return frame.ToFixedFrame(0.0, x);
+}
+
+// The last schedule index before `limit_rpm` in the run's direction (strictly, by 1e-9 of a step),
+// or −1.
+int LastBefore(const std::vector<double>& schedule, double limit_rpm, int sign, double step) {
+  int last = -1;
+  for (std::size_t i = 0; i < schedule.size(); ++i) {
+    if (sign * (limit_rpm - schedule[i]) > 1e-9 * step) last = static_cast<int>(i);
+  }
+  return last;
+}
+
+// Follows one direction of the run (studies/loop.h, "The run" and L1).
+LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranch>& waves, const LoopOptions& o,
+              SweepDirection direction, const LoopProgress& progress) {
+  const double cpu_start = ThreadCpuSeconds();
+  const int sign = Sign(direction);
+  RubSweepOptions sweep = direction == SweepDirection::kUp ? o.up : o.down;
+  sweep.direction = direction;
+  sweep.sweep.dwell = o.dwell;
+  LoopRun run;
+  run.direction = direction;
+  run.schedule_rpm = ScheduleOf(sweep, o.step_rpm);
+  const std::vector<double>& schedule = run.schedule_rpm;
+  Vector state = RubImpulseIncrement(structure, sweep.impulse);
+  std::size_t next = 0;  // the schedule index integrated next
+  std::vector<double> done_speeds;  // [rad/s] of run.points, for the resumed stepper
+  while (next < schedule.size()) {
+    // A stepper over the speeds done and the rest of the schedule, resumed from `state` (so that
+    // its choice of integrator sees the last speed done, as an uninterrupted sweep's does).
+    sweep.sweep.parameters = done_speeds;
+    for (std::size_t i = next; i < schedule.size(); ++i) sweep.sweep.parameters.push_back(RpmToRadPerSecond(schedule[i]));
+    SweepRun stepper(structure, sweep, run.points, state);
+    bool skipped = false;
+    while (!stepper.stepper().Done() && !skipped) {
+      stepper.stepper().Step();
+      const SweepPoint& point = stepper.stepper().points().back();
+      run.points.push_back(point);
+      run.states.push_back(stepper.stepper().state());
+      done_speeds.push_back(point.parameter);
+      ++next;
+      if (progress.speed) progress.speed(direction, RadPerSecondToRpm(point.parameter));
+      if (stepper.stepper().Failed()) {
+        run.message = fmt::format("the integration failed at {:g} rpm: {}", RadPerSecondToRpm(point.parameter),
+                                  point.message);
+        run.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+        run.regimes = ClassifySweep(structure, run.points, sweep.regimes);
+        return run;
+      }
+      // L1: on a stable wave, move along it to the last speed before its stable stretch ends.
+      const RubSweepRegimes regimes = ClassifySweep(structure, {point}, sweep.regimes);
+      const WaveMatch match = MatchWave(structure, {point}, regimes, 0, waves, o.match);
+      if (match.branch < 0 || match.stable != 1) continue;
+      const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
+      const RotatingWaveBranch& wave = waves[static_cast<std::size_t>(match.branch)];
+      double limit_rpm = 0.0;
+      std::string why;
+      if (limit.found) {
+        limit_rpm = RadPerSecondToRpm(limit.speed);
+        why = limit.point;
+      } else if (limit.last >= 0) {
+        // No special point: stable to the branch's end (or to where stability is lost without a
+        // located point, which the tracker must then see for itself).
+        limit_rpm = RadPerSecondToRpm(wave.branch.points[static_cast<std::size_t>(limit.last)].lambda);
+        why = limit.reason;
+      } else {
+        continue;
+      }
+      const int to = LastBefore(schedule, limit_rpm, sign, o.step_rpm);
+      if (to <= static_cast<int>(next)) continue;  // nothing to save
+      const Vector u = WhirlStateAt(waves, limit, RpmToRadPerSecond(schedule[static_cast<std::size_t>(to)]));
+      if (u.size() == 0) continue;
+      run.skips.push_back(LoopSkip{schedule[next - 1], schedule[static_cast<std::size_t>(to)], wave.name, why});
+      state = WaveState(structure, u);
+      next = static_cast<std::size_t>(to);
+      skipped = true;
+    }
+  }
+  run.regimes = ClassifySweep(structure, run.points, sweep.regimes);
+  // A skip is a move along one stable wave: the two points on either side of it are the same state,
+  // whatever the precession trend between them says.
+  std::vector<RubSweepJump> kept;
+  for (const RubSweepJump& j : run.regimes.jumps) {
+    bool across = false;
+    for (const LoopSkip& s : run.skips) across = across || (j.speed_from_rpm == s.from_rpm && j.speed_to_rpm == s.to_rpm);
+    if (!across) kept.push_back(j);
+  }
+  run.regimes.jumps = kept;
+  run.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+  return run;
+}
+
+// One escape copy's outcome, as a job's result string: the stretch of its arrival (0: stayed),
+// whether it failed, its CPU seconds.
+struct CopyOutcome {
+  int stretch = 0;
+  bool failed = false;
+  double cpu_seconds = 0.0;
+};
+std::string Pack(const CopyOutcome& c) {
+  std::string s(sizeof(int) + sizeof(char) + sizeof(double), '\0');
+  const char failed = c.failed ? 1 : 0;
+  std::memcpy(&s[0], &c.stretch, sizeof(int));
+  std::memcpy(&s[sizeof(int)], &failed, sizeof(char));
+  std::memcpy(&s[sizeof(int) + sizeof(char)], &c.cpu_seconds, sizeof(double));
+  return s;
+}
+CopyOutcome Unpack(const std::string& s) {
+  if (s.size() != sizeof(int) + sizeof(char) + sizeof(double)) throw std::logic_error("loop: a copy's result is malformed");
+  CopyOutcome c;
+  char failed = 0;
+  std::memcpy(&c.stretch, &s[0], sizeof(int));
+  std::memcpy(&failed, &s[sizeof(int)], sizeof(char));
+  std::memcpy(&c.cpu_seconds, &s[sizeof(int) + sizeof(char)], sizeof(double));
+  c.failed = failed != 0;
+  return c;
+}
+
+// A copy of `x0` (perturbed with `seed`) at `omega` for `stretches` stretches of two windows, until
+// it arrives at the target (it stops there: the time after does not matter).
+CopyOutcome RunCopy(const RubStructure& structure, const RubSweepOptions& sweep, double window, double perturbation,
+                    const Vector& x0, double omega, int stretches, std::uint64_t seed, const ArrivalTarget& target) {
+  const double cpu_start = ThreadCpuSeconds();
+  SweepOptions s = sweep.sweep;
+  s.parameters.assign(static_cast<std::size_t>(stretches), omega);
+  s.window = window;
+  s.settle_windows = 1;
+  s.dwell = 2.0 * window;
+  s.analysis_length = 2.0 * window;
+  RubFixedFrame system(structure);
+  RubSweepObservables observables(system);
+  EnsembleOptions e;
+  e.perturbation = perturbation;
+  e.seed = seed;
+  SweepStepper stepper(system, observables, s, PerturbedStart(x0, system.StateScale(), e, 0));
+  CopyOutcome out;
+  for (int j = 1; j <= stretches; ++j) {
+    stepper.Step();
+    if (stepper.Failed()) {
+      out.failed = true;
+      break;
+    }
+    const RubSweepRegimes r = ClassifySweep(structure, {stepper.points().back()}, sweep.regimes);
+    if (Arrived(r, 0, target)) {
+      out.stretch = j;
+      break;
+    }
+  }
+  out.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+  return out;
+}
+
+std::string ContactsOf(const RubStructure& structure, const std::vector<int>& contacts) {
+  std::string s;
+  for (int k : contacts) s += (s.empty() ? "" : ", ") + structure.contacts[static_cast<std::size_t>(k)].name;
+  return s;
+}
+
+// A special point's name as a cause, the contact left to the corner's contact column:
+// "test function: left knee" → "knee", "event: right contact loss" → "contact loss", "Hopf".
+std::string CauseOf(const std::string& name, const RubStructure& structure) {
+  std::string cause = name;
+  for (const char* prefix : {"test function: ", "event: "}) {
+    if (cause.rfind(prefix, 0) == 0) cause = cause.substr(std::strlen(prefix));
+  }
+  for (const RubContact& contact : structure.contacts) {
+    if (cause.rfind(contact.name + " ", 0) == 0) cause = cause.substr(contact.name.size() + 1);
+  }
+  return cause;
+}
+
+// The jumps of one direction grouped over contacts: one corner where the contacts jump alike.
+struct Jump {
+  std::vector<int> contacts;
+  std::vector<std::size_t> rows;  // into the run's jumps
+};
+std::vector<Jump> GroupJumps(const LoopRun& run, const RubStructure& structure) {
+  std::vector<Jump> out;
+  for (std::size_t i = 0; i < run.jumps.size(); ++i) {
+    const PredictedJump& a = run.jumps[i];
+    bool joined = false;
+    for (Jump& g : out) {
+      const PredictedJump& b = run.jumps[g.rows.front()];
+      if (a.jump.kind == b.jump.kind && a.jump.speed_from_rpm == b.jump.speed_from_rpm &&
+          a.jump.speed_to_rpm == b.jump.speed_to_rpm &&
+          CauseOf(a.bifurcation, structure) == CauseOf(b.bifurcation, structure) &&
+          (a.bifurcation.empty() || a.bifurcation_speed_rpm == b.bifurcation_speed_rpm)) {
+        g.contacts.push_back(a.jump.contact);
+        g.rows.push_back(i);
+        joined = true;
+        break;
+      }
+    }
+    if (!joined) out.push_back(Jump{{a.jump.contact}, {i}});
+  }
+  return out;
+}
+
+// The special point named `name` of the ε/10 waves nearest `speed_rpm` (within max_rpm), NaN if none.
+double CounterpartRpm(const std::vector<RotatingWaveBranch>& waves, const std::string& name, double speed_rpm,
+                      double max_rpm) {
+  double best = kNaN;
+  for (const RotatingWaveBranch& b : waves) {
+    for (const SpecialPoint& p : b.branch.special_points) {
+      if (p.Name() != name) continue;
+      const double rpm = RadPerSecondToRpm(p.lambda);
+      if (std::abs(rpm - speed_rpm) <= max_rpm && (std::isnan(best) || std::abs(rpm - speed_rpm) < std::abs(best - speed_rpm))) {
+        best = rpm;
+      }
+    }
+  }
+  return best;
+}
+
+// A jump's importance for the budget: the direction's first whirl → whip and last whip → whirl
+// first (the thesis's four corners), then the rest in speed order.
+bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
+  const LoopCorner& c = corners[i];
+  if (c.kind != "whirl_to_whip" && c.kind != "whip_to_whirl") return false;
+  int first = -1, last = -1;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    if (corners[k].direction != c.direction) continue;
+    if (corners[k].kind == "whirl_to_whip" && first < 0) first = static_cast<int>(k);
+    if (corners[k].kind == "whip_to_whirl") last = static_cast<int>(k);
+  }
+  return static_cast<int>(i) == first || static_cast<int>(i) == last;
+}
+
+}  // namespace
+
+const char* ToString(LoopStatus status) {
+  switch (status) {
+    case LoopStatus::kExplained: return "explained";
+    case LoopStatus::kPartly: return "partly explained";
+    case LoopStatus::kRunFailed: return "run failed";
+  }
+  return "?";
+}
+
+void Validate(const LoopOptions& o) {
+  auto fail = [](const char* field, const auto& value, const char* rule) {
+    throw std::invalid_argument(fmt::format("LoopOptions.{} = {}: {}", field, value, rule));
+  };
+  Validate(o.up);
+  Validate(o.down);
+  if (o.up.sweep.parameters.size() < 2 || o.down.sweep.parameters.size() < 2) {
+    fail("up/down.sweep.parameters", "(fewer than 2 speeds)", "each direction needs a range: its first and last speed");
+  }
+  if (!(o.step_rpm > 0.0) || !std::isfinite(o.step_rpm)) fail("step_rpm", o.step_rpm, "must be positive");
+  if (!(o.dwell > 0.0) || !std::isfinite(o.dwell)) fail("dwell", o.dwell, "must be positive");
+  if (!(o.dwell >= (o.up.sweep.settle_windows + 1) * o.up.sweep.window)) {
+    fail("dwell", o.dwell, "must hold the settle test's windows ((settle_windows + 1) × window)");
+  }
+  if (!(o.window > 0.0) || !std::isfinite(o.window)) fail("window", o.window, "must be positive");
+  if (!(o.perturbation >= 0.0) || !std::isfinite(o.perturbation)) fail("perturbation", o.perturbation, "must be non-negative");
+  if (!(o.escape_reach_rpm >= o.step_rpm) || !std::isfinite(o.escape_reach_rpm)) {
+    fail("escape_reach_rpm", o.escape_reach_rpm, "must be at least step_rpm");
+  }
+  if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
+  for (const double span : {std::abs(o.up.sweep.parameters.back() - o.up.sweep.parameters.front()),
+                            std::abs(o.down.sweep.parameters.back() - o.down.sweep.parameters.front())}) {
+    if (RadPerSecondToRpm(span) / o.step_rpm > 10000.0) fail("step_rpm", o.step_rpm, "gives more than 10000 speeds");
+  }
+}
+
+std::string LoopResult::BriefReport() const {
+  int explained = 0;
+  std::map<std::string, int> by_level;
+  for (const LoopCorner& c : corners) {
+    if (!c.level.empty()) {
+      ++explained;
+      ++by_level[c.level];
+    }
+  }
+  std::string levels;
+  for (const auto& [level, n] : by_level) levels += fmt::format("{}{} {}", levels.empty() ? "" : ", ", n, level);
+  return fmt::format("loop {}: {} jumps, {} explained{}; {:.1f} s CPU{}", ToString(status), corners.size(), explained,
+                     levels.empty() ? "" : " (" + levels + ")", cpu_seconds, message.empty() ? "" : "; " + message);
+}
+
+LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options, const JobRunner& jobs,
+                       const LoopProgress& progress) {
+  Validate(options);
+  const double cpu_start = ProcessCpuSeconds();
+  const SteadyClock::time_point wall_start = SteadyClock::now();
+  LoopResult result;
+  auto note = [&](std::string line) {
+    if (progress.note) progress.note(line);
+    result.decisions.push_back(std::move(line));
+  };
+  auto cpu = [&] { return ProcessCpuSeconds() - cpu_start; };
+  double escape_cpu = 0.0;  // of the copies run by other processes (MPI ranks)
+  auto spent = [&] { return cpu() + escape_cpu; };
+
+  // L1: the waves of the law the sweep integrates, over both runs' speeds; and at ε/10.
+  RubStructure balanced = structure;
+  balanced.imbalance = 0.0;
+  RotatingWaveBranchOptions waves = options.waves;
+  result.waves = ComputeRotatingWaveBranches(balanced, FrictionLawKind::kTanh, waves);
+  RubStructure tenth = balanced;
+  tenth.law.velocity_scale /= 10.0;
+  const std::vector<RotatingWaveBranch> waves_tenth = ComputeRotatingWaveBranches(tenth, FrictionLawKind::kTanh, waves);
+  note(fmt::format("L1: {} rotating waves (tanh law, ε = {:g} m/s) in {:.2f} s CPU; and at ε/10 for the corners' "
+                   "regularization bias", result.waves.size(), structure.law.velocity_scale, cpu()));
+
+  // The runs, both directions at once (each on its own thread).
+  std::vector<LoopRun> runs(2);
+  ParallelFor(2, 2, [&](int d) {
+    runs[static_cast<std::size_t>(d)] =
+        Track(structure, result.waves, options, d == 0 ? SweepDirection::kUp : SweepDirection::kDown, progress);
+  });
+  result.up = std::move(runs[0]);
+  result.down = std::move(runs[1]);
+  for (LoopRun* run : {&result.up, &result.down}) {
+    const char* dir = ToString(run->direction);
+    run->jumps = PredictJumps(dir, balanced, run->points, run->regimes, result.waves, options.match);
+    if (!run->points.empty()) {
+      std::vector<RubRegime> last;
+      for (const auto& regime : run->regimes.regime) last.push_back(regime.back());
+      run->end = fmt::format("{} at {:g} rpm", RegimeList(structure, last),
+                             RadPerSecondToRpm(run->points.back().parameter));
+    }
+    double skipped = 0.0;
+    for (const LoopSkip& s : run->skips) skipped += std::abs(s.to_rpm - s.from_rpm);
+    note(fmt::format("L3 tracker {}: {} of {} speeds integrated ({:g} rpm moved along stable waves by L1), {} jumps, "
+                     "{:.1f} s CPU; it ends in {}{}", dir, run->points.size(), run->schedule_rpm.size(), skipped,
+                     run->jumps.size(), run->cpu_seconds, run->end, run->message.empty() ? "" : "; " + run->message));
+  }
+
+  // The corners, with L1's explanation where it has one.
+  for (const LoopRun* run : {&result.up, &result.down}) {
+    for (const Jump& g : GroupJumps(*run, structure)) {
+      const PredictedJump& j = run->jumps[g.rows.front()];
+      LoopCorner c;
+      c.direction = j.direction;
+      c.kind = ToString(j.jump.kind);
+      c.contact = ContactsOf(structure, g.contacts);
+      c.seen_from_rpm = j.jump.speed_from_rpm;
+      c.seen_to_rpm = j.jump.speed_to_rpm;
+      c.precession_from_hz = j.jump.precession_from_hz;
+      c.precession_to_hz = j.jump.precession_to_hz;
+      c.crisis_lower_rpm = c.crisis_upper_rpm = kNaN;
+      c.speed_rpm = c.lower_rpm = c.upper_rpm = kNaN;
+      if (!j.bifurcation.empty()) {
+        c.cause = CauseOf(j.bifurcation, structure);
+        c.level = "L1";
+        c.speed_rpm = j.bifurcation_speed_rpm;
+        const double other = CounterpartRpm(waves_tenth, j.bifurcation, c.speed_rpm, options.match.max_distance_rpm);
+        if (std::isnan(other)) {
+          c.lower_rpm = c.upper_rpm = c.speed_rpm;
+          c.interval = "the point itself (its counterpart at ε/10 not found)";
+        } else {
+          c.lower_rpm = std::min(c.speed_rpm, other);
+          c.upper_rpm = std::max(c.speed_rpm, other);
+          c.interval = "regularization: the point at ε and at ε/10";
+        }
+        c.evidence = fmt::format("branches/{}/special_points", j.branch);
+        c.note = fmt::format("{} on {} ({} state, {}); the run jumped {:g} → {:g} rpm", j.bifurcation, j.branch,
+                             j.matched_side, j.branch_stable == 1 ? "stable" : j.branch_stable == 0 ? "unstable" : "stability unknown",
+                             c.seen_from_rpm, c.seen_to_rpm);
+      } else {
+        c.cause = "not explained";
+        c.interval = "the run's step";
+        c.lower_rpm = std::min(c.seen_from_rpm, c.seen_to_rpm);
+        c.upper_rpm = std::max(c.seen_from_rpm, c.seen_to_rpm);
+        c.speed_rpm = 0.5 * (c.seen_from_rpm + c.seen_to_rpm);
+        c.evidence = fmt::format("runs/{}", c.direction);
+        c.note = j.matched_side == "none" ? "L1: neither state is a rotating wave"
+                                          : fmt::format("L1: {} state on {} ({}), no special point within {:g} rpm",
+                                                        j.matched_side, j.branch,
+                                                        j.branch_stable == 1 ? "stable" : "unstable",
+                                                        options.match.max_distance_rpm);
+      }
+      result.corners.push_back(c);
+    }
+  }
+
+  // L3 for the corners L1 leaves open: principal ones first.
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < result.corners.size(); ++i)
+    if (result.corners[i].level.empty() && Principal(result.corners, i)) order.push_back(i);
+  for (std::size_t i = 0; i < result.corners.size(); ++i)
+    if (result.corners[i].level.empty() && !Principal(result.corners, i)) order.push_back(i);
+  for (std::size_t i : order) {
+    LoopCorner& c = result.corners[i];
+    const LoopRun& run = c.direction == "up" ? result.up : result.down;
+    const int sign = Sign(run.direction);
+    const std::string what = fmt::format("{} {} {:g} → {:g} rpm ({})", c.direction, c.kind, c.seen_from_rpm, c.seen_to_rpm,
+                                         c.contact);
+    if (spent() >= options.budget) {
+      c.note += fmt::format("; not decided within the budget ({:g} s CPU spent before it)", spent());
+      note(fmt::format("budget: {} left undecided ({:.1f} of {:g} s CPU spent)", what, spent(), options.budget));
+      continue;
+    }
+    // What a copy arrives at: the landing's regime (or precession) on the contacts that jumped.
+    std::size_t from = 0, to = 0;
+    for (std::size_t k = 0; k < run.points.size(); ++k) {
+      const double rpm = RadPerSecondToRpm(run.points[k].parameter);
+      if (std::abs(rpm - c.seen_from_rpm) < 1e-9) from = k;
+      if (std::abs(rpm - c.seen_to_rpm) < 1e-9) to = k;
+    }
+    std::vector<int> contacts;
+    for (std::size_t k = 0; k < structure.contacts.size(); ++k)
+      if (c.contact.find(structure.contacts[k].name) != std::string::npos) contacts.push_back(static_cast<int>(k));
+    ArrivalTarget target;
+    const RubRegime landing = run.regimes.regime[static_cast<std::size_t>(contacts.front())][to];
+    if (c.kind == "frequency_jump") {
+      if (!(c.precession_to_hz > c.precession_from_hz)) {
+        c.note += "; L3: a jump to a lower precession has no arrival rule (only \"precession above\")";
+        note("L3 not tried for " + what + ": a frequency jump downwards");
+        continue;
+      }
+      target.precession_above_hz = 0.5 * (c.precession_from_hz + c.precession_to_hz);
+    } else {
+      target.regime = landing;
+    }
+    if (contacts.size() == structure.contacts.size()) {
+      target.contacts = ArrivalContacts::kEvery;
+    } else {
+      target.contacts = ArrivalContacts::kOne;
+      target.contact = contacts.front();
+    }
+    // The candidates: the schedule from escape_reach_rpm before the departure to two steps past the landing.
+    const std::vector<double>& schedule = run.schedule_rpm;
+    std::vector<double> candidates;
+    for (double p : schedule) {
+      const double along = sign * (p - c.seen_from_rpm);
+      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
+        candidates.push_back(p);
+      }
+    }
+    // The copies' starts: the tracker's state after the speed before each candidate while it was
+    // still on the departure state; before that, the earliest such state; after, the departure's.
+    const RubRegime departure = run.regimes.regime[static_cast<std::size_t>(contacts.front())][from];
+    std::map<double, std::size_t> start_of;
+    for (double p : candidates) {
+      std::size_t best = from;
+      for (std::size_t k = 0; k <= from; ++k) {
+        const double rpm = RadPerSecondToRpm(run.points[k].parameter);
+        if (sign * (p - rpm) > 1e-9 && run.regimes.regime[static_cast<std::size_t>(contacts.front())][k] == departure) {
+          best = k;  // the last tracked speed on the state before p
+        }
+      }
+      start_of[p] = best;
+    }
+    EscapeDesignOptions design = options.escapes;
+    design.side = sign > 0 ? CrisisSide::kAbove : CrisisSide::kBelow;
+    design.schedule = schedule;
+    design.dwell = options.dwell;
+    design.candidates = candidates;
+    design.first = c.seen_to_rpm;
+    design.budget = std::max(options.budget - spent(), 1e-9);
+    RubSweepOptions copy_sweep = run.direction == SweepDirection::kUp ? options.up : options.down;
+    const int copies_stretches_max = StretchCount(design.max_duration, options.window);
+    (void)copies_stretches_max;
+    note(fmt::format("L3 for {}: {}; the escape design over {:g} … {:g} rpm ({} values), copies until {}", what,
+                     c.note, candidates.front(), candidates.back(), candidates.size(), Describe(structure, target)));
+    const double before = spent();
+    const EscapeRunner runner = [&](const std::vector<EscapeRequest>& requests) {
+      struct Job {
+        std::size_t request;
+        int copy;
+      };
+      std::vector<Job> list;
+      for (std::size_t r = 0; r < requests.size(); ++r)
+        for (int k = 0; k < requests[r].copies; ++k) list.push_back(Job{r, k});
+      const double local_start = ProcessCpuSeconds();
+      const std::vector<std::string> out = jobs(static_cast<int>(list.size()), [&](int n) {
+        const Job& job = list[static_cast<std::size_t>(n)];
+        const EscapeRequest& q = requests[job.request];
+        return Pack(RunCopy(structure, copy_sweep, options.window, options.perturbation,
+                            run.states[start_of.at(q.parameter)], RpmToRadPerSecond(q.parameter),
+                            StretchCount(q.duration, options.window), q.seed + static_cast<std::uint64_t>(job.copy), target));
+      });
+      EscapeBatch batch;
+      batch.observations.resize(requests.size());
+      for (std::size_t r = 0; r < requests.size(); ++r) {
+        EscapeObservations& e = batch.observations[r];
+        e.parameter = requests[r].parameter;
+        e.stretch = 2.0 * options.window;
+        e.duration = StretchCount(requests[r].duration, options.window) * e.stretch;
+      }
+      int failed = 0;
+      for (std::size_t n = 0; n < list.size(); ++n) {
+        const CopyOutcome o = Unpack(out[n]);
+        batch.cost += o.cpu_seconds;
+        EscapeObservations& e = batch.observations[list[n].request];
+        if (o.failed) ++failed;
+        else if (o.stretch > 0) e.escape_stretch.push_back(o.stretch);
+        else ++e.stayed;
+      }
+      // The copies run here are in this process's CPU time already; those of other ranks are not.
+      escape_cpu += std::max(0.0, batch.cost - (ProcessCpuSeconds() - local_start));
+      if (failed > 0) note(fmt::format("  {} copies failed to integrate (counted neither as escaped nor as stayed)", failed));
+      for (EscapeObservations& e : batch.observations) {
+        if (e.escape_stretch.empty() && e.stayed == 0) ++e.stayed;  // never: every copy failed
+      }
+      return batch;
+    };
+    LoopEscapeDesign record;
+    record.direction = c.direction;
+    record.seen_from_rpm = c.seen_from_rpm;
+    record.seen_to_rpm = c.seen_to_rpm;
+    record.target = Describe(structure, target);
+    record.design = RunEscapeDesign(design, runner, [&](const std::string& line) { note("  " + line); });
+    const EscapeDesign& d = record.design;
+    c.cpu_seconds = spent() - before;
+    c.escape_design = static_cast<int>(result.escape_designs.size());
+    c.evidence = fmt::format("escapes/{}", result.escape_designs.size());
+    const bool law = d.fit.status == CrisisStatus::kLocated && !std::isnan(d.leave.median);
+    if (law) {
+      c.level = "L3";
+      c.cause = departure == RubRegime::kWhip ? "crisis of a chaotic whip" : "crisis of a chaotic state";
+      c.speed_rpm = d.leave.median;
+      c.lower_rpm = std::min(d.leave.low, d.leave.high);
+      c.upper_rpm = std::isnan(d.leave.high) ? kNaN : std::max(d.leave.low, d.leave.high);
+      c.interval = fmt::format("run-{} with {:g} rpm steps and {:g} s per speed: 5–95 % of the speed it leaves at",
+                               c.direction, options.step_rpm, options.dwell);
+      const bool lower_side = sign > 0;  // the crisis interval's end towards the state
+      c.crisis_lower_rpm = (lower_side ? d.fit.lower_bounded : d.fit.upper_bounded) || !lower_side ? d.fit.critical_lower : kNaN;
+      c.crisis_upper_rpm = d.fit.critical_upper;
+      if (!d.fit.lower_bounded) c.crisis_lower_rpm = kNaN;
+      if (!d.fit.upper_bounded) c.crisis_upper_rpm = kNaN;
+      c.note = fmt::format("escape rates κ = A·({})^γ, γ = {:.3g}: p_c = {:.2f} rpm ({}); the median's 95 % interval {}; "
+                           "{} ensembles, {}",
+                           sign > 0 ? "p − p_c" : "p_c − p", d.fit.exponent, d.fit.critical,
+                           d.fit.lower_bounded && d.fit.upper_bounded
+                               ? fmt::format("95 % {:.2f} … {:.2f}", d.fit.critical_lower, d.fit.critical_upper)
+                           : d.fit.upper_bounded ? fmt::format("below {:.2f} at 95 %: one-sided", d.fit.critical_upper)
+                           : d.fit.lower_bounded ? fmt::format("above {:.2f} at 95 %: one-sided", d.fit.critical_lower)
+                                                 : "not bounded",
+                           std::isnan(d.median_lower) ? "open: " + d.median_open
+                                                      : fmt::format("{:g} … {:g} rpm", d.median_lower, d.median_upper),
+                           d.observations.size(), ToString(d.status));
+    } else {
+      c.note += fmt::format("; L3: {}", d.BriefReport());
+    }
+  }
+
+  // The status.
+  result.status = LoopStatus::kExplained;
+  for (const LoopCorner& c : result.corners)
+    if (c.level.empty()) result.status = LoopStatus::kPartly;
+  for (const LoopRun* run : {&result.up, &result.down}) {
+    if (!run->message.empty()) {
+      result.status = LoopStatus::kRunFailed;
+      result.message = fmt::format("the {} run: {}", ToString(run->direction), run->message);
+    }
+  }
+  result.cpu_seconds = spent();
+  result.wall_seconds = SecondsSince(wall_start);
+  return result;
+}
+
+}  // namespace rubcont

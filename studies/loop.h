@@ -1,0 +1,160 @@
+// The hysteresis loop of a rub rotor, explained: every jump a run-up and a run-down make, why each
+// happens, how sure, and which level decided it (`rubcont loop`; docs/loop.md).
+//
+// The run. A run-up visits the speeds p_0 < p_1 < … of its schedule (step_rpm apart) and stays
+// `dwell` seconds at each; a run-down the same from the top. Which state the rotor is on at each
+// speed, and where it jumps, is what a time-marching sweep shows (level L3). This study follows
+// the run the same way (the tracker: the sweep's own stepper, integrators and regime rules) but
+// integrates only where no cheaper level already knows the answer:
+//
+//  L1  The rotating waves (circular whirl and whip) of the tanh law the sweep integrates, with
+//      their stability and special points (waves/rotating_wave_branches.h). Wherever the tracked
+//      state lies on a stable wave (the jump table's matching rule, studies/jump_prediction.h),
+//      the run is known to stay on it until that wave's stable stretch ends (StableLimitFrom): the
+//      tracker is moved there, onto the wave's own state (skip), and integrates again from the
+//      last schedule speed before the limit. Every jump the tracker then sees whose departure or
+//      landing state lies on a wave with a special point near it is that point's (knee, Hopf,
+//      fold, branch point, contact loss …): cause, speed and level L1.
+//  L3  A jump no special point of the waves explains is escalated. When the run leaves its state
+//      by chance — a chaotic whip past a crisis, whose lifetime falls with speed — the speed at
+//      which a run of this schedule leaves it is a random variable: its median and 5–95 % range
+//      are measured by the sequential escape design (sweeps/escape_design.h) with copies of the
+//      tracker's own states, and the crisis's p_c with its profile interval stands beside them.
+//      The copies run over the job runner (threads, or the ranks of an MPI run); the design's
+//      choices depend only on their outcomes.
+//  A jump nothing explains within the budget says so, with what was tried — never a guess.
+//  L4: a scene with [flexible] runs all of this on its flexible structure (the caller's level).
+//
+// The budget is CPU seconds for the whole loop: the waves and the tracker first (they are needed
+// for everything), then the escalations in order of importance — the first whirl → whip and the
+// last whip → whirl jump of each direction, then the rest in speed order.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "solvers/parallel.h"
+#include "studies/jump_prediction.h"
+#include "sweeps/escape_design.h"
+#include "sweeps/rub_runs.h"
+#include "waves/rotating_wave_branches.h"
+
+namespace rubcont {
+
+struct LoopOptions {
+  // The sweeps of the scene in both directions: their ranges [rad/s] (sweep.parameters' first and
+  // last speed; the loop lays its own schedule over them), integrators, windows, regime rules and
+  // impulse. Their dwell and step are replaced by `dwell` and `step_rpm`.
+  RubSweepOptions up;
+  RubSweepOptions down;
+  double step_rpm = 2.0;  // [rpm] > 0: the run's speed step (the thesis: 2 rpm)
+  double dwell = 1.5;     // [s] > 0: time at each speed (the thesis: 1.5 s)
+  // The rotating waves (tanh law at the structure's ε) over the sweeps' range.
+  RotatingWaveBranchOptions waves;
+  JumpMatchOptions match;  // a tracked state on a wave, a special point near a jump
+  // The escape design of a jump L1 does not explain (schedule, dwell, candidates and first are
+  // the loop's): copies per ensemble, durations, the width asked of the median's interval.
+  EscapeDesignOptions escapes;
+  double window = 0.05;       // [s] > 0: a copy's state is read every two windows
+  double perturbation = 1e-6;  // of each copy, in units of each state's scale (≥ 0)
+  // How far below (run-up) or above (run-down) the tracker's last speed on the state the escape
+  // design may place its ensembles [rpm] ≥ step_rpm.
+  double escape_reach_rpm = 16.0;
+  double budget = 300.0;  // [CPU s] > 0 for the whole loop
+};
+
+// Throws std::invalid_argument naming the field, its value and the rule.
+void Validate(const LoopOptions& options);
+
+// A stretch of a run decided by L1: the tracker stood on a stable wave and moved along it.
+struct LoopSkip {
+  double from_rpm = 0.0;
+  double to_rpm = 0.0;
+  std::string branch;  // the wave
+  std::string limit;   // what ends its stable stretch (SpecialPoint::Name()), or why none
+};
+
+// One direction of the run as the tracker followed it.
+struct LoopRun {
+  SweepDirection direction = SweepDirection::kUp;
+  std::vector<double> schedule_rpm;  // every speed of the run's schedule
+  std::vector<SweepPoint> points;    // the speeds integrated, in order
+  std::vector<Vector> states;        // the state after each of them
+  RubSweepRegimes regimes;           // of `points`
+  std::vector<LoopSkip> skips;
+  std::vector<PredictedJump> jumps;  // seen by the tracker, with the L1 attribution
+  std::string message;               // why the run ended early ("" when it reached the end)
+  // Where the run ends: "left whirl, right whirl at 256 rpm" (RegimeList at its last speed).
+  std::string end;
+  double cpu_seconds = 0.0;
+};
+
+// A jump of the loop: a row of /loop/corners.
+struct LoopCorner {
+  std::string direction;  // "up", "down"
+  std::string kind;       // RubJumpKind: "whirl_to_whip", "whip_to_whirl", "contact_lost", …
+  std::string contact;    // "left", "right", or "left, right" where they jump alike
+  double speed_rpm = 0.0;  // where the run jumps (the bifurcation's speed, or the median)
+  double lower_rpm = 0.0;  // with `interval` saying what [lower, upper] is
+  double upper_rpm = 0.0;
+  std::string interval;
+  std::string cause;  // "knee", "Hopf", "fold", …, "crisis of a chaotic whip", "not explained"
+  std::string level;  // "L1", "L3"; "" when not explained
+  std::string evidence;  // the result file's dataset that shows it (set by the writer's layout)
+  double cpu_seconds = 0.0;         // spent on deciding it (beyond the waves and the tracker)
+  double crisis_lower_rpm = 0.0;    // the crisis's p_c interval (NaN unless L3; an end the data
+  double crisis_upper_rpm = 0.0;    // do not bound is NaN, said in `note`)
+  std::string note;                 // what was tried, and the numbers behind the cause
+  // The jump as the tracker saw it.
+  double seen_from_rpm = 0.0;
+  double seen_to_rpm = 0.0;
+  double precession_from_hz = 0.0;
+  double precession_to_hz = 0.0;
+  int escape_design = -1;  // index into LoopResult::escape_designs (−1: none)
+};
+
+enum class LoopStatus {
+  kExplained,     // every corner has a cause
+  kPartly,        // some corners are not explained (within the budget or at all)
+  kRunFailed,     // a tracker's integration failed: the loop is incomplete
+};
+const char* ToString(LoopStatus status);
+
+struct LoopEscapeDesign {
+  std::string direction;
+  double seen_from_rpm = 0.0;
+  double seen_to_rpm = 0.0;
+  std::string target;  // what a copy arrives at, in words (Describe)
+  EscapeDesign design;
+};
+
+struct LoopResult {
+  LoopStatus status = LoopStatus::kExplained;
+  std::string message;
+  std::vector<RotatingWaveBranch> waves;
+  LoopRun up, down;
+  std::vector<LoopCorner> corners;  // the table: run-up first, each direction in speed order
+  std::vector<LoopEscapeDesign> escape_designs;
+  // Every escalation and why, in order ("L3 for up whip_to_whirl 180 → 184 rpm: no special point
+  // of the waves within 10 rpm of it"), and what the budget stopped.
+  std::vector<std::string> decisions;
+  double cpu_seconds = 0.0;
+  double wall_seconds = 0.0;
+  std::string BriefReport() const;
+};
+
+struct LoopProgress {
+  std::function<void(const std::string& line)> note;  // decisions and stages, as they are made
+  // After each tracked speed: the direction and the speed [rpm].
+  std::function<void(SweepDirection direction, double speed_rpm)> speed;
+};
+
+// The loop of `structure` (its fixed frame, with imbalance if any; the waves are those of its
+// balanced rotor). `jobs` runs the escape copies (ThreadJobs, or the ranks of an MPI run). Throws
+// std::invalid_argument for invalid options.
+LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options, const JobRunner& jobs,
+                       const LoopProgress& progress = {});
+
+}  // namespace rubcont
