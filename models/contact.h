@@ -12,6 +12,8 @@
 // For circular backward precession V = ωR − Ω|d|, so rolling (V = 0) is Ω = ωR/|d| ≈ (R/C)·ω.
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 namespace rubcont {
@@ -78,5 +80,27 @@ struct ContactEvaluation {
 void EvaluateContact(const ContactLaw& law, const ContactGeometry& geometry, double omega,
                      const Vector2& d, const Vector2& ddot, FrictionMode mode, double stick_force,
                      bool with_derivatives, ContactEvaluation& out);
+
+// The force on the rotor alone, in FrictionMode::kRegularized, for time marching (millions of
+// calls per simulated second): `force` and `touching` of EvaluateContact by the same operations in
+// the same order — bit for bit its values — without what only EvaluateContact's callers read.
+// Returns whether the contact touches (N > 0); sets `force` only then.
+inline bool RegularizedContactForce(const ContactLaw& law, const ContactGeometry& geometry,
+                                    double omega, const Vector2& d, const Vector2& ddot,
+                                    Vector2& force) {
+  const double rho = d.norm();
+  const double delta = rho - geometry.clearance;
+  if (!(delta > 0.0)) return false;
+  const Vector2 n = d / rho;
+  const Vector2 t(-n.y(), n.x());
+  const double delta_dot = n.dot(ddot);
+  const double normal = law.stiffness * delta + law.stiffness2 * delta * delta +
+                        law.damping * delta_dot * delta;
+  if (!(normal > 0.0)) return false;
+  const double slip_velocity = omega * geometry.radius + t.dot(ddot);
+  const double friction_force = law.friction * normal * std::tanh(slip_velocity / law.velocity_scale);
+  force = -normal * n - friction_force * t;
+  return true;
+}
 
 }  // namespace rubcont

@@ -155,6 +155,7 @@ class RubFixedFrame : public OdeSystem {
   Matrix gyroscopic_;    // kron(G, [[0, −1], [1, 0]]): the load ω gyroscopic_ v of jωG u̇; empty for none
   std::vector<FrictionMode> modes_;
   Vector stick_forces_;
+  bool regularized_ = true;  // every mode kRegularized: Rhs takes the time-marching path
   ContactForces forces_;  // workspace
   // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ
   // (+ ω (−V_y, V_x)(M⁻¹G)ᵀ with gyroscopic moments), for N = n_c or Eigen::Dynamic.

@@ -1,0 +1,321 @@
+// Time marching at hand-written speed (issue 49, item 5): the CPU per simulated second of the
+// library's sweep stepper (SweepStepper with the scene's "explicit" integrator, Boost.Odeint's
+// Dormand–Prince 5(4) at the scene's tolerance) against a plain-C Dormand–Prince of the same model
+// (bench/plain_rub_dopri5.c: no library layers, the same error norm and tolerance), per regime.
+//
+// Per regime the state is reached once by the scene's own sweep (ApproachSweep), then one sweep
+// speed (dwell = settle windows + 1, sampled at the scene's rate) is integrated from it, the
+// measured runs alternating, each the median of --repeats:
+//   sweep       SweepStepper::Step: the integrator, the observation of every sample, the window
+//               spectra and the settle test, the summary (what `rubcont sweep` pays per speed);
+//   integrator  OdeIntegrator::Sample over the same windows (one call per window, as the stepper
+//               makes them): the integrator alone;
+//   plain       the plain-C reference sampling the same times, step-size control as Odeint's
+//               (so the steps are those of the library) and as Hairer's DOPRI5 (PI control).
+// CPU seconds of the process (solvers/stopwatch.h), per simulated second; ratios to the plain
+// reference with Odeint's control. The plain model is checked against RubFixedFrame::Rhs first.
+//
+// --schedule adds the whole speed-up sweep of the issue (44 → 184 rpm, 4 rpm, the scene's dwell),
+// rubcont's SweepRun against the plain reference marching the same schedule, once each, alternating;
+// with the speeds where each leaves the whip (the dominant backward precession of the last
+// analysis_length of each speed, by solvers/spectrum.h, above 150 Hz: rolling whirl).
+//
+// Usage: march_bench [SCENE] [--repeats K] [--regime NAME] [--schedule] [--schedule-only]
+// Default: scenes/thesis_A_a.toml, 5 repeats.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "apps/scene.h"
+#include "apps/stage_options.h"
+#include "models/units.h"
+#include "plain_rub_dopri5.h"
+#include "solvers/constants.h"
+#include "solvers/ode.h"
+#include "solvers/spectrum.h"
+#include "solvers/stopwatch.h"
+#include "sweeps/rub_runs.h"
+#include "sweeps/rub_sweep.h"
+
+namespace {
+
+using rubcont::Vector;
+
+PlainRubData PlainDataOf(const rubcont::TwoPointParams& p) {
+  PlainRubData d{};
+  d.rotor_mass = p.rotor_mass;
+  d.rotor_inertia = p.rotor_inertia;
+  d.contact_span = p.contact_span;
+  d.rotor_mass_center = p.rotor_mass_center;
+  d.stator_mass = p.stator_mass;
+  d.stator_inertia = p.stator_inertia;
+  d.stator_span = p.stator_span;
+  d.stator_mass_center = p.stator_mass_center;
+  for (int k = 0; k < 2; ++k) {
+    d.support_stiffness[k] = p.support_stiffness[k];
+    d.support_damping[k] = p.support_damping[k];
+    d.clearance[k] = p.clearance[k];
+    d.radius[k] = p.radius[k];
+  }
+  d.friction = p.friction;
+  d.contact_stiffness = p.contact_stiffness;
+  d.contact_stiffness2 = p.contact_stiffness2;
+  d.contact_damping = p.contact_damping;
+  d.velocity_scale = p.friction_law.velocity_scale;
+  d.center_damping = p.center_damping;
+  return d;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// The sample times of one sweep speed: windows × round(window·rate) samples after t = 0.
+Vector SpeedTimes(const rubcont::SweepOptions& o, int windows) {
+  const long per_window = std::lround(o.window * o.sample_rate);
+  Vector times(windows * per_window);
+  for (long k = 0; k < times.size(); ++k) times(k) = static_cast<double>(k + 1) / o.sample_rate;
+  return times;
+}
+
+struct PlainRun {
+  double cpu = 0.0;
+  PlainStatistics statistics{};
+  Vector end;
+  bool ok = true;
+};
+
+PlainRun RunPlain(const PlainRubData& data, double omega, PlainControl control, double tolerance,
+                  const Vector& x0, const Vector& times) {
+  PlainRub model;
+  PlainRubInit(&data, omega, &model);
+  std::vector<double> samples(16 * static_cast<std::size_t>(times.size()));
+  PlainRun run;
+  run.end = x0;
+  double step = 0.0;
+  const double c0 = rubcont::ProcessCpuSeconds();
+  run.ok = PlainDopri5(&model, control, tolerance, 0.0, run.end.data(), times.data(), times.size(),
+                       samples.data(), &step, &run.statistics) == 0;
+  run.cpu = rubcont::CpuSecondsSince(c0);
+  return run;
+}
+
+struct Regime {
+  const char* name;
+  double from_rpm, to_rpm;  // the approach sweep starts at from_rpm; to_rpm is measured
+};
+
+double ScaledDistance(const Vector& a, const Vector& b, const Vector& scale) {
+  return (a - b).cwiseQuotient(scale).cwiseAbs().maxCoeff();
+}
+
+void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeats) {
+  const rubcont::RubStructure structure = rubcont::SweepStructureOf(scene);
+  rubcont::Scene approach_scene = scene;
+  approach_scene.analysis.sweep.up_range_rpm = {regime.from_rpm, regime.to_rpm};
+  const rubcont::RubSweepOptions approach_options =
+      rubcont::RubSweepOptionsOf(approach_scene, rubcont::SweepDirection::kUp);
+  const double omega = rubcont::RpmToRadPerSecond(regime.to_rpm);
+  const rubcont::SweepApproach approach = rubcont::ApproachSweep(structure, approach_options, omega);
+  if (approach.status != rubcont::ApproachStatus::kReached) {
+    std::printf("%s: %s\n", regime.name, approach.BriefReport().c_str());
+    return;
+  }
+  const Vector& x0 = approach.state;
+  rubcont::RubSweepOptions speed = approach_options;
+  speed.sweep.parameters = {omega};
+  const rubcont::SweepOptions& o = speed.sweep;
+  const PlainRubData data = PlainDataOf(scene.two_point);
+  const double tolerance = o.integrator.relative_tolerance;
+
+  // The plain model against the library's at the approach state.
+  rubcont::RubFixedFrame system(structure, omega);
+  const Vector scale = system.StateScale();
+  Vector f(16), g(16);
+  system.Rhs(0.0, x0, f);
+  PlainRub plain_model;
+  PlainRubInit(&data, omega, &plain_model);
+  PlainRubRhs(&plain_model, x0.data(), g.data());
+  double scale_difference = 0.0;
+  for (int i = 0; i < 16; ++i) scale_difference = std::max(scale_difference, std::abs(plain_model.scale[i] / scale(i) - 1.0));
+
+  std::vector<double> sweep_cpu, integrator_cpu, plain_cpu, hairer_cpu;
+  rubcont::IntegrationStatistics sweep_statistics;
+  PlainRun plain, hairer;
+  Vector sweep_end, integrator_end;
+  int windows = 0;
+  double simulated = 0.0;
+  for (int r = 0; r < repeats; ++r) {
+    {
+      rubcont::SweepRun run(structure, speed, {}, x0);
+      const double c0 = rubcont::ProcessCpuSeconds();
+      run.stepper().Step();
+      sweep_cpu.push_back(rubcont::CpuSecondsSince(c0));
+      const rubcont::SweepPoint& p = run.stepper().points().back();
+      sweep_statistics = p.statistics;
+      windows = p.windows;
+      simulated = p.simulated_time;
+      sweep_end = run.stepper().state();
+    }
+    const Vector times = SpeedTimes(o, windows);
+    {
+      rubcont::RubFixedFrame marching(structure, omega);
+      rubcont::OdeIntegrator integrator(marching, o.integrator);
+      const long per_window = times.size() / windows;
+      Vector window_times(per_window);
+      rubcont::Matrix states;
+      Vector x = x0;
+      const double c0 = rubcont::ProcessCpuSeconds();
+      for (int w = 0; w < windows; ++w) {
+        window_times = times.segment(w * per_window, per_window);
+        integrator.Sample(w == 0 ? 0.0 : times(w * per_window - 1), x, window_times, states);
+        x = states.col(per_window - 1);
+      }
+      integrator_cpu.push_back(rubcont::CpuSecondsSince(c0));
+      integrator_end = x;
+    }
+    plain = RunPlain(data, omega, kPlainOdeintControl, tolerance, x0, times);
+    plain_cpu.push_back(plain.cpu);
+    hairer = RunPlain(data, omega, kPlainHairerControl, tolerance, x0, times);
+    hairer_cpu.push_back(hairer.cpu);
+  }
+  const double sweep = Median(sweep_cpu) / simulated, integrator = Median(integrator_cpu) / simulated,
+               plain_s = Median(plain_cpu) / simulated, hairer_s = Median(hairer_cpu) / simulated;
+  std::printf("\n%s at %g rpm (approach %s; %d windows, %g s simulated; model check: |Δf| / |f| = "
+              "%.1e, scales %.1e)\n",
+              regime.name, regime.to_rpm, approach.BriefReport().c_str(), windows, simulated,
+              (f - g).cwiseQuotient(scale).norm() / f.cwiseQuotient(scale).norm(), scale_difference);
+  std::printf("  %-30s %10s %8s %10s %10s %9s %12s\n", "", "CPU s/s", "ratio", "steps/s", "f/s",
+              "rejected", "end vs plain");
+  std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12.1e\n", "rubcont sweep speed", sweep,
+              sweep / plain_s, sweep_statistics.steps / simulated,
+              sweep_statistics.rhs_evaluations / simulated,
+              double(sweep_statistics.error_test_failures) / std::max(1L, sweep_statistics.steps),
+              ScaledDistance(sweep_end, plain.end, scale));
+  std::printf("  %-30s %10.3f %8.2f %10s %10s %9s %12.1e\n", "rubcont integrator alone", integrator,
+              integrator / plain_s, "", "", "", ScaledDistance(integrator_end, plain.end, scale));
+  std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12s\n", "plain C, Odeint's control",
+              plain_s, 1.0, plain.statistics.steps / simulated,
+              plain.statistics.rhs_evaluations / simulated,
+              double(plain.statistics.rejected) / std::max(1L, plain.statistics.steps), "");
+  std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12.1e\n", "plain C, Hairer's PI control",
+              hairer_s, hairer_s / plain_s, hairer.statistics.steps / simulated,
+              hairer.statistics.rhs_evaluations / simulated,
+              double(hairer.statistics.rejected) / std::max(1L, hairer.statistics.steps),
+              ScaledDistance(hairer.end, plain.end, scale));
+  std::fflush(stdout);
+}
+
+// The precession [Hz] of the last analysis_length of a speed, from samples of one contact's
+// relative motion (16 × count, column-major).
+double Precession(const std::vector<double>& samples, long count, const rubcont::SweepOptions& o) {
+  const long n = std::lround(o.analysis_length * o.sample_rate);
+  rubcont::ComplexVector z(n);
+  for (long k = 0; k < n; ++k) {
+    const double* x = samples.data() + 16 * (count - n + k);
+    z(k) = std::complex<double>(x[0] - x[4], x[1] - x[5]);
+  }
+  const rubcont::SpectralPeak peak = rubcont::DominantPeak(rubcont::TwoSidedSpectrum(z, o.sample_rate),
+                                                           rubcont::PeakSide::kNegative, o.min_frequency);
+  return peak.found ? -peak.frequency : rubcont::kNaN;
+}
+
+void MeasureSchedule(const rubcont::Scene& scene) {
+  rubcont::Scene s = scene;
+  s.analysis.sweep.up_range_rpm = {44.0, 184.0};
+  const rubcont::RubSweepOptions options = rubcont::RubSweepOptionsOf(s, rubcont::SweepDirection::kUp);
+  const rubcont::RubStructure structure = rubcont::SweepStructureOf(s);
+  const PlainRubData data = PlainDataOf(s.two_point);
+  const rubcont::SweepOptions& o = options.sweep;
+  const int windows = o.settle_windows + 1;
+  std::printf("\nschedule 44 → 184 rpm, %zu speeds × %g s (rubcont: up to the dwell, %g s)\n",
+              o.parameters.size(), windows * o.window, o.dwell);
+
+  // rubcont.
+  double rubcont_cpu = 0.0, rubcont_simulated = 0.0;
+  std::string rubcont_leaves = "never";
+  {
+    rubcont::SweepRun run(structure, options);
+    const double c0 = rubcont::ProcessCpuSeconds();
+    while (!run.stepper().Done() && !run.stepper().Failed()) run.stepper().Step();
+    rubcont_cpu = rubcont::CpuSecondsSince(c0);
+    const auto& points = run.stepper().points();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      rubcont_simulated += points[i].simulated_time;
+      const double bp = -points[i].channels[0].peak.frequency;
+      if (i > 0 && rubcont_leaves == "never" && bp > 150.0 && rubcont::RadPerSecondToRpm(o.parameters[i]) > 100) {
+        rubcont_leaves = fmt::format("{:g} → {:g} rpm", rubcont::RadPerSecondToRpm(o.parameters[i - 1]),
+                                     rubcont::RadPerSecondToRpm(o.parameters[i]));
+      }
+    }
+  }
+  // The plain reference: the same speeds, the same start (rest plus the impulse), windows × window
+  // each, sampled at the same rate.
+  double plain_cpu = 0.0, plain_simulated = 0.0;
+  std::string plain_leaves = "never";
+  {
+    Vector x = rubcont::RubImpulseIncrement(structure, options.impulse);
+    const Vector times = SpeedTimes(o, windows);
+    std::vector<double> samples(16 * static_cast<std::size_t>(times.size()));
+    double previous_rpm = 0.0;
+    for (double omega : o.parameters) {
+      PlainRub model;
+      PlainRubInit(&data, omega, &model);
+      PlainStatistics statistics{};
+      double step = 0.0;
+      const double c0 = rubcont::ProcessCpuSeconds();
+      PlainDopri5(&model, kPlainOdeintControl, o.integrator.relative_tolerance, 0.0, x.data(),
+                  times.data(), times.size(), samples.data(), &step, &statistics);
+      plain_cpu += rubcont::CpuSecondsSince(c0);
+      plain_simulated += times(times.size() - 1);
+      const double rpm = rubcont::RadPerSecondToRpm(omega);
+      if (plain_leaves == "never" && rpm > 100 && Precession(samples, times.size(), o) > 150.0) {
+        plain_leaves = fmt::format("{:g} → {:g} rpm", previous_rpm, rpm);
+      }
+      previous_rpm = rpm;
+    }
+  }
+  std::printf("  rubcont sweep   %7.2f s CPU for %5.2f s simulated (%.3f s/s), leaves the whip at %s\n",
+              rubcont_cpu, rubcont_simulated, rubcont_cpu / rubcont_simulated, rubcont_leaves.c_str());
+  std::printf("  plain C         %7.2f s CPU for %5.2f s simulated (%.3f s/s), leaves the whip at %s\n",
+              plain_cpu, plain_simulated, plain_cpu / plain_simulated, plain_leaves.c_str());
+  std::printf("  ratio rubcont / plain, per simulated second: %.2f\n",
+              (rubcont_cpu / rubcont_simulated) / (plain_cpu / plain_simulated));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene_file = "scenes/thesis_A_a.toml";
+  std::string only;
+  int repeats = 5;
+  bool schedule = false, regimes = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--repeats" && i + 1 < argc) repeats = std::atoi(argv[++i]);
+    else if (a == "--regime" && i + 1 < argc) only = argv[++i];
+    else if (a == "--schedule") schedule = true;
+    else if (a == "--schedule-only") schedule = true, regimes = false;
+    else scene_file = a;
+  }
+  const rubcont::Scene scene = rubcont::LoadScene(scene_file);
+  const rubcont::SweepOptions o = rubcont::SweepOptionsOf(scene, rubcont::SweepDirection::kUp);
+  std::printf("march_bench: scene %s, integrator %s at rtol = atol = %g, %g s windows at %g Hz, "
+              "CPU medians of %d\n", scene.name.c_str(), rubcont::ToString(o.integrator.method),
+              o.integrator.relative_tolerance, o.window, o.sample_rate, repeats);
+  if (regimes) {
+    const std::vector<Regime> list = {
+        {"whirl", 20, 40}, {"whip, full contact", 56, 80}, {"whip, impacting", 56, 160}};
+    for (const Regime& r : list) {
+      if (only.empty() || only == r.name) MeasureRegime(scene, r, repeats);
+    }
+  }
+  if (schedule) MeasureSchedule(scene);
+  return 0;
+}
