@@ -220,51 +220,60 @@ RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
 }
 
 void RubFixedFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {
+  if (structure_.Coordinates() == 4) {
+    Evaluate<4>(t, x.data(), f.data());  // the two-point rotor: fixed sizes, unrolled
+  } else {
+    Evaluate<Eigen::Dynamic>(t, x.data(), f.data());
+  }
+}
+
+template <int N>
+void RubFixedFrame::Evaluate(double t, const double* x, double* f) {
   // Allocation-free and in the n × n coordinates (the 2n × 2n matrices are kron(·, I₂)): explicit
   // sweeps call it millions of times per simulated second. Positions, velocities and loads as
   // 2 × n matrices (column i: the x and y components of coordinate i), so M⁻¹ load = L M⁻ᵀ.
+  using Rows = Eigen::Matrix<double, 2, N>;
   const Index n = structure_.Coordinates();
   const Index n2 = 2 * n;
+  Rows fixed_load;  // the loads on the stack for a fixed size (empty for Eigen::Dynamic: load_)
+  Eigen::Map<Rows> load(N == Eigen::Dynamic ? load_.data() : fixed_load.data(), 2, n);
   if (regularized_) {
     // Time marching: the contact forces alone (RegularizedContactForce: EvaluateContactForces'
     // loads bit for bit, at a fifth of its cost on A(a): bench/march_bench.cpp).
-    load_.setZero();
+    load.setZero();
     for (const RubContact& contact : structure_.contacts) {
       const Index r = 2 * contact.rotor, s = 2 * contact.stator;
-      const Vector2 d = x.segment<2>(r) - x.segment<2>(s);
-      const Vector2 ddot = x.segment<2>(n2 + r) - x.segment<2>(n2 + s);
+      const Vector2 d(x[r] - x[s], x[r + 1] - x[s + 1]);
+      const Vector2 ddot(x[n2 + r] - x[n2 + s], x[n2 + r + 1] - x[n2 + s + 1]);
       Vector2 force;
       if (!RegularizedContactForce(structure_.law, contact.geometry, omega_, d, ddot, force)) continue;
-      load_.col(contact.rotor) += force;
-      load_.col(contact.stator) -= force;
+      load.col(contact.rotor) += force;
+      load.col(contact.stator) -= force;
     }
   } else {
-    EvaluateContactForces(structure_, omega_, x.head(n2), x.tail(n2), modes_, stick_forces_, false,
-                          forces_);
-    load_ = Eigen::Map<const Matrix>(forces_.generalized.data(), 2, n);
+    const Eigen::Map<const Vector> state(x, 2 * n2);
+    EvaluateContactForces(structure_, omega_, state.head(n2), state.tail(n2), modes_, stick_forces_,
+                          false, forces_);
+    load = Eigen::Map<const Rows>(forces_.generalized.data(), 2, n);
   }
   if (structure_.imbalance != 0.0) {
     const double amplitude = structure_.imbalance * omega_ * omega_;
     const double c = std::cos(omega_ * t), s = std::sin(omega_ * t);
     for (Index i = 0; i < n; ++i) {
-      load_(0, i) += amplitude * structure_.imbalance_weights(i) * c;
-      load_(1, i) += amplitude * structure_.imbalance_weights(i) * s;
+      load(0, i) += amplitude * structure_.imbalance_weights(i) * c;
+      load(1, i) += amplitude * structure_.imbalance_weights(i) * s;
     }
   }
-  if (n == 4) {
-    Accelerations<4>(x.data(), f.data() + n2);  // the two-point rotor: fixed sizes, unrolled
-  } else {
-    Accelerations<Eigen::Dynamic>(x.data(), f.data() + n2);
-  }
-  f.head(n2) = x.tail(n2);
+  Accelerations<N>(x, load.data(), f + n2);
+  std::copy(x + n2, x + 2 * n2, f);
 }
 
 template <int N>
-void RubFixedFrame::Accelerations(const double* x, double* acceleration) const {
+void RubFixedFrame::Accelerations(const double* x, const double* loads, double* acceleration) const {
   using Small = Eigen::Matrix<double, N, N>;
   using Rows = Eigen::Matrix<double, 2, N>;
   const Index n = structure_.Coordinates();
-  const Eigen::Map<const Rows> q(x, 2, n), v(x + 2 * n, 2, n), load(load_.data(), 2, n);
+  const Eigen::Map<const Rows> q(x, 2, n), v(x + 2 * n, 2, n), load(loads, 2, n);
   const Eigen::Map<const Small> m(small_mass_inverse_transpose_.data(), n, n);
   const Eigen::Map<const Small> c(small_damping_rate_transpose_.data(), n, n);
   const Eigen::Map<const Small> k(small_stiffness_rate_transpose_.data(), n, n);

@@ -157,11 +157,14 @@ class RubFixedFrame : public OdeSystem {
   Vector stick_forces_;
   bool regularized_ = true;  // every mode kRegularized: Rhs takes the time-marching path
   ContactForces forces_;  // workspace
-  // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ
-  // (+ ω (−V_y, V_x)(M⁻¹G)ᵀ with gyroscopic moments), for N = n_c or Eigen::Dynamic.
+  // Rhs for N = n_c or Eigen::Dynamic (x and f: 4 n_c entries).
   template <int N>
-  void Accelerations(const double* x, double* acceleration) const;
-  // Rhs: M⁻ᵀ, (M⁻¹C)ᵀ, (M⁻¹K)ᵀ (n_c × n_c) and its workspace, the load as 2 × n_c.
+  void Evaluate(double t, const double* x, double* f);
+  // Rhs's accelerations (2 × n_c, coordinate by column) = load M⁻ᵀ − V (M⁻¹C)ᵀ − Q (M⁻¹K)ᵀ
+  // (+ ω (−V_y, V_x)(M⁻¹G)ᵀ with gyroscopic moments), for N = n_c or Eigen::Dynamic; loads 2 × n_c.
+  template <int N>
+  void Accelerations(const double* x, const double* loads, double* acceleration) const;
+  // Rhs: M⁻ᵀ, (M⁻¹C)ᵀ, (M⁻¹K)ᵀ (n_c × n_c) and its workspace, the load as 2 × n_c (Eigen::Dynamic).
   Matrix small_mass_inverse_transpose_, small_damping_rate_transpose_,
       small_stiffness_rate_transpose_, small_gyroscopic_rate_transpose_;
   Matrix load_;
