@@ -22,6 +22,7 @@ const char* ToString(BranchStatus status) {
     case BranchStatus::kNoValidDirection: return "no valid direction after a switch";
     case BranchStatus::kStepTooSmall: return "step below its minimum";
     case BranchStatus::kStartFailed: return "start failed";
+    case BranchStatus::kGrazing: return "ended at a grazing";
   }
   return "unknown";
 }

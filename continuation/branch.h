@@ -83,6 +83,9 @@ enum class BranchStatus {
   kNoValidDirection,   // after a switch, the new piece is invalid in both directions
   kStepTooSmall,       // the corrector failed with the step at its minimum
   kStartFailed,        // the start point could not be corrected, or violates an event margin
+  // Ended at a located grazing, as the caller asked (PeriodicOrbitBranchOptions::stop_at_grazing):
+  // past it the orbits cross a switching surface, where a fixed mesh creeps in shrinking steps.
+  kGrazing,
 };
 
 const char* ToString(BranchStatus status);

@@ -87,7 +87,7 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   result.shooting = shooting;
   result.shooting.lambda_scale = problem.LambdaScale();
   stepper.StartWithTangent(u0, lambda, du, 0.0);
-  result.branch = RunToEnd(stepper, options.on_step);
+  result.branch = RunToEnd(stepper, options.on_step, OrbitEndTest(options.orbits, lambda));
   result.work = problem.statistics();
   return result;
 }

@@ -168,8 +168,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     continuation.detect.stability = true;
     continuation.direction = direction;
     Branch branch = Continue(problem, u0, start.lambda, continuation, options.on_step,
-                             options.stop_round_closed_curve ? EndRoundClosedCurve(start.lambda)
-                                                             : EndTest{});
+                             OrbitEndTest(options, start.lambda));
     result.work += problem.statistics();
     return branch;
   };
@@ -227,6 +226,32 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda) {
   const double now = branch.points.back().lambda;
   const double before = branch.points[branch.points.size() - 2].lambda;
   return (now - start_lambda) * (before - start_lambda) <= 0.0;
+}
+
+EndTest EndAtGrazing() {
+  return [](const Branch& branch) -> std::optional<BranchEnd> {
+    for (const SpecialPoint& p : branch.special_points) {
+      if (p.type != SpecialPointType::kGrazing || !p.converged) continue;
+      return BranchEnd{BranchStatus::kGrazing,
+                       fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the orbits "
+                                   "cross a switching surface (continue with "
+                                   "ContinueAcrossSwitches)",
+                                   p.label.empty() ? "" : " " + p.label, p.lambda)};
+    }
+    return std::nullopt;
+  };
+}
+
+EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda) {
+  const EndTest closed = options.stop_round_closed_curve ? EndRoundClosedCurve(start_lambda) : EndTest{};
+  const EndTest grazing = options.stop_at_grazing ? EndAtGrazing() : EndTest{};
+  if (!closed && !grazing) return {};
+  return [closed, grazing](const Branch& branch) -> std::optional<BranchEnd> {
+    if (closed) {
+      if (std::optional<BranchEnd> end = closed(branch)) return end;
+    }
+    return grazing ? grazing(branch) : std::nullopt;
+  };
 }
 
 EndTest EndRoundClosedCurve(double start_lambda) {

@@ -73,6 +73,12 @@ struct PeriodicOrbitBranchOptions {
   // family (refresh_phase_reference) an orbit met again has other segment starts: measured on
   // C(a)'s 1:3 orbits, followed round and round.
   bool stop_round_closed_curve = false;
+  // End a run at its first located grazing (a kGrazing special point that converged: an orbit
+  // tangent to a switching surface; status BranchStatus::kGrazing, the message names it), instead
+  // of continuing past it. Past A(a)'s grazing the fixed collocation mesh creeps 87 orbits in
+  // halving steps over 0.33 rpm (640 s) to a corrector failure (issue 49; bench/
+  // whip_family_bench.cpp); ContinueAcrossSwitches (shooting/switching_orbits.h) continues there.
+  bool stop_at_grazing = false;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;
   // 0: both ways from the start (one way from an end of the range); ±1: only that way in λ.
@@ -96,6 +102,12 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda);
 // ContinueLockedOrbits): status kClosed once RoundClosedCurve(branch, start_lambda), the message
 // naming the folds.
 EndTest EndRoundClosedCurve(double start_lambda);
+// The end at the first converged grazing special point of the branch (PeriodicOrbitBranchOptions::
+// stop_at_grazing): status BranchStatus::kGrazing.
+EndTest EndAtGrazing();
+// The ends `options` ask for (stop_round_closed_curve, stop_at_grazing) as one end test of a run
+// started at start_lambda; empty when they ask for none.
+EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda);
 
 // Throws std::invalid_argument naming the field (an empty or non-finite range).
 void Validate(const PeriodicOrbitBranchOptions& options);

@@ -16,6 +16,7 @@
 #include "continuation/continuation.h"
 #include "models/textbook.h"
 #include "models/units.h"
+#include "shooting/orbit_branches.h"
 #include "shooting/shooting.h"
 #include "solvers/finite_difference.h"
 #include "solvers/newton.h"
@@ -171,6 +172,55 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
       CAPTURE(w, touch(i));
       CHECK((touch(i) > params.gap) == inside);
     }
+  }
+}
+
+TEST_CASE("stop_at_grazing: the family ends with status kGrazing at its first located grazing, "
+          "where without it it goes on through both",
+          "[grazing][shooting][branch]") {
+  SoftImpactParams params;
+  params.damping = 0.3;
+  params.stiffness = 1.0;
+  SoftImpactOscillator system(params);
+  const std::vector<double> expected = system.GrazingFrequencies();
+  REQUIRE(expected.size() == 2);
+  system.SetParameter(0.5);
+  OrbitStart start;
+  start.x0 = system.FreeState();
+  start.lambda = 0.5;
+  start.valid = true;
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = 0.5;
+  options.lambda_max = 2.0;
+  options.shooting = Gauss(400);
+  options.shooting.samples_per_segment = 256;
+  options.test_functions = {Touchdown(params.gap)};
+  options.continuation.step.max = 0.5;
+  options.continuation.step.target_iterations = 5;
+  for (const bool stop : {true, false}) {
+    CAPTURE(stop);
+    options.stop_at_grazing = stop;
+    const PeriodicOrbitBranch family = ContinuePeriodicOrbits(system, OrbitKind::kForced, start, options);
+    const Branch& branch = family.branch;
+    INFO(branch.BriefReport() << " — " << branch.message);
+    std::vector<SpecialPoint> grazing;
+    for (const SpecialPoint& p : branch.special_points) {
+      if (p.type == SpecialPointType::kGrazing) grazing.push_back(p);
+    }
+    if (!stop) {
+      CHECK(branch.status == BranchStatus::kReachedLambdaBound);
+      CHECK(grazing.size() == 2);
+      continue;
+    }
+    REQUIRE(branch.status == BranchStatus::kGrazing);
+    CHECK_FALSE(IsFailure(branch.status));
+    REQUIRE(grazing.size() == 1);
+    CHECK(grazing[0].converged);
+    CHECK(grazing[0].lambda == Approx(expected[0]).epsilon(0).margin(1e-8));
+    CHECK_THAT(branch.message, Catch::Contains("grazing touchdown"));
+    // Ended by the step that found it: the last orbit is the first one past the grazing.
+    CHECK(grazing[0].index + 2 == static_cast<Index>(branch.points.size()));
+    CHECK(branch.points.back().lambda > grazing[0].lambda);
   }
 }
 

@@ -1,0 +1,123 @@
+// The A(a) modulated whip family from its Hopf point (issue 49, items 1–2): CPU, orbits, Newton
+// iterations and where each step was limited, and the landmarks (branch points, period doubling,
+// stability, grazing), with the orbits stage's settings (apps/orbits_stage.cpp: 4 segments, Gauss
+// collocation s = 4 on 400 intervals per modulation period, the engine's steps up to 1 with target
+// angle 0.3 and 5 target iterations) and the step-control levers on the command line, to measure
+// them one by one against the same run.
+//
+// Usage: whip_family_bench [--to RPM] [--intervals N] [--angle A] [--iterations K] [--growth G]
+//                          [--max-step S] [--steps N] [--tolerance T] [--residual R]
+//                          [--stop-at-grazing] [--verbose]
+// --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
+// located grazing with status kGrazing); the cost from the last orbit before each grazing to the
+// end of the run is printed.
+// --tolerance: the shooting's (Gauss: its Newton stops at 1e-3·T, scaled); --residual: the
+// continuation corrector's residual tolerance (default the engine's).
+// Default: to 63 rpm (the issue's first figure), the stage's settings.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "models/rub_model.h"
+#include "models/units.h"
+#include "shooting/rub_orbits.h"
+#include "solvers/constants.h"
+#include "solvers/stopwatch.h"
+#include "waves/rotating_wave_branches.h"
+
+namespace rubcont {
+namespace {
+
+int Main(int argc, char** argv) {
+  double to_rpm = 63.0, angle = 0.3, growth = 2.0, max_step = 1.0, tolerance = 1e-7, residual = 0.0;
+  int intervals = 400, iterations = 5, steps = 400;
+  bool verbose = false, stop_at_grazing = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+    if (a == "--to") to_rpm = next();
+    else if (a == "--intervals") intervals = static_cast<int>(next());
+    else if (a == "--angle") angle = next();
+    else if (a == "--iterations") iterations = static_cast<int>(next());
+    else if (a == "--growth") growth = next();
+    else if (a == "--max-step") max_step = next();
+    else if (a == "--steps") steps = static_cast<int>(next());
+    else if (a == "--tolerance") tolerance = next();
+    else if (a == "--residual") residual = next();
+    else if (a == "--stop-at-grazing") stop_at_grazing = true;
+    else if (a == "--verbose") verbose = true;
+  }
+  TwoPointParams params = ThesisCaseAa();
+  params.friction_law.kind = FrictionLawKind::kTanh;
+  const RubStructure structure = TwoPointStructure(params);
+  RotatingWaveBranchOptions wave_options;
+  wave_options.search.speed_min = RpmToRadPerSecond(20);
+  wave_options.search.speed_max = RpmToRadPerSecond(100);
+  wave_options.search.precession_max = kTwoPi * 200;
+  const double cpu_waves = ProcessCpuSeconds();
+  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, wave_options, {});
+  const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
+  if (starts.empty()) return 1;
+  const double waves_cpu = CpuSecondsSince(cpu_waves);
+
+  HopfOrbitOptions options;
+  options.amplitude = 1e-3;
+  options.orbits.lambda_min = RpmToRadPerSecond(20);
+  options.orbits.lambda_max = RpmToRadPerSecond(to_rpm);
+  ShootingOptions& shooting = options.orbits.shooting;
+  shooting.segments = 4;
+  shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  shooting.integrator.relative_tolerance = shooting.integrator.absolute_tolerance = tolerance;
+  shooting.integrator.collocation_steps = (intervals + 3) / 4;
+  shooting.sensitivities_in_residual = true;
+  ContinuationOptions& c = options.orbits.continuation;
+  c.step.max = max_step;
+  c.step.target_angle = angle;
+  c.step.target_iterations = iterations;
+  c.step.max_growth = growth;
+  c.bounds.max_steps = steps;
+  if (residual > 0.0) c.corrector.residual_tolerance = residual;
+  options.orbits.stop_at_grazing = stop_at_grazing;
+  std::vector<double> cpu_at;  // CPU seconds at each accepted orbit
+  options.on_step = [&](const Branch& b) {
+    cpu_at.resize(b.points.size(), ProcessCpuSeconds());
+    return true;
+  };
+  const double cpu0 = ProcessCpuSeconds();
+  const RubModulatedOrbits result = ContinueModulatedOrbits(structure, branches, starts.front(), options);
+  const double cpu = CpuSecondsSince(cpu0);
+  const Branch& branch = result.orbits.branch;
+  long newton = 0;
+  for (const BranchPoint& p : branch.points) newton += p.newton_iterations;
+  std::printf("whip_family_bench: Hopf %.8f rpm → %g rpm, %d intervals, angle %g, iterations %d, "
+              "growth %g, max step %g, tolerance %g, residual %g\n", RadPerSecondToRpm(starts.front().speed),
+              to_rpm, intervals, angle, iterations, growth, max_step, tolerance,
+              c.corrector.residual_tolerance);
+  std::printf("  %zu orbits, %ld Newton iterations, %ld integrator steps, %.2f s CPU (waves %.2f s): %s\n",
+              branch.points.size(), newton, result.orbits.work.steps, cpu, waves_cpu,
+              branch.BriefReport().c_str());
+  for (const SpecialPoint& s : branch.special_points) {
+    std::printf("  %-22s %.6f rpm%s %s\n", ToString(s.type), RadPerSecondToRpm(s.lambda),
+                s.converged ? "" : " (guess)", s.label.c_str());
+    // The cost past a grazing: from the last orbit before it to the end of the run.
+    if (s.type == SpecialPointType::kGrazing && s.index < static_cast<Index>(cpu_at.size())) {
+      std::printf("    %.2f s CPU and %zu orbits from the last orbit before it to the end (%s)\n",
+                  cpu0 + cpu - cpu_at[static_cast<std::size_t>(s.index)],
+                  branch.points.size() - 1 - static_cast<std::size_t>(s.index), branch.message.c_str());
+    }
+  }
+  if (verbose) {
+    for (const BranchPoint& p : branch.points) {
+      std::printf("    %9.4f rpm  ds %.4f  newton %d  unstable %d\n", RadPerSecondToRpm(p.lambda), p.step,
+                  p.newton_iterations, p.num_unstable);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace rubcont
+
+int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
