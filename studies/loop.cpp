@@ -542,6 +542,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     c.cpu_seconds = spent() - before;
     c.escape_design = static_cast<int>(result.escape_designs.size());
     c.evidence = fmt::format("escapes/{}", result.escape_designs.size());
+    result.escape_designs.push_back(record);
     const bool law = d.fit.status == CrisisStatus::kLocated && !std::isnan(d.leave.median);
     if (law) {
       c.level = "L3";

@@ -47,8 +47,8 @@ struct MedianRange {
   int upper = -1;
 };
 
-MedianRange MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
-                           const EscapeDesignOptions& o, const CrisisOptions& crisis) {
+MedianRange MedianRangeOf(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                          const EscapeDesignOptions& o, const CrisisOptions& crisis) {
   // The scaling FitCrisis uses: the mirrored parameters' span, p_c up to the first escape.
   double low = kInfinity, high = -kInfinity, first = kInfinity;
   for (const EscapeObservations& e : observations) {
@@ -199,6 +199,38 @@ LeaveDistribution PredictLeave(const CrisisFit& fit, CrisisSide side, const std:
   return d;
 }
 
+LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                                   CrisisSide side, const std::vector<double>& schedule, double dwell) {
+  LeaveMedianInterval interval;
+  interval.lower = interval.upper = kNaN;
+  if (fit.status != CrisisStatus::kLocated) {
+    interval.open = "no law";
+    return interval;
+  }
+  EscapeDesignOptions o;
+  o.side = side;
+  o.schedule = schedule;
+  o.dwell = dwell;
+  CrisisOptions crisis;
+  crisis.side = side;
+  const MedianRange range = MedianRangeOf(observations, fit, o, crisis);
+  const int n = static_cast<int>(schedule.size());
+  if (range.lower < 0) {
+    interval.open = "no law within the likelihood region";
+    return interval;
+  }
+  const double a = range.lower < n ? schedule[static_cast<std::size_t>(range.lower)] : kNaN;
+  const double b = range.upper < n ? schedule[static_cast<std::size_t>(range.upper)] : kNaN;
+  if (std::isnan(b)) {
+    interval.open = std::isnan(a) ? "the run may keep the state to the end of the schedule"
+                                  : fmt::format("from {:g} to beyond the schedule", a);
+    return interval;
+  }
+  interval.lower = std::min(a, b);
+  interval.upper = std::max(a, b);
+  return interval;
+}
+
 std::string EscapeDesign::BriefReport() const {
   std::string median = std::isnan(leave.median) ? std::string("no median")
                                                 : fmt::format("median {:g}", leave.median);
@@ -308,22 +340,11 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
     if (design.fit.status == CrisisStatus::kLocated) {
       design.leave = PredictLeave(design.fit, o.side, o.schedule, o.dwell);
       // The median's profile-likelihood interval.
-      const MedianRange range = MedianInterval(design.observations, design.fit, o, crisis);
-      const int n = static_cast<int>(o.schedule.size());
-      design.median_lower = design.median_upper = kNaN;
-      design.median_open.clear();
-      if (range.lower < 0) {
-        design.median_open = "no law within the likelihood region";
-      } else {
-        const double a = range.lower < n ? o.schedule[static_cast<std::size_t>(range.lower)] : kNaN;
-        const double b = range.upper < n ? o.schedule[static_cast<std::size_t>(range.upper)] : kNaN;
-        design.median_lower = std::isnan(b) ? kNaN : std::min(a, b);
-        design.median_upper = std::isnan(b) ? kNaN : std::max(a, b);
-        if (std::isnan(b)) {
-          design.median_open = std::isnan(a) ? "the run may keep the state to the end of the schedule"
-                                             : fmt::format("from {:g} to beyond the schedule", a);
-        }
-      }
+      const LeaveMedianInterval interval =
+          MedianInterval(design.observations, design.fit, o.side, o.schedule, o.dwell);
+      design.median_lower = interval.lower;
+      design.median_upper = interval.upper;
+      design.median_open = interval.open;
       const double width = std::abs(design.median_upper - design.median_lower);
       note(fmt::format("  law: p_c = {:.4g}, γ = {:.3g}; leave median {:g}, 5–95 % {:g} … {:g}; median's 95 % {:g} … {:g}{}",
                        design.fit.critical, design.fit.exponent, design.leave.median, design.leave.low,

@@ -107,6 +107,19 @@ struct LeaveDistribution {
 LeaveDistribution PredictLeave(const CrisisFit& fit, CrisisSide side, const std::vector<double>& schedule,
                                double dwell);
 
+// The 95 % profile-likelihood interval of the leave distribution's median for `observations` and
+// their crisis fit (FitCrisis with CrisisOptions{side}): the medians of every law within the
+// likelihood-ratio region ℓ ≥ ℓ_max − 1.92, scanned over p_c and γ, exact in A (the design's rule,
+// header comment). lower ≤ upper in value; both NaN, with `open` saying why, when there is no law
+// or the run may keep the state to the end of the schedule.
+struct LeaveMedianInterval {
+  double lower = 0.0;
+  double upper = 0.0;
+  std::string open;
+};
+LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                                   CrisisSide side, const std::vector<double>& schedule, double dwell);
+
 enum class EscapeDesignStatus {
   kConverged,  // the median's 95 % interval is at most target_width wide
   kBudget,     // the budget was spent first (the interval is what the data give)

@@ -94,7 +94,9 @@ TEST_CASE("rubcont loop: the default scene's loop, every jump with a cause or sa
   const std::vector<std::string> kind = loop.ReadStrings("/loop/corners/kind");
   const std::vector<std::string> cause = loop.ReadStrings("/loop/corners/cause");
   const std::vector<std::string> note = loop.ReadStrings("/loop/corners/note");
+  const std::vector<std::string> evidence = loop.ReadStrings("/loop/corners/evidence");
   REQUIRE(kind.size() >= 4);
+  for (const std::string& path : evidence) CHECK(loop.Exists(path));
   for (std::size_t i = 0; i < kind.size(); ++i) {
     INFO(kind[i] << ": " << cause[i] << "; " << note[i]);
     CHECK(!cause[i].empty());
