@@ -831,5 +831,4 @@ Scene LoadScene(const std::filesystem::path& file) {
 
 Scene DefaultScene() { return ParseScene(DefaultSceneToml(), "<built-in default scene>", "default"); }
 
-
 }  // namespace rubcont

@@ -63,6 +63,7 @@ constexpr std::int64_t kMaxStation = 100000;
 
 using Value = std::variant<double, std::int64_t, std::string, std::array<double, 2>,
                            std::vector<std::string>, std::array<std::int64_t, 2>>;
+
 constexpr int kMaxLaps = 64;  // ModulatedOrbitOptions::laps
 
 // The stages a scene may list, as it names them.
@@ -94,8 +95,6 @@ struct KeySpec {
     return dot == std::string::npos ? std::string() : key.substr(0, dot);
   }
 };
-
-// Field accessors: a function returning a reference into the Scene. get() calls it on a
 
 // A table array ([[path]]): a list of rows, as rotordynamics input lists shaft segments, disks and
 // supports. Each row key is a KeySpec (type, unit, rule, required or default, doc; its set and get
