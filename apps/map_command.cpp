@@ -216,7 +216,8 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
                         has_points ? c.curve.Measure("precession_hz") : Vector());
     if (c.kind == "hopf") {
       writer.WriteDoubles(g + "/hopf_hz",
-                          has_points ? Vector(c.curve.Measure("hopf_frequency") / (2.0 * M_PI))
+                          has_points ? Vector(c.curve.Measure("hopf_frequency").unaryExpr(
+                                           [](double w) { return RadPerSecondToHz(w); }))
                                      : Vector());
       std::vector<int> stable;
       for (const BranchPoint& p : c.curve.points) {

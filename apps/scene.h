@@ -1,16 +1,17 @@
 // Scene files (TOML): what a user asks rubcont to compute, in SI units (scenes/README.md).
 //
-// One schema table (scene.cpp: key, type, unit, rule, required/default, one-line doc) drives both
-// the validation of every scene and the key reference in scenes/README.md (`rubcont scene keys`),
-// so the documentation cannot drift from what is checked. Every problem found is reported with
-// the file, line and column, the key, the value given and the rule it breaks, e.g.
+// One schema table (apps/scene_schema.cpp: key, type, unit, rule, required/default, one-line doc)
+// drives both the validation of every scene (the loader, apps/scene.cpp) and the key reference in
+// scenes/README.md (`rubcont scene keys`, apps/scene_format.cpp), so the documentation cannot
+// drift from what is checked. Every problem found is reported with the file, line and column, the
+// key, the value given and the rule it breaks, e.g.
 //   scene.toml:4:8: rotor.mass = -1: must be positive (kg)
 // and all problems of a file are reported at once (SceneError).
 //
-// Adding a model: a ModelKind, its params struct in Scene, its rows (with `model` set) in the
-// schema table, and its entry in apps/models.cpp (the model dispatch; README "Adding a model");
-// the loader rejects the keys of other models. Adding a stage or an [analysis] key: a row in the
-// table and a field below.
+// Adding a model: a ModelKind, its params struct in Scene, its rows under its own section in the
+// schema, and its entry in apps/models.cpp (the model dispatch, which names its sections; README
+// "Adding a model"); the loader rejects the keys of other models' sections. Adding a stage or an
+// [analysis] key: a row in the schema and a field below.
 #pragma once
 
 #include <array>
@@ -63,7 +64,7 @@ Level LevelOf(Stage stage);
 Level HighestLevel(const std::vector<Stage>& stages);
 
 // Every section's defaults are the initializers below (and those of the model parameter structs):
-// the schema in scene.cpp documents and applies them from a default-constructed Scene.
+// the schema (apps/scene_schema.cpp) documents and applies them from a default-constructed Scene.
 
 // How the sweeps integrate (key `integrator`): CVODES BDF of order ≤ 2 throughout; Boost.Odeint's
 // explicit Dormand–Prince 5(4) throughout; or BDF where the contacts touch continuously and

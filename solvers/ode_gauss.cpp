@@ -33,6 +33,7 @@
 #include <Eigen/LU>
 #include <fmt/core.h>
 
+#include "solvers/finite_difference.h"
 #include "solvers/ode_internal.h"
 
 namespace rubcont {
@@ -301,7 +302,7 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
           blocks_.block(i * n, t1_column, n, 1).noalias() = J * dxdt1;
           // ∂f/∂t by a central difference (exactly 0 for an autonomous f): the stage time
           // t0 + (step + c_i)(t1 − t0)/N moves with t1 at (step + c_i)/N.
-          const double dt = 1e-6 * std::max(std::abs(ti), std::abs(h));
+          const double dt = CentralDifferenceStep(ti, std::abs(h));
           if (EvaluateRhs(context_, ti + dt, stage_state_.data(), later_.data()) != 0 ||
               EvaluateRhs(context_, ti - dt, stage_state_.data(), earlier_.data()) != 0) {
             return Fail(IntegrationStatus::kRhsFailure, t, "the right-hand side failed");
