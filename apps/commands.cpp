@@ -16,6 +16,7 @@
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
+#include "apps/loop_output.h"
 #include "apps/models.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
@@ -355,6 +356,11 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       case Stage::kTori: {
         RunRubTori(scene, context);
         scripts.push_back("rub_tori.py");
+        break;
+      }
+      case Stage::kLoop: {
+        RunLoopStage(scene, context);
+        scripts.push_back("loop.py");
         break;
       }
     }

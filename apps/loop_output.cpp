@@ -14,6 +14,7 @@
 #include "apps/branch_output.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
+#include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
 #include "solvers/constants.h"
@@ -135,9 +136,15 @@ std::string Interval(double lower, double upper) {
 
 void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
                      const LoopOptions& options, const LoopResult& result) {
+  const std::unique_ptr<ResultWriter> writer = OpenStudyResult(file, scene, "/loop");
+  WriteLoop(*writer, scene, structure, options, result);
+  writer->Commit();
+}
+
+void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& structure, const LoopOptions& options,
+               const LoopResult& result) {
   const std::string g = "/loop";
-  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
-  ResultWriter& writer = *file_writer;
+  writer.CreateGroup(g);
   writer.SetAttribute(g, "status", ToString(result.status));
   writer.SetAttribute(g, "message", result.message);
   writer.SetAttribute(g, "step_rpm", options.step_rpm);
@@ -196,11 +203,9 @@ void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, cons
     writer.WriteDoubles(e + "/schedule_rpm", run.schedule_rpm);
     writer.WriteDoubles(e + "/leave_probability", d.leave.probability);
   }
-  writer.Commit();
 }
 
-void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
-                      const std::filesystem::path& file) {
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result) {
   fmt::print(out, "scene {} from {}: the hysteresis loop of a run with {:g} rpm steps and {:g} s per speed\n",
              scene.name, scene.source, options.step_rpm, options.dwell);
   fmt::print(out, "  {:4}  {:14}  {:11}  {:>9}  {:24}  {:28}  {}\n", "run", "jump", "contact", "speed rpm",
@@ -218,7 +223,18 @@ void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& 
                    : fmt::format("; the crisis p_c: {} rpm", Interval(c.crisis_lower_rpm, c.crisis_upper_rpm)));
   }
   fmt::print(out, "  the run-up ends in {}; the run-down in {}\n", result.up.end, result.down.end);
-  fmt::print(out, "  {}\n  {:.1f} s wall\nwrote {}\n", result.BriefReport(), result.wall_seconds, file.string());
+  fmt::print(out, "  {}\n  {:.1f} s wall\n", result.BriefReport(), result.wall_seconds);
+}
+
+void RunLoopStage(const Scene& scene, StageContext& context) {
+  const RubStructure structure = SweepStructureOf(scene);
+  const LoopOptions options = LoopOptionsOf(scene);
+  LoopProgress progress;
+  progress.note = [&](const std::string& line) { context.progress("[loop] " + line); };
+  const LoopResult result = ComputeLoop(structure, options, ThreadJobs(ThreadsFor(0)), progress);
+  WriteLoop(context.writer, scene, structure, options, result);
+  PrintLoopSummary(context.out, scene, options, result);
+  if (result.status == LoopStatus::kRunFailed) context.failures.push_back("[loop] " + result.message);
 }
 
 LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start) {

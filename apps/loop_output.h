@@ -35,18 +35,27 @@
 #include <iosfwd>
 #include <string>
 
+#include "apps/hdf5_file.h"
+#include "apps/models.h"
 #include "apps/scene.h"
 #include "solvers/stopwatch.h"
 #include "studies/loop.h"
 
 namespace rubcont {
 
+// The file of `rubcont loop` (atomically), and the /loop group of any result file (the stage "loop").
 void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
                      const LoopOptions& options, const LoopResult& result);
+void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& structure, const LoopOptions& options,
+               const LoopResult& result);
 
-// The table first (one line per corner), then where each run ends, the decisions and the cost.
-void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
-                      const std::filesystem::path& file);
+// The table first (one line per corner), then each corner's numbers, where each run ends and the cost.
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result);
+
+// The stage "loop" of `rubcont run`: the study with the scene's options ([analysis.sweep]'s
+// schedule, [analysis.loop]) over one thread per core, into /loop of the run's file; a run that
+// failed to integrate is a failure of the stage.
+void RunLoopStage(const Scene& scene, StageContext& context);
 
 // The study's progress on `err`: its decisions, and a line per tracked speed every 10 speeds.
 LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start);

@@ -53,10 +53,10 @@ std::vector<ModelEntry> MakeModels() {
   two_point.kind = ModelKind::kTwoPoint;
   two_point.name = "two_point";
   two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kTori,
-                      Stage::kSweep};
+                      Stage::kSweep, Stage::kLoop};
   two_point.default_stages = {Stage::kAnalytic, Stage::kBranches};
   two_point.sections = {"rotor", "stator", "contact", "imbalance", "center_damper", "flexible",
-                        "analysis.sweep", "analysis.orbits", "analysis.tori"};
+                        "analysis.sweep", "analysis.orbits", "analysis.tori", "analysis.loop"};
   two_point.structure = [](const Scene& s) {
     return s.flexible.enabled ? BuildFlexibleRub(FlexibleModelOf(s)).structure
                               : TwoPointStructure(s.two_point);

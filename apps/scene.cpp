@@ -17,6 +17,7 @@
 
 #include "apps/models.h"
 #include "apps/scene_schema.h"
+#include "sweeps/escape_design.h"
 
 namespace rubcont {
 namespace {
@@ -257,6 +258,7 @@ class Loader {
     if (problems_.empty()) CheckSweep(scene);
     if (problems_.empty()) CheckOrbits(scene);
     if (problems_.empty()) CheckTori(scene);
+    if (problems_.empty()) CheckLoop(scene);
     if (!problems_.empty()) throw SceneError(problems_);
     return scene;
   }
@@ -623,6 +625,16 @@ class Loader {
                  fmt::format("must not exceed sample_rate_hz/2 = {} Hz (Nyquist)", 0.5 * w.sample_rate_hz));
   }
 
+  // [analysis.loop] against what the escape design takes (sweeps/escape_design.h).
+  void CheckLoop(const Scene& scene) {
+    const LoopSettings& l = scene.analysis.loop;
+    const EscapeDesignOptions design;
+    if (l.max_copy_seconds < design.min_duration)
+      KeyProblem(scene, "analysis.loop.max_copy_seconds",
+                 fmt::format("must be at least {} s (the escape design's shortest copy)", design.min_duration));
+    if (l.copies > 1000) KeyProblem(scene, "analysis.loop.copies", "must be at most 1000");
+  }
+
   // Records every value under its dotted path; reports unknown keys and misplaced tables.
   void Walk(const toml::table& table, const std::string& prefix) {
     for (auto&& [key, node] : table) {
@@ -780,6 +792,7 @@ const char* ToString(Stage stage) {
     case Stage::kBranches: return "branches";
     case Stage::kOrbits: return "orbits";
     case Stage::kTori: return "tori";
+    case Stage::kLoop: return "loop";
   }
   return "?";
 }
@@ -791,6 +804,7 @@ Level LevelOf(Stage stage) {
     case Stage::kOrbits: return Level::kL2;
     case Stage::kTori: return Level::kL2;
     case Stage::kSweep: return Level::kL3;
+    case Stage::kLoop: return Level::kL3;  // the highest it may escalate to
   }
   return Level::kL0;
 }

@@ -55,6 +55,7 @@ enum class Stage {
               // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)
   kTori,      // "tori": level L2, the relative 2-tori born at the Neimark–Sacker points of model
               // two_point's modulated whips, continued in speed (shooting/rub_tori.h)
+  kLoop,      // "loop": the hysteresis loop explained, L1 first and L3 where it must (studies/loop.h)
 };
 const char* ToString(Stage stage);
 
@@ -147,6 +148,14 @@ struct RubToriSettings {
   } transient;
 };
 
+// [analysis.loop]: the loop study (studies/loop.h); its run's schedule is [analysis.sweep]'s.
+struct LoopSettings {
+  double budget = 300.0;           // [CPU s] for the whole loop
+  double target_width_rpm = 4.0;   // the width asked of the whip end's median interval [rpm]
+  int copies = 8;                  // copies per ensemble of the escape design
+  double max_copy_seconds = 40.0;  // [s] the longest copy
+};
+
 // [analysis]: what to compute.
 struct AnalysisOptions {
   std::vector<Stage> stages{Stage::kAnalytic, Stage::kBranches};  // the textbook models: orbits
@@ -155,6 +164,7 @@ struct AnalysisOptions {
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
   RubOrbitsSettings orbits;
   RubToriSettings tori;
+  LoopSettings loop;
 };
 
 // Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and

@@ -455,7 +455,9 @@ void StagesKey(std::vector<KeySpec>& s) {
                "the whips modulated at two frequencies, born at the Neimark–Sacker points of "
                "those modulated orbits, continued in speed, [analysis.tori]); \"sweep\" (L3: "
                "the speed-up and "
-               "speed-down sweeps of [analysis.sweep]) — model two_point.";
+               "speed-down sweeps of [analysis.sweep]), \"loop\" (the hysteresis loop explained: "
+               "every jump of a run with [analysis.sweep]'s schedule, its cause and how sure; L1 "
+               "first, L3 where it must; [analysis.loop]) — model two_point.";
   stages.default_text = "`[\"analytic\", \"branches\"]`; `[\"orbits\"]` for the textbook models";
   stages.choices = kImplementedStages;
   stages.set = [](Scene& x, const Value& v) {
@@ -466,6 +468,7 @@ void StagesKey(std::vector<KeySpec>& s) {
       if (name == "branches") x.analysis.stages.push_back(Stage::kBranches);
       if (name == "orbits") x.analysis.stages.push_back(Stage::kOrbits);
       if (name == "tori") x.analysis.stages.push_back(Stage::kTori);
+      if (name == "loop") x.analysis.stages.push_back(Stage::kLoop);
     }
   };
   stages.get = [](const Scene& x) {
@@ -768,6 +771,27 @@ void ToriKeys(std::vector<KeySpec>& s) {
       }));
 }
 
+// [analysis.loop]: the loop study (studies/loop.h). Every key is optional.
+void LoopKeys(std::vector<KeySpec>& s) {
+  s.push_back(Float("analysis.loop.budget", "s", Rule::kPositive,
+                    "CPU seconds for the whole loop (the waves and the run first, then the jumps "
+                    "they leave open, the principal ones first); `rubcont loop --budget` overrides it.",
+                    [](Scene& x) -> double& { return x.analysis.loop.budget; }, Presence::kOptional));
+  s.push_back(Float("analysis.loop.target_width_rpm", "rpm", Rule::kPositive,
+                    "A jump by chance (a chaotic whip's end) is measured until the 95 % interval "
+                    "of the median speed a run leaves at is at most this wide.",
+                    [](Scene& x) -> double& { return x.analysis.loop.target_width_rpm; },
+                    Presence::kOptional));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.loop.copies", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
+      "Copies per ensemble of the escape design (sweeps/escape_design.h).",
+      [](Scene& x) -> int& { return x.analysis.loop.copies; }));
+  s.push_back(Float("analysis.loop.max_copy_seconds", "s", Rule::kPositive,
+                    "The longest simulated time of one copy (where escape rates are small).",
+                    [](Scene& x) -> double& { return x.analysis.loop.max_copy_seconds; },
+                    Presence::kOptional));
+}
+
 // [analysis.tori.transient]: the tori through the torus a settled transient lies on.
 void ToriTransientKeys(std::vector<KeySpec>& s) {
   s.push_back(Float("analysis.tori.transient.speed_rpm", "rpm", Rule::kPositive,
@@ -986,6 +1010,7 @@ std::vector<KeySpec> BuildSchema() {
   RubOrbitsKeys(s);
   RubOrbitsTransientKeys(s);
   ToriKeys(s);
+  LoopKeys(s);
   ToriTransientKeys(s);
   // Every default is the initializer of its Scene field (and the structs inside it): written once.
   const Scene defaults;

@@ -68,7 +68,7 @@ constexpr int kMaxLaps = 64;  // ModulatedOrbitOptions::laps
 
 // The stages a scene may list, as it names them.
 inline const std::vector<std::string> kImplementedStages = {"analytic", "branches", "orbits",
-                                                            "tori", "sweep"};
+                                                            "tori", "sweep", "loop"};
 
 struct KeySpec {
   std::string key;        // dotted path: "rotor.mass"

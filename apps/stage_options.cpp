@@ -148,6 +148,10 @@ LoopOptions LoopOptionsOf(const Scene& scene) {
   o.step_rpm = scene.analysis.sweep.speed_step_rpm;
   o.dwell = scene.analysis.sweep.dwell;
   o.waves = BranchOptionsOf(scene);
+  o.budget = scene.analysis.loop.budget;
+  o.escapes.target_width = scene.analysis.loop.target_width_rpm;
+  o.escapes.copies = scene.analysis.loop.copies;
+  o.escapes.max_duration = scene.analysis.loop.max_copy_seconds;
   return o;
 }
 

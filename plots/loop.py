@@ -185,7 +185,11 @@ def main():
                  f"{' (both contacts alike)' if one else ''}")
         fig.suptitle(title, fontsize=12)
         fig.tight_layout(rect=(0, 0, 1, 0.97))
-        out = os.path.join(out_dir, os.path.splitext(os.path.basename(path))[0] + ".png")
+        # `rubcont loop` writes loop.h5 (→ loop.png); the stage "loop" of `rubcont run` writes it
+        # into <scene>.h5 beside the other stages' groups (→ loop.png too).
+        stem = os.path.splitext(os.path.basename(path))[0]
+        scene_name = text(f.attrs["scene_name"]) if "scene_name" in f.attrs else ""
+        out = os.path.join(out_dir, ("loop" if stem == scene_name else stem) + ".png")
         fig.savefig(out, dpi=100)
     return 0
 
