@@ -152,6 +152,10 @@ LoopOptions LoopOptionsOf(const Scene& scene) {
   o.escapes.target_width = scene.analysis.loop.target_width_rpm;
   o.escapes.copies = scene.analysis.loop.copies;
   o.escapes.max_duration = scene.analysis.loop.max_copy_seconds;
+  // L2 asks [analysis.orbits]' shooting and mesh (a flexible structure's too: its orbits are the
+  // stage's, apps/orbits_stage.cpp); not with an imbalance, which the co-rotating frame excludes.
+  o.orbit_start = TransientOrbitStartOf(scene);
+  o.orbit_family = RubOrbitOptionsOf(scene).orbits;
   return o;
 }
 

@@ -172,7 +172,7 @@ def test_bad_arguments_raise_value_error():
 
 def test_the_loop_gives_the_table_of_jumps_with_causes():
     window = rubcont.load_scene(A_A).with_values(
-        {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "down_range_rpm": [40.0, 72.0],
+        {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "down_range_rpm": [40.0, 120.0],
                                 "speed_step_rpm": 4.0, "dwell": 0.75}}})
     lines = []
     result = rubcont.loop(window, budget=30, threads=2, progress=lines.append)
