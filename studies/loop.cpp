@@ -521,6 +521,16 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
         continue;
       }
     }
+    // L3 measures how long a state lasts; a departure that settled at its speed was a steady state
+    // there, and a steady state that is gone one step later ended at a bifurcation between the two
+    // speeds, not by chance.
+    if (run.points[from].status == SweepPointStatus::kSettled) {
+      c.note += fmt::format("; L3 not tried: the departure settled at {:g} rpm (a steady state: the jump is a "
+                            "bifurcation between {:g} and {:g} rpm that no level located)",
+                            c.seen_from_rpm, c.seen_from_rpm, c.seen_to_rpm);
+      note("L3 not tried for " + what + ": its departure settled");
+      continue;
+    }
     ArrivalTarget target;
     const RubRegime landing = run.regimes.regime[static_cast<std::size_t>(contacts.front())][to];
     if (c.kind == "frequency_jump") {
@@ -627,8 +637,14 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     c.escape_design = static_cast<int>(result.escape_designs.size());
     c.evidence = fmt::format("escapes/{}", result.escape_designs.size());
     result.escape_designs.push_back(record);
+    // A crisis leaks: memoryless, exponential lifetimes. A deterministic passage past a point no
+    // level located also makes copies leave and a law fit: told apart by the escape times' spread.
     const bool law = d.fit.status == CrisisStatus::kLocated && !std::isnan(d.leave.median);
-    if (law) {
+    const LifetimeShape shape = CheckExponential(d.observations);
+    note("  L3: " + shape.message);
+    if (law && !shape.exponential) {
+      c.note += fmt::format("; L3: {}; {}", d.BriefReport(), shape.message);
+    } else if (law) {
       c.level = "L3";
       c.cause = departure == RubRegime::kWhip ? "crisis of a chaotic whip" : "crisis of a chaotic state";
       c.speed_rpm = d.leave.median;
@@ -649,7 +665,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
                            std::isnan(d.median_lower) ? "open: " + d.median_open
                                                       : fmt::format("{:g} … {:g} rpm", d.median_lower, d.median_upper),
                            d.observations.size(), ToString(d.status)) +
-               "; before it " + c.note;
+               "; " + shape.message + "; before it " + c.note;
     } else {
       c.note += fmt::format("; L3: {}", d.BriefReport());
     }

@@ -231,6 +231,49 @@ LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observ
   return interval;
 }
 
+LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observations) {
+  constexpr int kMinEscapes = 5;
+  constexpr double kPassage = 0.5;
+  LifetimeShape shape;
+  shape.lowest_ratio = kNaN;
+  double worst_at = kNaN;
+  for (const EscapeObservations& o : observations) {
+    const std::size_t d = o.escape_stretch.size();
+    if (static_cast<int>(d) < kMinEscapes) continue;
+    const EscapeRate rate = EstimateEscapeRate(o);
+    if (rate.status != EscapeRateStatus::kEstimated) continue;  // all in the first stretch
+    double sum = 0.0, sum2 = 0.0;
+    for (int j : o.escape_stretch) {
+      const double t = (j - 0.5) * o.stretch;
+      sum += t;
+      sum2 += t * t;
+    }
+    const double mean = sum / d;
+    const double observed = std::sqrt(std::max(0.0, sum2 / d - mean * mean) * d / (d - 1.0)) / mean;
+    // The exponential at κ conditioned on X ≤ T, plus the binning's Δ²/12.
+    const double k = rate.rate, T = o.duration, q = -std::expm1(-k * T), e = std::exp(-k * T);
+    const double m1 = (1.0 / k - e * (T + 1.0 / k)) / q;
+    const double m2 = (2.0 / (k * k) - e * (T * T + 2.0 * T / k + 2.0 / (k * k))) / q;
+    const double expected = std::sqrt(std::max(0.0, m2 - m1 * m1) + o.stretch * o.stretch / 12.0) / m1;
+    const double ratio = observed / expected;
+    shape.resolved = true;
+    if (std::isnan(shape.lowest_ratio) || ratio < shape.lowest_ratio) {
+      shape.lowest_ratio = ratio;
+      worst_at = o.parameter;
+    }
+  }
+  if (!shape.resolved) {
+    shape.message = fmt::format("no ensemble with {} escapes spread over more than its first stretch: the lifetimes' "
+                                "shape is not resolved", kMinEscapes);
+    return shape;
+  }
+  shape.exponential = shape.lowest_ratio >= kPassage;
+  shape.message = fmt::format("escape times {} (the smallest spread {:.2f} of an exponential's, at {:g})",
+                              shape.exponential ? "spread as an exponential's" : "bunched: a passage, not a leak",
+                              shape.lowest_ratio, worst_at);
+  return shape;
+}
+
 std::string EscapeDesign::BriefReport() const {
   std::string median = std::isnan(leave.median) ? std::string("no median")
                                                 : fmt::format("median {:g}", leave.median);
@@ -403,20 +446,24 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
         measure({{deepest - 1, o.min_duration}}, "no law yet: the next value towards the state");
         continue;
       }
-      // The values towards the state have no escapes: longer copies at the nearest one without,
-      // or at an escaping one whose copies all left at once.
+      // The values towards the state have no escapes: longer copies at the nearest one without
+      // (where every copy left in its first stretch, longer copies would tell nothing more).
       int target = -1;
       for (int i = first; i >= 0 && target < 0; --i) {
         const Site& s = sites[static_cast<std::size_t>(i)];
-        if (measured(i) && (s.escapes == 0 || !s.finite) && s.longest < o.max_duration) target = i;
+        if (measured(i) && s.escapes == 0 && s.longest < o.max_duration) target = i;
       }
       if (target < 0) {
         design.status = EscapeDesignStatus::kNoLaw;
-        design.message = fmt::format("{} ({})", ToString(design.fit.status), design.fit.message);
+        bool sharp = true;
+        for (const Site& s : sites) sharp = sharp && (s.escapes == 0 || !s.finite);
+        design.message = sharp ? fmt::format("a sharp change, no lifetime: where copies left, every one left in its first "
+                                             "stretch; where none did, none within {:g} s", o.max_duration)
+                               : fmt::format("{} ({})", ToString(design.fit.status), design.fit.message);
         break;
       }
       const Site& s = sites[static_cast<std::size_t>(target)];
-      measure({{target, 2.0 * s.longest}}, "no law yet: longer copies where none or all left at once");
+      measure({{target, 2.0 * s.longest}}, "no law yet: longer copies where none left");
       continue;
     }
     // A law: bracket from the state's side first (a measured value deepest in the state that
