@@ -564,11 +564,12 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       target.contacts = ArrivalContacts::kOne;
       target.contact = contacts.front();
     }
-    // The departure state as the run was on it: the tracked speeds since the run's previous jump
-    // (any contact, any kind) up to the departure; a jump between two speeds of a skip is none.
+    // The departure state as the run was on it: the tracked speeds since the run's previous jump at
+    // these contacts (a barely touching other contact flickers: case C's left) up to the departure.
     std::size_t first_on = 0;
     for (const RubSweepJump& j : run.regimes.jumps) {
       if (sign * (c.seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
+      if (std::find(contacts.begin(), contacts.end(), j.contact) == contacts.end()) continue;  // another contact's
       for (std::size_t k = 0; k <= from; ++k) {
         if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
       }

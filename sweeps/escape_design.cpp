@@ -367,6 +367,15 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
       }
       if (rate_of(s).upper * o.dwell <= o.floor_hazard) return "";
     }
+    // The first candidate leaks too fast for any exposure to bound it: no floor can be measured
+    // (the run was not seen on the state before it); the interval then rests on the law, said so.
+    const Site& deepest = sites.front();  // the first candidate: nothing lies further towards the state
+    if (!deepest.groups.empty() && rate_of(deepest).rate * o.dwell > 0.5 * o.floor_hazard) {
+      design.message = fmt::format("no floor: the first value the state was seen at ({:g}) already leaks at {:.3g} "
+                                   "per dwell; the median's interval towards the state rests on the law",
+                                   deepest.parameter, rate_of(deepest).rate * o.dwell);
+      return "";
+    }
     return fmt::format("no value before the median's interval with a hazard bounded by {:g} per dwell", o.floor_hazard);
   };
   auto measured = [&](int i) { return !sites[static_cast<std::size_t>(i)].groups.empty(); };
@@ -478,8 +487,13 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
     // (so that the interval does not rest on the law's extrapolation towards the state).
     if (evidence().rfind("no value before", 0) == 0 && deepest >= 0) {
       const Site& s = sites[static_cast<std::size_t>(deepest)];
-      const double duration = s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest;
-      measure({{deepest, duration}}, "a floor: longer copies at the value deepest in the state");
+      if (deepest > 0 && rate_of(s).rate * o.dwell > 0.5 * o.floor_hazard) {
+        measure({{deepest - 1, 2.0 * s.longest}},
+                "a floor: the value deepest in the state leaks too fast to bound; the next one towards it");
+      } else {
+        measure({{deepest, s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest}},
+                "a floor: longer copies at the value deepest in the state");
+      }
       continue;
     }
     // Score: (κD)² / escapes per unit cost over the values the run can still be on at the 95 %
