@@ -215,9 +215,8 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     writer.WriteDoubles(g + "/precession_hz",
                         has_points ? c.curve.Measure("precession_hz") : Vector());
     if (c.kind == "hopf") {
-      writer.WriteDoubles(g + "/hopf_hz",
-                          has_points ? Vector(c.curve.Measure("hopf_frequency") / (2.0 * M_PI))
-                                     : Vector());
+      const Vector hopf_frequency = has_points ? c.curve.Measure("hopf_frequency") : Vector();
+      writer.WriteDoubles(g + "/hopf_hz", Vector(hopf_frequency.unaryExpr(&RadPerSecondToHz)));
       std::vector<int> stable;
       for (const BranchPoint& p : c.curve.points) {
         stable.push_back(p.StableFlag());
@@ -231,7 +230,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       sp_type.push_back(ToString(sp.type));
       sp_label.push_back(sp.label);
       sp_eta.push_back(sp.lambda);
-      double speed_rpm = std::nan("");
+      double speed_rpm = kNaN;
       if (!names.empty() && names[0] == "lambda" && sp.measures.size() > 0) {
         speed_rpm = RadPerSecondToRpm(sp.measures(0));
       }

@@ -60,7 +60,7 @@ ContinuationOptions Steps(int max_steps) {
 }
 
 double Largest(const BranchPoint& p) {
-  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : NAN;
+  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : kNaN;
 }
 
 void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
@@ -132,7 +132,7 @@ int Main(int argc, char** argv) {
   solve.newton.step_tolerance = 1e-8;
   solve.newton.max_iterations = 20;
   const ModulatedOrbit orbit = SolveModulatedOrbit(
-      structure, omega, 2 * M_PI * transient.precession_hz, transient.state, solve);
+      structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, solve);
   std::printf(
       "A(a) at %.2f rpm: the transient %s, precession %.4f Hz; its orbit (%.1f s CPU): %s\n",
       start_rpm, transient.settled ? "settled" : "did not settle", transient.precession_hz,

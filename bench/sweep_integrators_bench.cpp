@@ -207,7 +207,7 @@ double Worst(const double (&a)[2], const double (&b)[2]) {
   double worst = 0.0;
   for (int k = 0; k < 2; ++k) {
     const double d = std::isnan(a[k]) && std::isnan(b[k]) ? 0.0 : std::abs(a[k] - b[k]);
-    worst = std::max(worst, std::isnan(d) ? INFINITY : d);
+    worst = std::max(worst, std::isnan(d) ? rubcont::kInfinity : d);
   }
   return worst;
 }

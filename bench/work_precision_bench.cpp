@@ -115,14 +115,14 @@ L0Answers AnswerL0(const TwoPointParams& p, double speed_min, double speed_max, 
   const double bottom = rci * speed_min, top = rci * speed_max;
   AnalyticOptions grid;
   grid.min_precession_hz = 1.0;
-  grid.max_precession_hz = 1.02 * top / kTwoPi;
+  grid.max_precession_hz = 1.02 * RadPerSecondToHz(top);
   grid.precession_points = static_cast<int>((grid.max_precession_hz - 1.0) / 0.05) + 1;
   auto answer = [&]() {
     for (CircularMode mode : {CircularMode::kMode1, CircularMode::kMode2}) {
       if (!Rolls(p, mode, bottom)) continue;
       const AnalyticCurve curve = ComputeAnalyticCurve(p, mode, grid);
       a.q2.note = a.q3.note = a.q1.note = std::string(ToString(mode)) + ", rolling at " +
-                                            fmt::format("{:.3f}", bottom / kTwoPi) + " Hz";
+                                            fmt::format("{:.3f}", RadPerSecondToHz(bottom)) + " Hz";
       a.q2.value = a.q3.value = a.q1.value = kNaN;
       // Going up: the first transition after which the whirl no longer rolls.
       for (const Transition& t : curve.transitions) {

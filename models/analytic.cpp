@@ -38,7 +38,7 @@ std::pair<NaturalMode, NaturalMode> BounceAndPitch(const Matrix2& K, const Matri
     Vector2 v = solver.eigenvectors().col(i);
     const Index largest = std::abs(v(0)) >= std::abs(v(1)) ? 0 : 1;
     v /= v(largest);  // largest entry becomes +1
-    modes[i].frequency_hz = std::sqrt(std::max(solver.eigenvalues()(i), 0.0)) / kTwoPi;
+    modes[i].frequency_hz = RadPerSecondToHz(std::sqrt(std::max(solver.eigenvalues()(i), 0.0)));
     modes[i].shape = v;
     in_phase[i] = v(0) * v(1) / v.squaredNorm();
   }

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "solvers/constants.h"
 #include "solvers/spectrum.h"
@@ -191,7 +192,7 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   torus.period = problem.Period(torus.u, omega);
   torus.rotation = problem.Rotation(torus.u);
   torus.rotation_number = problem.RotationNumber(torus.u);
-  torus.carrier_hz = frame->CarrierPrecession(torus.period, torus.rotation) / kTwoPi;
+  torus.carrier_hz = RadPerSecondToHz(frame->CarrierPrecession(torus.period, torus.rotation));
   torus.first_hz = 1.0 / torus.period;
   torus.second_hz = torus.rotation_number / torus.period;
   const Vector measures = problem.Measures(torus.u, omega);

@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -47,9 +48,9 @@ TEST_CASE("Duffing: analytic Jacobian and ∂f/∂w match differences — forcin
   DuffingOscillator duffing({0.05, 1.0, 1.0, 0.3, 1.4});
   CheckDerivatives(duffing, 0.7, (Vector(2) << 1.3, -0.4).finished());
   CheckDerivatives(duffing, 3.1, (Vector(2) << -0.2, 2.0).finished());
-  CHECK(duffing.ForcingPeriod() == Approx(2 * M_PI / 1.4).epsilon(1e-15));
+  CHECK(duffing.ForcingPeriod() == Approx(kTwoPi / 1.4).epsilon(1e-15));
   duffing.SetParameter(2.0);
-  CHECK(duffing.ForcingPeriod() == Approx(M_PI).epsilon(1e-15));
+  CHECK(duffing.ForcingPeriod() == Approx(kPi).epsilon(1e-15));
   CHECK_THROWS_WITH(DuffingOscillator({0.05, 1.0, 1.0, 0.3, 0.0}), Catch::Contains("frequency"));
 }
 
@@ -78,7 +79,7 @@ TEST_CASE("Stuart–Landau: derivatives, equivariance, and the closed-form orbit
   CHECK(f(0) == Approx(0.0).epsilon(0).margin(1e-15));
   CHECK(f(1) / on_orbit(0) == Approx(oscillator.AngularVelocity()).epsilon(1e-14));
   CHECK(oscillator.AngularVelocity() == Approx(1.2 - 0.7 * 0.4));
-  CHECK(oscillator.Period() == Approx(2 * M_PI / (1.2 - 0.7 * 0.4)));
+  CHECK(oscillator.Period() == Approx(kTwoPi / (1.2 - 0.7 * 0.4)));
   CHECK(oscillator.NontrivialMultiplier() == Approx(std::exp(-0.8 * oscillator.Period())));
 }
 
@@ -89,17 +90,17 @@ TEST_CASE("van der Pol: derivatives and scales", "[textbook]") {
     CheckDerivatives(oscillator, 0.0, (Vector(2) << 1.7, -0.03 * mu).finished());
     CHECK(oscillator.StateScale()(1) == Approx(std::max(2.0, 4 * std::abs(mu) / 3)));
   }
-  CHECK_THROWS_WITH(VanDerPolOscillator({NAN}), Catch::Contains("mu"));
+  CHECK_THROWS_WITH(VanDerPolOscillator({kNaN}), Catch::Contains("mu"));
 }
 
 TEST_CASE("Forced van der Pol: derivatives, forcing period and scales", "[textbook]") {
   ForcedVanDerPolOscillator oscillator({2.0, 0.3, 1.2});
   CheckDerivatives(oscillator, 0.7, (Vector(2) << 1.3, -0.4).finished());
   CheckDerivatives(oscillator, 5.3, (Vector(2) << -2.1, 3.0).finished());
-  CHECK(oscillator.ForcingPeriod() == Approx(2 * M_PI / 1.2).epsilon(1e-15));
+  CHECK(oscillator.ForcingPeriod() == Approx(kTwoPi / 1.2).epsilon(1e-15));
   CHECK(oscillator.StateScale()(1) == Approx(8.0 / 3.0));
   CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, 0.1, -1.0}), Catch::Contains("frequency"));
-  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, NAN, 1.0}), Catch::Contains("force"));
+  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, kNaN, 1.0}), Catch::Contains("force"));
 }
 
 }  // namespace
