@@ -60,7 +60,7 @@ TEST_CASE("Speed schedules: the thesis's 120 up and 117 down speeds", "[rub_swee
   CHECK_THROWS_WITH(SpeedSchedule(20.0, 258.0, 0.0), Contains("step = 0 rpm"));
   CHECK_THROWS_WITH(SpeedSchedule(-20.0, 258.0, 2.0), Contains("must be positive"));
   CHECK(RadPerSecondToRpm(RpmToRadPerSecond(60.0)) == Approx(60.0));
-  CHECK(RpmToRadPerSecond(60.0) == Approx(kTwoPi));
+  CHECK(RpmToRadPerSecond(60.0) == Approx(kTwoPi));  // 1 rev/s, written by hand: the check of units.h
 }
 
 TEST_CASE("The observables are the contacts' relative motion, slip velocity, normal force and "
