@@ -16,6 +16,7 @@
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
+#include "apps/loop_output.h"
 #include "apps/models.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
@@ -234,6 +235,20 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                      branches);
     table.insert(table.end(), rows.begin(), rows.end());
   }
+  // One truth: a jump the waves leave open takes the cause the scene's loop gave it at L3 (a
+  // chaotic whip's end: loop.h5 beside this file, made for the same structure), predicted for this
+  // sweep's own schedule.
+  const std::filesystem::path loop_file = h5_file.parent_path() / "loop.h5";
+  const std::vector<LoopCrisis> crises = ReadLoopCrises(loop_file, scene);
+  if (!crises.empty()) {
+    auto rpm = [&](SweepDirection d) {
+      std::vector<double> speeds;
+      for (double omega : SweepOptionsOf(scene, d).parameters) speeds.push_back(RadPerSecondToRpm(omega));
+      return speeds;
+    };
+    SweepJumpsByLoop(table, crises, rpm(SweepDirection::kUp), rpm(SweepDirection::kDown), w.dwell,
+                     LoopOptionsOf(scene).escape_reach_rpm, loop_file.filename().string());
+  }
   WriteJumpTable(writer, table);
   fmt::print(out, "  jump table (L1 branches, tanh friction ε = {:g} m/s: {} in {:.3f} s):\n",
              structure.law.velocity_scale, branches.size(), SecondsSince(branches_start));
@@ -243,7 +258,9 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
                Hz(j.precession_from_hz), Hz(j.precession_to_hz));
     if (!j.trusted) fmt::print(out, "[untrusted: a speed penetrates beyond max_penetration] ");
-    if (row.bifurcation.empty()) {
+    if (!row.bifurcation.empty() && row.branch.empty()) {
+      fmt::print(out, "{}; jump − median {:+.2f} rpm\n", row.bifurcation, row.difference_rpm);
+    } else if (row.bifurcation.empty()) {
       if (row.branch.empty()) {
         fmt::print(out, "not predicted: neither state is a rotating wave\n");
       } else {
@@ -355,6 +372,11 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       case Stage::kTori: {
         RunRubTori(scene, context);
         scripts.push_back("rub_tori.py");
+        break;
+      }
+      case Stage::kLoop: {
+        RunLoopStage(scene, context);
+        scripts.push_back("loop.py");
         break;
       }
     }

@@ -51,7 +51,8 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
                                                         : std::filesystem::path("results") / scene.name / "loop.h5";
     WriteLoopResult(file, scene, structure, options, result);
-    PrintLoopSummary(out, scene, options, result, file);
+    PrintLoopSummary(out, scene, options, result);
+    fmt::print(out, "wrote {}\n", file.string());
     if (request.figures) DrawFigures("loop.py", file, out, err);
     return result.status == LoopStatus::kRunFailed ? kExitFailure : kExitSuccess;
   });

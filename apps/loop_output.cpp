@@ -14,6 +14,7 @@
 #include "apps/branch_output.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
+#include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
 #include "solvers/constants.h"
@@ -98,9 +99,11 @@ void WriteEscapes(ResultWriter& writer, const std::string& group, const LoopEsca
   writer.SetAttribute(group, "amplitude", d.fit.amplitude);
   writer.SetAttribute(group, "cost_cpu_seconds", d.cost);
   writer.SetAttribute(group, "rounds", static_cast<double>(d.rounds));
-  std::vector<double> speed, duration, rate, lower, upper;
-  std::vector<int> copies, escapes, stayed;
+  std::vector<double> speed, duration, stretch, rate, lower, upper;
+  std::vector<int> copies, escapes, stayed, escape_stretch;
   for (const EscapeObservations& o : d.observations) {
+    stretch.push_back(o.stretch);
+    escape_stretch.insert(escape_stretch.end(), o.escape_stretch.begin(), o.escape_stretch.end());
     const EscapeRate r = EstimateEscapeRate(o);
     speed.push_back(o.parameter);
     duration.push_back(o.duration);
@@ -114,6 +117,8 @@ void WriteEscapes(ResultWriter& writer, const std::string& group, const LoopEsca
   writer.WriteDoubles(group + "/speed_rpm", speed);
   writer.WriteInts(group + "/copies", copies);
   writer.WriteDoubles(group + "/duration_s", duration);
+  writer.WriteDoubles(group + "/stretch_s", stretch);
+  writer.WriteInts(group + "/escape_stretch", escape_stretch);
   writer.WriteInts(group + "/escapes", escapes);
   writer.WriteInts(group + "/stayed", stayed);
   writer.WriteDoubles(group + "/rate", rate);
@@ -135,9 +140,15 @@ std::string Interval(double lower, double upper) {
 
 void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
                      const LoopOptions& options, const LoopResult& result) {
+  const std::unique_ptr<ResultWriter> writer = OpenStudyResult(file, scene, "/loop");
+  WriteLoop(*writer, scene, structure, options, result);
+  writer->Commit();
+}
+
+void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& structure, const LoopOptions& options,
+               const LoopResult& result) {
   const std::string g = "/loop";
-  const std::unique_ptr<ResultWriter> file_writer = OpenStudyResult(file, scene, g);
-  ResultWriter& writer = *file_writer;
+  writer.CreateGroup(g);
   writer.SetAttribute(g, "status", ToString(result.status));
   writer.SetAttribute(g, "message", result.message);
   writer.SetAttribute(g, "step_rpm", options.step_rpm);
@@ -196,11 +207,9 @@ void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, cons
     writer.WriteDoubles(e + "/schedule_rpm", run.schedule_rpm);
     writer.WriteDoubles(e + "/leave_probability", d.leave.probability);
   }
-  writer.Commit();
 }
 
-void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
-                      const std::filesystem::path& file) {
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result) {
   fmt::print(out, "scene {} from {}: the hysteresis loop of a run with {:g} rpm steps and {:g} s per speed\n",
              scene.name, scene.source, options.step_rpm, options.dwell);
   fmt::print(out, "  {:4}  {:14}  {:11}  {:>9}  {:24}  {:28}  {}\n", "run", "jump", "contact", "speed rpm",
@@ -218,7 +227,111 @@ void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& 
                    : fmt::format("; the crisis p_c: {} rpm", Interval(c.crisis_lower_rpm, c.crisis_upper_rpm)));
   }
   fmt::print(out, "  the run-up ends in {}; the run-down in {}\n", result.up.end, result.down.end);
-  fmt::print(out, "  {}\n  {:.1f} s wall\nwrote {}\n", result.BriefReport(), result.wall_seconds, file.string());
+  fmt::print(out, "  {}\n  {:.1f} s wall\n", result.BriefReport(), result.wall_seconds);
+}
+
+void RunLoopStage(const Scene& scene, StageContext& context) {
+  const RubStructure structure = SweepStructureOf(scene);
+  const LoopOptions options = LoopOptionsOf(scene);
+  LoopProgress progress;
+  progress.note = [&](const std::string& line) { context.progress("[loop] " + line); };
+  const LoopResult result = ComputeLoop(structure, options, ThreadJobs(ThreadsFor(0)), progress);
+  WriteLoop(context.writer, scene, structure, options, result);
+  PrintLoopSummary(context.out, scene, options, result);
+  if (result.status == LoopStatus::kRunFailed) context.failures.push_back("[loop] " + result.message);
+}
+
+namespace {
+
+bool SameStructure(const RubStructure& a, const RubStructure& b) {
+  auto same = [](const Matrix& x, const Matrix& y) { return x.rows() == y.rows() && x.cols() == y.cols() && x == y; };
+  if (!same(a.mass, b.mass) || !same(a.damping, b.damping) || !same(a.stiffness, b.stiffness) ||
+      !same(a.gyroscopic, b.gyroscopic) || a.imbalance != b.imbalance || a.contacts.size() != b.contacts.size()) {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
+    const RubContact &x = a.contacts[k], &y = b.contacts[k];
+    if (x.rotor != y.rotor || x.stator != y.stator || x.geometry.clearance != y.geometry.clearance ||
+        x.geometry.radius != y.geometry.radius) {
+      return false;
+    }
+  }
+  const ContactLaw &p = a.law, &q = b.law;
+  return p.stiffness == q.stiffness && p.stiffness2 == q.stiffness2 && p.damping == q.damping &&
+         p.friction == q.friction && p.velocity_scale == q.velocity_scale;
+}
+
+}  // namespace
+
+std::vector<LoopCrisis> ReadLoopCrises(const std::filesystem::path& file, const Scene& scene) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return {};
+  const ResultReader r(file);
+  if (!r.Exists("/loop/corners") || !r.HasAttribute("/", "scene_toml")) return {};
+  const Scene made = ParseScene(r.ReadStringAttribute("/", "scene_toml"), file.string(), scene.name);
+  if (!SameStructure(SweepStructureOf(made), SweepStructureOf(scene))) return {};
+  const std::vector<std::string> level = r.ReadStrings("/loop/corners/level");
+  const std::vector<std::string> evidence = r.ReadStrings("/loop/corners/evidence");
+  const std::vector<std::string> direction = r.ReadStrings("/loop/corners/direction");
+  const std::vector<std::string> kind = r.ReadStrings("/loop/corners/kind");
+  const std::vector<std::string> contact = r.ReadStrings("/loop/corners/contact");
+  const std::vector<double> from = r.ReadDoubles("/loop/corners/seen_from_rpm");
+  const std::vector<double> to = r.ReadDoubles("/loop/corners/seen_to_rpm");
+  std::vector<LoopCrisis> out;
+  for (std::size_t i = 0; i < level.size(); ++i) {
+    if (level[i].find("L3") == std::string::npos || evidence[i].rfind("/loop/escapes/", 0) != 0) continue;
+    const std::string g = evidence[i];
+    LoopCrisis c{direction[i], kind[i], contact[i], from[i], to[i], {}};
+    const std::vector<double> speed = r.ReadDoubles(g + "/speed_rpm");
+    const std::vector<double> duration = r.ReadDoubles(g + "/duration_s");
+    const std::vector<double> stretch = r.ReadDoubles(g + "/stretch_s");
+    const std::vector<int> escapes = r.ReadInts(g + "/escapes");
+    const std::vector<int> stayed = r.ReadInts(g + "/stayed");
+    const std::vector<int> stretches = r.ReadInts(g + "/escape_stretch");
+    std::size_t next = 0;
+    for (std::size_t e = 0; e < speed.size(); ++e) {
+      EscapeObservations o;
+      o.parameter = speed[e];
+      o.duration = duration[e];
+      o.stretch = stretch[e];
+      o.stayed = stayed[e];
+      o.escape_stretch.assign(stretches.begin() + static_cast<std::ptrdiff_t>(next),
+                              stretches.begin() + static_cast<std::ptrdiff_t>(next + static_cast<std::size_t>(escapes[e])));
+      next += static_cast<std::size_t>(escapes[e]);
+      c.observations.push_back(o);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+void SweepJumpsByLoop(std::vector<PredictedJump>& table, const std::vector<LoopCrisis>& crises,
+                      const std::vector<double>& up_schedule_rpm, const std::vector<double>& down_schedule_rpm,
+                      double dwell, double reach_rpm, const std::string& file_name) {
+  for (PredictedJump& row : table) {
+    if (!row.bifurcation.empty()) continue;
+    const double lo = std::min(row.jump.speed_from_rpm, row.jump.speed_to_rpm);
+    const double hi = std::max(row.jump.speed_from_rpm, row.jump.speed_to_rpm);
+    for (const LoopCrisis& c : crises) {
+      const bool contact = c.contact.find(row.contact) != std::string::npos;
+      const double c_lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - reach_rpm;
+      const double c_hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + reach_rpm;
+      if (c.direction != row.direction || c.kind != ToString(row.jump.kind) || !contact || hi < c_lo || lo > c_hi) continue;
+      const CrisisSide side = row.direction == "up" ? CrisisSide::kAbove : CrisisSide::kBelow;
+      CrisisOptions crisis;
+      crisis.side = side;
+      const CrisisFit fit = FitCrisis(c.observations, crisis);
+      const LeaveDistribution leave =
+          PredictLeave(fit, side, row.direction == "up" ? up_schedule_rpm : down_schedule_rpm, dwell);
+      if (std::isnan(leave.median)) continue;
+      row.bifurcation = fmt::format("crisis of a chaotic whip (L3, {}): this schedule leaves it at {:g} rpm, 5–95 % "
+                                    "{:g} … {:g}", file_name, leave.median, leave.low, leave.high);
+      row.bifurcation_speed_rpm = leave.median;
+      row.difference_rpm = 0.5 * (lo + hi) - leave.median;
+      row.matched_side = "departure";
+      break;
+    }
+  }
 }
 
 LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start) {

@@ -27,7 +27,9 @@
 //                         critical_lower_rpm, critical_upper_rpm, lower_bounded, upper_bounded,
 //                         exponent, amplitude (1/s per rpm^γ), crisis_status, cost_cpu_seconds,
 //                         rounds; datasets speed_rpm, copies, duration_s, escapes, stayed (per
-//                         ensemble), rate, rate_lower, rate_upper (1/s, per ensemble),
+//                         ensemble), stretch_s, rate, rate_lower, rate_upper (1/s, per
+//                         ensemble), escape_stretch (every escaped copy's stretch, ensemble after
+//                         ensemble: `escapes` of them each),
 //                         schedule_rpm, leave_probability (per speed of the run), log (strings)
 #pragma once
 
@@ -35,18 +37,49 @@
 #include <iosfwd>
 #include <string>
 
+#include "apps/hdf5_file.h"
+#include "apps/models.h"
 #include "apps/scene.h"
 #include "solvers/stopwatch.h"
 #include "studies/loop.h"
 
 namespace rubcont {
 
+// The file of `rubcont loop` (atomically), and the /loop group of any result file (the stage "loop").
 void WriteLoopResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
                      const LoopOptions& options, const LoopResult& result);
+void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& structure, const LoopOptions& options,
+               const LoopResult& result);
 
-// The table first (one line per corner), then where each run ends, the decisions and the cost.
-void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result,
-                      const std::filesystem::path& file);
+// The table first (one line per corner), then each corner's numbers, where each run ends and the cost.
+void PrintLoopSummary(std::ostream& out, const Scene& scene, const LoopOptions& options, const LoopResult& result);
+
+// The stage "loop" of `rubcont run`: the study with the scene's options ([analysis.sweep]'s
+// schedule, [analysis.loop]) over one thread per core, into /loop of the run's file; a run that
+// failed to integrate is a failure of the stage.
+void RunLoopStage(const Scene& scene, StageContext& context);
+
+// The jumps a loop file decided at L3 (a crisis), with their ensembles: what a sweep of the same
+// structure needs to take the cause of its own jumps from the loop (SweepJumpsByLoop).
+struct LoopCrisis {
+  std::string direction;
+  std::string kind;
+  std::string contact;  // "left", "right", "left, right"
+  double seen_from_rpm = 0.0;
+  double seen_to_rpm = 0.0;
+  std::vector<EscapeObservations> observations;
+};
+// Nothing when `file` does not exist or was made for another structure (model, parameters,
+// contacts and friction law, compared exactly); throws std::runtime_error when it is unreadable.
+std::vector<LoopCrisis> ReadLoopCrises(const std::filesystem::path& file, const Scene& scene);
+
+// A sweep's jumps that the waves leave open, explained by a loop's crisis of the same direction, kind
+// and contact whose jump it overlaps (within `reach_rpm`): the crisis law refitted to the loop's
+// ensembles and the speed this sweep's own schedule (`schedule_rpm` per direction, `dwell` s per
+// speed) is predicted to leave at — its median, with the 5–95 % range in the bifurcation's name.
+void SweepJumpsByLoop(std::vector<PredictedJump>& table, const std::vector<LoopCrisis>& crises,
+                      const std::vector<double>& up_schedule_rpm, const std::vector<double>& down_schedule_rpm,
+                      double dwell, double reach_rpm, const std::string& file_name);
 
 // The study's progress on `err`: its decisions, and a line per tracked speed every 10 speeds.
 LoopProgress PrintLoopProgress(std::ostream& err, SteadyClock::time_point start);

@@ -216,7 +216,8 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
                         has_points ? c.curve.Measure("precession_hz") : Vector());
     if (c.kind == "hopf") {
       writer.WriteDoubles(g + "/hopf_hz",
-                          has_points ? Vector(c.curve.Measure("hopf_frequency") / (2.0 * M_PI))
+                          has_points ? Vector(c.curve.Measure("hopf_frequency").unaryExpr(
+                                           [](double w) { return RadPerSecondToHz(w); }))
                                      : Vector());
       std::vector<int> stable;
       for (const BranchPoint& p : c.curve.points) {
@@ -231,7 +232,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       sp_type.push_back(ToString(sp.type));
       sp_label.push_back(sp.label);
       sp_eta.push_back(sp.lambda);
-      double speed_rpm = std::nan("");
+      double speed_rpm = kNaN;
       if (!names.empty() && names[0] == "lambda" && sp.measures.size() > 0) {
         speed_rpm = RadPerSecondToRpm(sp.measures(0));
       }

@@ -39,6 +39,7 @@ ModelEntry Textbook(ModelKind kind, std::string name, std::string parameter, Sta
   m.kind = kind;
   m.name = std::move(name);
   m.stages = m.default_stages = {Stage::kOrbits};
+  m.sections = {m.name};  // [<name>] and [<name>.orbits]
   m.orbits = std::move(orbits);
   m.orbits_figure = "orbits.py";
   m.parameter = std::move(parameter);
@@ -52,8 +53,10 @@ std::vector<ModelEntry> MakeModels() {
   two_point.kind = ModelKind::kTwoPoint;
   two_point.name = "two_point";
   two_point.stages = {Stage::kAnalytic, Stage::kBranches, Stage::kOrbits, Stage::kTori,
-                      Stage::kSweep};
+                      Stage::kSweep, Stage::kLoop};
   two_point.default_stages = {Stage::kAnalytic, Stage::kBranches};
+  two_point.sections = {"rotor", "stator", "contact", "imbalance", "center_damper", "flexible",
+                        "analysis.sweep", "analysis.orbits", "analysis.tori", "analysis.loop"};
   two_point.structure = [](const Scene& s) {
     return s.flexible.enabled ? BuildFlexibleRub(FlexibleModelOf(s)).structure
                               : TwoPointStructure(s.two_point);
@@ -69,6 +72,7 @@ std::vector<ModelEntry> MakeModels() {
   jeffcott.kind = ModelKind::kJeffcott;
   jeffcott.name = "jeffcott";
   jeffcott.stages = jeffcott.default_stages = {Stage::kAnalytic, Stage::kBranches};
+  jeffcott.sections = {"jeffcott"};
   jeffcott.structure = [](const Scene& s) { return JeffcottStructure(s.jeffcott); };
   jeffcott.wave_friction = [](const Scene& s) { return s.jeffcott.friction_law.kind; };
   jeffcott.analytic = RunJeffcottAnalytic;
@@ -131,6 +135,13 @@ FlexibleRubModel FlexibleModelOf(const Scene& scene) {
 
 bool ModelEntry::Has(Stage stage) const {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();
+}
+
+bool ModelEntry::HasSection(const std::string& section) const {
+  if (section.empty() || section == "analysis") return true;  // every model's
+  for (const std::string& own : sections)
+    if (section == own || section.rfind(own + ".", 0) == 0) return true;
+  return false;
 }
 
 const std::vector<ModelEntry>& Models() {

@@ -4,8 +4,8 @@
 //
 // Adding a model (README "Adding a model"): (1) its Params and vector field in models/; (2) its
 // ModelKind and its parameter struct as a field of Scene (apps/scene.h) and its section's keys in
-// the schema (apps/scene.cpp, rows tagged with the model); (3) one entry in Models()
-// (apps/models.cpp) saying which stages it has and what each of them runs.
+// the schema (apps/scene_schema.cpp); (3) one entry in Models() (apps/models.cpp) saying which
+// sections and stages it has and what each stage runs.
 #pragma once
 
 #include <functional>
@@ -35,6 +35,11 @@ struct ModelEntry {
   std::string name;                    // the scene's `model = "<name>"`
   std::vector<Stage> stages;           // the stages it has: analysis.stages may list these only
   std::vector<Stage> default_stages;   // what a scene without analysis.stages runs
+  // The scene sections it reads besides every model's (the top level and [analysis] itself), each
+  // with its sub-tables: its own ([rotor], [jeffcott], [duffing], …, and [flexible] with its
+  // [[table arrays]] for model two_point) and its stages' ([analysis.sweep], [analysis.orbits],
+  // [analysis.tori]). The loader rejects the keys of any other section.
+  std::vector<std::string> sections;
   // A rub model (contacts): the structure its rotating waves and sweeps integrate, and the
   // friction law of its rotating waves. Empty for the others.
   std::function<RubStructure(const Scene&)> structure;
@@ -48,6 +53,8 @@ struct ModelEntry {
   // `rubcont scene check`: quantities derived from the parameters ("" for none).
   std::function<std::string(const Scene&)> derived;
   bool Has(Stage stage) const;
+  // Whether `section` (dotted, "" the top level) is one of its sections or a sub-table of one.
+  bool HasSection(const std::string& section) const;
   bool IsRub() const { return static_cast<bool>(structure); }
 };
 

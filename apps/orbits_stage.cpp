@@ -15,66 +15,12 @@
 #include "models/units.h"
 #include "shooting/orbit_branches.h"
 #include "shooting/rub_orbits.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 
 namespace rubcont {
 
 namespace {
-
-// The engine's step controller with the settings measured in bench/duffing_branch_bench.cpp:
-// Newton needs 3 iterations even on tiny steps (the last one confirms the step tolerance), so a
-// target of 3 would never let the step grow.
-ContinuationOptions StageContinuationOptions(int max_steps) {
-  ContinuationOptions options;
-  options.step.max = 1.0;
-  options.step.target_angle = 0.3;
-  options.step.target_iterations = 5;
-  options.bounds.max_steps = max_steps;
-  return options;
-}
-
-// `tolerance`: the integrator's rtol = atol on scaled states.
-ShootingOptions StageShootingOptions(int segments, double tolerance, IntegrationMethod method) {
-  ShootingOptions options;
-  options.segments = segments;
-  options.integrator.method = method;
-  if (method == IntegrationMethod::kExplicitRungeKutta) options.integrator.explicit_order = 8;
-  options.integrator.relative_tolerance = tolerance;
-  options.integrator.absolute_tolerance = tolerance;
-  options.sensitivities_in_residual = true;
-  return options;
-}
-
-// The orbits stage's shooting for model two_point: 4 segments by default, each integrated by
-// Gauss collocation on its share of the period's mesh or by CVODES BDF.
-ShootingOptions RubShootingOptions(const RubOrbitsSettings& settings) {
-  const bool gauss = settings.integrator == OrbitIntegrator::kGauss;
-  ShootingOptions options = StageShootingOptions(
-      settings.segments, settings.tolerance,
-      gauss ? IntegrationMethod::kGaussCollocation : IntegrationMethod::kBdf);
-  options.integrator.max_steps = 2000000;
-  options.integrator.collocation_steps =
-      (settings.collocation_intervals + settings.segments - 1) / settings.segments;
-  return options;
-}
-
-ShootingOptions TextbookShootingOptions(const Scene& scene, IntegrationMethod method) {
-  return StageShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
-}
-
-// Mean of √(x₀² + x₁²) over the orbit (trapezoidal rule): the radius of a circular orbit.
-OrbitMeasure MeanRadius() {
-  return {"mean_radius", [](const OrbitSamples& orbit) {
-            const Index m = orbit.times.size();
-            double integral = 0.0;
-            for (Index j = 0; j + 1 < m; ++j) {
-              const double r0 = orbit.states.col(j).head(2).norm();
-              const double r1 = orbit.states.col(j + 1).head(2).norm();
-              integral += 0.5 * (r0 + r1) * (orbit.times(j + 1) - orbit.times(j));
-            }
-            return integral / (orbit.times(m - 1) - orbit.times(0));
-          }};
-}
 
 struct StageSetup {
   std::unique_ptr<OdeSystem> system;
@@ -86,44 +32,29 @@ struct StageSetup {
   std::function<void(const Scene&, const Branch&, ResultWriter&, std::ostream&)> check;
 };
 
-// What every textbook model's stage shares: the parameter range and the continuation's steps.
-StageSetup CommonSetup(const Scene& scene) {
-  StageSetup setup;
-  setup.options.lambda_min = scene.orbits.parameter_range[0];
-  setup.options.lambda_max = scene.orbits.parameter_range[1];
-  setup.options.continuation = StageContinuationOptions(scene.orbits.max_steps);
-  return setup;
-}
-
 StageSetup DuffingSetup(const Scene& scene) {
-  StageSetup setup = CommonSetup(scene);
-  const double lambda = scene.orbits.start;
+  StageSetup setup;
   DuffingParams p = scene.duffing;
-  p.frequency = lambda;
+  p.frequency = scene.orbits.start;
   Validate(p);
   setup.system = std::make_unique<DuffingOscillator>(p);
   setup.kind = OrbitKind::kForced;
   setup.parameter_name = "frequency";
   // Duffing is not stiff: an explicit 8th-order Runge–Kutta pair is the cheapest accurate
   // integrator (bench/duffing_branch_bench.cpp).
-  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kExplicitRungeKutta);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v"),
                             StateMinimum(1, "min_v")};
-  // The linear response x = A cos(wt − ψ) as the first guess, then a transient of about
-  // 20/c time units to settle onto the attracting orbit there.
-  const double d = p.stiffness - lambda * lambda, cw = p.damping * lambda;
-  const double A = p.force / std::max(std::hypot(d, cw), 1e-12), psi = std::atan2(cw, d);
-  const Vector x0 = (Vector(2) << A * std::cos(psi), A * lambda * std::sin(psi)).finished();
-  const double T = 2.0 * M_PI / lambda;
-  const int periods =
-      p.damping > 0.0 ? static_cast<int>(std::min(2000.0, std::ceil(20.0 / (p.damping * T))))
-                      : 0;
-  setup.start = SettleForced(*setup.system, x0, periods, setup.options.shooting.integrator);
+  const ForcedStart start = DuffingStart(p);
+  setup.start =
+      SettleForced(*setup.system, start.x0, start.periods, setup.options.shooting.integrator);
   return setup;
 }
 
-// Stuart–Landau's closed form (models/textbook.h): r = √λ, T = 2π/|ω − γλ|, multiplier e^{−2λT}.
+// The branch against Stuart–Landau's closed form (StuartLandauOscillator at each λ: r = √λ,
+// T = 2π/|ω − γλ|, multiplier e^{−2λT}): the errors written beside the branch and their largest
+// printed.
 void CompareWithStuartLandauClosedForm(const Scene& scene, const Branch& branch,
                                        ResultWriter& writer, std::ostream& out) {
   const Vector lambda = branch.Lambda(), radius = branch.Measure("mean_radius"),
@@ -131,13 +62,13 @@ void CompareWithStuartLandauClosedForm(const Scene& scene, const Branch& branch,
   Vector radius_error(lambda.size()), period_error(lambda.size()),
       multiplier_error(lambda.size());
   for (Index i = 0; i < lambda.size(); ++i) {
-    const double w = scene.stuart_landau.omega - scene.stuart_landau.gamma * lambda(i);
-    const double T = 2.0 * M_PI / std::abs(w);
-    radius_error(i) = radius(i) - std::sqrt(lambda(i));
-    period_error(i) = period(i) - T;
+    StuartLandauParams p = scene.stuart_landau;
+    p.lambda = lambda(i);
+    const StuartLandauOscillator closed(p);
+    radius_error(i) = radius(i) - closed.OrbitRadius();
+    period_error(i) = period(i) - closed.Period();
     const ComplexVector& mu = branch.points[static_cast<std::size_t>(i)].spectrum.values;
-    multiplier_error(i) = mu.size() > 0 ? std::abs(mu(0) - std::exp(-2.0 * lambda(i) * T))
-                                        : std::nan("");
+    multiplier_error(i) = mu.size() > 0 ? std::abs(mu(0) - closed.NontrivialMultiplier()) : kNaN;
   }
   writer.WriteDoubles("/branches/periodic_orbits/closed_form_radius_error", radius_error);
   writer.WriteDoubles("/branches/periodic_orbits/closed_form_period_error", period_error);
@@ -149,65 +80,54 @@ void CompareWithStuartLandauClosedForm(const Scene& scene, const Branch& branch,
 }
 
 StageSetup StuartLandauSetup(const Scene& scene) {
-  StageSetup setup = CommonSetup(scene);
-  const double lambda = scene.orbits.start;
+  StageSetup setup;
   StuartLandauParams p = scene.stuart_landau;
-  p.lambda = lambda;
+  p.lambda = scene.orbits.start;
   Validate(p);
   setup.system = std::make_unique<StuartLandauOscillator>(p);
   setup.kind = OrbitKind::kAutonomous;
   setup.parameter_name = "lambda";
-  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kExplicitRungeKutta);
+  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kExplicitRungeKutta);
   setup.options.measures = {MeanRadius(), StateMaximum(0, "max_x"), StateMinimum(0, "min_x")};
-  // From (1, 0): the radius relaxes at rate 2λ, the phase turns at about ω.
-  const double turn = std::max(std::abs(p.omega), 1e-3);
-  const double duration = 20.0 / lambda + 40.0 * 2.0 * M_PI / turn;
-  setup.start = SettleOnCycle(*setup.system, (Vector(2) << 1.0, 0.0).finished(), duration, 1,
+  const CycleStart start = StuartLandauStart(p);
+  setup.start = SettleOnCycle(*setup.system, start.x0, start.duration, 1,
                               setup.options.shooting.integrator);
   setup.check = CompareWithStuartLandauClosedForm;
   return setup;
 }
 
 StageSetup VanDerPolSetup(const Scene& scene) {
-  StageSetup setup = CommonSetup(scene);
-  const double lambda = scene.orbits.start;
+  StageSetup setup;
   VanDerPolParams p;
-  p.mu = lambda;
+  p.mu = scene.orbits.start;
   Validate(p);
   setup.system = std::make_unique<VanDerPolOscillator>(p);
   setup.kind = OrbitKind::kAutonomous;
   setup.parameter_name = "mu";
   // Stiff for large μ: BDF.
-  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
+  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kBdf);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateMaximum(1, "max_v"), StateMinimum(1, "min_v")};
-  // Period ≈ 2π for small μ, ≈ (3 − 2 ln 2) μ for large μ; the cycle attracts within a few
-  // periods for μ ≳ 1 and at rate ≈ μ for small μ.
-  const double period = std::max(2.0 * M_PI, (3.0 - 2.0 * std::log(2.0)) * lambda);
-  const double duration = 40.0 * period + 20.0 / lambda;
-  setup.start = SettleOnCycle(*setup.system, (Vector(2) << 2.0, 0.0).finished(), duration, 1,
+  const CycleStart start = VanDerPolStart(p);
+  setup.start = SettleOnCycle(*setup.system, start.x0, start.duration, 1,
                               setup.options.shooting.integrator);
   return setup;
 }
 
 StageSetup ForcedVanDerPolSetup(const Scene& scene) {
-  StageSetup setup = CommonSetup(scene);
+  StageSetup setup;
   ForcedVanDerPolParams p = scene.forced_van_der_pol;
   p.frequency = scene.orbits.start;
   Validate(p);
   setup.system = std::make_unique<ForcedVanDerPolOscillator>(p);
   setup.kind = OrbitKind::kForced;
   setup.parameter_name = "frequency";
-  setup.options.shooting = TextbookShootingOptions(scene, IntegrationMethod::kBdf);
+  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kBdf);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v")};
-  // From the free cycle's amplitude; a locked response attracts at a rate of order μ, so settle
-  // for about 40/μ time units (at most 2000 forcing periods).
-  const double T = 2.0 * M_PI / p.frequency;
-  const int periods = static_cast<int>(
-      std::min(2000.0, std::ceil(40.0 / (std::max(std::abs(p.mu), 1e-3) * T))));
-  setup.start = SettleForced(*setup.system, (Vector(2) << 2.0, 0.0).finished(), periods,
-                             setup.options.shooting.integrator);
+  const ForcedStart start = ForcedVanDerPolStart(p);
+  setup.start =
+      SettleForced(*setup.system, start.x0, start.periods, setup.options.shooting.integrator);
   return setup;
 }
 
@@ -394,17 +314,7 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
                        transient, SecondsSince(t0), context)) {
     return;
   }
-  // The start: each lap with the stage's segments and mesh; the slip's modulation searched over
-  // 1 s (T to ~1e-5 of itself: laps > 1 need it, bench/locked_whip_bench.cpp); Newton to the
-  // continuation corrector's tolerance.
-  ModulatedOrbitOptions start;
-  start.shooting = plan.options.orbits.shooting;
-  start.shooting.segments *= t.laps;
-  start.laps = t.laps;
-  start.search_duration = 1.0;
-  start.newton.residual_tolerance = plan.options.orbits.continuation.corrector.residual_tolerance;
-  start.newton.step_tolerance = plan.options.orbits.continuation.corrector.step_tolerance;
-  start.newton.max_iterations = 20;
+  const ModulatedOrbitOptions start = TransientOrbitStartOf(scene);
   PeriodicOrbitBranchOptions options = plan.options.orbits;  // the side branches' max_steps
   options.on_step = [&](const Branch& b) {
     context.progress(fmt::format("[orbits] transient: {} orbits, {:.4f} rpm, {:.0f} s", b.Size(),
@@ -414,7 +324,7 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   context.progress(fmt::format("[orbits] transient at {:g} rpm: its orbit ({} lap{})", t.speed_rpm,
                                t.laps, t.laps == 1 ? "" : "s"));
   const RubTransientOrbits result = ContinueTransientOrbits(
-      plan.structure, RpmToRadPerSecond(t.speed_rpm), 2.0 * M_PI * transient.precession_hz,
+      plan.structure, RpmToRadPerSecond(t.speed_rpm), HzToRadPerSecond(transient.precession_hz),
       transient.state, start, options, t.max_steps, scene.analysis.orbits.follow_branch_points);
   const ModulatedOrbit& orbit = result.start;
   fmt::print(out, "  its orbit ({} modulation period{}): {}\n", t.laps, t.laps == 1 ? "" : "s",
@@ -504,15 +414,7 @@ RubOrbitsPlan PlanRubOrbits(const Scene& scene) {
   plan.starts = StableBoundaryHopfPoints(plan.waves, plan.structure.Coordinates());
   plan.followed =
       std::min(plan.starts.size(), static_cast<std::size_t>(scene.analysis.orbits.hopf_points));
-  HopfOrbitOptions& options = plan.options;
-  options.amplitude = scene.analysis.orbits.amplitude;
-  options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
-  options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
-  // Gauss collocation (the default), or CVODES BDF with the analytic Jacobian and the
-  // sensitivities under error control (without it Newton stalls: the nearly undamped contact mode
-  // of the STM is damped numerically, bench/modulated_whip_bench.cpp).
-  options.orbits.shooting = RubShootingOptions(scene.analysis.orbits);
-  options.orbits.continuation = StageContinuationOptions(scene.analysis.orbits.max_steps);
+  plan.options = RubOrbitOptionsOf(scene);
   return plan;
 }
 
@@ -522,19 +424,20 @@ void PrintHopfStarts(const RubOrbitsPlan& plan, std::ostream& out) {
                                    [&](const RotatingWaveBranch& b) { return b.name == s.branch; });
     fmt::print(out, "  Hopf on {} at {:.4f} rpm, {:.4f} Hz, modulation {:.3f} Hz, stable {}{}\n",
                s.branch, RadPerSecondToRpm(s.speed), RadPerSecondToHz(s.precession),
-               s.modulation / (2.0 * M_PI), s.stable_below ? "below" : "above",
+               RadPerSecondToHz(s.modulation), s.stable_below ? "below" : "above",
                LyapunovText(wave->branch.special_points[s.special_point]));
   }
 }
 
-std::string RubOrbitsNumerics(const RubOrbitsSettings& settings) {
-  const ShootingOptions options = RubShootingOptions(settings);
+std::string RubOrbitsNumerics(const Scene& scene) {
+  const RubOrbitsSettings& settings = scene.analysis.orbits;
+  const ShootingOptions options = RubShootingOptionsOf(scene);
   const std::string segments =
       fmt::format("{} segment{}", settings.segments, settings.segments == 1 ? "" : "s");
   if (settings.integrator == OrbitIntegrator::kGauss) {
     return fmt::format("{}, Gauss collocation of order {} on {} intervals per period", segments,
                        2 * options.integrator.collocation_stages,
-                       options.integrator.collocation_steps * settings.segments);
+                       JoinedIntegrator(options.integrator, settings.segments).collocation_steps);
   }
   return fmt::format("{}, CVODES BDF at tolerance {:g} with sensitivities", segments,
                      settings.tolerance);
@@ -542,11 +445,8 @@ std::string RubOrbitsNumerics(const RubOrbitsSettings& settings) {
 
 RubSettledSpeed SceneTransient(const Scene& scene, const RubStructure& structure, double speed_rpm,
                                double seconds) {
-  SweepOptions sweep = SweepOptionsOf(scene, SweepDirection::kUp);
-  sweep.parameters = {RpmToRadPerSecond(speed_rpm)};
-  sweep.dwell = seconds;
-  sweep.rotate_forcing_phase = false;  // the plan's structure is balanced
-  return SettleAtSpeed(structure, sweep, scene.analysis.sweep.impulse);
+  return SettleAtSpeed(structure, TransientSweepOptionsOf(scene, speed_rpm, seconds),
+                       scene.analysis.sweep.impulse);
 }
 
 bool ReportTransient(const std::string& prefix, const std::string& what, const Scene& scene,
@@ -594,7 +494,7 @@ void RunRubOrbits(const Scene& scene, StageContext& context) {
                             "/orbits/rotating_waves");
   writer.SetAttribute("/orbits", "friction_law", "tanh");
   writer.SetAttribute("/orbits", "velocity_scale", structure.law.velocity_scale);
-  const std::string numerics = RubOrbitsNumerics(scene.analysis.orbits);
+  const std::string numerics = RubOrbitsNumerics(scene);
   writer.SetAttribute("/orbits", "numerics", numerics);
   fmt::print(out, "[orbits] L2 modulated orbits (relative periodic orbits in the co-rotating frame, "
                   "{}) from {} of the {} Hopf points bounding a stable rotating wave (tanh "
@@ -626,8 +526,8 @@ void RunRubOrbits(const Scene& scene, StageContext& context) {
     const std::string group = "/orbits/" + name;
     writer.SetAttribute(group, "hopf_branch", start.branch);
     writer.SetAttribute(group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
-    writer.SetAttribute(group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
-    writer.SetAttribute(group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
+    writer.SetAttribute(group, "hopf_precession_hz", RadPerSecondToHz(start.precession));
+    writer.SetAttribute(group, "hopf_modulation_hz", RadPerSecondToHz(start.modulation));
     const Branch& branch = orbits.orbits.branch;
     fmt::print(out, "  {}: {} ({:.1f} s; {} integrator steps)\n", name, branch.BriefReport(),
                SecondsSince(t0), orbits.orbits.work.steps);

@@ -53,7 +53,7 @@ namespace rubcont {
 // The modulated orbits of model two_point as the scene asks for them (shared by the "orbits" and
 // "tori" stages): the balanced structure, the tanh-law rotating waves over speed_range_rpm, the
 // Hopf points that bound a stable piece of them, how many to follow ([analysis.orbits]
-// hopf_points), and the Hopf-orbit options of [analysis.orbits] (no on_step).
+// hopf_points), and the Hopf-orbit options of [analysis.orbits] (RubOrbitOptionsOf, no on_step).
 struct RubOrbitsPlan {
   RubStructure structure;   // the imbalance set to 0
   std::string note;         // why the imbalance is left out, or ""
@@ -66,7 +66,7 @@ RubOrbitsPlan PlanRubOrbits(const Scene& scene);
 // One line per Hopf start: branch, speed, precession, modulation, side, Lyapunov coefficient.
 void PrintHopfStarts(const RubOrbitsPlan& plan, std::ostream& out);
 // One line for summaries and result files: segments, integrator and mesh or tolerance.
-std::string RubOrbitsNumerics(const RubOrbitsSettings& settings);
+std::string RubOrbitsNumerics(const Scene& scene);
 
 // One speed of the scene's sweep model (model two_point; [analysis.sweep]'s integrator, windows and
 // impulse) from rest for `seconds`: the transient the orbits' and the tori's

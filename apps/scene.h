@@ -1,16 +1,17 @@
 // Scene files (TOML): what a user asks rubcont to compute, in SI units (scenes/README.md).
 //
-// One schema table (scene.cpp: key, type, unit, rule, required/default, one-line doc) drives both
-// the validation of every scene and the key reference in scenes/README.md (`rubcont scene keys`),
-// so the documentation cannot drift from what is checked. Every problem found is reported with
-// the file, line and column, the key, the value given and the rule it breaks, e.g.
+// One schema table (apps/scene_schema.cpp: key, type, unit, rule, required/default, one-line doc)
+// drives both the validation of every scene (the loader, apps/scene.cpp) and the key reference in
+// scenes/README.md (`rubcont scene keys`, apps/scene_format.cpp), so the documentation cannot
+// drift from what is checked. Every problem found is reported with the file, line and column, the
+// key, the value given and the rule it breaks, e.g.
 //   scene.toml:4:8: rotor.mass = -1: must be positive (kg)
 // and all problems of a file are reported at once (SceneError).
 //
-// Adding a model: a ModelKind, its params struct in Scene, its rows (with `model` set) in the
-// schema table, and its entry in apps/models.cpp (the model dispatch; README "Adding a model");
-// the loader rejects the keys of other models. Adding a stage or an [analysis] key: a row in the
-// table and a field below.
+// Adding a model: a ModelKind, its params struct in Scene, its rows under its own section in the
+// schema, and its entry in apps/models.cpp (the model dispatch, which names its sections; README
+// "Adding a model"); the loader rejects the keys of other models' sections. Adding a stage or an
+// [analysis] key: a row in the schema and a field below.
 #pragma once
 
 #include <array>
@@ -54,6 +55,7 @@ enum class Stage {
               // whirl and whip of model two_point continued in speed (shooting/rub_orbits.h)
   kTori,      // "tori": level L2, the relative 2-tori born at the Neimark–Sacker points of model
               // two_point's modulated whips, continued in speed (shooting/rub_tori.h)
+  kLoop,      // "loop": the hysteresis loop explained, L1 first and L3 where it must (studies/loop.h)
 };
 const char* ToString(Stage stage);
 
@@ -63,7 +65,7 @@ Level LevelOf(Stage stage);
 Level HighestLevel(const std::vector<Stage>& stages);
 
 // Every section's defaults are the initializers below (and those of the model parameter structs):
-// the schema in scene.cpp documents and applies them from a default-constructed Scene.
+// the schema (apps/scene_schema.cpp) documents and applies them from a default-constructed Scene.
 
 // How the sweeps integrate (key `integrator`): CVODES BDF of order ≤ 2 throughout; Boost.Odeint's
 // explicit Dormand–Prince 5(4) throughout; or BDF where the contacts touch continuously and
@@ -146,6 +148,14 @@ struct RubToriSettings {
   } transient;
 };
 
+// [analysis.loop]: the loop study (studies/loop.h); its run's schedule is [analysis.sweep]'s.
+struct LoopSettings {
+  double budget = 300.0;           // [CPU s] for the whole loop
+  double target_width_rpm = 4.0;   // the width asked of the whip end's median interval [rpm]
+  int copies = 8;                  // copies per ensemble of the escape design
+  double max_copy_seconds = 40.0;  // [s] the longest copy
+};
+
 // [analysis]: what to compute.
 struct AnalysisOptions {
   std::vector<Stage> stages{Stage::kAnalytic, Stage::kBranches};  // the textbook models: orbits
@@ -154,6 +164,7 @@ struct AnalysisOptions {
   std::array<double, 2> speed_range_rpm{20.0, 260.0};    // [rpm] branches, 0 < lo < hi
   RubOrbitsSettings orbits;
   RubToriSettings tori;
+  LoopSettings loop;
 };
 
 // Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and

@@ -148,7 +148,138 @@ LoopOptions LoopOptionsOf(const Scene& scene) {
   o.step_rpm = scene.analysis.sweep.speed_step_rpm;
   o.dwell = scene.analysis.sweep.dwell;
   o.waves = BranchOptionsOf(scene);
+  o.budget = scene.analysis.loop.budget;
+  o.escapes.target_width = scene.analysis.loop.target_width_rpm;
+  o.escapes.copies = scene.analysis.loop.copies;
+  o.escapes.max_duration = scene.analysis.loop.max_copy_seconds;
+  // L2 asks [analysis.orbits]' shooting and mesh (a flexible structure's too: its orbits are the
+  // stage's, apps/orbits_stage.cpp); not with an imbalance, which the co-rotating frame excludes.
+  o.orbit_start = TransientOrbitStartOf(scene);
+  // A departure that is no orbit (a chaotic whip) fails Newton whatever the iterations, and the
+  // stage's 20 cost B(b) at 172 rpm 37 s of CPU (19 iterations to a non-finite residual): 10.
+  o.orbit_start.newton.max_iterations = 10;
+  o.orbit_family = RubOrbitOptionsOf(scene).orbits;
   return o;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The orbits and tori stages (level L2).
+
+namespace {
+
+// `tolerance`: the integrator's rtol = atol on scaled states.
+ShootingOptions OrbitShootingOptions(int segments, double tolerance, IntegrationMethod method) {
+  ShootingOptions options;
+  options.segments = segments;
+  options.integrator.method = method;
+  if (method == IntegrationMethod::kExplicitRungeKutta) options.integrator.explicit_order = 8;
+  options.integrator.relative_tolerance = tolerance;
+  options.integrator.absolute_tolerance = tolerance;
+  options.sensitivities_in_residual = true;
+  return options;
+}
+
+}  // namespace
+
+ContinuationOptions OrbitContinuationOptions(int max_steps) {
+  ContinuationOptions options;
+  options.step.max = 1.0;
+  options.step.target_angle = 0.3;
+  options.step.target_iterations = 5;
+  options.bounds.max_steps = max_steps;
+  return options;
+}
+
+PeriodicOrbitBranchOptions TextbookOrbitOptionsOf(const Scene& scene, IntegrationMethod method) {
+  PeriodicOrbitBranchOptions options;
+  options.lambda_min = scene.orbits.parameter_range[0];
+  options.lambda_max = scene.orbits.parameter_range[1];
+  options.continuation = OrbitContinuationOptions(scene.orbits.max_steps);
+  options.shooting = OrbitShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
+  return options;
+}
+
+ShootingOptions RubShootingOptionsOf(const Scene& scene) {
+  const RubOrbitsSettings& settings = scene.analysis.orbits;
+  const bool gauss = settings.integrator == OrbitIntegrator::kGauss;
+  ShootingOptions options = OrbitShootingOptions(
+      settings.segments, settings.tolerance,
+      gauss ? IntegrationMethod::kGaussCollocation : IntegrationMethod::kBdf);
+  options.integrator.max_steps = 2000000;
+  options.integrator.collocation_steps =
+      CollocationStepsPerSegment(settings.collocation_intervals, settings.segments);
+  return options;
+}
+
+HopfOrbitOptions RubOrbitOptionsOf(const Scene& scene) {
+  HopfOrbitOptions options;
+  options.amplitude = scene.analysis.orbits.amplitude;
+  options.orbits.lambda_min = RpmToRadPerSecond(scene.analysis.speed_range_rpm[0]);
+  options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
+  options.orbits.shooting = RubShootingOptionsOf(scene);
+  options.orbits.continuation = OrbitContinuationOptions(scene.analysis.orbits.max_steps);
+  return options;
+}
+
+ModulatedOrbitOptions TransientOrbitStartOf(const Scene& scene) {
+  const PeriodicOrbitBranchOptions orbits = RubOrbitOptionsOf(scene).orbits;
+  const int laps = scene.analysis.orbits.transient.laps;
+  ModulatedOrbitOptions start;
+  start.shooting = orbits.shooting;
+  start.shooting.segments *= laps;
+  start.laps = laps;
+  start.search_duration = 1.0;
+  start.newton.residual_tolerance = orbits.continuation.corrector.residual_tolerance;
+  start.newton.step_tolerance = orbits.continuation.corrector.step_tolerance;
+  start.newton.max_iterations = 20;
+  return start;
+}
+
+SweepOptions TransientSweepOptionsOf(const Scene& scene, double speed_rpm, double seconds) {
+  SweepOptions sweep = SweepOptionsOf(scene, SweepDirection::kUp);
+  sweep.parameters = {RpmToRadPerSecond(speed_rpm)};
+  sweep.dwell = seconds;
+  sweep.rotate_forcing_phase = false;
+  return sweep;
+}
+
+RubTorusOptions TorusOptionsOf(const Scene& scene) {
+  const RubToriSettings& t = scene.analysis.tori;
+  const PeriodicOrbitBranchOptions orbits = RubOrbitOptionsOf(scene).orbits;
+  RubTorusOptions options;
+  options.tori.lambda_min = orbits.lambda_min;
+  options.tori.lambda_max = orbits.lambda_max;
+  options.tori.harmonics = t.harmonics;
+  options.tori.amplitude = t.amplitude;
+  options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.lyapunov_iterates = t.lyapunov_iterates;
+  options.tori.continuation = orbits.continuation;
+  options.tori.continuation.bounds.max_steps = t.max_steps;
+  const bool gauss = scene.analysis.orbits.integrator == OrbitIntegrator::kGauss;
+  options.tori.continuation.corrector.residual_tolerance =
+      (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
+  options.samples = t.samples;
+  return options;
+}
+
+ModulatedTorusOptions TransientTorusStartOf(const Scene& scene) {
+  return SettledTransientStart(scene.analysis.tori.transient.harmonics);
+}
+
+RubTorusOptions TransientTorusOptionsOf(const Scene& scene) {
+  const RubToriSettings::Transient& t = scene.analysis.tori.transient;
+  RubTorusOptions options = TorusOptionsOf(scene);
+  options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.continuation.bounds.max_steps = t.max_steps;
+  if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {
+    options.tori.integrator = TransientTorusStartOf(scene).integrator;
+    options.tori.integrator.relative_tolerance = options.tori.integrator.absolute_tolerance =
+        scene.analysis.orbits.tolerance;
+  } else {
+    const ShootingOptions shooting = RubShootingOptionsOf(scene);
+    options.tori.integrator = JoinedIntegrator(shooting.integrator, shooting.segments);
+  }
+  return options;
 }
 
 }  // namespace rubcont

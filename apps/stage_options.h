@@ -10,6 +10,12 @@
 #include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 #include "waves/rotating_wave_branches.h"
+// The orbits and tori stages' (level L2) below.
+#include "shooting/modulated_orbit.h"
+#include "shooting/modulated_torus.h"
+#include "shooting/orbit_branches.h"
+#include "shooting/rub_orbits.h"
+#include "shooting/rub_tori.h"
 
 namespace rubcont {
 
@@ -63,5 +69,57 @@ AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection
 // sweep's jump table's. The budget, the escape design's settings and a schedule given on the command
 // line are the caller's.
 LoopOptions LoopOptionsOf(const Scene& scene);
+
+// ---------------------------------------------------------------------------------------------
+// The orbits and tori stages (level L2: apps/orbits_stage.cpp, apps/tori_stage.cpp).
+
+// The continuation of every orbit family the orbits stage follows: steps up to 1 (scaled), a
+// tangent turning 0.3 rad and 5 Newton iterations per step aimed at. Measured in
+// bench/duffing_branch_bench.cpp: Newton needs 3 iterations even on tiny steps (the last one
+// confirms the step tolerance), so the engine's target of 3 would never let the step grow.
+ContinuationOptions OrbitContinuationOptions(int max_steps);
+
+// A textbook model's periodic orbits ([<model>] <parameter>_range, [<model>.orbits]): the range,
+// the continuation above, and the scene's segments integrated by `method` (an explicit
+// Runge–Kutta pair: of order 8) at its tolerance (rtol = atol on scaled states), sensitivities in
+// every residual.
+PeriodicOrbitBranchOptions TextbookOrbitOptionsOf(const Scene& scene, IntegrationMethod method);
+
+// Model two_point's shooting ([analysis.orbits]): its segments per modulation period, each
+// integrated by Gauss–Legendre collocation of order 8 on its share of collocation_intervals, or by
+// CVODES BDF with the analytic Jacobian and the sensitivities under error control at `tolerance`
+// (without that control Newton stalls: the STM's nearly undamped contact mode is damped
+// numerically, bench/modulated_whip_bench.cpp; Gauss is 50–70 times cheaper on the thesis's
+// contact, results/README.md "Cost of the modulated whip"); sensitivities in every residual.
+ShootingOptions RubShootingOptionsOf(const Scene& scene);
+
+// The modulated orbits from Hopf points ([analysis.orbits]): the first orbit's amplitude, the
+// scene's speed range [rad/s], the shooting and continuation above (no on_step).
+HopfOrbitOptions RubOrbitOptionsOf(const Scene& scene);
+
+// [analysis.orbits.transient]'s first orbit: each lap with the stage's segments and mesh, the
+// slip's modulation searched over 1 s (T to ~1e-5 of itself: laps > 1 need it,
+// bench/locked_whip_bench.cpp), Newton to the continuation corrector's tolerance, 20 iterations.
+ModulatedOrbitOptions TransientOrbitStartOf(const Scene& scene);
+
+// The transient both [analysis.*.transient] sections start from: one speed of the scene's speed-up
+// sweep ([analysis.sweep]: integrator, windows) at `speed_rpm` for `seconds`, its forcing not
+// rotated (the stages' structure is balanced).
+SweepOptions TransientSweepOptionsOf(const Scene& scene, double speed_rpm, double seconds);
+
+// The torus families from Neimark–Sacker points ([analysis.tori]) over the scene's speed range, on
+// the engine settings of the orbits. Newton on the circle stops at 0.1 × the Gauss tolerance (its
+// own Newton stops at 1e-3 × it, so the map is that smooth) or 100 × the BDF tolerance (the map is
+// only as smooth as the error-controlled integration). The map's integrator is the modulated
+// family's, set by the library (ContinueModulatedTori).
+RubTorusOptions TorusOptionsOf(const Scene& scene);
+
+// [analysis.tori.transient]: its torus's start (SettledTransientStart of its harmonics), and its
+// families' options: those above with the section's Fourier tail and steps, and the map by the
+// start's CVODES BDF at the orbits' tolerance when the orbits use BDF (with the sensitivities under
+// error control a torus's map took 70 times the steps, ModulatedTorusOptions::integrator), else by
+// the orbits' Gauss mesh over a whole period.
+ModulatedTorusOptions TransientTorusStartOf(const Scene& scene);
+RubTorusOptions TransientTorusOptionsOf(const Scene& scene);
 
 }  // namespace rubcont

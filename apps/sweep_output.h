@@ -46,7 +46,11 @@
 //                        (without a prediction: the state that lies on a branch, if any)
 //     branch             the branch it lies on ("" for none); branch_stable: 1 / 0 / −1 unknown,
 //                        at that speed
-//     bifurcation        SpecialPoint::Name() of the predicting point ("" for none)
+//     bifurcation        SpecialPoint::Name() of the predicting point ("" for none); for a jump
+//                        the waves leave open that the scene's loop (loop.h5 beside the file, made
+//                        for the same structure) decided at L3, "crisis of a chaotic whip (L3,
+//                        loop.h5): this schedule leaves it at <median> rpm, 5–95 % …", its
+//                        bifurcation_speed_rpm that median for this sweep's own schedule and dwell
 //     bifurcation_speed_rpm, bifurcation_precession_hz   where the branches put it (NaN for none)
 //     difference_rpm     jump speed − bifurcation speed, the jump speed being the middle of
 //                        [speed_from, speed_to] (± half a step); NaN for none

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -16,34 +15,13 @@
 #include "apps/stage_options.h"
 #include "models/units.h"
 #include "shooting/rub_tori.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
 
 namespace {
-
-// The torus families' options from [analysis.tori], over the scene's speed range, on the engine
-// settings of the orbits. Newton on the circle stops at 0.1 × the Gauss tolerance (its own Newton
-// stops at 1e-3 × it, so the map is that smooth) or 100 × the BDF tolerance (the map is only as
-// smooth as the error-controlled integration).
-RubTorusOptions TorusOptionsOf(const Scene& scene, const RubOrbitsPlan& plan) {
-  const RubToriSettings& t = scene.analysis.tori;
-  RubTorusOptions options;
-  options.tori.lambda_min = plan.options.orbits.lambda_min;
-  options.tori.lambda_max = plan.options.orbits.lambda_max;
-  options.tori.harmonics = t.harmonics;
-  options.tori.amplitude = t.amplitude;
-  options.tori.max_fourier_tail = t.max_fourier_tail;
-  options.tori.lyapunov_iterates = t.lyapunov_iterates;
-  options.tori.continuation = plan.options.orbits.continuation;
-  options.tori.continuation.bounds.max_steps = t.max_steps;
-  const bool gauss = scene.analysis.orbits.integrator == OrbitIntegrator::kGauss;
-  options.tori.continuation.corrector.residual_tolerance =
-      (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
-  options.samples = t.samples;
-  return options;
-}
 
 void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std::string& parent,
                       const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
@@ -76,7 +54,7 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   auto column = [&](const std::string& name, const std::function<double(const RubTorusLines&)>& f) {
     std::vector<double> values;
     for (const RubTorusLines& l : lines) {
-      values.push_back(l.valid ? f(l) : std::numeric_limits<double>::quiet_NaN());
+      values.push_back(l.valid ? f(l) : kNaN);
     }
     writer.WriteDoubles(group + "/" + name, values);
   };
@@ -95,14 +73,12 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
            [c](const RubTorusLines& l) { return l.contacts[c].max_normal_force; });
   }
   std::vector<double> largest, tolerance;
-  Matrix exponents = Matrix::Constant(static_cast<Index>(b.points.size()), tori.state_dimension,
-                                      std::numeric_limits<double>::quiet_NaN());
+  Matrix exponents =
+      Matrix::Constant(static_cast<Index>(b.points.size()), tori.state_dimension, kNaN);
   for (std::size_t i = 0; i < b.points.size(); ++i) {
     const bool known = i < tori.stability.size() && tori.stability[i].valid;
-    largest.push_back(known ? tori.stability[i].LargestNontrivial()
-                            : std::numeric_limits<double>::quiet_NaN());
-    tolerance.push_back(known ? tori.stability[i].tolerance
-                              : std::numeric_limits<double>::quiet_NaN());
+    largest.push_back(known ? tori.stability[i].LargestNontrivial() : kNaN);
+    tolerance.push_back(known ? tori.stability[i].tolerance : kNaN);
     if (known) exponents.row(static_cast<Index>(i)) = tori.stability[i].exponents.transpose();
   }
   writer.WriteDoubles(group + "/largest_exponent", largest);
@@ -174,8 +150,7 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
 
 // The tori through the torus a transient settles on ([analysis.tori.transient]): the transient,
 // its torus, both families written as /tori/transient_down and /tori/transient_up.
-void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOptions options,
-                      StageContext& context) {
+void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
   const RubToriSettings::Transient& t = scene.analysis.tori.transient;
   std::ostream& out = context.out;
   const SteadyClock::time_point t0 = SteadyClock::now();
@@ -186,23 +161,12 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
                        SecondsSince(t0), context)) {
     return;
   }
-  const ModulatedTorusOptions start = SettledTransientStart(t.harmonics);
-  options.tori.max_fourier_tail = t.max_fourier_tail;
-  options.tori.continuation.bounds.max_steps = t.max_steps;
-  if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {
-    // The start's BDF at the orbits' tolerance: with the sensitivities under error control a
-    // torus's map took 70 times the steps (ModulatedTorusOptions::integrator).
-    options.tori.integrator = start.integrator;
-    options.tori.integrator.relative_tolerance = options.tori.integrator.absolute_tolerance =
-        scene.analysis.orbits.tolerance;
-  } else {
-    options.tori.integrator = plan.options.orbits.shooting.integrator;  // a share of the period's mesh
-    options.tori.integrator.collocation_steps *= plan.options.orbits.shooting.segments;
-  }
+  const ModulatedTorusOptions start = TransientTorusStartOf(scene);
   context.progress(fmt::format("[tori] transient at {:g} rpm: its torus ({} harmonics)", t.speed_rpm,
                                t.harmonics));
   const RubTransientTori result = ContinueTransientTori(
-      plan.structure, omega, 2.0 * M_PI * transient.precession_hz, transient.state, start, options,
+      plan.structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, start,
+      TransientTorusOptionsOf(scene),
       [&](std::size_t j, const Branch& b) {
         context.progress(fmt::format("[tori] transient_{}: {} tori, {:.4f} rpm, ρ = {:.6f}, {:.0f} s",
                                      j == 0 ? "down" : "up", b.Size(),
@@ -234,7 +198,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
                                "with each point over one period by CVODES BDF ≤ 2 at {:g} "
                                "(sensitivities outside the error test), then by the orbits' {}",
                                t.harmonics, 2 * t.harmonics + 1, start.integrator.relative_tolerance,
-                               RubOrbitsNumerics(scene.analysis.orbits)));
+                               RubOrbitsNumerics(scene)));
     WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
     w.SetAttribute(group, "start_laps", static_cast<double>(torus.laps));
     w.SetAttribute(group, "start_rotation_number", torus.rotation_number);
@@ -258,7 +222,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, RubTorusOpt
 void RunRubTori(const Scene& scene, StageContext& context) {
   const SteadyClock::time_point begin = SteadyClock::now();
   RubOrbitsPlan plan = PlanRubOrbits(scene);
-  const RubTorusOptions options = TorusOptionsOf(scene, plan);
+  const RubTorusOptions options = TorusOptionsOf(scene);
   ResultWriter& writer = context.writer;
   std::ostream& out = context.out;
   const RubToriSettings& settings = scene.analysis.tori;
@@ -267,7 +231,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
   const std::string numerics =
       fmt::format("invariant circles of {} harmonics ({} points), each point over one period by "
                   "the orbits' {}",
-                  harmonics, 2 * harmonics + 1, RubOrbitsNumerics(scene.analysis.orbits));
+                  harmonics, 2 * harmonics + 1, RubOrbitsNumerics(scene));
   writer.CreateGroup("/tori");
   writer.SetAttribute("/tori", "level", "L2");
   writer.SetAttribute("/tori", "parameter_name", "speed_rpm");
@@ -314,8 +278,8 @@ void RunRubTori(const Scene& scene, StageContext& context) {
     const std::string family_group = "/tori/orbits/" + name;
     writer.SetAttribute(family_group, "hopf_branch", start.branch);
     writer.SetAttribute(family_group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
-    writer.SetAttribute(family_group, "hopf_precession_hz", start.precession / (2.0 * M_PI));
-    writer.SetAttribute(family_group, "hopf_modulation_hz", start.modulation / (2.0 * M_PI));
+    writer.SetAttribute(family_group, "hopf_precession_hz", RadPerSecondToHz(start.precession));
+    writer.SetAttribute(family_group, "hopf_modulation_hz", RadPerSecondToHz(start.modulation));
     fmt::print(out, "  {}: {}\n", name, family.branch.BriefReport());
     if (IsFailure(family.branch.status)) {
       context.failures.push_back(fmt::format("[tori] {}: {}", name, family.branch.message));
@@ -342,7 +306,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
       }
     }
   }
-  if (settings.transient.enabled) RunTransientTori(scene, plan, options, context);
+  if (settings.transient.enabled) RunTransientTori(scene, plan, context);
 }
 
 }  // namespace rubcont

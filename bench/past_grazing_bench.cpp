@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "apps/stage_options.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "shooting/orbit_branches.h"
@@ -35,32 +36,19 @@
 namespace rubcont {
 namespace {
 
-// The orbits stage's shooting: 4 segments, Gauss–Legendre of order 8 on 100 intervals each, or
-// CVODES BDF with the sensitivities under error control at `tolerance` (apps/orbits_stage.cpp).
+// The orbits stage's shooting (apps/stage_options.h, RubShootingOptionsOf): 4 segments,
+// Gauss–Legendre of order 8 on 400 intervals per period (100 each), or CVODES BDF with the
+// sensitivities under error control at `tolerance`.
 ShootingOptions Shooting(IntegrationMethod method, double tolerance) {
-  ShootingOptions shooting;
-  shooting.segments = 4;
-  shooting.integrator.method = method;
-  shooting.integrator.relative_tolerance = shooting.integrator.absolute_tolerance = tolerance;
-  shooting.integrator.max_steps = 2000000;
-  shooting.integrator.collocation_stages = 4;
-  shooting.integrator.collocation_steps = 100;
-  shooting.sensitivities_in_residual = true;
-  return shooting;
-}
-
-// The orbits stage's step control (apps/orbits_stage.cpp, StageContinuationOptions).
-ContinuationOptions Steps(int max_steps) {
-  ContinuationOptions options;
-  options.step.max = 1.0;
-  options.step.target_angle = 0.3;
-  options.step.target_iterations = 5;
-  options.bounds.max_steps = max_steps;
-  return options;
+  Scene scene;  // [analysis.orbits]' defaults
+  scene.analysis.orbits.integrator =
+      method == IntegrationMethod::kBdf ? OrbitIntegrator::kBdf : OrbitIntegrator::kGauss;
+  scene.analysis.orbits.tolerance = tolerance;
+  return RubShootingOptionsOf(scene);
 }
 
 double Largest(const BranchPoint& p) {
-  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : NAN;
+  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : kNaN;
 }
 
 void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
@@ -83,7 +71,7 @@ void AcrossSwitches(RubRotatingFrame& frame, const OrbitStart& from,
   across.family.lambda_min = from.lambda;
   across.family.lambda_max = RpmToRadPerSecond(to_rpm);
   across.family.shooting.integrator.collocation_steps = steps;
-  across.family.continuation = Steps(120);
+  across.family.continuation = OrbitContinuationOptions(120);
   across.max_pieces = max_pieces;
   double step_start = ProcessCpuSeconds();
   across.family.on_step = [&](const Branch& b) {
@@ -132,7 +120,7 @@ int Main(int argc, char** argv) {
   solve.newton.step_tolerance = 1e-8;
   solve.newton.max_iterations = 20;
   const ModulatedOrbit orbit = SolveModulatedOrbit(
-      structure, omega, 2 * M_PI * transient.precession_hz, transient.state, solve);
+      structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, solve);
   std::printf(
       "A(a) at %.2f rpm: the transient %s, precession %.4f Hz; its orbit (%.1f s CPU): %s\n",
       start_rpm, transient.settled ? "settled" : "did not settle", transient.precession_hz,
@@ -146,7 +134,7 @@ int Main(int argc, char** argv) {
   options.shooting = solve.shooting;
   options.measures = RubOrbitMeasures(frame);
   options.test_functions = RubGrazingTests(structure);
-  options.continuation = Steps(400);
+  options.continuation = OrbitContinuationOptions(400);
   start = ProcessCpuSeconds();
   const PeriodicOrbitBranch approach =
       ContinuePeriodicOrbits(frame, OrbitKind::kRelative, StartOf(orbit, omega), options);
@@ -169,7 +157,7 @@ int Main(int argc, char** argv) {
     past.lambda_min = last.lambda;
     past.lambda_max = RpmToRadPerSecond(to_rpm);
     past.shooting = Shooting(method, bdf ? bdf_tolerance : 1e-7);
-    past.continuation = Steps(120);
+    past.continuation = OrbitContinuationOptions(120);
     double step_start = ProcessCpuSeconds();
     past.on_step = [&](const Branch& b) {
       const BranchPoint& p = b.points.back();

@@ -115,18 +115,18 @@ L0Answers AnswerL0(const TwoPointParams& p, double speed_min, double speed_max, 
   const double bottom = rci * speed_min, top = rci * speed_max;
   AnalyticOptions grid;
   grid.min_precession_hz = 1.0;
-  grid.max_precession_hz = 1.02 * top / kTwoPi;
+  grid.max_precession_hz = RadPerSecondToHz(1.02 * top);
   grid.precession_points = static_cast<int>((grid.max_precession_hz - 1.0) / 0.05) + 1;
   auto answer = [&]() {
     for (CircularMode mode : {CircularMode::kMode1, CircularMode::kMode2}) {
       if (!Rolls(p, mode, bottom)) continue;
       const AnalyticCurve curve = ComputeAnalyticCurve(p, mode, grid);
       a.q2.note = a.q3.note = a.q1.note = std::string(ToString(mode)) + ", rolling at " +
-                                            fmt::format("{:.3f}", bottom / kTwoPi) + " Hz";
+                                            fmt::format("{:.3f}", RadPerSecondToHz(bottom)) + " Hz";
       a.q2.value = a.q3.value = a.q1.value = kNaN;
       // Going up: the first transition after which the whirl no longer rolls.
       for (const Transition& t : curve.transitions) {
-        const double Omega = kTwoPi * t.precession_hz;
+        const double Omega = HzToRadPerSecond(t.precession_hz);
         if (Omega <= bottom || Rolls(p, mode, Omega * (1 + 1e-9))) continue;
         a.q2.value = RadPerSecondToRpm(Omega / rci);
         a.q2.note += fmt::format("; ends at {} ({} contact, {:.4f} Hz)", ToString(t.type),
@@ -409,20 +409,19 @@ Row SolveL2(const Scene& scene, const ShootingSetting& s, double q1_speed, const
     r.note = "no transient to start from: " + start.row.note;
     return r;
   }
+  // The orbits stage's shooting (apps/stage_options.h) at this setting.
+  Scene shot = scene;
+  shot.analysis.orbits.segments = s.segments;
+  shot.analysis.orbits.tolerance = s.tolerance;
+  shot.analysis.orbits.integrator = gauss ? OrbitIntegrator::kGauss : OrbitIntegrator::kBdf;
+  if (gauss) shot.analysis.orbits.collocation_intervals = static_cast<int>(s.collocation_intervals);
   ModulatedOrbitOptions o;
-  o.shooting.segments = s.segments;
-  o.shooting.integrator.relative_tolerance = o.shooting.integrator.absolute_tolerance = s.tolerance;
-  o.shooting.integrator.max_steps = 2000000;
-  if (gauss) {
-    o.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
-    o.shooting.integrator.collocation_steps = s.collocation_intervals / s.segments;
-  }
-  o.shooting.sensitivities_in_residual = true;
+  o.shooting = RubShootingOptionsOf(shot);
   o.newton.residual_tolerance = o.newton.step_tolerance = 100 * s.tolerance;
   o.newton.max_iterations = 10;
   const double cpu = ProcessCpuSeconds();
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(scene.two_point), q1_speed,
-                                                   kTwoPi * start.bp_hz, start.state, o);
+                                                   HzToRadPerSecond(start.bp_hz), start.state, o);
   r.cpu_s = ProcessCpuSeconds() - cpu + start.row.cpu_s;
   r.note = orbit.message + fmt::format("; {} integrator steps; includes the L3 start ({:.2f} s)",
                                        orbit.work.steps, start.row.cpu_s);

@@ -38,7 +38,7 @@ std::pair<NaturalMode, NaturalMode> BounceAndPitch(const Matrix2& K, const Matri
     Vector2 v = solver.eigenvectors().col(i);
     const Index largest = std::abs(v(0)) >= std::abs(v(1)) ? 0 : 1;
     v /= v(largest);  // largest entry becomes +1
-    modes[i].frequency_hz = std::sqrt(std::max(solver.eigenvalues()(i), 0.0)) / kTwoPi;
+    modes[i].frequency_hz = RadPerSecondToHz(std::sqrt(std::max(solver.eigenvalues()(i), 0.0)));
     modes[i].shape = v;
     in_phase[i] = v(0) * v(1) / v.squaredNorm();
   }
@@ -255,7 +255,7 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
   }
   std::vector<ComplexVector2> forces(n);
   for (Index i = 0; i < n; ++i) {
-    forces[i] = contact_force(kTwoPi * curve.precession_hz(i));
+    forces[i] = contact_force(HzToRadPerSecond(curve.precession_hz(i)));
     for (int k = 0; k < contacts; ++k) {
       curve.normal_force[k](i) = forces[i](k).real();
       curve.friction_force[k](i) = forces[i](k).imag();
@@ -276,7 +276,7 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
       // With μ = 0 all three μ crossings are the same root: keep it once.
       if (quantity != Quantity::kMuExcess && quantity != Quantity::kNormalForce && mu == 0.0) continue;
       auto f = [&](double hz) {
-        return Evaluate(quantity, contact_force(kTwoPi * hz), k, mu);
+        return Evaluate(quantity, contact_force(HzToRadPerSecond(hz)), k, mu);
       };
       for (Index i = 0; i + 1 < n; ++i) {
         const double a = curve.precession_hz(i), b = curve.precession_hz(i + 1);

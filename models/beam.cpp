@@ -271,7 +271,7 @@ std::vector<StructureMode> WhirlModes(const StructuralMatrices& matrices, double
   std::vector<StructureMode> modes;
   for (const std::complex<double>& s : WhirlEigenvalues(matrices, spin, held)) {
     const double nu = backward ? -s.imag() : s.imag();
-    if (nu > 1e-9 * std::abs(s)) modes.push_back({nu / kTwoPi, -s.real() / std::abs(s)});
+    if (nu > 1e-9 * std::abs(s)) modes.push_back({RadPerSecondToHz(nu), -s.real() / std::abs(s)});
   }
   std::sort(modes.begin(), modes.end(), [](const StructureMode& a, const StructureMode& b) {
     return a.frequency_hz < b.frequency_hz;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "models/units.h"
+
 namespace rubcont {
 
 RubStructure JeffcottStructure(const JeffcottParams& p) {
@@ -28,9 +30,9 @@ std::complex<double> JeffcottContactForce(const JeffcottParams& p, double W) {
 
 JeffcottFrequencies JeffcottNaturalFrequencies(const JeffcottParams& p) {
   JeffcottFrequencies f;
-  f.rotor_hz = std::sqrt(p.k_r / p.m_r) / (2.0 * M_PI);
-  f.stator_hz = std::sqrt(p.k_s / p.m_s) / (2.0 * M_PI);
-  f.combined_hz = std::sqrt((p.k_r + p.k_s) / (p.m_r + p.m_s)) / (2.0 * M_PI);
+  f.rotor_hz = RadPerSecondToHz(std::sqrt(p.k_r / p.m_r));
+  f.stator_hz = RadPerSecondToHz(std::sqrt(p.k_s / p.m_s));
+  f.combined_hz = RadPerSecondToHz(std::sqrt((p.k_r + p.k_s) / (p.m_r + p.m_s)));
   return f;
 }
 

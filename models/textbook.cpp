@@ -336,5 +336,34 @@ std::string AutonomousSoftImpactOscillator::StateName(Index i) const {
   return kNames[i];
 }
 
+ForcedStart DuffingStart(const DuffingParams& p) {
+  const double w = p.frequency;
+  const double d = p.stiffness - w * w, cw = p.damping * w;
+  const double A = p.force / std::max(std::hypot(d, cw), 1e-12), psi = std::atan2(cw, d);
+  ForcedStart start;
+  start.x0 = (Vector(2) << A * std::cos(psi), A * w * std::sin(psi)).finished();
+  const double T = kTwoPi / w;
+  start.periods =
+      p.damping > 0.0 ? static_cast<int>(std::min(2000.0, std::ceil(20.0 / (p.damping * T)))) : 0;
+  return start;
+}
+
+CycleStart StuartLandauStart(const StuartLandauParams& p) {
+  const double turn = std::max(std::abs(p.omega), 1e-3);
+  return {(Vector(2) << 1.0, 0.0).finished(), 20.0 / p.lambda + 40.0 * kTwoPi / turn};
+}
+
+CycleStart VanDerPolStart(const VanDerPolParams& p) {
+  const double period = std::max(kTwoPi, (3.0 - 2.0 * std::log(2.0)) * p.mu);
+  return {(Vector(2) << 2.0, 0.0).finished(), 40.0 * period + 20.0 / p.mu};
+}
+
+ForcedStart ForcedVanDerPolStart(const ForcedVanDerPolParams& p) {
+  const double T = kTwoPi / p.frequency;
+  const int periods = static_cast<int>(
+      std::min(2000.0, std::ceil(40.0 / (std::max(std::abs(p.mu), 1e-3) * T))));
+  return {(Vector(2) << 2.0, 0.0).finished(), periods};
+}
+
 }  // namespace rubcont
 

@@ -266,4 +266,39 @@ class AutonomousSoftImpactOscillator : public OdeSystem {
   SoftImpactParams params_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// The first orbit of each model's "orbits" stage: where a transient starts and how long it runs to
+// settle onto the attracting orbit at the model's current parameter (shooting/orbit_branches.h's
+// SettleForced and SettleOnCycle run it; tests/models/textbook_test.cpp checks each against the
+// closed form where there is one). The closed forms themselves are the oscillators' (Stuart–Landau:
+// OrbitRadius, Period, NontrivialMultiplier; soft impact: FreeState).
+
+// A forced system's start: the state at forcing phase 0, and the forcing periods to settle over.
+struct ForcedStart {
+  Vector x0;
+  int periods = 0;
+};
+// An autonomous system's start: a state, and the time to settle over (model time units).
+struct CycleStart {
+  Vector x0;
+  double duration = 0.0;
+};
+
+// Duffing at w = params.frequency: the linear response x = A cos(w t − ψ), A = F/√((k − w²)² +
+// (c w)²), tan ψ = c w/(k − w²) (the periodic orbit itself when β = 0), settled for about 20/c time
+// units (at most 2000 forcing periods; none without damping).
+ForcedStart DuffingStart(const DuffingParams& params);
+// Stuart–Landau at λ = params.lambda > 0, from (1, 0): the radius relaxes at rate 2λ and the phase
+// turns at about ω, so 20/λ time units and 40 turns.
+CycleStart StuartLandauStart(const StuartLandauParams& params);
+// Van der Pol at μ = params.mu > 0, from (2, 0), the cycle's amplitude: its period is ≈ 2π for
+// small μ and ≈ (3 − 2 ln 2) μ for large μ; it attracts within a few periods for μ ≳ 1 and at
+// rate ≈ μ for small μ, so 40 periods and 20/μ time units.
+CycleStart VanDerPolStart(const VanDerPolParams& params);
+// Forced van der Pol at w = params.frequency, from the free cycle's amplitude (2, 0), settled for
+// about 40/μ time units (at most 2000 forcing periods). A locked response's phase relaxes more
+// slowly than that suggests (at about F/(2r): at μ = 0.2, F = 0.1, w = 1 its 32 periods bring the
+// start 70 times closer to the locked orbit), close enough for the shooting's Newton.
+ForcedStart ForcedVanDerPolStart(const ForcedVanDerPolParams& params);
+
 }  // namespace rubcont

@@ -20,6 +20,7 @@
 
 #include "apps/commands.h"
 #include "apps/fit_command.h"
+#include "apps/loop_command.h"
 #include "apps/map_command.h"
 #include "apps/scene.h"
 #include "apps/version.h"
@@ -264,6 +265,25 @@ PYBIND11_MODULE(_rubcont, m) {
         py::arg("scene_file"), py::arg("out_file"), py::arg("parameter"), py::arg("eta_min"),
         py::arg("eta_max"), py::arg("eta_points"), py::arg("speed_points"), py::arg("threads"),
         py::arg("progress"));
+  m.def("loop",
+        [](const std::string& scene_file, const std::string& out_file, std::optional<double> step_rpm,
+           std::optional<double> dwell, std::optional<double> budget, int threads, bool figures,
+           py::object progress) {
+          LoopRequest request;
+          request.scene_file = scene_file;
+          request.out_file = out_file;
+          request.step_rpm = step_rpm;
+          request.dwell = dwell;
+          request.budget = budget;
+          request.threads = threads;
+          request.figures = figures;
+          request.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) {
+            return LoopCommand(request, out, err);
+          });
+        },
+        py::arg("scene_file"), py::arg("out_file"), py::arg("step_rpm"), py::arg("dwell"), py::arg("budget"),
+        py::arg("threads"), py::arg("figures"), py::arg("progress"));
   m.def("fit",
         [](const std::string& scene_file, const std::string& out_file,
            const std::string& targets_file, int threads, py::object progress) {

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "solvers/constants.h"
+#include "solvers/finite_difference.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
@@ -198,7 +198,7 @@ void InvariantCircleProblem::Residual(const Vector& u, double lambda, Vector& F)
   F.resize(Dimension());
   const Integrated& data = Integrate(u, lambda, false);
   if (!data.ok) {
-    F.setConstant(std::numeric_limits<double>::quiet_NaN());
+    F.setConstant(kNaN);
     return;
   }
   const double rho = RotationNumber(u);
@@ -227,7 +227,7 @@ void InvariantCircleProblem::Jacobian(const Vector& u, double lambda, Matrix& J)
   J.setZero(dim, dim);
   const Integrated& data = Integrate(u, lambda, true);
   if (!data.ok) {
-    J.setConstant(std::numeric_limits<double>::quiet_NaN());
+    J.setConstant(kNaN);
     return;
   }
   system_->SetParameter(lambda);  // f below at λ, also when the integrations came from the cache
@@ -262,13 +262,13 @@ void InvariantCircleProblem::DfDlambda(const Vector& u, double lambda, Vector& d
   dF.setZero(Dimension());
   const Integrated& data = Integrate(u, lambda, true);
   if (!data.ok) {
-    dF.setConstant(std::numeric_limits<double>::quiet_NaN());
+    dF.setConstant(kNaN);
     return;
   }
   for (Index j = 0; j < points_; ++j) dF.segment(n_ * j, n_) = data.dpdp.col(j);
   if (kind_ != OrbitKind::kForced) return;  // T is an unknown, not a function of λ
   // The map's end moves with the period when λ changes it: T′(λ) f(T, P(x)).
-  const double h = 1e-6 * std::max(std::abs(lambda), 1.0);
+  const double h = CentralDifferenceStep(lambda, 1.0);
   const double dperiod = (PeriodAt(lambda + h) - PeriodAt(lambda - h)) / (2.0 * h);
   const double period = PeriodAt(lambda);
   Vector f(n_);
@@ -356,7 +356,7 @@ double InvariantCircleProblem::InvarianceError(const Vector& u, double lambda) {
   for (Index j = 0; j < points_; ++j) {
     const double theta = kTwoPi * (static_cast<double>(j) + 0.5) / static_cast<double>(points_);
     if (!integrator.Integrate(0.0, PointAt(u, theta), period, end).Succeeded()) {
-      return std::numeric_limits<double>::quiet_NaN();
+      return kNaN;
     }
     error = std::max(error, (end - R * PointAt(u, theta + kTwoPi * rho))
                                 .cwiseQuotient(scale_)
@@ -398,7 +398,7 @@ bool InvariantCircleProblem::TorusStability::IsTrivial(Index i) const {
 }
 
 double InvariantCircleProblem::TorusStability::LargestNontrivial() const {
-  double largest = -std::numeric_limits<double>::infinity();
+  double largest = -kInfinity;
   for (Index i = 0; i < exponents.size(); ++i) {
     if (!IsTrivial(i)) largest = std::max(largest, exponents(i));
   }
@@ -507,7 +507,7 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
   // The least misfit on grids of 201 values of ρ round `centre`, each pass 50 times finer about
   // the best of the last (kRhoGridPasses passes).
   auto refine = [&](double centre, double& best_rho) {
-    double best = std::numeric_limits<double>::infinity();
+    double best = kInfinity;
     double step = 4.0 / static_cast<double>(m) / 100.0;
     best_rho = centre;
     for (int pass = 0; pass < kRhoGridPasses; ++pass, step /= 50.0) {

@@ -144,7 +144,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   orbit.period = problem.Period(orbit.u, omega);
   orbit.rotation = problem.Rotation(orbit.u);
   orbit.x0 = problem.SegmentStart(orbit.u, 0);
-  orbit.carrier_hz = frame.CarrierPrecession(orbit.period, orbit.rotation) / kTwoPi;
+  orbit.carrier_hz = RadPerSecondToHz(frame.CarrierPrecession(orbit.period, orbit.rotation));
 
   // Fourier coefficients of q = e^{−jφt/T} d over one period (trapezoidal rule on the samples).
   const OrbitSamples samples = problem.Orbit(orbit.u, omega);
@@ -181,7 +181,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
     if (k != best) other = std::max(other, std::abs(c[static_cast<std::size_t>(k + K)]));
   }
   orbit.dominant_harmonic = best;
-  orbit.dominant_hz = (frame_rate - phi_T - kTwoPi * best / T) / kTwoPi;
+  orbit.dominant_hz = RadPerSecondToHz(frame_rate - phi_T - kTwoPi * best / T);
   orbit.sideband_ratio = other / std::abs(c[static_cast<std::size_t>(best + K)]);
   orbit.converged = true;
   orbit.message = fmt::format(

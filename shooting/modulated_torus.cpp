@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "solvers/constants.h"
 #include "solvers/spectrum.h"
@@ -53,8 +54,8 @@ IntegratorOptions MapIntegrator(const ModulatedTorusOptions& options, int laps) 
   IntegratorOptions gauss = options.integrator;
   gauss.method = IntegrationMethod::kGaussCollocation;
   gauss.collocation_stages = 4;
-  gauss.collocation_steps = static_cast<long>(options.collocation_intervals) * laps;
-  return gauss;
+  gauss.collocation_steps = options.collocation_intervals;
+  return JoinedIntegrator(gauss, laps);
 }
 
 }  // namespace
@@ -191,7 +192,7 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   torus.period = problem.Period(torus.u, omega);
   torus.rotation = problem.Rotation(torus.u);
   torus.rotation_number = problem.RotationNumber(torus.u);
-  torus.carrier_hz = frame->CarrierPrecession(torus.period, torus.rotation) / kTwoPi;
+  torus.carrier_hz = RadPerSecondToHz(frame->CarrierPrecession(torus.period, torus.rotation));
   torus.first_hz = 1.0 / torus.period;
   torus.second_hz = torus.rotation_number / torus.period;
   const Vector measures = problem.Measures(torus.u, omega);

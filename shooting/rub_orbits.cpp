@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "models/units.h"
+
 namespace rubcont {
 
 namespace {
@@ -33,7 +35,7 @@ class OrbitInFixedFrame {
     return out;
   }
   double CarrierHz(const OrbitSamples& orbit) const {
-    return frame_.CarrierPrecession(orbit.period, orbit.rotation) / (2.0 * M_PI);
+    return RadPerSecondToHz(frame_.CarrierPrecession(orbit.period, orbit.rotation));
   }
   const RubStructure& structure() const { return frame_.structure(); }
 
@@ -58,12 +60,12 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
                             ContactQuantity quantity, std::string name) {
   return {std::move(name), [view, c, maximum, quantity](const OrbitSamples& orbit) {
             const FixedFrameOrbit fixed = view->Evaluate(orbit);
-            double extreme = maximum ? -HUGE_VAL : HUGE_VAL;
+            double extreme = maximum ? -kInfinity : kInfinity;
             for (std::size_t j = 0; j < fixed.states.size(); ++j) {
               double value = 0.0;
               switch (quantity) {
                 case ContactQuantity::kPrecessionHz:
-                  value = Precession(view->structure(), c, fixed.states[j]) / (2.0 * M_PI);
+                  value = RadPerSecondToHz(Precession(view->structure(), c, fixed.states[j]));
                   break;
                 case ContactQuantity::kNormalForce: value = fixed.contacts[j][c].normal_force; break;
                 case ContactQuantity::kPenetration: value = fixed.contacts[j][c].penetration; break;
@@ -193,7 +195,8 @@ std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame,
   if (integrator.method == IntegrationMethod::kGaussCollocation) {
     measures.push_back(UnresolvedMultiplier(
         std::make_shared<RubRotatingFrame>(frame), integrator.collocation_stages,
-        integrator.collocation_steps * shooting.segments * laps));
+        JoinedIntegrator(integrator, static_cast<long>(shooting.segments) * laps)
+            .collocation_steps));
   }
   return measures;
 }

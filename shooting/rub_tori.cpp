@@ -7,6 +7,9 @@
 
 #include <fmt/format.h>
 
+#include "models/units.h"
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
@@ -49,13 +52,13 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
   const std::size_t contacts = structure.contacts.size();
   const Index points = 2 * harmonics + 1;
   RubTorusLines lines;
-  lines.carrier_hz = frame.CarrierPrecession(period, phi) / (2.0 * M_PI);
+  lines.carrier_hz = RadPerSecondToHz(frame.CarrierPrecession(period, phi));
   lines.first_hz = 1.0 / period;
   lines.second_hz = rho / period;
   lines.contacts.assign(contacts, {});
   for (auto& c : lines.contacts) {
-    c.min_normal_force = HUGE_VAL;
-    c.max_normal_force = -HUGE_VAL;
+    c.min_normal_force = kInfinity;
+    c.max_normal_force = -kInfinity;
   }
 
   // G at (θ_j + 2πρ s_m, s_m): d of R_{−φ s_m} Φ_{s_m T}(u(θ_j)), s_m = m / samples (sampled to
@@ -68,7 +71,7 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
   fixed.SetParameter(lambda);
   Matrix states;
   for (Index j = 0; j < points; ++j) {
-    const double theta = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(points);
+    const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points);
     if (!integrator_.Sample(0.0, circle.PointAt(u, theta), times, states).Succeeded()) return lines;
     for (int m = 0; m < samples; ++m) {
       const Vector x = states.col(m);
@@ -91,15 +94,15 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
       for (int m = 0; m < samples; ++m) {
         Complex sum = 0.0;
         for (Index j = 0; j < points; ++j) {
-          const double theta = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(points);
+          const double theta = kTwoPi * static_cast<double>(j) / static_cast<double>(points);
           sum += grid[c](j, m) * std::polar(1.0, -l * theta);
         }
         over_s(m) = sum / static_cast<double>(points) *
-                    std::polar(1.0, -2.0 * M_PI * l * rho * m / samples);
+                    std::polar(1.0, -kTwoPi * l * rho * m / samples);
       }
       for (int k = -samples / 2 + 1; k < samples / 2; ++k) {
         Complex sum = 0.0;
-        for (int m = 0; m < samples; ++m) sum += over_s(m) * std::polar(1.0, -2.0 * M_PI * k * m / samples);
+        for (int m = 0; m < samples; ++m) sum += over_s(m) * std::polar(1.0, -kTwoPi * k * m / samples);
         const double amplitude = std::abs(sum) / samples;
         if (l == 0 && k == 0) {
           carrier = amplitude;
@@ -145,8 +148,7 @@ RubModulatedTori ContinueModulatedTori(
   // the family's segments' mesh over one whole period.
   const RubRotatingFrame frame(structure, start.precession, start.speed);
   TorusBranchOptions tori = options.tori;
-  tori.integrator = family.shooting.integrator;
-  tori.integrator.collocation_steps *= family.segments;
+  tori.integrator = JoinedIntegrator(family.shooting.integrator, family.segments);
   const std::vector<SpecialPoint>& special = family.branch.special_points;
   for (std::size_t k = 0; k < special.size(); ++k) {
     if (special[k].type != SpecialPointType::kNeimarkSacker || !special[k].converged ||
@@ -181,7 +183,7 @@ RubTransientTori ContinueTransientTori(
   RubTransientTori result;
   result.start = SolveModulatedTorus(structure, omega, frame_rate, fixed_state, start);
   if (!result.start.converged) return result;
-  tori.integrator.collocation_steps *= result.start.laps;
+  tori.integrator = JoinedIntegrator(tori.integrator, result.start.laps);
   const RubRotatingFrame frame(structure, frame_rate, omega);
   for (const int direction : {-1, +1}) {
     tori.continuation.direction = direction;

@@ -23,6 +23,15 @@ const char* ToString(OrbitKind kind) {
   return "unknown";
 }
 
+long CollocationStepsPerSegment(long intervals_per_period, int segments) {
+  return (intervals_per_period + segments - 1) / segments;
+}
+
+IntegratorOptions JoinedIntegrator(IntegratorOptions span, long pieces) {
+  span.collocation_steps *= pieces;
+  return span;
+}
+
 void Validate(const ShootingOptions& options) {
   if (options.segments < 1) {
     throw std::invalid_argument(
@@ -173,6 +182,19 @@ OrbitMeasure StateMean(Index state, std::string name) {
             for (Index k = 1; k < m; ++k) {
               integral += 0.5 * (orbit.times(k) - orbit.times(k - 1)) *
                           (orbit.states(state, k) + orbit.states(state, k - 1));
+            }
+            return integral / (orbit.times(m - 1) - orbit.times(0));
+          }};
+}
+
+OrbitMeasure MeanRadius(std::string name) {
+  return {std::move(name), [](const OrbitSamples& orbit) {
+            const Index m = orbit.times.size();
+            double integral = 0.0;
+            for (Index j = 0; j + 1 < m; ++j) {
+              const double r0 = orbit.states.col(j).head(2).norm();
+              const double r1 = orbit.states.col(j + 1).head(2).norm();
+              integral += 0.5 * (r0 + r1) * (orbit.times(j + 1) - orbit.times(j));
             }
             return integral / (orbit.times(m - 1) - orbit.times(0));
           }};

@@ -135,6 +135,16 @@ struct ShootingOptions {
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const ShootingOptions& options);
 
+// Gauss collocation's mesh is counted in intervals per period, IntegratorOptions::collocation_steps
+// in steps per integrated span; these two functions are the one place where the one becomes the
+// other. A period's `intervals_per_period` shared evenly by `segments` segments give each
+// ⌈intervals_per_period / segments⌉ steps (the period then has at least that many intervals); the
+// integrator of `pieces` spans run end to end (a whole period of `pieces` segments, a section of
+// `pieces` modulation periods) is `span`'s with `pieces` times its steps. Other methods ignore
+// collocation_steps.
+long CollocationStepsPerSegment(long intervals_per_period, int segments);
+IntegratorOptions JoinedIntegrator(IntegratorOptions span, long pieces);
+
 // An orbit sampled in time: times from 0 to T (the last sample is the end of the last segment).
 struct OrbitSamples {
   Vector times;      // m
@@ -157,6 +167,9 @@ OrbitMeasure StateMaximum(Index state, std::string name);
 OrbitMeasure StateMinimum(Index state, std::string name);
 OrbitMeasure StateAmplitude(Index state, std::string name);
 OrbitMeasure StateMean(Index state, std::string name);
+// The time average of √(x₀² + x₁²), the distance from the origin in the plane of the first two
+// states (trapezoidal rule): the radius of a circular orbit about the origin.
+OrbitMeasure MeanRadius(std::string name = "mean_radius");
 
 // ‖(x(T) − R_φ x(0)) ./ StateScale‖∞ with x(T) integrated from the orbit's first sample by an
 // independent integrator (`options`, state only; R = I unless the orbit is relative): the orbit's

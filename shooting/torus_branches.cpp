@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 
@@ -118,7 +119,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
     return result;
   }
   const std::complex<double> mu = eigen.eigenvalues()(critical);
-  const double rho = std::arg(mu) / (2.0 * M_PI);  // (0, 1/2)
+  const double rho = std::arg(mu) / kTwoPi;  // (0, 1/2)
   result.birth_rotation_number = rho;
   result.birth_modulus = std::abs(mu);
   for (const double resonance : {0.0, 0.25, 1.0 / 3.0, 0.5}) {
@@ -293,7 +294,7 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
     const double lambda = last.lambda + factor * step;
     if (lambda < options.lambda_min || lambda > options.lambda_max) break;
     for (Index j = 0; j < tries; ++j) {
-      const double theta = 2.0 * M_PI * static_cast<double>(j) / (2 * tori.harmonics + 1);
+      const double theta = kTwoPi * static_cast<double>(j) / (2 * tori.harmonics + 1);
       system->SetParameter(lambda);
       ShootingProblem problem(*system, tori.kind, shooting);
       const Vector u0 =

@@ -33,6 +33,8 @@
 #include <Eigen/LU>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
+#include "solvers/finite_difference.h"
 #include "solvers/ode_internal.h"
 
 namespace rubcont {
@@ -137,8 +139,8 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
   const Index s = stages_.cols();
   const Matrix& A = coefficients_.A;
   const double tolerance = std::max(kNewtonFraction * options_.absolute_tolerance, kNewtonFloor);
-  double previous_norm = INFINITY;
-  double previous_merit = INFINITY;  // ‖S⁻¹G‖₂ where the last Newton step started
+  double previous_norm = kInfinity;
+  double previous_merit = kInfinity;  // ‖S⁻¹G‖₂ where the last Newton step started
   double damping = 1.0;
   int iteration = 0;
   for (int pass = 0; pass < kMaxNewtonIterations + kMaxHalvings; ++pass) {
@@ -162,7 +164,7 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
     }
     merit = std::sqrt(merit);
     // Backtrack only far from convergence: near it ‖G‖ stalls at rounding level.
-    if (!(merit < previous_merit) && previous_merit < INFINITY && damping > kMinDamping &&
+    if (!(merit < previous_merit) && previous_merit < kInfinity && damping > kMinDamping &&
         !(merit <= 1e3 * tolerance)) {
       damping *= 0.5;  // back to the start of the last step, then half as far along it
       for (Index i = 0; i < s; ++i) stages_.col(i) += damping * increment_.segment(i * n, n);
@@ -301,7 +303,7 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
           blocks_.block(i * n, t1_column, n, 1).noalias() = J * dxdt1;
           // ∂f/∂t by a central difference (exactly 0 for an autonomous f): the stage time
           // t0 + (step + c_i)(t1 − t0)/N moves with t1 at (step + c_i)/N.
-          const double dt = 1e-6 * std::max(std::abs(ti), std::abs(h));
+          const double dt = CentralDifferenceStep(ti, std::abs(h));
           if (EvaluateRhs(context_, ti + dt, stage_state_.data(), later_.data()) != 0 ||
               EvaluateRhs(context_, ti - dt, stage_state_.data(), earlier_.data()) != 0) {
             return Fail(IntegrationStatus::kRhsFailure, t, "the right-hand side failed");

@@ -36,7 +36,7 @@ ThreeModes XltrcPinnedModes(const FlexibleRubModel& model);
 ThreeModes XltrcStatorModes(const FlexibleRubModel& model);
 
 // The rigid-body data of the thesis's cases A, B, C (its Eq. 31: the disk at the centre, ¾ and
-// overhung) as their first subcases A(a), B(a), C(a) (design.md §3).
+// overhung) as their first subcases A(a), B(a), C(a) (docs/theory.md §10).
 std::array<TwoPointParams, 3> ThesisCases();
 
 // Table 2 (disk at centre, ¾, overhung) and Table 3 of the thesis.

@@ -101,6 +101,17 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
       } else {
         continue;
       }
+      // A special point along the stable stretch (a contact lost or regained, stick ↔ slip, a knee)
+      // changes what a sweep reads there without a jump: the tracker must integrate across it, so
+      // that the change is seen and attributed to it.
+      for (const SpecialPoint& p : wave.branch.special_points) {
+        const double rpm = RadPerSecondToRpm(p.lambda);
+        const double here = RadPerSecondToRpm(point.parameter);
+        if (sign * (rpm - here) > 0.0 && sign * (limit_rpm - rpm) > 0.0) {
+          limit_rpm = rpm;
+          why = p.Name();
+        }
+      }
       const int to = LastBefore(schedule, limit_rpm, sign, o.step_rpm);
       if (to <= static_cast<int>(next)) continue;  // nothing to save
       const Vector u = WhirlStateAt(waves, limit, RpmToRadPerSecond(schedule[static_cast<std::size_t>(to)]));
@@ -117,7 +128,10 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
   std::vector<RubSweepJump> kept;
   for (const RubSweepJump& j : run.regimes.jumps) {
     bool across = false;
-    for (const LoopSkip& s : run.skips) across = across || (j.speed_from_rpm == s.from_rpm && j.speed_to_rpm == s.to_rpm);
+    for (const LoopSkip& s : run.skips) {
+      across = across || (std::abs(j.speed_from_rpm - s.from_rpm) < 1e-9 * o.step_rpm + 1e-9 &&
+                          std::abs(j.speed_to_rpm - s.to_rpm) < 1e-9 * o.step_rpm + 1e-9);
+    }
     if (!across) kept.push_back(j);
   }
   run.regimes.jumps = kept;
@@ -247,6 +261,23 @@ double CounterpartRpm(const std::vector<RotatingWaveBranch>& waves, const std::s
   return best;
 }
 
+// Whether a special point of an orbit family can end the state a run is on: it stops existing (a
+// fold) or being stable (period doubling, Neimark–Sacker, a branch point, a multiplier +1), or a
+// contact opens or closes (grazing: the motion changes character).
+bool EndsState(const SpecialPoint& p) {
+  switch (p.type) {
+    case SpecialPointType::kFold:
+    case SpecialPointType::kPeriodDoubling:
+    case SpecialPointType::kNeimarkSacker:
+    case SpecialPointType::kBranchPoint:
+    case SpecialPointType::kMultiplierPlusOne:
+    case SpecialPointType::kGrazing:
+      return true;
+    default:
+      return false;
+  }
+}
+
 // A jump's importance for the budget: the direction's first whirl → whip and last whip → whirl
 // first (the thesis's four corners), then the rest in speed order.
 bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
@@ -292,6 +323,9 @@ void Validate(const LoopOptions& o) {
     fail("escape_reach_rpm", o.escape_reach_rpm, "must be at least step_rpm");
   }
   if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
+  if (o.orbit_steps < 1) fail("orbit_steps", o.orbit_steps, "must be at least 1");
+  if (!(o.min_escape_budget >= 0.0)) fail("min_escape_budget", o.min_escape_budget, "must be non-negative");
+  if (o.orbits) Validate(o.orbit_start);
   for (const double span : {std::abs(o.up.sweep.parameters.back() - o.up.sweep.parameters.front()),
                             std::abs(o.down.sweep.parameters.back() - o.down.sweep.parameters.front())}) {
     if (RadPerSecondToRpm(span) / o.step_rpm > 10000.0) fail("step_rpm", o.step_rpm, "gives more than 10000 speeds");
@@ -437,6 +471,81 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     std::vector<int> contacts;
     for (std::size_t k = 0; k < structure.contacts.size(); ++k)
       if (c.contact.find(structure.contacts[k].name) != std::string::npos) contacts.push_back(static_cast<int>(k));
+    // L2: is the departure a relative periodic orbit, and does its family end between the speeds?
+    const double frame_hz = run.regimes.precession_hz[0][from];
+    if (options.orbits && balanced.imbalance == 0.0 && structure.imbalance == 0.0 && std::isfinite(frame_hz) &&
+        frame_hz > 0.0) {
+      const double before_l2 = spent();
+      PeriodicOrbitBranchOptions family = options.orbit_family;
+      const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
+      const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
+      family.lambda_min = RpmToRadPerSecond(std::max(lo, 1e-3));
+      family.lambda_max = RpmToRadPerSecond(hi);
+      family.direction = sign;
+      family.on_step = [&](const Branch&) { return spent() < options.budget; };
+      note(fmt::format("L2 for {}: {}; its departure at {:g} rpm as a relative periodic orbit (frame {:.2f} Hz)", what,
+                       c.note, c.seen_from_rpm, frame_hz));
+      LoopOrbits asked;
+      asked.direction = c.direction;
+      asked.seen_from_rpm = c.seen_from_rpm;
+      asked.seen_to_rpm = c.seen_to_rpm;
+      asked.orbits = ContinueTransientOrbits(balanced, RpmToRadPerSecond(c.seen_from_rpm), HzToRadPerSecond(frame_hz),
+                                             run.states[from], options.orbit_start, family, options.orbit_steps);
+      const RubTransientOrbits& l2 = asked.orbits;
+      c.orbits = static_cast<int>(result.orbits.size());
+      result.orbits.push_back(asked);
+      c.cpu_seconds += spent() - before_l2;
+      if (!l2.start.converged) {
+        c.note += fmt::format("; L2: no relative periodic orbit from the state at {:g} rpm ({})", c.seen_from_rpm,
+                              l2.start.message);
+        note(fmt::format("  L2: no orbit: {}", l2.start.message));
+      } else {
+        const Branch& b = l2.family.orbits.branch;
+        const bool stable = !b.points.empty() && b.points.front().num_unstable == 0;
+        int found = -1;
+        for (std::size_t k = 0; k < b.special_points.size() && found < 0; ++k) {
+          const SpecialPoint& p = b.special_points[k];
+          const double rpm = RadPerSecondToRpm(p.lambda);
+          if (EndsState(p) && rpm >= lo - 1e-9 && rpm <= hi + 1e-9) found = static_cast<int>(k);
+        }
+        const std::string orbit = fmt::format("a{} relative periodic orbit (modulation {:.3g} Hz)",
+                                              stable ? " stable" : "n unstable", 1.0 / l2.start.period);
+        if (found >= 0) {
+          const SpecialPoint& p = b.special_points[static_cast<std::size_t>(found)];
+          c.level = "L2";
+          c.cause = CauseOf(p.Name(), structure) + " of the modulated state";
+          c.speed_rpm = c.lower_rpm = c.upper_rpm = RadPerSecondToRpm(p.lambda);
+          c.interval = "the point itself (L2: located on the family; the regularization not varied)";
+          c.evidence = fmt::format("orbits/{}/special_points", c.orbits);
+          c.note = fmt::format("the departure at {:g} rpm is {}; its family ends or changes there ({}); the run jumped "
+                               "{:g} → {:g} rpm", c.seen_from_rpm, orbit, p.Name(), c.seen_from_rpm, c.seen_to_rpm);
+          note(fmt::format("  L2: {} at {:.4f} rpm", p.Name(), c.speed_rpm));
+          continue;
+        }
+        c.note += fmt::format("; L2: the departure is {}, and its family ({}) has no special point between {:g} and "
+                              "{:g} rpm", orbit, b.BriefReport(), lo, hi);
+        note(fmt::format("  L2: {}; no special point in the jump", orbit));
+        if (stable) {
+          // A stable orbit that goes on past the jump: the run did not leave it by chance.
+          c.note += "; L3 not tried: the departure is a stable orbit";
+          continue;
+        }
+      }
+      if (spent() >= options.budget) {
+        c.note += fmt::format("; not decided within the budget ({:g} s CPU spent)", spent());
+        continue;
+      }
+    }
+    // L3 measures how long a state lasts; a departure that settled at its speed was a steady state
+    // there, and a steady state that is gone one step later ended at a bifurcation between the two
+    // speeds, not by chance.
+    if (run.points[from].status == SweepPointStatus::kSettled) {
+      c.note += fmt::format("; L3 not tried: the departure settled at {:g} rpm (a steady state: the jump is a "
+                            "bifurcation between {:g} and {:g} rpm that no level located)",
+                            c.seen_from_rpm, c.seen_from_rpm, c.seen_to_rpm);
+      note("L3 not tried for " + what + ": its departure settled");
+      continue;
+    }
     ArrivalTarget target;
     const RubRegime landing = run.regimes.regime[static_cast<std::size_t>(contacts.front())][to];
     if (c.kind == "frequency_jump") {
@@ -455,26 +564,40 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       target.contacts = ArrivalContacts::kOne;
       target.contact = contacts.front();
     }
-    // The candidates: the schedule from escape_reach_rpm before the departure to two steps past the landing.
+    // The departure state as the run was on it: the tracked speeds since the run's previous jump at
+    // these contacts (a barely touching other contact flickers: case C's left) up to the departure.
+    std::size_t first_on = 0;
+    for (const RubSweepJump& j : run.regimes.jumps) {
+      if (sign * (c.seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
+      if (std::find(contacts.begin(), contacts.end(), j.contact) == contacts.end()) continue;  // another contact's
+      for (std::size_t k = 0; k <= from; ++k) {
+        if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
+      }
+    }
+    const double first_on_rpm = RadPerSecondToRpm(run.points[first_on].parameter);
+    // The candidates: the schedule from escape_reach_rpm before the departure (not before the run
+    // was seen on the state) to two steps past the landing.
     const std::vector<double>& schedule = run.schedule_rpm;
     std::vector<double> candidates;
     for (double p : schedule) {
       const double along = sign * (p - c.seen_from_rpm);
-      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
+      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - first_on_rpm) >= -1e-9 &&
+          sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
         candidates.push_back(p);
       }
     }
-    // The copies' starts: the tracker's state after the speed before each candidate while it was
-    // still on the departure state; before that, the earliest such state; after, the departure's.
-    const RubRegime departure = run.regimes.regime[static_cast<std::size_t>(contacts.front())][from];
+    if (candidates.size() < 2) {
+      c.note += "; L3 not tried: the run was on the departure state for too few speeds";
+      note("L3 not tried for " + what + ": too few speeds on the departure state");
+      continue;
+    }
+    // The copies' starts: the tracker's state after the last speed on the state before each
+    // candidate (the first such state for the first candidate; the departure's past it).
     std::map<double, std::size_t> start_of;
     for (double p : candidates) {
-      std::size_t best = from;
-      for (std::size_t k = 0; k <= from; ++k) {
-        const double rpm = RadPerSecondToRpm(run.points[k].parameter);
-        if (sign * (p - rpm) > 1e-9 && run.regimes.regime[static_cast<std::size_t>(contacts.front())][k] == departure) {
-          best = k;  // the last tracked speed on the state before p
-        }
+      std::size_t best = first_on;
+      for (std::size_t k = first_on; k <= from; ++k) {
+        if (sign * (p - RadPerSecondToRpm(run.points[k].parameter)) > 1e-9) best = k;
       }
       start_of[p] = best;
     }
@@ -484,7 +607,13 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.dwell = options.dwell;
     design.candidates = candidates;
     design.first = c.seen_to_rpm;
-    design.budget = std::max(options.budget - spent(), 1e-9);
+    design.budget = options.budget - spent();
+    if (design.budget < options.min_escape_budget) {
+      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g})",
+                            design.budget, options.min_escape_budget);
+      note(fmt::format("budget: {} left undecided ({:.1f} s CPU left)", what, design.budget));
+      continue;
+    }
     RubSweepOptions copy_sweep = run.direction == SweepDirection::kUp ? options.up : options.down;
     const int copies_stretches_max = StretchCount(design.max_duration, options.window);
     (void)copies_stretches_max;
@@ -542,20 +671,25 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     c.cpu_seconds = spent() - before;
     c.escape_design = static_cast<int>(result.escape_designs.size());
     c.evidence = fmt::format("escapes/{}", result.escape_designs.size());
+    result.escape_designs.push_back(record);
+    // A crisis leaks: memoryless, exponential lifetimes. A deterministic passage past a point no
+    // level located also makes copies leave and a law fit: told apart by the escape times' spread.
     const bool law = d.fit.status == CrisisStatus::kLocated && !std::isnan(d.leave.median);
-    if (law) {
+    const LifetimeShape shape = CheckExponential(d.observations);
+    note("  L3: " + shape.message);
+    if (law && !shape.exponential) {
+      c.note += fmt::format("; L3: {}; {}", d.BriefReport(), shape.message);
+    } else if (law) {
       c.level = "L3";
+      const RubRegime departure = run.regimes.regime[static_cast<std::size_t>(contacts.front())][from];
       c.cause = departure == RubRegime::kWhip ? "crisis of a chaotic whip" : "crisis of a chaotic state";
       c.speed_rpm = d.leave.median;
       c.lower_rpm = std::min(d.leave.low, d.leave.high);
       c.upper_rpm = std::isnan(d.leave.high) ? kNaN : std::max(d.leave.low, d.leave.high);
       c.interval = fmt::format("run-{} with {:g} rpm steps and {:g} s per speed: 5–95 % of the speed it leaves at",
                                c.direction, options.step_rpm, options.dwell);
-      const bool lower_side = sign > 0;  // the crisis interval's end towards the state
-      c.crisis_lower_rpm = (lower_side ? d.fit.lower_bounded : d.fit.upper_bounded) || !lower_side ? d.fit.critical_lower : kNaN;
-      c.crisis_upper_rpm = d.fit.critical_upper;
-      if (!d.fit.lower_bounded) c.crisis_lower_rpm = kNaN;
-      if (!d.fit.upper_bounded) c.crisis_upper_rpm = kNaN;
+      c.crisis_lower_rpm = d.fit.lower_bounded ? d.fit.critical_lower : kNaN;
+      c.crisis_upper_rpm = d.fit.upper_bounded ? d.fit.critical_upper : kNaN;
       c.note = fmt::format("escape rates κ = A·({})^γ, γ = {:.3g}: p_c = {:.2f} rpm ({}); the median's 95 % interval {}; "
                            "{} ensembles, {}",
                            sign > 0 ? "p − p_c" : "p_c − p", d.fit.exponent, d.fit.critical,
@@ -566,7 +700,8 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
                                                  : "not bounded",
                            std::isnan(d.median_lower) ? "open: " + d.median_open
                                                       : fmt::format("{:g} … {:g} rpm", d.median_lower, d.median_upper),
-                           d.observations.size(), ToString(d.status));
+                           d.observations.size(), ToString(d.status)) +
+               "; " + shape.message + "; before it " + c.note;
     } else {
       c.note += fmt::format("; L3: {}", d.BriefReport());
     }

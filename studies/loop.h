@@ -15,7 +15,14 @@
 //      last schedule speed before the limit. Every jump the tracker then sees whose departure or
 //      landing state lies on a wave with a special point near it is that point's (knee, Hopf,
 //      fold, branch point, contact loss …): cause, speed and level L1.
-//  L3  A jump no special point of the waves explains is escalated. When the run leaves its state
+//  L2  A jump no special point of the waves explains is escalated, first to L2: is the state the
+//      run leaves a relative periodic orbit (a modulated whirl or whip, shot from the tracker's
+//      own state: shooting/rub_orbits.h ContinueTransientOrbits), and does its family, continued
+//      from the departure towards the landing, end or lose stability in between — a fold, a
+//      period doubling, a Neimark–Sacker point, a branch point, a contact lifting off or touching
+//      down? Then that point is the cause, at level L2.
+//  L3  When L2 has no orbit (the state is no periodic motion) or its family passes the jump
+//      unchanged, L3. When the run leaves its state
 //      by chance — a chaotic whip past a crisis, whose lifetime falls with speed — the speed at
 //      which a run of this schedule leaves it is a random variable: its median and 5–95 % range
 //      are measured by the sequential escape design (sweeps/escape_design.h) with copies of the
@@ -35,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "shooting/rub_orbits.h"
 #include "solvers/parallel.h"
 #include "studies/jump_prediction.h"
 #include "sweeps/escape_design.h"
@@ -62,7 +70,17 @@ struct LoopOptions {
   // How far below (run-up) or above (run-down) the tracker's last speed on the state the escape
   // design may place its ensembles [rpm] ≥ step_rpm.
   double escape_reach_rpm = 16.0;
+  // L2: the departure's orbit (its shooting and mesh: the scene's [analysis.orbits]) and its family
+  // (range and direction are set per jump: from the departure to a step past the landing), with
+  // at most orbit_steps continuation steps (≥ 1). orbits = false: no L2.
+  bool orbits = true;
+  ModulatedOrbitOptions orbit_start;
+  PeriodicOrbitBranchOptions orbit_family;
+  int orbit_steps = 30;
   double budget = 300.0;  // [CPU s] > 0 for the whole loop
+  // An escape design is not started with less of the budget left [CPU s] ≥ 0: its first batch
+  // (3 ensembles of 8 copies × 2 s) costs 20–50 s in an impacting whip (A(a), B(b)).
+  double min_escape_budget = 30.0;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -101,7 +119,7 @@ struct LoopCorner {
   double upper_rpm = 0.0;
   std::string interval;
   std::string cause;  // "knee", "Hopf", "fold", …, "crisis of a chaotic whip", "not explained"
-  std::string level;  // "L1", "L3"; "" when not explained
+  std::string level;  // "L1", "L2", "L3"; "" when not explained
   std::string evidence;  // the result file's dataset that shows it (set by the writer's layout)
   double cpu_seconds = 0.0;         // spent on deciding it (beyond the waves and the tracker)
   double crisis_lower_rpm = 0.0;    // the crisis's p_c interval (NaN unless L3; an end the data
@@ -112,6 +130,7 @@ struct LoopCorner {
   double seen_to_rpm = 0.0;
   double precession_from_hz = 0.0;
   double precession_to_hz = 0.0;
+  int orbits = -1;         // index into LoopResult::orbits (−1: L2 not asked)
   int escape_design = -1;  // index into LoopResult::escape_designs (−1: none)
 };
 
@@ -121,6 +140,14 @@ enum class LoopStatus {
   kRunFailed,     // a tracker's integration failed: the loop is incomplete
 };
 const char* ToString(LoopStatus status);
+
+// The L2 question asked of one jump's departure state.
+struct LoopOrbits {
+  std::string direction;
+  double seen_from_rpm = 0.0;
+  double seen_to_rpm = 0.0;
+  RubTransientOrbits orbits;  // start (converged or why not) and its family
+};
 
 struct LoopEscapeDesign {
   std::string direction;
@@ -136,6 +163,7 @@ struct LoopResult {
   std::vector<RotatingWaveBranch> waves;
   LoopRun up, down;
   std::vector<LoopCorner> corners;  // the table: run-up first, each direction in speed order
+  std::vector<LoopOrbits> orbits;  // every L2 question, in order
   std::vector<LoopEscapeDesign> escape_designs;
   // Every escalation and why, in order ("L3 for up whip_to_whirl 180 → 184 rpm: no special point
   // of the waves within 10 rpm of it"), and what the budget stopped.

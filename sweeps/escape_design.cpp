@@ -47,8 +47,8 @@ struct MedianRange {
   int upper = -1;
 };
 
-MedianRange MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
-                           const EscapeDesignOptions& o, const CrisisOptions& crisis) {
+MedianRange MedianRangeOf(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                          const EscapeDesignOptions& o, const CrisisOptions& crisis) {
   // The scaling FitCrisis uses: the mirrored parameters' span, p_c up to the first escape.
   double low = kInfinity, high = -kInfinity, first = kInfinity;
   for (const EscapeObservations& e : observations) {
@@ -199,6 +199,81 @@ LeaveDistribution PredictLeave(const CrisisFit& fit, CrisisSide side, const std:
   return d;
 }
 
+LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                                   CrisisSide side, const std::vector<double>& schedule, double dwell) {
+  LeaveMedianInterval interval;
+  interval.lower = interval.upper = kNaN;
+  if (fit.status != CrisisStatus::kLocated) {
+    interval.open = "no law";
+    return interval;
+  }
+  EscapeDesignOptions o;
+  o.side = side;
+  o.schedule = schedule;
+  o.dwell = dwell;
+  CrisisOptions crisis;
+  crisis.side = side;
+  const MedianRange range = MedianRangeOf(observations, fit, o, crisis);
+  const int n = static_cast<int>(schedule.size());
+  if (range.lower < 0) {
+    interval.open = "no law within the likelihood region";
+    return interval;
+  }
+  const double a = range.lower < n ? schedule[static_cast<std::size_t>(range.lower)] : kNaN;
+  const double b = range.upper < n ? schedule[static_cast<std::size_t>(range.upper)] : kNaN;
+  if (std::isnan(b)) {
+    interval.open = std::isnan(a) ? "the run may keep the state to the end of the schedule"
+                                  : fmt::format("from {:g} to beyond the schedule", a);
+    return interval;
+  }
+  interval.lower = std::min(a, b);
+  interval.upper = std::max(a, b);
+  return interval;
+}
+
+LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observations) {
+  constexpr int kMinEscapes = 5;
+  constexpr double kPassage = 0.5;
+  LifetimeShape shape;
+  shape.lowest_ratio = kNaN;
+  double worst_at = kNaN;
+  for (const EscapeObservations& o : observations) {
+    const std::size_t d = o.escape_stretch.size();
+    if (static_cast<int>(d) < kMinEscapes) continue;
+    const EscapeRate rate = EstimateEscapeRate(o);
+    if (rate.status != EscapeRateStatus::kEstimated) continue;  // all in the first stretch
+    double sum = 0.0, sum2 = 0.0;
+    for (int j : o.escape_stretch) {
+      const double t = (j - 0.5) * o.stretch;
+      sum += t;
+      sum2 += t * t;
+    }
+    const double mean = sum / d;
+    const double observed = std::sqrt(std::max(0.0, sum2 / d - mean * mean) * d / (d - 1.0)) / mean;
+    // The exponential at κ conditioned on X ≤ T, plus the binning's Δ²/12.
+    const double k = rate.rate, T = o.duration, q = -std::expm1(-k * T), e = std::exp(-k * T);
+    const double m1 = (1.0 / k - e * (T + 1.0 / k)) / q;
+    const double m2 = (2.0 / (k * k) - e * (T * T + 2.0 * T / k + 2.0 / (k * k))) / q;
+    const double expected = std::sqrt(std::max(0.0, m2 - m1 * m1) + o.stretch * o.stretch / 12.0) / m1;
+    const double ratio = observed / expected;
+    shape.resolved = true;
+    if (std::isnan(shape.lowest_ratio) || ratio < shape.lowest_ratio) {
+      shape.lowest_ratio = ratio;
+      worst_at = o.parameter;
+    }
+  }
+  if (!shape.resolved) {
+    shape.message = fmt::format("no ensemble with {} escapes spread over more than its first stretch: the lifetimes' "
+                                "shape is not resolved", kMinEscapes);
+    return shape;
+  }
+  shape.exponential = shape.lowest_ratio >= kPassage;
+  shape.message = fmt::format("escape times {} (the smallest spread {:.2f} of an exponential's, at {:g})",
+                              shape.exponential ? "spread as an exponential's" : "bunched: a passage, not a leak",
+                              shape.lowest_ratio, worst_at);
+  return shape;
+}
+
 std::string EscapeDesign::BriefReport() const {
   std::string median = std::isnan(leave.median) ? std::string("no median")
                                                 : fmt::format("median {:g}", leave.median);
@@ -292,6 +367,15 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
       }
       if (rate_of(s).upper * o.dwell <= o.floor_hazard) return "";
     }
+    // The first candidate leaks too fast for any exposure to bound it: no floor can be measured
+    // (the run was not seen on the state before it); the interval then rests on the law, said so.
+    const Site& deepest = sites.front();  // the first candidate: nothing lies further towards the state
+    if (!deepest.groups.empty() && rate_of(deepest).rate * o.dwell > 0.5 * o.floor_hazard) {
+      design.message = fmt::format("no floor: the first value the state was seen at ({:g}) already leaks at {:.3g} "
+                                   "per dwell; the median's interval towards the state rests on the law",
+                                   deepest.parameter, rate_of(deepest).rate * o.dwell);
+      return "";
+    }
     return fmt::format("no value before the median's interval with a hazard bounded by {:g} per dwell", o.floor_hazard);
   };
   auto measured = [&](int i) { return !sites[static_cast<std::size_t>(i)].groups.empty(); };
@@ -308,22 +392,11 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
     if (design.fit.status == CrisisStatus::kLocated) {
       design.leave = PredictLeave(design.fit, o.side, o.schedule, o.dwell);
       // The median's profile-likelihood interval.
-      const MedianRange range = MedianInterval(design.observations, design.fit, o, crisis);
-      const int n = static_cast<int>(o.schedule.size());
-      design.median_lower = design.median_upper = kNaN;
-      design.median_open.clear();
-      if (range.lower < 0) {
-        design.median_open = "no law within the likelihood region";
-      } else {
-        const double a = range.lower < n ? o.schedule[static_cast<std::size_t>(range.lower)] : kNaN;
-        const double b = range.upper < n ? o.schedule[static_cast<std::size_t>(range.upper)] : kNaN;
-        design.median_lower = std::isnan(b) ? kNaN : std::min(a, b);
-        design.median_upper = std::isnan(b) ? kNaN : std::max(a, b);
-        if (std::isnan(b)) {
-          design.median_open = std::isnan(a) ? "the run may keep the state to the end of the schedule"
-                                             : fmt::format("from {:g} to beyond the schedule", a);
-        }
-      }
+      const LeaveMedianInterval interval =
+          MedianInterval(design.observations, design.fit, o.side, o.schedule, o.dwell);
+      design.median_lower = interval.lower;
+      design.median_upper = interval.upper;
+      design.median_open = interval.open;
       const double width = std::abs(design.median_upper - design.median_lower);
       note(fmt::format("  law: p_c = {:.4g}, γ = {:.3g}; leave median {:g}, 5–95 % {:g} … {:g}; median's 95 % {:g} … {:g}{}",
                        design.fit.critical, design.fit.exponent, design.leave.median, design.leave.low,
@@ -382,20 +455,24 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
         measure({{deepest - 1, o.min_duration}}, "no law yet: the next value towards the state");
         continue;
       }
-      // The values towards the state have no escapes: longer copies at the nearest one without,
-      // or at an escaping one whose copies all left at once.
+      // The values towards the state have no escapes: longer copies at the nearest one without
+      // (where every copy left in its first stretch, longer copies would tell nothing more).
       int target = -1;
       for (int i = first; i >= 0 && target < 0; --i) {
         const Site& s = sites[static_cast<std::size_t>(i)];
-        if (measured(i) && (s.escapes == 0 || !s.finite) && s.longest < o.max_duration) target = i;
+        if (measured(i) && s.escapes == 0 && s.longest < o.max_duration) target = i;
       }
       if (target < 0) {
         design.status = EscapeDesignStatus::kNoLaw;
-        design.message = fmt::format("{} ({})", ToString(design.fit.status), design.fit.message);
+        bool sharp = true;
+        for (const Site& s : sites) sharp = sharp && (s.escapes == 0 || !s.finite);
+        design.message = sharp ? fmt::format("a sharp change, no lifetime: where copies left, every one left in its first "
+                                             "stretch; where none did, none within {:g} s", o.max_duration)
+                               : fmt::format("{} ({})", ToString(design.fit.status), design.fit.message);
         break;
       }
       const Site& s = sites[static_cast<std::size_t>(target)];
-      measure({{target, 2.0 * s.longest}}, "no law yet: longer copies where none or all left at once");
+      measure({{target, 2.0 * s.longest}}, "no law yet: longer copies where none left");
       continue;
     }
     // A law: bracket from the state's side first (a measured value deepest in the state that
@@ -410,8 +487,13 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
     // (so that the interval does not rest on the law's extrapolation towards the state).
     if (evidence().rfind("no value before", 0) == 0 && deepest >= 0) {
       const Site& s = sites[static_cast<std::size_t>(deepest)];
-      const double duration = s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest;
-      measure({{deepest, duration}}, "a floor: longer copies at the value deepest in the state");
+      if (deepest > 0 && rate_of(s).rate * o.dwell > 0.5 * o.floor_hazard) {
+        measure({{deepest - 1, 2.0 * s.longest}},
+                "a floor: the value deepest in the state leaks too fast to bound; the next one towards it");
+      } else {
+        measure({{deepest, s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest}},
+                "a floor: longer copies at the value deepest in the state");
+      }
       continue;
     }
     // Score: (κD)² / escapes per unit cost over the values the run can still be on at the 95 %

@@ -107,6 +107,33 @@ struct LeaveDistribution {
 LeaveDistribution PredictLeave(const CrisisFit& fit, CrisisSide side, const std::vector<double>& schedule,
                                double dwell);
 
+// The 95 % profile-likelihood interval of the leave distribution's median for `observations` and
+// their crisis fit (FitCrisis with CrisisOptions{side}): the medians of every law within the
+// likelihood-ratio region ℓ ≥ ℓ_max − 1.92, scanned over p_c and γ, exact in A (the design's rule,
+// header comment). lower ≤ upper in value; both NaN, with `open` saying why, when there is no law
+// or the run may keep the state to the end of the schedule.
+struct LeaveMedianInterval {
+  double lower = 0.0;
+  double upper = 0.0;
+  std::string open;
+};
+LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observations, const CrisisFit& fit,
+                                   CrisisSide side, const std::vector<double>& schedule, double dwell);
+
+// Whether escape times look exponential — a chaotic saddle's memoryless leaking — rather than a
+// deterministic passage (every copy leaving after about the same time: a slow drift past a
+// bifurcation, which a crisis law would also fit). Over the ensembles with at least 5 escapes that
+// did not all leave in their first stretch, the coefficient of variation of the escape times
+// (stretch midpoints) is compared with an exponential's at the ensemble's own rate, truncated at
+// its duration and binned by its stretch: below half of it, the times are a passage.
+struct LifetimeShape {
+  bool resolved = false;     // some ensemble qualified
+  bool exponential = false;  // every qualifying ensemble's spread is at least half the exponential's
+  double lowest_ratio = 0.0;  // the smallest observed / expected coefficient of variation (NaN: none)
+  std::string message;        // the numbers, in words
+};
+LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observations);
+
 enum class EscapeDesignStatus {
   kConverged,  // the median's 95 % interval is at most target_width wide
   kBudget,     // the budget was spent first (the interval is what the data give)

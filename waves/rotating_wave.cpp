@@ -9,6 +9,8 @@
 #include <fmt/core.h>
 
 #include "continuation/equilibrium_problem.h"
+#include "models/units.h"
+#include "solvers/constants.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
@@ -404,12 +406,12 @@ Vector RotatingWaveProblem::Measures(const Vector& u, double omega) {
   const Index m = Contacts();
   Evaluate(u, omega, false);
   Vector out(2 + 6 * m);
-  out(0) = u(n2) / (2.0 * M_PI);
+  out(0) = RadPerSecondToHz(u(n2));
   out(1) = 0.0;
   if (m >= 2) {
     const std::complex<double> nL(forces_.contacts[0].normal.x(), forces_.contacts[0].normal.y());
     const std::complex<double> nR(forces_.contacts[1].normal.x(), forces_.contacts[1].normal.y());
-    out(1) = std::arg(nR * std::conj(nL)) * 180.0 / M_PI;
+    out(1) = std::arg(nR * std::conj(nL)) * 180.0 / kPi;
   }
   for (Index k = 0; k < m; ++k) {
     const ContactEvaluation& e = forces_.contacts[k];
@@ -420,7 +422,7 @@ Vector RotatingWaveProblem::Measures(const Vector& u, double omega) {
     out(2 + m + k) = friction;
     out(2 + 2 * m + k) = e.slip_velocity;
     out(2 + 3 * m + k) = e.penetration;
-    out(2 + 4 * m + k) = e.normal_force > 0.0 ? friction / e.normal_force : std::nan("");
+    out(2 + 4 * m + k) = e.normal_force > 0.0 ? friction / e.normal_force : kNaN;
     double code = 0.0;
     if (law_ == FrictionLawKind::kExact) {
       code = static_cast<double>(static_cast<int>(modes_[k]));

@@ -30,7 +30,7 @@ from ._rubcont import SceneError, __version__
 
 __all__ = [
     "Scene", "Result", "SceneError", "RubcontError", "load_scene", "scene", "default_scene",
-    "run", "analytic", "branches", "orbits", "sweep", "map", "fit", "read", "__version__",
+    "run", "analytic", "branches", "orbits", "sweep", "loop", "map", "fit", "read", "__version__",
 ]
 
 
@@ -270,6 +270,20 @@ def sweep(scene=None, direction="both", out=None, progress=None, resume=False, f
                               progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "sweep.h5"), call)
+
+
+def loop(scene=None, schedule=None, budget=None, threads=0, out=None, progress=None, figures=False):
+    """The hysteresis loop of the scene's rotor, explained, as ``rubcont loop`` (``/loop``; its
+    table of jumps is ``/loop/corners``): `schedule` = (step_rpm, dwell_s) of the run (None: the
+    scene's [analysis.sweep]), `budget` CPU seconds (None: 300), the copies over `threads` threads
+    (0: one per core); `out` the HDF5 file."""
+    step, dwell = schedule if schedule is not None else (None, None)
+
+    def call(scene_file, file):
+        return _rubcont.loop(scene_file, file, step, dwell, budget, threads, figures and out is not None,
+                             progress), file
+
+    return _command(scene, out, lambda work, s: os.path.join(work, "loop.h5"), call)
 
 
 def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_points=481,

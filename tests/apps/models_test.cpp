@@ -1,7 +1,10 @@
 #include "apps/models.h"
 
+#include <algorithm>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
@@ -38,6 +41,45 @@ TEST_CASE("Every model kind has one entry, and every entry can run each stage it
     }
     CHECK(m.IsRub() == static_cast<bool>(m.wave_friction));
   }
+}
+
+// The sections of the key reference ("### [rotor]", "### [[flexible.rotor_shaft]]").
+std::vector<std::string> ReferenceSections() {
+  std::vector<std::string> sections;
+  std::istringstream keys(SceneKeysMarkdown());
+  for (std::string line; std::getline(keys, line);) {
+    if (line.rfind("### [", 0) != 0) continue;
+    const std::size_t open = line.find_first_not_of('[', 4), close = line.find(']');
+    sections.push_back(line.substr(open, close - open));
+  }
+  return sections;
+}
+
+TEST_CASE("Every section of the schema is a model's, and every model's sections are the schema's",
+          "[models]") {
+  const std::vector<std::string> sections = ReferenceSections();
+  REQUIRE(sections.size() > 20);
+  for (const std::string& section : sections) {
+    CAPTURE(section);
+    int owners = 0;
+    for (const ModelEntry& m : Models()) owners += m.HasSection(section) ? 1 : 0;
+    // [analysis] itself is every model's; any other section belongs to one model.
+    CHECK(owners == (section == "analysis" ? static_cast<int>(Models().size()) : 1));
+  }
+  for (const ModelEntry& m : Models()) {
+    for (const std::string& own : m.sections) {
+      CAPTURE(m.name, own);
+      CHECK(std::find(sections.begin(), sections.end(), own) != sections.end());
+    }
+  }
+  const ModelEntry& two_point = ModelOf(ModelKind::kTwoPoint);
+  CHECK(two_point.HasSection("contact.friction_law"));
+  CHECK(two_point.HasSection("analysis.orbits.transient"));
+  CHECK(two_point.HasSection(""));
+  CHECK_FALSE(two_point.HasSection("jeffcott"));
+  CHECK_FALSE(two_point.HasSection("rotorx"));  // a prefix of the name is not a sub-table
+  CHECK(ModelOf(ModelKind::kDuffing).HasSection("duffing.orbits"));
+  CHECK_FALSE(ModelOf(ModelKind::kDuffing).HasSection("analysis.orbits"));
 }
 
 TEST_CASE("The scene of each model selects its entry, runs its default stages and is described",

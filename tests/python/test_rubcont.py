@@ -168,3 +168,23 @@ def test_bad_arguments_raise_value_error():
         rubcont.sweep(A_A, direction="sideways")
     with pytest.raises(rubcont.SceneError, match="analysis.stages"):
         rubcont.run(A_A, stages=["nonsense"])
+
+
+def test_the_loop_gives_the_table_of_jumps_with_causes():
+    window = rubcont.load_scene(A_A).with_values(
+        {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "down_range_rpm": [40.0, 120.0],
+                                "speed_step_rpm": 4.0, "dwell": 0.75}}})
+    lines = []
+    result = rubcont.loop(window, budget=30, threads=2, progress=lines.append)
+    assert result.status == "success"
+    corners = {key: [rubcont_text(v) for v in result[f"loop/corners/{key}"]]
+               for key in ("direction", "kind", "cause", "level")}
+    assert list(zip(corners["direction"], corners["kind"], corners["cause"], corners["level"])) == [
+        ("up", "whirl_to_whip", "knee", "L1"), ("down", "whirl_to_whip", "Hopf", "L1"),
+        ("down", "whip_to_whirl", "knee", "L1")]
+    assert abs(result["loop/corners/speed_rpm"][1] - 67.04) < 0.01
+    assert any("L1:" in line for line in lines)
+
+
+def rubcont_text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)

@@ -195,6 +195,33 @@ TEST_CASE("escape design: the mirror image, a state that ends going down") {
   CHECK(d.fit.critical > 57.0);
 }
 
+TEST_CASE("escape times: the tent map's are exponential, a passage's are not") {
+  const TentCrisis tent;
+  EscapeRequest r;
+  r.parameter = 178.0;  // κ ≈ 0.41 /s
+  r.copies = 40;
+  r.duration = 6.0;
+  r.seed = 5;
+  const LifetimeShape leak = CheckExponential(tent.Run({r}).observations);
+  CHECK(leak.resolved);
+  CHECK(leak.exponential);
+  CHECK(leak.lowest_ratio > 0.7);
+  // Every copy leaves 1.2–1.5 s after the start: a deterministic drift past a bifurcation.
+  EscapeObservations passage;
+  passage.parameter = 40.0;
+  passage.stretch = 0.1;
+  passage.duration = 6.0;
+  for (int i = 0; i < 12; ++i) passage.escape_stretch.push_back(12 + i % 4);
+  const LifetimeShape drift = CheckExponential({passage});
+  CHECK(drift.resolved);
+  CHECK_FALSE(drift.exponential);
+  CHECK_THAT(drift.message, Contains("passage"));
+  // All in the first stretch: nothing to say about the shape.
+  EscapeObservations immediate = passage;
+  immediate.escape_stretch.assign(12, 1);
+  CHECK_FALSE(CheckExponential({immediate}).resolved);
+}
+
 TEST_CASE("escape design: options are checked, naming the field") {
   EscapeDesignOptions o;
   o.schedule = {1.0, 2.0};
