@@ -32,6 +32,15 @@ struct StageSetup {
   std::function<void(const Scene&, const Branch&, ResultWriter&, std::ostream&)> check;
 };
 
+// The scene's orbit options, integrated as [<model>.orbits] integrator says ("model":
+// `model_default`), and the model's own integrator for the transient that finds the first orbit
+// (Gauss collocation's fixed mesh is one period's).
+PeriodicOrbitBranchOptions TextbookOptions(const Scene& scene, IntegrationMethod model_default,
+                                           IntegratorOptions& transient) {
+  transient = TextbookOrbitOptionsOf(scene, model_default).shooting.integrator;
+  return TextbookOrbitOptionsOf(scene, TextbookOrbitMethodOf(scene, model_default));
+}
+
 StageSetup DuffingSetup(const Scene& scene) {
   StageSetup setup;
   DuffingParams p = scene.duffing;
@@ -42,13 +51,14 @@ StageSetup DuffingSetup(const Scene& scene) {
   setup.parameter_name = "frequency";
   // Duffing is not stiff: an explicit 8th-order Runge–Kutta pair is the cheapest accurate
   // integrator (bench/duffing_branch_bench.cpp).
-  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kExplicitRungeKutta);
+  IntegratorOptions transient;
+  setup.options = TextbookOptions(scene, IntegrationMethod::kExplicitRungeKutta, transient);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v"),
                             StateMinimum(1, "min_v")};
   const ForcedStart start = DuffingStart(p);
   setup.start =
-      SettleForced(*setup.system, start.x0, start.periods, setup.options.shooting.integrator);
+      SettleForced(*setup.system, start.x0, start.periods, transient);
   return setup;
 }
 
@@ -87,11 +97,12 @@ StageSetup StuartLandauSetup(const Scene& scene) {
   setup.system = std::make_unique<StuartLandauOscillator>(p);
   setup.kind = OrbitKind::kAutonomous;
   setup.parameter_name = "lambda";
-  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kExplicitRungeKutta);
+  IntegratorOptions transient;
+  setup.options = TextbookOptions(scene, IntegrationMethod::kExplicitRungeKutta, transient);
   setup.options.measures = {MeanRadius(), StateMaximum(0, "max_x"), StateMinimum(0, "min_x")};
   const CycleStart start = StuartLandauStart(p);
   setup.start = SettleOnCycle(*setup.system, start.x0, start.duration, 1,
-                              setup.options.shooting.integrator);
+                              transient);
   setup.check = CompareWithStuartLandauClosedForm;
   return setup;
 }
@@ -105,12 +116,13 @@ StageSetup VanDerPolSetup(const Scene& scene) {
   setup.kind = OrbitKind::kAutonomous;
   setup.parameter_name = "mu";
   // Stiff for large μ: BDF.
-  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kBdf);
+  IntegratorOptions transient;
+  setup.options = TextbookOptions(scene, IntegrationMethod::kBdf, transient);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateMaximum(1, "max_v"), StateMinimum(1, "min_v")};
   const CycleStart start = VanDerPolStart(p);
   setup.start = SettleOnCycle(*setup.system, start.x0, start.duration, 1,
-                              setup.options.shooting.integrator);
+                              transient);
   return setup;
 }
 
@@ -122,12 +134,13 @@ StageSetup ForcedVanDerPolSetup(const Scene& scene) {
   setup.system = std::make_unique<ForcedVanDerPolOscillator>(p);
   setup.kind = OrbitKind::kForced;
   setup.parameter_name = "frequency";
-  setup.options = TextbookOrbitOptionsOf(scene, IntegrationMethod::kBdf);
+  IntegratorOptions transient;
+  setup.options = TextbookOptions(scene, IntegrationMethod::kBdf, transient);
   setup.options.measures = {StateMaximum(0, "max_x"), StateMinimum(0, "min_x"),
                             StateAmplitude(0, "amplitude_x"), StateMaximum(1, "max_v")};
   const ForcedStart start = ForcedVanDerPolStart(p);
   setup.start =
-      SettleForced(*setup.system, start.x0, start.periods, setup.options.shooting.integrator);
+      SettleForced(*setup.system, start.x0, start.periods, transient);
   return setup;
 }
 

@@ -776,6 +776,16 @@ const char* ToString(OrbitIntegrator integrator) {
   return "unknown";
 }
 
+const char* ToString(TextbookIntegrator integrator) {
+  switch (integrator) {
+    case TextbookIntegrator::kModel: return "model";
+    case TextbookIntegrator::kExplicit: return "explicit";
+    case TextbookIntegrator::kBdf: return "bdf";
+    case TextbookIntegrator::kGauss: return "gauss";
+  }
+  return "unknown";
+}
+
 const char* ToString(SweepIntegrator integrator) {
   switch (integrator) {
     case SweepIntegrator::kBdf: return "bdf";

@@ -169,12 +169,25 @@ struct AnalysisOptions {
 
 // Periodic-orbit continuation of a textbook model: [<model>] <parameter>_range and
 // [<model>.orbits] (the model's own sections; see scenes/README.md).
+// The integrator of a textbook model's orbits ([<model>.orbits] integrator).
+enum class TextbookIntegrator {
+  kModel,     // the model's own: explicit for duffing and stuart_landau, bdf for the van der Pols
+  kExplicit,  // ARKODE's explicit Fehlberg 8(7) under error control
+  kBdf,       // CVODES BDF with sensitivities under error control
+  kGauss,     // Gauss–Legendre collocation, s = 4 (order 8), on collocation_intervals per period
+};
+const char* ToString(TextbookIntegrator integrator);
+
 struct TextbookOrbitsSettings {
   std::array<double, 2> parameter_range{0.5, 2.5};  // continuation parameter, model units, lo < hi
   double start = 0.0;           // parameter of the first orbit, in the range; 0: the low end
   int segments = 1;             // shooting segments (1: single shooting)
-  double tolerance = 1e-10;     // integrator rtol = atol (scaled states)
+  double tolerance = 1e-10;     // integrator rtol = atol (scaled states); Gauss: its Newton's 1e-3·x
   int max_steps = 1000;         // continuation steps each way
+  TextbookIntegrator integrator = TextbookIntegrator::kModel;
+  // Gauss mesh intervals per period, shared by the segments (≥ 1). 40: the forced Duffing
+  // branch's folds to 4e-14 and 1.4e-13 of harmonic balance (bench/duffing_branch_bench.cpp).
+  int collocation_intervals = 40;
 };
 
 // [flexible] (model two_point, optional): the rotor and the stator as Timoshenko shafts, reduced

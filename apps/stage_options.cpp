@@ -196,7 +196,19 @@ PeriodicOrbitBranchOptions TextbookOrbitOptionsOf(const Scene& scene, Integratio
   options.lambda_max = scene.orbits.parameter_range[1];
   options.continuation = OrbitContinuationOptions(scene.orbits.max_steps);
   options.shooting = OrbitShootingOptions(scene.orbits.segments, scene.orbits.tolerance, method);
+  options.shooting.integrator.collocation_steps =
+      CollocationStepsPerSegment(scene.orbits.collocation_intervals, scene.orbits.segments);
   return options;
+}
+
+IntegrationMethod TextbookOrbitMethodOf(const Scene& scene, IntegrationMethod model_default) {
+  switch (scene.orbits.integrator) {
+    case TextbookIntegrator::kModel: return model_default;
+    case TextbookIntegrator::kExplicit: return IntegrationMethod::kExplicitRungeKutta;
+    case TextbookIntegrator::kBdf: return IntegrationMethod::kBdf;
+    case TextbookIntegrator::kGauss: return IntegrationMethod::kGaussCollocation;
+  }
+  return model_default;
 }
 
 ShootingOptions RubShootingOptionsOf(const Scene& scene) {

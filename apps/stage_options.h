@@ -84,6 +84,10 @@ ContinuationOptions OrbitContinuationOptions(int max_steps);
 // Runge–Kutta pair: of order 8) at its tolerance (rtol = atol on scaled states), sensitivities in
 // every residual.
 PeriodicOrbitBranchOptions TextbookOrbitOptionsOf(const Scene& scene, IntegrationMethod method);
+// The method of a textbook model's orbits: [<model>.orbits] integrator, or `model_default` (the
+// model's own) for "model". TextbookOrbitOptionsOf gives Gauss collocation its mesh
+// (collocation_intervals per period, shared by the segments).
+IntegrationMethod TextbookOrbitMethodOf(const Scene& scene, IntegrationMethod model_default);
 
 // Model two_point's shooting ([analysis.orbits]): its segments per modulation period, each
 // integrated by Gauss–Legendre collocation of order 8 on its share of collocation_intervals, or by

@@ -7,8 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -81,6 +83,53 @@ TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds 
     CHECK(stable[i] == (middle ? 0 : 1));
     CHECK((largest[i] > 1.0) == middle);
   }
+}
+
+TEST_CASE("[duffing.orbits] integrator: the scene's Gauss collocation puts both folds within 1e-12 "
+          "of harmonic balance, the model's explicit pair at its tolerance not; a bad name is "
+          "exit 2 naming the key",
+          "[orbits][cli]") {
+  DuffingParams params;
+  const testing::DuffingHarmonicBalance balance(params, 25);
+  std::vector<double> hb;
+  for (const auto& guess : testing::DuffingHarmonicBalance::OneTermFolds(params, 0.5, 2.5)) {
+    hb.push_back(balance.LocateFold(balance.FirstHarmonic(guess.amplitude, guess.phase),
+                                    guess.frequency).frequency);
+  }
+  REQUIRE(hb.size() == 2);
+  std::sort(hb.begin(), hb.end(), std::greater<double>());  // the upper fold first, as the branch
+  TempDir dir;
+  const std::string committed = Slurp("scenes/duffing.toml");
+  const std::string gauss_key = "integrator = \"gauss\"";
+  REQUIRE(committed.find(gauss_key) != std::string::npos);
+  // The largest distance of the two folds from harmonic balance, for the scene with `integrator`.
+  auto fold_error = [&](const std::string& integrator) {
+    std::string text = committed;
+    text.replace(text.find(gauss_key), gauss_key.size(), "integrator = \"" + integrator + "\"");
+    const fs::path scene = dir.path / (integrator + ".toml");
+    std::ofstream(scene) << text;
+    const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --quiet --no-figures --out " +
+                                                 (dir.path / integrator).string());
+    INFO(run.out << run.err);
+    REQUIRE(run.exit_code == 0);
+    const ResultReader file(dir.path / integrator / "duffing" / "duffing.h5");  // name = "duffing"
+    const auto folds = file.ReadDoubles("/branches/periodic_orbits/special_points/frequency");
+    REQUIRE(folds.size() == 2);
+    return std::max(std::abs(folds[0] - hb[0]), std::abs(folds[1] - hb[1]));
+  };
+  // Measured: Gauss s = 4 on 40 intervals 3.7e-14 and 2.8e-13; Fehlberg 8(7) at rtol = atol =
+  // 1e-10 2.4e-11 and 4.3e-13.
+  CHECK(fold_error("gauss") < 1e-12);
+  CHECK(fold_error("explicit") > 1e-12);
+  CHECK(fold_error("model") > 1e-12);
+
+  std::string bad = committed;
+  bad.replace(bad.find(gauss_key), gauss_key.size(), "integrator = \"rk4\"");
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << bad;
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("duffing.orbits.integrator = \"rk4\""));
 }
 
 TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multipliers as in closed form",
