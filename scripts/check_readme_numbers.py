@@ -299,7 +299,7 @@ CLAIMS = [(stability_gap, "results/README.md"), (intermittent_speeds, "results/R
           (whip_end_lifetimes, "results/README.md"), (whip_end_cases, "results/README.md"),
           (c_a_attractor, "results/README.md"), (c_bc_attractor, "results/README.md")]
 SWEEP_TABLES = "results/README.md"     # the jump table and the cost table of the sweeps
-THESIS_TABLES = "results/README.md"    # between thesis_comparison.py's markers
+THESIS_TABLES = "docs/studies/thesis_comparison.md"    # between thesis_comparison.py's markers
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",

@@ -4,7 +4,7 @@
 # eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
 # textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol, forced van
 # der Pol), and the
-# thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
+# thesis-vs-rubcont tables in docs/studies/thesis_comparison.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib).
 #   --sweeps        also re-runs the time-marching sweeps (L3) of the eight thesis scenes and of
 #                   thesis_A_a_imbalance: 2–16 min per scene (results/README.md).
@@ -216,5 +216,5 @@ for scene in $(scenes_of sweep); do
   /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${present[@]}" \
     --out "results/$scene/hysteresis.png"
 done
-/usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
-echo "results/README.md: tables updated"
+/usr/bin/python3 scripts/thesis_comparison.py results --update docs/studies/thesis_comparison.md
+echo "docs/studies/thesis_comparison.md: tables updated"
