@@ -291,7 +291,7 @@ def c_bc_attractor(results):
 
 
 # Each claim and the page (relative to the repository root) that must say it.
-CLAIMS = [(stability_gap, "results/README.md"), (intermittent_speeds, "results/README.md"),
+CLAIMS = [(stability_gap, "docs/studies/rotating_waves.md"), (intermittent_speeds, "results/README.md"),
           (whip_contact_fraction, "results/README.md"), (duffing_folds, "results/README.md"),
           (stuart_landau_errors, "results/README.md"), (forced_van_der_pol_folds, "results/README.md"),
           (modulated_whip, "results/README.md"), (modulated_whip_in_sweeps, "results/README.md"),
