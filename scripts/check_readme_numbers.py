@@ -297,7 +297,7 @@ CLAIMS = [(stability_gap, "docs/studies/rotating_waves.md"), (intermittent_speed
           (modulated_whip, "results/README.md"), (modulated_whip_in_sweeps, "docs/studies/sweeps.md"),
           (modulated_whip_table, "results/README.md"), (whip_lifetimes, "docs/studies/whip_end.md"),
           (whip_end_lifetimes, "docs/studies/whip_end.md"), (whip_end_cases, "docs/studies/whip_end.md"),
-          (c_a_attractor, "results/README.md"), (c_bc_attractor, "results/README.md")]
+          (c_a_attractor, "docs/studies/attractors.md"), (c_bc_attractor, "docs/studies/attractors.md")]
 SWEEP_TABLES = "docs/studies/sweeps.md"     # the jump table and the cost table of the sweeps
 THESIS_TABLES = "docs/studies/thesis_comparison.md"    # between thesis_comparison.py's markers
 
