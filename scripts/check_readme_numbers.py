@@ -292,10 +292,10 @@ def c_bc_attractor(results):
 
 # Each claim and the page (relative to the repository root) that must say it.
 CLAIMS = [(stability_gap, "docs/studies/rotating_waves.md"), (intermittent_speeds, "docs/studies/sweeps.md"),
-          (whip_contact_fraction, "docs/studies/sweeps.md"), (duffing_folds, "results/README.md"),
-          (stuart_landau_errors, "results/README.md"), (forced_van_der_pol_folds, "results/README.md"),
-          (modulated_whip, "results/README.md"), (modulated_whip_in_sweeps, "docs/studies/sweeps.md"),
-          (modulated_whip_table, "results/README.md"), (whip_lifetimes, "docs/studies/whip_end.md"),
+          (whip_contact_fraction, "docs/studies/sweeps.md"), (duffing_folds, "docs/studies/orbits.md"),
+          (stuart_landau_errors, "docs/studies/orbits.md"), (forced_van_der_pol_folds, "docs/studies/orbits.md"),
+          (modulated_whip, "docs/studies/orbits.md"), (modulated_whip_in_sweeps, "docs/studies/sweeps.md"),
+          (modulated_whip_table, "docs/studies/orbits.md"), (whip_lifetimes, "docs/studies/whip_end.md"),
           (whip_end_lifetimes, "docs/studies/whip_end.md"), (whip_end_cases, "docs/studies/whip_end.md"),
           (c_a_attractor, "docs/studies/attractors.md"), (c_bc_attractor, "docs/studies/attractors.md")]
 SWEEP_TABLES = "docs/studies/sweeps.md"     # the jump table and the cost table of the sweeps
