@@ -11,7 +11,8 @@ dropped, spaces as hyphens, "-1", "-2" … for repeats). On the pages of PATH_PA
 that names a path under a top-level folder of the repository (`apps/scene.h`,
 `apps/scene.{h,cpp}`, `tests/apps/`, `bench/*_bench.cpp`; a program by its source:
 `bench/sweep_bench`) must exist too; spans with a placeholder
-(<scene>, NAME) and build outputs (build/, results/default/) are not paths of the tree.
+(<scene>, NAME) and build outputs (build/, results/default/) are not paths of the tree. A study
+page's paths may name files under results/ (`thesis_A_a/sweep.h5`).
 Exit code 0 when everything resolves, 1 otherwise (each problem named with page and line).
 """
 import glob
@@ -20,7 +21,8 @@ import re
 import sys
 
 PAGES = ["README.md", "CHANGELOG.md", "docs/**/*.md", "results/README.md", "scenes/README.md"]
-PATH_PAGES = ["README.md", "docs/architecture.md", "docs/howto.md"]
+PATH_PAGES = re.compile(r"^(README\.md|docs/[^/]+\.md|docs/levels/[^/]+\.md|docs/studies/[^/]+\.md)$")
+RESULTS_PAGES = re.compile(r"^docs/studies/")  # their paths name files under results/ where one exists
 NOT_IN_TREE = ("build/", "build-dev/", "results/default/", "/tmp/")
 
 LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
@@ -99,7 +101,7 @@ def main():
                 elif anchor and resolved.endswith(".md") and anchor not in anchors(resolved):
                     problems.append(f"{name}:{number}: link to {target}: no heading with that anchor in "
                                     f"{os.path.relpath(resolved, root)}")
-        if name not in PATH_PAGES:
+        if not PATH_PAGES.match(name):
             continue
         fenced = False
         for number, line in enumerate(raw, 1):
@@ -116,7 +118,9 @@ def main():
                 for path in expand(span.rstrip(".,;:")):
                     paths += 1
                     # A program is named by its build output (bench/sweep_bench): its source counts.
-                    if not any(glob.glob(os.path.join(root, path + ext)) for ext in ("", ".cpp", ".sh", ".py")):
+                    bases = [root, os.path.join(root, "results")] if RESULTS_PAGES.match(name) else [root]
+                    if not any(glob.glob(os.path.join(base, path + ext))
+                               for base in bases for ext in ("", ".cpp", ".sh", ".py")):
                         problems.append(f"{name}:{number}: `{span}`: {path} is not in the tree")
     for p in problems:
         print(f"FAILS   {p}")
