@@ -43,11 +43,12 @@ def without_code(lines):
 
 
 def slug(heading):
-    """GitHub's anchor of a heading: markup dropped, lower case, letters, digits, '-', '_' and
-    spaces kept, spaces as hyphens."""
-    text = re.sub(r"`([^`]*)`", r"\1", heading)
-    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)
-    text = re.sub(r"[*_]{1,2}([^*_]+)[*_]{1,2}", r"\1", text)
+    """GitHub's anchor of a heading: the rendered text (code spans verbatim, links by their text,
+    emphasis markers dropped) in lower case, letters, digits, '-', '_' and spaces kept, spaces as
+    hyphens."""
+    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", heading)
+    parts = re.split(r"(`[^`]*`)", text)
+    text = "".join(p[1:-1] if p.startswith("`") else p.replace("*", "") for p in parts)
     kept = "".join(c for c in text.lower() if c.isalnum() or c in " -_")
     return kept.replace(" ", "-")
 

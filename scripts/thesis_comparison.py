@@ -301,7 +301,7 @@ def main(argv):
             "\n\n### All scenes (with the centre damper): first and last μ_req = μ crossings\n\n"
             "Frequencies in Hz, from `results/<scene>/<scene>.h5`; \"none\" means no such crossing "
             "in 1–200 Hz. For unequal RCIs these are the crossings of the Mode 1/2 closed form; "
-            "see \"Unequal RCIs\" above on what they mean there.\n\n" + summary_table(cases) + "\n")
+            "see \"[Unequal RCIs](#unequal-rcis-cases-ab-bb-bc-cb-cc)\" above on what they mean there.\n\n" + summary_table(cases) + "\n")
     if len(argv) == 4:
         with open(argv[3]) as f:
             readme = f.read()
