@@ -101,6 +101,17 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
       } else {
         continue;
       }
+      // A special point along the stable stretch (a contact lost or regained, stick ↔ slip, a knee)
+      // changes what a sweep reads there without a jump: the tracker must integrate across it, so
+      // that the change is seen and attributed to it.
+      for (const SpecialPoint& p : wave.branch.special_points) {
+        const double rpm = RadPerSecondToRpm(p.lambda);
+        const double here = RadPerSecondToRpm(point.parameter);
+        if (sign * (rpm - here) > 0.0 && sign * (limit_rpm - rpm) > 0.0) {
+          limit_rpm = rpm;
+          why = p.Name();
+        }
+      }
       const int to = LastBefore(schedule, limit_rpm, sign, o.step_rpm);
       if (to <= static_cast<int>(next)) continue;  // nothing to save
       const Vector u = WhirlStateAt(waves, limit, RpmToRadPerSecond(schedule[static_cast<std::size_t>(to)]));
@@ -117,7 +128,10 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
   std::vector<RubSweepJump> kept;
   for (const RubSweepJump& j : run.regimes.jumps) {
     bool across = false;
-    for (const LoopSkip& s : run.skips) across = across || (j.speed_from_rpm == s.from_rpm && j.speed_to_rpm == s.to_rpm);
+    for (const LoopSkip& s : run.skips) {
+      across = across || (std::abs(j.speed_from_rpm - s.from_rpm) < 1e-9 * o.step_rpm + 1e-9 &&
+                          std::abs(j.speed_to_rpm - s.to_rpm) < 1e-9 * o.step_rpm + 1e-9);
+    }
     if (!across) kept.push_back(j);
   }
   run.regimes.jumps = kept;
@@ -310,6 +324,7 @@ void Validate(const LoopOptions& o) {
   }
   if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
   if (o.orbit_steps < 1) fail("orbit_steps", o.orbit_steps, "must be at least 1");
+  if (!(o.min_escape_budget >= 0.0)) fail("min_escape_budget", o.min_escape_budget, "must be non-negative");
   if (o.orbits) Validate(o.orbit_start);
   for (const double span : {std::abs(o.up.sweep.parameters.back() - o.up.sweep.parameters.front()),
                             std::abs(o.down.sweep.parameters.back() - o.down.sweep.parameters.front())}) {
@@ -549,26 +564,39 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       target.contacts = ArrivalContacts::kOne;
       target.contact = contacts.front();
     }
-    // The candidates: the schedule from escape_reach_rpm before the departure to two steps past the landing.
+    // The departure state as the run was on it: the tracked speeds since the run's previous jump
+    // (any contact, any kind) up to the departure; a jump between two speeds of a skip is none.
+    std::size_t first_on = 0;
+    for (const RubSweepJump& j : run.regimes.jumps) {
+      if (sign * (c.seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
+      for (std::size_t k = 0; k <= from; ++k) {
+        if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
+      }
+    }
+    const double first_on_rpm = RadPerSecondToRpm(run.points[first_on].parameter);
+    // The candidates: the schedule from escape_reach_rpm before the departure (not before the run
+    // was seen on the state) to two steps past the landing.
     const std::vector<double>& schedule = run.schedule_rpm;
     std::vector<double> candidates;
     for (double p : schedule) {
       const double along = sign * (p - c.seen_from_rpm);
-      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
+      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - first_on_rpm) >= -1e-9 &&
+          sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
         candidates.push_back(p);
       }
     }
-    // The copies' starts: the tracker's state after the speed before each candidate while it was
-    // still on the departure state; before that, the earliest such state; after, the departure's.
-    const RubRegime departure = run.regimes.regime[static_cast<std::size_t>(contacts.front())][from];
+    if (candidates.size() < 2) {
+      c.note += "; L3 not tried: the run was on the departure state for too few speeds";
+      note("L3 not tried for " + what + ": too few speeds on the departure state");
+      continue;
+    }
+    // The copies' starts: the tracker's state after the last speed on the state before each
+    // candidate (the first such state for the first candidate; the departure's past it).
     std::map<double, std::size_t> start_of;
     for (double p : candidates) {
-      std::size_t best = from;
-      for (std::size_t k = 0; k <= from; ++k) {
-        const double rpm = RadPerSecondToRpm(run.points[k].parameter);
-        if (sign * (p - rpm) > 1e-9 && run.regimes.regime[static_cast<std::size_t>(contacts.front())][k] == departure) {
-          best = k;  // the last tracked speed on the state before p
-        }
+      std::size_t best = first_on;
+      for (std::size_t k = first_on; k <= from; ++k) {
+        if (sign * (p - RadPerSecondToRpm(run.points[k].parameter)) > 1e-9) best = k;
       }
       start_of[p] = best;
     }
@@ -578,7 +606,13 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.dwell = options.dwell;
     design.candidates = candidates;
     design.first = c.seen_to_rpm;
-    design.budget = std::max(options.budget - spent(), 1e-9);
+    design.budget = options.budget - spent();
+    if (design.budget < options.min_escape_budget) {
+      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g})",
+                            design.budget, options.min_escape_budget);
+      note(fmt::format("budget: {} left undecided ({:.1f} s CPU left)", what, design.budget));
+      continue;
+    }
     RubSweepOptions copy_sweep = run.direction == SweepDirection::kUp ? options.up : options.down;
     const int copies_stretches_max = StretchCount(design.max_duration, options.window);
     (void)copies_stretches_max;
@@ -646,6 +680,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       c.note += fmt::format("; L3: {}; {}", d.BriefReport(), shape.message);
     } else if (law) {
       c.level = "L3";
+      const RubRegime departure = run.regimes.regime[static_cast<std::size_t>(contacts.front())][from];
       c.cause = departure == RubRegime::kWhip ? "crisis of a chaotic whip" : "crisis of a chaotic state";
       c.speed_rpm = d.leave.median;
       c.lower_rpm = std::min(d.leave.low, d.leave.high);

@@ -78,6 +78,9 @@ struct LoopOptions {
   PeriodicOrbitBranchOptions orbit_family;
   int orbit_steps = 30;
   double budget = 300.0;  // [CPU s] > 0 for the whole loop
+  // An escape design is not started with less of the budget left [CPU s] ≥ 0: its first batch
+  // (3 ensembles of 8 copies × 2 s) costs 20–50 s in an impacting whip (A(a), B(b)).
+  double min_escape_budget = 30.0;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
