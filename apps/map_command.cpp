@@ -232,7 +232,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       sp_type.push_back(ToString(sp.type));
       sp_label.push_back(sp.label);
       sp_eta.push_back(sp.lambda);
-      double speed_rpm = std::nan("");
+      double speed_rpm = kNaN;
       if (!names.empty() && names[0] == "lambda" && sp.measures.size() > 0) {
         speed_rpm = RadPerSecondToRpm(sp.measures(0));
       }

@@ -33,8 +33,6 @@
 namespace rubcont {
 namespace {
 
-double RadPerSecond(double rpm) { return rpm * kTwoPi / 60.0; }
-
 // x³ − x + λ = 0 (n = 1): the cheapest problem with two folds.
 class Cubic : public Problem {
  public:
@@ -250,7 +248,7 @@ int main(int argc, char** argv) {
   // 60 Hz precession, continued in running speed over the thesis range 20–258 rpm.
   const TwoPointParams params = ThesisCaseAa();
   const RubStructure structure = TwoPointStructure(params);
-  const double precession = kTwoPi * 60.0;
+  const double precession = HzToRadPerSecond(60.0);
   const double omega0 = precession / params.Rci(0);
   auto rub = [&](FrictionLawKind law) {
     return [&structure, law]() -> std::unique_ptr<Problem> {
@@ -264,8 +262,8 @@ int main(int argc, char** argv) {
       problem.SolveConsistent(u, omega0);
       ContinuationOptions o;
       o.detect.stability = stability;
-      o.bounds.lambda_min = RadPerSecond(20.0);
-      o.bounds.lambda_max = RadPerSecond(258.0);
+      o.bounds.lambda_min = RpmToRadPerSecond(20.0);
+      o.bounds.lambda_max = RpmToRadPerSecond(258.0);
       return Continue(p, u, omega0, o);
     };
   };

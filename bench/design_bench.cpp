@@ -21,7 +21,7 @@ RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(rpm_min);
   options.search.speed_max = RpmToRadPerSecond(rpm_max);
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.precession_max = HzToRadPerSecond(200.0);
   return options;
 }
 

@@ -26,6 +26,7 @@
 #include "continuation/continuation.h"
 #include "models/textbook.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "tests/shooting/duffing_harmonic_balance.h"
 
@@ -174,7 +175,7 @@ void Row(const Variant& v, const DuffingParams& params, const Reference& ref, do
         work = problem.statistics();
       },
       budget);
-  double err_w[2] = {NAN, NAN}, err_x[2] = {NAN, NAN};
+  double err_w[2] = {kNaN, kNaN}, err_x[2] = {kNaN, kNaN};
   int folds = 0;
   for (const SpecialPoint& p : branch.special_points) {
     if (p.type != SpecialPointType::kFold) continue;

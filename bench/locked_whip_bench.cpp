@@ -115,7 +115,7 @@ int Main(int argc, char** argv) {
     }
     const double settled = ProcessCpuSeconds();
     const ModulatedOrbit orbit = SolveModulatedOrbit(
-        structure, omega, 2 * M_PI * transient.precession_hz, state, solve);
+        structure, omega, HzToRadPerSecond(transient.precession_hz), state, solve);
     std::printf("%s at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU); the %d-lap "
                 "orbit (%.1f s CPU): %s\n", name.c_str(), at_rpm,
                 transient.settled ? "settled" : "did not settle", transient.precession_hz,

@@ -34,7 +34,7 @@ int Main(int argc, char** argv) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(20);
   options.search.speed_max = RpmToRadPerSecond(260);
-  options.search.precession_max = 2 * M_PI * 200;
+  options.search.precession_max = HzToRadPerSecond(200);
   const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options, {});
   const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
   for (const RubHopfStart& s : starts) {
@@ -80,7 +80,7 @@ int Main(int argc, char** argv) {
     std::printf("  %9.4f rpm  T = %.6e s  carrier %.4f Hz  N_left %.1f–%.1f N  unstable %d  "
                 "max|mu| %.4f  defect %.1e\n",
                 RadPerSecondToRpm(q.lambda), period(i), carrier(i), n_min(i), n_max(i), q.num_unstable,
-                q.spectrum.values.size() ? q.spectrum.values.cwiseAbs().maxCoeff() : NAN, defect(i));
+                q.spectrum.values.size() ? q.spectrum.values.cwiseAbs().maxCoeff() : kNaN, defect(i));
   }
   return 0;
 }

@@ -77,7 +77,7 @@ Run Continue(const RubStructure& structure, const std::vector<RotatingWaveBranch
 }
 
 double Median(std::vector<double> v) {
-  if (v.empty()) return NAN;
+  if (v.empty()) return kNaN;
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
@@ -108,7 +108,7 @@ int Main(int argc, char** argv) {
   RotatingWaveBranchOptions wave_options;
   wave_options.search.speed_min = RpmToRadPerSecond(20);
   wave_options.search.speed_max = RpmToRadPerSecond(120);
-  wave_options.search.precession_max = 2 * M_PI * 200;
+  wave_options.search.precession_max = HzToRadPerSecond(200);
   const auto branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, wave_options, {});
   const RubHopfStart start = StableBoundaryHopfPoints(branches, structure.Coordinates()).at(0);
@@ -138,7 +138,7 @@ int Main(int argc, char** argv) {
     const double largest_error = std::abs(mu[0] - reference_mu[0]);
     double match_error = 0.0;
     for (const auto& r : reference_mu) {
-      double nearest = INFINITY;
+      double nearest = kInfinity;
       for (Index k = 0; k < last.spectrum.values.size(); ++k) {
         nearest = std::min(nearest, std::abs(last.spectrum.values(k) - r));
       }

@@ -48,7 +48,7 @@ ShootingOptions Shooting(IntegrationMethod method, double tolerance) {
 }
 
 double Largest(const BranchPoint& p) {
-  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : NAN;
+  return p.spectrum.values.size() > 0 ? p.spectrum.values.cwiseAbs().maxCoeff() : kNaN;
 }
 
 void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {

@@ -101,7 +101,7 @@ RandomScene DrawScene(std::uint64_t seed, int index) {
   const double f_hi = std::max({f.pinned_bounce.frequency_hz, f.pinned_pitch.frequency_hz,
                                 f.stator_bounce.frequency_hz, f.stator_pitch.frequency_hz});
   const double rci_lo = std::min(p.Rci(0), p.Rci(1)), rci_hi = std::max(p.Rci(0), p.Rci(1));
-  const double speed_lo = 0.25 * 60.0 * f_lo / rci_hi, speed_hi = 3.0 * 60.0 * f_hi / rci_lo;
+  const double speed_lo = 0.25 * HzToRpm(f_lo) / rci_hi, speed_hi = 3.0 * HzToRpm(f_hi) / rci_lo;
 
   RandomScene scene;
   scene.law = tanh ? "tanh" : "exact";

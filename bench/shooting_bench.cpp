@@ -19,6 +19,7 @@
 
 #include "models/textbook.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/floquet.h"
 #include "solvers/newton.h"
 #include "solvers/ode.h"
@@ -93,7 +94,7 @@ class StiffChain : public OdeSystem {
   }
   double Parameter() const override { return w_; }
   void SetParameter(double w) override { w_ = w; }
-  double ForcingPeriod() const override { return 2 * M_PI / w_; }
+  double ForcingPeriod() const override { return kTwoPi / w_; }
   Vector StateScale() const override {
     Vector s(2 * kMasses);
     s.head(kMasses).setConstant(1e-5);
@@ -234,7 +235,7 @@ void MonodromyTable(OdeSystem& system, const char* name, const Vector& x0, doubl
     double worst = 0.0;
     for (Index k = 0; k < reference_multipliers.size(); ++k) {
       if (std::abs(reference_multipliers(k)) < 1e-3) continue;
-      double nearest = INFINITY;
+      double nearest = kInfinity;
       for (Index j = 0; j < computed.size(); ++j) {
         nearest = std::min(nearest, std::abs(computed(j) - reference_multipliers(k)));
       }
@@ -384,8 +385,8 @@ int Main(int argc, char** argv) {
     OdeIntegrator tight(duffing, Integrator(IntegrationMethod::kExplicitRungeKutta, 1e-13));
     Vector x1(2);
     Matrix reference;
-    tight.Integrate(0.0, x0.head(2), 2 * M_PI / w, x1, &reference);
-    MonodromyTable(duffing, "Duffing (n = 2)", x0.head(2), 2 * M_PI / w, reference,
+    tight.Integrate(0.0, x0.head(2), kTwoPi / w, x1, &reference);
+    MonodromyTable(duffing, "Duffing (n = 2)", x0.head(2), kTwoPi / w, reference,
                    {1e-6, 1e-8, 1e-10}, quick);
   }
   std::printf("\n");

@@ -23,6 +23,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "models/units.h"
 #include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 
@@ -144,10 +145,10 @@ int main(int argc, char** argv) {
                     "%-11s %d win  Δspec %.3f Δf %.3f  %7ld steps  %6.2f s\n",
                     d.c_str(), rubcont::RadPerSecondToRpm(p.parameter), regimes.precession_hz[0][i],
                     regimes.precession_hz[1][i],
-                    p.channels.empty() ? NAN : p.channels[0].measures[0].mean,
-                    p.channels.empty() ? NAN : p.channels[1].measures[0].mean,
-                    p.channels.empty() ? NAN : p.channels[0].active_fraction,
-                    p.channels.empty() ? NAN : p.channels[1].active_fraction, ToString(p.status),
+                    p.channels.empty() ? rubcont::kNaN : p.channels[0].measures[0].mean,
+                    p.channels.empty() ? rubcont::kNaN : p.channels[1].measures[0].mean,
+                    p.channels.empty() ? rubcont::kNaN : p.channels[0].active_fraction,
+                    p.channels.empty() ? rubcont::kNaN : p.channels[1].active_fraction, ToString(p.status),
                     p.windows, p.spectrum_change, p.frequency_change, p.statistics.steps,
                     p.wall_seconds);
         std::fflush(stdout);

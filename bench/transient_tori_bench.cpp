@@ -32,6 +32,7 @@ int Main(int argc, char** argv) {
   const double settle_start = ProcessCpuSeconds();
   const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega), 1.0);
   const double precession_hz = transient.precession_hz;
+  const double precession = HzToRadPerSecond(precession_hz);  // [rad/s]
   std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", rpm,
               transient.settled ? "settled" : "did not settle", precession_hz,
               CpuSecondsSince(settle_start));
@@ -39,12 +40,12 @@ int Main(int argc, char** argv) {
   const ModulatedTorusOptions start = SettledTransientStart(harmonics);
   if (steps == 0) {
     const ModulatedTorus torus =
-        SolveModulatedTorus(structure, omega, HzToRadPerSecond(precession_hz), transient.state,
+        SolveModulatedTorus(structure, omega, precession, transient.state,
                             start);
     std::printf("start (%.1f s wall): %s\n", torus.seconds, torus.message.c_str());
     if (!torus.converged) return 1;
     const auto frame =
-        std::make_shared<RubRotatingFrame>(structure, HzToRadPerSecond(precession_hz), omega);
+        std::make_shared<RubRotatingFrame>(structure, precession, omega);
     auto residual = [&](const IntegratorOptions& integrator, const std::string& name) {
       InvariantCircleProblem problem(frame, harmonics, OrbitKind::kRelative, integrator);
       problem.SetPhaseReference(torus.u);
@@ -90,10 +91,10 @@ int Main(int argc, char** argv) {
   const double tori_start = ProcessCpuSeconds();
   double step_start = tori_start;
   const auto frame =
-      std::make_shared<RubRotatingFrame>(structure, HzToRadPerSecond(precession_hz), omega);
+      std::make_shared<RubRotatingFrame>(structure, precession, omega);
   InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative);
   const RubTransientTori tori = ContinueTransientTori(
-      structure, omega, HzToRadPerSecond(precession_hz), transient.state, start, options,
+      structure, omega, precession, transient.state, start, options,
       [&](std::size_t family, const Branch& branch) {
         const BranchPoint& p = branch.points.back();
         const double rho = circle.RotationNumber(p.u);

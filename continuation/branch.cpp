@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <stdexcept>
 
 #include <fmt/core.h>
+
+#include "solvers/constants.h"
 
 namespace rubcont {
 
@@ -103,8 +104,7 @@ Vector Branch::Measure(const std::string& name) const {
   const Index k = MeasureIndex(name);
   Vector column(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
-    column(i) = k < points[i].measures.size() ? points[i].measures(k)
-                                              : std::numeric_limits<double>::quiet_NaN();
+    column(i) = k < points[i].measures.size() ? points[i].measures(k) : kNaN;
   }
   return column;
 }
@@ -112,8 +112,7 @@ Vector Branch::Measure(const std::string& name) const {
 Vector Branch::StateComponent(Index i) const {
   Vector column(points.size());
   for (size_t k = 0; k < points.size(); ++k) {
-    column(k) = i >= 0 && i < points[k].u.size() ? points[k].u(i)
-                                                 : std::numeric_limits<double>::quiet_NaN();
+    column(k) = i >= 0 && i < points[k].u.size() ? points[k].u(i) : kNaN;
   }
   return column;
 }

@@ -5,12 +5,12 @@
 #pragma once
 
 #include <complex>
-#include <limits>
 #include <string>
 #include <vector>
 
 #include "continuation/options.h"
 #include "continuation/problem.h"
+#include "solvers/constants.h"
 #include "solvers/types.h"
 
 namespace rubcont {
@@ -58,14 +58,14 @@ struct SpecialPoint {
   std::complex<double> critical_value{0.0, 0.0};
   // Hopf: ω = Im of the critical eigenvalue (rad per time unit of the problem); Neimark–Sacker:
   // the angle arg μ ∈ (0, π) of the critical multiplier (rad); NaN otherwise.
-  double frequency = std::numeric_limits<double>::quiet_NaN();
+  double frequency = kNaN;
   // Events: λ turns back at the switch (the λ-components of the tangents on the old and the new
   // piece have opposite signs): a non-smooth fold, where a sweep in λ would jump.
   bool nonsmooth_fold = false;
   // Hopf: the first Lyapunov coefficient (continuation/lyapunov.h), where the problem computes it
   // (rotating waves: RotatingWaveProblem::FirstLyapunov); < 0 supercritical, > 0 subcritical.
   // NaN where it is not computed or not trusted (the note says why).
-  double lyapunov = std::numeric_limits<double>::quiet_NaN();
+  double lyapunov = kNaN;
   std::string note;     // a human sentence when there is more to say
 
   // "fold", "Hopf", "event: right stick to slip+", …: the type, and the label when it adds to it.

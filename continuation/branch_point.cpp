@@ -6,6 +6,7 @@
 #include <Eigen/LU>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 #include "solvers/linear_algebra.h"
 
@@ -45,7 +46,7 @@ BranchPointLocation LocateBranchPoint(ScaledSystem& system, const Vector& x_gues
   const Index m = 2 * n + 2;
   Matrix J = Matrix::Zero(m, m);
   Eigen::PartialPivLU<Matrix> lu(m);
-  double last_step = INFINITY;
+  double last_step = kInfinity;
   for (int iteration = 0;; ++iteration) {
     if (!Residual(system, x, beta, phi, G, F, DF)) {
       result.message = "non-finite residual";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -14,6 +13,7 @@
 #include "continuation/fold.h"
 #include "continuation/scaled_system.h"
 #include "continuation/spectrum_crossing.h"
+#include "solvers/constants.h"
 #include "solvers/linear_algebra.h"
 #include "solvers/scalar_root.h"
 
@@ -827,7 +827,7 @@ struct Continuation::Impl {
       const std::vector<SpectralValue> values =
           ValuesOfKind(spectrum, kind, options.detect.imaginary_tolerance);
       // The nearest value, if it is clearly the nearest (the matching is unambiguous).
-      double best = std::numeric_limits<double>::infinity(), second = best;
+      double best = kInfinity, second = best;
       for (const SpectralValue& candidate : values) {
         const double distance = std::abs(candidate.value - previous.value);
         if (distance < best) {

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -63,13 +63,13 @@ bool EventCurveProblem::SetEta(double eta) {
 }
 
 double EventCurveProblem::Margin(const Vector& U, double eta) {
-  if (!SetEta(eta)) return std::numeric_limits<double>::quiet_NaN();
+  if (!SetEta(eta)) return kNaN;
   return inner_.EventFunctions(U.head(n_), U(n_))(event_);
 }
 
 void EventCurveProblem::Residual(const Vector& U, double eta, Vector& G) {
   if (!SetEta(eta)) {
-    G = Vector::Constant(n_ + 1, std::numeric_limits<double>::quiet_NaN());
+    G = Vector::Constant(n_ + 1, kNaN);
     return;
   }
   Vector F;
@@ -81,7 +81,7 @@ void EventCurveProblem::Residual(const Vector& U, double eta, Vector& G) {
 
 void EventCurveProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
   if (!SetEta(eta)) {
-    DG = Matrix::Constant(n_ + 1, n_ + 1, std::numeric_limits<double>::quiet_NaN());
+    DG = Matrix::Constant(n_ + 1, n_ + 1, kNaN);
     return;
   }
   const Vector u = U.head(n_);
@@ -108,7 +108,7 @@ void EventCurveProblem::Jacobian(const Vector& U, double eta, Matrix& DG) {
 }
 
 void EventCurveProblem::DfDlambda(const Vector& U, double eta, Vector& dG) {
-  dG = Vector::Constant(n_ + 1, std::numeric_limits<double>::quiet_NaN());
+  dG = Vector::Constant(n_ + 1, kNaN);
   if (!SetEta(eta)) return;
   Vector dF;
   try {
@@ -138,8 +138,7 @@ std::vector<std::string> EventCurveProblem::MeasureNames() const {
 
 Vector EventCurveProblem::Measures(const Vector& U, double eta) {
   if (!SetEta(eta)) {
-    return Vector::Constant(static_cast<Index>(MeasureNames().size()),
-                            std::numeric_limits<double>::quiet_NaN());
+    return Vector::Constant(static_cast<Index>(MeasureNames().size()), kNaN);
   }
   const Vector inner = inner_.Measures(U.head(n_), U(n_));
   Vector m(inner.size() + 1);
@@ -152,8 +151,7 @@ std::vector<std::string> EventCurveProblem::EventNames() const { return monitore
 
 Vector EventCurveProblem::EventFunctions(const Vector& U, double eta) {
   if (!SetEta(eta)) {
-    return Vector::Constant(static_cast<Index>(monitored_.size()),
-                            std::numeric_limits<double>::quiet_NaN());
+    return Vector::Constant(static_cast<Index>(monitored_.size()), kNaN);
   }
   const Vector all = inner_.EventFunctions(U.head(n_), U(n_));
   Vector g(monitored_.size());

@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 #include "solvers/linear_algebra.h"
 
@@ -209,7 +210,7 @@ FoldLocation LocateFold(Problem& problem, const Vector& u_guess, double lambda_g
   Matrix DG;
   Eigen::PartialPivLU<Matrix> lu(m);
   FoldLocation result;
-  double last_step = INFINITY;
+  double last_step = kInfinity;
   for (int iteration = 0;; ++iteration) {
     fold.Residual(U, eta, G);
     const double residual = G.cwiseProduct(residual_inverse).lpNorm<Eigen::Infinity>();

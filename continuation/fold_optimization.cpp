@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <Eigen/SVD>
@@ -11,6 +10,7 @@
 #include <IpTNLP.hpp>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -20,7 +20,7 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
-constexpr double kInfinity = 1e19;  // Ipopt's "no bound"
+constexpr double kIpoptNoBound = 1e19;  // Ipopt's "no bound"
 
 // The NLP in scaled variables x̂ = (û, λ̂) ∈ Rⁿ⁺¹ with n equality constraints F̂ = 0.
 class FoldNlp : public Ipopt::TNLP {
@@ -52,8 +52,8 @@ class FoldNlp : public Ipopt::TNLP {
   bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l,
                        Number* g_u) override {
     for (Index i = 0; i < n; ++i) {
-      x_l[i] = -kInfinity;
-      x_u[i] = kInfinity;
+      x_l[i] = -kIpoptNoBound;
+      x_u[i] = kIpoptNoBound;
     }
     if (std::isfinite(options_.lambda_min)) x_l[n - 1] = options_.lambda_min / s_lambda_;
     if (std::isfinite(options_.lambda_max)) x_u[n - 1] = options_.lambda_max / s_lambda_;
@@ -286,7 +286,7 @@ FoldOptimizationResult LocateFoldByOptimization(Problem& problem, const Vector& 
     result.singular_ratio = full_norm > 0.0 ? sigma(sigma.size() - 1) / full_norm : 0.0;
   } catch (const std::exception& e) {
     result.status = FoldOptimizationStatus::kFailed;
-    result.residual_norm = std::numeric_limits<double>::infinity();
+    result.residual_norm = kInfinity;
     result.message = fmt::format("Ipopt ended (status {}) at λ = {:.10g}, where the problem cannot "
                                  "be evaluated: {}", result.ipopt_status, result.lambda, e.what());
     return result;

@@ -17,10 +17,10 @@
 // exceptions; the problem is left at its current second parameter.
 #pragma once
 
-#include <limits>
 #include <string>
 
 #include "continuation/problem.h"
+#include "solvers/constants.h"
 #include "solvers/types.h"
 
 namespace rubcont {
@@ -43,8 +43,8 @@ struct FoldOptimizationOptions {
   FoldHessian hessian = FoldHessian::kFiniteDifference;
   // Bounds on λ (problem units). A solution on a bound is not a fold (status kAtBound): the
   // branch has no extremum of λ in between.
-  double lambda_min = -std::numeric_limits<double>::infinity();
-  double lambda_max = std::numeric_limits<double>::infinity();
+  double lambda_min = -kInfinity;
+  double lambda_max = kInfinity;
   // A converged point is confirmed as a fold when the smallest singular value of F̂_û is at most
   // this times the norm of the constraint Jacobian [F̂_û F̂_λ̂] (∈ (0, 1)).
   double singular_tolerance = 1e-6;

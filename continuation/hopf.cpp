@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <Eigen/SVD>
 #include <fmt/core.h>
 
 #include "continuation/lyapunov.h"
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 
 namespace rubcont {
@@ -83,7 +83,7 @@ HopfProblem::Pair HopfProblem::Evaluate(const Vector& U, double eta) {
 
 double HopfProblem::ScaledSum(const Vector& U, double eta) {
   const Pair pair = Evaluate(U, eta);
-  return pair.valid ? pair.h / radius_ : std::numeric_limits<double>::quiet_NaN();
+  return pair.valid ? pair.h / radius_ : kNaN;
 }
 
 void HopfProblem::Residual(const Vector& U, double eta, Vector& G) {
@@ -161,8 +161,7 @@ Vector HopfProblem::Measures(const Vector& U, double eta) {
   const Vector inner_measures = inner_.Measures(U.head(n_), U(n_));
   Vector measures(2 + inner_measures.size());
   measures(0) = U(n_);
-  measures(1) = pair.valid && pair.kappa > 0.0 ? std::sqrt(pair.kappa)
-                                               : std::numeric_limits<double>::quiet_NaN();
+  measures(1) = pair.valid && pair.kappa > 0.0 ? std::sqrt(pair.kappa) : kNaN;
   measures.tail(inner_measures.size()) = inner_measures;
   return measures;
 }
@@ -174,8 +173,7 @@ Vector HopfProblem::EventFunctions(const Vector& U, double eta) {
 
 Vector HopfProblem::TestFunctions(const Vector& U, double eta) {
   const Pair pair = Evaluate(U, eta);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  Vector tests = Vector::Constant(2, nan);
+  Vector tests = Vector::Constant(2, kNaN);
   if (!pair.valid) return tests;
   tests(0) = pair.kappa / (omega0_ * omega0_);
   // l1 where the inner problem computes it to 1 % of its value where the curve starts

@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
@@ -52,10 +54,9 @@ void Validate(const StepOptions& options) {
     Reject("step.max_growth", options.max_growth, "must be finite and at least 1");
   }
   RequirePositive("step.target_angle", options.target_angle);
-  if (!(options.max_angle >= options.target_angle && options.max_angle < M_PI)) {
+  if (!(options.max_angle >= options.target_angle && options.max_angle < kPi)) {
     Reject("step.max_angle", options.max_angle,
-           fmt::format("must lie in [step.target_angle, π) = [{}, {})", options.target_angle,
-                       M_PI));
+           fmt::format("must lie in [step.target_angle, π) = [{}, {})", options.target_angle, kPi));
   }
 }
 

@@ -7,8 +7,7 @@
 // length of 0.01 is a 1 % change of the solution, whatever the units.
 #pragma once
 
-#include <limits>
-
+#include "solvers/constants.h"
 #include "solvers/types.h"
 
 namespace rubcont {
@@ -47,14 +46,14 @@ struct StepOptions {
 
 // Where the branch ends. λ bounds are met exactly (the last point is located on the bound).
 struct BoundsOptions {
-  double lambda_min = -std::numeric_limits<double>::infinity();  // λ, the problem's units
-  double lambda_max = std::numeric_limits<double>::infinity();   // λ (> lambda_min)
+  double lambda_min = -kInfinity;  // λ, the problem's units
+  double lambda_max = kInfinity;   // λ (> lambda_min)
   // Box on the state, problem units: empty, or Dimension() entries (±∞ allowed). Applies to the
   // pieces whose dimension matches (piecewise problems may change dimension at events). The branch
   // ends at the last point inside.
   Vector state_lower;
   Vector state_upper;
-  double max_state_norm = std::numeric_limits<double>::infinity();  // bound on ‖û‖∞ (> 0)
+  double max_state_norm = kInfinity;  // bound on ‖û‖∞ (> 0)
   int max_steps = 1000;  // accepted continuation steps (≥ 1)
 };
 

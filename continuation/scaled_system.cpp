@@ -5,6 +5,8 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 ScaledSystem::ScaledSystem(Problem& problem, BranchStatistics* statistics)
@@ -159,7 +161,7 @@ CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& bo
           std::abs(constraint) <= options_.step_tolerance) {
         out.tangent = border;
         out.det.sign = 0;
-        out.det.log_abs = -INFINITY;
+        out.det.log_abs = -kInfinity;
         return CorrectorStatus::kConverged;
       }
       return CorrectorStatus::kSingular;

@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "models/analytic.h"
+#include "models/units.h"
 #include "solvers/linear_algebra.h"
 
 namespace rubcont {
@@ -314,7 +315,7 @@ Vector RubFixedFrame::StateScale() const {
                                                                structure_.mass,
                                                                Eigen::EigenvaluesOnly);
   const double fastest = std::sqrt(std::max(modes.eigenvalues().maxCoeff(), 0.0));
-  const double rate = fastest > 0.0 ? fastest : 2.0 * M_PI * 100.0;
+  const double rate = fastest > 0.0 ? fastest : HzToRadPerSecond(100.0);
   const Index n2 = 2 * structure_.Coordinates();
   Vector scale(2 * n2);
   scale.head(n2).setConstant(clearance);
@@ -323,7 +324,7 @@ Vector RubFixedFrame::StateScale() const {
 }
 
 double RubFixedFrame::ForcingPeriod() const {
-  return structure_.imbalance != 0.0 && omega_ > 0.0 ? 2.0 * M_PI / omega_ : 0.0;
+  return structure_.imbalance != 0.0 && omega_ > 0.0 ? kTwoPi / omega_ : 0.0;
 }
 
 void RubFixedFrame::Rotate(double phi, VectorRef x) const {

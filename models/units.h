@@ -13,5 +13,7 @@ constexpr double RpmToRadPerSecond(double rpm) { return rpm * kRadPerSecondPerRp
 constexpr double RadPerSecondToRpm(double omega) { return omega * kRpmPerRadPerSecond; }
 constexpr double HzToRadPerSecond(double hz) { return hz * kTwoPi; }
 constexpr double RadPerSecondToHz(double omega) { return omega / kTwoPi; }
+constexpr double RpmToHz(double rpm) { return rpm / 60.0; }  // revolutions per second
+constexpr double HzToRpm(double hz) { return hz * 60.0; }
 
 }  // namespace rubcont

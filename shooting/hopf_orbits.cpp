@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "continuation/continuation.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 
@@ -53,14 +54,14 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   // The linear orbit at amplitude a: segment starts x_H + a Re(v e^{iωt_i}), T = 2π/ω.
   ShootingOptions shooting = options.orbits.shooting;
   shooting.refresh_phase_reference = true;
-  if (shooting.period_scale <= 0.0) shooting.period_scale = 2.0 * M_PI / omega;
+  if (shooting.period_scale <= 0.0) shooting.period_scale = kTwoPi / omega;
   if (options.kind == OrbitKind::kForced) {
     throw std::invalid_argument("HopfOrbitOptions.kind = kForced: Hopf orbits are autonomous");
   }
   ShootingProblem problem(system, options.kind, shooting);
   if (!options.orbits.measures.empty()) problem.SetMeasures(options.orbits.measures);
   problem.SetTestFunctions(options.orbits.test_functions);
-  const double period = 2.0 * M_PI / omega;
+  const double period = kTwoPi / omega;
   const int segments = shooting.segments;
   Matrix starts(n, segments), directions(n, segments);
   for (int i = 0; i < segments; ++i) {

@@ -32,12 +32,12 @@
 #pragma once
 
 #include <complex>
-#include <limits>
 #include <string>
 
 #include "models/rub_model.h"
 #include "shooting/orbit_branches.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont {
@@ -76,7 +76,7 @@ void CheckModulationInputs(const std::string& solver, const RubStructure& struct
 struct ModulationSearch {
   bool found = false;
   std::string message;
-  double period = std::numeric_limits<double>::quiet_NaN();
+  double period = kNaN;
   Vector state;
 };
 ModulationSearch SearchModulation(RubRotatingFrame& frame, const Vector& fixed_state,
@@ -88,13 +88,13 @@ struct ModulatedOrbit {
   NewtonResult newton;
   double frame_rate = 0.0;   // Ω_f [rad/s]
   int laps = 1;              // modulation periods per orbit (the options')
-  double period = std::numeric_limits<double>::quiet_NaN();    // T [s], all laps
-  double rotation = std::numeric_limits<double>::quiet_NaN();  // φ [rad]
-  double carrier_hz = std::numeric_limits<double>::quiet_NaN();   // Ω_0 / 2π [Hz]
-  double dominant_hz = std::numeric_limits<double>::quiet_NaN();  // the largest backward Ω_k / 2π [Hz]
+  double period = kNaN;    // T [s], all laps
+  double rotation = kNaN;  // φ [rad]
+  double carrier_hz = kNaN;   // Ω_0 / 2π [Hz]
+  double dominant_hz = kNaN;  // the largest backward Ω_k / 2π [Hz]
   int dominant_harmonic = 0;  // its k
   // The largest other component over the dominant one, |c_k| / |c_dominant| (modulation depth).
-  double sideband_ratio = std::numeric_limits<double>::quiet_NaN();
+  double sideband_ratio = kNaN;
   Vector u;                   // the shooting unknowns (ShootingProblem::Pack layout)
   Vector x0;                  // the orbit's state at t = 0 (co-rotating frame; empty until converged)
   ShootingStatistics work;    // integrations of Newton (the search adds one more)

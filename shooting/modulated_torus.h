@@ -31,11 +31,11 @@
 // the carrier (k = l = 0) at RubRotatingFrame::CarrierPrecession(T, φ).
 #pragma once
 
-#include <limits>
 #include <string>
 
 #include "models/rub_model.h"
 #include "shooting/invariant_circle.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont {
@@ -96,16 +96,16 @@ struct ModulatedTorus {
   // T from the search (1 / the slip's dominant frequency; one modulation period, not the section's)
   // and φ̄ per section from the first points: the start, also when Newton does not converge (NaN
   // where the search failed).
-  double search_period = std::numeric_limits<double>::quiet_NaN();
-  double search_rotation = std::numeric_limits<double>::quiet_NaN();
-  double period = std::numeric_limits<double>::quiet_NaN();           // the section's time [s]
-  double rotation = std::numeric_limits<double>::quiet_NaN();         // φ per section [rad]
-  double rotation_number = std::numeric_limits<double>::quiet_NaN();  // ρ
-  double carrier_hz = std::numeric_limits<double>::quiet_NaN();       // (Ω_f − φ/T) / 2π
-  double first_hz = std::numeric_limits<double>::quiet_NaN();         // f₁ = 1/T
-  double second_hz = std::numeric_limits<double>::quiet_NaN();        // f₂ = ρ/T
-  double fourier_tail = std::numeric_limits<double>::quiet_NaN();
-  double invariance_error = std::numeric_limits<double>::quiet_NaN();
+  double search_period = kNaN;
+  double search_rotation = kNaN;
+  double period = kNaN;           // the section's time [s]
+  double rotation = kNaN;         // φ per section [rad]
+  double rotation_number = kNaN;  // ρ
+  double carrier_hz = kNaN;       // (Ω_f − φ/T) / 2π
+  double first_hz = kNaN;         // f₁ = 1/T
+  double second_hz = kNaN;        // f₂ = ρ/T
+  double fourier_tail = kNaN;
+  double invariance_error = kNaN;
   InvariantCircleProblem::TorusStability stability;  // valid = false when not computed
   Vector u;                  // the circle's unknowns (InvariantCircleProblem::Pack layout)
   double seconds = 0.0;      // wall time of the search, Newton and the stability

@@ -20,7 +20,6 @@
 //     // b.branch.Measure("period"), b.branch.points[i].spectrum, b.branch.special_points
 #pragma once
 
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -29,6 +28,7 @@
 #include "continuation/continuation.h"
 #include "continuation/options.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 
@@ -141,10 +141,9 @@ struct OrbitBranchSwitch {
   BranchSwitch change;             // ABE coefficients, angle, direction (side +1)
   bool mirror_symmetric_orbit = false;   // the family is κ-symmetric at the point
   bool breaks_mirror_symmetry = false;   // ... and the new direction is κ-odd
-  double direction_odd_part = std::numeric_limits<double>::quiet_NaN();  // in [0, 1]
+  double direction_odd_part = kNaN;  // in [0, 1]
   // Where side +1 rejoined the symmetric orbits: λ of its last two points (NaN if it did not).
-  double rejoined_between[2] = {std::numeric_limits<double>::quiet_NaN(),
-                                std::numeric_limits<double>::quiet_NaN()};
+  double rejoined_between[2] = {kNaN, kNaN};
   // Whether side +1 rejoined the symmetric orbits near λ: within the interval of its last two
   // points widened by its length each way (the far pitchfork is a tip in λ, λ* − λ ∝ (odd part)²:
   // both points may lie on one side of it).
@@ -203,8 +202,8 @@ struct OrbitPeriodDoubling {
   std::size_t special_point = 0;  // index into the family's branch.special_points
   bool ok = false;                // false: no start (message says why), no branch
   std::string message;            // why not; or the starts that failed before the one used
-  double amplitude = std::numeric_limits<double>::quiet_NaN();  // the start's, scaled units
-  double multiplier = std::numeric_limits<double>::quiet_NaN();  // the real one nearest −1
+  double amplitude = kNaN;  // the start's, scaled units
+  double multiplier = kNaN;  // the real one nearest −1
   PeriodicOrbitBranch branch;     // the doubled family: period 2T, 2N segments
 };
 

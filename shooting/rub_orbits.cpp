@@ -60,7 +60,7 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
                             ContactQuantity quantity, std::string name) {
   return {std::move(name), [view, c, maximum, quantity](const OrbitSamples& orbit) {
             const FixedFrameOrbit fixed = view->Evaluate(orbit);
-            double extreme = maximum ? -HUGE_VAL : HUGE_VAL;
+            double extreme = maximum ? -kInfinity : kInfinity;
             for (std::size_t j = 0; j < fixed.states.size(); ++j) {
               double value = 0.0;
               switch (quantity) {

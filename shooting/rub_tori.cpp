@@ -57,8 +57,8 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
   lines.second_hz = rho / period;
   lines.contacts.assign(contacts, {});
   for (auto& c : lines.contacts) {
-    c.min_normal_force = HUGE_VAL;
-    c.max_normal_force = -HUGE_VAL;
+    c.min_normal_force = kInfinity;
+    c.max_normal_force = -kInfinity;
   }
 
   // G at (θ_j + 2πρ s_m, s_m): d of R_{−φ s_m} Φ_{s_m T}(u(θ_j)), s_m = m / samples (sampled to

@@ -28,13 +28,13 @@
 // p/q and |ρ − p/q|, so the reader can judge.
 #pragma once
 
-#include <limits>
 #include <string>
 #include <vector>
 
 #include "continuation/continuation.h"
 #include "shooting/invariant_circle.h"
 #include "shooting/orbit_branches.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 
@@ -69,9 +69,9 @@ struct TorusBranch {
   OrbitKind kind = OrbitKind::kAutonomous;
   Index state_dimension = 0;
   int harmonics = 0;
-  double birth_lambda = std::numeric_limits<double>::quiet_NaN();
-  double birth_rotation_number = std::numeric_limits<double>::quiet_NaN();  // ρ₀ = arg μ / 2π
-  double birth_modulus = std::numeric_limits<double>::quiet_NaN();          // |μ| at the point
+  double birth_lambda = kNaN;
+  double birth_rotation_number = kNaN;  // ρ₀ = arg μ / 2π
+  double birth_modulus = kNaN;          // |μ| at the point
   Branch branch;  // unknowns: InvariantCircleProblem::Pack layout
   // Per point of the branch (empty without lyapunov_iterates).
   std::vector<InvariantCircleProblem::TorusStability> stability;

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
@@ -80,7 +82,7 @@ JacobianCheck CheckJacobian(const VectorFunction& f, const Vector& x, const Matr
           std::max({std::abs(numeric(i, j)), absolute_floor * row_scale, 1e-300});
       const double error = std::abs(analytic(i, j) - numeric(i, j)) / denominator;
       if (!(error <= check.max_error)) {  // also catches NaN
-        check.max_error = std::isnan(error) ? INFINITY : error;
+        check.max_error = std::isnan(error) ? kInfinity : error;
         check.worst_row = i;
         check.worst_col = j;
         check.analytic_value = analytic(i, j);

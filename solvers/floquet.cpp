@@ -8,6 +8,8 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 const char* ToString(FloquetMethod method) {
@@ -48,7 +50,7 @@ ComplexVector SortedByModulus(const ComplexVector& values) {
 }
 
 ComplexVector NotANumber(Index n) {
-  return ComplexVector::Constant(n, std::complex<double>(NAN, NAN));
+  return ComplexVector::Constant(n, std::complex<double>(kNaN, kNaN));
 }
 
 ComplexVector StandardEigenvalues(const Matrix& M) {
@@ -230,7 +232,7 @@ double Resolution(const std::vector<Matrix>& factors, FloquetMethod method) {
   if (method == FloquetMethod::kPeriodicSchur) return 0.0;
   double log_norm = std::log(std::numeric_limits<double>::epsilon());
   for (const Matrix& M : factors) log_norm += std::log(M.norm());
-  return log_norm > std::log(std::numeric_limits<double>::max()) ? std::numeric_limits<double>::infinity()
+  return log_norm > std::log(std::numeric_limits<double>::max()) ? kInfinity
                                                                    : std::exp(log_norm);
 }
 

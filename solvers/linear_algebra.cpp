@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
@@ -21,7 +23,7 @@ LogDeterminant FromPivots(const Eigen::MatrixBase<Derived>& lu, int permutation_
     const double pivot = lu(i, i);
     if (pivot == 0.0 || !std::isfinite(pivot)) {
       result.sign = 0;
-      result.log_abs = -INFINITY;
+      result.log_abs = -kInfinity;
       return result;
     }
     if (pivot < 0.0) sign = -sign;

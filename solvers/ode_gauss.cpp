@@ -34,6 +34,7 @@
 #include <Eigen/LU>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 #include "solvers/ode_internal.h"
 
@@ -139,8 +140,8 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
   const Index s = stages_.cols();
   const Matrix& A = coefficients_.A;
   const double tolerance = std::max(kNewtonFraction * options_.absolute_tolerance, kNewtonFloor);
-  double previous_norm = INFINITY;
-  double previous_merit = INFINITY;  // ‖S⁻¹G‖₂ where the last Newton step started
+  double previous_norm = kInfinity;
+  double previous_merit = kInfinity;  // ‖S⁻¹G‖₂ where the last Newton step started
   double damping = 1.0;
   int iteration = 0;
   for (int pass = 0; pass < kMaxNewtonIterations + kMaxHalvings; ++pass) {
@@ -164,7 +165,7 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
     }
     merit = std::sqrt(merit);
     // Backtrack only far from convergence: near it ‖G‖ stalls at rounding level.
-    if (!(merit < previous_merit) && previous_merit < INFINITY && damping > kMinDamping &&
+    if (!(merit < previous_merit) && previous_merit < kInfinity && damping > kMinDamping &&
         !(merit <= 1e3 * tolerance)) {
       damping *= 0.5;  // back to the start of the last step, then half as far along it
       for (Index i = 0; i < s; ++i) stages_.col(i) += damping * increment_.segment(i * n, n);

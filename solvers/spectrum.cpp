@@ -36,7 +36,7 @@ AmplitudeSpectrum TwoSidedSpectrum(const ComplexVector& samples, double sample_r
   }
   // Periodic Hann window and the Hann-weighted mean.
   Vector w(n);
-  for (Index i = 0; i < n; ++i) w(i) = 0.5 - 0.5 * std::cos(2.0 * kPi * static_cast<double>(i) / n);
+  for (Index i = 0; i < n; ++i) w(i) = 0.5 - 0.5 * std::cos(kTwoPi * static_cast<double>(i) / n);
   const double sum_w = w.sum();
   const std::complex<double> mean = (samples.array() * w.array()).sum() / sum_w;
   std::vector<std::complex<double>> windowed(static_cast<std::size_t>(n));

@@ -384,8 +384,8 @@ HysteresisMap AssembleHysteresisMap(const TwoPointParams& params,
   curve_options.detect.closed_branches = false;
   // Keep the inner speed ω inside the scene's range: the last state component of U = (u, ω).
   auto speed_box = [&](Index dimension) {
-    curve_options.bounds.state_lower = Vector::Constant(dimension, -std::numeric_limits<double>::infinity());
-    curve_options.bounds.state_upper = Vector::Constant(dimension, std::numeric_limits<double>::infinity());
+    curve_options.bounds.state_lower = Vector::Constant(dimension, -kInfinity);
+    curve_options.bounds.state_upper = Vector::Constant(dimension, kInfinity);
     curve_options.bounds.state_lower(dimension - 1) = options.branches.search.speed_min;
     curve_options.bounds.state_upper(dimension - 1) = options.branches.search.speed_max;
   };

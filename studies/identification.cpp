@@ -307,7 +307,7 @@ void Validate(const std::vector<IdentificationTarget>& targets,
 std::vector<double> PredictTargets(const TwoPointParams& params,
                                    const std::vector<IdentificationTarget>& targets,
                                    const RotatingWaveBranchOptions& options) {
-  std::vector<double> predicted(targets.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> predicted(targets.size(), kNaN);
   std::vector<RotatingWaveBranch> branches;
   try {
     branches = ComputeRotatingWaveBranches(TwoPointStructure(WithoutImbalance(params)),
@@ -317,7 +317,7 @@ std::vector<double> PredictTargets(const TwoPointParams& params,
   }
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const IdentificationTarget& t = targets[i];
-    double best = std::numeric_limits<double>::infinity();
+    double best = kInfinity;
     for (const RotatingWaveBranch& b : branches) {
       if (PatternName(b.normals) != t.pattern) continue;
       for (std::size_t s = 0; s < b.branch.special_points.size(); ++s) {
@@ -465,8 +465,8 @@ IdentificationResult Identify(const TwoPointParams& params,
   const Eigen::JacobiSVD<Matrix> svd(Jr, Eigen::ComputeFullV);
   const Vector sigma = svd.singularValues();
   const bool singular = sigma.size() < d || sigma(sigma.size() - 1) <= 1e-12 * std::max(sigma(0), 1e-300);
-  result.standard_deviation.assign(d, std::numeric_limits<double>::infinity());
-  result.correlation.assign(d, std::vector<double>(d, std::numeric_limits<double>::quiet_NaN()));
+  result.standard_deviation.assign(d, kInfinity);
+  result.correlation.assign(d, std::vector<double>(d, kNaN));
   if (!singular) {
     const Matrix& V = svd.matrixV();
     const Matrix covariance = V * sigma.array().square().inverse().matrix().asDiagonal() * V.transpose();

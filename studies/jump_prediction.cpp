@@ -11,7 +11,7 @@ namespace {
 
 struct BranchMatch {
   const RotatingWaveBranch* branch = nullptr;
-  double score = std::numeric_limits<double>::infinity();
+  double score = kInfinity;
   int stable = -1;
   int index = -1;   // of the branch in the set
   Index point = -1;  // the branch's point nearest in speed
@@ -132,7 +132,7 @@ SweepState StateAt(double speed_rpm, const RubStructure& structure,
 int NearestSpecialPoint(const RotatingWaveBranch& b, double lo, double hi, double max_distance,
                         const std::string& knee) {
   int best = -1;
-  double best_distance = std::numeric_limits<double>::infinity();
+  double best_distance = kInfinity;
   bool best_knee = false;
   for (std::size_t i = 0; i < b.branch.special_points.size(); ++i) {
     const SpecialPoint& p = b.branch.special_points[i];

@@ -21,18 +21,18 @@
 // special point, is reported as such, not as an answer.
 #pragma once
 
-#include <limits>
 #include <string>
 #include <vector>
 
+#include "solvers/constants.h"
 #include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 
 struct WhirlLimit {
   bool found = false;
-  double speed = std::numeric_limits<double>::quiet_NaN();  // ω of the limit [rad/s]
-  double precession_hz = std::numeric_limits<double>::quiet_NaN();
+  double speed = kNaN;  // ω of the limit [rad/s]
+  double precession_hz = kNaN;
   std::string point;            // SpecialPoint::Name() of the limit
   bool converged = false;       // the special point was located to the engine's tolerance
   std::string reason;           // why there is no answer, when !found
@@ -64,7 +64,7 @@ WhirlLimit StableLimitFrom(const std::vector<RotatingWaveBranch>& branches, int 
 // A value read off a branch, or why there is none.
 struct BranchReading {
   bool found = false;
-  double value = std::numeric_limits<double>::quiet_NaN();
+  double value = kNaN;
   std::string reason;  // when !found
 };
 
@@ -89,7 +89,7 @@ struct RegularizationBias {
   double epsilon = 0.0;        // [m/s]
   WhirlLimit at_epsilon;       // the limit at ε
   WhirlLimit at_tenth;         // the limit at ε/10
-  double shift = std::numeric_limits<double>::quiet_NaN();  // ω(ε) − ω(ε/10) [rad/s]
+  double shift = kNaN;  // ω(ε) − ω(ε/10) [rad/s]
   double tolerance = 0.0;      // [rad/s]
   bool flagged = false;        // |shift| > tolerance, or either limit missing
   std::string message;         // one sentence with the numbers (speeds in rpm)

@@ -9,6 +9,7 @@
 #include <Eigen/QR>
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "sweeps/sweep.h"
 
@@ -240,8 +241,8 @@ AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const Attr
   result.times.conservativeResize(done);
   result.counted_time = static_cast<double>(done) * tau;
   result.state = x;
-  result.exponents = Vector::Constant(k, std::nan(""));
-  result.standard_errors = Vector::Constant(k, std::nan(""));
+  result.exponents = Vector::Constant(k, kNaN);
+  result.standard_errors = Vector::Constant(k, kNaN);
   if (done > 0) result.exponents = sums / result.counted_time;
   // Block estimates over the blocks that were completed (all of them after a full record): block
   // b holds the intervals c with ⌊c·blocks/counted⌋ = b, and is complete once its last one is done.

@@ -40,7 +40,7 @@ Vector PerturbedStart(const Vector& x0, const Vector& scale, const EnsembleOptio
   for (Index i = 0; i < x.size(); i += 2) {
     // Box–Muller: two independent standard normal draws per pair of uniforms.
     const double radius = std::sqrt(-2.0 * std::log(Uniform(generator)));
-    const double angle = 2.0 * kPi * Uniform(generator);
+    const double angle = kTwoPi * Uniform(generator);
     x(i) += options.perturbation * scale(i) * radius * std::cos(angle);
     if (i + 1 < x.size()) x(i + 1) += options.perturbation * scale(i + 1) * radius * std::sin(angle);
   }

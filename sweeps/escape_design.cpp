@@ -235,8 +235,8 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
   constexpr int kMinEscapes = 5;
   constexpr double kPassage = 0.5;
   LifetimeShape shape;
-  shape.lowest_ratio = kNaN;
-  double worst_at = kNaN;
+  shape.largest_ratio = kNaN;
+  double best_at = kNaN;
   for (const EscapeObservations& o : observations) {
     const std::size_t d = o.escape_stretch.size();
     if (static_cast<int>(d) < kMinEscapes) continue;
@@ -257,9 +257,9 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
     const double expected = std::sqrt(std::max(0.0, m2 - m1 * m1) + o.stretch * o.stretch / 12.0) / m1;
     const double ratio = observed / expected;
     shape.resolved = true;
-    if (std::isnan(shape.lowest_ratio) || ratio < shape.lowest_ratio) {
-      shape.lowest_ratio = ratio;
-      worst_at = o.parameter;
+    if (std::isnan(shape.largest_ratio) || ratio > shape.largest_ratio) {
+      shape.largest_ratio = ratio;
+      best_at = o.parameter;
     }
   }
   if (!shape.resolved) {
@@ -267,10 +267,10 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
                                 "shape is not resolved", kMinEscapes);
     return shape;
   }
-  shape.exponential = shape.lowest_ratio >= kPassage;
-  shape.message = fmt::format("escape times {} (the smallest spread {:.2f} of an exponential's, at {:g})",
-                              shape.exponential ? "spread as an exponential's" : "bunched: a passage, not a leak",
-                              shape.lowest_ratio, worst_at);
+  shape.exponential = shape.largest_ratio >= kPassage;
+  shape.message = fmt::format("escape times {} (the widest spread {:.2f} of an exponential's, at {:g})",
+                              shape.exponential ? "spread as an exponential's" : "bunched at every value: a passage, not a leak",
+                              shape.largest_ratio, best_at);
   return shape;
 }
 
@@ -366,6 +366,15 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
         break;
       }
       if (rate_of(s).upper * o.dwell <= o.floor_hazard) return "";
+    }
+    // The first candidate leaks too fast for any exposure to bound it: no floor can be measured
+    // (the run was not seen on the state before it); the interval then rests on the law, said so.
+    const Site& deepest = sites.front();  // the first candidate: nothing lies further towards the state
+    if (!deepest.groups.empty() && rate_of(deepest).rate * o.dwell > 0.5 * o.floor_hazard) {
+      design.message = fmt::format("no floor: the first value the state was seen at ({:g}) already leaks at {:.3g} "
+                                   "per dwell; the median's interval towards the state rests on the law",
+                                   deepest.parameter, rate_of(deepest).rate * o.dwell);
+      return "";
     }
     return fmt::format("no value before the median's interval with a hazard bounded by {:g} per dwell", o.floor_hazard);
   };
@@ -478,8 +487,13 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
     // (so that the interval does not rest on the law's extrapolation towards the state).
     if (evidence().rfind("no value before", 0) == 0 && deepest >= 0) {
       const Site& s = sites[static_cast<std::size_t>(deepest)];
-      const double duration = s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest;
-      measure({{deepest, duration}}, "a floor: longer copies at the value deepest in the state");
+      if (deepest > 0 && rate_of(s).rate * o.dwell > 0.5 * o.floor_hazard) {
+        measure({{deepest - 1, 2.0 * s.longest}},
+                "a floor: the value deepest in the state leaks too fast to bound; the next one towards it");
+      } else {
+        measure({{deepest, s.longest >= o.max_duration ? o.max_duration : 2.0 * s.longest}},
+                "a floor: longer copies at the value deepest in the state");
+      }
       continue;
     }
     // Score: (κD)² / escapes per unit cost over the values the run can still be on at the 95 %

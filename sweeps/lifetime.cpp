@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include <fmt/core.h>
 #include <nlopt.hpp>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDrop = 1.920729410347062;  // χ²₁(0.95)/2: the likelihood-ratio 95 % limit
 
 // E = Σ (j − 1)·Δ + stayed·duration: the time during which every copy is known to have stayed.
@@ -56,7 +56,7 @@ struct Model {
 
 struct Maximum {
   std::vector<double> x;
-  double value = -kInf;
+  double value = -kInfinity;
   int code = 0;
 };
 
@@ -99,7 +99,7 @@ void Validate(const EscapeObservations& o) {
 double EscapeLogLikelihood(const EscapeObservations& o, double rate) {
   const double d = static_cast<double>(o.escape_stretch.size());
   const double exposure = Exposure(o);
-  if (rate == kInf) return exposure > 0.0 ? -kInf : 0.0;
+  if (rate == kInfinity) return exposure > 0.0 ? -kInfinity : 0.0;
   // log P(escape in ((j−1)Δ, jΔ]) = −κ(j−1)Δ + log(1 − e^{−κΔ}); log P(stay to T) = −κT.
   const double interval = d > 0.0 ? d * std::log(-std::expm1(-rate * o.stretch)) : 0.0;
   return -rate * exposure + interval;
@@ -151,8 +151,8 @@ EscapeRate EstimateEscapeRate(const std::vector<EscapeObservations>& groups) {
   }
   if (exposure == 0.0) {
     r.status = EscapeRateStatus::kAllImmediate;
-    r.rate = kInf;
-    r.upper = kInf;
+    r.rate = kInfinity;
+    r.upper = kInfinity;
     // ℓ(κ) = d·log(1 − e^{−κΔ}) = −1.92
     r.lower = -std::log(-std::expm1(-kDrop / d)) / delta;
     return r;
@@ -191,7 +191,7 @@ CrisisFit FitCrisis(const std::vector<EscapeObservations>& observations, const C
   }
   CrisisFit fit;
   const CrisisSide side = options.side;
-  double first = kInf, low = kInf, high = -kInf;
+  double first = kInfinity, low = kInfinity, high = -kInfinity;
   int escaping = 0, finite = 0;
   for (const EscapeObservations& o : observations) {
     const double p = Mirror(side, o.parameter);
@@ -256,7 +256,7 @@ CrisisFit FitCrisis(const std::vector<EscapeObservations>& observations, const C
     inner.set_maxeval(2000);
     inner.set_initial_step({0.25, 0.5});
     Maximum m = Maximize(inner, at);
-    return m.x.empty() ? -kInf : m.value;
+    return m.x.empty() ? -kInfinity : m.value;
   };
   const double target = best.value - kDrop;
   auto excess = [&](double c) { return profile(c) - target; };

@@ -179,7 +179,7 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& p = points[i];
     if (p.status == SweepPointStatus::kIntegrationFailure || p.channels.size() != m) continue;
-    const double rotation_hz = p.parameter / kTwoPi;
+    const double rotation_hz = RadPerSecondToHz(p.parameter);
     for (std::size_t k = 0; k < m; ++k) {
       const ChannelSummary& c = p.channels[k];
       if (c.measures.size() <= static_cast<std::size_t>(kSlipVelocityMeasure)) {

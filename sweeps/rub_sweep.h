@@ -17,6 +17,7 @@
 
 #include "models/rub_model.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 #include "sweeps/attractor.h"
 #include "sweeps/ensemble.h"
 #include "sweeps/sweep.h"
@@ -199,7 +200,7 @@ RubSweepRegimes ClassifySweep(const RubStructure& structure, const std::vector<S
 enum class ArrivalContacts { kEvery, kAny, kOne };
 struct ArrivalTarget {
   RubRegime regime = RubRegime::kWhirl;
-  double precession_above_hz = std::numeric_limits<double>::quiet_NaN();  // finite: by precession
+  double precession_above_hz = kNaN;  // finite: by precession
   ArrivalContacts contacts = ArrivalContacts::kEvery;
   int contact = -1;  // kOne: the index into RubStructure::contacts
 };
@@ -208,7 +209,7 @@ std::string Describe(const RubStructure& structure, const ArrivalTarget& target)
 struct RubArrival {
   bool reached = false;  // false: not within the run (censored at `simulated`), or failed
   bool failed = false;   // the copy's integration failed (its points end with the failure)
-  double time = std::numeric_limits<double>::quiet_NaN();  // [s] when reached
+  double time = kNaN;  // [s] when reached
   int point = -1;          // the index of the copy's point (stretch) in which it was reached
   double simulated = 0.0;  // [s] the copy's whole run
   RubSweepRegimes regimes;  // of the copy's points

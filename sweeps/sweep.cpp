@@ -202,7 +202,7 @@ ChannelSummary SweepStepper::Summarize(int channel, Index first, Index count) co
       s.mean = s.min = s.max = kNaN;
       continue;
     }
-    double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    double sum = 0.0, lo = kInfinity, hi = -lo;
     for (Index i = first; i < first + count; ++i) {
       if (!active_(channel, i)) continue;
       const double v = measures_[static_cast<std::size_t>(m)](channel, i);
@@ -280,8 +280,7 @@ SweepStepOutcome SweepStepper::Step() {
         const double d = SpectralDistance(spectrum, previous[static_cast<std::size_t>(c)]);
         const SpectralPeak& p = previous_peak[static_cast<std::size_t>(c)];
         const double df = peak.found && p.found ? std::abs(peak.frequency - p.frequency)
-                          : peak.found == p.found ? 0.0
-                                                  : std::numeric_limits<double>::infinity();
+                          : peak.found == p.found ? 0.0 : kInfinity;
         distance = std::max(distance, d);
         shift = std::max(shift, df);
         if (!(d <= o.spectrum_tolerance && df <= o.frequency_tolerance)) agree = false;
@@ -308,8 +307,8 @@ SweepStepOutcome SweepStepper::Step() {
     SetIntermittent(point);
     if (o.rotate_forcing_phase && system_.ForcingPeriod() > 0.0) {
       // Continue the forcing from where it is: rotate the state back by the phase it advanced.
-      const double phase = 2.0 * kPi * point.simulated_time / system_.ForcingPeriod();
-      system_.Rotate(-std::remainder(phase, 2.0 * kPi), x_);
+      const double phase = kTwoPi * point.simulated_time / system_.ForcingPeriod();
+      system_.Rotate(-std::remainder(phase, kTwoPi), x_);
     }
   }
   point.wall_seconds = SecondsSince(wall_start);

@@ -422,7 +422,7 @@ Vector RotatingWaveProblem::Measures(const Vector& u, double omega) {
     out(2 + m + k) = friction;
     out(2 + 2 * m + k) = e.slip_velocity;
     out(2 + 3 * m + k) = e.penetration;
-    out(2 + 4 * m + k) = e.normal_force > 0.0 ? friction / e.normal_force : std::nan("");
+    out(2 + 4 * m + k) = e.normal_force > 0.0 ? friction / e.normal_force : kNaN;
     double code = 0.0;
     if (law_ == FrictionLawKind::kExact) {
       code = static_cast<double>(static_cast<int>(modes_[k]));

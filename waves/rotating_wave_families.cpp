@@ -7,6 +7,8 @@
 
 #include <fmt/core.h>
 
+#include "solvers/constants.h"
+
 namespace rubcont {
 
 namespace {
@@ -145,7 +147,7 @@ std::vector<RotatingWaveStart> FindRotatingWaveStarts(RotatingWaveProblem& probl
           if ((a > 0.0) == (b > 0.0)) continue;
           Guess g;
           g.precession = grid(i) + (grid(i + 1) - grid(i)) * a / (a - b);
-          double rci_lo = INFINITY, rci_hi = 0.0;
+          double rci_lo = kInfinity, rci_hi = 0.0;
           for (Index j : active) {
             rci_lo = std::min(rci_lo, rci[j]);
             rci_hi = std::max(rci_hi, rci[j]);

@@ -1,10 +1,10 @@
 #include "apps/hdf5_file.h"
+#include "solvers/constants.h"
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -37,7 +37,7 @@ std::string Bytes(const fs::path& file) {
 TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
   TempDir dir;
   const fs::path file = dir.path / "round.h5";
-  const double inf = std::numeric_limits<double>::infinity();
+  const double inf = kInfinity;
   Matrix matrix(2, 3);
   matrix << 1, 2, 3, 4, 5, 6;
   {

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "apps/hdf5_file.h"
+#include "solvers/constants.h"
 #include "tests/shooting/duffing_harmonic_balance.h"
 
 namespace rubcont {
@@ -103,7 +104,7 @@ TEST_CASE("rubcont run scenes/stuart_landau.toml: orbits, periods and multiplier
   REQUIRE(real.cols() == 1);  // the trivial multiplier is deflated
   const double omega = 1.0, gamma = 0.5;  // scenes/stuart_landau.toml
   for (std::size_t i = 0; i < lambda.size(); ++i) {
-    const double T = 2 * M_PI / std::abs(omega - gamma * lambda[i]);
+    const double T = kTwoPi / std::abs(omega - gamma * lambda[i]);
     CHECK(radius[i] == Approx(std::sqrt(lambda[i])).epsilon(0).margin(1e-7));
     CHECK(period[i] == Approx(T).epsilon(1e-8));
     CHECK(real(static_cast<Index>(i), 0) ==
@@ -132,7 +133,7 @@ TEST_CASE("rubcont run scenes/van_der_pol.toml: a stable cycle from harmonic to 
   CHECK(mu.back() == Approx(20.0).epsilon(0).margin(1e-9));
   // Near-harmonic at μ = 0.2 (T → 2π, amplitude → 2), relaxation at μ = 20: T = (3 − 2 ln 2) μ
   // + 7.014 μ^(−1/3) + O(ln μ / μ) (Dorodnitsyn), amplitude → 2.
-  CHECK(period.front() == Approx(2 * M_PI).epsilon(0.01));
+  CHECK(period.front() == Approx(kTwoPi).epsilon(0.01));
   CHECK(period.back() == Approx((3 - 2 * std::log(2.0)) * 20 + 7.014 * std::pow(20.0, -1.0 / 3)).epsilon(0.02));
   for (double a : max_x) CHECK(a == Approx(2.0).epsilon(0.02));
   for (int s : file.ReadInts(group + "/stable")) CHECK(s == 1);

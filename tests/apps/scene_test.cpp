@@ -1,5 +1,6 @@
 #include "apps/scene.h"
 #include "models/two_point_params.h"
+#include "solvers/constants.h"
 
 #include <filesystem>
 #include <fstream>
@@ -441,7 +442,7 @@ density = 7833.0
   CHECK(scene.flexible.rotor_shaft[0].section.youngs_modulus == 2.0684e11);  // [flexible]'s
   CHECK(scene.flexible.rotor_contact_stations == std::array<int, 2>{0, 8});  // first and last
   // The shaft: 0.29 m of π(D² − d²)/4 at 7833 kg/m³ = 2.1916 kg, plus the disk; centre 0.145 m.
-  const double shaft = 7833.0 * M_PI * (0.04801 * 0.04801 - 0.03281 * 0.03281) / 4 * 0.29;
+  const double shaft = 7833.0 * kPi * (0.04801 * 0.04801 - 0.03281 * 0.03281) / 4 * 0.29;
   CHECK(scene.two_point.rotor_mass == Approx(shaft + 7.7983).epsilon(1e-14));
   CHECK(scene.two_point.contact_span == Approx(0.29).epsilon(1e-14));
   CHECK(scene.two_point.rotor_mass_center == Approx(0.145).epsilon(1e-14));

@@ -16,6 +16,7 @@
 
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
@@ -80,8 +81,8 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
     up_bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
     REQUIRE(up_bp.size() == 2);
     // Rolling whirl at RCI 100: BP = 100 × speed / 60.
-    CHECK(up_bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
-    CHECK(up_bp[1] == Approx(100.0 * 44.0 / 60.0).epsilon(0.01));
+    CHECK(up_bp[0] == Approx(100.0 * RpmToHz(40.0)).epsilon(0.01));
+    CHECK(up_bp[1] == Approx(100.0 * RpmToHz(44.0)).epsilon(0.01));
   }
 
   const Outcome down = testing::RubcontNoPython("sweep " + scene.string() + " --direction down --quiet --out " + h5.string());
@@ -214,7 +215,7 @@ TEST_CASE("rubcont sweep: an imbalanced rotor sweeps, its jump table uses the ba
   // Rolling whirl at RCI 100 despite the imbalance (m e ω² = 6e-4 N at 40 rpm).
   const std::vector<double> bp = r.ReadDoubles("/sweeps/up/precession_hz_left");
   REQUIRE(bp.size() == 2);
-  CHECK(bp[0] == Approx(100.0 * 40.0 / 60.0).epsilon(0.01));
+  CHECK(bp[0] == Approx(100.0 * RpmToHz(40.0)).epsilon(0.01));
 }
 
 TEST_CASE("rubcont sweep: a speed beyond max_penetration is untrusted in the summary and the file",

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "continuation/continuation.h"
+#include "solvers/constants.h"
 #include "test_problems.h"
 
 namespace rubcont {
@@ -54,7 +55,7 @@ TEST_CASE("the pitchfork of x(λ − x²) is detected, located, and both new bra
   REQUIRE(change.ok);
   CHECK(std::abs(change.tangent(0)) ==
         Approx(1.0).epsilon(0).margin(1e-6));  // the other branch is vertical
-  CHECK(change.angle == Approx(M_PI / 2).epsilon(0).margin(1e-6));
+  CHECK(change.angle == Approx(kPi / 2).epsilon(0).margin(1e-6));
 
   double end_x[2] = {0.0, 0.0};
   for (int side : {+1, -1}) {
@@ -136,7 +137,7 @@ TEST_CASE("switching at a transcritical point follows the oblique branch x = λ"
   // The ABE gives the direction (1, 1)/√2 and the angle π/4 between the branches.
   CHECK(change.tangent(0) == Approx(M_SQRT1_2).epsilon(0).margin(1e-6));
   CHECK(change.tangent(1) == Approx(M_SQRT1_2).epsilon(0).margin(1e-6));
-  CHECK(change.angle == Approx(M_PI / 4).epsilon(0).margin(1e-6));
+  CHECK(change.angle == Approx(kPi / 4).epsilon(0).margin(1e-6));
   for (int side : {+1, -1}) {
     const Branch other = ContinueFromBranchPoint(problem, bp, side, Bounded());
     INFO(other.BriefReport());

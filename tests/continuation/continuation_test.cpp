@@ -1,13 +1,13 @@
 #include "continuation/continuation.h"
 
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
 
 #include "continuation/fold.h"
+#include "solvers/constants.h"
 #include "test_problems.h"
 
 namespace rubcont {
@@ -151,7 +151,7 @@ TEST_CASE("an isola is followed all the way round and recognised as closed",
   // (x, λ) plane stretched by y = xλ.
   CHECK((branch.points.back().u - branch.points.front().u).norm() <= 1e-6);
   CHECK(std::abs(branch.points.back().lambda - branch.points.front().lambda) <= 1e-6);
-  CHECK(branch.points.back().arclength > 2.0 * M_PI);
+  CHECK(branch.points.back().arclength > kTwoPi);
   CHECK(branch.points.size() < 300u);
   for (const BranchPoint& p : branch.points) CHECK(p.residual_norm <= 1e-10);
 }
@@ -353,7 +353,7 @@ TEST_CASE("a Newton step that leaves the residual's domain is halved until it is
   LambdaProblem problem(
       1,
       [](const Vector& u, double l, double, Vector& F) {
-        F(0) = u(0) < 3.0 ? u(0) * u(0) - l : std::numeric_limits<double>::quiet_NaN();
+        F(0) = u(0) < 3.0 ? u(0) * u(0) - l : kNaN;
       },
       [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 2.0 * u(0); },
       [](const Vector&, double, double, Vector& dF) { dF(0) = -1.0; });
@@ -369,7 +369,7 @@ TEST_CASE("a Newton step that leaves the residual's domain is halved until it is
   // A step past every halving (the residual non-finite for x > 0.2: the start's own neighbourhood
   // after 4 halvings of 4.95 is still 0.41) is refused as before.
   LambdaProblem narrow(1, [](const Vector& u, double l, double, Vector& F) {
-    F(0) = u(0) < 0.2 ? u(0) * u(0) - l : std::numeric_limits<double>::quiet_NaN();
+    F(0) = u(0) < 0.2 ? u(0) * u(0) - l : kNaN;
   });
   Continuation refused(narrow, options);
   CHECK(refused.Start(Vec({0.1}), 1.0) == StepResult::kFailed);

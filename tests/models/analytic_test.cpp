@@ -64,7 +64,7 @@ TEST_CASE("Natural frequencies of a symmetric system equal their closed forms", 
   const TwoPointParams p = DiskAtCenter();
   const double k = p.support_stiffness[0];
   const NaturalFrequencies nf = ComputeNaturalFrequencies(p);
-  auto hz = [](double omega_squared) { return std::sqrt(omega_squared) / kTwoPi; };
+  auto hz = [](double omega_squared) { return RadPerSecondToHz(std::sqrt(omega_squared)); };
   CHECK_THAT(nf.stator_bounce.frequency_hz, Catch::Matchers::WithinRel(hz(2 * k / p.stator_mass), 1e-12));
   CHECK_THAT(nf.stator_pitch.frequency_hz,
              Catch::Matchers::WithinRel(hz(k * p.stator_span * p.stator_span / (2 * p.stator_inertia)), 1e-12));

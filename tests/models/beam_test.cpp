@@ -253,7 +253,7 @@ TEST_CASE("beam model validation names the entry, its value and the rule", "[bea
   bad.springs[0].other_shaft = 1;
   CHECK_THAT(message(bad), Catch::StartsWith("springs[0].other_shaft = 1: must name a shaft"));
   bad = good;
-  bad.springs[0].stiffness = std::nan("");
+  bad.springs[0].stiffness = kNaN;
   CHECK(message(bad) == "springs[0].stiffness = nan: must be finite");
   CHECK(message(BeamModel{}) == "shafts: at least one shaft is needed");
   ShaftElement massless = Steel(0.3, 0.05);

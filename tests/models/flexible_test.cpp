@@ -170,7 +170,7 @@ TEST_CASE("a body shaft's rigid-body data: a uniform body completes to the rigid
   rod.shaft.name = "rod";
   rod.shaft.elements = {half, half};
   rod.contact_stations = {0, 2};
-  const double m = 7810.0 * M_PI * 0.05 * 0.05 / 4 * 0.4;
+  const double m = 7810.0 * kPi * 0.05 * 0.05 / 4 * 0.4;
   RigidBodyData r = RigidBodyOf(rod);
   CHECK(r.mass == Approx(m).epsilon(1e-14));
   CHECK(r.span == Approx(0.4).epsilon(1e-14));

@@ -32,9 +32,9 @@ TEST_CASE("Jeffcott: contact only between the rotor and the combined natural fre
   JeffcottParams undamped = params;
   undamped.c_r = 0.0;
   undamped.c_s = 0.0;
-  CHECK(JeffcottContactForce(undamped, kTwoPi * 60.0).imag() == 0.0);
+  CHECK(JeffcottContactForce(undamped, HzToRadPerSecond(60.0)).imag() == 0.0);
   // Damped: rolling backward whirl needs a positive friction force.
-  CHECK(JeffcottContactForce(params, kTwoPi * 60.0).imag() > 0.0);
+  CHECK(JeffcottContactForce(params, HzToRadPerSecond(60.0)).imag() > 0.0);
 }
 
 TEST_CASE("Jeffcott curve: transitions are roots of the closed form", "[jeffcott]") {

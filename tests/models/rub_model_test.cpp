@@ -89,7 +89,7 @@ TEST_CASE("two-point structure: fixed-frame Jacobian and parameter derivative", 
   TwoPointParams params = ThesisCaseAa();
   params.friction_law.velocity_scale = 0.05;
   params.imbalance = 3.43e-5;
-  RubFixedFrame model(TwoPointStructure(params), kTwoPi * 60.0 / 60.0);
+  RubFixedFrame model(TwoPointStructure(params), RpmToRadPerSecond(60.0));
   const Vector x = TouchingState(model.structure());
   const Vector typical = model.StateScale();
   const double t = 0.0123;
@@ -228,7 +228,7 @@ TEST_CASE("gyroscopic moments (a flexible rotor): Jacobians, ∂f/∂ω, whirl o
       const std::complex<double> target(-mode.damping_ratio * kTwoPi * mode.frequency_hz /
                                             std::sqrt(1 - mode.damping_ratio * mode.damping_ratio),
                                         (backward ? -1.0 : 1.0) * kTwoPi * mode.frequency_hz);
-      double nearest = INFINITY;
+      double nearest = kInfinity;
       for (Index i = 0; i < lambda.size(); ++i) {
         nearest = std::min(nearest, std::abs(lambda(i) - target));
       }

@@ -93,7 +93,7 @@ TEST_CASE("van der Pol: derivatives and scales", "[textbook]") {
     CheckDerivatives(oscillator, 0.0, (Vector(2) << 1.7, -0.03 * mu).finished());
     CHECK(oscillator.StateScale()(1) == Approx(std::max(2.0, 4 * std::abs(mu) / 3)));
   }
-  CHECK_THROWS_WITH(VanDerPolOscillator({NAN}), Catch::Contains("mu"));
+  CHECK_THROWS_WITH(VanDerPolOscillator({kNaN}), Catch::Contains("mu"));
 }
 
 TEST_CASE("Forced van der Pol: derivatives, forcing period and scales", "[textbook]") {
@@ -103,7 +103,7 @@ TEST_CASE("Forced van der Pol: derivatives, forcing period and scales", "[textbo
   CHECK(oscillator.ForcingPeriod() == Approx(kTwoPi / 1.2).epsilon(1e-15));
   CHECK(oscillator.StateScale()(1) == Approx(8.0 / 3.0));
   CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, 0.1, -1.0}), Catch::Contains("frequency"));
-  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, NAN, 1.0}), Catch::Contains("force"));
+  CHECK_THROWS_WITH(ForcedVanDerPolOscillator({0.2, kNaN, 1.0}), Catch::Contains("force"));
 }
 
 // x(t1) from x(t0) = x0, by CVODES BDF at 1e-12.

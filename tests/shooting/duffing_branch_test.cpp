@@ -13,6 +13,7 @@
 #include "duffing_harmonic_balance.h"
 #include "models/textbook.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/finite_difference.h"
 #include "solvers/newton.h"
 
@@ -143,7 +144,7 @@ TEST_CASE("Duffing resonance curve over w in [0.5, 2.5]: both folds located by s
       const BranchPoint& p = branch.points[i];
       REQUIRE(p.spectrum.valid);
       REQUIRE(p.spectrum.values.size() == 2);
-      const double period = 2 * M_PI / p.lambda;
+      const double period = kTwoPi / p.lambda;
       const std::complex<double> det = p.spectrum.values(0) * p.spectrum.values(1);
       CHECK(det.real() == Approx(std::exp(-params.damping * period)).epsilon(1e-6));
       if (i <= upper.index) {
@@ -181,7 +182,7 @@ TEST_CASE("Duffing saddle at w = 1.5: the monodromy by finite differences of the
   DuffingParams params;
   params.frequency = 1.5;
   DuffingOscillator duffing(params);
-  const double w = params.frequency, period = 2 * M_PI / w;
+  const double w = params.frequency, period = kTwoPi / w;
   const auto guesses = testing::DuffingHarmonicBalance::OneTermSolutions(params);
   REQUIRE(guesses.size() == 3);
   const auto [amplitude, phase] = guesses[1];  // the middle orbit: a saddle

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "models/textbook.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont {
@@ -32,7 +33,7 @@ class DuffingHarmonicBalance {
   DuffingHarmonicBalance(const DuffingParams& params, int harmonics)
       : p_(params), H_(harmonics), M_(4 * harmonics + 2), basis_(M_, 2 * harmonics + 1) {
     for (int j = 0; j < M_; ++j) {
-      const double theta = 2.0 * M_PI * j / M_;
+      const double theta = kTwoPi * j / M_;
       basis_(j, 0) = 1.0;
       for (int h = 1; h <= H_; ++h) {
         basis_(j, 2 * h - 1) = std::cos(h * theta);

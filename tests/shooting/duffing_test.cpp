@@ -8,6 +8,7 @@
 #include "models/textbook.h"
 #include "duffing_harmonic_balance.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont {
@@ -51,7 +52,7 @@ TEST_CASE("Duffing at w = 1.5: the three coexisting orbits by single and multipl
   params.frequency = 1.5;
   DuffingOscillator duffing(params);
   const double w = params.frequency;
-  const double period = 2 * M_PI / w;
+  const double period = kTwoPi / w;
   const DuffingHarmonicBalance balance(params, 25);
   const auto guesses = DuffingHarmonicBalance::OneTermSolutions(params);
   REQUIRE(guesses.size() == 3);

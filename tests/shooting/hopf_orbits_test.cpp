@@ -9,6 +9,7 @@
 #include "continuation/continuation.h"
 #include "models/textbook.h"
 #include "shooting/hopf_orbits.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 namespace {
@@ -64,7 +65,7 @@ TEST_CASE("Stuart–Landau: Hopf point of the equilibrium located, the orbits bo
       CAPTURE(p.lambda);
       // On the circle r = √λ every point has |x| = r; the phase condition picks one of them.
       CHECK(p.u.head(2).norm() == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-9));
-      const double T = 2 * M_PI / std::abs(params.omega - params.gamma * p.lambda);
+      const double T = kTwoPi / std::abs(params.omega - params.gamma * p.lambda);
       CHECK(period(i) == Approx(T).epsilon(1e-9));
       REQUIRE(p.spectrum.valid);
       REQUIRE(p.spectrum.values.size() == 1);
@@ -148,7 +149,7 @@ TEST_CASE("Hopf point of a relative equilibrium: the orbits born there continued
   REQUIRE(branch.Size() > 5);
   CHECK(branch.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-9));
   const Vector period = branch.Measure("period"), rotation = branch.Measure("rotation");
-  const double T = 2 * M_PI / CarriedOscillator::kNu;
+  const double T = kTwoPi / CarriedOscillator::kNu;
   for (Index i = 0; i < branch.Size(); ++i) {
     const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
     CAPTURE(p.lambda);

@@ -14,6 +14,7 @@
 
 #include "continuation/continuation.h"
 #include "models/textbook.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont {
@@ -61,11 +62,11 @@ double Fraction(double x) { return x - std::floor(x); }
 // The clocked Stuart–Landau torus of the tests: λ = 0.5, ω = 1, γ = 0.3, T = 2π/√2.
 struct ClockedTorus {
   StuartLandauParams params{0.5, 1.0, 0.3};
-  double period = 2.0 * M_PI / std::sqrt(2.0);
+  double period = kTwoPi / std::sqrt(2.0);
   std::shared_ptr<ClockedStuartLandau> system = std::make_shared<ClockedStuartLandau>(params, period);
   InvariantCircleProblem problem{system, 3, OrbitKind::kForced, Tight()};
   double Rho(double lambda) const {
-    return Fraction((params.omega - params.gamma * lambda) * period / (2 * M_PI));
+    return Fraction((params.omega - params.gamma * lambda) * period / kTwoPi);
   }
 };
 
@@ -363,7 +364,7 @@ TEST_CASE("invariant circle: autonomous torus, period 2pi/Omega_0 and rotation n
                                                     std::vector<double>{0.2, -0.3}, mu, 0.5, false);
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
   REQUIRE(problem.Dimension() == 4 * 7 + 2);
-  const double period = 2.0 * M_PI / system->Turn(0);
+  const double period = kTwoPi / system->Turn(0);
   const double rho = Fraction(system->Turn(1) / system->Turn(0));  // 0.40909...
   Vector u = problem.Pack(RoughCircle(4, mu), rho + 0.01, 1.02 * period);
   const NewtonResult result = Solve(problem, u, mu);
@@ -394,7 +395,7 @@ TEST_CASE("invariant circle: autonomous torus, period 2pi/Omega_0 and rotation n
   for (const BranchPoint& p : branch.points) {
     system->SetParameter(p.lambda);
     CHECK(std::abs(problem.RotationNumber(p.u) - Fraction(system->Turn(1) / system->Turn(0))) <= 1e-8);
-    CHECK(std::abs(problem.Period(p.u, p.lambda) * system->Turn(0) - 2.0 * M_PI) <= 1e-8);
+    CHECK(std::abs(problem.Period(p.u, p.lambda) * system->Turn(0) - kTwoPi) <= 1e-8);
   }
 }
 
@@ -407,8 +408,8 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
                                                     std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
   InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight());
   REQUIRE(problem.Dimension() == 6 * 7 + 3);
-  const double period = 2.0 * M_PI / (system->Turn(1) - system->Turn(0));
-  const double rotation = std::remainder(system->Turn(0) * period, 2.0 * M_PI);
+  const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
+  const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
   const double rho = Fraction((system->Turn(2) - system->Turn(0)) / (system->Turn(1) - system->Turn(0)));
   Vector u = problem.Pack(RoughCircle(6, mu), rho - 0.01, 0.98 * period, rotation + 0.05);
   const NewtonResult result = Solve(problem, u, mu);
@@ -416,7 +417,7 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   REQUIRE(result.Converged());
   CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-9);
   CHECK(std::abs(problem.Period(u, mu) - period) <= 1e-9 * period);
-  CHECK(std::abs(std::remainder(problem.Rotation(u) - rotation, 2.0 * M_PI)) <= 1e-9);
+  CHECK(std::abs(std::remainder(problem.Rotation(u) - rotation, kTwoPi)) <= 1e-9);
   // Radii to the integration's global error over T ≈ 6 at tolerance 1e-11 (measured 1.1e-9).
   CheckChainTorus(problem, u, mu, period, 5e-9);
   // The same torus seen without the rotation as an unknown: Φ_T alone has no invariant circle near
@@ -453,7 +454,7 @@ TEST_CASE("invariant circle: points on a curve that winds twice round its centre
   };
   Matrix points(4, 4 * (2 * harmonics + 1));
   for (Index k = 0; k < points.cols(); ++k) {
-    points.col(k) = curve(2 * M_PI * rho * static_cast<double>(k));
+    points.col(k) = curve(kTwoPi * rho * static_cast<double>(k));
   }
   const Vector u = problem.CircleFromOrbit(points);
   // To the fit's grid in ρ (its last step 4/(100 m · 50) = 1.2e-5): a start for Newton.

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "models/units.h"
 #include "shooting/orbit_branches.h"
 #include "shooting/rub_orbits.h"
 #include "sweeps/rub_sweep.h"
@@ -40,8 +41,8 @@ TEST_CASE("case A(a) at 60 rpm: the modulated whip is a relative periodic orbit 
   const RubSettledSpeed transient = Settle(params, 60.0);
   REQUIRE(transient.settled);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                   2.0 * M_PI * transient.precession_hz, transient.state,
-                                                   Options(1e-6));
+                                                   HzToRadPerSecond(transient.precession_hz),
+                                                   transient.state, Options(1e-6));
   INFO(orbit.message);
   REQUIRE(orbit.converged);
   // Measured: T = 4.7667 ms (the Hopf point's 2π/1519.6 = 4.135 ms at 51.68 rpm, growing with
@@ -76,8 +77,8 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   // next 0.8 s (measured), and the torus's first points need it steady.
   const RubSettledSpeed transient = Settle(params, 60.0, 8.0);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                   2.0 * M_PI * transient.precession_hz, transient.state,
-                                                   Options(1e-6));
+                                                   HzToRadPerSecond(transient.precession_hz),
+                                                   transient.state, Options(1e-6));
   INFO(orbit.message);
   CHECK_FALSE(orbit.converged);
   CHECK_FALSE(orbit.newton.Converged());
@@ -93,7 +94,8 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   ModulatedTorusOptions one;
   one.laps = 1;
   const ModulatedTorus cut = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                 2.0 * M_PI * transient.precession_hz, transient.state, one);
+                                                 HzToRadPerSecond(transient.precession_hz),
+                                                 transient.state, one);
   INFO(cut.message);
   CHECK_FALSE(cut.converged);
   CHECK_THAT(cut.message, Contains("are no circle"));
@@ -109,13 +111,13 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   automatic.newton.max_iterations = 1;
   automatic.lyapunov_iterates = 0;
   const ModulatedTorus five = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),
-                                                  2.0 * M_PI * transient.precession_hz, transient.state,
-                                                  automatic);
+                                                  HzToRadPerSecond(transient.precession_hz),
+                                                  transient.state, automatic);
   INFO(five.message);
   CHECK(five.laps == 5);
   CHECK_THAT(five.message, Contains("Newton from the transient's circle (5 × T"));
   const auto frame = std::make_shared<RubRotatingFrame>(TwoPointStructure(params),
-                                                        2.0 * M_PI * transient.precession_hz,
+                                                        HzToRadPerSecond(transient.precession_hz),
                                                         RpmToRadPerSecond(60.0));
   const InvariantCircleProblem circle(frame, automatic.harmonics, OrbitKind::kRelative);
   const double rho = circle.RotationNumber(five.u);
@@ -132,7 +134,7 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
   const ModulatedTorusOptions start = SettledTransientStart(16);
   const ModulatedTorus torus =
       SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(49.0),
-                          2.0 * M_PI * transient.precession_hz, transient.state, start);
+                          HzToRadPerSecond(transient.precession_hz), transient.state, start);
   INFO(torus.message);
   REQUIRE(torus.converged);
   // One period per section: the points of the map lie on one circle (measured ρ = 0.37893,
@@ -170,7 +172,7 @@ TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of th
   options.shooting.integrator.collocation_stages = 4;
   options.shooting.integrator.collocation_steps = 200;
   options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
-  const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, 2.0 * M_PI * transient.precession_hz,
+  const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, HzToRadPerSecond(transient.precession_hz),
                                                    transient.state, options);
   INFO(orbit.message);
   REQUIRE(orbit.converged);

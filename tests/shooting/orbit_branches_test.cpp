@@ -4,9 +4,9 @@
 // new orbits have z = ±√λ and the multiplier e^{−4πλ}. The mirror z → −z maps one onto the other.
 // With ż = z(1 − λ² − z²) instead ("bubble"), the new orbits z² = 1 − λ² join pitchforks at λ = ±1.
 #include "shooting/orbit_branches.h"
+#include "solvers/constants.h"
 
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -60,7 +60,7 @@ PeriodicOrbitBranchOptions Options() {
 PeriodicOrbitBranch SymmetricFamily(CycleTimesPitchfork& system) {
   OrbitStart start;
   start.x0 = Eigen::Vector3d(1.0, 0.0, 0.0);
-  start.period = 2 * M_PI;
+  start.period = kTwoPi;
   start.lambda = -0.5;
   start.valid = true;
   return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
@@ -96,11 +96,11 @@ TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 b
     const double z = p.u(2);  // z is constant along the orbit
     CHECK(z * z == Approx(p.lambda).epsilon(0).margin(1e-8));
     CHECK(p.u.size() == 2 * 3 + 1);
-    CHECK(p.u(6) == Approx(2 * M_PI).epsilon(1e-8));  // the period
+    CHECK(p.u(6) == Approx(kTwoPi).epsilon(1e-8));  // the period
     // The nontrivial multipliers: e^{−4πλ} (the pitchfork) and e^{−4π} (the cycle's radius).
     REQUIRE(p.spectrum.values.size() == 2);
     const double largest = std::max(std::abs(p.spectrum.values(0)), std::abs(p.spectrum.values(1)));
-    CHECK(largest == Approx(std::exp(-4 * M_PI * p.lambda)).epsilon(1e-6));
+    CHECK(largest == Approx(std::exp(-4 * kPi * p.lambda)).epsilon(1e-6));
     CHECK(p.num_unstable == 0);
   }
   CHECK(other.points.back().lambda == Approx(0.5).epsilon(0).margin(1e-9));
@@ -138,7 +138,7 @@ TEST_CASE("cycle times bubble: the asymmetric orbits from lambda = -1 end where 
   options.lambda_max = 1.5;
   OrbitStart start;
   start.x0 = Eigen::Vector3d(1.0, 0.0, 0.0);
-  start.period = 2 * M_PI;
+  start.period = kTwoPi;
   start.lambda = -1.5;
   start.valid = true;
   system.SetParameter(-1.5);
@@ -208,7 +208,7 @@ class CycleWithMoebiusBand : public OdeSystem {
 OrbitStart MoebiusCycleStart() {
   OrbitStart start;
   start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
-  start.period = 2 * M_PI;
+  start.period = kTwoPi;
   start.lambda = -0.5;
   start.valid = true;
   return start;
@@ -242,7 +242,7 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
     CAPTURE(p.lambda);
     CHECK(p.lambda >= -1e-12);  // supercritical: the doubled orbits exist for λ > 0
     REQUIRE(p.u.size() == 4 * 4 + 1);
-    CHECK(p.u(16) == Approx(4 * M_PI).epsilon(1e-8));  // the period
+    CHECK(p.u(16) == Approx(4 * kPi).epsilon(1e-8));  // the period
     // |w| = a at every segment start.
     for (int i = 0; i < 4; ++i) {
       CHECK(std::hypot(p.u(4 * i + 2), p.u(4 * i + 3)) ==
@@ -250,7 +250,7 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
     }
     if (p.lambda < 1e-3) continue;
     REQUIRE(p.spectrum.values.size() == 3);
-    CHECK(std::abs(p.spectrum.values(0)) == Approx(std::exp(-8 * M_PI * p.lambda)).epsilon(1e-6));
+    CHECK(std::abs(p.spectrum.values(0)) == Approx(std::exp(-8 * kPi * p.lambda)).epsilon(1e-6));
     CHECK(p.num_unstable == 0);
   }
   CHECK(doubled.points.back().lambda == Approx(0.5).epsilon(0).margin(1e-9));
@@ -269,7 +269,7 @@ class CycleWithMoebiusBandNearby : public CycleWithMoebiusBand {
  public:
   void Rhs(double t, ConstVectorRef x, VectorRef f) override {
     CycleWithMoebiusBand::Rhs(t, x, f);
-    if (std::hypot(x(2), x(3)) > 0.05) f.setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (std::hypot(x(2), x(3)) > 0.05) f.setConstant(kNaN);
   }
 };
 
@@ -352,7 +352,7 @@ TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_cu
   IsolaOscillator system;
   OrbitStart start;
   start.x0 = Eigen::Vector2d(std::sqrt(3.0), 0.0);  // the outer cycle at λ = 0
-  start.period = 2 * M_PI / 4.0;
+  start.period = kTwoPi / 4.0;
   start.lambda = 0.0;
   start.valid = true;
   PeriodicOrbitBranchOptions options;
@@ -384,7 +384,7 @@ TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_cu
     const double r2 = p.u(0) * p.u(0) + p.u(1) * p.u(1);
     CAPTURE(p.lambda, r2);
     CHECK((r2 - 2) * (r2 - 2) + p.lambda * p.lambda == Approx(1.0).epsilon(0).margin(1e-7));
-    CHECK(p.u(4) == Approx(2 * M_PI / (1 + r2)).epsilon(1e-8));  // the period
+    CHECK(p.u(4) == Approx(kTwoPi / (1 + r2)).epsilon(1e-8));  // the period
     if (std::abs(r2 - 2) > 1e-2) CHECK(p.StableFlag() == (r2 > 2 ? 1 : 0));
   }
 }

@@ -7,6 +7,7 @@
 
 #include "models/textbook.h"
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 namespace {
@@ -41,7 +42,7 @@ TEST_CASE("the periodicity defect is small on a true orbit and large on a wrong 
   CHECK(defect.evaluate(orbit) < 1e-8);
   // As a relative orbit over half the period, rotated by the phase it gains.
   orbit = StuartLandauCycle(system, 0.5 * system.Period());
-  orbit.rotation = M_PI;
+  orbit.rotation = kPi;
   CHECK(defect.evaluate(orbit) < 1e-8);
   orbit.rotation = 0.0;  // the same samples claimed periodic: off by the diameter
   CHECK(defect.evaluate(orbit) == Approx(2 * system.OrbitRadius()).epsilon(1e-6));

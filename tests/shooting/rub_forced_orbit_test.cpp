@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "shooting/shooting.h"
 #include "solvers/newton.h"
 
@@ -19,9 +20,9 @@ TEST_CASE("case A(a) imbalance response without contact: the free-free rotor mak
           "[shooting][rub]") {
   TwoPointParams params = ThesisCaseAa();  // case A(a): disk at centre, RCI 100/100, centre damper 52 N·s/m
   params.imbalance = 3.43e-5;
-  const double omega = 200.0 * 2.0 * M_PI / 60.0;  // 200 rpm
+  const double omega = RpmToRadPerSecond(200.0);
   RubFixedFrame system(TwoPointStructure(params), omega);
-  REQUIRE(system.ForcingPeriod() == Approx(2 * M_PI / omega));
+  REQUIRE(system.ForcingPeriod() == Approx(kTwoPi / omega));
 
   // Start at rest in the centre: the imbalance response m_u e/m_r ≈ 3.4 µm stays far inside the
   // clearance (381 µm), so no contact force ever acts.

@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "shooting/rub_orbits.h"
 #include "solvers/newton.h"
 #include "solvers/ode.h"
@@ -19,8 +20,6 @@
 
 namespace rubcont {
 namespace {
-
-constexpr double kRpm = 2.0 * M_PI / 60.0;
 
 struct ModulatedWhip {
   RubStructure structure;
@@ -32,16 +31,16 @@ struct ModulatedWhip {
 RubModulatedOrbits ContinueCaseAa(const RubStructure& structure, double rpm_max,
                                   const IntegratorOptions& integrator, int max_steps) {
   RotatingWaveBranchOptions options;
-  options.search.speed_min = 40 * kRpm;
-  options.search.speed_max = 70 * kRpm;
-  options.search.precession_max = 2 * M_PI * 200;
+  options.search.speed_min = RpmToRadPerSecond(40);
+  options.search.speed_max = RpmToRadPerSecond(70);
+  options.search.precession_max = HzToRadPerSecond(200);
   const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options);
   const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
   REQUIRE_FALSE(starts.empty());
   HopfOrbitOptions hopf;
   hopf.amplitude = 1e-3;
-  hopf.orbits.lambda_min = 40 * kRpm;
-  hopf.orbits.lambda_max = rpm_max * kRpm;
+  hopf.orbits.lambda_min = RpmToRadPerSecond(40);
+  hopf.orbits.lambda_max = RpmToRadPerSecond(rpm_max);
   hopf.orbits.shooting.segments = 4;
   hopf.orbits.shooting.integrator = integrator;
   hopf.orbits.shooting.sensitivities_in_residual = true;
@@ -78,8 +77,8 @@ TEST_CASE("case A(a): the modulated whip is born at the Mode 1 whirl's Hopf poin
   const RubHopfStart& hopf = whip.result.hopf;
   // The first Hopf point bounding a stable piece: the Mode 1 whirl, stable below it.
   CHECK(hopf.stable_below);
-  CHECK(hopf.speed / kRpm == Approx(53.66).epsilon(0).margin(0.05));
-  CHECK(hopf.precession / (2 * M_PI) == Approx(84.48).epsilon(0).margin(0.05));
+  CHECK(RadPerSecondToRpm(hopf.speed) == Approx(53.66).epsilon(0).margin(0.05));
+  CHECK(RadPerSecondToHz(hopf.precession) == Approx(84.48).epsilon(0).margin(0.05));
   const Branch& branch = whip.result.orbits.branch;
   INFO(branch.BriefReport() << " — " << branch.message);
   REQUIRE(branch.Size() == 4);
@@ -89,7 +88,7 @@ TEST_CASE("case A(a): the modulated whip is born at the Mode 1 whirl's Hopf poin
   const Vector n_max = branch.Measure("max_normal_force_left");
   for (Index i = 0; i < branch.Size(); ++i) {
     const BranchPoint& p = branch.points[static_cast<std::size_t>(i)];
-    CAPTURE(i, p.lambda / kRpm);
+    CAPTURE(i, RadPerSecondToRpm(p.lambda));
     // Supercritical: the orbits exist where the whirl is unstable and are stable themselves.
     CHECK(p.lambda > hopf.speed);
     REQUIRE(p.spectrum.valid);
@@ -108,8 +107,8 @@ TEST_CASE("case A(a): the modulated whip is born at the Mode 1 whirl's Hopf poin
   const auto at_hopf = [&](const Vector& y) {
     return y(0) + (hopf.speed - l0) * (y(1) - y(0)) / (l1 - l0);
   };
-  CHECK(at_hopf(period) == Approx(2 * M_PI / hopf.modulation).epsilon(5e-4));
-  CHECK(at_hopf(carrier) == Approx(hopf.precession / (2 * M_PI)).epsilon(1e-8));
+  CHECK(at_hopf(period) == Approx(kTwoPi / hopf.modulation).epsilon(5e-4));
+  CHECK(at_hopf(carrier) == Approx(RadPerSecondToHz(hopf.precession)).epsilon(1e-8));
 }
 
 TEST_CASE("case A(a): integrated in the fixed frame, the modulated whip returns after one "
@@ -194,7 +193,7 @@ TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reprod
   const Branch& b = whip.orbits.branch;
   REQUIRE(b.status == BranchStatus::kReachedLambdaBound);
   const Index last = b.Size() - 1;
-  CHECK(b.points.back().lambda == Approx(56 * kRpm).epsilon(1e-12));
+  CHECK(b.points.back().lambda == Approx(RpmToRadPerSecond(56)).epsilon(1e-12));
   // Measured differences: 2.5e-10 and 9e-13 relative, multipliers 1e-9 (largest) and 2e-7.
   CHECK(b.Measure("modulation_hz")(last) == Approx(211.935817185).epsilon(1e-8));
   CHECK(b.Measure("precession_hz")(last) == Approx(84.4190240523).epsilon(1e-10));

@@ -7,11 +7,10 @@
 #include <catch2/catch.hpp>
 
 #include "models/two_point_params.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kRpm = 2.0 * M_PI / 60.0;
 
 TwoPointParams CaseCaTanh() {
   TwoPointParams params = ThesisCaseCa();
@@ -29,16 +28,16 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
           "[torus][rub]") {
   const RubStructure structure = TwoPointStructure(CaseCaTanh());
   RotatingWaveBranchOptions waves;
-  waves.search.speed_min = 20 * kRpm;
-  waves.search.speed_max = 70 * kRpm;
-  waves.search.precession_max = 2 * M_PI * 200;
+  waves.search.speed_min = RpmToRadPerSecond(20);
+  waves.search.speed_max = RpmToRadPerSecond(70);
+  waves.search.precession_max = HzToRadPerSecond(200);
   const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, waves);
   const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
   REQUIRE_FALSE(starts.empty());
   HopfOrbitOptions hopf;
   hopf.amplitude = 1e-3;
-  hopf.orbits.lambda_min = 20 * kRpm;
-  hopf.orbits.lambda_max = 48.8 * kRpm;
+  hopf.orbits.lambda_min = RpmToRadPerSecond(20);
+  hopf.orbits.lambda_max = RpmToRadPerSecond(48.8);
   hopf.orbits.shooting.segments = 4;
   hopf.orbits.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
   hopf.orbits.shooting.integrator.collocation_steps = 100;
@@ -48,8 +47,8 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   hopf.orbits.continuation.bounds.max_steps = 40;
   hopf.orbits.continuation.step.target_iterations = 5;
   RubTorusOptions options;
-  options.tori.lambda_min = 20 * kRpm;
-  options.tori.lambda_max = 52.0 * kRpm;
+  options.tori.lambda_min = RpmToRadPerSecond(20);
+  options.tori.lambda_max = RpmToRadPerSecond(52.0);
   options.tori.harmonics = 8;
   options.tori.max_fourier_tail = 1e-2;
   options.tori.continuation.bounds.max_steps = 20;
@@ -64,9 +63,9 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   REQUIRE(t.ok);
   const SpecialPoint& ns = orbits.special_points[t.special_point];
   CHECK(ns.type == SpecialPointType::kNeimarkSacker);
-  CHECK(t.birth_lambda / kRpm == Approx(48.667).epsilon(0).margin(0.01));
+  CHECK(RadPerSecondToRpm(t.birth_lambda) == Approx(48.667).epsilon(0).margin(0.01));
   // The start's ρ₀ is the located multiplier's angle, recomputed from the segment STMs.
-  CHECK(t.birth_rotation_number == Approx(ns.frequency / (2 * M_PI)).epsilon(0).margin(1e-4));
+  CHECK(t.birth_rotation_number == Approx(ns.frequency / kTwoPi).epsilon(0).margin(1e-4));
   CHECK(t.birth_modulus == Approx(1.0).epsilon(0).margin(1e-4));
 
   // Supercritical: the tori lie above the point, and the first is the orbit's modulation plus a
@@ -102,10 +101,10 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   REQUIRE(locked.ok);
   CHECK(locked.orbits.segments == 20);
   REQUIRE(locked.folds.size() == 2);
-  CHECK(locked.folds[0] / kRpm == Approx(48.851).epsilon(0).margin(0.002));
-  CHECK(locked.folds[1] / kRpm == Approx(48.876).epsilon(0).margin(0.002));
+  CHECK(RadPerSecondToRpm(locked.folds[0]) == Approx(48.851).epsilon(0).margin(0.002));
+  CHECK(RadPerSecondToRpm(locked.folds[1]) == Approx(48.876).epsilon(0).margin(0.002));
   CHECK(points.back().lambda < locked.folds[0]);
-  CHECK(locked.folds[0] - points.back().lambda < 0.02 * kRpm);  // measured 0.015 rpm
+  CHECK(locked.folds[0] - points.back().lambda < RpmToRadPerSecond(0.02));  // measured 0.015 rpm
   bool stable = false;
   for (const BranchPoint& p : locked.orbits.branch.points) {
     stable = stable || p.num_unstable == 0;

@@ -6,6 +6,7 @@
 // Lyapunov exponents per period: 0 (along the circle), 0 (along the flow), −2λT (across, in z₁),
 // −2T (z₀'s radius).
 #include "shooting/torus_branches.h"
+#include "solvers/constants.h"
 
 #include <cmath>
 
@@ -50,7 +51,7 @@ PeriodicOrbitBranch Family(CycleBesideOscillator& system) {
   options.continuation.step.max = 0.1;
   OrbitStart start;
   start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
-  start.period = 2 * M_PI / kOmega0;
+  start.period = kTwoPi / kOmega0;
   start.lambda = -0.1;
   start.valid = true;
   return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
@@ -97,7 +98,7 @@ TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation numbe
   REQUIRE(tori.branch.points.size() >= 5);
   CHECK(tori.branch.points.back().lambda == Approx(0.25));
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
-  const double period = 2 * M_PI / kOmega0;
+  const double period = kTwoPi / kOmega0;
   for (std::size_t i = 0; i < tori.branch.points.size(); ++i) {
     const BranchPoint& p = tori.branch.points[i];
     INFO("point " << i << " at lambda = " << p.lambda);
@@ -157,7 +158,7 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
   options.continuation.direction = -1;
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
   // The circle θ ↦ (cos θ₀, sin θ₀, r cos θ, r sin θ) off by 2 % in r, T and ρ.
-  const double lambda0 = 0.2, r = 1.02 * std::sqrt(lambda0), period = 2 * M_PI / kOmega0;
+  const double lambda0 = 0.2, r = 1.02 * std::sqrt(lambda0), period = kTwoPi / kOmega0;
   Matrix c = Matrix::Zero(4, 7);
   c(0, 0) = 1.0;
   c(2, 1) = r;

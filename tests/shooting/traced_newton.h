@@ -6,13 +6,14 @@
 #include <cmath>
 
 #include "shooting/shooting.h"
+#include "solvers/constants.h"
 #include "solvers/newton.h"
 
 namespace rubcont::testing {
 
 struct TracedNewton {
   NewtonResult result;
-  double smallest_residual = INFINITY;  // ‖F ./ ResidualScale()‖∞ over every evaluation
+  double smallest_residual = kInfinity;  // ‖F ./ ResidualScale()‖∞ over every evaluation
 };
 
 inline TracedNewton NewtonWithSmallestResidual(ShootingProblem& problem, Vector& u, double lambda,

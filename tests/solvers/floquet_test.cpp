@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "solvers/floquet.h"
 
 #include <cmath>
@@ -138,7 +139,7 @@ TEST_CASE("the three methods agree on a well-conditioned cycle, and on a single 
     CAPTURE(ToString(method));
     const ComplexVector values = ProductEigenvalues(factors, method);
     for (Index k = 0; k < 3; ++k) {
-      double nearest = INFINITY;
+      double nearest = kInfinity;
       for (Index j = 0; j < 3; ++j) nearest = std::min(nearest, std::abs(values(k) - reference(j)));
       CHECK(nearest < 1e-12);
     }
@@ -219,7 +220,7 @@ TEST_CASE("Floquet arguments are checked", "[floquet]") {
                     Catch::Contains("trivial_bases[0]"));
   CHECK_THROWS_WITH(FloquetMultipliers(good, {Matrix::Ones(2, 1), Matrix::Ones(2, 1)}),
                     Catch::Contains("2 trivial bases for 1 factors"));
-  std::vector<Matrix> nan = {Matrix::Constant(2, 2, NAN)};
+  std::vector<Matrix> nan = {Matrix::Constant(2, 2, kNaN)};
   CHECK_FALSE(FloquetMultipliers(nan, {}).valid);
 }
 

@@ -1,7 +1,7 @@
+#include "solvers/constants.h"
 #include "solvers/linear_algebra.h"
 
 #include <cmath>
-#include <limits>
 #include <utility>
 #include <vector>
 
@@ -131,14 +131,14 @@ TEST_CASE("balanced eigenvalues of a graded matrix are its eigenvalues", "[linea
   REQUIRE(BalancedEigenvalues(A, values));
   REQUIRE(values.size() == n);
   auto distance_to_nearest = [&](std::complex<double> expected) {
-    double best = std::numeric_limits<double>::infinity();
+    double best = kInfinity;
     for (Index k = 0; k < n; ++k) best = std::min(best, std::abs(values(k) - expected));
     return best;
   };
   for (const auto& [re, im] : pairs) {
     CHECK(distance_to_nearest({re, im}) < 1e-9 * std::abs(std::complex<double>(re, im)));
     // The real part, which decides stability, to far better than its own size.
-    double closest_re = 0.0, best = std::numeric_limits<double>::infinity();
+    double closest_re = 0.0, best = kInfinity;
     for (Index k = 0; k < n; ++k) {
       if (std::abs(values(k) - std::complex<double>(re, im)) < best) {
         best = std::abs(values(k) - std::complex<double>(re, im));

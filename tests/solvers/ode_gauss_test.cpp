@@ -9,6 +9,7 @@
 
 #include "models/textbook.h"
 #include "flow_differences.h"
+#include "solvers/constants.h"
 #include "solvers/ode.h"
 
 namespace rubcont {
@@ -67,7 +68,7 @@ TEST_CASE("Gauss collocation's STM and dx/dp are the derivatives of its discrete
           "[ode][gauss]") {
   DuffingOscillator system;  // forced, nonlinear, with ∂f/∂w
   const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
-  const double T = 2 * M_PI / system.Parameter();
+  const double T = kTwoPi / system.Parameter();
   OdeIntegrator integrator(system, Gauss(3, 25));  // coarse: the map differs from the flow
   Vector x(2), dxdp;
   Matrix stm;
@@ -154,7 +155,7 @@ TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end ti
   SECTION("the forced Duffing oscillator (f depends on t), dx/dp asked for as well") {
     DuffingOscillator system;
     const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
-    const double t1 = 2 * M_PI / system.Parameter();
+    const double t1 = kTwoPi / system.Parameter();
     OdeIntegrator gauss(system, Gauss(3, 25));
     Vector x(2), dxdp, dxdt1, f(2);
     Matrix stm;

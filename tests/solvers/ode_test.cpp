@@ -316,7 +316,7 @@ TEST_CASE("integrator failures carry SUNDIALS' flag name and message", "[ode]") 
 // with kNonFinite only when no smaller step helps.
 class NotANumber : public BlowUp {
  public:
-  void Rhs(double, ConstVectorRef, VectorRef f) override { f(0) = std::nan(""); }
+  void Rhs(double, ConstVectorRef, VectorRef f) override { f(0) = kNaN; }
 };
 
 TEST_CASE("a right-hand side that returns NaN ends with kNonFinite", "[ode]") {
@@ -364,7 +364,7 @@ TEST_CASE("dense output samples the solution at requested times", "[ode]") {
   for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kExplicitRungeKutta}) {
     CAPTURE(ToString(method));
     OdeIntegrator integrator(system, Tight(method));
-    const Vector times = Vector::LinSpaced(41, 0.0, 2 * kPi);
+    const Vector times = Vector::LinSpaced(41, 0.0, kTwoPi);
     Matrix states;
     const Vector x0 = (Vector(2) << 1.0, 0.0).finished();
     REQUIRE(integrator.Sample(0.0, x0, times, states).Succeeded());

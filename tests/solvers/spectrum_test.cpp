@@ -17,7 +17,7 @@ ComplexVector Tone(Index n, double sample_rate, double frequency, Complex amplit
                    Complex offset = 0.0) {
   ComplexVector z(n);
   for (Index i = 0; i < n; ++i)
-    z(i) = offset + amplitude * std::exp(Complex(0.0, 2.0 * kPi * frequency * i / sample_rate));
+    z(i) = offset + amplitude * std::exp(Complex(0.0, kTwoPi * frequency * i / sample_rate));
   return z;
 }
 

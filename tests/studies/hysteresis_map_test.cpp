@@ -102,7 +102,7 @@ TEST_CASE("design parameters are set, read back and kept in their physical range
                     Catch::Contains("friction = -0.1: must be finite and ≥ 0"));
   CHECK_THROWS_WITH(WithDesignParameter(base, DesignParameter::kSupportStiffness, 0.0),
                     Catch::Contains("support_stiffness = 0: must be finite and > 0"));
-  CHECK_THROWS_WITH(WithDesignParameter(base, DesignParameter::kRciRatio, std::nan("")),
+  CHECK_THROWS_WITH(WithDesignParameter(base, DesignParameter::kRciRatio, kNaN),
                     Catch::Contains("rci_ratio = nan"));
   CHECK_THROWS_WITH(ParseDesignParameter("mu"), Catch::Contains("parameter = \"mu\": must be one of"));
 }

@@ -6,16 +6,16 @@
 
 #include <catch2/catch.hpp>
 
+#include "models/units.h"
+
 namespace rubcont {
 namespace {
 
-constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
-
 RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
   RotatingWaveBranchOptions options;
-  options.search.speed_min = rpm_min * kRadPerSecondPerRpm;
-  options.search.speed_max = rpm_max * kRadPerSecondPerRpm;
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.speed_min = RpmToRadPerSecond(rpm_min);
+  options.search.speed_max = RpmToRadPerSecond(rpm_max);
+  options.search.precession_max = HzToRadPerSecond(200.0);
   return options;
 }
 

@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "models/units.h"
+
 namespace rubcont {
 namespace {
 
@@ -17,7 +19,7 @@ struct CaseAa {
     RotatingWaveBranchOptions o;
     o.search.speed_min = RpmToRadPerSecond(20.0);
     o.search.speed_max = RpmToRadPerSecond(80.0);
-    o.search.precession_max = 2.0 * M_PI * 200.0;
+    o.search.precession_max = HzToRadPerSecond(200.0);
     branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kExact, o);
   }
 };
@@ -78,7 +80,7 @@ TEST_CASE("Jump table: the speed-up sweep leaves the Mode 1 whirl at its stick-s
   RotatingWaveBranchOptions o;
   o.search.speed_min = RpmToRadPerSecond(20.0);
   o.search.speed_max = RpmToRadPerSecond(80.0);
-  o.search.precession_max = 2.0 * M_PI * 200.0;
+  o.search.precession_max = HzToRadPerSecond(200.0);
   const std::vector<RotatingWaveBranch> tanh_branches =
       ComputeRotatingWaveBranches(a.structure, FrictionLawKind::kTanh, o);
   const std::vector<PredictedJump> smooth =

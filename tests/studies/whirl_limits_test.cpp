@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "models/units.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -16,7 +17,7 @@ RotatingWaveBranchOptions SpeedRange(double min_rpm, double max_rpm) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(min_rpm);
   options.search.speed_max = RpmToRadPerSecond(max_rpm);
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.precession_max = HzToRadPerSecond(200.0);
   return options;
 }
 
@@ -48,7 +49,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
   const double rising_hz = MuCrossingHz(+1, 84.5);
   CHECK(std::abs(up.precession_hz - rising_hz) <= 1e-9 * rising_hz);
   // Rolling at RCI 100 (to the compliance δ/C ~ 1e-5).
-  CHECK(up.speed == Approx(2.0 * M_PI * rising_hz / 100.0).epsilon(1e-4));
+  CHECK(up.speed == Approx(HzToRadPerSecond(rising_hz) / 100.0).epsilon(1e-4));
 
   const WhirlLimit down = FindWhirlLimit(branches, -1, options.search.speed_max);
   INFO(down.reason);
@@ -56,7 +57,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
   CHECK(down.point.find("event") != std::string::npos);
   const double falling_hz = MuCrossingHz(-1, 109.9);
   CHECK(std::abs(down.precession_hz - falling_hz) <= 1e-9 * falling_hz);
-  CHECK(down.speed == Approx(2.0 * M_PI * falling_hz / 100.0).epsilon(1e-4));
+  CHECK(down.speed == Approx(HzToRadPerSecond(falling_hz) / 100.0).epsilon(1e-4));
 
   // The exact law's whip turns at the crossing whatever the speed.
   for (double rpm : {55.0, 60.0, 100.0}) {

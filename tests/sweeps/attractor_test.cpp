@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "sweeps/attractor.h"
 
 #include <cmath>
@@ -144,7 +145,7 @@ TEST_CASE("attractor: one section point per slow excursion, none for the ripple 
   std::vector<double> values, times;
   const double h = 1e-4;
   auto s = [](double t) { return std::sin(t) + 0.05 * std::sin(40.0 * t); };
-  for (double t = 0.3; t < 10.0 * M_PI; t += h) {
+  for (double t = 0.3; t < 10.0 * kPi; t += h) {
     const double before = s(t - h), here = s(t), after = s(t + h);
     if ((here > before && here >= after) || (here < before && here <= after)) {
       values.push_back(here);
@@ -158,7 +159,7 @@ TEST_CASE("attractor: one section point per slow excursion, none for the ripple 
   REQUIRE(points.size() == 4);
   for (std::size_t j = 0; j < points.size(); ++j) {
     CAPTURE(j, times[points[j]]);
-    CHECK(std::abs(times[points[j]] - (M_PI / 2.0 + 2.0 * M_PI * static_cast<double>(j + 1))) < 0.1);
+    CHECK(std::abs(times[points[j]] - (kPi / 2.0 + kTwoPi * static_cast<double>(j + 1))) < 0.1);
     CHECK(values[points[j]] > 1.0);
   }
   // Without the hysteresis the ripple where sin t crosses 0 would open extra excursions.
@@ -176,7 +177,7 @@ TEST_CASE("attractor: the section's period, after the first half's transient", "
   // Constant: period 1. Irrational rotation (a torus's section): none.
   CHECK(SectionPeriod(std::vector<double>(20, 7.0), 0.0, 4) == 1);
   std::vector<double> torus;
-  for (int j = 0; j < 200; ++j) torus.push_back(std::sin(2.0 * M_PI * 0.5 * (std::sqrt(5.0) - 1.0) * j));
+  for (int j = 0; j < 200; ++j) torus.push_back(std::sin(kTwoPi * 0.5 * (std::sqrt(5.0) - 1.0) * j));
   CHECK(SectionPeriod(torus, 1e-3, 8) == 0);
   // Too short a record to tell: its second half must hold two of the longest period.
   CHECK(SectionPeriod(std::vector<double>(30, 7.0), 0.0, 8) == 0);

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/textbook.h"
+#include "models/units.h"
 
 namespace rubcont {
 namespace {
@@ -40,7 +41,7 @@ SystemFactory StuartLandau() {
   return [] {
     StuartLandauParams p;
     p.lambda = kLambda;
-    p.omega = 2.0 * 3.14159265358979323846 * 20.0;
+    p.omega = HzToRadPerSecond(20.0);
     return std::make_unique<StuartLandauOscillator>(p);
   };
 }

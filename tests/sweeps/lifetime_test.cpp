@@ -1,3 +1,4 @@
+#include "solvers/constants.h"
 #include "sweeps/lifetime.h"
 
 #include <cmath>
@@ -21,7 +22,7 @@ EscapeObservations Sample(double parameter, double rate, int copies, double stre
   o.stretch = stretch;
   o.duration = duration;
   for (int i = 0; i < copies; ++i) {
-    const double t = rate > 0.0 ? -std::log1p(-uniform(generator)) / rate : INFINITY;
+    const double t = rate > 0.0 ? -std::log1p(-uniform(generator)) / rate : kInfinity;
     if (t > duration) {
       ++o.stayed;
     } else {

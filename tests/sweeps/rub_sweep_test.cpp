@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/analytic.h"
+#include "models/units.h"
 #include "waves/rotating_wave_branches.h"
 #include "studies/whirl_limits.h"
 
@@ -59,7 +60,7 @@ TEST_CASE("Speed schedules: the thesis's 120 up and 117 down speeds", "[rub_swee
   CHECK_THROWS_WITH(SpeedSchedule(20.0, 258.0, 0.0), Contains("step = 0 rpm"));
   CHECK_THROWS_WITH(SpeedSchedule(-20.0, 258.0, 2.0), Contains("must be positive"));
   CHECK(RadPerSecondToRpm(RpmToRadPerSecond(60.0)) == Approx(60.0));
-  CHECK(RpmToRadPerSecond(60.0) == Approx(2.0 * M_PI));
+  CHECK(RpmToRadPerSecond(60.0) == Approx(kTwoPi));  // 1 rev/s, written by hand: the check of units.h
 }
 
 TEST_CASE("The observables are the contacts' relative motion, slip velocity, normal force and "
@@ -125,7 +126,7 @@ SweepPoint CircularPoint(const RubStructure& s, double rpm, double bp_left, doub
                          double contact_left = 1.0, double contact_right = 1.0) {
   const auto slip = [&](int k, double bp) {
     const ContactGeometry& g = s.contacts[static_cast<std::size_t>(k)].geometry;
-    return RpmToRadPerSecond(rpm) * g.radius - 2.0 * M_PI * bp * g.clearance;
+    return RpmToRadPerSecond(rpm) * g.radius - HzToRadPerSecond(bp) * g.clearance;
   };
   return Point(rpm, {bp_left, slip(0, bp_left), contact_left}, {bp_right, slip(1, bp_right), contact_right});
 }
@@ -163,7 +164,8 @@ TEST_CASE("Regimes and jumps are read off the precession against rolling", "[rub
   CHECK(std::isnan(r.precession_hz[0][8]));
   // Intermittent contact keeps what was measured: its BP and its slip over the contact time.
   CHECK(r.precession_hz[0][10] == 120.0);
-  CHECK(r.slip_ratio[0][10] == Approx(std::abs(1.0 - 120.0 / (100.0 * 66.0 / 60.0))).epsilon(1e-12));
+  CHECK(r.slip_ratio[0][10] ==
+        Approx(std::abs(1.0 - 120.0 / (100.0 * RpmToHz(66.0)))).epsilon(1e-12));
   CHECK(std::isnan(r.slip_ratio[0][11]));
   REQUIRE(r.jumps.size() == 6);
   auto check = [&](std::size_t i, int contact, RubJumpKind kind, double from, double to) {
@@ -368,7 +370,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
       // μ_req = μ frequency above it (the sweep's whip is slightly modulated: within 0.1 Hz).
       if (rpm[i] <= 50.0) {
         CHECK(loose.regimes.regime[k][i] == RubRegime::kWhirl);
-        CHECK(bp == Approx(100.0 * rpm[i] / 60.0).epsilon(0.005));
+        CHECK(bp == Approx(100.0 * RpmToHz(rpm[i])).epsilon(0.005));
         CHECK(std::abs(v_loose) < 1e-3);
       } else {
         CHECK(loose.regimes.regime[k][i] == RubRegime::kWhip);
@@ -385,7 +387,7 @@ TEST_CASE("Stiff contact: the sweep's BP frequencies do not change when the tole
   RotatingWaveBranchOptions branch_options;
   branch_options.search.speed_min = RpmToRadPerSecond(40.0);
   branch_options.search.speed_max = RpmToRadPerSecond(60.0);
-  branch_options.search.precession_max = 2.0 * M_PI * 200.0;
+  branch_options.search.precession_max = HzToRadPerSecond(200.0);
   const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
       TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kExact, branch_options);
   double v_branch = kNaN;
@@ -469,7 +471,7 @@ TEST_CASE("BDF's damping holds cases B(b) and B(c) on unstable rotating waves, w
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(20.0);
   options.search.speed_max = RpmToRadPerSecond(260.0);
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.precession_max = HzToRadPerSecond(200.0);
   params.friction_law.kind = FrictionLawKind::kTanh;
   const double held_hz = bdf.regimes.precession_hz[1].back();
   int matches = 0;
@@ -523,7 +525,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(20.0);
   options.search.speed_max = RpmToRadPerSecond(260.0);
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.precession_max = HzToRadPerSecond(200.0);
   const WhirlLimit limit = FindWhirlLimit(
       ComputeRotatingWaveBranches(TwoPointStructure(params), FrictionLawKind::kTanh, options), +1,
       options.search.speed_min);
@@ -694,7 +696,7 @@ TEST_CASE("an untrusted speed marks the jumps from and to it, and only those", "
     }
     return p;
   };
-  const std::vector<SweepPoint> points = {point(40.0, 100.0 * 40.0 / 60.0, 0.0, 1e-8),
+  const std::vector<SweepPoint> points = {point(40.0, 100.0 * RpmToHz(40.0), 0.0, 1e-8),
                                           point(60.0, 84.0, 0.1, 0.2 * clearance),
                                           point(64.0, 84.0, 0.1, 1e-8), point(68.0, 84.0, 0.1, 1e-8)};
   const RubSweepRegimes r = ClassifySweep(s, points);

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "models/textbook.h"
+#include "models/units.h"
 #include "solvers/constants.h"
 
 namespace rubcont {
@@ -57,8 +58,8 @@ SweepOptions StuartLandauOptions() {
 
 StuartLandauParams Shear() {
   StuartLandauParams p;
-  p.omega = 2.0 * kPi * 20.0;
-  p.gamma = 2.0 * kPi * 1.0;  // frequency 20 − λ Hz
+  p.omega = HzToRadPerSecond(20.0);
+  p.gamma = HzToRadPerSecond(1.0);  // frequency 20 − λ Hz
   return p;
 }
 
@@ -101,7 +102,7 @@ class Chirp : public OdeSystem {
  public:
   Index Dimension() const override { return 2; }
   void Rhs(double t, ConstVectorRef x, VectorRef f) override {
-    const double w = 2.0 * kPi * (f0_ + rate * t);
+    const double w = HzToRadPerSecond(f0_ + rate * t);
     f(0) = -w * x(1);
     f(1) = w * x(0);
   }
@@ -169,7 +170,7 @@ class ForcedOscillator : public OdeSystem {
   }
   double Parameter() const override { return omega_; }
   void SetParameter(double p) override { omega_ = p; }
-  double ForcingPeriod() const override { return 2.0 * kPi / omega_; }
+  double ForcingPeriod() const override { return kTwoPi / omega_; }
   void Rotate(double phi, VectorRef x) const override {
     const double c = std::cos(phi), s = std::sin(phi);
     for (Index i = 0; i < 4; i += 2) {
@@ -181,7 +182,7 @@ class ForcedOscillator : public OdeSystem {
   Complex Amplitude() const {
     return kForce / Complex(kW0 * kW0 - omega_ * omega_, 2.0 * kZeta * kW0 * omega_);
   }
-  static constexpr double kW0 = 2.0 * kPi * 5.0, kZeta = 0.2, kForce = 3.0;
+  static constexpr double kW0 = HzToRadPerSecond(5.0), kZeta = 0.2, kForce = 3.0;
 
  private:
   double omega_ = 1.0;
@@ -191,7 +192,7 @@ TEST_CASE("Rotating the state keeps the forcing phase continuous across paramete
   ForcedOscillator system;
   PlaneObservables observables;
   SweepOptions o = StuartLandauOptions();
-  o.parameters = {2.0 * kPi * 3.3, 2.0 * kPi * 3.3};
+  o.parameters = {HzToRadPerSecond(3.3), HzToRadPerSecond(3.3)};
   o.peak_side = PeakSide::kPositive;
   o.dwell = 3.0;  // 3 windows of 1 s (256 samples each)
   o.window = 1.0;
@@ -359,7 +360,7 @@ TEST_CASE("Sweep options are validated with field, value and rule", "[sweep]") {
     return std::string("no error");
   };
   CHECK_THAT(message([](SweepOptions& o) { o.parameters.clear(); }), Contains("SweepOptions.parameters"));
-  CHECK_THAT(message([](SweepOptions& o) { o.parameters[1] = std::nan(""); }),
+  CHECK_THAT(message([](SweepOptions& o) { o.parameters[1] = kNaN; }),
              Contains("parameters[1] = nan: must be finite"));
   CHECK_THAT(message([](SweepOptions& o) { o.dwell = 2.5; }),
              Contains("SweepOptions.dwell = 2.5: must be at least (settle_windows + 1)·window = 3"));

@@ -385,7 +385,7 @@ TEST_CASE("the rotating waves' stability tolerance, 0.1 s⁻¹, lies in the gap 
   TwoPointParams symmetric = ThesisCaseAa();  // case A(a): the drift of two rolling contacts
   TwoPointParams unequal = ThesisCaseAa();    // case A(b), RCI 100/125: its 1.65 Hz whip is the slowest instability
   unequal.clearance[1] = unequal.radius[1] / 125.0;
-  double largest_marginal = 0.0, smallest_unstable = std::numeric_limits<double>::infinity();
+  double largest_marginal = 0.0, smallest_unstable = kInfinity;
   for (const TwoPointParams& params : {symmetric, unequal}) {
     const RubStructure structure = TwoPointStructure(params);
     RotatingWaveProblem problem(structure, FrictionLawKind::kExact);

@@ -13,13 +13,13 @@ namespace rubcont {
 namespace {
 
 double PrecessionHz(const RotatingWaveProblem& problem, const RotatingWaveStart& start) {
-  return problem.Precession(start.u) / kTwoPi;
+  return RadPerSecondToHz(problem.Precession(start.u));
 }
 
 FamilySearchOptions ThesisRange() {
   FamilySearchOptions options;
-  options.speed_min = kTwoPi * 20.0 / 60.0;
-  options.speed_max = kTwoPi * 260.0 / 60.0;
+  options.speed_min = RpmToRadPerSecond(20.0);
+  options.speed_max = RpmToRadPerSecond(260.0);
   options.precession_max = kTwoPi * 200.0;
   return options;
 }
@@ -64,8 +64,8 @@ TEST_CASE("families of the Jeffcott rotor: whirl below the μ crossing, whip at 
   const JeffcottParams params;
   RotatingWaveProblem problem(JeffcottStructure(params), FrictionLawKind::kExact);
   FamilySearchOptions options;
-  options.speed_min = kTwoPi * 5.0 / 60.0;
-  options.speed_max = kTwoPi * 100.0 / 60.0;
+  options.speed_min = RpmToRadPerSecond(5.0);
+  options.speed_max = RpmToRadPerSecond(100.0);
   options.precession_max = kTwoPi * 100.0;
   const auto starts = FindRotatingWaveStarts(problem, options);
   // Black's U-shaped curve: between the rotor and the combined frequency μ_req dips below μ; the
@@ -86,7 +86,7 @@ TEST_CASE("families of the Jeffcott rotor: whirl below the μ crossing, whip at 
   }
   REQUIRE(hi > 0.0);
   for (int i = 0; i < 200; ++i) (excess(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
-  const double crossing_hz = 0.5 * (lo + hi) / kTwoPi;
+  const double crossing_hz = RadPerSecondToHz(0.5 * (lo + hi));
   const bool whip = std::any_of(starts.begin(), starts.end(), [&](const RotatingWaveStart& s) {
     return s.modes[0] == ContactMode::kSlipPositive &&
            std::abs(PrecessionHz(problem, s) - crossing_hz) < 1e-6 * crossing_hz;

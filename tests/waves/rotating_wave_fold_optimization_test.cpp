@@ -7,12 +7,11 @@
 
 #include "continuation/fold_optimization.h"
 #include "models/rub_model.h"
+#include "models/units.h"
 #include "waves/rotating_wave_branches.h"
 
 namespace rubcont {
 namespace {
-
-constexpr double kRadPerSecondPerRpm = 2.0 * M_PI / 60.0;
 
 TEST_CASE("Ipopt and the engine locate the folds of the tanh-friction whirl branches to 1e-8",
           "[design][fold_optimization]") {
@@ -23,9 +22,9 @@ TEST_CASE("Ipopt and the engine locate the folds of the tanh-friction whirl bran
   params.friction_law.kind = FrictionLawKind::kTanh;
   const RubStructure structure = TwoPointStructure(params);
   RotatingWaveBranchOptions options;
-  options.search.speed_min = 20.0 * kRadPerSecondPerRpm;
-  options.search.speed_max = 120.0 * kRadPerSecondPerRpm;
-  options.search.precession_max = 2.0 * M_PI * 200.0;
+  options.search.speed_min = RpmToRadPerSecond(20.0);
+  options.search.speed_max = RpmToRadPerSecond(120.0);
+  options.search.precession_max = HzToRadPerSecond(200.0);
   options.continuation.detect.test_functions = false;
   const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, options);
   RotatingWaveProblem problem(structure, FrictionLawKind::kTanh);
@@ -81,9 +80,9 @@ TEST_CASE("along a fold curve in friction (tanh law) Ipopt finds the same fold a
   options.eta_max = 0.55;
   options.eta_points = 2;
   options.speed_points = 11;
-  options.branches.search.speed_min = 20.0 * kRadPerSecondPerRpm;
-  options.branches.search.speed_max = 120.0 * kRadPerSecondPerRpm;
-  options.branches.search.precession_max = 2.0 * M_PI * 200.0;
+  options.branches.search.speed_min = RpmToRadPerSecond(20.0);
+  options.branches.search.speed_max = RpmToRadPerSecond(120.0);
+  options.branches.search.precession_max = HzToRadPerSecond(200.0);
   const HysteresisMap map = ComputeHysteresisMap(params, options);
   const MapCurve* fold_curve = nullptr;
   for (const MapCurve& c : map.curves) {

@@ -12,8 +12,6 @@
 namespace rubcont {
 namespace {
 
-double Rpm(double omega) { return omega * 60.0 / kTwoPi; }
-
 // Case A(a) of the thesis (disk at centre, RCI 100/100), centre damper included.
 TwoPointParams CaseAa() { return ThesisCaseAa(); }
 
@@ -90,7 +88,7 @@ TEST_CASE("whirl from the analytic Mode 1 start: rolling at both contacts, μ_re
   const TwoPointParams params = CaseAa();
   const RubStructure s = TwoPointStructure(params);
   RotatingWaveProblem problem(s, FrictionLawKind::kExact);
-  const double precession = kTwoPi * 60.0;
+  const double precession = HzToRadPerSecond(60.0);
   const double rci = params.Rci(0);
   const double omega = precession / rci;  // rolling speed for rigid contacts
   Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
@@ -126,7 +124,8 @@ TEST_CASE("whirl from the analytic Mode 1 start: rolling at both contacts, μ_re
   CHECK(at("mu_ratio_left") == Approx(mu_closed).epsilon(1e-6));
   CHECK(at("mu_ratio_right") == Approx(mu_closed).epsilon(1e-6));
   CHECK(at("normal_phase_deg") == Approx(0.0).epsilon(0).margin(1e-7));
-  INFO("whirl at " << Rpm(omega) << " rpm, Ω = " << W / kTwoPi << " Hz, μ_req = " << mu_closed);
+  INFO("whirl at " << RadPerSecondToRpm(omega) << " rpm, Ω = " << RadPerSecondToHz(W)
+                   << " Hz, μ_req = " << mu_closed);
 }
 
 TEST_CASE("whip: slipping at both contacts precesses where μ_req = μ", "[rotating_wave]") {
@@ -135,7 +134,7 @@ TEST_CASE("whip: slipping at both contacts precesses where μ_req = μ", "[rotat
   RotatingWaveProblem problem(s, FrictionLawKind::kExact);
   problem.SetModes({ContactMode::kSlipPositive, ContactMode::kSlipPositive});
   // Start from the analytic Mode 1 orbit at 86 Hz, where rolling would need μ_req > 0.5.
-  const double omega = kTwoPi * 70.0 / 60.0;  // 70 rpm: slip velocity ωR − ΩC > 0
+  const double omega = RpmToRadPerSecond(70.0);  // 70 rpm: slip velocity ωR − ΩC > 0
   Vector u = problem.FromRigidContactOrbit(SolveRigidContactOrbit(s, kTwoPi * 86.0, {1.0, 1.0}));
   const auto start = problem.SolveConsistent(u, omega);
   INFO(start.newton.BriefReport());
@@ -145,7 +144,7 @@ TEST_CASE("whip: slipping at both contacts precesses where μ_req = μ", "[rotat
   const double W = problem.Precession(u);
   const RigidContactOrbit closed = SolveRigidContactOrbit(s, W, {1.0, 1.0});
   CHECK(closed.force[0].imag() / closed.force[0].real() == Approx(params.friction).epsilon(1e-8));
-  CHECK(W / kTwoPi == Approx(84.478).epsilon(2e-5));
+  CHECK(RadPerSecondToHz(W) == Approx(84.478).epsilon(2e-5));
   for (const ContactEvaluation& e : problem.EvaluateContacts(u, omega)) {
     CHECK(e.slip_velocity > 0.0);
     CHECK(e.friction_force == Approx(params.friction * e.normal_force).epsilon(1e-12));
@@ -176,7 +175,7 @@ TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh, w
           "[rotating_wave]") {
   TwoPointParams params = CaseAa();
   const RubStructure s = TwoPointStructure(params);
-  const double precession = kTwoPi * 60.0;
+  const double precession = HzToRadPerSecond(60.0);
   const double omega = precession / params.Rci(0);
   RotatingWaveProblem exact(s, FrictionLawKind::kExact);
   Vector u = exact.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
@@ -198,7 +197,7 @@ TEST_CASE("rotating-wave stability: exact stick is the ε → 0 limit of tanh, w
   // Each constrained eigenvalue has a regularized counterpart within O(ε); the regularized
   // problem has two more, strongly damped tangential modes (Re ≈ −μN/(ε m) < −1e7 s⁻¹).
   for (Index i = 0; i < exact_spectrum.values.size(); ++i) {
-    double nearest = INFINITY;
+    double nearest = kInfinity;
     for (Index j = 0; j < tanh_spectrum.values.size(); ++j) {
       nearest = std::min(nearest, std::abs(tanh_spectrum.values(j) - exact_spectrum.values(i)));
     }
@@ -218,7 +217,7 @@ TEST_CASE("rolling at two contacts: the phase drift between them is set by conta
   // of hours — marginal for any practical purpose.)
   const TwoPointParams params = CaseAa();
   const RubStructure s = TwoPointStructure(params);
-  const double precession = kTwoPi * 60.0;
+  const double precession = HzToRadPerSecond(60.0);
   const double omega = precession / params.Rci(0);
   RotatingWaveProblem exact(s, FrictionLawKind::kExact);
   Vector u = exact.FromRigidContactOrbit(SolveRigidContactOrbit(s, precession, {1.0, 1.0}));
@@ -231,7 +230,7 @@ TEST_CASE("rolling at two contacts: the phase drift between them is set by conta
                           (minus.force[1].real() - minus.force[0].real())) / (2 * h);
   const double predicted = W * dDeltaN / (params.contact_stiffness * params.clearance[0]);
   const Spectrum spectrum = exact.Stability(u, omega);
-  double nearest = INFINITY;
+  double nearest = kInfinity;
   for (Index i = 0; i < spectrum.values.size(); ++i) {
     nearest = std::min(nearest, std::abs(spectrum.values(i) - predicted));
   }
