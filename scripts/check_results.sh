@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks that the committed results are what the code makes now (results/README.md, "Reproducing").
+# Checks that the committed results are what the code makes now (results/README.md, "Check").
 #   scripts/check_results.sh BUILD_DIR quick|sweep|orbits [SCENE ...]
 # re-runs the scenes of that kind (scripts/result_scenes.txt; all of them when none is named) into a
 # temporary directory with BUILD_DIR/rubcont, no figures, and compares with results/<scene>/:
