@@ -276,8 +276,8 @@ const char* DefaultSceneToml();
 std::string ResolvedSceneToml(const Scene& scene);
 
 class ResultWriter;
-// The root attributes every result file carries: rubcont_version, scene_name, scene_toml (the
-// resolved scene, ResolvedSceneToml).
+// The root attributes every result file carries: rubcont_version, rubcont_git (the commit,
+// apps/version.h), scene_name, scene_toml (the resolved scene, ResolvedSceneToml).
 void WriteSceneAttributes(ResultWriter& writer, const Scene& scene);
 
 // Human-readable listing of every resolved value with its unit (and "(default)" where the file
