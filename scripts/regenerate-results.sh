@@ -38,6 +38,11 @@
 #                   186 … 196 rpm, about 33 min), C(a)'s (52 min, then 206 … 216 rpm, 18 min),
 #                   B(c)'s (24 min), A(b)'s (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and
 #                   B(b)'s (22 min; docs/studies/whip_end.md, "The end of the speed-up whip in every case").
+#   --loops         also re-runs the loops of the thesis scenes, the imbalanced and the flexible A(a)
+#                   (`rubcont loop --schedule 2 1.5 --budget 600`, results/<scene>/loop.{h5,txt,png}:
+#                   1–12 min of CPU each, about 1 h in all on 2 cores) and writes their table into
+#                   results/README.md (scripts/loop_table.py); then run --sweep-tables, whose jump
+#                   tables take the whip's end from the loop beside each sweep.
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
 # committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
@@ -192,6 +197,16 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_A_b 158 170 2 5 2 --until-above 150 --until-contacts every
   lifetime thesis_C_b 162 174 2 5 2 --until-above 150 --until-contacts right
   lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
+fi
+# The loops, one after the other (each runs its run-up and run-down side by side, then its
+# ensembles over both cores), with the schedule of scripts/check_results.sh's LOOP_SCHEDULE.
+if [[ "${1:-}" == "--loops" ]]; then
+  for scene in $(scenes_of loop); do
+    build/rubcont loop "scenes/$scene.toml" --schedule 2 1.5 --budget 600 --quiet \
+      --out "results/$scene/loop.h5" > "results/$scene/loop.txt"
+    echo "results/$scene: loop.h5 loop.txt loop.png"
+  done
+  /usr/bin/python3 scripts/loop_table.py --write results
 fi
 # Each swept scene's hysteresis loop, with the crisis of its whip's lifetimes (the file whose
 # speeds bracket it); A(a)'s also with its periodic orbits.
