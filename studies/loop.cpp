@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <tuple>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -278,6 +279,32 @@ bool EndsState(const SpecialPoint& p) {
   }
 }
 
+// Whether every contact of `contacts` touched less than `barely` of the analysed time at both
+// tracked points (and touched at all at one of them: no contact at both is no reading).
+bool Flickers(const LoopRun& run, const std::vector<int>& contacts, std::size_t from, std::size_t to, double barely) {
+  bool touched = false;
+  for (int k : contacts) {
+    for (std::size_t i : {from, to}) {
+      const std::vector<ChannelSummary>& channels = run.points[i].channels;
+      if (channels.size() <= static_cast<std::size_t>(k)) return false;
+      const double share = channels[static_cast<std::size_t>(k)].active_fraction;
+      if (!(share < barely)) return false;
+      touched = touched || share > 0.0;
+    }
+  }
+  return touched;
+}
+
+// "2.5 %" (or "2.5 %, 3.1 %" for several contacts): the share of the time in contact at point i.
+std::string ContactShare(const LoopRun& run, const std::vector<int>& contacts, std::size_t i) {
+  std::string s;
+  for (int k : contacts) {
+    s += fmt::format("{}{:.1f} %", s.empty() ? "" : ", ",
+                     100.0 * run.points[i].channels[static_cast<std::size_t>(k)].active_fraction);
+  }
+  return s;
+}
+
 // A jump's importance for the budget: the direction's first whirl → whip and last whip → whirl
 // first (the thesis's four corners), then the rest in speed order.
 bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
@@ -325,6 +352,7 @@ void Validate(const LoopOptions& o) {
   if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
   if (o.orbit_steps < 1) fail("orbit_steps", o.orbit_steps, "must be at least 1");
   if (!(o.min_escape_budget >= 0.0)) fail("min_escape_budget", o.min_escape_budget, "must be non-negative");
+  if (!(o.barely_touching > 0.0 && o.barely_touching <= 1.0)) fail("barely_touching", o.barely_touching, "must be in (0, 1]");
   if (o.orbits) Validate(o.orbit_start);
   for (const double span : {std::abs(o.up.sweep.parameters.back() - o.up.sweep.parameters.front()),
                             std::abs(o.down.sweep.parameters.back() - o.down.sweep.parameters.front())}) {
@@ -450,18 +478,13 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     if (result.corners[i].level.empty() && Principal(result.corners, i)) order.push_back(i);
   for (std::size_t i = 0; i < result.corners.size(); ++i)
     if (result.corners[i].level.empty() && !Principal(result.corners, i)) order.push_back(i);
+  std::map<std::tuple<std::string, double, double>, std::size_t> escalated;  // (direction, from, to) → corner
   for (std::size_t i : order) {
     LoopCorner& c = result.corners[i];
     const LoopRun& run = c.direction == "up" ? result.up : result.down;
     const int sign = Sign(run.direction);
     const std::string what = fmt::format("{} {} {:g} → {:g} rpm ({})", c.direction, c.kind, c.seen_from_rpm, c.seen_to_rpm,
                                          c.contact);
-    if (spent() >= options.budget) {
-      c.note += fmt::format("; not decided within the budget ({:g} s CPU spent before it)", spent());
-      note(fmt::format("budget: {} left undecided ({:.1f} of {:g} s CPU spent)", what, spent(), options.budget));
-      continue;
-    }
-    // What a copy arrives at: the landing's regime (or precession) on the contacts that jumped.
     std::size_t from = 0, to = 0;
     for (std::size_t k = 0; k < run.points.size(); ++k) {
       const double rpm = RadPerSecondToRpm(run.points[k].parameter);
@@ -471,6 +494,45 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     std::vector<int> contacts;
     for (std::size_t k = 0; k < structure.contacts.size(); ++k)
       if (c.contact.find(structure.contacts[k].name) != std::string::npos) contacts.push_back(static_cast<int>(k));
+    // A contact that barely touches on both sides of the jump reads its precession off its free
+    // orbit: what changes is a reading, not the rotor's state.
+    if (Flickers(run, contacts, from, to, options.barely_touching)) {
+      c.level = "L3";
+      c.cause = "flicker of a barely touching contact";
+      c.note = fmt::format("in contact {} of the time at {:g} rpm and {} at {:g} rpm (below {:g}): its precession is "
+                           "read off its free orbit, not a state of the rotor; {}",
+                           ContactShare(run, contacts, from), c.seen_from_rpm, ContactShare(run, contacts, to),
+                           c.seen_to_rpm, options.barely_touching, c.note);
+      c.evidence = fmt::format("runs/{}", c.direction);
+      continue;
+    }
+    // Another contact's jump at the same two speeds was asked already: the same verdict.
+    const auto key = std::make_tuple(c.direction, c.seen_from_rpm, c.seen_to_rpm);
+    if (const auto it = escalated.find(key); it != escalated.end()) {
+      const LoopCorner& other = result.corners[it->second];
+      if (!other.level.empty()) {
+        const std::string own = c.note;
+        c.level = other.level;
+        c.cause = other.cause;
+        c.speed_rpm = other.speed_rpm;
+        c.lower_rpm = other.lower_rpm;
+        c.upper_rpm = other.upper_rpm;
+        c.interval = other.interval;
+        c.crisis_lower_rpm = other.crisis_lower_rpm;
+        c.crisis_upper_rpm = other.crisis_upper_rpm;
+        c.evidence = other.evidence;
+        c.note = fmt::format("as the {} contact's jump at the same speeds; {}", other.contact, own);
+      } else {
+        c.note += fmt::format("; as the {} contact's jump at the same speeds: {}", other.contact, other.note);
+      }
+      continue;
+    }
+    escalated[key] = i;
+    if (spent() >= options.budget) {
+      c.note += fmt::format("; not decided within the budget ({:g} s CPU spent before it)", spent());
+      note(fmt::format("budget: {} left undecided ({:.1f} s of {:g} s CPU spent)", what, spent(), options.budget));
+      continue;
+    }
     // L2: is the departure a relative periodic orbit, and does its family end between the speeds?
     const double frame_hz = run.regimes.precession_hz[0][from];
     if (options.orbits && balanced.imbalance == 0.0 && structure.imbalance == 0.0 && std::isfinite(frame_hz) &&
@@ -570,6 +632,13 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     for (const RubSweepJump& j : run.regimes.jumps) {
       if (sign * (c.seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
       if (std::find(contacts.begin(), contacts.end(), j.contact) == contacts.end()) continue;  // another contact's
+      std::size_t j_from = 0, j_to = 0;
+      for (std::size_t k = 0; k < run.points.size(); ++k) {
+        const double rpm = RadPerSecondToRpm(run.points[k].parameter);
+        if (std::abs(rpm - j.speed_from_rpm) < 1e-9) j_from = k;
+        if (std::abs(rpm - j.speed_to_rpm) < 1e-9) j_to = k;
+      }
+      if (Flickers(run, {j.contact}, j_from, j_to, options.barely_touching)) continue;  // a reading, not a state
       for (std::size_t k = 0; k <= from; ++k) {
         if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
       }
@@ -609,7 +678,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.first = c.seen_to_rpm;
     design.budget = options.budget - spent();
     if (design.budget < options.min_escape_budget) {
-      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g})",
+      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g} s)",
                             design.budget, options.min_escape_budget);
       note(fmt::format("budget: {} left undecided ({:.1f} s CPU left)", what, design.budget));
       continue;

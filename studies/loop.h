@@ -70,6 +70,11 @@ struct LoopOptions {
   // How far below (run-up) or above (run-down) the tracker's last speed on the state the escape
   // design may place its ensembles [rpm] ≥ step_rpm.
   double escape_reach_rpm = 16.0;
+  // A contact in touch for less than this share of the analysed time at both speeds of a jump
+  // reads its precession off its free orbit (C(a)'s left contact at 180–216 rpm, 4 rpm / 0.75 s: 2–10 %, its
+  // "precession" wandering 301 → 416 Hz from speed to speed): such a jump is a flicker of readings,
+  // not of the rotor's state, and is not escalated. In (0, 1].
+  double barely_touching = 0.1;
   // L2: the departure's orbit (its shooting and mesh: the scene's [analysis.orbits]) and its family
   // (range and direction are set per jump: from the departure to a step past the landing), with
   // at most orbit_steps continuation steps (≥ 1). orbits = false: no L2.

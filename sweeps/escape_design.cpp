@@ -235,8 +235,8 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
   constexpr int kMinEscapes = 5;
   constexpr double kPassage = 0.5;
   LifetimeShape shape;
-  shape.lowest_ratio = kNaN;
-  double worst_at = kNaN;
+  shape.largest_ratio = kNaN;
+  double best_at = kNaN;
   for (const EscapeObservations& o : observations) {
     const std::size_t d = o.escape_stretch.size();
     if (static_cast<int>(d) < kMinEscapes) continue;
@@ -257,9 +257,9 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
     const double expected = std::sqrt(std::max(0.0, m2 - m1 * m1) + o.stretch * o.stretch / 12.0) / m1;
     const double ratio = observed / expected;
     shape.resolved = true;
-    if (std::isnan(shape.lowest_ratio) || ratio < shape.lowest_ratio) {
-      shape.lowest_ratio = ratio;
-      worst_at = o.parameter;
+    if (std::isnan(shape.largest_ratio) || ratio > shape.largest_ratio) {
+      shape.largest_ratio = ratio;
+      best_at = o.parameter;
     }
   }
   if (!shape.resolved) {
@@ -267,10 +267,10 @@ LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observatio
                                 "shape is not resolved", kMinEscapes);
     return shape;
   }
-  shape.exponential = shape.lowest_ratio >= kPassage;
-  shape.message = fmt::format("escape times {} (the smallest spread {:.2f} of an exponential's, at {:g})",
-                              shape.exponential ? "spread as an exponential's" : "bunched: a passage, not a leak",
-                              shape.lowest_ratio, worst_at);
+  shape.exponential = shape.largest_ratio >= kPassage;
+  shape.message = fmt::format("escape times {} (the widest spread {:.2f} of an exponential's, at {:g})",
+                              shape.exponential ? "spread as an exponential's" : "bunched at every value: a passage, not a leak",
+                              shape.largest_ratio, best_at);
   return shape;
 }
 
@@ -282,7 +282,7 @@ std::string EscapeDesign::BriefReport() const {
   } else if (!median_open.empty()) {
     median += " (" + median_open + ")";
   }
-  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f}; {}{}", ToString(status),
+  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f} s; {}{}", ToString(status),
                      observations.size(), rounds, cost, median, message.empty() ? "" : "; " + message);
 }
 
@@ -342,7 +342,8 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
       line += fmt::format(" {} copies × {:.3g} s at {:g}: {} left;", batch[r].copies, e.duration, e.parameter,
                           e.escape_stretch.size());
     }
-    line += fmt::format(" cost {:.1f} of {:g}", design.cost, o.budget);
+    // The runner's cost is seconds (CPU or copy-seconds): said with its unit, as a duration.
+    line += fmt::format(" cost {:.1f} s of {:.1f} s", design.cost, o.budget);
     note(line);
   };
   auto spent = [&] { return design.cost >= o.budget; };

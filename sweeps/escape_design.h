@@ -53,7 +53,7 @@ struct EscapeRequest {
 };
 
 // The outcomes of a batch of requests: one EscapeObservations per request, in order, and what
-// they cost (CPU seconds, or whatever unit the budget is given in).
+// they cost in seconds (CPU seconds, or copy-seconds: the budget's unit; reports print it as "s").
 struct EscapeBatch {
   std::vector<EscapeObservations> observations;
   double cost = 0.0;
@@ -125,11 +125,14 @@ LeaveMedianInterval MedianInterval(const std::vector<EscapeObservations>& observ
 // bifurcation, which a crisis law would also fit). Over the ensembles with at least 5 escapes that
 // did not all leave in their first stretch, the coefficient of variation of the escape times
 // (stretch midpoints) is compared with an exponential's at the ensemble's own rate, truncated at
-// its duration and binned by its stretch: below half of it, the times are a passage.
+// its duration and binned by its stretch: a leak shows it at some value — where rates are high a
+// copy's landing (the 0.1–0.2 s it takes to settle where it arrives, counted in its time) bunches
+// even a leak's times (A(a)'s whip at 186 rpm, 2 rpm / 1.5 s: 0.39 of the exponential's spread, the
+// smallest of its ensembles) — a passage at none: every qualifying ensemble below half of it.
 struct LifetimeShape {
   bool resolved = false;     // some ensemble qualified
-  bool exponential = false;  // every qualifying ensemble's spread is at least half the exponential's
-  double lowest_ratio = 0.0;  // the smallest observed / expected coefficient of variation (NaN: none)
+  bool exponential = false;  // some qualifying ensemble's spread is at least half the exponential's
+  double largest_ratio = 0.0;  // the largest observed / expected coefficient of variation (NaN: none)
   std::string message;        // the numbers, in words
 };
 LifetimeShape CheckExponential(const std::vector<EscapeObservations>& observations);

@@ -85,9 +85,9 @@ TEST_CASE("rubcont run scenes/duffing.toml: the resonance curve with both folds 
   }
 }
 
-TEST_CASE("[duffing.orbits] integrator: the scene's Gauss collocation puts both folds within 1e-12 "
-          "of harmonic balance, the model's explicit pair at its tolerance not; a bad name is "
-          "exit 2 naming the key",
+TEST_CASE("The Duffing scene's orbits integrator key: Gauss collocation puts both folds within "
+          "1e-12 of harmonic balance, the model's explicit pair at its tolerance not, and a bad "
+          "name is exit 2 naming the key",
           "[orbits][cli]") {
   DuffingParams params;
   const testing::DuffingHarmonicBalance balance(params, 25);
