@@ -115,6 +115,10 @@ struct RubOrbitsSettings {
   double tolerance = 1e-7;    // CVODES BDF rtol = atol (scaled states); Gauss: its Newton's 1e-3·x
   int max_steps = 40;         // continuation steps from each Hopf point (and each branch point)
   bool follow_branch_points = true;  // follow the other branch through each located branch point
+  // at_grazing = "stop": each family ends at its first located grazing (status "ended at a
+  // grazing"; PeriodicOrbitBranchOptions::stop_at_grazing) instead of creeping past it on the fixed
+  // mesh (A(a): 87 orbits and 640 s of CPU to a corrector failure, bench/whip_family_bench.cpp).
+  bool stop_at_grazing = false;
   // [analysis.orbits.transient]: the orbits through the relative periodic orbit a settled
   // transient lies on (ContinueTransientOrbits), for whips no Hopf point's family reaches.
   struct Transient {

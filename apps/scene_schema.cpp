@@ -711,7 +711,18 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       [](const Scene& x) {
         return std::string(x.analysis.orbits.follow_branch_points ? "follow" : "mark");
       }));
-
+  s.push_back(Choice(
+      "analysis.orbits.at_grazing",
+      "\"continue\": a family goes on past a located grazing (where a contact starts to open: the "
+      "fixed Gauss mesh then creeps in shrinking steps, A(a) 87 orbits and 640 s of CPU past "
+      "132.5 rpm to a corrector failure); \"stop\": each family, side branches included, ends at "
+      "its first located grazing with the status \"ended at a grazing\" (not a failure; "
+      "docs/levels/l2_orbits_tori.md).",
+      {"continue", "stop"},
+      [](Scene& x, const std::string& name) { x.analysis.orbits.stop_at_grazing = name == "stop"; },
+      [](const Scene& x) {
+        return std::string(x.analysis.orbits.stop_at_grazing ? "stop" : "continue");
+      }));
 }
 
 // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.

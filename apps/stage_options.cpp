@@ -230,6 +230,7 @@ HopfOrbitOptions RubOrbitOptionsOf(const Scene& scene) {
   options.orbits.lambda_max = RpmToRadPerSecond(scene.analysis.speed_range_rpm[1]);
   options.orbits.shooting = RubShootingOptionsOf(scene);
   options.orbits.continuation = OrbitContinuationOptions(scene.analysis.orbits.max_steps);
+  options.orbits.stop_at_grazing = scene.analysis.orbits.stop_at_grazing;
   return options;
 }
 

@@ -98,7 +98,8 @@ IntegrationMethod TextbookOrbitMethodOf(const Scene& scene, IntegrationMethod mo
 ShootingOptions RubShootingOptionsOf(const Scene& scene);
 
 // The modulated orbits from Hopf points ([analysis.orbits]): the first orbit's amplitude, the
-// scene's speed range [rad/s], the shooting and continuation above (no on_step).
+// scene's speed range [rad/s], the shooting and continuation above, the end at a grazing
+// (at_grazing) (no on_step).
 HopfOrbitOptions RubOrbitOptionsOf(const Scene& scene);
 
 // [analysis.orbits.transient]'s first orbit: each lap with the stage's segments and mesh, the

@@ -19,6 +19,8 @@
 #include <unistd.h>
 
 #include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "apps/stage_options.h"
 #include "solvers/constants.h"
 #include "tests/shooting/duffing_harmonic_balance.h"
 
@@ -350,6 +352,28 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   // Side branches take [analysis.orbits] max_steps (3), the family the transient's (10).
   CHECK(file.ReadDoubles("/orbits/transient_pd1/speed_rpm").size() <= 4);
   CHECK(rpm.size() <= 2 * 10 + 1);
+}
+
+TEST_CASE("at_grazing in [analysis.orbits]: \"stop\" ends each family at its first grazing, "
+          "\"continue\" (the default) goes on, another value is exit 2 naming the key",
+          "[orbits][cli]") {
+  const auto stops = [](const std::string& keys) {
+    const Scene scene = ParseScene(SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + keys),
+                                   "at_grazing", "at_grazing");
+    return RubOrbitOptionsOf(scene).orbits.stop_at_grazing;
+  };
+  CHECK_FALSE(stops(""));
+  CHECK_FALSE(stops("at_grazing = \"continue\"\n"));
+  CHECK(stops("at_grazing = \"stop\"\n"));
+
+  TempDir dir;
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\nat_grazing = \"halt\"\n");
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err,
+             Contains("analysis.orbits.at_grazing = \"halt\": must be one of \"continue\", \"stop\""));
+  CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);  // the scene
 }
 
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
