@@ -65,6 +65,17 @@ KeySpec Choice(std::string key, std::string doc, std::vector<std::string> choice
   return spec;
 }
 
+// An optional key of two `choices` held as a bool: the one named `on` sets the field, the other
+// clears it.
+KeySpec Switch(std::string key, std::string doc, std::vector<std::string> choices, std::string on,
+               Field<bool> field) {
+  const std::string off = choices.at(choices.at(0) == on ? 1 : 0);
+  return Choice(
+      std::move(key), std::move(doc), std::move(choices),
+      [field, on](Scene& x, const std::string& name) { field(x) = name == on; },
+      [field, on, off](const Scene& x) { return field(const_cast<Scene&>(x)) ? on : off; });
+}
+
 using Rows = std::vector<Row>;
 
 std::vector<std::string> ModelNames() {
@@ -698,31 +709,23 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "Continuation steps from each Hopf point, and from each branch point and period doubling "
       "followed.",
       [](Scene& x) -> int& { return x.analysis.orbits.max_steps; }));
-  s.push_back(Choice(
+  s.push_back(Switch(
       "analysis.orbits.branch_points",
       "\"follow\": the other branch through each located branch point of a family is followed "
       "(one of the two mirror images where the point breaks a left–right symmetric rotor's "
       "symmetry), and the period-doubled orbits from each period doubling where the family loses "
       "or gains stability; \"mark\": located and reported only.",
-      {"follow", "mark"},
-      [](Scene& x, const std::string& name) {
-        x.analysis.orbits.follow_branch_points = name == "follow";
-      },
-      [](const Scene& x) {
-        return std::string(x.analysis.orbits.follow_branch_points ? "follow" : "mark");
-      }));
-  s.push_back(Choice(
+      {"follow", "mark"}, "follow",
+      [](Scene& x) -> bool& { return x.analysis.orbits.follow_branch_points; }));
+  s.push_back(Switch(
       "analysis.orbits.at_grazing",
       "\"continue\": a family goes on past a located grazing (where a contact starts to open: the "
       "fixed Gauss mesh then creeps in shrinking steps, A(a) 87 orbits and 640 s of CPU past "
       "132.5 rpm to a corrector failure); \"stop\": each family, side branches included, ends at "
       "its first located grazing with the status \"ended at a grazing\" (not a failure; "
       "docs/levels/l2_orbits_tori.md).",
-      {"continue", "stop"},
-      [](Scene& x, const std::string& name) { x.analysis.orbits.stop_at_grazing = name == "stop"; },
-      [](const Scene& x) {
-        return std::string(x.analysis.orbits.stop_at_grazing ? "stop" : "continue");
-      }));
+      {"continue", "stop"}, "stop",
+      [](Scene& x) -> bool& { return x.analysis.orbits.stop_at_grazing; }));
 }
 
 // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.
@@ -792,16 +795,13 @@ void ToriKeys(std::vector<KeySpec>& s) {
       "Instants per modulation period at which each torus is sampled for the lines of each "
       "contact's precession (≥ 4).",
       [](Scene& x) -> int& { return x.analysis.tori.samples; }));
-  s.push_back(Choice(
+  s.push_back(Switch(
       "analysis.tori.neimark_sacker",
       "\"follow\": the tori born at the Neimark–Sacker points of the modulated orbits of "
       "[analysis.orbits]; \"skip\": no modulated orbits and none of those tori — only the tori "
       "of [analysis.tori.transient], which must then be given.",
-      {"follow", "skip"},
-      [](Scene& x, const std::string& name) { x.analysis.tori.from_neimark_sacker = name == "follow"; },
-      [](const Scene& x) {
-        return std::string(x.analysis.tori.from_neimark_sacker ? "follow" : "skip");
-      }));
+      {"follow", "skip"}, "follow",
+      [](Scene& x) -> bool& { return x.analysis.tori.from_neimark_sacker; }));
 }
 
 // [analysis.loop]: the loop study (studies/loop.h). Every key is optional.
