@@ -5,15 +5,20 @@
 // angle 0.3 and 5 target iterations) and the step-control levers on the command line, to measure
 // them one by one against the same run.
 //
-// Usage: whip_family_bench [--to RPM] [--intervals N] [--angle A] [--iterations K] [--growth G]
-//                          [--max-step S] [--steps N] [--tolerance T] [--residual R]
+// Usage: whip_family_bench [--to RPM] [--intervals N] [--angle A] [--max-angle A] [--iterations K]
+//                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
+//                          [--step-tolerance D] [--failure-memory N]
 //                          [--stop-at-grazing] [--verbose]
+// --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
 // end of the run is printed.
 // --tolerance: the shooting's (Gauss: its Newton stops at 1e-3·T, scaled); --residual: the
-// continuation corrector's residual tolerance (default the engine's).
+// continuation corrector's residual tolerance (default the engine's); --step-tolerance: its bound on
+// the last Newton correction (default the engine's); --failure-memory: StepOptions::failure_memory
+// (default 0, off).
 // Default: to 63 rpm (the first figure), the stage's settings.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,8 +36,9 @@ namespace rubcont {
 namespace {
 
 int Main(int argc, char** argv) {
-  double to_rpm = 63.0, angle = 0.3, growth = 2.0, max_step = 1.0, tolerance = 1e-7, residual = 0.0;
-  int intervals = 400, iterations = 5, steps = 400;
+  double to_rpm = 63.0, angle = 0.3, max_angle = 0.0, growth = 2.0, max_step = 1.0,
+         tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
+  int intervals = 400, iterations = 5, steps = 400, failure_memory = 0;
   bool verbose = false, stop_at_grazing = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -40,12 +46,15 @@ int Main(int argc, char** argv) {
     if (a == "--to") to_rpm = next();
     else if (a == "--intervals") intervals = static_cast<int>(next());
     else if (a == "--angle") angle = next();
+    else if (a == "--max-angle") max_angle = next();
     else if (a == "--iterations") iterations = static_cast<int>(next());
     else if (a == "--growth") growth = next();
     else if (a == "--max-step") max_step = next();
     else if (a == "--steps") steps = static_cast<int>(next());
     else if (a == "--tolerance") tolerance = next();
     else if (a == "--residual") residual = next();
+    else if (a == "--step-tolerance") step_tolerance = next();
+    else if (a == "--failure-memory") failure_memory = static_cast<int>(next());
     else if (a == "--stop-at-grazing") stop_at_grazing = true;
     else if (a == "--verbose") verbose = true;
   }
@@ -75,10 +84,13 @@ int Main(int argc, char** argv) {
   ContinuationOptions& c = options.orbits.continuation;
   c.step.max = max_step;
   c.step.target_angle = angle;
+  c.step.max_angle = max_angle > 0.0 ? max_angle : std::max(c.step.max_angle, angle);
   c.step.target_iterations = iterations;
   c.step.max_growth = growth;
+  c.step.failure_memory = failure_memory;
   c.bounds.max_steps = steps;
   if (residual > 0.0) c.corrector.residual_tolerance = residual;
+  if (step_tolerance > 0.0) c.corrector.step_tolerance = step_tolerance;
   options.orbits.stop_at_grazing = stop_at_grazing;
   std::vector<double> cpu_at;  // CPU seconds at each accepted orbit
   options.on_step = [&](const Branch& b) {
@@ -92,12 +104,18 @@ int Main(int argc, char** argv) {
   long newton = 0;
   for (const BranchPoint& p : branch.points) newton += p.newton_iterations;
   std::printf("whip_family_bench: Hopf %.8f rpm → %g rpm, %d intervals, angle %g, iterations %d, "
-              "growth %g, max step %g, tolerance %g, residual %g\n", RadPerSecondToRpm(starts.front().speed),
-              to_rpm, intervals, angle, iterations, growth, max_step, tolerance,
-              c.corrector.residual_tolerance);
+              "max angle %g, growth %g, max step %g, tolerance %g, residual %g, correction %g, "
+              "failure memory %d\n",
+              RadPerSecondToRpm(starts.front().speed), to_rpm, intervals, angle, iterations,
+              c.step.max_angle, growth, max_step, tolerance, c.corrector.residual_tolerance,
+              c.corrector.step_tolerance, failure_memory);
   std::printf("  %zu orbits, %ld Newton iterations, %ld integrator steps, %.2f s CPU (waves %.2f s): %s\n",
               branch.points.size(), newton, result.orbits.work.steps, cpu, waves_cpu,
               branch.BriefReport().c_str());
+  const BranchStatistics& st = branch.statistics;
+  std::printf("  %d corrector failures, %d angle rejections, %ld residuals, %ld Jacobians\n",
+              st.corrector_failures, st.angle_rejections, st.residual_evaluations,
+              st.jacobian_evaluations);
   for (const SpecialPoint& s : branch.special_points) {
     std::printf("  %-22s %.6f rpm%s %s\n", ToString(s.type), RadPerSecondToRpm(s.lambda),
                 s.converged ? "" : " (guess)", s.label.c_str());
@@ -109,9 +127,13 @@ int Main(int argc, char** argv) {
     }
   }
   if (verbose) {
-    for (const BranchPoint& p : branch.points) {
-      std::printf("    %9.4f rpm  ds %.4f  newton %d  unstable %d\n", RadPerSecondToRpm(p.lambda), p.step,
-                  p.newton_iterations, p.num_unstable);
+    // The tangent's turn from the previous point [rad]: which of the step's limits binds.
+    for (std::size_t i = 0; i < branch.points.size(); ++i) {
+      const BranchPoint& p = branch.points[i];
+      const double turn = i == 0 ? 0.0
+          : std::acos(std::min(1.0, std::abs(p.tangent.dot(branch.points[i - 1].tangent))));
+      std::printf("    %9.4f rpm  ds %.4f  newton %d  turn %.3f  unstable %d\n",
+                  RadPerSecondToRpm(p.lambda), p.step, p.newton_iterations, turn, p.num_unstable);
     }
   }
   return 0;

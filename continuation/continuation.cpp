@@ -99,6 +99,10 @@ struct Continuation::Impl {
 
   PointData current;
   double ds = 0.0;
+  // StepOptions::failure_memory: the bound on ds after a corrector failure, for ceiling_steps more
+  // points.
+  double ceiling = kInfinity;
+  int ceiling_steps = 0;
   bool started = false;
   bool stability_on = false;
   std::vector<std::string> event_names;
@@ -992,7 +996,8 @@ struct Continuation::Impl {
           std::pow(2.0, 0.5 * (step.target_iterations - candidate.iterations));
       const double angle_factor = angle > 0.0 ? step.target_angle / angle : step.max_growth;
       const double factor = Clamp(std::min(iteration_factor, angle_factor), 0.5, step.max_growth);
-      const double next_ds = Clamp(ds * factor, step.min, step.max);
+      double next_ds = Clamp(ds * factor, step.min, step.max);
+      if (ceiling_steps > 0) next_ds = std::max(std::min(next_ds, ceiling), step.min);
       RUBCONT_INVARIANT(std::abs(candidate.tangent.norm() - 1.0) <= 1e-12 &&
                             candidate.tangent.dot(current.point.tangent) > 0.0,
                         "|τ| = {}, τ_k·τ_(k+1) = {}", candidate.tangent.norm(),
@@ -1007,6 +1012,7 @@ struct Continuation::Impl {
         continue;
       }
       ds = next_ds;
+      if (ceiling_steps > 0 && --ceiling_steps == 0) ceiling = kInfinity;
       return result;
     }
   }
@@ -1024,6 +1030,11 @@ struct Continuation::Impl {
       const bool at_minimum = ds <= step.min * (1.0 + 1e-12);
       if (status != CorrectorStatus::kConverged) {
         ++branch.statistics.corrector_failures;
+        if (step.failure_memory > 0) {
+          constexpr double kCeilingFraction = 0.75;  // of the step that failed
+          ceiling = std::min(ceiling_steps > 0 ? ceiling : kInfinity, kCeilingFraction * ds);
+          ceiling_steps = step.failure_memory;
+        }
         if (at_minimum) {
           End(BranchStatus::kStepTooSmall,
               fmt::format("the corrector failed ({}) with the minimum step {:.3g} at λ = {:.10g}",

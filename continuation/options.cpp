@@ -54,6 +54,9 @@ void Validate(const StepOptions& options) {
     Reject("step.max_growth", options.max_growth, "must be finite and at least 1");
   }
   RequirePositive("step.target_angle", options.target_angle);
+  if (options.failure_memory < 0) {
+    Reject("step.failure_memory", options.failure_memory, "must be at least 0");
+  }
   if (!(options.max_angle >= options.target_angle && options.max_angle < kPi)) {
     Reject("step.max_angle", options.max_angle,
            fmt::format("must lie in [step.target_angle, π) = [{}, {})", options.target_angle, kPi));

@@ -193,6 +193,56 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
   CHECK(halved);
 }
 
+TEST_CASE("failure_memory: after a corrector failure the steps stay below the one that failed, "
+          "so the same branch costs fewer failures",
+          "[continuation][step]") {
+  // The curved branch above, where Newton diverges when the predictor misses by more than ~0.14.
+  LambdaProblem problem(
+      1,
+      [](const Vector& u, double l, double, Vector& F) {
+        F(0) = std::atan(10.0 * (u(0) - std::sin(3.0 * l)));
+      },
+      [](const Vector& u, double l, double, Matrix& J) {
+        const double e = 10.0 * (u(0) - std::sin(3.0 * l));
+        J(0, 0) = 10.0 / (1.0 + e * e);
+      },
+      [](const Vector& u, double l, double, Vector& dF) {
+        const double e = 10.0 * (u(0) - std::sin(3.0 * l));
+        dF(0) = -30.0 * std::cos(3.0 * l) / (1.0 + e * e);
+      });
+  const auto run = [&](int failure_memory) {
+    ContinuationOptions options;
+    options.step.initial = 0.5;
+    options.step.max = 0.5;
+    options.step.max_angle = 3.0;
+    options.step.target_angle = 3.0;
+    options.step.target_iterations = 6;  // Newton needs fewer here: each step grows back at once
+    options.step.failure_memory = failure_memory;
+    options.bounds.lambda_max = 3.0;
+    return Continue(problem, Vec({0.0}), 0.0, options);
+  };
+  const Branch forgetful = run(0);
+  const Branch remembering = run(1000);
+  INFO(forgetful.BriefReport() << " / " << remembering.BriefReport());
+  REQUIRE(remembering.status == BranchStatus::kReachedLambdaBound);
+  for (const BranchPoint& p : remembering.points) {
+    CHECK(std::abs(p.u(0) - std::sin(3.0 * p.lambda)) <= 1e-10);
+  }
+  CHECK(remembering.statistics.corrector_failures > 0);
+  CHECK(remembering.statistics.corrector_failures < forgetful.statistics.corrector_failures);
+  // Every step after the first failure stays below 3/4 of the step that failed (≤ 0.5).
+  double first_failed_at = 0.0;
+  for (const BranchPoint& p : remembering.points) {
+    if (p.step > 0.0 && p.step < 0.5 && first_failed_at == 0.0) first_failed_at = p.arclength;
+    if (first_failed_at > 0.0 && p.arclength > first_failed_at) CHECK(p.step <= 0.75 * 0.5);
+  }
+
+  ContinuationOptions bad;
+  bad.step.failure_memory = -1;
+  CHECK_THROWS_WITH(Validate(bad), Catch::Contains("step.failure_memory") &&
+                                       Catch::Contains("must be at least 0"));
+}
+
 // A Duffing-like frequency response written in the rub model's units: amplitude a ~ 1e-4 m,
 // restoring force f ~ 1e3 N, backbone frequency Ω ~ 1e2 rad/s, forcing frequency λ = ω ~ 1e2
 // rad/s:  (m a (Ω² − ω²))² + (c ω a)² = P²,  f = k a + κ a³,  m Ω² a = f.
