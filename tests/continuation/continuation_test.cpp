@@ -156,11 +156,10 @@ TEST_CASE("an isola is followed all the way round and recognised as closed",
   for (const BranchPoint& p : branch.points) CHECK(p.residual_norm <= 1e-10);
 }
 
-TEST_CASE("a corrector that diverges at a large step halves the step and the branch recovers",
-          "[continuation][step]") {
-  // atan(10 (x − sin 3λ)) = 0: the branch x = sin 3λ is curved, and Newton on atan diverges when
-  // the predictor misses by more than ~0.14; steps of 0.5 miss by far more.
-  LambdaProblem problem(
+// atan(10 (x − sin 3λ)) = 0: the branch x = sin 3λ is curved, and Newton on atan diverges when
+// the predictor misses by more than ~0.14; steps of 0.5 miss by far more.
+LambdaProblem CurvedAtanProblem() {
+  return LambdaProblem(
       1,
       [](const Vector& u, double l, double, Vector& F) {
         F(0) = std::atan(10.0 * (u(0) - std::sin(3.0 * l)));
@@ -173,6 +172,11 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
         const double e = 10.0 * (u(0) - std::sin(3.0 * l));
         dF(0) = -30.0 * std::cos(3.0 * l) / (1.0 + e * e);
       });
+}
+
+TEST_CASE("a corrector that diverges at a large step halves the step and the branch recovers",
+          "[continuation][step]") {
+  LambdaProblem problem = CurvedAtanProblem();
   ContinuationOptions options;
   options.step.initial = 0.5;
   options.step.max = 0.5;
@@ -196,20 +200,7 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
 TEST_CASE("failure_memory: after a corrector failure the steps stay below the one that failed, "
           "so the same branch costs fewer failures",
           "[continuation][step]") {
-  // The curved branch above, where Newton diverges when the predictor misses by more than ~0.14.
-  LambdaProblem problem(
-      1,
-      [](const Vector& u, double l, double, Vector& F) {
-        F(0) = std::atan(10.0 * (u(0) - std::sin(3.0 * l)));
-      },
-      [](const Vector& u, double l, double, Matrix& J) {
-        const double e = 10.0 * (u(0) - std::sin(3.0 * l));
-        J(0, 0) = 10.0 / (1.0 + e * e);
-      },
-      [](const Vector& u, double l, double, Vector& dF) {
-        const double e = 10.0 * (u(0) - std::sin(3.0 * l));
-        dF(0) = -30.0 * std::cos(3.0 * l) / (1.0 + e * e);
-      });
+  LambdaProblem problem = CurvedAtanProblem();
   const auto run = [&](int failure_memory) {
     ContinuationOptions options;
     options.step.initial = 0.5;
