@@ -10,10 +10,13 @@
 //               spectra and the settle test, the summary (what `rubcont sweep` pays per speed);
 //   integrator  OdeIntegrator::Sample over the same windows (one call per window, as the stepper
 //               makes them): the integrator alone;
+//   plain f     the same integrator on the plain C's right-hand side (PlainField): the integrator's
+//               cost apart from the model's;
 //   plain       the plain-C reference sampling the same times, step-size control as Odeint's
 //               (so the steps are those of the library) and as Hairer's DOPRI5 (PI control).
 // CPU seconds of the process (solvers/stopwatch.h), per simulated second; ratios to the plain
-// reference with Odeint's control. The plain model is checked against RubFixedFrame::Rhs first.
+// reference with Odeint's control. The plain model is checked against RubFixedFrame::Rhs first, and
+// both right-hand sides are timed alone at the approach state (ns per call).
 //
 // --schedule adds the whole speed-up sweep of the issue (44 → 184 rpm, 4 rpm, the scene's dwell),
 // rubcont's SweepRun against the plain reference marching the same schedule, once each, alternating;
@@ -115,6 +118,46 @@ double ScaledDistance(const Vector& a, const Vector& b, const Vector& scale) {
   return (a - b).cwiseQuotient(scale).cwiseAbs().maxCoeff();
 }
 
+// RubFixedFrame with the plain C's right-hand side: the library's integrator on the plain model
+// (the integrator's overhead apart from the model's; the switching functions stay the library's).
+class PlainField final : public rubcont::RubFixedFrame {
+ public:
+  PlainField(const rubcont::RubStructure& structure, double omega, const PlainRubData& data)
+      : RubFixedFrame(structure, omega) {
+    PlainRubInit(&data, omega, &model_);
+  }
+  void Rhs(double /*t*/, rubcont::ConstVectorRef x, rubcont::VectorRef f) override {
+    PlainRubRhs(&model_, x.data(), f.data());
+  }
+
+ private:
+  PlainRub model_;
+};
+
+// OdeIntegrator::Sample over the windows of `times` (one call per window, as the sweep stepper
+// makes them) from x0; the end state into `end`; returns the CPU seconds.
+double IntegrateWindows(rubcont::OdeSystem& system, const rubcont::IntegratorOptions& options,
+                        const Vector& x0, const Vector& times, int windows, Vector& end) {
+  rubcont::OdeIntegrator integrator(system, options);
+  const long per_window = times.size() / windows;
+  Vector window_times(per_window);
+  rubcont::Matrix states;
+  end = x0;
+  const double c0 = rubcont::ProcessCpuSeconds();
+  for (int w = 0; w < windows; ++w) {
+    window_times = times.segment(w * per_window, per_window);
+    integrator.Sample(w == 0 ? 0.0 : times(w * per_window - 1), end, window_times, states);
+    end = states.col(per_window - 1);
+  }
+  return rubcont::CpuSecondsSince(c0);
+}
+
+int ClosedContacts(rubcont::RubFixedFrame& system, const Vector& x) {
+  int closed = 0;
+  for (const rubcont::ContactEvaluation& c : system.Contacts(x)) closed += c.touching ? 1 : 0;
+  return closed;
+}
+
 void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeats) {
   const rubcont::RubStructure structure = rubcont::SweepStructureOf(scene);
   rubcont::Scene approach_scene = scene;
@@ -145,10 +188,26 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
   double scale_difference = 0.0;
   for (int i = 0; i < 16; ++i) scale_difference = std::max(scale_difference, std::abs(plain_model.scale[i] / scale(i) - 1.0));
 
-  std::vector<double> sweep_cpu, integrator_cpu, plain_cpu, hairer_cpu;
+  // The right-hand sides alone at the approach state, per call (the integrators' other cost is the
+  // rest of the CPU per step; both are calls into other translation units, never optimized away).
+  constexpr long kCalls = 2000000;
+  double c0 = rubcont::ProcessCpuSeconds();
+  for (long i = 0; i < kCalls; ++i) {
+    system.Rhs(0.0, x0, f);
+  }
+  const double rubcont_call = rubcont::CpuSecondsSince(c0) / kCalls;
+  c0 = rubcont::ProcessCpuSeconds();
+  for (long i = 0; i < kCalls; ++i) {
+    PlainRubRhs(&plain_model, x0.data(), g.data());
+  }
+  const double plain_call = rubcont::CpuSecondsSince(c0) / kCalls;
+  system.Rhs(0.0, x0, f);
+  PlainRubRhs(&plain_model, x0.data(), g.data());
+
+  std::vector<double> sweep_cpu, integrator_cpu, plain_field_cpu, plain_cpu, hairer_cpu;
   rubcont::IntegrationStatistics sweep_statistics;
   PlainRun plain, hairer;
-  Vector sweep_end, integrator_end;
+  Vector sweep_end, integrator_end, plain_field_end;
   int windows = 0;
   double simulated = 0.0;
   for (int r = 0; r < repeats; ++r) {
@@ -166,19 +225,9 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
     const Vector times = SpeedTimes(o, windows);
     {
       rubcont::RubFixedFrame marching(structure, omega);
-      rubcont::OdeIntegrator integrator(marching, o.integrator);
-      const long per_window = times.size() / windows;
-      Vector window_times(per_window);
-      rubcont::Matrix states;
-      Vector x = x0;
-      const double c0 = rubcont::ProcessCpuSeconds();
-      for (int w = 0; w < windows; ++w) {
-        window_times = times.segment(w * per_window, per_window);
-        integrator.Sample(w == 0 ? 0.0 : times(w * per_window - 1), x, window_times, states);
-        x = states.col(per_window - 1);
-      }
-      integrator_cpu.push_back(rubcont::CpuSecondsSince(c0));
-      integrator_end = x;
+      integrator_cpu.push_back(IntegrateWindows(marching, o.integrator, x0, times, windows, integrator_end));
+      PlainField plain_field(structure, omega, data);
+      plain_field_cpu.push_back(IntegrateWindows(plain_field, o.integrator, x0, times, windows, plain_field_end));
     }
     plain = RunPlain(data, omega, kPlainOdeintControl, tolerance, x0, times);
     plain_cpu.push_back(plain.cpu);
@@ -186,11 +235,14 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
     hairer_cpu.push_back(hairer.cpu);
   }
   const double sweep = Median(sweep_cpu) / simulated, integrator = Median(integrator_cpu) / simulated,
+               plain_field = Median(plain_field_cpu) / simulated,
                plain_s = Median(plain_cpu) / simulated, hairer_s = Median(hairer_cpu) / simulated;
   std::printf("\n%s at %g rpm (approach %s; %d windows, %g s simulated; model check: |Δf| / |f| = "
               "%.1e, scales %.1e)\n",
               regime.name, regime.to_rpm, approach.BriefReport().c_str(), windows, simulated,
               (f - g).cwiseQuotient(scale).norm() / f.cwiseQuotient(scale).norm(), scale_difference);
+  std::printf("  one f: RubFixedFrame::Rhs %.1f ns, plain C %.1f ns (%d contact(s) closed)\n",
+              1e9 * rubcont_call, 1e9 * plain_call, ClosedContacts(system, x0));
   std::printf("  %-30s %10s %8s %10s %10s %9s %12s\n", "", "CPU s/s", "ratio", "steps/s", "f/s",
               "rejected", "end vs plain");
   std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12.1e\n", "rubcont sweep speed", sweep,
@@ -200,6 +252,8 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
               ScaledDistance(sweep_end, plain.end, scale));
   std::printf("  %-30s %10.3f %8.2f %10s %10s %9s %12.1e\n", "rubcont integrator alone", integrator,
               integrator / plain_s, "", "", "", ScaledDistance(integrator_end, plain.end, scale));
+  std::printf("  %-30s %10.3f %8.2f %10s %10s %9s %12.1e\n", "rubcont integrator, plain f",
+              plain_field, plain_field / plain_s, "", "", "", ScaledDistance(plain_field_end, plain.end, scale));
   std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12s\n", "plain C, Odeint's control",
               plain_s, 1.0, plain.statistics.steps / simulated,
               plain.statistics.rhs_evaluations / simulated,
