@@ -23,7 +23,10 @@
 // with the speeds where each leaves the whip (the dominant backward precession of the last
 // analysis_length of each speed, by solvers/spectrum.h, above 150 Hz: rolling whirl).
 //
-// Usage: march_bench [SCENE] [--repeats K] [--regime NAME] [--schedule] [--schedule-only]
+// --methods adds, per regime, one window by other methods (BDF, DIRK, Gauss collocation, Dormand–
+// Prince at other tolerances) against a tight reference: CompareMethods.
+//
+// Usage: march_bench [SCENE] [--repeats K] [--regime NAME] [--schedule] [--schedule-only] [--methods]
 // Default: scenes/thesis_A_a.toml, 5 repeats.
 #include <algorithm>
 #include <cmath>
@@ -158,7 +161,80 @@ int ClosedContacts(rubcont::RubFixedFrame& system, const Vector& x) {
   return closed;
 }
 
-void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeats) {
+// One window (the first of the regime's speed) integrated by other methods against a reference
+// (the plain C at 1e-12; its f agrees with the library's to 1e-16): CPU per simulated second and the
+// largest scaled distance to the reference over the window's samples. Whether a method whose step is
+// not bound by the contact modes' stability (BDF, DIRK, Gauss collocation) beats the explicit one at
+// the same accuracy. One run each (not a median).
+void CompareMethods(const rubcont::RubStructure& structure, const PlainRubData& data, double omega,
+                    const Vector& x0, const rubcont::SweepOptions& o) {
+  using rubcont::IntegrationMethod;
+  const Vector times = SpeedTimes(o, 1);
+  const double simulated = times(times.size() - 1);
+  PlainRub model;
+  PlainRubInit(&data, omega, &model);
+  std::vector<double> reference(16 * static_cast<std::size_t>(times.size()));
+  Vector x = x0;
+  double step = 0.0;
+  PlainStatistics reference_statistics{};
+  PlainDopri5(&model, kPlainOdeintControl, 1e-12, 0.0, x.data(), times.data(), times.size(),
+              reference.data(), &step, &reference_statistics);
+  rubcont::RubFixedFrame system(structure, omega);
+  const Vector scale = system.StateScale();
+  struct Method {
+    std::string name;
+    rubcont::IntegratorOptions options;
+  };
+  std::vector<Method> methods;
+  const auto add = [&](std::string name, IntegrationMethod method, double tolerance, int order,
+                       long collocation_steps) {
+    rubcont::IntegratorOptions options = o.integrator;
+    options.method = method;
+    options.relative_tolerance = options.absolute_tolerance = tolerance;
+    options.max_order = method == IntegrationMethod::kBdf ? order : 0;
+    if (method == IntegrationMethod::kDiagonallyImplicitRungeKutta) options.implicit_order = order;
+    if (collocation_steps > 0) options.collocation_steps = collocation_steps;
+    options.max_steps = 10000000;
+    methods.push_back({std::move(name), options});
+  };
+  for (double tolerance : {1e-7, 1e-8, 1e-9}) {
+    add(fmt::format("Dormand-Prince {:g}", tolerance), IntegrationMethod::kDormandPrince, tolerance, 0, 0);
+  }
+  for (double tolerance : {1e-5, 1e-6, 1e-7, 1e-8}) {
+    add(fmt::format("BDF <= 2 {:g}", tolerance), IntegrationMethod::kBdf, tolerance, 2, 0);
+  }
+  for (double tolerance : {1e-6, 1e-7, 1e-8}) {
+    add(fmt::format("BDF <= 5 {:g}", tolerance), IntegrationMethod::kBdf, tolerance, 5, 0);
+  }
+  for (double tolerance : {1e-6, 1e-7, 1e-8}) {
+    add(fmt::format("DIRK 4 {:g}", tolerance), IntegrationMethod::kDiagonallyImplicitRungeKutta, tolerance, 4, 0);
+  }
+  for (long steps : {2000L, 8000L, 32000L}) {
+    add(fmt::format("Gauss s = 4, {} steps", steps), IntegrationMethod::kGaussCollocation, 1e-8, 0, steps);
+  }
+  std::printf("  other methods, one window (%g s) from the same state; error: max over the samples of "
+              "the scaled distance to the plain C at 1e-12\n", simulated);
+  std::printf("  %-30s %10s %10s %10s %10s %10s\n", "", "CPU s/s", "steps/s", "f/s", "Jac/s", "error");
+  for (const Method& method : methods) {
+    rubcont::OdeIntegrator integrator(system, method.options);
+    rubcont::Matrix states;
+    const double c0 = rubcont::ProcessCpuSeconds();
+    const rubcont::IntegrationResult result = integrator.Sample(0.0, x0, times, states);
+    const double cpu = rubcont::CpuSecondsSince(c0);
+    double error = 0.0;
+    for (long k = 0; k < times.size(); ++k) {
+      const Eigen::Map<const Vector> r(reference.data() + 16 * k, 16);
+      error = std::max(error, ScaledDistance(states.col(k), r, scale));
+    }
+    const rubcont::IntegrationStatistics& s = result.statistics;
+    std::printf("  %-30s %10.3f %10.0f %10.0f %10.0f %10.1e%s\n", method.name.c_str(), cpu / simulated,
+                s.steps / simulated, s.rhs_evaluations / simulated, s.jacobian_evaluations / simulated,
+                error, result.status == rubcont::IntegrationStatus::kSuccess ? "" : "  (failed)");
+    std::fflush(stdout);
+  }
+}
+
+void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeats, bool methods) {
   const rubcont::RubStructure structure = rubcont::SweepStructureOf(scene);
   rubcont::Scene approach_scene = scene;
   approach_scene.analysis.sweep.up_range_rpm = {regime.from_rpm, regime.to_rpm};
@@ -264,6 +340,7 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
               double(hairer.statistics.rejected) / std::max(1L, hairer.statistics.steps),
               ScaledDistance(hairer.end, plain.end, scale));
   std::fflush(stdout);
+  if (methods) CompareMethods(structure, data, omega, x0, o);
 }
 
 // The precession [Hz] of the last analysis_length of a speed, from samples of one contact's
@@ -349,12 +426,13 @@ int main(int argc, char** argv) {
   std::string scene_file = "scenes/thesis_A_a.toml";
   std::string only;
   int repeats = 5;
-  bool schedule = false, regimes = true;
+  bool schedule = false, regimes = true, methods = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeats" && i + 1 < argc) repeats = std::atoi(argv[++i]);
     else if (a == "--regime" && i + 1 < argc) only = argv[++i];
     else if (a == "--schedule") schedule = true;
+    else if (a == "--methods") methods = true;
     else if (a == "--schedule-only") schedule = true, regimes = false;
     else scene_file = a;
   }
@@ -367,7 +445,7 @@ int main(int argc, char** argv) {
     const std::vector<Regime> list = {
         {"whirl", 20, 40}, {"whip, full contact", 56, 80}, {"whip, impacting", 56, 160}};
     for (const Regime& r : list) {
-      if (only.empty() || only == r.name) MeasureRegime(scene, r, repeats);
+      if (only.empty() || only == r.name) MeasureRegime(scene, r, repeats, methods);
     }
   }
   if (schedule) MeasureSchedule(scene);
