@@ -12,6 +12,8 @@
 //               makes them): the integrator alone;
 //   plain f     the same integrator on the plain C's right-hand side (PlainField): the integrator's
 //               cost apart from the model's;
+//   no landing  the integrator alone with land_on_switches off (the cost of landing on the
+//               switches; other steps where contacts switch, so other results there);
 //   plain       the plain-C reference sampling the same times, step-size control as Odeint's
 //               (so the steps are those of the library) and as Hairer's DOPRI5 (PI control).
 // CPU seconds of the process (solvers/stopwatch.h), per simulated second; ratios to the plain
@@ -280,10 +282,10 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
   system.Rhs(0.0, x0, f);
   PlainRubRhs(&plain_model, x0.data(), g.data());
 
-  std::vector<double> sweep_cpu, integrator_cpu, plain_field_cpu, plain_cpu, hairer_cpu;
+  std::vector<double> sweep_cpu, integrator_cpu, plain_field_cpu, unlanded_cpu, plain_cpu, hairer_cpu;
   rubcont::IntegrationStatistics sweep_statistics;
   PlainRun plain, hairer;
-  Vector sweep_end, integrator_end, plain_field_end;
+  Vector sweep_end, integrator_end, plain_field_end, unlanded_end;
   int windows = 0;
   double simulated = 0.0;
   for (int r = 0; r < repeats; ++r) {
@@ -304,6 +306,9 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
       integrator_cpu.push_back(IntegrateWindows(marching, o.integrator, x0, times, windows, integrator_end));
       PlainField plain_field(structure, omega, data);
       plain_field_cpu.push_back(IntegrateWindows(plain_field, o.integrator, x0, times, windows, plain_field_end));
+      rubcont::IntegratorOptions unlanded = o.integrator;
+      unlanded.land_on_switches = false;
+      unlanded_cpu.push_back(IntegrateWindows(marching, unlanded, x0, times, windows, unlanded_end));
     }
     plain = RunPlain(data, omega, kPlainOdeintControl, tolerance, x0, times);
     plain_cpu.push_back(plain.cpu);
@@ -312,6 +317,7 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
   }
   const double sweep = Median(sweep_cpu) / simulated, integrator = Median(integrator_cpu) / simulated,
                plain_field = Median(plain_field_cpu) / simulated,
+               unlanded = Median(unlanded_cpu) / simulated,
                plain_s = Median(plain_cpu) / simulated, hairer_s = Median(hairer_cpu) / simulated;
   std::printf("\n%s at %g rpm (approach %s; %d windows, %g s simulated; model check: |Δf| / |f| = "
               "%.1e, scales %.1e)\n",
@@ -330,6 +336,8 @@ void MeasureRegime(const rubcont::Scene& scene, const Regime& regime, int repeat
               integrator / plain_s, "", "", "", ScaledDistance(integrator_end, plain.end, scale));
   std::printf("  %-30s %10.3f %8.2f %10s %10s %9s %12.1e\n", "rubcont integrator, plain f",
               plain_field, plain_field / plain_s, "", "", "", ScaledDistance(plain_field_end, plain.end, scale));
+  std::printf("  %-30s %10.3f %8.2f %10s %10s %9s %12.1e\n", "rubcont integrator, no landing",
+              unlanded, unlanded / plain_s, "", "", "", ScaledDistance(unlanded_end, plain.end, scale));
   std::printf("  %-30s %10.3f %8.2f %10.0f %10.0f %9.3f %12s\n", "plain C, Odeint's control",
               plain_s, 1.0, plain.statistics.steps / simulated,
               plain.statistics.rhs_evaluations / simulated,
@@ -420,6 +428,17 @@ void MeasureSchedule(const rubcont::Scene& scene) {
               (rubcont_cpu / rubcont_simulated) / (plain_cpu / plain_simulated));
 }
 
+// The machine's load average over the last minute (/proc/loadavg; NaN where there is none): the
+// CPU times are measured beside other work.
+double LoadAverage() {
+  double load = rubcont::kNaN;
+  if (std::FILE* file = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(file, "%lf", &load) != 1) load = rubcont::kNaN;
+    std::fclose(file);
+  }
+  return load;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -441,6 +460,7 @@ int main(int argc, char** argv) {
   std::printf("march_bench: scene %s, integrator %s at rtol = atol = %g, %g s windows at %g Hz, "
               "CPU medians of %d\n", scene.name.c_str(), rubcont::ToString(o.integrator.method),
               o.integrator.relative_tolerance, o.window, o.sample_rate, repeats);
+  std::printf("load average (1 min, 2 cores) at the start: %.2f\n", LoadAverage());
   if (regimes) {
     const std::vector<Regime> list = {
         {"whirl", 20, 40}, {"whip, full contact", 56, 80}, {"whip, impacting", 56, 160}};
@@ -449,5 +469,6 @@ int main(int argc, char** argv) {
     }
   }
   if (schedule) MeasureSchedule(scene);
+  std::printf("\nload average (1 min) at the end: %.2f\n", LoadAverage());
   return 0;
 }
