@@ -1,10 +1,15 @@
 #include "apps/hdf5_file.h"
 
 #include <algorithm>
+#include <map>
+#include <numeric>
 #include <stdexcept>
 #include <system_error>
 
 #include <H5Cpp.h>
+#include <hdf5_hl.h>
+
+#include "apps/dataset_description.h"
 
 namespace rubcont {
 namespace {
@@ -60,11 +65,19 @@ const H5::StrType& Utf8String() {
 struct ResultWriter::Impl {
   H5::H5File file;
   bool open = true;
+  std::map<std::string, std::string> scales;        // group → its axis-0 dimension scale
+  std::map<std::string, std::string> second_axes;   // dataset → the dimension of its axis 1
 
   // Creation property lists that do not record modification times.
   static H5::DSetCreatPropList DatasetProperties() {
     H5::DSetCreatPropList properties;
     H5Pset_obj_track_times(properties.getId(), false);
+    return properties;
+  }
+  // The root group's links in creation order, as every other group's (EnsureGroup).
+  static H5::FileCreatPropList FileProperties() {
+    H5::FileCreatPropList properties;
+    H5Pset_link_creation_order(properties.getId(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
     return properties;
   }
 
@@ -85,6 +98,7 @@ struct ResultWriter::Impl {
     EnsureGroup(ParentPath(path));
     const hid_t gcpl = H5Pcreate(H5P_GROUP_CREATE);
     H5Pset_obj_track_times(gcpl, false);
+    H5Pset_link_creation_order(gcpl, H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
     const hid_t group = H5Gcreate2(file.getId(), path.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT);
     H5Pclose(gcpl);
     if (group < 0) throw std::runtime_error("cannot create group " + path);
@@ -99,6 +113,91 @@ struct ResultWriter::Impl {
     const H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
     return file.createDataSet(path, type, space, DatasetProperties());
   }
+
+  // The dataset's description by its name (apps/dataset_description.h): `units`, or flag_values
+  // (of the dataset's own type: int or double) and flag_meanings.
+  void Describe(H5::DataSet& set, const std::string& path, bool integers) {
+    const DatasetDescription d = DescribeDataset(path);
+    if (d.kind == DatasetDescription::Kind::kUnit) {
+      set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), d.unit);
+    } else if (d.kind == DatasetDescription::Kind::kFlag) {
+      const hsize_t n = d.flag_values.size();
+      if (integers) {
+        set.createAttribute("flag_values", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n))
+            .write(H5::PredType::NATIVE_INT, d.flag_values.data());
+      } else {
+        const std::vector<double> values(d.flag_values.begin(), d.flag_values.end());
+        set.createAttribute("flag_values", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &n))
+            .write(H5::PredType::NATIVE_DOUBLE, values.data());
+      }
+      set.createAttribute("flag_meanings", Utf8String(), H5::DataSpace(H5S_SCALAR))
+          .write(Utf8String(), d.flag_meanings);
+    }
+  }
+
+  // The dimensions of `path` (a dataset).
+  std::vector<hsize_t> Extent(const std::string& path) const {
+    const H5::DataSpace space = file.openDataSet(path).getSpace();
+    std::vector<hsize_t> dims(static_cast<std::size_t>(space.getSimpleExtentNdims()));
+    space.getSimpleExtentDims(dims.data());
+    return dims;
+  }
+
+  // `<group>/<name>` as a dimension scale of `length`: the dataset if the group has it, else an
+  // index 0, 1, … created for it. Empty when the existing dataset is not 1-D of that length.
+  std::string Scale(const std::string& group, const std::string& name, hsize_t length) {
+    const std::string path = group + "/" + name;
+    if (!Exists(path)) {
+      std::vector<int> index(length);
+      std::iota(index.begin(), index.end(), 0);
+      H5::DataSet set = CreateDataset(path, H5::PredType::NATIVE_INT, {length});
+      if (length > 0) set.write(index.data(), H5::PredType::NATIVE_INT);
+    } else if (Extent(path) != std::vector<hsize_t>{length}) {
+      return "";
+    }
+    H5::DataSet set = file.openDataSet(path);
+    if (H5DSis_scale(set.getId()) <= 0 && H5DSset_scale(set.getId(), name.c_str()) < 0) {
+      throw std::runtime_error("cannot make " + path + " a dimension scale");
+    }
+    return path;
+  }
+
+  // Every dataset of `group` labelled by `scale` along axis 0 and its second dimension along
+  // axis 1 (SetDimensionScales).
+  void AttachScales(const std::string& group, const std::string& scale) {
+    const std::string scale_path = group + "/" + scale;
+    if (!Exists(scale_path)) return;
+    const std::vector<hsize_t> scale_extent = Extent(scale_path);
+    if (scale_extent.size() != 1) throw std::runtime_error(scale_path + " is not 1-D: no scale");
+    Scale(group, scale, scale_extent[0]);
+    std::vector<std::string> datasets;
+    {
+      const H5::Group g = file.openGroup(group);
+      for (hsize_t i = 0; i < g.getNumObjs(); ++i) {
+        if (g.getObjTypeByIdx(i) == H5G_DATASET) datasets.push_back(g.getObjnameByIdx(i));
+      }
+    }
+    for (const std::string& name : datasets) {
+      const std::string path = group + "/" + name;
+      const std::vector<hsize_t> extent = Extent(path);
+      if (extent.empty() || extent.size() > 2 || extent[0] != scale_extent[0]) continue;
+      H5::DataSet set = file.openDataSet(path);
+      if (H5DSis_scale(set.getId()) > 0) continue;
+      std::vector<std::string> axes{scale_path};
+      if (extent.size() == 2) {
+        const auto named = second_axes.find(path);
+        axes.push_back(Scale(group, named != second_axes.end() ? named->second : name + "_column",
+                             extent[1]));
+      }
+      for (std::size_t axis = 0; axis < axes.size(); ++axis) {
+        if (axes[axis].empty()) continue;
+        const H5::DataSet scale_set = file.openDataSet(axes[axis]);
+        if (H5DSattach_scale(set.getId(), scale_set.getId(), static_cast<unsigned>(axis)) < 0) {
+          throw std::runtime_error("cannot attach " + axes[axis] + " to " + path);
+        }
+      }
+    }
+  }
 };
 
 ResultWriter::ResultWriter(std::filesystem::path target)
@@ -107,7 +206,8 @@ ResultWriter::ResultWriter(std::filesystem::path target)
   std::error_code ec;
   replaces_leftover_ = std::filesystem::exists(temporary_, ec);
   impl_ = Guard(temporary_, "create", [&] {
-    return std::unique_ptr<Impl>(new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC)});
+    return std::unique_ptr<Impl>(
+        new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC, Impl::FileProperties()), true, {}, {}});
   });
 }
 
@@ -131,6 +231,7 @@ void ResultWriter::WriteDoubles(const std::string& path, const std::vector<doubl
   Guard(temporary_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_DOUBLE, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
+    impl_->Describe(set, path, false);
   });
 }
 
@@ -146,6 +247,7 @@ void ResultWriter::WriteMatrix(const std::string& path, const Matrix& values) {
         path, H5::PredType::NATIVE_DOUBLE,
         {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())});
     if (values.size() > 0) set.write(row_major.data(), H5::PredType::NATIVE_DOUBLE);
+    impl_->Describe(set, path, false);
   });
 }
 
@@ -153,6 +255,7 @@ void ResultWriter::WriteInts(const std::string& path, const std::vector<int>& va
   Guard(temporary_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_INT, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_INT);
+    impl_->Describe(set, path, true);
   });
 }
 
@@ -204,8 +307,32 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
   });
 }
 
+void ResultWriter::SetUnits(const std::string& dataset, const std::string& units) {
+  CheckAbsolute(dataset);
+  Guard(temporary_, dataset + "@units", [&] {
+    H5::DataSet set = impl_->file.openDataSet(dataset);
+    if (set.attrExists("units")) set.removeAttr("units");
+    if (!units.empty()) {
+      set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), units);
+    }
+  });
+}
+
+void ResultWriter::SetDimensionScales(const std::string& group, const std::string& scale) {
+  CheckAbsolute(group);
+  impl_->scales[group] = scale;
+}
+
+void ResultWriter::NameSecondAxis(const std::string& dataset, const std::string& dimension) {
+  CheckAbsolute(dataset);
+  impl_->second_axes[dataset] = dimension;
+}
+
 void ResultWriter::Commit() {
   if (!impl_->open) throw std::logic_error("ResultWriter::Commit called twice");
+  for (const auto& [group, scale] : impl_->scales) {
+    Guard(temporary_, group + " (dimension scales)", [&] { impl_->AttachScales(group, scale); });
+  }
   Guard(temporary_, "close", [&] { impl_->file.close(); });
   impl_->open = false;
   std::error_code ec;
