@@ -148,4 +148,19 @@ DatasetDescription DescribeDataset(const std::string& path) {
   return {};
 }
 
+std::string DesignParameterUnits(DesignParameter parameter) {
+  const std::string unit = UnitOf(parameter);
+  if (unit == "-") return "1";
+  std::string units;  // UDUNITS writes a product with a blank: N·s/m → N s/m
+  for (std::size_t i = 0; i < unit.size(); ++i) {
+    if (unit.compare(i, std::string("·").size(), "·") == 0) {
+      units += ' ';
+      i += std::string("·").size() - 1;
+    } else {
+      units += unit[i];
+    }
+  }
+  return units;
+}
+
 }  // namespace rubcont

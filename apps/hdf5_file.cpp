@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <stdexcept>
 #include <system_error>
 
@@ -114,25 +113,32 @@ struct ResultWriter::Impl {
     return file.createDataSet(path, type, space, DatasetProperties());
   }
 
-  // The dataset's description by its name (apps/dataset_description.h): `units`, or flag_values
-  // (of the dataset's own type: int or double) and flag_meanings.
+  // The dataset's description by its name (apps/dataset_description.h): `units` ("1" for a
+  // dimensionless number or a code), and flag_values (of the dataset's own type: int or double)
+  // and flag_meanings for a coded integer. A unit that depends on the run (kContext) is the
+  // caller's (SetUnits).
   void Describe(H5::DataSet& set, const std::string& path, bool integers) {
     const DatasetDescription d = DescribeDataset(path);
-    if (d.kind == DatasetDescription::Kind::kUnit) {
-      set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), d.unit);
-    } else if (d.kind == DatasetDescription::Kind::kFlag) {
-      const hsize_t n = d.flag_values.size();
-      if (integers) {
-        set.createAttribute("flag_values", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n))
-            .write(H5::PredType::NATIVE_INT, d.flag_values.data());
-      } else {
-        const std::vector<double> values(d.flag_values.begin(), d.flag_values.end());
-        set.createAttribute("flag_values", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &n))
-            .write(H5::PredType::NATIVE_DOUBLE, values.data());
-      }
-      set.createAttribute("flag_meanings", Utf8String(), H5::DataSpace(H5S_SCALAR))
-          .write(Utf8String(), d.flag_meanings);
+    if (d.kind == DatasetDescription::Kind::kUnit) WriteUnits(set, d.unit);
+    if (d.kind == DatasetDescription::Kind::kDimensionless) WriteUnits(set, "1");
+    if (d.kind != DatasetDescription::Kind::kFlag) return;
+    WriteUnits(set, "1");
+    const hsize_t n = d.flag_values.size();
+    if (integers) {
+      set.createAttribute("flag_values", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n))
+          .write(H5::PredType::NATIVE_INT, d.flag_values.data());
+    } else {
+      const std::vector<double> values(d.flag_values.begin(), d.flag_values.end());
+      set.createAttribute("flag_values", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &n))
+          .write(H5::PredType::NATIVE_DOUBLE, values.data());
     }
+    set.createAttribute("flag_meanings", Utf8String(), H5::DataSpace(H5S_SCALAR))
+        .write(Utf8String(), d.flag_meanings);
+  }
+
+  static void WriteUnits(H5::DataSet& set, const std::string& units) {
+    if (set.attrExists("units")) set.removeAttr("units");
+    set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), units);
   }
 
   // The dimensions of `path` (a dataset).
@@ -143,19 +149,12 @@ struct ResultWriter::Impl {
     return dims;
   }
 
-  // `<group>/<name>` as a dimension scale of `length`: the dataset if the group has it, else an
-  // index 0, 1, … created for it. Empty when the existing dataset is not 1-D of that length.
-  std::string Scale(const std::string& group, const std::string& name, hsize_t length) {
-    const std::string path = group + "/" + name;
-    if (!Exists(path)) {
-      std::vector<int> index(length);
-      std::iota(index.begin(), index.end(), 0);
-      H5::DataSet set = CreateDataset(path, H5::PredType::NATIVE_INT, {length});
-      if (length > 0) set.write(index.data(), H5::PredType::NATIVE_INT);
-    } else if (Extent(path) != std::vector<hsize_t>{length}) {
-      return "";
-    }
+  // `path` made a dimension scale (named by its last component) if it is a 1-D dataset of
+  // `length`; else "" (the axis stays unlabelled: no dataset is invented for it).
+  std::string Scale(const std::string& path, hsize_t length) {
+    if (!Exists(path) || Extent(path) != std::vector<hsize_t>{length}) return "";
     H5::DataSet set = file.openDataSet(path);
+    const std::string name = path.substr(path.rfind('/') + 1);
     if (H5DSis_scale(set.getId()) <= 0 && H5DSset_scale(set.getId(), name.c_str()) < 0) {
       throw std::runtime_error("cannot make " + path + " a dimension scale");
     }
@@ -163,39 +162,44 @@ struct ResultWriter::Impl {
   }
 
   // Every dataset of `group` labelled by `scale` along axis 0 and its second dimension along
-  // axis 1 (SetDimensionScales).
+  // axis 1 (SetDimensionScales). The named second dimensions become scales first, so that a 1-D
+  // one of the same length as the group's scale is not labelled by it.
   void AttachScales(const std::string& group, const std::string& scale) {
     const std::string scale_path = group + "/" + scale;
     if (!Exists(scale_path)) return;
     const std::vector<hsize_t> scale_extent = Extent(scale_path);
     if (scale_extent.size() != 1) throw std::runtime_error(scale_path + " is not 1-D: no scale");
-    Scale(group, scale, scale_extent[0]);
+    Scale(scale_path, scale_extent[0]);
     std::vector<std::string> datasets;
     {
       const H5::Group g = file.openGroup(group);
       for (hsize_t i = 0; i < g.getNumObjs(); ++i) {
-        if (g.getObjTypeByIdx(i) == H5G_DATASET) datasets.push_back(g.getObjnameByIdx(i));
+        if (g.getObjTypeByIdx(i) == H5G_DATASET) datasets.push_back(group + "/" + g.getObjnameByIdx(i));
       }
     }
-    for (const std::string& name : datasets) {
-      const std::string path = group + "/" + name;
+    std::map<std::string, std::string> second;  // dataset → its axis-1 scale ("" for none)
+    for (const std::string& path : datasets) {
+      const std::vector<hsize_t> extent = Extent(path);
+      const auto named = second_axes.find(path);
+      if (extent.size() == 2 && named != second_axes.end()) {
+        second[path] = Scale(group + "/" + named->second, extent[1]);
+      }
+    }
+    for (const std::string& path : datasets) {
       const std::vector<hsize_t> extent = Extent(path);
       if (extent.empty() || extent.size() > 2 || extent[0] != scale_extent[0]) continue;
       H5::DataSet set = file.openDataSet(path);
       if (H5DSis_scale(set.getId()) > 0) continue;
-      std::vector<std::string> axes{scale_path};
-      if (extent.size() == 2) {
-        const auto named = second_axes.find(path);
-        axes.push_back(Scale(group, named != second_axes.end() ? named->second : name + "_column",
-                             extent[1]));
-      }
-      for (std::size_t axis = 0; axis < axes.size(); ++axis) {
-        if (axes[axis].empty()) continue;
-        const H5::DataSet scale_set = file.openDataSet(axes[axis]);
-        if (H5DSattach_scale(set.getId(), scale_set.getId(), static_cast<unsigned>(axis)) < 0) {
-          throw std::runtime_error("cannot attach " + axes[axis] + " to " + path);
-        }
-      }
+      Attach(set, path, scale_path, 0);
+      if (!second[path].empty()) Attach(set, path, second[path], 1);
+    }
+  }
+
+  void Attach(const H5::DataSet& set, const std::string& path, const std::string& scale_path,
+              unsigned axis) {
+    const H5::DataSet scale_set = file.openDataSet(scale_path);
+    if (H5DSattach_scale(set.getId(), scale_set.getId(), axis) < 0) {
+      throw std::runtime_error("cannot attach " + scale_path + " to " + path);
     }
   }
 };
@@ -309,12 +313,10 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
 
 void ResultWriter::SetUnits(const std::string& dataset, const std::string& units) {
   CheckAbsolute(dataset);
+  if (units.empty()) throw std::invalid_argument("SetUnits: empty units for " + dataset);
   Guard(temporary_, dataset + "@units", [&] {
     H5::DataSet set = impl_->file.openDataSet(dataset);
-    if (set.attrExists("units")) set.removeAttr("units");
-    if (!units.empty()) {
-      set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), units);
-    }
+    Impl::WriteUnits(set, units);
   });
 }
 
