@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+"""A result file opens in Python as it describes itself (apps/hdf5_file.h): h5py lists the
+branches in the order written, xarray (engine "h5netcdf") opens a branch with speed_rpm as its
+dimension coordinate and an analytic curve with precession_hz, and every numeric dataset carries
+`units`.
+
+    /usr/bin/python3 tests/apps/check_described.py BUILD_DIR
+
+Runs `BUILD_DIR/rubcont run scenes/thesis_A_a.toml` (< 1 s, no figures) into a temporary
+directory, from the repository root. Exit code 0 when all holds, 1 with the reasons otherwise.
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import xarray
+
+
+def main(build_dir):
+    problems = []
+    with tempfile.TemporaryDirectory() as out:
+        env = dict(os.environ, RUBCONT_PYTHON="/nonexistent/python3")  # no figures
+        subprocess.run([os.path.join(build_dir, "rubcont"), "run", "scenes/thesis_A_a.toml",
+                        "--out", out, "--quiet"], check=True, env=env, capture_output=True)
+        path = os.path.join(out, "thesis_A_a", "thesis_A_a.h5")
+        with h5py.File(path, "r") as f:
+            branches = [name for name in f["branches"] if name.startswith("branch")]
+            numbers = [int(re.sub(r"\D", "", name)) for name in branches]
+            if len(numbers) < 10 or numbers != list(range(1, len(numbers) + 1)):
+                problems.append(f"h5py lists the branches as {branches}")
+
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "iuf" and "units" not in obj.attrs:
+                    problems.append(f"/{name} has no units")
+            f.visititems(visit)
+
+        branch = xarray.open_dataset(path, engine="h5netcdf", group="branches/branch2")
+        if list(branch.dims) != ["speed_rpm"] or "speed_rpm" not in branch.coords:
+            problems.append(f"branch2's dimensions are {dict(branch.dims)}, coordinates {list(branch.coords)}")
+        if branch["precession_hz"].attrs.get("units") != "Hz":
+            problems.append(f"branch2's precession_hz has units {branch['precession_hz'].attrs.get('units')!r}")
+        if branch["mode_left"].attrs.get("flag_meanings") != "free stick slip+ slip-":
+            problems.append(f"branch2's mode_left has flag_meanings {branch['mode_left'].attrs.get('flag_meanings')!r}")
+        # The whirl rolls (mode_left 1: stick) on the line BP = RCI × speed = 100 × speed_rpm/60 Hz,
+        # read through the coordinate.
+        rolling = branch["precession_hz"].where(branch["mode_left"] == 1, drop=True)
+        ratio = (rolling / rolling["speed_rpm"]).values
+        if rolling.size == 0 or abs(ratio - 100 / 60).max() > 1e-3:
+            problems.append(f"branch2 rolls at BP/speed {ratio} Hz/rpm, not 100/60")
+        branch.close()
+        curve = xarray.open_dataset(path, engine="h5netcdf", group="analytic/mode1")
+        if list(curve.dims) != ["precession_hz"]:
+            problems.append(f"analytic/mode1's dimensions are {dict(curve.dims)}")
+        curve.close()
+    for p in problems:
+        print(p)
+    print(f"described: {len(problems)} problems")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
