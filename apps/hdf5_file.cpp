@@ -188,10 +188,13 @@ struct ResultWriter::Impl {
     for (const std::string& path : datasets) {
       const std::vector<hsize_t> extent = Extent(path);
       if (extent.empty() || extent.size() > 2 || extent[0] != scale_extent[0]) continue;
+      // A 2-D dataset is labelled on both axes or on none: netCDF readers (h5netcdf) refuse a
+      // variable with one axis labelled and the other not.
+      if (extent.size() == 2 && second[path].empty()) continue;
       H5::DataSet set = file.openDataSet(path);
       if (H5DSis_scale(set.getId()) > 0) continue;
       Attach(set, path, scale_path, 0);
-      if (!second[path].empty()) Attach(set, path, second[path], 1);
+      if (extent.size() == 2) Attach(set, path, second[path], 1);
     }
   }
 

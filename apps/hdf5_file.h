@@ -59,7 +59,8 @@ class ResultWriter {
   // every dataset of `group` (not of its subgroups) whose axis 0 has its length, the datasets
   // written after this call too. Axis 1 of a 2-D dataset is labelled by the 1-D dataset of the
   // same group that NameSecondAxis named for it (its name relative to the group), when its length
-  // fits; otherwise it stays unlabelled (xarray then needs phony_dims="sort" for that group).
+  // fits; otherwise neither axis is labelled (netCDF readers refuse a half-labelled variable;
+  // xarray opens such a group with phony_dims="sort").
   void SetDimensionScales(const std::string& group, const std::string& scale);
   void NameSecondAxis(const std::string& dataset, const std::string& dimension);
 

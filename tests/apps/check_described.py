@@ -1,13 +1,13 @@
 #!/usr/bin/python3
 """A result file opens in Python as it describes itself (apps/hdf5_file.h): h5py lists the
 branches in the order written, xarray (engine "h5netcdf") opens a branch with speed_rpm as its
-dimension coordinate and an analytic curve with precession_hz, and every numeric dataset carries
-`units`.
+dimension coordinate, an analytic curve with precession_hz and a textbook model's orbit family with
+its parameter, and every numeric dataset carries `units`.
 
     /usr/bin/python3 tests/apps/check_described.py BUILD_DIR
 
-Runs `BUILD_DIR/rubcont run scenes/thesis_A_a.toml` (< 1 s, no figures) into a temporary
-directory, from the repository root. Exit code 0 when all holds, 1 with the reasons otherwise.
+Runs `BUILD_DIR/rubcont run` on scenes/thesis_A_a.toml and scenes/stuart_landau.toml (< 1 s
+each, no figures) into a temporary directory, from the repository root. Exit code 0 when all holds, 1 with the reasons otherwise.
 """
 import os
 import re
@@ -55,6 +55,18 @@ def main(build_dir):
         if list(curve.dims) != ["precession_hz"]:
             problems.append(f"analytic/mode1's dimensions are {dict(curve.dims)}")
         curve.close()
+
+        # A textbook model's orbit family: its parameter is the dimension; the multipliers
+        # (orbits × multipliers, second axis unlabelled) are left unlabelled on both axes, which
+        # h5netcdf accepts with phony dimensions (it refuses a half-labelled variable).
+        subprocess.run([os.path.join(build_dir, "rubcont"), "run", "scenes/stuart_landau.toml",
+                        "--out", out, "--quiet"], check=True, env=env, capture_output=True)
+        path = os.path.join(out, "stuart_landau", "stuart_landau.h5")
+        orbits = xarray.open_dataset(path, engine="h5netcdf", group="branches/periodic_orbits",
+                                     phony_dims="sort")
+        if orbits["period"].dims != ("lambda",) or "lambda" not in orbits.coords:
+            problems.append(f"the Stuart-Landau orbits' period has dimensions {orbits['period'].dims}")
+        orbits.close()
     for p in problems:
         print(p)
     print(f"described: {len(problems)} problems")

@@ -124,6 +124,7 @@ TEST_CASE("A result file describes itself: units, flags, dimension scales, creat
       writer.WriteDoubles(g + "/normal_force_left", std::vector<double>{0.0, 1.0, 2.0, 3.0});
       writer.WriteStrings(g + "/piece", {"a", "b", "c", "d"});
       writer.WriteDoubles(g + "/speed_range_rpm", std::vector<double>{40.0, 70.0});  // not 4 long
+      writer.WriteMatrix(g + "/multipliers_real", Matrix::Zero(4, 2));  // no second axis named
     }
     // A sweep whose spectra have as many bins as speeds: the frequencies label axis 1 and are not
     // labelled by the speeds themselves.
@@ -164,6 +165,9 @@ TEST_CASE("A result file describes itself: units, flags, dimension scales, creat
     CHECK(ScaleOf(file, g + "/" + name, 0) == "speed_rpm");
   }
   CHECK(ScaleOf(file, g + "/speed_range_rpm", 0).empty());
+  // Labelled on both axes or on none: h5netcdf refuses a half-labelled variable.
+  CHECK(ScaleOf(file, g + "/multipliers_real", 0).empty());
+  CHECK(ScaleOf(file, g + "/multipliers_real", 1).empty());
 
   const std::string s = "/sweeps/up";
   CHECK(ScaleOf(file, s + "/spectrum_magnitude_left", 0) == "speed_rpm");
