@@ -23,31 +23,11 @@ struct Rule {
 // The per-contact suffix of a measure: normal_force_left, slip_velocity_max_contact, …
 const std::string kContact = "(_(left|right|contact))?";
 
-DatasetDescription Unit(std::string unit) {
-  DatasetDescription d;
-  d.kind = Kind::kUnit;
-  d.unit = std::move(unit);
-  return d;
-}
-
-DatasetDescription Dimensionless() {
-  DatasetDescription d;
-  d.kind = Kind::kDimensionless;
-  return d;
-}
-
+DatasetDescription Unit(std::string unit) { return {Kind::kUnit, std::move(unit), {}, {}}; }
+DatasetDescription Dimensionless() { return {Kind::kDimensionless, {}, {}, {}}; }
+DatasetDescription Context() { return {Kind::kContext, {}, {}, {}}; }
 DatasetDescription Flag(std::vector<int> values, std::string meanings) {
-  DatasetDescription d;
-  d.kind = Kind::kFlag;
-  d.flag_values = std::move(values);
-  d.flag_meanings = std::move(meanings);
-  return d;
-}
-
-DatasetDescription Context() {
-  DatasetDescription d;
-  d.kind = Kind::kContext;
-  return d;
+  return {Kind::kFlag, {}, std::move(values), std::move(meanings)};
 }
 
 // The words of an enum's ToString for the codes first … last, as flag meanings (CF: no blanks in
