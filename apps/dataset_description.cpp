@@ -47,19 +47,21 @@ DatasetDescription EnumFlag(Enum first, Enum last, const char* (*to_string)(Enum
 
 std::vector<Rule> MakeRules() {
   std::vector<Rule> rules;
-  auto add = [&rules](const std::string& name, DatasetDescription d, const std::string& place = "") {
+  auto add = [&rules](const std::string& name, DatasetDescription d,
+                      const std::string& place = "") {
     rules.push_back({std::regex(name), std::regex(place.empty() ? "." : place), !place.empty(),
                      std::move(d)});
   };
   // Coded integers first: their names would otherwise match a quantity's pattern.
-  add("stable|branch_stable|stable_before|stable_after", Flag({-1, 0, 1}, "not_computed unstable stable"));
+  add("stable|branch_stable|stable_before|stable_after",
+      Flag({-1, 0, 1}, "not_computed unstable stable"));
   add("mode_(left|right|contact)",
       EnumFlag(ContactMode::kFree, ContactMode::kSlipNegative,
                static_cast<const char* (*)(ContactMode)>(ToString)));
   add("regime" + kContact, EnumFlag(RubRegime::kUnknown, RubRegime::kWhip,
                                    static_cast<const char* (*)(RubRegime)>(ToString)));
-  add("region", Flag({-1, 0, 1, 2}, "not_computed no_stable_circular_state one_stable_circular_state "
-                                    "coexisting_stable_circular_states"));
+  add("region", Flag({-1, 0, 1, 2}, "not_computed no_stable_circular_state "
+                                    "one_stable_circular_state coexisting_stable_circular_states"));
   add("converged", Flag({0, 1}, "guess converged"));
   add("nonsmooth_fold", Flag({0, 1}, "smooth nonsmooth_fold"));
   add("through_pole", Flag({0, 1}, "not_through_pole through_pole"));
@@ -111,7 +113,8 @@ std::vector<Rule> MakeRules() {
       Dimensionless());
   // The textbook models are nondimensional: their parameter, state measures and period.
   add("lambda|mu|frequency|period|amplitude_x|max_x|min_x|max_v|min_v|mean_radius|"
-      "closed_form_(radius|period|multiplier)_error", Dimensionless(), "^/branches/periodic_orbits/");
+      "closed_form_(radius|period|multiplier)_error",
+      Dimensionless(), "^/branches/periodic_orbits/");
   return rules;
 }
 

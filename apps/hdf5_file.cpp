@@ -4,6 +4,7 @@
 #include <map>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include <H5Cpp.h>
 #include <hdf5_hl.h>
@@ -138,7 +139,8 @@ struct ResultWriter::Impl {
 
   static void WriteUnits(H5::DataSet& set, const std::string& units) {
     if (set.attrExists("units")) set.removeAttr("units");
-    set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR)).write(Utf8String(), units);
+    set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR))
+        .write(Utf8String(), units);
   }
 
   // The dimensions of `path` (a dataset).
@@ -174,7 +176,8 @@ struct ResultWriter::Impl {
     {
       const H5::Group g = file.openGroup(group);
       for (hsize_t i = 0; i < g.getNumObjs(); ++i) {
-        if (g.getObjTypeByIdx(i) == H5G_DATASET) datasets.push_back(group + "/" + g.getObjnameByIdx(i));
+        if (g.getObjTypeByIdx(i) != H5G_DATASET) continue;
+        datasets.push_back(group + "/" + g.getObjnameByIdx(i));
       }
     }
     std::map<std::string, std::string> second;  // dataset → its axis-1 scale ("" for none)
@@ -213,8 +216,8 @@ ResultWriter::ResultWriter(std::filesystem::path target)
   std::error_code ec;
   replaces_leftover_ = std::filesystem::exists(temporary_, ec);
   impl_ = Guard(temporary_, "create", [&] {
-    return std::unique_ptr<Impl>(
-        new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC, Impl::FileProperties()), true, {}, {}});
+    H5::H5File file(temporary_.string(), H5F_ACC_TRUNC, Impl::FileProperties());
+    return std::unique_ptr<Impl>(new Impl{std::move(file), true, {}, {}});
   });
 }
 

@@ -7,7 +7,8 @@ its parameter, and every numeric dataset carries `units`.
     /usr/bin/python3 tests/apps/check_described.py BUILD_DIR
 
 Runs `BUILD_DIR/rubcont run` on scenes/thesis_A_a.toml and scenes/stuart_landau.toml (< 1 s
-each, no figures) into a temporary directory, from the repository root. Exit code 0 when all holds, 1 with the reasons otherwise.
+each, no figures) into a temporary directory, from the repository root. Exit code 0 when all
+holds, 1 with the reasons otherwise.
 """
 import os
 import re
@@ -33,17 +34,21 @@ def main(build_dir):
                 problems.append(f"h5py lists the branches as {branches}")
 
             def visit(name, obj):
-                if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "iuf" and "units" not in obj.attrs:
+                numeric = isinstance(obj, h5py.Dataset) and obj.dtype.kind in "iuf"
+                if numeric and "units" not in obj.attrs:
                     problems.append(f"/{name} has no units")
             f.visititems(visit)
 
         branch = xarray.open_dataset(path, engine="h5netcdf", group="branches/branch2")
         if list(branch.dims) != ["speed_rpm"] or "speed_rpm" not in branch.coords:
-            problems.append(f"branch2's dimensions are {dict(branch.dims)}, coordinates {list(branch.coords)}")
-        if branch["precession_hz"].attrs.get("units") != "Hz":
-            problems.append(f"branch2's precession_hz has units {branch['precession_hz'].attrs.get('units')!r}")
-        if branch["mode_left"].attrs.get("flag_meanings") != "free stick slip+ slip-":
-            problems.append(f"branch2's mode_left has flag_meanings {branch['mode_left'].attrs.get('flag_meanings')!r}")
+            problems.append(f"branch2's dimensions are {dict(branch.dims)}, "
+                            f"coordinates {list(branch.coords)}")
+        units = branch["precession_hz"].attrs.get("units")
+        if units != "Hz":
+            problems.append(f"branch2's precession_hz has units {units!r}")
+        meanings = branch["mode_left"].attrs.get("flag_meanings")
+        if meanings != "free stick slip+ slip-":
+            problems.append(f"branch2's mode_left has flag_meanings {meanings!r}")
         # The whirl rolls (mode_left 1: stick) on the line BP = RCI × speed = 100 × speed_rpm/60 Hz,
         # read through the coordinate.
         rolling = branch["precession_hz"].where(branch["mode_left"] == 1, drop=True)
@@ -65,7 +70,7 @@ def main(build_dir):
         orbits = xarray.open_dataset(path, engine="h5netcdf", group="branches/periodic_orbits",
                                      phony_dims="sort")
         if orbits["period"].dims != ("lambda",) or "lambda" not in orbits.coords:
-            problems.append(f"the Stuart-Landau orbits' period has dimensions {orbits['period'].dims}")
+            problems.append(f"the Stuart-Landau orbits' period has dims {orbits['period'].dims}")
         orbits.close()
     for p in problems:
         print(p)

@@ -183,8 +183,8 @@ TEST_CASE("A result file describes itself: units, flags, dimension scales, creat
 TEST_CASE("CLI: a run's file describes its branches (units, mode flags, speed as the dimension)",
           "[cli][describe]") {
   TempDir dir;
-  const auto run = testing::RubcontNoPython("run scenes/thesis_A_a.toml --out " + dir.path.string() +
-                                            " --quiet");
+  const auto run =
+      testing::RubcontNoPython("run scenes/thesis_A_a.toml --out " + dir.path.string() + " --quiet");
   REQUIRE(run.exit_code == 0);
   const H5::H5File file((dir.path / "thesis_A_a" / "thesis_A_a.h5").string(), H5F_ACC_RDONLY);
   const std::vector<std::string> branches = CreationOrder(file, "/branches");

@@ -22,7 +22,8 @@ inline std::string StringAttribute(const H5::H5Object& object, const std::string
 inline std::vector<double> FlagValues(const H5::H5Object& object) {
   if (!object.attrExists("flag_values")) return {};
   const H5::Attribute attribute = object.openAttribute("flag_values");
-  std::vector<double> values(static_cast<std::size_t>(attribute.getSpace().getSimpleExtentNpoints()));
+  const auto n = attribute.getSpace().getSimpleExtentNpoints();
+  std::vector<double> values(static_cast<std::size_t>(n));
   attribute.read(H5::PredType::NATIVE_DOUBLE, values.data());
   return values;
 }
