@@ -1,10 +1,15 @@
 #include "apps/hdf5_file.h"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include <H5Cpp.h>
+#include <hdf5_hl.h>
+
+#include "apps/dataset_description.h"
 
 namespace rubcont {
 namespace {
@@ -60,11 +65,19 @@ const H5::StrType& Utf8String() {
 struct ResultWriter::Impl {
   H5::H5File file;
   bool open = true;
+  std::map<std::string, std::string> scales;        // group → its axis-0 dimension scale
+  std::map<std::string, std::string> second_axes;   // dataset → the dimension of its axis 1
 
   // Creation property lists that do not record modification times.
   static H5::DSetCreatPropList DatasetProperties() {
     H5::DSetCreatPropList properties;
     H5Pset_obj_track_times(properties.getId(), false);
+    return properties;
+  }
+  // The root group's links in creation order, as every other group's (EnsureGroup).
+  static H5::FileCreatPropList FileProperties() {
+    H5::FileCreatPropList properties;
+    H5Pset_link_creation_order(properties.getId(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
     return properties;
   }
 
@@ -85,6 +98,7 @@ struct ResultWriter::Impl {
     EnsureGroup(ParentPath(path));
     const hid_t gcpl = H5Pcreate(H5P_GROUP_CREATE);
     H5Pset_obj_track_times(gcpl, false);
+    H5Pset_link_creation_order(gcpl, H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
     const hid_t group = H5Gcreate2(file.getId(), path.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT);
     H5Pclose(gcpl);
     if (group < 0) throw std::runtime_error("cannot create group " + path);
@@ -99,6 +113,101 @@ struct ResultWriter::Impl {
     const H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
     return file.createDataSet(path, type, space, DatasetProperties());
   }
+
+  // The dataset's description by its name (apps/dataset_description.h): `units` ("1" for a
+  // dimensionless number or a code), and flag_values (of the dataset's own type: int or double)
+  // and flag_meanings for a coded integer. A unit that depends on the run (kContext) is the
+  // caller's (SetUnits).
+  void Describe(H5::DataSet& set, const std::string& path, bool integers) {
+    const DatasetDescription d = DescribeDataset(path);
+    if (d.kind == DatasetDescription::Kind::kUnit) WriteUnits(set, d.unit);
+    if (d.kind == DatasetDescription::Kind::kDimensionless) WriteUnits(set, "1");
+    if (d.kind != DatasetDescription::Kind::kFlag) return;
+    WriteUnits(set, "1");
+    const hsize_t n = d.flag_values.size();
+    if (integers) {
+      set.createAttribute("flag_values", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n))
+          .write(H5::PredType::NATIVE_INT, d.flag_values.data());
+    } else {
+      const std::vector<double> values(d.flag_values.begin(), d.flag_values.end());
+      set.createAttribute("flag_values", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &n))
+          .write(H5::PredType::NATIVE_DOUBLE, values.data());
+    }
+    set.createAttribute("flag_meanings", Utf8String(), H5::DataSpace(H5S_SCALAR))
+        .write(Utf8String(), d.flag_meanings);
+  }
+
+  static void WriteUnits(H5::DataSet& set, const std::string& units) {
+    if (set.attrExists("units")) set.removeAttr("units");
+    set.createAttribute("units", Utf8String(), H5::DataSpace(H5S_SCALAR))
+        .write(Utf8String(), units);
+  }
+
+  // The dimensions of `path` (a dataset).
+  std::vector<hsize_t> Extent(const std::string& path) const {
+    const H5::DataSpace space = file.openDataSet(path).getSpace();
+    std::vector<hsize_t> dims(static_cast<std::size_t>(space.getSimpleExtentNdims()));
+    space.getSimpleExtentDims(dims.data());
+    return dims;
+  }
+
+  // `path` made a dimension scale (named by its last component) if it is a 1-D dataset of
+  // `length`; else "" (the axis stays unlabelled: no dataset is invented for it).
+  std::string Scale(const std::string& path, hsize_t length) {
+    if (!Exists(path) || Extent(path) != std::vector<hsize_t>{length}) return "";
+    H5::DataSet set = file.openDataSet(path);
+    const std::string name = path.substr(path.rfind('/') + 1);
+    if (H5DSis_scale(set.getId()) <= 0 && H5DSset_scale(set.getId(), name.c_str()) < 0) {
+      throw std::runtime_error("cannot make " + path + " a dimension scale");
+    }
+    return path;
+  }
+
+  // Every dataset of `group` labelled by `scale` along axis 0 and its second dimension along
+  // axis 1 (SetDimensionScales). The named second dimensions become scales first, so that a 1-D
+  // one of the same length as the group's scale is not labelled by it.
+  void AttachScales(const std::string& group, const std::string& scale) {
+    const std::string scale_path = group + "/" + scale;
+    if (!Exists(scale_path)) return;
+    const std::vector<hsize_t> scale_extent = Extent(scale_path);
+    if (scale_extent.size() != 1) throw std::runtime_error(scale_path + " is not 1-D: no scale");
+    Scale(scale_path, scale_extent[0]);
+    std::vector<std::string> datasets;
+    {
+      const H5::Group g = file.openGroup(group);
+      for (hsize_t i = 0; i < g.getNumObjs(); ++i) {
+        if (g.getObjTypeByIdx(i) != H5G_DATASET) continue;
+        datasets.push_back(group + "/" + g.getObjnameByIdx(i));
+      }
+    }
+    std::map<std::string, std::string> second;  // dataset → its axis-1 scale ("" for none)
+    for (const std::string& path : datasets) {
+      const std::vector<hsize_t> extent = Extent(path);
+      const auto named = second_axes.find(path);
+      if (extent.size() == 2 && named != second_axes.end()) {
+        second[path] = Scale(group + "/" + named->second, extent[1]);
+      }
+    }
+    for (const std::string& path : datasets) {
+      const std::vector<hsize_t> extent = Extent(path);
+      if (extent.empty() || extent.size() > 2 || extent[0] != scale_extent[0]) continue;
+      // A 2-D dataset is labelled on both axes or on none: netCDF readers (h5netcdf) refuse a
+      // variable with one axis labelled and the other not.
+      if (extent.size() == 2 && second[path].empty()) continue;
+      H5::DataSet set = file.openDataSet(path);
+      if (H5DSis_scale(set.getId()) > 0) continue;
+      Attach(set, path, scale_path, 0);
+      if (extent.size() == 2) Attach(set, path, second[path], 1);
+    }
+  }
+
+  void Attach(const H5::DataSet& set, const std::string& path, const std::string& scale_path,
+              unsigned axis) {
+    const H5::DataSet scale_set = file.openDataSet(scale_path);
+    if (H5DSattach_scale(set.getId(), scale_set.getId(), axis) < 0) {
+      throw std::runtime_error("cannot attach " + scale_path + " to " + path);
+    }
+  }
 };
 
 ResultWriter::ResultWriter(std::filesystem::path target)
@@ -107,7 +216,8 @@ ResultWriter::ResultWriter(std::filesystem::path target)
   std::error_code ec;
   replaces_leftover_ = std::filesystem::exists(temporary_, ec);
   impl_ = Guard(temporary_, "create", [&] {
-    return std::unique_ptr<Impl>(new Impl{H5::H5File(temporary_.string(), H5F_ACC_TRUNC)});
+    H5::H5File file(temporary_.string(), H5F_ACC_TRUNC, Impl::FileProperties());
+    return std::unique_ptr<Impl>(new Impl{std::move(file), true, {}, {}});
   });
 }
 
@@ -131,6 +241,7 @@ void ResultWriter::WriteDoubles(const std::string& path, const std::vector<doubl
   Guard(temporary_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_DOUBLE, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
+    impl_->Describe(set, path, false);
   });
 }
 
@@ -146,6 +257,7 @@ void ResultWriter::WriteMatrix(const std::string& path, const Matrix& values) {
         path, H5::PredType::NATIVE_DOUBLE,
         {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())});
     if (values.size() > 0) set.write(row_major.data(), H5::PredType::NATIVE_DOUBLE);
+    impl_->Describe(set, path, false);
   });
 }
 
@@ -153,6 +265,7 @@ void ResultWriter::WriteInts(const std::string& path, const std::vector<int>& va
   Guard(temporary_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_INT, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_INT);
+    impl_->Describe(set, path, true);
   });
 }
 
@@ -204,8 +317,30 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
   });
 }
 
+void ResultWriter::SetUnits(const std::string& dataset, const std::string& units) {
+  CheckAbsolute(dataset);
+  if (units.empty()) throw std::invalid_argument("SetUnits: empty units for " + dataset);
+  Guard(temporary_, dataset + "@units", [&] {
+    H5::DataSet set = impl_->file.openDataSet(dataset);
+    Impl::WriteUnits(set, units);
+  });
+}
+
+void ResultWriter::SetDimensionScales(const std::string& group, const std::string& scale) {
+  CheckAbsolute(group);
+  impl_->scales[group] = scale;
+}
+
+void ResultWriter::NameSecondAxis(const std::string& dataset, const std::string& dimension) {
+  CheckAbsolute(dataset);
+  impl_->second_axes[dataset] = dimension;
+}
+
 void ResultWriter::Commit() {
   if (!impl_->open) throw std::logic_error("ResultWriter::Commit called twice");
+  for (const auto& [group, scale] : impl_->scales) {
+    Guard(temporary_, group + " (dimension scales)", [&] { impl_->AttachScales(group, scale); });
+  }
   Guard(temporary_, "close", [&] { impl_->file.close(); });
   impl_->open = false;
   std::error_code ec;

@@ -11,6 +11,13 @@
 // be empty), on any group or dataset.
 // Object modification times are not recorded, so equal content gives equal bytes.
 //
+// The file describes itself (apps/dataset_description.h): each numeric dataset gets, when it is
+// written, the `units` attribute of its name ("1" for a dimensionless number or a code), and a
+// coded integer `flag_values` / `flag_meanings` too; groups keep their links in creation order
+// (h5py lists branch1, branch2, …, branch10 as written, not sorted as text); and groups declared
+// with SetDimensionScales get HDF5 dimension scales at Commit, so that xarray (engine
+// "h5netcdf") opens them with, e.g., speed_rpm as the coordinate.
+//
 // Errors (HDF5 failures, I/O) throw std::runtime_error naming the file and the object.
 #pragma once
 
@@ -44,6 +51,18 @@ class ResultWriter {
   void SetAttribute(const std::string& object, const std::string& name, const char* value) {
     SetAttribute(object, name, std::string(value));
   }
+  // The `units` of a dataset whose unit depends on the run (DatasetDescription::kContext: a map's
+  // η), replacing any. `units` must not be empty.
+  void SetUnits(const std::string& dataset, const std::string& units);
+
+  // At Commit, `<group>/<scale>` (a 1-D dataset) becomes a dimension scale and labels axis 0 of
+  // every dataset of `group` (not of its subgroups) whose axis 0 has its length, the datasets
+  // written after this call too. Axis 1 of a 2-D dataset is labelled by the 1-D dataset of the
+  // same group that NameSecondAxis named for it (its name relative to the group), when its length
+  // fits; otherwise neither axis is labelled (netCDF readers refuse a half-labelled variable;
+  // xarray opens such a group with phony_dims="sort").
+  void SetDimensionScales(const std::string& group, const std::string& scale);
+  void NameSecondAxis(const std::string& dataset, const std::string& dimension);
 
   // Closes the file and renames the temporary onto the target. After it, no more writes.
   void Commit();

@@ -106,6 +106,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const Scene& sc
 
   writer.WriteDoubles(group + "/speed_rpm",
                       PerPoint(points, [](const SweepPoint& p) { return RadPerSecondToRpm(p.parameter); }));
+  writer.SetDimensionScales(group, "speed_rpm");  // xarray: speed is the coordinate
   for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
     const std::string side = "_" + structure.contacts[k].name;
     writer.WriteDoubles(group + "/precession_hz" + side, regimes.precession_hz[k]);
@@ -144,6 +145,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const Scene& sc
         spectrum.row(static_cast<Index>(i)) = points[i].channels[k].spectrum.transpose();
     }
     writer.WriteMatrix(group + "/spectrum_magnitude" + side, spectrum);
+    writer.NameSecondAxis(group + "/spectrum_magnitude" + side, "spectrum_frequency_hz");
   }
   writer.WriteDoubles(group + "/spectrum_frequency_hz", run.stepper().BandFrequencies());
 

@@ -14,6 +14,7 @@ Exit status 3 when numpy, h5py or matplotlib cannot be imported.
 """
 import os
 import sys
+import textwrap
 
 try:
     import h5py
@@ -90,6 +91,19 @@ def draw_panel(ax, group, count, title, pattern=None):
         ax.legend(fontsize=5.5, loc="upper right", framealpha=0.85)
 
 
+def fit_suptitle(fig, title, fontsize):
+    """The figure's title wrapped into as many lines as it needs to lie inside the figure's width
+    (a title of one or two fixed lines overran a one-panel map's and the three-panel map's edges)."""
+    renderer = fig.canvas.get_renderer()
+    width = len(title)
+    while True:
+        artist = fig.suptitle(textwrap.fill(title, width), fontsize=fontsize)
+        box = artist.get_window_extent(renderer)
+        if (box.x0 >= 0 and box.x1 <= fig.bbox.width) or width <= 20:
+            return artist
+        width = int(width * 0.9)
+
+
 def plot_map(group, name, out_dir):
     unit = text(group.attrs.get("unit", ""))
     panels = [(group["stable_count"][()], "all circular rub states", None)]
@@ -101,14 +115,15 @@ def plot_map(group, name, out_dir):
     for ax, (count, title, pattern) in zip(axes[0], panels):
         draw_panel(ax, group, count, title, pattern)
     axes[0][0].set_ylabel(f"{name} [{unit}]")
-    fig.suptitle(f"Hysteresis map ({text(group.attrs.get('level', 'L1'))}, "
-                 f"{text(group.attrs.get('friction_law', ''))} friction): white one stable circular "
-                 "state, blue two or more coexisting (hysteresis), light grey none, dark grey failed;\n"
-                 f"lines: continued switch (solid), fold (dashed) and Hopf (dash-dot) curves, their "
-                 f"codimension-two points (black: + cusp, △ Bogdanov-Takens, □ zero-Hopf, ⬡ double "
-                 f"Hopf, ▽ generalized Hopf, ○ a Hopf curve meets a switch); grey markers: special points "
-                 f"of the branch set at each grid value; dotted: scene value "
-                 f"{group.attrs['base_value']:g}", fontsize=9)
+    title = (f"Hysteresis map ({text(group.attrs.get('level', 'L1'))}, "
+             f"{text(group.attrs.get('friction_law', ''))} friction): white one stable circular "
+             "state, blue two or more coexisting (hysteresis), light grey none, dark grey failed; "
+             f"lines: continued switch (solid), fold (dashed) and Hopf (dash-dot) curves, their "
+             f"codimension-two points (black: + cusp, △ Bogdanov-Takens, □ zero-Hopf, ⬡ double "
+             f"Hopf, ▽ generalized Hopf, ○ a Hopf curve meets a switch); grey markers: special "
+             f"points of the branch set at each grid value; dotted: scene value "
+             f"{group.attrs['base_value']:g}")
+    fit_suptitle(fig, title, fontsize=9)
     fig.tight_layout()
     path = os.path.join(out_dir, f"map_{name}.png")
     fig.savefig(path, dpi=120)

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "cli_support.h"
+#include "describe_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -95,6 +96,23 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
     REQUIRE(speeds.size() == 2);
     CHECK(speeds[0] == Approx(44.0).epsilon(1e-12));
     CHECK(speeds[1] == Approx(40.0).epsilon(1e-12));
+  }
+  {
+    // Both directions describe themselves (apps/hdf5_file.h), the one rewritten from the file too:
+    // speed labels every per-speed column, the spectrum's bins its second axis.
+    const H5::H5File file(h5.string(), H5F_ACC_RDONLY);
+    for (const std::string g : {"/sweeps/up", "/sweeps/down"}) {
+      CHECK(testing::ScaleOf(file, g + "/precession_hz_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/regime_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/spectrum_magnitude_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/spectrum_magnitude_left", 1) == "spectrum_frequency_hz");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/speed_rpm"), "units") == "rpm");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/spectrum_magnitude_left"), "units") == "m");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/settled"), "flag_meanings") ==
+            "not_settled settled");
+    }
+    CHECK(testing::CreationOrder(file, "/sweeps") ==
+          std::vector<std::string>{"up", "down", "branches", "jump_table"});  // as written
   }
 
   // --resume with both directions complete in the file: nothing is integrated again.
