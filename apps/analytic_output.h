@@ -1,4 +1,4 @@
-// The analytic (L0) part of a result file (README "Result files (HDF5)"):
+// The analytic (L0) part of a result file (docs/result_files.md):
 //
 //   /analytic                      attrs level = "L0", friction (μ), center_damping [N·s/m]
 //   /analytic/natural_frequencies  attrs stator_bounce_hz, stator_pitch_hz, pinned_bounce_hz,

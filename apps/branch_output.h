@@ -1,4 +1,4 @@
-// Continuation branches in a result file (README "Result files (HDF5)"):
+// Continuation branches in a result file (docs/result_files.md):
 //
 //   /branches                     attrs level, friction_law, speed_range_rpm (2)
 //   /branches/<name>              attrs kind ("rotating_wave"), mode ("mode1", "mode2",

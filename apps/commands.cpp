@@ -221,8 +221,8 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
 
   // The jump table: each jump next to the bifurcation of the L1 branches that predicts it. The
   // branches are those of the law the sweeps integrate (tanh, ε = velocity_scale): with exact
-  // friction two contacts of an asymmetric rotor cannot both roll (results/README.md), with tanh
-  // they can, and the sweeps do.
+  // friction two contacts of an asymmetric rotor cannot both roll (docs/studies/rotating_waves.md),
+  // with tanh they can, and the sweeps do.
   const SteadyClock::time_point branches_start = SteadyClock::now();
   const std::vector<RotatingWaveBranch> branches =
       ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, BranchOptionsOf(scene));

@@ -1,5 +1,5 @@
-// The levels of model, cheapest first (README "What rubcont is"): every result says which one
-// produced it (the `level` attribute of each group), and a result file's root attribute `level`
+// The levels of model, cheapest first (docs/architecture.md, "The levels"): every result says which
+// one produced it (the `level` attribute of each group), and a result file's root attribute `level`
 // is the highest of its stages' (HighestLevel in apps/scene.h).
 #pragma once
 

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   CLI::App app{"rubcont: continuation and bifurcation toolkit for rotor–stator rub "
                "(dry-friction backward whirl and whip).\n"
                "Exit codes: 0 success, 1 numerical failure or I/O error, 2 bad scene or arguments."};
-  app.set_version_flag("--version", rubcont::Version());
+  app.set_version_flag("--version", std::string("rubcont ") + rubcont::Version() + " (git " +
+                                        rubcont::GitDescribe() + "), BSD-3-Clause licence");
   app.require_subcommand(1);
 
   rubcont::RunRequest run_request;

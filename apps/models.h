@@ -2,10 +2,10 @@
 // apps/ that asks which model a scene holds; the scene loader, the stages, `rubcont scene check`
 // and the map / fit commands read the entry.
 //
-// Adding a model (README "Adding a model"): (1) its Params and vector field in models/; (2) its
-// ModelKind and its parameter struct as a field of Scene (apps/scene.h) and its section's keys in
-// the schema (apps/scene_schema.cpp); (3) one entry in Models() (apps/models.cpp) saying which
-// sections and stages it has and what each stage runs.
+// Adding a model (docs/architecture.md, "Where to change what"): (1) its Params and vector field in
+// models/; (2) its ModelKind and its parameter struct as a field of Scene (apps/scene.h) and its
+// section's keys in the schema (apps/scene_schema.cpp); (3) one entry in Models() (apps/models.cpp)
+// saying which sections and stages it has and what each stage runs.
 #pragma once
 
 #include <functional>

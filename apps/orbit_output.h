@@ -1,5 +1,5 @@
 // Periodic-orbit branches in a result file, in the layout of the rotating-wave branches
-// (README "Result files (HDF5)", apps/branch_output.h):
+// (docs/result_files.md, apps/branch_output.h):
 //
 //   /branches (or /orbits)        attrs level ("L2": periodic orbits by shooting), parameter_name
 //   /branches/<name>              attrs kind ("periodic_orbit"), orbit_kind ("forced",

@@ -9,9 +9,9 @@
 // and all problems of a file are reported at once (SceneError).
 //
 // Adding a model: a ModelKind, its params struct in Scene, its rows under its own section in the
-// schema, and its entry in apps/models.cpp (the model dispatch, which names its sections; README
-// "Adding a model"); the loader rejects the keys of other models' sections. Adding a stage or an
-// [analysis] key: a row in the schema and a field below.
+// schema, and its entry in apps/models.cpp (the model dispatch, which names its sections;
+// docs/architecture.md, "Where to change what"); the loader rejects the keys of other models'
+// sections. Adding a stage or an [analysis] key: a row in the schema and a field below.
 #pragma once
 
 #include <array>
@@ -100,7 +100,7 @@ struct SweepSettings {
 
 // How the orbits stage integrates its shooting segments (key `integrator`): Gauss–Legendre
 // collocation of order 8 on a fixed mesh, or CVODES BDF with sensitivities under error control
-// (results/README.md, "Cost of the modulated whip").
+// (docs/studies/orbits.md, "Cost of the modulated whip").
 enum class OrbitIntegrator { kGauss, kBdf };
 const char* ToString(OrbitIntegrator integrator);
 
@@ -276,8 +276,8 @@ const char* DefaultSceneToml();
 std::string ResolvedSceneToml(const Scene& scene);
 
 class ResultWriter;
-// The root attributes every result file carries: rubcont_version, scene_name, scene_toml (the
-// resolved scene, ResolvedSceneToml).
+// The root attributes every result file carries: rubcont_version, rubcont_git (the commit,
+// apps/version.h), scene_name, scene_toml (the resolved scene, ResolvedSceneToml).
 void WriteSceneAttributes(ResultWriter& writer, const Scene& scene);
 
 // Human-readable listing of every resolved value with its unit (and "(default)" where the file

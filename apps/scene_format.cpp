@@ -278,6 +278,7 @@ std::string SceneKeysMarkdown() {
 
 void WriteSceneAttributes(ResultWriter& writer, const Scene& scene) {
   writer.SetAttribute("/", "rubcont_version", Version());
+  writer.SetAttribute("/", "rubcont_git", GitDescribe());
   writer.SetAttribute("/", "scene_name", scene.name);
   writer.SetAttribute("/", "scene_toml", ResolvedSceneToml(scene));
 }

@@ -80,7 +80,7 @@ SweepOptions SweepOptionsOf(const Scene& scene, SweepDirection direction) {
   o.rotate_forcing_phase = StructureOf(scene).imbalance > 0.0;
   // BDF orders 1–2 are A-stable: the nearly undamped contact modes (36 and 85 kHz, k1 = 1.75e11
   // N/m) cannot limit the step. Measured on the A(a) whip at 54–56 rpm, rtol 1e-8: order ≤ 5 took
-  // 3× the wall time of order ≤ 2 for the same BP and slip velocity (README.md, level L3).
+  // 3× the wall time of order ≤ 2 for the same BP and slip velocity (docs/levels/l3_sweeps.md).
   IntegratorOptions bdf;
   bdf.method = IntegrationMethod::kBdf;
   bdf.max_order = 2;

@@ -59,8 +59,8 @@ Scene AttractorSceneOf(const Scene& scene);
 // The attractor study's options from the scene (AttractorSceneOf): the approach sweep in
 // `approach` and the exponents' integrator, the sweep's BDF at its tolerances with the tangents
 // (sensitivities) outside the error test, as the committed attractor runs were made (in the error
-// test they cost the rub's torus maps 830 000 steps per period against 12 000: README.md, C(a) at
-// 49 rpm). The schedule and the record are the caller's.
+// test they cost the rub's torus maps 830 000 steps per period against 12 000:
+// docs/levels/l2_orbits_tori.md, C(a) at 49 rpm). The schedule and the record are the caller's.
 AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection approach);
 
 // The loop study's options (studies/loop.h): the scene's sweeps in both directions (their ranges,
@@ -90,7 +90,7 @@ PeriodicOrbitBranchOptions TextbookOrbitOptionsOf(const Scene& scene, Integratio
 // CVODES BDF with the analytic Jacobian and the sensitivities under error control at `tolerance`
 // (without that control Newton stalls: the STM's nearly undamped contact mode is damped
 // numerically, bench/modulated_whip_bench.cpp; Gauss is 50–70 times cheaper on the thesis's
-// contact, results/README.md "Cost of the modulated whip"); sensitivities in every residual.
+// contact, docs/studies/orbits.md, "Cost of the modulated whip"); sensitivities in every residual.
 ShootingOptions RubShootingOptionsOf(const Scene& scene);
 
 // The modulated orbits from Hopf points ([analysis.orbits]): the first orbit's amplitude, the

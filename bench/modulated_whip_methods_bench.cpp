@@ -6,7 +6,7 @@
 // reference: modulation 1/T, carrier, the four largest Floquet multipliers; CPU time per
 // continuation step (median). Part 2 times the whole family 51.7 → 63 rpm for the Gauss variants.
 // Usage: modulated_whip_methods_bench [VARIANT ...]   VARIANT: bdf:RTOL or gauss:STAGES:STEPS
-//        (default: the table of results/README.md; the first variant is the reference).
+//        (default: the table of docs/studies/orbits.md; the first variant is the reference).
 #include <algorithm>
 #include <cmath>
 #include <complex>

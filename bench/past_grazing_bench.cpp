@@ -1,10 +1,10 @@
 // Experiment (not part of the test suite): case A(a)'s period-1 modulated whip past its grazing,
 // three ways. On Gauss collocation's fixed mesh (the orbits stage's default, 400 intervals per
 // period) the family grazes at 132.539 rpm (both contacts lift off once per modulation) and then
-// creeps in halving steps to 132.864 rpm, where the corrector fails (results/README.md, "What the
-// whip is, speed by speed"): a fold of the impacting orbits, or the mesh's limit (a fixed mesh is
-// of lower order past a kink)? (1) CVODES BDF with the segments stopped and restarted where a
-// contact opens or closes (ShootingOptions::restart_at_switches); (2) Gauss on its fixed mesh;
+// creeps in halving steps to 132.864 rpm, where the corrector fails (docs/studies/attractors.md,
+// "What the whip is, speed by speed"): a fold of the impacting orbits, or the mesh's limit (a fixed
+// mesh is of lower order past a kink)? (1) CVODES BDF with the segments stopped and restarted where
+// a contact opens or closes (ShootingOptions::restart_at_switches); (2) Gauss on its fixed mesh;
 // (3) Gauss across the switching patterns (ContinueAcrossSwitches): to the first orbit past
 // grazing on the fixed mesh, then with the contacts' switches as segment boundaries
 // (ShootingOptions::event_boundaries), every segment smooth, restarted where the pattern

@@ -11,7 +11,7 @@
 // the counts are printed per friction law, with the not-located special points by kind and the
 // CPU time per scene (the child's), and with --csv one row per scene.
 //
-// The ranges (also in README.md, "Robustness"), log-uniform where marked (log):
+// The ranges (also in docs/robustness.md), log-uniform where marked (log):
 //   rotor mass 2–50 kg (log); contact span l 0.1–1 m (log); mass centre a = l_g/l in −0.3…1.5
 //   (overhung beyond either contact); inertia m_r (κ l)² with κ 0.1–0.8;
 //   stator mass 2–100 kg (log); span l·(0.7–1.3); b 0.2–0.8; inertia m_s (κ_s l_s)², κ_s 0.1–0.8;

@@ -22,7 +22,7 @@
 //       arrives with) and stopped at the first whirl → whip jump; q1 at the q1 speed alone, from
 //       rest plus the scene's impulse. Speed steps, dwell, window and tolerances vary.
 //
-// The reference (results/README.md, "Work-precision"): the model every level can compute is the
+// The reference (docs/studies/work_precision.md): the model every level can compute is the
 // scene's time-marching model, tanh friction at the scene's ε. q2, q3: the stability limits of
 // its whirl (L1, tanh at the scene's ε) at the tightest location tolerance, shown converged by the
 // next tightest. q1: the dominant precession of the modulated whip (L2) at the tightest tolerance,
@@ -254,8 +254,8 @@ std::string Describe(const SweepSetting& s, bool with_step) {
 }
 
 // CVODES BDF whatever the scene's integrator: the questions' speeds (40–70 rpm) are continuous
-// contact on stable rotating waves, where BDF is right and the cheapest (results/README.md,
-// "Sweep integrators"), and `tolerance` is its rtol = atol.
+// contact on stable rotating waves, where BDF is right and the cheapest
+// (docs/studies/sweep_integrators.md), and `tolerance` is its rtol = atol.
 SweepOptions OptionsFor(const Scene& scene, SweepDirection direction, const SweepSetting& s,
                         const std::vector<double>& rpm) {
   Scene bdf = scene;

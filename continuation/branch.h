@@ -1,7 +1,7 @@
 // Results of a continuation run: a copyable value type (Ceres Solver::Summary, BifurcationKit
 // ContResult) with a table of points, a list of special points, the options used, and how and why
-// the branch ended. apps/ writes it under /branches/<name>/ (README "Result files (HDF5)"): the column accessors
-// below flatten it without knowing the engine.
+// the branch ended. apps/ writes it under /branches/<name>/ (docs/result_files.md): the column
+// accessors below flatten it without knowing the engine.
 #pragma once
 
 #include <complex>

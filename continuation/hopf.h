@@ -34,8 +34,8 @@
 //    Only on curves that start from a Hopf point with a valid l1, and only where its two
 //    finite-difference steps agree to 1 % of |l1| at the start (AgreesTo: near the zero, 1 % of
 //    |l1| itself would fail); NaN elsewhere, so that a sign change is seen only between points
-//    where both values are known. Most of the rub's tanh-law Hopf points have no valid l1 (README,
-//    "Sub- or supercritical Hopf"); the exact law has none.
+//    where both values are known. Most of the rub's tanh-law Hopf points have no valid l1
+//    (docs/continuation.md, "Sub- or supercritical Hopf"); the exact law has none.
 //
 // Events: the inner problem's events (validity margins of a piecewise-smooth problem) are the Hopf
 // problem's, and it refuses to switch: a Hopf curve ends, located, where its Hopf point reaches a

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The table of results/README.md, "What the whip is, speed by speed", from the result files.
+"""The table of docs/studies/attractors.md, "What the whip is, speed by speed", from the result files.
 
 Usage: /usr/bin/python3 scripts/attractor_table.py ATTRACTOR.h5 [ATTRACTOR.h5 ...] [--orbits ORBITS.h5]
 Prints one markdown row per speed of the attractor files (rubcont attractor; layout

@@ -1,15 +1,17 @@
 #!/usr/bin/python3
-"""Numbers of results/README.md read again from the committed result files.
+"""Numbers of the study pages (docs/studies/) read again from the committed result files.
 
     /usr/bin/python3 scripts/check_readme_numbers.py [RESULTS_DIR]
 
 Each claim below computes values from the files under RESULTS_DIR (default: results/) and formats
-the sentence the README must contain; the check fails, naming the claim and the sentence it
-expected, when the README no longer says what the files hold (line breaks and repeated spaces in
-the README do not matter). The thesis tables are checked too: they must be what
-scripts/thesis_comparison.py computes. Exit code 0 when every claim holds, 1 otherwise.
+the sentence its page must contain (CLAIMS names the page, relative to the repository root); the
+check fails, naming the claim, the page and the sentence it expected, when the page no longer says
+what the files hold (line breaks and repeated spaces do not matter). The sweeps' jump and cost
+tables are read row by row (SWEEP_TABLES' page), and the thesis tables must be what
+scripts/thesis_comparison.py computes (THESIS_TABLES' page). Exit code 0 when every claim holds, 1
+otherwise.
 
-A new number in results/README.md that a file holds gets a claim here.
+A new number on a study page that a file holds gets a claim here, beside the page it is on.
 """
 import os
 import re
@@ -87,8 +89,16 @@ def modulated_whip(results):
         hopf = g.attrs["hopf_speed_rpm"]
         bp = [s for t, s in zip(g["special_points/type"][()], g["special_points/speed_rpm"][()])
               if t == b"branch point"]
-    return (f"the Mode 1 whirl at {hopf:.4f} rpm", f"between its branch points at {bp[0]:.1f} "
-            f"and {bp[1]:.1f} rpm")
+    return f"the Mode 1 whirl at {hopf:.4f} rpm"
+
+
+def modulated_whip_in_sweeps(results):
+    """The modulated whip's symmetry-breaking branch points, as the sweeps' reading cites them."""
+    with h5(results, "thesis_A_a_modulated_whip/thesis_A_a_modulated_whip.h5") as f:
+        g = f["orbits/branch2_hopf2"]
+        bp = [s for t, s in zip(g["special_points/type"][()], g["special_points/speed_rpm"][()])
+              if t == b"branch point"]
+    return f"between its branch points at {bp[0]:.1f} and {bp[1]:.1f} rpm"
 
 
 def modulated_whip_table(results):
@@ -280,9 +290,16 @@ def c_bc_attractor(results):
             else "C(c): not a torus at every speed 58–70 rpm (the files)")
 
 
-CLAIMS = [stability_gap, intermittent_speeds, whip_contact_fraction, duffing_folds, stuart_landau_errors,
-          forced_van_der_pol_folds, modulated_whip, modulated_whip_table, whip_lifetimes, whip_end_lifetimes,
-          whip_end_cases, c_a_attractor, c_bc_attractor]
+# Each claim and the page (relative to the repository root) that must say it.
+CLAIMS = [(stability_gap, "docs/studies/rotating_waves.md"), (intermittent_speeds, "docs/studies/sweeps.md"),
+          (whip_contact_fraction, "docs/studies/sweeps.md"), (duffing_folds, "docs/studies/orbits.md"),
+          (stuart_landau_errors, "docs/studies/orbits.md"), (forced_van_der_pol_folds, "docs/studies/orbits.md"),
+          (modulated_whip, "docs/studies/orbits.md"), (modulated_whip_in_sweeps, "docs/studies/sweeps.md"),
+          (modulated_whip_table, "docs/studies/orbits.md"), (whip_lifetimes, "docs/studies/whip_end.md"),
+          (whip_end_lifetimes, "docs/studies/whip_end.md"), (whip_end_cases, "docs/studies/whip_end.md"),
+          (c_a_attractor, "docs/studies/attractors.md"), (c_bc_attractor, "docs/studies/attractors.md")]
+SWEEP_TABLES = "docs/studies/sweeps.md"     # the jump table and the cost table of the sweeps
+THESIS_TABLES = "docs/studies/thesis_comparison.md"    # between thesis_comparison.py's markers
 
 
 CASES = {"A(a)": "thesis_A_a", "A(b)": "thesis_A_b", "B(a)": "thesis_B_a", "B(b)": "thesis_B_b",
@@ -292,14 +309,14 @@ BPS = re.compile(r"\d+\.\d\d(?: / \d+\.\d\d)?(?: → \d+\.\d\d)+ Hz")
 DIFFERENCE = re.compile(r"^([−+-]?\d+\.\d\d) rpm")
 
 
-def jump_table_rows(results, readme_text):
-    """Each row of the README's sweep jump table against /sweeps/jump_table of its case's file: the
+def jump_table_rows(results, page_text):
+    """Each row of the sweeps' jump table against /sweeps/jump_table of its case's file: the
     row's BP before → after (either contact's, "x / y → z"; each step of a chain "x → y → z") must
     be that of a jump of its direction whose speeds are a step of a chain "a → b (→ c)" in the row's
     jump cell (any step, when the cell has none), and a numeric difference must be that jump's
     difference to its predictor."""
     problems, checked = [], 0
-    for line in readme_text.splitlines():
+    for line in page_text.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) != 7 or cells[0] not in CASES or cells[1] not in ("up", "down"):
             continue
@@ -336,11 +353,11 @@ COST = re.compile(r"^\| ([ABC]\([abc]\)) \| ([\d.]+) s, ([\d.e+]+), (\d+)(?: of 
                   r"([\d.]+) s, ([\d.e+]+), (\d+)(?: of \d+)? \|")
 
 
-def sweep_cost_rows(results, readme_text):
+def sweep_cost_rows(results, page_text):
     """The sweeps' cost table: integration wall time, BDF steps and unsettled speeds per direction,
     from /sweeps/<direction> of each case's file."""
     problems, checked = [], 0
-    for line in readme_text.splitlines():
+    for line in page_text.splitlines():
         row = COST.match(line)
         if not row:
             continue
@@ -363,30 +380,33 @@ def normalized(text):
 
 def main():
     results = sys.argv[1] if len(sys.argv) > 1 else "results"
-    readme = normalized(open(os.path.join(results, "README.md")).read())
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    def page(path):
+        return open(os.path.join(root, path)).read()
     failed = 0
-    for claim in CLAIMS:
+    for claim, path in CLAIMS:
         expected = claim(results)
+        said = normalized(page(path))
         for sentence in expected if isinstance(expected, tuple) else (expected,):
-            if normalized(sentence) in readme:
+            if normalized(sentence) in said:
                 print(f"holds   {claim.__name__}: {sentence}")
             else:
                 failed += 1
-                print(f"FAILS   {claim.__name__}: results/README.md should say: {sentence}")
-    checked, problems = jump_table_rows(results, open(os.path.join(results, "README.md")).read())
+                print(f"FAILS   {claim.__name__}: {path} should say: {sentence}")
+    checked, problems = jump_table_rows(results, page(SWEEP_TABLES))
     for p in problems:
         failed += 1
         print(f"FAILS   {p}")
-    print(f"{'holds' if not problems else 'FAILS'}   jump table: {checked - len(problems)} of "
-          f"{checked} rows are jumps of their sweep files")
-    checked, problems = sweep_cost_rows(results, open(os.path.join(results, "README.md")).read())
+    print(f"{'holds' if not problems else 'FAILS'}   jump table ({SWEEP_TABLES}): {checked - len(problems)} "
+          f"of {checked} rows are jumps of their sweep files")
+    checked, problems = sweep_cost_rows(results, page(SWEEP_TABLES))
     for p in problems:
         failed += 1
         print(f"FAILS   {p}")
-    print(f"{'holds' if not problems else 'FAILS'}   sweep cost table: {checked - len(problems)} of "
-          f"{checked} rows are their files' wall times, steps and unsettled speeds")
-    tables = subprocess.run([sys.executable, "scripts/thesis_comparison.py", results, "--check",
-                             os.path.join(results, "README.md")], capture_output=True, text=True)
+    print(f"{'holds' if not problems else 'FAILS'}   sweep cost table ({SWEEP_TABLES}): "
+          f"{checked - len(problems)} of {checked} rows are their files' wall times, steps and unsettled speeds")
+    tables = subprocess.run([sys.executable, os.path.join(root, "scripts/thesis_comparison.py"), results,
+                             "--check", os.path.relpath(os.path.join(root, THESIS_TABLES))], capture_output=True, text=True)
     print(tables.stdout, end="")
     if tables.returncode != 0:
         failed += 1

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Checks that the committed results are what the code makes now (results/README.md, "Reproducing").
-#   scripts/check_results.sh BUILD_DIR quick|sweep|orbits [SCENE ...]
+# Checks that the committed results are what the code makes now (results/README.md, "Check").
+#   scripts/check_results.sh BUILD_DIR quick|sweep|orbits|loop [SCENE ...]
 # re-runs the scenes of that kind (scripts/result_scenes.txt; all of them when none is named) into a
 # temporary directory with BUILD_DIR/rubcont, no figures, and compares with results/<scene>/:
 #   quick   <scene>.h5 and summary.txt      (`rubcont run`; under a second per scene)
 #   sweep   sweep.h5 and sweep_summary.txt  (`rubcont sweep`; 2–16 min per scene)
 #   orbits  <scene>.h5 and summary.txt      (`rubcont run` with the rub's orbits; about 20 min)
+#   loop    loop.h5 and loop.txt            (`rubcont loop --schedule 2 1.5 --budget 600`; 1–12 min)
 # Numbers must agree within |a − b| ≤ 1e-12 + 1e-9·|b| (the runs are deterministic; the margin is
 # for another CPU's last digits), strings exactly — the stored scene text (`scene_toml`) included —
 # and wall-clock times are not compared (scripts/compare_results.py). The summaries' "wrote ..."
@@ -19,8 +20,8 @@ fi
 build=$1 kind=$2
 shift 2
 case "$kind" in
-  quick|sweep|orbits) ;;
-  *) echo "check_results.sh: kind = '$kind': must be quick, sweep or orbits" >&2; exit 2 ;;
+  quick|sweep|orbits|loop) ;;
+  *) echo "check_results.sh: kind = '$kind': must be quick, sweep, orbits or loop" >&2; exit 2 ;;
 esac
 scenes=("$@")
 if [[ ${#scenes[@]} -eq 0 ]]; then
@@ -28,6 +29,8 @@ if [[ ${#scenes[@]} -eq 0 ]]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# The committed loops' schedule and budget (scripts/result_scenes.txt, regenerate-results.sh).
+LOOP_SCHEDULE=(--schedule 2 1.5 --budget 600)
 without_paths() { grep -v '^wrote ' "$1" > "$2" || true; }
 
 failed=0
@@ -38,6 +41,11 @@ for scene in "${scenes[@]}"; do
       "$build/rubcont" sweep "scenes/$scene.toml" --quiet --no-figures --out "$tmp/$scene/sweep.h5" \
         > "$tmp/$scene.summary" || true
       files=(sweep.h5) summary=sweep_summary.txt ;;
+    loop)
+      mkdir -p "$tmp/$scene"
+      "$build/rubcont" loop "scenes/$scene.toml" "${LOOP_SCHEDULE[@]}" --quiet --no-figures \
+        --out "$tmp/$scene/loop.h5" > "$tmp/$scene.summary" || true
+      files=(loop.h5) summary=loop.txt ;;
     *)
       "$build/rubcont" run "scenes/$scene.toml" --quiet --no-figures --out "$tmp" \
         > "$tmp/$scene.summary" || true

@@ -11,6 +11,14 @@ attributes named *seconds* (grid_seconds, wall_seconds, ...) are skipped; in tex
 attributes a number followed by "s", "ms" or "min" is not compared, nor the columns of a CSV file
 whose header names a time (time_ms, *_seconds) or a number after "time_ms".
 
+Provenance is not a result either: the root attributes rubcont_version and rubcont_git (the
+commit) are skipped, and so is the version in the first line of scene_toml.
+
+Files written before 0.2.0 lack what 0.2.0 adds to describe the data: `units`, `flag_values`,
+`flag_meanings`, the dimension scales (CLASS, NAME, DIMENSION_LIST; DIMENSION_LIST is compared as
+the names of the scales of each axis, REFERENCE_LIST not at all) and the special points' `state`.
+Those present in the new file only are not differences; present in both they must agree.
+
 Exit code 0 when everything matches, 1 with one line per difference otherwise.
 """
 import argparse
@@ -25,6 +33,13 @@ NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
 # A duration in a printed line: "0.053 s", "1.08 s", "12 ms", "3 min 20 s" (the unit ends it).
 DURATION = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?\s*(?:ms|s|min)\b")
 TIMING_NAME = re.compile(r"seconds|time_ms")
+# Root attributes that say which build made a file, not what it computed.
+PROVENANCE = {"/@rubcont_version", "/@rubcont_git"}
+# "# Scene "x" as resolved by rubcont 0.2.0 from ...": the version in scene_toml's first line.
+RESOLVED_BY = re.compile(r"(as resolved by rubcont )\S+")
+# What 0.2.0 added to describe the data (attribute names; dataset names): an older file lacks them.
+ADDED_ATTRIBUTES = {"units", "flag_values", "flag_meanings", "CLASS", "NAME", "DIMENSION_LIST"}
+ADDED_DATASETS = {"state"}
 
 
 def mask_durations(line):
@@ -46,6 +61,13 @@ def flatten_h5(path):
     with h5py.File(path, "r") as f:
         def attributes(name, obj):
             for key, value in obj.attrs.items():
+                if key == "REFERENCE_LIST":  # the scale's side of DIMENSION_LIST
+                    continue
+                if key == "DIMENSION_LIST":  # object references: compared as the scales' names
+                    value = "; ".join(",".join(scale.name for scale in axis.values())
+                                      for axis in obj.dims)
+                elif key == "scene_toml" and name == "/":
+                    value = RESOLVED_BY.sub(r"\1<version>", as_text(value))
                 items[f"{name}@{key}"] = value
 
         attributes("/", f)
@@ -92,13 +114,23 @@ def compare_values(key, a, b, rtol, atol):
     return [f"{key}: {len(bad)} of {a.size} values differ, e.g. [{worst}] {a[worst]!r} → {b[worst]!r}"]
 
 
+def added_in_0_2(key):
+    """Whether `key` ("/path@attribute" or "/path") is one of what 0.2.0 added to describe data."""
+    path, _, attribute = key.partition("@")
+    if attribute:
+        return attribute in ADDED_ATTRIBUTES or added_in_0_2(path)
+    return path.rsplit("/", 1)[-1] in ADDED_DATASETS
+
+
 def compare_h5(old, new, rtol, atol):
     a, b = flatten_h5(old), flatten_h5(new)
-    keys = {k for k in set(a) | set(b) if not TIMING_NAME.search(k.rsplit("/", 1)[-1])}
+    keys = {k for k in set(a) | set(b)
+            if not TIMING_NAME.search(k.rsplit("/", 1)[-1]) and k not in PROVENANCE}
     problems = []
     for key in sorted(keys):
         if key not in a:
-            problems.append(f"{key}: only in the new file")
+            if not added_in_0_2(key):
+                problems.append(f"{key}: only in the new file")
         elif key not in b:
             problems.append(f"{key}: only in the old file")
         else:

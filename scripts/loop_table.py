@@ -67,12 +67,15 @@ def table(results):
             schedule = f"{a['step_rpm']:g} rpm, {a['dwell_s']:g} s"
             for i in range(n):
                 level = text(c["level"][i]) or "–"
+                # The case, its schedule and the loop's CPU on its first row only.
+                case = f"[{scene}]({scene}/loop.txt) ({schedule})" if i == 0 else ""
+                loop_cpu = f"{cpu:.0f}" if i == 0 else ""
                 lines.append(
-                    f"| {scene} ({schedule}) | {text(c['direction'][i])} | {KIND.get(text(c['kind'][i]), text(c['kind'][i]))} "
+                    f"| {case} | {text(c['direction'][i])} | {KIND.get(text(c['kind'][i]), text(c['kind'][i]))} "
                     f"| {text(c['contact'][i])} | {c['speed_rpm'][i]:.2f} "
                     f"| {interval(c['lower_rpm'][i], c['upper_rpm'][i], text(c['interval'][i]))} "
                     f"| {text(c['cause'][i])} | {level} | {crisis(c['crisis_lower_rpm'][i], c['crisis_upper_rpm'][i])} "
-                    f"| {cpu:.0f} |")
+                    f"| {loop_cpu} |")
     lines.append("")
     lines.append("Intervals: (ε) the point at the tanh law's ε and at ε/10; (5–95 %) where a run of that schedule "
                  "leaves a chaotic whip, run to run; (point) the L2 point itself; (step) the run's step, the jump not "

@@ -4,10 +4,10 @@
 # eight thesis scenes (Kumar 2010, Table 1), of the truly overhung contrast scene and of the
 # textbook scenes (periodic orbits by shooting: Duffing, Stuart–Landau, van der Pol, forced van
 # der Pol), and the
-# thesis-vs-rubcont tables in results/README.md. Run from anywhere; takes a few seconds after the
+# thesis-vs-rubcont tables in docs/studies/thesis_comparison.md. Run from anywhere; takes a few seconds after the
 # build (most of it is matplotlib).
 #   --sweeps        also re-runs the time-marching sweeps (L3) of the eight thesis scenes and of
-#                   thesis_A_a_imbalance: 2–16 min per scene (results/README.md).
+#                   thesis_A_a_imbalance: 2–16 min per scene (docs/studies/sweeps.md).
 #   --sweep-tables  instead re-derives the regimes, jump tables and figures of the committed
 #                   results/<scene>/sweep.h5 from their finished speeds, without integrating
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
@@ -23,9 +23,9 @@
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
-#                   table of results/README.md "What the whip is"; then what C(a)'s speed-up whip
+#                   table of docs/studies/attractors.md "What the whip is"; then what C(a)'s speed-up whip
 #                   is at 49–124 rpm (results/thesis_C_a/attractor_*rpm.*: five runs, two side
-#                   by side, about 30 min on 2 cores; results/README.md, "C(a)'s speed-up whip,
+#                   by side, about 30 min on 2 cores; docs/studies/attractors.md, "C(a)'s speed-up whip,
 #                   speed by speed"); then C(b)'s and C(c)'s (results/thesis_C_{b,c}/attractor_*:
 #                   four runs, two side by side, about 25 min on 2 cores).
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
@@ -37,7 +37,12 @@
 #                   at 168, 170 and 172 rpm, about 20 min), B(a)'s (results/thesis_B_a_whip_end/:
 #                   186 … 196 rpm, about 33 min), C(a)'s (52 min, then 206 … 216 rpm, 18 min),
 #                   B(c)'s (24 min), A(b)'s (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and
-#                   B(b)'s (22 min; results/README.md, "The end of the speed-up whip in every case").
+#                   B(b)'s (22 min; docs/studies/whip_end.md, "The end of the speed-up whip in every case").
+#   --loops         also re-runs the loops of the thesis scenes, the imbalanced and the flexible A(a)
+#                   (`rubcont loop --schedule 2 1.5 --budget 600`, results/<scene>/loop.{h5,txt,png}:
+#                   1–12 min of CPU each, about 1 h in all on 2 cores) and writes their table into
+#                   results/README.md (scripts/loop_table.py); then run --sweep-tables, whose jump
+#                   tables take the whip's end from the loop beside each sweep.
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the
 # committed sweep files (A(a)'s with its whip-doubling file; each case's with its whip's lifetimes).
 set -euo pipefail
@@ -91,10 +96,10 @@ done
 # The tanh law's Hopf curves in friction (case A(a): where the whirl's speed-up and speed-down
 # jumps move with μ), beside the scene's branch set.
 build/rubcont map scenes/thesis_A_a_tanh.toml --parameter friction --range 0.3 0.7 --eta-points 41 \
-  --quiet > results/thesis_A_a_tanh/map_friction.txt 2>&1 || true  # exit 1: one curve fails (results/README.md)
+  --quiet > results/thesis_A_a_tanh/map_friction.txt 2>&1 || true  # exit 1: one curve fails (docs/studies/design.md)
 build/rubcont fit scenes/default.toml --targets scenes/fits/default_hidden.toml --quiet \
   --out results/design/fit_hidden.h5 > results/design/fit_hidden.txt
-# Exit code 1 expected: no friction reproduces the thesis's jump (results/README.md).
+# Exit code 1 expected: no friction reproduces the thesis's jump (docs/studies/design.md).
 build/rubcont fit scenes/thesis_A_a.toml --targets scenes/fits/thesis_A_a_speed_up_jump.toml \
   --quiet --out results/design/fit_thesis_A_a_jump.h5 > results/design/fit_thesis_A_a_jump.txt 2>&1 || true
 echo "results/design: $(ls results/design | tr '\n' ' ')"
@@ -107,7 +112,7 @@ for scene in thesis_A_a thesis_A_a_tanh thesis_B_a thesis_C_a; do
     > "results/$scene/flexible.txt"
 done
 echo "results/thesis_{A_a,A_a_tanh,B_a,C_a}: flexible.h5 flexible.txt"
-# What the whip is (results/README.md, "What the whip is, speed by speed"): three schedules side by
+# What the whip is (docs/studies/attractors.md, "What the whip is, speed by speed"): three schedules side by
 # side, the impacting whip at a tighter tolerance and shorter records.
 if [[ "${1:-}" == "--attractor" ]]; then
   attractor() {  # FROM TO then extra options
@@ -150,7 +155,7 @@ if [[ "${1:-}" == "--attractor" ]]; then
   attractor_case c 48 70 2 4 2
   wait "$first"
 fi
-# Level L4 sweeps (results/README.md, "Level L4: does flexibility move the jumps?"): the flexible
+# Level L4 sweeps (docs/studies/flexible.md, "Level L4: does flexibility move the jumps?"): the flexible
 # A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up
 # whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 6 and 5 min on one core); then the
 # flexible B(a)'s and C(a)'s sweeps side by side (23 and 6 min of wall).
@@ -193,6 +198,16 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_C_b 162 174 2 5 2 --until-above 150 --until-contacts right
   lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
 fi
+# The loops, one after the other (each runs its run-up and run-down side by side, then its
+# ensembles over both cores), with the schedule of scripts/check_results.sh's LOOP_SCHEDULE.
+if [[ "${1:-}" == "--loops" ]]; then
+  for scene in $(scenes_of loop); do
+    build/rubcont loop "scenes/$scene.toml" --schedule 2 1.5 --budget 600 --quiet \
+      --out "results/$scene/loop.h5" > "results/$scene/loop.txt"
+    echo "results/$scene: loop.h5 loop.txt loop.png"
+  done
+  /usr/bin/python3 scripts/loop_table.py --write results
+fi
 # Each swept scene's hysteresis loop, with the crisis of its whip's lifetimes (the file whose
 # speeds bracket it); A(a)'s also with its periodic orbits.
 for scene in $(scenes_of sweep); do
@@ -216,5 +231,5 @@ for scene in $(scenes_of sweep); do
   /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${present[@]}" \
     --out "results/$scene/hysteresis.png"
 done
-/usr/bin/python3 scripts/thesis_comparison.py results --update results/README.md
-echo "results/README.md: tables updated"
+/usr/bin/python3 scripts/thesis_comparison.py results --update docs/studies/thesis_comparison.md
+echo "docs/studies/thesis_comparison.md: tables updated"

@@ -1,12 +1,12 @@
 #!/usr/bin/python3
-"""The thesis-vs-rubcont tables of results/README.md, computed from the result files.
+"""The thesis-vs-rubcont tables of docs/studies/thesis_comparison.md, computed from the result files.
 
-Usage: /usr/bin/python3 scripts/thesis_comparison.py RESULTS_DIR [--update|--check README.md]
+Usage: /usr/bin/python3 scripts/thesis_comparison.py RESULTS_DIR [--update|--check PAGE.md]
 
 Reads RESULTS_DIR/<scene>/<scene>.h5 (written by `rubcont run`) and prints two markdown tables:
 every number Kumar (2010) gives in §2.3, §2.5 and §5.1 beside rubcont's (thesis form c_d = 0,
 and with the scene's 52 N·s/m centre damper), and a summary of all eight scenes. With --update,
-replaces the text between the BEGIN/END markers in README.md instead of printing; with --check,
+replaces the text between the BEGIN/END markers in PAGE.md instead of printing; with --check,
 exits 1 (saying so) when that text is not what the files give.
 """
 import os
@@ -301,7 +301,7 @@ def main(argv):
             "\n\n### All scenes (with the centre damper): first and last μ_req = μ crossings\n\n"
             "Frequencies in Hz, from `results/<scene>/<scene>.h5`; \"none\" means no such crossing "
             "in 1–200 Hz. For unequal RCIs these are the crossings of the Mode 1/2 closed form; "
-            "see the README's note on what they mean there.\n\n" + summary_table(cases) + "\n")
+            "see \"[Unequal RCIs](#unequal-rcis-cases-ab-bb-bc-cb-cc)\" above on what they mean there.\n\n" + summary_table(cases) + "\n")
     if len(argv) == 4:
         with open(argv[3]) as f:
             readme = f.read()

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Regenerates the work-precision charts (issue 7, results/README.md "Work-precision"): builds
+# Regenerates the work-precision charts (issue 7, docs/studies/work_precision.md): builds
 # bench/work_precision_bench if needed, runs it for the default scene (case A(a) physics) and for
 # the overhung thesis case C(a), and plots each. Writes results/bench/<scene>/work_precision.csv,
 # summary.txt, log.txt (the harness's progress: every answer with its note) and work_precision.png.
-# 8–12 min on this shared 2-core machine (measured 464 s and 696 s of wall time; results/README.md).
+# 8–12 min on this shared 2-core machine (measured 464 s and 696 s of wall time; docs/studies/work_precision.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

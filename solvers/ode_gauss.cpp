@@ -24,7 +24,8 @@
 // the converged stages: a relative error of the Newton tolerance in Φ).
 //
 // Errors are not estimated: the accuracy is the mesh's (collocation_steps per call), measured
-// against a tight CVODES reference where it is used (results/README.md). Events are not supported.
+// against a tight CVODES reference where it is used (docs/studies/orbits.md). Events are not
+// supported.
 #include <cmath>
 #include <stdexcept>
 #include <vector>

@@ -1,7 +1,7 @@
 // Boost.Odeint backend: the Dormand–Prince 5(4) pair (runge_kutta_dopri5) under odeint's step
 // control, with its dense output. For long time marching of small systems, where SUNDIALS' generic
 // vector operations cost more than the method: on case A(a)'s 16 states ARKODE's ERKStep took
-// 2.3–3.9× the CPU for the same steps (results/README.md, "Sweep integrators"). Plain integration and
+// 2.3–3.9× the CPU for the same steps (docs/studies/sweep_integrators.md). Plain integration and
 // sampling only: no sensitivities, no events (OdeIntegrator refuses both with this method).
 //
 // The state is integrated scaled, z = x ./ scale (OdeSystem::StateScale()), so that odeint's error

@@ -530,7 +530,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     escalated[key] = i;
     if (spent() >= options.budget) {
       c.note += fmt::format("; not decided within the budget ({:g} s CPU spent before it)", spent());
-      note(fmt::format("budget: {} left undecided ({:.1f} of {:g} s CPU spent)", what, spent(), options.budget));
+      note(fmt::format("budget: {} left undecided ({:.1f} s of {:g} s CPU spent)", what, spent(), options.budget));
       continue;
     }
     // L2: is the departure a relative periodic orbit, and does its family end between the speeds?
@@ -678,7 +678,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.first = c.seen_to_rpm;
     design.budget = options.budget - spent();
     if (design.budget < options.min_escape_budget) {
-      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g})",
+      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g} s)",
                             design.budget, options.min_escape_budget);
       note(fmt::format("budget: {} left undecided ({:.1f} s CPU left)", what, design.budget));
       continue;

@@ -282,7 +282,7 @@ std::string EscapeDesign::BriefReport() const {
   } else if (!median_open.empty()) {
     median += " (" + median_open + ")";
   }
-  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f}; {}{}", ToString(status),
+  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f} s; {}{}", ToString(status),
                      observations.size(), rounds, cost, median, message.empty() ? "" : "; " + message);
 }
 
@@ -342,7 +342,8 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
       line += fmt::format(" {} copies × {:.3g} s at {:g}: {} left;", batch[r].copies, e.duration, e.parameter,
                           e.escape_stretch.size());
     }
-    line += fmt::format(" cost {:.1f} of {:g}", design.cost, o.budget);
+    // The runner's cost is seconds (CPU or copy-seconds): said with its unit, as a duration.
+    line += fmt::format(" cost {:.1f} s of {:.1f} s", design.cost, o.budget);
     note(line);
   };
   auto spent = [&] { return design.cost >= o.budget; };

@@ -53,7 +53,7 @@ struct EscapeRequest {
 };
 
 // The outcomes of a batch of requests: one EscapeObservations per request, in order, and what
-// they cost (CPU seconds, or whatever unit the budget is given in).
+// they cost in seconds (CPU seconds, or copy-seconds: the budget's unit; reports print it as "s").
 struct EscapeBatch {
   std::vector<EscapeObservations> observations;
   double cost = 0.0;

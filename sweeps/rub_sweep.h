@@ -105,7 +105,7 @@ const char* ToString(RubRegime regime);
 
 struct RubRegimeOptions {
   // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In
-  // (0, 1). Measured over the nine thesis sweeps (results/README.md, section "Sweeps"; ε = 1e-3
+  // (0, 1). Measured over the nine thesis sweeps (docs/studies/sweeps.md; ε = 1e-3
   // m/s, settled speeds in full contact): where both contacts roll they slip by at most 0.27 % of
   // ωR (0.46ε; B(a) at 48 rpm, C(c) at 40 rpm), the whips by at least 0.97 % (1.85ε: the 79.2 Hz
   // whip of C(a), C(b), C(c) at 48 rpm, 1 % below rolling at 80 Hz). 0.5 % lies in that gap,

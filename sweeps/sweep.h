@@ -87,7 +87,7 @@ struct SweepOptions {
   // looks at the previous speed's analysed stretch (ChannelSummary::active_fraction), so a resumed
   // sweep chooses as an uninterrupted one. On the rub's stiff contact Dormand–Prince 5(4) costs an
   // eighth of BDF's CPU time in the impacting whip and 1.1–4.8 times it in continuous contact
-  // (bench/sweep_integrators_bench.cpp, results/README.md "Sweep integrators"); and where contacts
+  // (bench/sweep_integrators_bench.cpp, docs/studies/sweep_integrators.md); and where contacts
   // chatter around an unstable rotating wave, BDF's damping of the contact modes can hide the
   // chatter (tests/sweeps/rub_sweep_test.cpp, cases B(b) and B(c)).
   std::optional<IntegratorOptions> intermittent_integrator;

@@ -66,13 +66,13 @@ class RotatingWaveProblem : public Problem {
   bool HasStability() const override { return true; }
   Spectrum Stability(const Vector& u, double omega) override;
   // 0.1 s⁻¹ (e-folding time 10 s, about 7 dwells of a thesis sweep of 1.5 s). With two contacts
-  // rolling, rigid contacts would leave the phase between them free; compliance lets it drift at
-  // a rate Ω ∂(N_R − N_L)/∂θ / (k1 C), of either sign, and any regularization of friction
+  // rolling, rigid contacts would leave the phase between them free; compliance lets it drift at a
+  // rate Ω ∂(N_R − N_L)/∂θ / (k1 C), of either sign, and any regularization of friction
   // (micro-slip) turns it strongly stable. Such modes are marginal, not instabilities an engineer
-  // could observe. Measured over every branch point of the ten two-point scenes (results/README.md,
-  // "Rotating waves"): the positive growth rates are either ≤ 0.010 s⁻¹ (this drift) or ≥ 5.19 s⁻¹
-  // (the 1.65 Hz whips of A(a), A(b)); the tolerance sits in that gap, 10× and 50× from its edges
-  // (tests/waves/rotating_wave_branches_test.cpp checks the gap on A(a) and A(b)).
+  // could observe. Measured over every branch point of the ten two-point scenes
+  // (docs/studies/rotating_waves.md): the positive growth rates are either ≤ 0.010 s⁻¹ (this drift)
+  // or ≥ 5.19 s⁻¹ (the 1.65 Hz whips of A(a), A(b)); the tolerance sits in that gap, 10× and 50×
+  // from its edges (tests/waves/rotating_wave_branches_test.cpp checks the gap on A(a) and A(b)).
   double StabilityTolerance() const override { return 1e-1; }
 
   // precession_hz, normal_phase_deg (arg d_R / d_L), and per contact <name>:
@@ -88,8 +88,8 @@ class RotatingWaveProblem : public Problem {
   // Regularized law only: "<contact> knee", dΩ/dω / (R_k/C_k) − ½ per contact, located where it
   // changes sign. On a rolling whirl dΩ/dω = R/C, on a whip ≈ 0: the knee's midpoint is the smooth
   // counterpart of the exact law's stick → slip event and converges to it as ε → 0
-  // (results/README.md). (A fixed slip V = cε would not: there tanh = tanh(c), and the point
-  // converges to the closed form's μ_req = tanh(c)·μ crossing instead, −0.8 % for c = 1.)
+  // (docs/studies/rotating_waves.md). (A fixed slip V = cε would not: there tanh = tanh(c), and the
+  // point converges to the closed form's μ_req = tanh(c)·μ crossing instead, −0.8 % for c = 1.)
   std::vector<std::string> TestFunctionNames() const override;
   Vector TestFunctions(const Vector& u, double omega) override;
   // Moves the phase reference to the accepted point (the condition stays satisfied there), so

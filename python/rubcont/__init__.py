@@ -3,7 +3,7 @@
 Each stage runs through the same command as the ``rubcont`` executable (the scene loader, the
 engine, the HDF5 writer), with the GIL released; the result is the HDF5 file that command writes,
 read back with h5py into numpy arrays under the same paths and units as the file's layout
-(README.md, "Results"). So a script and the command line give the same numbers, and a result made
+(docs/howto.md, "Python"). So a script and the command line give the same numbers, and a result made
 either way reopens with :func:`read`.
 
     import rubcont

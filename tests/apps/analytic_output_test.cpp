@@ -54,7 +54,7 @@ TEST_CASE("The analytic result survives an HDF5 round trip bit for bit, in the R
   const NaturalFrequencies nf = ReadNaturalFrequencies(reader);
   CHECK(nf.stator_bounce.frequency_hz == result.natural_frequencies.stator_bounce.frequency_hz);
   CHECK(nf.pinned_pitch.frequency_hz == result.natural_frequencies.pinned_pitch.frequency_hz);
-  // The names users rely on (README "Result files (HDF5)").
+  // The names users rely on (docs/result_files.md).
   for (const char* name : {"precession_hz", "normal_force_left", "normal_force_right",
                            "mu_required_left", "mu_required_right", "transitions/type",
                            "transitions/contact", "transitions/precession_hz"})

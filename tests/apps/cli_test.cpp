@@ -82,7 +82,9 @@ TEST_CASE("CLI: bad arguments are exit code 2, help is 0", "[cli]") {
   CHECK(Rubcont("--help").exit_code == 0);
   const Outcome version = Rubcont("--version");
   CHECK(version.exit_code == 0);
-  CHECK_THAT(version.out, Contains("0."));
+  CHECK_THAT(version.out, Contains("rubcont 0."));
+  CHECK_THAT(version.out, Contains("(git "));
+  CHECK_THAT(version.out, Contains("BSD-3-Clause"));
 }
 
 // Random scene 37 of seed 1 (bench/random_scene_campaign --print 37), tanh law, branches only.

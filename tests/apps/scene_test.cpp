@@ -116,7 +116,7 @@ TEST_CASE("Rule: an unknown key is rejected with the closest known key", "[scene
              Contains("analysis.clearance: unknown key; did you mean contact.clearance?"));
   // Nothing close: the section's keys are listed.
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nwhatever_you_like = 1\n"),
-             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm, [analysis.sweep], [analysis.orbits], [analysis.tori])"));
+             Contains("(known in [analysis]: stages, precession_range_hz, precession_points, speed_range_rpm, [analysis.sweep], [analysis.orbits], [analysis.tori], [analysis.loop])"));
 }
 
 TEST_CASE("Rule: an unknown section is rejected with the closest known section", "[scene]") {
@@ -215,7 +215,7 @@ TEST_CASE("Jeffcott scenes: their own section, the other model's keys rejected",
 TEST_CASE("Rule: stages must be known, named once, and at least one", "[scene]") {
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytik\"]\n"),
              Contains("\"analytik\" is not a stage (implemented: \"analytic\", \"branches\", "
-                      "\"orbits\", \"tori\", \"sweep\")"));
+                      "\"orbits\", \"tori\", \"sweep\", \"loop\")"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = [\"analytic\", \"analytic\"]\n"),
              Contains("\"analytic\" is listed twice"));
   CHECK_THAT(OnlyProblem(kValid + "[analysis]\nstages = []\n"), Contains("must name at least one stage"));

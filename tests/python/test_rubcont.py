@@ -68,7 +68,7 @@ def test_branches_give_the_numbers_and_names_of_the_command_line(tmp_path):
     for key in ["branches/branch2/speed_rpm", "branches/branch2/precession_hz",
                 "branches/branch2/special_points/speed_rpm", "analytic/mode1/precession_hz"]:
         assert np.array_equal(result[key], cli[key]), key
-    # The speed-up whirl → whip event of A(a) (README: 50.689 rpm).
+    # The speed-up whirl → whip event of A(a) (docs/studies/rotating_waves.md: 50.689 rpm).
     points = "branches/branch2/special_points/"
     labels = list(result[points + "label"])
     event = labels.index("left stick to slip+")

@@ -87,10 +87,10 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
 
   // Nor is it an invariant circle of R_{−φ} Φ_T at one modulation period T (124.37 Hz; measured):
   // the points x(kT) fall into 5 clusters (their sequence's strongest line is at 0.4 = 2/5 per
-  // iterate, and every line of the fixed-frame spectrum found is a multiple of 124.37/5 = 24.87 Hz),
-  // and every fifth point turns by ρ = 0.4375 ≈ 7/16 to 1e-5: a torus cut five times by that
-  // section, next to the 7:16 resonance (README). With one period per section the solver says so
-  // instead of fitting a circle.
+  // iterate, and every line of the fixed-frame spectrum found is a multiple of 124.37/5 = 24.87
+  // Hz), and every fifth point turns by ρ = 0.4375 ≈ 7/16 to 1e-5: a torus cut five times by that
+  // section, next to the 7:16 resonance (docs/levels/l2_orbits_tori.md). With one period per
+  // section the solver says so instead of fitting a circle.
   ModulatedTorusOptions one;
   one.laps = 1;
   const ModulatedTorus cut = SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(60.0),

@@ -540,7 +540,7 @@ TEST_CASE("Sweeps: a jump is a bracket one speed step wide, and flagged when a s
   const SegmentResult fine = Segment({51.0, 51.5, 52.0}, 2, 1e-6);
   // Read as a waterfall reads them, by the BP alone (a slip tolerance of 99.9 % of ωR lets the
   // frequency check decide, as bench/work_precision_bench does): the jump in the motion. The slip
-  // rule reads the tanh knee instead, 0.72 rpm earlier (results/README.md, "Work-precision").
+  // rule reads the tanh knee instead, 0.72 rpm earlier (docs/studies/work_precision.md).
   RubRegimeOptions by_frequency;
   by_frequency.rolling_slip_tolerance = 0.999;
   const RubStructure structure = TwoPointStructure(ThesisCaseAa());

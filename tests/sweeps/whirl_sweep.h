@@ -1,8 +1,8 @@
 // The cheap case the L3 run and study tests (tests/sweeps, tests/studies) run on: case A(a)
 // (scenes/thesis_A_a.toml's model) swept up through 40, 44 and 48 rpm, 0.75 s per speed (as
 // tests/apps/cli_support.h's WhirlScene): the rotor rolls on both contacts from the impulse on
-// (the Mode 1 whirl, slipping from 50.96 rpm on the tanh law: results/README.md, the A(a) row of
-// the jump table). The options are the library's, without a scene: what
+// (the Mode 1 whirl, slipping from 50.96 rpm on the tanh law: docs/studies/sweeps.md, the A(a) row
+// of the jump table). The options are the library's, without a scene: what
 // apps/stage_options.cpp's RubSweepOptionsOf makes of that scene.
 #pragma once
 

@@ -375,9 +375,10 @@ namespace rubcont {
 namespace {
 
 // RotatingWaveProblem::StabilityTolerance decides what is called stable. Its 0.1 s⁻¹ must sit in
-// the gap results/README.md reports between the compliance-driven phase drift of two rolling
-// contacts (≤ 0.010 s⁻¹) and the slowest real instability (the 1.65 Hz whips, ≥ 5.19 s⁻¹), with a
-// margin of 5 on each side, so that no measured growth rate is classified by the last digits.
+// the gap docs/studies/rotating_waves.md reports between the compliance-driven phase drift of two
+// rolling contacts (≤ 0.010 s⁻¹) and the slowest real instability (the 1.65 Hz whips, ≥ 5.19 s⁻¹),
+// with a margin of 5 on each side, so that no measured growth rate is classified by the last
+// digits.
 TEST_CASE("the rotating waves' stability tolerance, 0.1 s⁻¹, lies in the gap of the growth rates",
           "[branches]") {
   const double tolerance = 0.1;

@@ -1,0 +1,1 @@
+// A file the fixture names (tests/docs_links/broken/README.md).
