@@ -335,9 +335,9 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   std::filesystem::create_directories(out_dir);
 
   ResultWriter writer(h5_file);
-  if (writer.replaces_leftover()) {
-    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is overwritten\n",
-               writer.temporary().string());
+  for (const std::filesystem::path& leftover : writer.removed_leftovers()) {
+    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is removed\n",
+               leftover.string());
   }
   WriteSceneAttributes(writer, scene);
   std::vector<std::string> failures;

@@ -1,5 +1,6 @@
 // The rubcont executable: argument parsing only (CLI11 stays in this translation unit); the
 // commands live in the rubcont_io library (apps/commands.h).
+#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -19,6 +20,9 @@
 #include "apps/version.h"
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the writer reports with the
+  // file's name, instead of SIGXFSZ ending the process without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"rubcont: continuation and bifurcation toolkit for rotor–stator rub "
                "(dry-friction backward whirl and whip).\n"
                "Exit codes: 0 success, 1 numerical failure or I/O error, 2 bad scene or arguments."};

@@ -143,7 +143,7 @@ TEST_CASE("batch: a job's numerical failure is reported and the others are kept"
 TEST_CASE("batch: a job whose outcome cannot be written fails alone, the rank goes on", "[batch]") {
   // Under mpirun the rank must reach the final gather whatever happens to one job.
   TempDir dir;
-  fs::create_directories(dir.path / "out" / "first.outcome.tmp");  // the outcome's temporary name
+  fs::create_directories(dir.path / "out" / "first.outcome" / "inside");  // where the outcome goes
   const Ran ran = Batch(dir.path,
                         "[[job]]\nname = \"first\"\ncommand = \"analytic\"\n"
                         "scene = \"scenes/thesis_A_a.toml\"\n"
