@@ -306,6 +306,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
     RunRequest r;
     r.scene_file = job.scene;
     r.out_dir = result.parent_path().string();
+    r.resume = true;  // a job re-run after a kill continues its sweeps' checkpoints
     r.quiet = true;
     r.figures = job.figures;
     std::ostringstream printed;
@@ -329,6 +330,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
     r.scene_file = *job.scene;
     r.out_file = result.string();
     r.direction = job.direction;
+    r.resume = true;
     r.figures = job.figures;
     r.quiet = true;
     code = SweepCommand(r, log, log);

@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
   run->add_flag("--resume", run_request.resume,
                 "sweeps continue from the checkpoints of an interrupted run");
+  run->add_flag("--fresh", run_request.fresh,
+                "sweeps start again and overwrite the checkpoints of an interrupted run (without "
+                "--resume or --fresh, a checkpoint is refused: exit 2)");
   run->add_flag("!--no-figures", run_request.figures,
                 "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
@@ -69,6 +72,9 @@ int main(int argc, char** argv) {
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
+  sweep->add_flag("--fresh", sweep_request.fresh,
+                  "start again and overwrite the checkpoints of an interrupted sweep (without "
+                  "--resume or --fresh, a checkpoint is refused: exit 2)");
   sweep->add_flag("!--no-figures", sweep_request.figures,
                   "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;
