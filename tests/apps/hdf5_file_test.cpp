@@ -41,6 +41,13 @@ std::string Bytes(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// An older result under `file`: /version = {1}.
+void WriteOlderResult(const fs::path& file) {
+  ResultWriter writer(file);
+  writer.WriteInts("/version", {1});
+  writer.Commit();
+}
+
 TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
   TempDir dir;
   const fs::path file = dir.path / "round.h5";
@@ -141,11 +148,7 @@ TEST_CASE("A failure mid-write leaves no file and no temporary", "[hdf5]") {
 TEST_CASE("A failed write leaves an existing target untouched", "[hdf5]") {
   TempDir dir;
   const fs::path file = dir.path / "result.h5";
-  {
-    ResultWriter writer(file);
-    writer.WriteInts("/version", {1});
-    writer.Commit();
-  }
+  WriteOlderResult(file);
   const std::string before = Bytes(file);
   try {
     ResultWriter writer(file);
@@ -196,11 +199,7 @@ TEST_CASE("A file-size limit at Commit: the reason, the older file intact, no te
   // crash when the writer closed the half-closed file again.
   TempDir dir;
   const fs::path file = dir.path / "result.h5";
-  {
-    ResultWriter older(file);
-    older.WriteInts("/version", {1});
-    older.Commit();
-  }
+  WriteOlderResult(file);
   const std::string before = Bytes(file);
   ResultWriter writer(file);
   writer.WriteDoubles("/big", std::vector<double>(100000, 1.0));  // 800 kB
