@@ -51,6 +51,13 @@ void CheckWritable(const fs::path& file) {
   Discard(CreateTemporary(file, temporary), temporary);
 }
 
+void PrepareToWrite(const fs::path& file) {
+  std::error_code error;
+  fs::create_directories(file.parent_path().empty() ? fs::path(".") : file.parent_path(), error);
+  if (error) Fail(file, error.value());
+  CheckWritable(file);
+}
+
 void WriteFileAtomically(const fs::path& file, std::string_view bytes) {
   const fs::path temporary = UniqueTemporaryName(file);
   const int fd = CreateTemporary(file, temporary);

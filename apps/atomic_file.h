@@ -28,6 +28,11 @@ void CheckWritable(const std::filesystem::path& file);
 
 void WriteFileAtomically(const std::filesystem::path& file, std::string_view bytes);
 
+// Makes the directories `file` goes into and checks that it can be written there (CheckWritable),
+// so that a command finds an unwritable output before its work; throws as WriteFileAtomically does
+// ("cannot write out/new/a.h5: Read-only file system").
+void PrepareToWrite(const std::filesystem::path& file);
+
 // Removes the temporaries of `file` (`<file>.tmp`, `<file>.tmp.*`) that no process holds and that
 // are older than `min_age_s` seconds (a writer holds its temporary from a moment after creating it),
 // and returns their names; temporaries still held by a writer are left alone.

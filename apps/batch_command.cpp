@@ -301,7 +301,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   const double cpu_start = ProcessCpuSeconds();
   int code = kExitFailure;
   fs::path result = ResultOf(job, out);
-  fs::create_directories(result.parent_path());
+  PrepareToWrite(result);
   if (job.command == "run") {
     RunRequest r;
     r.scene_file = job.scene;
@@ -411,7 +411,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
   return Guarded(err, [&] {
     const SteadyClock::time_point start = SteadyClock::now();
     const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
-    fs::create_directories(jobs.out);
+    PrepareToWrite(jobs.out / "summary.txt");
     // Rank 0 forgets the claims of jobs that are not done (a rank that stopped, an earlier run).
     if (ranks.rank() == 0) {
       for (const Job& job : jobs.jobs) {

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
@@ -347,7 +348,7 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
     }
   }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
-  std::filesystem::create_directories(out_dir);
+  PrepareToWrite(h5_file);
 
   ResultWriter writer(h5_file);
   for (const std::filesystem::path& leftover : writer.removed_leftovers()) {
