@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/attractor_output.h"
 #include "apps/commands.h"
 #include "apps/figures.h"
@@ -76,13 +77,14 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
                                               options.attractor.exponents, structure.States()));
     }
 
+    const std::filesystem::path file = request.out_file
+                                           ? std::filesystem::path(*request.out_file)
+                                           : std::filesystem::path("results") / scene.name / "attractor.h5";
+    PrepareToWrite(file);  // before the work
     const AttractorStudyResult result = RunAttractorStudy(
         structure, options, request.quiet ? AttractorStudyProgress{} : PrintAttractorProgress(err, SteadyClock::now()));
     if (result.status == AttractorStudyStatus::kApproachFailed) throw std::runtime_error(result.message);
 
-    const std::filesystem::path file = request.out_file
-                                           ? std::filesystem::path(*request.out_file)
-                                           : std::filesystem::path("results") / scene.name / "attractor.h5";
     WriteAttractorResult(file, scene, structure, result);
     PrintAttractorSummary(out, err, scene, structure, result, file);
     DrawFigures("attractor.py", file, out, err);

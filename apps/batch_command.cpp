@@ -17,6 +17,7 @@
 #include <fmt/ostream.h>
 #include <toml++/toml.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/fit_command.h"
 #include "apps/guarded.h"
@@ -250,16 +251,6 @@ JobsFile ReadJobs(const fs::path& file, const std::optional<std::string>& out_di
 // <out>/<name>/<scene name>/<scene name>.h5, the path the command prints).
 fs::path ResultOf(const Job& job, const fs::path& out) { return out / job.name / (job.name + ".h5"); }
 
-void WriteAtomically(const fs::path& file, const std::string& text) {
-  const fs::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream stream(temporary);
-    stream << text;
-    if (!stream) throw std::runtime_error("cannot write " + temporary.string());
-  }
-  fs::rename(temporary, file);
-}
-
 struct Outcome {
   bool present = false;
   int exit_code = -1;
@@ -272,7 +263,7 @@ struct Outcome {
 
 Outcome ReadOutcome(const fs::path& file) {
   Outcome o;
-  if (!fs::exists(file)) return o;
+  if (!fs::is_regular_file(file)) return o;  // none yet, or a directory in its place
   try {
     const toml::table t = toml::parse_file(file.string());
     o.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
@@ -310,11 +301,12 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   const double cpu_start = ProcessCpuSeconds();
   int code = kExitFailure;
   fs::path result = ResultOf(job, out);
-  fs::create_directories(result.parent_path());
+  PrepareToWrite(result);
   if (job.command == "run") {
     RunRequest r;
     r.scene_file = job.scene;
     r.out_dir = result.parent_path().string();
+    r.resume = true;  // a job re-run after a kill continues its sweeps' checkpoints
     r.quiet = true;
     r.figures = job.figures;
     std::ostringstream printed;
@@ -338,6 +330,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
     r.scene_file = *job.scene;
     r.out_file = result.string();
     r.direction = job.direction;
+    r.resume = true;
     r.figures = job.figures;
     r.quiet = true;
     code = SweepCommand(r, log, log);
@@ -373,13 +366,13 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   o.wall_seconds = SecondsSince(start);
   o.cpu_seconds = CpuSecondsSince(cpu_start);
   o.result = result.string();
-  WriteAtomically(out / (job.name + ".log"), log.str());
-  WriteAtomically(OutcomeFile(out, job),
-                  fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
-                              "rank = {}\nwall_seconds = {:.3f}\ncpu_seconds = {:.3f}\n"
-                              "result = \"{}\"\n",
-                              job.name, job.command, o.exit_code, o.status, o.rank, o.wall_seconds,
-                              o.cpu_seconds, o.result));
+  WriteFileAtomically(out / (job.name + ".log"), log.str());
+  WriteFileAtomically(OutcomeFile(out, job),
+                      fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
+                                  "rank = {}\nwall_seconds = {:.3f}\ncpu_seconds = {:.3f}\n"
+                                  "result = \"{}\"\n",
+                                  job.name, job.command, o.exit_code, o.status, o.rank, o.wall_seconds,
+                                  o.cpu_seconds, o.result));
   return o;
 }
 
@@ -418,7 +411,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
   return Guarded(err, [&] {
     const SteadyClock::time_point start = SteadyClock::now();
     const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
-    fs::create_directories(jobs.out);
+    PrepareToWrite(jobs.out / "summary.txt");
     // Rank 0 forgets the claims of jobs that are not done (a rank that stopped, an earlier run).
     if (ranks.rank() == 0) {
       for (const Job& job : jobs.jobs) {
@@ -459,7 +452,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
     int total_run = 0;
     for (const std::string& c : counts) total_run += std::stoi(c);
     const auto [summary, failed] = Summary(jobs, ranks, SecondsSince(start), total_run);
-    WriteAtomically(jobs.out / "summary.txt", summary);
+    WriteFileAtomically(jobs.out / "summary.txt", summary);
     out << summary;
     return failed == 0 ? kExitSuccess : kExitFailure;
   });

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
@@ -48,6 +49,7 @@ class Progress {
 struct ExecuteOptions {
   bool quiet = false;
   bool resume = false;  // sweeps continue from their checkpoints
+  bool fresh = false;   // sweeps start again over their checkpoints (neither: a checkpoint is refused)
   bool figures = true;  // draw the figures after the file is complete
   std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
 };
@@ -92,8 +94,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     if (options.resume) {
       saved = ReadSweepCheckpoint(checkpoint, scene, direction);
     } else if (std::filesystem::exists(checkpoint)) {
-      fmt::print(err, "rubcont: warning: starting the {} sweep afresh; {} (from an interrupted run) "
-                      "will be overwritten (--resume continues from it)\n",
+      fmt::print(err, "rubcont: note: starting the {} sweep afresh (--fresh); {} will be overwritten\n",
                  ToString(direction), checkpoint.string());
     }
     std::optional<std::vector<SweepPoint>> finished;
@@ -331,13 +332,28 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
                                               ToString(stage), ToString(scene.model)));
     }
   }
+  if (options.resume && options.fresh) {
+    throw std::invalid_argument("--resume and --fresh: give one of them");
+  }
+  if (std::find(stages.begin(), stages.end(), Stage::kSweep) != stages.end() && !options.resume &&
+      !options.fresh) {
+    for (SweepDirection direction : options.directions) {
+      const std::filesystem::path checkpoint = CheckpointPath(h5_file, direction);
+      if (std::filesystem::exists(checkpoint)) {
+        throw std::invalid_argument(fmt::format(
+            "{} holds the finished speeds of an interrupted {} sweep: --resume continues from it, "
+            "--fresh starts again and overwrites it",
+            checkpoint.string(), ToString(direction)));
+      }
+    }
+  }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
-  std::filesystem::create_directories(out_dir);
+  PrepareToWrite(h5_file);
 
   ResultWriter writer(h5_file);
-  if (writer.replaces_leftover()) {
-    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is overwritten\n",
-               writer.temporary().string());
+  for (const std::filesystem::path& leftover : writer.removed_leftovers()) {
+    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is removed\n",
+               leftover.string());
   }
   WriteSceneAttributes(writer, scene);
   std::vector<std::string> failures;
@@ -416,6 +432,7 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.fresh = request.fresh;
     options.figures = request.figures;
     return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
@@ -439,6 +456,7 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.fresh = request.fresh;
     options.figures = request.figures;
     if (request.direction == "up") {
       options.directions = {SweepDirection::kUp};

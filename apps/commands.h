@@ -18,6 +18,7 @@ struct RunRequest {
   std::string out_dir = "results";        // results go to <out_dir>/<scene name>/
   bool quiet = false;                     // no progress on stderr (warnings and errors still)
   bool resume = false;                    // sweeps continue from their checkpoints, if any
+  bool fresh = false;                     // sweeps start again, discarding their checkpoints
   bool figures = true;                    // draw the figures after the HDF5 file (--no-figures)
 };
 
@@ -42,6 +43,9 @@ struct SweepRequest {
   // Continue from `<out stem>.<direction>.checkpoint.h5` (written after every finished speed)
   // instead of starting again; a checkpoint of another scene or settings is an error.
   bool resume = false;
+  // Start again although a checkpoint exists (it is overwritten). With neither flag, an existing
+  // checkpoint is refused (exit 2): an interrupted sweep's finished speeds are never lost unasked.
+  bool fresh = false;
   bool figures = true;  // draw the figures after the HDF5 file (--no-figures)
 };
 

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/ensemble_output.h"
 #include "apps/figures.h"
@@ -47,14 +48,15 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     options.ensemble.seed = request.seed;
     options.ensemble.threads = request.threads;
 
-    const EnsembleStudyResult result = RunEnsembleStudy(
-        structure, options, request.quiet ? EnsembleStudyProgress{} : PrintEnsembleProgress(err, SteadyClock::now()));
-    if (result.status == EnsembleStudyStatus::kApproachFailed) throw std::runtime_error(result.message);
-
     const std::filesystem::path file =
         request.out_file ? std::filesystem::path(*request.out_file)
                          : std::filesystem::path("results") / scene.name /
                                fmt::format("ensemble_{:g}rpm.h5", request.speed_rpm);
+    PrepareToWrite(file);  // before the work
+    const EnsembleStudyResult result = RunEnsembleStudy(
+        structure, options, request.quiet ? EnsembleStudyProgress{} : PrintEnsembleProgress(err, SteadyClock::now()));
+    if (result.status == EnsembleStudyStatus::kApproachFailed) throw std::runtime_error(result.message);
+
     WriteEnsembleResult(file, scene, structure, result);
     PrintEnsembleSummary(out, scene, structure, result, file);
     DrawFigures("ensemble.py", file, out, err);

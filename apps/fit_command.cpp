@@ -13,6 +13,7 @@
 #include <fmt/ostream.h>
 #include <toml++/toml.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
@@ -346,7 +347,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "fit.h5";
-    if (root) std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    if (root) PrepareToWrite(file);
     const bool talk = root && !request.quiet;
     if (talk) {
       fmt::print(err, "rubcont: [fit] {} parameters, {} targets, {} + {} evaluations of a branch set "

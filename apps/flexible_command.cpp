@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
@@ -76,7 +77,7 @@ int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostr
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "flexible.h5";
-    std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    PrepareToWrite(file);
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
     writer.SetAttribute("/", "level", ToString(Level::kL4));

@@ -2,14 +2,21 @@
 
 #include <algorithm>
 #include <map>
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <H5Cpp.h>
 #include <hdf5_hl.h>
 
 #include "apps/dataset_description.h"
+
+#include "apps/atomic_file.h"
 
 namespace rubcont {
 namespace {
@@ -23,6 +30,19 @@ auto Guard(const std::filesystem::path& file, const std::string& what, Function&
     throw std::runtime_error("HDF5: " + file.string() + ": " + what + ": " + e.getCDetailMsg() +
                              " (" + e.getCFuncName() + ")");
   }
+}
+
+// The innermost description on HDF5's error stack of this thread (the system's reason, when there
+// is one: "unable to lock file, errno = 11, ..."), or "" when the stack is empty.
+std::string InnermostHdf5Error() {
+  std::string innermost;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD,
+           [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+             if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
+             return 0;
+           },
+           &innermost);
+  return innermost;
 }
 
 void CheckAbsolute(const std::string& path) {
@@ -210,35 +230,29 @@ struct ResultWriter::Impl {
   }
 };
 
-ResultWriter::ResultWriter(std::filesystem::path target)
-    : target_(std::move(target)), temporary_(target_.string() + ".tmp") {
+ResultWriter::ResultWriter(std::filesystem::path target) : target_(std::move(target)) {
   H5::Exception::dontPrint();
-  std::error_code ec;
-  replaces_leftover_ = std::filesystem::exists(temporary_, ec);
-  impl_ = Guard(temporary_, "create", [&] {
-    H5::H5File file(temporary_.string(), H5F_ACC_TRUNC, Impl::FileProperties());
-    return std::unique_ptr<Impl>(new Impl{std::move(file), true, {}, {}});
+  CheckWritable(target_);
+  removed_leftovers_ = RemoveStaleTemporaries(target_);
+  impl_ = Guard(target_, "create", [&] {
+    H5::FileAccPropList access;
+    access.setCore(1 << 20, false);  // grows by 1 MiB; no backing store: Commit writes the image
+    // The name only tells this file from the other open ones (HDF5 refuses a second of one name).
+    return std::unique_ptr<Impl>(new Impl{H5::H5File(UniqueTemporaryName(target_).string(),
+                                                     H5F_ACC_TRUNC, Impl::FileProperties(), access),
+                                                     true, {}, {}});
   });
 }
 
-ResultWriter::~ResultWriter() {
-  if (impl_ && impl_->open) {
-    try {
-      impl_->file.close();
-    } catch (...) {
-    }
-    std::error_code ignored;
-    std::filesystem::remove(temporary_, ignored);
-  }
-}
+ResultWriter::~ResultWriter() = default;  // an uncommitted file lives in memory only
 
 void ResultWriter::CreateGroup(const std::string& path) {
   CheckAbsolute(path);
-  Guard(temporary_, path, [&] { impl_->EnsureGroup(path); });
+  Guard(target_, path, [&] { impl_->EnsureGroup(path); });
 }
 
 void ResultWriter::WriteDoubles(const std::string& path, const std::vector<double>& values) {
-  Guard(temporary_, path, [&] {
+  Guard(target_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_DOUBLE, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
     impl_->Describe(set, path, false);
@@ -252,7 +266,7 @@ void ResultWriter::WriteDoubles(const std::string& path, const Vector& values) {
 void ResultWriter::WriteMatrix(const std::string& path, const Matrix& values) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajor row_major = values;
-  Guard(temporary_, path, [&] {
+  Guard(target_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(
         path, H5::PredType::NATIVE_DOUBLE,
         {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())});
@@ -262,7 +276,7 @@ void ResultWriter::WriteMatrix(const std::string& path, const Matrix& values) {
 }
 
 void ResultWriter::WriteInts(const std::string& path, const std::vector<int>& values) {
-  Guard(temporary_, path, [&] {
+  Guard(target_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, H5::PredType::NATIVE_INT, {values.size()});
     if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_INT);
     impl_->Describe(set, path, true);
@@ -272,7 +286,7 @@ void ResultWriter::WriteInts(const std::string& path, const std::vector<int>& va
 void ResultWriter::WriteStrings(const std::string& path, const std::vector<std::string>& values) {
   std::vector<const char*> pointers;
   for (const std::string& value : values) pointers.push_back(value.c_str());
-  Guard(temporary_, path, [&] {
+  Guard(target_, path, [&] {
     H5::DataSet set = impl_->CreateDataset(path, Utf8String(), {values.size()});
     if (!values.empty()) set.write(pointers.data(), Utf8String());
   });
@@ -280,7 +294,7 @@ void ResultWriter::WriteStrings(const std::string& path, const std::vector<std::
 
 void ResultWriter::SetAttribute(const std::string& object, const std::string& name, double value) {
   CheckAbsolute(object);
-  Guard(temporary_, object + "@" + name, [&] {
+  Guard(target_, object + "@" + name, [&] {
     impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
     WithObject(impl_->file, object, [&](H5::H5Object& target) {
       if (target.attrExists(name)) target.removeAttr(name);
@@ -293,7 +307,7 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
 void ResultWriter::SetAttribute(const std::string& object, const std::string& name,
                                 const std::string& value) {
   CheckAbsolute(object);
-  Guard(temporary_, object + "@" + name, [&] {
+  Guard(target_, object + "@" + name, [&] {
     impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
     WithObject(impl_->file, object, [&](H5::H5Object& target) {
       if (target.attrExists(name)) target.removeAttr(name);
@@ -305,7 +319,7 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
 void ResultWriter::SetAttribute(const std::string& object, const std::string& name,
                                 const std::vector<double>& values) {
   CheckAbsolute(object);
-  Guard(temporary_, object + "@" + name, [&] {
+  Guard(target_, object + "@" + name, [&] {
     impl_->EnsureGroup(impl_->Exists(object) ? std::string("/") : object);
     WithObject(impl_->file, object, [&](H5::H5Object& target) {
       if (target.attrExists(name)) target.removeAttr(name);
@@ -320,7 +334,7 @@ void ResultWriter::SetAttribute(const std::string& object, const std::string& na
 void ResultWriter::SetUnits(const std::string& dataset, const std::string& units) {
   CheckAbsolute(dataset);
   if (units.empty()) throw std::invalid_argument("SetUnits: empty units for " + dataset);
-  Guard(temporary_, dataset + "@units", [&] {
+  Guard(target_, dataset + "@units", [&] {
     H5::DataSet set = impl_->file.openDataSet(dataset);
     Impl::WriteUnits(set, units);
   });
@@ -339,17 +353,20 @@ void ResultWriter::NameSecondAxis(const std::string& dataset, const std::string&
 void ResultWriter::Commit() {
   if (!impl_->open) throw std::logic_error("ResultWriter::Commit called twice");
   for (const auto& [group, scale] : impl_->scales) {
-    Guard(temporary_, group + " (dimension scales)", [&] { impl_->AttachScales(group, scale); });
+    Guard(target_, group + " (dimension scales)", [&] { impl_->AttachScales(group, scale); });
   }
-  Guard(temporary_, "close", [&] { impl_->file.close(); });
+  const std::string image = Guard(target_, "image", [&] {
+    impl_->file.flush(H5F_SCOPE_GLOBAL);
+    const ssize_t size = H5Fget_file_image(impl_->file.getId(), nullptr, 0);
+    std::string bytes(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
+    if (size < 0 || H5Fget_file_image(impl_->file.getId(), bytes.data(), bytes.size()) != size) {
+      throw std::runtime_error("cannot take the file's image");
+    }
+    impl_->file.close();
+    return bytes;
+  });
   impl_->open = false;
-  std::error_code ec;
-  std::filesystem::rename(temporary_, target_, ec);
-  if (ec) {
-    std::filesystem::remove(temporary_, ec);
-    throw std::runtime_error("cannot rename " + temporary_.string() + " to " + target_.string() +
-                             ": " + ec.message());
-  }
+  WriteFileAtomically(target_, image);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -360,9 +377,21 @@ struct ResultReader::Impl {
 
 ResultReader::ResultReader(const std::filesystem::path& file) : file_(file) {
   H5::Exception::dontPrint();
-  impl_ = Guard(file_, "open", [&] {
-    return std::unique_ptr<Impl>(new Impl{H5::H5File(file_.string(), H5F_ACC_RDONLY)});
-  });
+  auto fail = [&](const std::string& reason) {
+    throw std::runtime_error("cannot read " + file_.string() + ": " + reason);
+  };
+  // The system's reason first (HDF5 says only "unable to open file" for most of them).
+  const int fd = ::open(file_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail(std::strerror(errno));
+  ::close(fd);
+  std::error_code ignored;
+  if (std::filesystem::is_directory(file_, ignored)) fail(std::strerror(EISDIR));
+  try {
+    impl_ = std::unique_ptr<Impl>(new Impl{H5::H5File(file_.string(), H5F_ACC_RDONLY)});
+  } catch (const H5::Exception& e) {
+    const std::string reason = InnermostHdf5Error();  // before any other HDF5 call clears it
+    fail(reason.empty() ? e.getCDetailMsg() : reason);
+  }
 }
 
 ResultReader::~ResultReader() = default;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
@@ -70,6 +71,9 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     options.check_step_rpm = request.check_step_rpm;
     options.check_dwell = request.check_dwell;
 
+    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
+                                                        : std::filesystem::path("results") / scene.name / "lifetime.h5";
+    PrepareToWrite(file);  // before the work
     const LifetimeStudyResult result = RunLifetimeStudy(
         structure, options, request.quiet ? LifetimeStudyProgress{} : PrintLifetimeProgress(err, SteadyClock::now()));
     PrintLifetimeFailures(err, result);
@@ -77,8 +81,6 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
       throw std::runtime_error(result.message);
     }
 
-    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
-                                                        : std::filesystem::path("results") / scene.name / "lifetime.h5";
     WriteLifetimeResult(file, scene, structure, result);
     PrintLifetimeSummary(out, scene, structure, result, file);
     DrawFigures("lifetime.py", file, out, err);

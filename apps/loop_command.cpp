@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
@@ -45,11 +46,12 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     if (request.budget) options.budget = *request.budget;
     const Ranks& ranks = Ranks::World();
     const bool talk = !request.quiet && ranks.rank() == 0;
+    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
+                                                        : std::filesystem::path("results") / scene.name / "loop.h5";
+    if (ranks.rank() == 0) PrepareToWrite(file);  // before the work
     const LoopResult result = ComputeLoop(structure, options, RankJobs(ranks, ThreadsOption(request.threads)),
                                           talk ? PrintLoopProgress(err, SteadyClock::now()) : LoopProgress{});
     if (ranks.rank() != 0) return kExitSuccess;  // rank 0 writes
-    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
-                                                        : std::filesystem::path("results") / scene.name / "loop.h5";
     WriteLoopResult(file, scene, structure, options, result);
     PrintLoopSummary(out, scene, options, result);
     fmt::print(out, "wrote {}\n", file.string());

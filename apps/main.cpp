@@ -1,5 +1,6 @@
 // The rubcont executable: argument parsing only (CLI11 stays in this translation unit); the
 // commands live in the rubcont_io library (apps/commands.h).
+#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -19,6 +20,9 @@
 #include "apps/version.h"
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the writer reports with the
+  // file's name, instead of SIGXFSZ ending the process without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"rubcont: continuation and bifurcation toolkit for rotor–stator rub "
                "(dry-friction backward whirl and whip).\n"
                "Exit codes: 0 success, 1 numerical failure or I/O error, 2 bad scene or arguments."};
@@ -36,6 +40,9 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
   run->add_flag("--resume", run_request.resume,
                 "sweeps continue from the checkpoints of an interrupted run");
+  run->add_flag("--fresh", run_request.fresh,
+                "sweeps start again and overwrite the checkpoints of an interrupted run (without "
+                "--resume or --fresh, a checkpoint is refused: exit 2)");
   run->add_flag("!--no-figures", run_request.figures,
                 "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
@@ -65,6 +72,9 @@ int main(int argc, char** argv) {
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
+  sweep->add_flag("--fresh", sweep_request.fresh,
+                  "start again and overwrite the checkpoints of an interrupted sweep (without "
+                  "--resume or --fresh, a checkpoint is refused: exit 2)");
   sweep->add_flag("!--no-figures", sweep_request.figures,
                   "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;

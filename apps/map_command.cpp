@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/dataset_description.h"
 #include "apps/figures.h"
@@ -317,7 +318,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                          : std::filesystem::path("results") / scene.name /
                                (std::string("map_") + ToString(parameter) + ".h5");
     const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
-    std::filesystem::create_directories(out_dir);
+    PrepareToWrite(file);
 
     const SteadyClock::time_point start = SteadyClock::now();
     const Ranks& ranks = Ranks::World();

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "solvers/constants.h"
 
 namespace rubcont {
@@ -418,7 +419,7 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 
 std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
                                               const std::string& group) {
-  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+  PrepareToWrite(file);
   auto writer = std::make_unique<ResultWriter>(file);
   WriteSceneAttributes(*writer, scene);
   writer->SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));

@@ -213,28 +213,30 @@ PYBIND11_MODULE(_rubcont, m) {
         py::arg("dict"), "A dict of scene keys as TOML text (not validated).");
 
   m.def("run",
-        [](const std::string& scene_file, const std::string& out_dir, bool resume, bool figures,
-           py::object progress) {
+        [](const std::string& scene_file, const std::string& out_dir, bool resume, bool fresh,
+           bool figures, py::object progress) {
           RunRequest request;
           request.scene_file = scene_file;
           request.out_dir = out_dir;
           request.resume = resume;
+          request.fresh = fresh;
           request.figures = figures;
           request.quiet = progress.is_none();
           return Call(progress, [&](std::ostream& out, std::ostream& err) {
             return RunCommand(request, out, err);
           });
         },
-        py::arg("scene_file"), py::arg("out_dir"), py::arg("resume"), py::arg("figures"),
-        py::arg("progress"));
+        py::arg("scene_file"), py::arg("out_dir"), py::arg("resume"), py::arg("fresh"),
+        py::arg("figures"), py::arg("progress"));
   m.def("sweep",
         [](const std::string& scene_file, const std::string& out_file, const std::string& direction,
-           bool resume, bool figures, py::object progress) {
+           bool resume, bool fresh, bool figures, py::object progress) {
           SweepRequest request;
           request.scene_file = scene_file;
           request.out_file = out_file;
           request.direction = direction;
           request.resume = resume;
+          request.fresh = fresh;
           request.figures = figures;
           request.quiet = progress.is_none();
           return Call(progress, [&](std::ostream& out, std::ostream& err) {
@@ -242,7 +244,7 @@ PYBIND11_MODULE(_rubcont, m) {
           });
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("direction"), py::arg("resume"),
-        py::arg("figures"), py::arg("progress"));
+        py::arg("fresh"), py::arg("figures"), py::arg("progress"));
   m.def("map",
         [](const std::string& scene_file, const std::string& out_file, const std::string& parameter,
            std::optional<double> eta_min, std::optional<double> eta_max, int eta_points,

@@ -229,10 +229,12 @@ def _command(scene_, out, default_file, call):
         return _outcome(outcome, file, temporary=out is None)
 
 
-def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=False):
+def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=False, fresh=False):
     """Every stage the scene lists (or `stages`), as ``rubcont run``: the result of
     <out>/<name>/<name>.h5 (`out` a directory; None: a temporary one). `progress`: called with
-    each progress line. `figures`: draw the figures next to the file (needs `out`)."""
+    each progress line. `figures`: draw the figures next to the file (needs `out`). A sweep's
+    checkpoint left by an interrupted run is refused unless `resume` (continue from it) or `fresh`
+    (start again over it)."""
     if stages is not None:
         scene_ = scene if isinstance(scene, Scene) else (
             default_scene() if scene is None else load_scene(scene))
@@ -240,7 +242,8 @@ def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=
 
     def call(scene_file, out_dir):
         name = os.path.splitext(os.path.basename(scene_file))[0]
-        outcome = _rubcont.run(scene_file, out_dir, resume, figures and out is not None, progress)
+        outcome = _rubcont.run(scene_file, out_dir, resume, fresh, figures and out is not None,
+                               progress)
         return outcome, os.path.join(out_dir, name, name + ".h5")
 
     return _command(scene, out, lambda work, s: work, call)
@@ -261,12 +264,13 @@ def orbits(scene=None, **options):
     return run(scene, stages=["orbits"], **options)
 
 
-def sweep(scene=None, direction="both", out=None, progress=None, resume=False, figures=False):
+def sweep(scene=None, direction="both", out=None, progress=None, resume=False, figures=False,
+          fresh=False):
     """The L3 time-marching sweeps of [analysis.sweep] with the branches, as ``rubcont sweep``
-    (`out`: the HDF5 file)."""
+    (`out`: the HDF5 file; `resume` / `fresh` as in `run`)."""
 
     def call(scene_file, file):
-        return _rubcont.sweep(scene_file, file, direction, resume, figures and out is not None,
+        return _rubcont.sweep(scene_file, file, direction, resume, fresh, figures and out is not None,
                               progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "sweep.h5"), call)

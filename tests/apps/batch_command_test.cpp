@@ -2,12 +2,19 @@
 // command under mpirun is tested by ctest (tests/CMakeLists.txt, "batch over MPI ranks").
 #include "apps/batch_command.h"
 
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <catch2/catch.hpp>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "apps/commands.h"
 #include "apps/hdf5_file.h"
@@ -140,10 +147,49 @@ TEST_CASE("batch: a job's numerical failure is reported and the others are kept"
   CHECK_THAT(again.out, Contains("1 run now"));
 }
 
+TEST_CASE("batch: a sweep job re-run after a kill continues from its checkpoint", "[batch]") {
+  // Without --resume a re-run would now refuse the checkpoint (exit 2); batch jobs resume.
+  TempDir dir;
+  const fs::path scene = testing::WhirlScene(dir.path);  // 40, 44, 48 rpm
+  const fs::path result = dir.path / "out" / "s" / "s.h5";
+  const fs::path checkpoint = dir.path / "out" / "s" / "s.up.checkpoint.h5";
+  fs::create_directories(result.parent_path());
+  const char* binary_dir = std::getenv("RUBCONT_BINARY_DIR");
+  const std::string binary = std::string(binary_dir ? binary_dir : "build") + "/rubcont";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {  // the job as batch runs it, killed after its first speed
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl(binary.c_str(), "rubcont", "sweep", scene.c_str(), "--direction", "up", "--quiet", "--out",
+          result.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int i = 0; i < 6000 && !fs::exists(checkpoint); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  REQUIRE(fs::exists(checkpoint));
+  REQUIRE_FALSE(fs::exists(result));
+  const std::vector<double> saved = ResultReader(checkpoint).ReadDoubles("/sweeps/up/wall_seconds");
+  REQUIRE(saved.size() == 1);
+
+  const Ran ran = Batch(dir.path, "[[job]]\nname = \"s\"\ncommand = \"sweep\"\ndirection = \"up\"\n"
+                                  "scene = \"" + scene.string() + "\"\n");
+  INFO(ran.out << ran.err << Slurp(dir.path / "out" / "s.log"));
+  CHECK(ran.exit_code == kExitSuccess);
+  const std::vector<double> wall = ResultReader(result).ReadDoubles("/sweeps/up/wall_seconds");
+  REQUIRE(wall.size() == 3);
+  CHECK(wall[0] == saved[0]);  // the speed from the checkpoint, not integrated again
+  CHECK_FALSE(fs::exists(checkpoint));
+}
+
 TEST_CASE("batch: a job whose outcome cannot be written fails alone, the rank goes on", "[batch]") {
   // Under mpirun the rank must reach the final gather whatever happens to one job.
   TempDir dir;
-  fs::create_directories(dir.path / "out" / "first.outcome.tmp");  // the outcome's temporary name
+  fs::create_directories(dir.path / "out" / "first.outcome" / "inside");  // where the outcome goes
   const Ran ran = Batch(dir.path,
                         "[[job]]\nname = \"first\"\ncommand = \"analytic\"\n"
                         "scene = \"scenes/thesis_A_a.toml\"\n"

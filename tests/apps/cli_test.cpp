@@ -1,6 +1,7 @@
 // The rubcont executable, run as a user runs it: exit codes, messages, files written.
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -60,15 +61,17 @@ TEST_CASE("CLI: a bad scene is exit code 2 with key, value and rule", "[cli]") {
   CHECK_THAT(directory.err, Contains("is a directory, not a scene file"));
 }
 
-TEST_CASE("CLI: a temporary file left by an interrupted run is overwritten, and said so", "[cli]") {
+TEST_CASE("CLI: a temporary file left by an interrupted run is removed, and said so", "[cli]") {
   TempDir dir;
   const fs::path h5 = dir.path / "a.h5";
-  std::ofstream(dir.path / "a.h5.tmp") << "half a file";
+  std::ofstream(dir.path / "a.h5.tmp.12345.0badcafe") << "half a file";
+  fs::last_write_time(dir.path / "a.h5.tmp.12345.0badcafe",
+                      fs::file_time_type::clock::now() - std::chrono::minutes(1));
   const Outcome o = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
   CHECK(o.exit_code == 0);
-  CHECK_THAT(o.err, Contains("a.h5.tmp was left by an interrupted run; it is overwritten"));
+  CHECK_THAT(o.err, Contains("a.h5.tmp.12345.0badcafe was left by an interrupted run; it is removed"));
   CHECK(fs::exists(h5));
-  CHECK_FALSE(fs::exists(dir.path / "a.h5.tmp"));
+  CHECK_FALSE(fs::exists(dir.path / "a.h5.tmp.12345.0badcafe"));
   const Outcome again = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
   CHECK_THAT(again.err, !Contains("interrupted run"));
 }

@@ -269,6 +269,37 @@ TEST_CASE("rubcont sweep: a speed beyond max_penetration is untrusted in the sum
   CHECK(r.Exists("/sweeps/jump_table/trusted"));
 }
 
+TEST_CASE("rubcont sweep: a checkpoint is refused without --resume or --fresh (exit 2) and kept",
+          "[sweep_cli]") {
+  // It used to be overwritten with a warning: 28 of 41 finished speeds lost by a re-run (issue 50).
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
+  const fs::path h5 = dir.path / "sweep.h5";
+  const fs::path checkpoint = dir.path / "sweep.up.checkpoint.h5";
+  const std::string saved = "the finished speeds of an interrupted run";
+  std::ofstream(checkpoint) << saved;
+  const std::string run = "sweep " + scene.string() + " --direction up --quiet --out " + h5.string();
+
+  const Outcome refused = testing::RubcontNoPython(run);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err == "rubcont: " + checkpoint.string() +
+                           " holds the finished speeds of an interrupted up sweep: --resume continues "
+                           "from it, --fresh starts again and overwrites it\n");
+  CHECK(Slurp(checkpoint) == saved);
+  CHECK_FALSE(fs::exists(h5));
+  const Outcome both = testing::RubcontNoPython(run + " --resume --fresh");
+  CHECK(both.exit_code == 2);
+  CHECK_THAT(both.err, Contains("--resume and --fresh: give one of them"));
+  CHECK(Slurp(checkpoint) == saved);
+
+  const Outcome fresh = testing::RubcontNoPython(run + " --fresh");
+  INFO(fresh.err);
+  CHECK(fresh.exit_code == 0);
+  CHECK_THAT(fresh.err, Contains("starting the up sweep afresh (--fresh)"));
+  CHECK(ResultReader(h5).ReadDoubles("/sweeps/up/speed_rpm").size() == 2);
+  CHECK_FALSE(fs::exists(checkpoint));
+}
+
 TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with exit code 2",
           "[sweep_cli]") {
   TempDir dir;
