@@ -83,7 +83,11 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
         run.regimes = ClassifySweep(structure, run.points, sweep.regimes);
         return run;
       }
-      // L1: on a stable wave, move along it to the last speed before its stable stretch ends.
+      // L1: on a stable wave, move along it to the last speed before its stable stretch ends. The
+      // waves are the balanced rotor's: an imbalanced one is forced off them at every speed, so
+      // its run is integrated speed by speed (the waves still explain its jumps, as the sweep's
+      // jump table does).
+      if (structure.imbalance != 0.0) continue;
       const RubSweepRegimes regimes = ClassifySweep(structure, {point}, sweep.regimes);
       const WaveMatch match = MatchWave(structure, {point}, regimes, 0, waves, o.match);
       if (match.branch < 0 || match.stable != 1) continue;
@@ -399,6 +403,10 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
   const std::vector<RotatingWaveBranch> waves_tenth = ComputeRotatingWaveBranches(tenth, FrictionLawKind::kTanh, waves);
   note(fmt::format("L1: {} rotating waves (tanh law, ε = {:g} m/s) in {:.2f} s CPU; and at ε/10 for the corners' "
                    "regularization bias", result.waves.size(), structure.law.velocity_scale, cpu()));
+  if (structure.imbalance != 0.0) {
+    note(fmt::format("imbalance {:g} kg·m: the waves are the balanced rotor's; they explain the jumps, and the runs "
+                     "are integrated at every speed (no move along a wave)", structure.imbalance));
+  }
 
   // The runs, both directions at once (each on its own thread).
   std::vector<LoopRun> runs(2);

@@ -185,7 +185,7 @@ struct LoopProgress {
 };
 
 // The loop of `structure` (its fixed frame, with imbalance if any; the waves are those of its
-// balanced rotor). `jobs` runs the escape copies (ThreadJobs, or the ranks of an MPI run). Throws
+// balanced rotor, and an imbalanced rotor's runs are integrated at every speed: no skip). `jobs` runs the escape copies (ThreadJobs, or the ranks of an MPI run). Throws
 // std::invalid_argument for invalid options.
 LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options, const JobRunner& jobs,
                        const LoopProgress& progress = {});
