@@ -36,6 +36,21 @@ Vector WaveState(const RubStructure& structure, const Vector& u) {
   return frame.ToFixedFrame(0.0, x);
 }
 
+// Whether the integrated `point` can be a wave's state, not only near its frequency: settled, and
+// each contact touching (nearly) all the time or (nearly) never (`full`: the share that counts as
+// all the time). A circular wave touches steadily or not at all, so a contact that touches part of
+// the time is on none (the flexible A(a)'s left at 22 rpm, 0.21 of the time, matched a one-contact
+// whirl's frequency; B(b)'s whip at 168 rpm, half of the time on each).
+bool SteadyContacts(const RubStructure& structure, const SweepPoint& point, double full) {
+  if (point.status != SweepPointStatus::kSettled) return false;
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    if (point.channels.size() <= k) return false;
+    const double share = point.channels[k].active_fraction;
+    if (!(share >= full || share <= 1.0 - full)) return false;
+  }
+  return true;
+}
+
 // The last schedule index before `limit_rpm` in the run's direction (strictly, by 1e-9 of a step),
 // or −1.
 int LastBefore(const std::vector<double>& schedule, double limit_rpm, int sign, double step) {
@@ -91,8 +106,9 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
       const RubSweepRegimes regimes = ClassifySweep(structure, {point}, sweep.regimes);
       const WaveMatch match = MatchWave(structure, {point}, regimes, 0, waves, o.match);
       if (match.branch < 0 || match.stable != 1) continue;
-      const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
       const RotatingWaveBranch& wave = waves[static_cast<std::size_t>(match.branch)];
+      if (!SteadyContacts(structure, point, 1.0 - o.barely_touching)) continue;
+      const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
       double limit_rpm = 0.0;
       std::string why;
       if (limit.found) {

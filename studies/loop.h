@@ -9,7 +9,8 @@
 //
 //  L1  The rotating waves (circular whirl and whip) of the tanh law the sweep integrates, with
 //      their stability and special points (waves/rotating_wave_branches.h). Wherever the tracked
-//      state lies on a stable wave (the jump table's matching rule, studies/jump_prediction.h),
+//      state lies on a stable wave (the jump table's matching rule, studies/jump_prediction.h;
+//      and settled, each contact touching all the time or never, as a circular wave does),
 //      the run is known to stay on it until that wave's stable stretch ends (StableLimitFrom): the
 //      tracker is moved there, onto the wave's own state (skip), and integrates again from the
 //      last schedule speed before the limit. Every jump the tracker then sees whose departure or
