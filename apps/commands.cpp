@@ -259,7 +259,9 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
                Hz(j.precession_from_hz), Hz(j.precession_to_hz));
     if (!j.trusted) fmt::print(out, "[untrusted: a speed penetrates beyond max_penetration] ");
-    if (!row.bifurcation.empty() && row.branch.empty()) {
+    // A cause that is no point of a wave (no precession: the crisis the loop located at L3) is
+    // printed with the median it predicts, not with the branch its states were matched to.
+    if (!row.bifurcation.empty() && (row.branch.empty() || std::isnan(row.bifurcation_precession_hz))) {
       fmt::print(out, "{}; jump − median {:+.2f} rpm\n", row.bifurcation, row.difference_rpm);
     } else if (row.bifurcation.empty()) {
       if (row.branch.empty()) {
