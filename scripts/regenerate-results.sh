@@ -11,7 +11,9 @@
 #   --sweep-tables  instead re-derives the regimes, jump tables and figures of the committed
 #                   results/<scene>/sweep.h5 from their finished speeds, without integrating
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
-#                   the figures). Use it after a change of the regime rules.
+#                   the figures). Use it after a change of the regime rules. A file whose stored
+#                   scene leaves a key to its default that is not a sweep rule (a key added since,
+#                   e.g. [analysis.loop]'s in 0.2.0) is integrated again (2–5 min per scene).
 #   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
 #                   scenes/thesis_A_a_modulated_whip.toml and thesis_A_a_whip_doubling.toml):
 #                   about 20 min on 2 cores; and on the flexible shafts
