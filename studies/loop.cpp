@@ -16,6 +16,11 @@
 #include "sweeps/ensemble.h"
 
 namespace rubcont {
+
+double ContactTimeShare(const SweepPoint& point, std::size_t k) {
+  return point.channels.size() > k ? point.channels[k].active_fraction : kNaN;
+}
+
 namespace {
 
 int Sign(SweepDirection d) { return d == SweepDirection::kUp ? 1 : -1; }
@@ -44,8 +49,7 @@ Vector WaveState(const RubStructure& structure, const Vector& u) {
 bool SteadyContacts(const RubStructure& structure, const SweepPoint& point, double full) {
   if (point.status != SweepPointStatus::kSettled) return false;
   for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
-    if (point.channels.size() <= k) return false;
-    const double share = point.channels[k].active_fraction;
+    const double share = ContactTimeShare(point, k);
     if (!(share >= full || share <= 1.0 - full)) return false;
   }
   return true;
@@ -103,11 +107,11 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
       // its run is integrated speed by speed (the waves still explain its jumps, as the sweep's
       // jump table does).
       if (structure.imbalance != 0.0) continue;
+      if (!SteadyContacts(structure, point, 1.0 - o.barely_touching)) continue;
       const RubSweepRegimes regimes = ClassifySweep(structure, {point}, sweep.regimes);
       const WaveMatch match = MatchWave(structure, {point}, regimes, 0, waves, o.match);
       if (match.branch < 0 || match.stable != 1) continue;
       const RotatingWaveBranch& wave = waves[static_cast<std::size_t>(match.branch)];
-      if (!SteadyContacts(structure, point, 1.0 - o.barely_touching)) continue;
       const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
       double limit_rpm = 0.0;
       std::string why;
@@ -305,9 +309,7 @@ bool Flickers(const LoopRun& run, const std::vector<int>& contacts, std::size_t 
   bool touched = false;
   for (int k : contacts) {
     for (std::size_t i : {from, to}) {
-      const std::vector<ChannelSummary>& channels = run.points[i].channels;
-      if (channels.size() <= static_cast<std::size_t>(k)) return false;
-      const double share = channels[static_cast<std::size_t>(k)].active_fraction;
+      const double share = ContactTimeShare(run.points[i], static_cast<std::size_t>(k));
       if (!(share < barely)) return false;
       touched = touched || share > 0.0;
     }
@@ -320,7 +322,7 @@ std::string ContactShare(const LoopRun& run, const std::vector<int>& contacts, s
   std::string s;
   for (int k : contacts) {
     s += fmt::format("{}{:.1f} %", s.empty() ? "" : ", ",
-                     100.0 * run.points[i].channels[static_cast<std::size_t>(k)].active_fraction);
+                     100.0 * ContactTimeShare(run.points[i], static_cast<std::size_t>(k)));
   }
   return s;
 }

@@ -100,6 +100,10 @@ struct LoopSkip {
   std::string limit;   // what ends its stable stretch (SpecialPoint::Name()), or why none
 };
 
+// The share of the analysed time contact `k` touched at `point` (its channel's active_fraction), or
+// NaN where the point has no channel for it (a failed speed).
+double ContactTimeShare(const SweepPoint& point, std::size_t k);
+
 // One direction of the run as the tracker followed it.
 struct LoopRun {
   SweepDirection direction = SweepDirection::kUp;
