@@ -7,8 +7,8 @@
 HDF5 files (.h5): every group, dataset and attribute on both sides; numbers equal within
 |a − b| ≤ atol + rtol·|b| (NaN equals NaN), strings and integers exactly. Text files (.txt, .csv):
 line by line, numbers within the same tolerance. Wall-clock times are not results: datasets and
-attributes named *seconds* (grid_seconds, wall_seconds, ...) are skipped; in text and string
-attributes a number followed by "s", "ms" or "min" is not compared, nor the columns of a CSV file
+attributes named *seconds* (grid_seconds, wall_seconds, ...) are skipped; in text, string
+attributes and string datasets a number followed by "s", "ms" or "min" is not compared, nor the columns of a CSV file
 whose header names a time (time_ms, *_seconds) or a number after "time_ms".
 
 Provenance is not a result either: the root attributes rubcont_version and rubcont_git (the
@@ -98,8 +98,8 @@ def compare_values(key, a, b, rtol, atol):
     if a.shape != b.shape:
         return [f"{key}: shape {a.shape} → {b.shape}"]
     if a.dtype.kind in "OSU" or b.dtype.kind in "OSU":
-        left = [as_text(x) for x in a.ravel()]
-        right = [as_text(x) for x in b.ravel()]
+        left = [mask_durations(as_text(x)) for x in a.ravel()]
+        right = [mask_durations(as_text(x)) for x in b.ravel()]
         n = sum(x != y for x, y in zip(left, right))
         return [f"{key}: {n} of {len(left)} strings differ"] if n else []
     if a.dtype.kind in "iub" and b.dtype.kind in "iub":

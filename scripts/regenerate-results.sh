@@ -58,6 +58,7 @@ cmake --build build --parallel "$(nproc)"
 # form (its file has no /analytic), and `rubcont run` below draws them again with it.
 # The scenes: scripts/result_scenes.txt (scripts/check_results.sh checks the same list).
 scenes_of() { awk -v k="$1" '$1 == k { print $2 }' scripts/result_scenes.txt; }
+options_of() { awk -v k="$1" '$1 == "options" && $2 == k { $1 = $2 = ""; print }' scripts/result_scenes.txt; }
 mapfile -t sweep_scenes < <(scenes_of sweep)
 case "${1:-}" in
   --sweeps) resume=() ;;
@@ -201,10 +202,11 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
 fi
 # The loops, one after the other (each runs its run-up and run-down side by side, then its
-# ensembles over both cores), with the schedule of scripts/check_results.sh's LOOP_SCHEDULE.
+# ensembles over both cores), with the options of the `options loop` line of result_scenes.txt.
 if [[ "${1:-}" == "--loops" ]]; then
+  read -ra loop_options < <(options_of loop)
   for scene in $(scenes_of loop); do
-    build/rubcont loop "scenes/$scene.toml" --schedule 2 1.5 --budget 600 --quiet \
+    build/rubcont loop "scenes/$scene.toml" "${loop_options[@]}" --quiet \
       --out "results/$scene/loop.h5" > "results/$scene/loop.txt"
     echo "results/$scene: loop.h5 loop.txt loop.png"
   done
