@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 
@@ -48,6 +49,17 @@ void Check(const LifetimeRequest& r) {
   }
 }
 
+// The options that decide a study's numbers, as text (a checkpoint belongs to a study with the same):
+// all but the threads (the numbers do not depend on them), the output and the check sweeps (run
+// after the last checkpoint).
+std::string RequestText(const LifetimeRequest& r) {
+  return fmt::format("--from {:.17g} --to {:.17g} --step {:.17g} --direction {} --copies {} --duration {:.17g} "
+                     "--window {:.17g} --perturbation {:.17g} --seed {} --until {} --until-above {:.17g} "
+                     "--until-contacts {}",
+                     r.from_rpm, r.to_rpm, r.step_rpm, r.direction, r.copies, r.duration, r.window, r.perturbation,
+                     r.seed, r.until, r.until_above_hz, r.until_contacts);
+}
+
 }  // namespace
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
@@ -73,15 +85,36 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
 
     const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
                                                         : std::filesystem::path("results") / scene.name / "lifetime.h5";
+    const std::filesystem::path checkpoint = LifetimeCheckpointPath(file);
+    const std::string request_text = RequestText(request);
+    if (request.resume && request.fresh) throw std::invalid_argument("--resume and --fresh: give one of them");
+    if (!request.resume && !request.fresh && std::filesystem::exists(checkpoint)) {
+      throw std::invalid_argument(fmt::format(
+          "{} holds the finished speeds of an interrupted lifetime study: --resume continues from it, "
+          "--fresh starts again and overwrites it",
+          checkpoint.string()));
+    }
+    const std::optional<LifetimeStudyStart> start =
+        request.resume ? ReadLifetimeCheckpoint(checkpoint, scene, request_text) : std::nullopt;
     PrepareToWrite(file);  // before the work
-    const LifetimeStudyResult result = RunLifetimeStudy(
-        structure, options, request.quiet ? LifetimeStudyProgress{} : PrintLifetimeProgress(err, SteadyClock::now()));
+    LifetimeStudyProgress progress =
+        request.quiet ? LifetimeStudyProgress{} : PrintLifetimeProgress(err, SteadyClock::now());
+    progress.finished = [&](const SweepApproach& approach, const std::vector<SpeedEscapes>& escapes) {
+      WriteLifetimeCheckpoint(checkpoint, scene, request_text, approach, escapes);
+    };
+    if (start && !request.quiet) {
+      fmt::print(err, "rubcont: [lifetime] resuming from {}: the approach and {} speed(s) done\n",
+                 checkpoint.string(), start->escapes.size());
+    }
+    const LifetimeStudyResult result = RunLifetimeStudy(structure, options, progress, start ? &*start : nullptr);
     PrintLifetimeFailures(err, result);
     if (result.status == LifetimeStatus::kApproachFailed || result.status == LifetimeStatus::kNoEstimate) {
       throw std::runtime_error(result.message);
     }
 
     WriteLifetimeResult(file, scene, structure, result);
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint, ignored);  // its speeds are in the result now
     PrintLifetimeSummary(out, scene, structure, result, file);
     DrawFigures("lifetime.py", file, out, err);
     return result.status == LifetimeStatus::kComplete ? kExitSuccess : kExitFailure;

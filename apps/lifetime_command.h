@@ -43,6 +43,12 @@ struct LifetimeRequest {
   double check_dwell = 5.0;             // [s] per speed of the check sweeps
   std::optional<std::string> out_file;  // default results/<scene>/lifetime.h5
   bool quiet = false;
+  // Continue from `<out stem>.checkpoint.h5` (written after the approach and after every speed);
+  // a checkpoint of another scene or other options is an error (exit 2).
+  bool resume = false;
+  // Start again although a checkpoint exists (it is overwritten). With neither flag an existing
+  // checkpoint is refused (exit 2): the finished speeds of an interrupted study are never lost unasked.
+  bool fresh = false;
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

@@ -213,6 +213,11 @@ int main(int argc, char** argv) {
   lifetime->add_option("--check-dwell", lifetime_request.check_dwell, "simulated time per speed of the check sweeps [s]")
       ->capture_default_str();
   lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
+  lifetime->add_flag("--resume", lifetime_request.resume,
+                     "continue from <out stem>.checkpoint.h5 (written after the approach and after every speed)");
+  lifetime->add_flag("--fresh", lifetime_request.fresh,
+                     "start again although a checkpoint exists (it is overwritten; with neither --resume nor "
+                     "--fresh, a checkpoint is refused: exit 2)");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
 
   rubcont::LoopRequest loop_request;
