@@ -83,7 +83,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
 
     WriteLifetimeResult(file, scene, structure, result);
     PrintLifetimeSummary(out, scene, structure, result, file);
-    DrawFigures("lifetime.py", file, out, err);
+    DrawFigures("lifetime", file, request.figure_format, out, err);
     return result.status == LifetimeStatus::kComplete ? kExitSuccess : kExitFailure;
   });
 }

@@ -43,6 +43,7 @@ struct LifetimeRequest {
   double check_dwell = 5.0;             // [s] per speed of the check sweeps
   std::optional<std::string> out_file;  // default results/<scene>/lifetime.h5
   bool quiet = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

@@ -25,13 +25,30 @@ import tomllib
 import h5py
 import numpy as np
 
-from . import _rubcont
-from ._rubcont import SceneError, __version__
+try:
+    from . import _rubcont
+    from ._rubcont import SceneError, __version__
+except ImportError as _error:  # a source tree, or the command line's figures: plots and read() work
+    _rubcont = None
+    _missing_core = _error
+    __version__ = "unknown (rubcont._rubcont not built)"
+
+    class SceneError(ValueError):
+        """A scene that does not load (the compiled module's class when it is built)."""
 
 __all__ = [
     "Scene", "Result", "SceneError", "RubcontError", "load_scene", "scene", "default_scene",
     "run", "analytic", "branches", "orbits", "sweep", "loop", "map", "fit", "read", "__version__",
 ]
+
+
+def _core():
+    """The compiled module, or ImportError saying it is not built (scenes and stages need it;
+    :func:`read`, :class:`Result` and :mod:`rubcont.plots` do not)."""
+    if _rubcont is None:
+        raise ImportError(f"rubcont's compiled module is not built or not on this path "
+                          f"(cmake -DRUBCONT_PYTHON=ON; PYTHONPATH=<build>/python): {_missing_core}")
+    return _rubcont
 
 
 class RubcontError(RuntimeError):
@@ -79,21 +96,21 @@ def _merged(base, changes):
 
 def load_scene(path):
     """Reads and validates a scene file (SceneError on any problem)."""
-    return Scene(_rubcont.load_scene(os.fspath(path)))
+    return Scene(_core().load_scene(os.fspath(path)))
 
 
 def scene(source, name="scene"):
     """A scene from a dict of sections and keys, or from TOML text. `name` names the output
     when the scene sets no ``name``. SceneError on any problem, TypeError on a value that is
     not a dict, list, str, bool, int or float."""
-    text = _rubcont.dict_to_toml(source) if isinstance(source, dict) else str(source)
+    text = _core().dict_to_toml(source) if isinstance(source, dict) else str(source)
     origin = "<dict>" if isinstance(source, dict) else "<text>"
-    return Scene(_rubcont.parse_scene(text, origin, name))
+    return Scene(_core().parse_scene(text, origin, name))
 
 
 def default_scene():
     """The built-in default scene (scenes/default.toml)."""
-    return Scene(_rubcont.default_scene())
+    return Scene(_core().default_scene())
 
 
 class Result:
@@ -242,7 +259,7 @@ def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=
 
     def call(scene_file, out_dir):
         name = os.path.splitext(os.path.basename(scene_file))[0]
-        outcome = _rubcont.run(scene_file, out_dir, resume, fresh, figures and out is not None,
+        outcome = _core().run(scene_file, out_dir, resume, fresh, figures and out is not None,
                                progress)
         return outcome, os.path.join(out_dir, name, name + ".h5")
 
@@ -270,7 +287,7 @@ def sweep(scene=None, direction="both", out=None, progress=None, resume=False, f
     (`out`: the HDF5 file; `resume` / `fresh` as in `run`)."""
 
     def call(scene_file, file):
-        return _rubcont.sweep(scene_file, file, direction, resume, fresh, figures and out is not None,
+        return _core().sweep(scene_file, file, direction, resume, fresh, figures and out is not None,
                               progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "sweep.h5"), call)
@@ -284,7 +301,7 @@ def loop(scene=None, schedule=None, budget=None, threads=0, out=None, progress=N
     step, dwell = schedule if schedule is not None else (None, None)
 
     def call(scene_file, file):
-        return _rubcont.loop(scene_file, file, step, dwell, budget, threads, figures and out is not None,
+        return _core().loop(scene_file, file, step, dwell, budget, threads, figures and out is not None,
                              progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "loop.h5"), call)
@@ -297,7 +314,7 @@ def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_p
     eta_min, eta_max = eta_range if eta_range is not None else (None, None)
 
     def call(scene_file, file):
-        return _rubcont.map(scene_file, file, parameter, eta_min, eta_max, eta_points,
+        return _core().map(scene_file, file, parameter, eta_min, eta_max, eta_points,
                             speed_points, threads, progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "map.h5"), call)
@@ -313,7 +330,7 @@ def fit(scene, targets, threads=1, out=None, progress=None):
         if targets_file is None:
             targets_file = os.path.join(os.path.dirname(scene_file), "targets.toml")
             with open(targets_file, "w", encoding="utf-8") as f:
-                f.write(_rubcont.dict_to_toml(targets))
-        return _rubcont.fit(scene_file, file, targets_file, threads, progress), file
+                f.write(_core().dict_to_toml(targets))
+        return _core().fit(scene_file, file, targets_file, threads, progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "fit.h5"), call)

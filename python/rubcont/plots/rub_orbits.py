@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Figure of the modulated whirl and whip (L2, shooting) over the rotating waves they are born from.
 
-Usage: /usr/bin/python3 plots/rub_orbits.py RESULT.h5 OUTDIR
+Usage: python3 -m rubcont.plots.rub_orbits RESULT.h5 OUTDIR [--format png|pdf|svg]
 Writes, from the HDF5 file only (layout: apps/orbits_stage.h):
   OUTDIR/orbits.png  against running speed, over the speeds around the orbits:
                      top: precession frequency (±25 Hz around the orbits) — the tanh-law
@@ -19,26 +18,19 @@ Writes, from the HDF5 file only (layout: apps/orbits_stage.h):
                      transient's orbit (/orbits/transient) at a filled square. The speeds shown
                      reach 10 rpm beyond the orbits, or, where no family starts at a Hopf point,
                      a quarter of their span (a locked family spans tenths of an rpm).
-Exit status 3 when numpy, h5py or matplotlib cannot be imported.
+From Python: ``figure(f)`` returns the Figure.
 """
-import os
 import sys
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import h5py
+import numpy as np
+from matplotlib.lines import Line2D
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-except ImportError as error:
-    print(f"rub_orbits.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .branches import (MARKERS, MODE_COLORS, contacts_of, mark, plot_lines, special_points,
+                       stable_runs)
+from .common import MissingData, keep_inside, main as _main, new_figure, text
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from branches import (MARKERS, MODE_COLORS, contacts_of, mark, plot_lines,  # noqa: E402
-                      special_points, stable_runs, text)
+DPI = 130
 
 ORBIT_COLORS = ["#000000", "#7b2cbf", "#b8860b", "#008b8b"]
 ORBIT_MARKERS = {"fold": "^", "period doubling": "v", "Neimark-Sacker": "*",
@@ -70,115 +62,120 @@ def start_speed(group):
     return start_of(group)[0]
 
 
-def main(argv):
-    if len(argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    h5_file, out_dir = argv[1], argv[2]
-    with h5py.File(h5_file, "r") as result:
-        if "orbits" not in result or "rotating_waves" not in result["orbits"]:
-            print(f"rub_orbits.py: {h5_file} has no /orbits/rotating_waves", file=sys.stderr)
-            return 1
-        group = result["orbits"]
-        waves = [(n, g) for n, g in group["rotating_waves"].items()
-                 if isinstance(g, h5py.Group) and "speed_rpm" in g]
-        orbits = [(n, g) for n, g in group.items()
-                  if isinstance(g, h5py.Group) and text(g.attrs.get("kind", "")) == "periodic_orbit"]
-        contact = contacts_of(waves[0][1])[0] if waves else "left"
+def figure(f, fig=None):
+    """The figure of the file's /orbits/rotating_waves group."""
+    if "orbits" not in f or "rotating_waves" not in f["orbits"]:
+        raise MissingData("no /orbits/rotating_waves group")
+    group = f["orbits"]
+    waves = [(n, g) for n, g in group["rotating_waves"].items()
+             if isinstance(g, h5py.Group) and "speed_rpm" in g]
+    orbits = [(n, g) for n, g in group.items()
+              if isinstance(g, h5py.Group) and text(g.attrs.get("kind", "")) == "periodic_orbit"]
+    contact = contacts_of(waves[0][1])[0] if waves else "left"
 
-        # Speeds shown: around the Hopf points followed and the orbits.
-        speeds = [start_speed(g) for _, g in orbits]
-        speeds += [v for _, g in orbits for v in g["speed_rpm"][()]]
-        from_hopf = any(start_of(g)[2] == "hopf_speed_rpm" for _, g in orbits)
-        margin = (10.0 if from_hopf else max(0.05, 0.25 * (max(speeds) - min(speeds)))) if speeds else 0.0
-        lo, hi = (min(speeds) - margin, max(speeds) + margin) if speeds else (None, None)
+    # Speeds shown: around the Hopf points followed and the orbits.
+    speeds = [start_speed(g) for _, g in orbits]
+    speeds += [v for _, g in orbits for v in g["speed_rpm"][()]]
+    from_hopf = any(start_of(g)[2] == "hopf_speed_rpm" for _, g in orbits)
+    margin = (10.0 if from_hopf else max(0.05, 0.25 * (max(speeds) - min(speeds)))) if speeds else 0.0
+    lo, hi = (min(speeds) - margin, max(speeds) + margin) if speeds else (None, None)
 
-        symmetric = any("asymmetry" in g for _, g in orbits)
-        ratios = [3, 2, 1.2] + ([1.2] if symmetric else [])
-        fig, axes = plt.subplots(len(ratios), 1, figsize=(9, 10 + 1.5 * symmetric), sharex=True,
-                                 gridspec_kw={"height_ratios": ratios})
-        top, middle, bottom = axes[:3]
-        modes, types = set(), set()
-        for _, g in waves:
-            mode = text(g.attrs.get("mode", "mode1"))
-            color = MODE_COLORS.get(mode, "#1f5fa8")
-            modes.add(mode)
-            rpm, stable = g["speed_rpm"][()], g["stable"][()]
-            plot_lines(top, rpm, g["precession_hz"][()], stable, color)
-            plot_lines(middle, rpm, g[f"normal_force_{contact}"][()], stable, color)
-            points = special_points(g)
-            types.update(p["type"] for p in points)
-            mark(top, points, "rpm", lambda p: p["hz"], color)
+    symmetric = any("asymmetry" in g for _, g in orbits)
+    ratios = [3, 2, 1.2] + ([1.2] if symmetric else [])
+    fig = new_figure(fig, figsize=(9, 10 + 1.5 * symmetric))
+    axes = fig.subplots(len(ratios), 1, sharex=True, gridspec_kw={"height_ratios": ratios})
+    top, middle, bottom = axes[:3]
+    modes, types = set(), set()
+    for _, g in waves:
+        mode = text(g.attrs.get("mode", "mode1"))
+        color = MODE_COLORS.get(mode, "#1f5fa8")
+        modes.add(mode)
+        rpm, stable = g["speed_rpm"][()], g["stable"][()]
+        plot_lines(top, rpm, g["precession_hz"][()], stable, color)
+        plot_lines(middle, rpm, g[f"normal_force_{contact}"][()], stable, color)
+        points = special_points(g)
+        types.update(p["type"] for p in points)
+        mark(top, points, "rpm", lambda p: p["hz"], color)
 
-        handles = []
-        for k, (name, g) in enumerate(sorted(orbits, key=lambda item: start_speed(item[1]))):
-            color = ORBIT_COLORS[k % len(ORBIT_COLORS)]
-            rpm, stable = g["speed_rpm"][()], g["stable"][()]
-            plot_lines(top, rpm, g["precession_hz"][()], stable, color)
-            for side in ("min", "max"):
-                for start, end, is_stable in stable_runs(stable):
-                    top.plot(rpm[start:end + 1], g[f"{side}_precession_hz_{contact}"][()][start:end + 1],
-                             color=color, lw=0.7, alpha=0.6, ls="-" if is_stable else (0, (2, 2)))
-                plot_lines(middle, rpm, g[f"{side}_normal_force_{contact}"][()], stable, color)
-            bottom.semilogy(rpm, g["max_multiplier_modulus"][()], color=color, lw=1.2)
-            if symmetric and "asymmetry" in g:
-                axes[3].semilogy(rpm, np.maximum(g["asymmetry"][()], 1e-16), color=color, lw=1.2)
-            start, start_hz, kind = start_of(g)
-            from_hopf = kind == "hopf_speed_rpm"
-            transient = kind == "transient_speed_rpm"
-            top.plot(start, start_hz, "o" if from_hopf else "s" if transient else "X", ms=7,
-                     mfc=color, mec=color)
-            for t, r, i in orbit_special_points(g):
-                y = g["special_points"]["precession_hz"][()][i]
-                top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
-                bottom.axvline(r, color=color, lw=0.8, ls=":")
-                types.add(t)
-            doubled = "period_doubling_multiplier" in g.attrs
-            laps = int(g.attrs.get("laps", 1))
-            origin = (f"the Hopf point at {start:.2f} rpm" if from_hopf else
-                      f"the transient's orbit at {start:.2f} rpm"
-                      + (f" ({laps} modulation periods: locked)" if laps > 1 else "") if transient else
-                      f"the period doubling at {start:.2f} rpm (period 2T)" if doubled else
-                      f"the branch point at {start:.2f} rpm"
-                      + (", one of two mirror images" if "mirror" in text(g.attrs.get("branch_point_note", ""))
-                         else ""))
-            handles.append(Line2D([], [], color=color, lw=1.6,
-                                  label=f"modulated orbits from {origin} "
-                                        f"({g['speed_rpm'][()].size} orbits)"))
+    handles = []
+    for k, (name, g) in enumerate(sorted(orbits, key=lambda item: start_speed(item[1]))):
+        color = ORBIT_COLORS[k % len(ORBIT_COLORS)]
+        rpm, stable = g["speed_rpm"][()], g["stable"][()]
+        plot_lines(top, rpm, g["precession_hz"][()], stable, color)
+        for side in ("min", "max"):
+            for start, end, is_stable in stable_runs(stable):
+                top.plot(rpm[start:end + 1], g[f"{side}_precession_hz_{contact}"][()][start:end + 1],
+                         color=color, lw=0.7, alpha=0.6, ls="-" if is_stable else (0, (2, 2)))
+            plot_lines(middle, rpm, g[f"{side}_normal_force_{contact}"][()], stable, color)
+        bottom.semilogy(rpm, g["max_multiplier_modulus"][()], color=color, lw=1.2)
+        if symmetric and "asymmetry" in g:
+            axes[3].semilogy(rpm, np.maximum(g["asymmetry"][()], 1e-16), color=color, lw=1.2)
+        start, start_hz, kind = start_of(g)
+        from_hopf = kind == "hopf_speed_rpm"
+        transient = kind == "transient_speed_rpm"
+        top.plot(start, start_hz, "o" if from_hopf else "s" if transient else "X", ms=7,
+                 mfc=color, mec=color)
+        for t, r, i in orbit_special_points(g):
+            y = g["special_points"]["precession_hz"][()][i]
+            top.plot(r, y, ORBIT_MARKERS.get(t, "P"), ms=8, mfc="white", mec=color, mew=1.4, zorder=6)
+            bottom.axvline(r, color=color, lw=0.8, ls=":")
+            types.add(t)
+        doubled = "period_doubling_multiplier" in g.attrs
+        laps = int(g.attrs.get("laps", 1))
+        origin = (f"the Hopf point at {start:.2f} rpm" if from_hopf else
+                  f"the transient's orbit at {start:.2f} rpm"
+                  + (f" ({laps} modulation periods: locked)" if laps > 1 else "") if transient else
+                  f"the period doubling at {start:.2f} rpm (period 2T)" if doubled else
+                  f"the branch point at {start:.2f} rpm"
+                  + (", one of two mirror images" if "mirror" in text(g.attrs.get("branch_point_note", ""))
+                     else ""))
+        handles.append(Line2D([], [], color=color, lw=1.6,
+                              label=f"modulated orbits from {origin} "
+                                    f"({g['speed_rpm'][()].size} orbits)"))
 
-        handles += [Line2D([], [], color=MODE_COLORS[m], lw=1.6, label=f"rotating wave ({m})")
-                    for m in sorted(modes)]
-        handles += [Line2D([], [], color="0.2", lw=1.6, label="stable"),
-                    Line2D([], [], color="0.2", lw=1.0, ls=(0, (4, 2)), label="unstable")]
-        for t in sorted(types):
-            marker = ORBIT_MARKERS.get(t) or MARKERS.get(t, ("P", t))[0]
-            handles.append(Line2D([], [], ls="none", marker=marker, mfc="white", mec="0.2", label=t))
-        top.legend(handles=handles, loc="best", fontsize=7)
-        scene = text(result.attrs.get("scene_name", ""))
-        eps = group.attrs.get("velocity_scale", float("nan"))
-        top.set_title(f"{scene}: rotating waves and modulated orbits (tanh friction, ε = {eps:g} m/s)")
-        top.set_ylabel(f"precession [Hz] (band: {contact} contact)")
-        middle.set_ylabel(f"normal force, {contact} contact [N]")
-        bottom.axhline(1.0, color="black", lw=0.8)
-        bottom.set_ylabel("max |Floquet multiplier|")
-        if symmetric:
-            axes[3].set_ylabel("asymmetry\n(left–right)")
-            axes[3].set_ylim(1e-13, 1.0)
-        axes[-1].set_xlabel("running speed [rpm]")
-        if lo is not None:
-            axes[-1].set_xlim(lo, hi)
-            band = [v for _, g in orbits for key in (f"min_precession_hz_{contact}",
-                                                     f"max_precession_hz_{contact}")
-                    for v in g[key][()] if np.isfinite(v)]
-            band += [float(g.attrs["hopf_precession_hz"]) for _, g in orbits if "hopf_precession_hz" in g.attrs]
-            top.set_ylim(min(band) - 25.0, max(band) + 25.0)
-            _fit_y(middle, waves, orbits, lo, hi, f"normal_force_{contact}",
-                   [f"min_normal_force_{contact}", f"max_normal_force_{contact}"])
-        for ax in axes:
-            ax.grid(alpha=0.3, which="both")
+    handles += [Line2D([], [], color=MODE_COLORS[m], lw=1.6, label=f"rotating wave ({m})")
+                for m in sorted(modes)]
+    handles += [Line2D([], [], color="0.2", lw=1.6, label="stable"),
+                Line2D([], [], color="0.2", lw=1.0, ls=(0, (4, 2)), label="unstable")]
+    for t in sorted(types):
+        marker = ORBIT_MARKERS.get(t) or MARKERS.get(t, ("P", t))[0]
+        handles.append(Line2D([], [], ls="none", marker=marker, mfc="white", mec="0.2", label=t))
+    top.legend(handles=handles, loc="best", fontsize=7)
+    scene = text(f.attrs.get("scene_name", ""))
+    eps = group.attrs.get("velocity_scale", float("nan"))
+    top.set_title(f"{scene}: rotating waves and modulated orbits (tanh friction, ε = {eps:g} m/s)")
+    top.set_ylabel(f"precession [Hz] (band: {contact} contact)")
+    middle.set_ylabel(f"normal force, {contact} contact [N]")
+    bottom.axhline(1.0, color="black", lw=0.8)
+    bottom.set_ylabel("max |Floquet multiplier|")
+    if symmetric:
+        axes[3].set_ylabel("asymmetry\n(left–right)")
+        axes[3].set_ylim(1e-13, 1.0)
+    axes[-1].set_xlabel("running speed [rpm]")
+    if lo is not None:
+        axes[-1].set_xlim(lo, hi)
+        band = [v for _, g in orbits for key in (f"min_precession_hz_{contact}",
+                                                 f"max_precession_hz_{contact}")
+                for v in g[key][()] if np.isfinite(v)]
+        band += [float(g.attrs["hopf_precession_hz"]) for _, g in orbits if "hopf_precession_hz" in g.attrs]
+        top.set_ylim(min(band) - 25.0, max(band) + 25.0)
+        _fit_y(middle, waves, orbits, lo, hi, f"normal_force_{contact}",
+               [f"min_normal_force_{contact}", f"max_normal_force_{contact}"])
+    for ax in axes:
+        ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    if keep_inside(fig, top.title):
         fig.tight_layout()
-        fig.savefig(os.path.join(out_dir, "orbits.png"), dpi=130)
-    return 0
+    return fig
+
+
+def figures(f, stem=""):
+    """orbits: the file's figure."""
+    yield "orbits", figure(f)
+
+
+def main(argv=None):
+    return _main(figures, DPI, __doc__, __spec__.name, argv)
 
 
 def _fit_y(ax, waves, orbits, lo, hi, wave_key, orbit_keys):
@@ -197,4 +194,4 @@ def _fit_y(ax, waves, orbits, lo, hi, wave_key, orbit_keys):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())
