@@ -5,12 +5,27 @@
 // stage runs through the same command as `rubcont <command>` (apps/commands.h), with the GIL
 // released, its stdout and stderr captured, and every stderr line (progress, warnings) passed to a
 // Python callback as it is written. The package reads the HDF5 file the command wrote.
+//
+// A command runs in a child process (fork) that the caller's thread watches: Ctrl-C (a notebook's
+// "interrupt") raises KeyboardInterrupt within the watch's 0.1 s and kills the child, whose result
+// was never renamed to its real name (apps/atomic_file.h) — the numerical code has no point at
+// which it could be stopped from inside. Under mpirun the command runs in this process (a child
+// of an MPI rank cannot take part in its communicator), and Ctrl-C waits for it.
+#include <cerrno>
+#include <csignal>
 #include <memory>
 #include <optional>
+#include <cstring>
 #include <sstream>
+#include <stdexcept>
 #include <streambuf>
 #include <string>
 #include <utility>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <pybind11/functional.h>
@@ -22,6 +37,7 @@
 #include "apps/fit_command.h"
 #include "apps/loop_command.h"
 #include "apps/map_command.h"
+#include "apps/ranks.h"
 #include "apps/scene.h"
 #include "apps/version.h"
 
@@ -86,9 +102,38 @@ struct CommandOutcome {
   std::string err;
 };
 
-// Runs `command(out, err)` without the GIL, stderr lines to `progress` (None: none).
+// A stream buffer that writes straight to a file descriptor (the child's end of a pipe).
+class DescriptorBuffer : public std::streambuf {
+ public:
+  explicit DescriptorBuffer(int fd) : fd_(fd) {}
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    const char ch = static_cast<char>(c);
+    return WriteAll(&ch, 1) ? c : traits_type::eof();
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    return WriteAll(s, static_cast<size_t>(n)) ? n : 0;
+  }
+
+ private:
+  bool WriteAll(const char* s, size_t n) {
+    while (n > 0) {
+      const ssize_t written = ::write(fd_, s, n);
+      if (written < 0 && errno == EINTR) continue;
+      if (written <= 0) return false;
+      s += written;
+      n -= static_cast<size_t>(written);
+    }
+    return true;
+  }
+  int fd_;
+};
+
+// Runs `command(out, err)` in this process without the GIL (under mpirun).
 template <class Command>
-CommandOutcome Call(py::object progress, Command&& command) {
+CommandOutcome CallInProcess(py::object progress, Command&& command) {
   LineTap out_tap{py::none()};
   LineTap err_tap(std::move(progress));
   std::ostream out(&out_tap);
@@ -100,6 +145,92 @@ CommandOutcome Call(py::object progress, Command&& command) {
   }
   out.flush();
   err.flush();
+  err_tap.RethrowCallbackError();
+  outcome.out = out_tap.text();
+  outcome.err = err_tap.text();
+  return outcome;
+}
+
+// How often the watching thread looks for Ctrl-C [s].
+constexpr int kWatchMilliseconds = 100;
+
+// Runs `command(out, err)` in a child process, its stderr lines to `progress` (None: none) as they
+// come, and watches for Ctrl-C: then the child is killed and KeyboardInterrupt raised.
+template <class Command>
+CommandOutcome Call(py::object progress, Command&& command) {
+  if (LaunchedByMpi()) return CallInProcess(std::move(progress), std::forward<Command>(command));
+  LineTap out_tap{py::none()};
+  LineTap err_tap(std::move(progress));
+  int out_pipe[2], err_pipe[2];
+  if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) {
+    throw std::runtime_error(fmt::format("cannot start the command: pipe: {}", std::strerror(errno)));
+  }
+  CommandOutcome outcome;
+  std::unique_ptr<py::error_already_set> interrupt;
+  const auto check_signals = [&interrupt] {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) interrupt = std::make_unique<py::error_already_set>();
+  };
+  {
+    py::gil_scoped_release release;
+    const pid_t pid = fork();
+    if (pid == 0) {  // the child: C++ only, never Python; ends with _exit
+      std::signal(SIGINT, SIG_DFL);
+      ::close(out_pipe[0]);
+      ::close(err_pipe[0]);
+      DescriptorBuffer out_buffer(out_pipe[1]), err_buffer(err_pipe[1]);
+      std::ostream out(&out_buffer), err(&err_buffer);
+      const int code = command(out, err);
+      out.flush();
+      err.flush();
+      _exit(code);
+    }
+    ::close(out_pipe[1]);
+    ::close(err_pipe[1]);
+    if (pid < 0) {
+      ::close(out_pipe[0]);
+      ::close(err_pipe[0]);
+      py::gil_scoped_acquire gil;
+      throw std::runtime_error(fmt::format("cannot start the command: fork: {}", std::strerror(errno)));
+    }
+    pollfd fds[2] = {{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}};
+    LineTap* taps[2] = {&out_tap, &err_tap};
+    char buffer[4096];
+    while (fds[0].fd >= 0 || fds[1].fd >= 0) {
+      const int ready = poll(fds, 2, kWatchMilliseconds);
+      for (int k = 0; k < 2 && ready > 0; ++k) {
+        if (fds[k].fd < 0 || fds[k].revents == 0) continue;
+        const ssize_t n = ::read(fds[k].fd, buffer, sizeof buffer);
+        if (n > 0) {
+          taps[k]->sputn(buffer, n);
+        } else if (n == 0 || errno != EINTR) {
+          ::close(fds[k].fd);
+          fds[k].fd = -1;  // poll ignores negative descriptors
+        }
+      }
+      check_signals();
+      if (interrupt) {
+        ::kill(pid, SIGKILL);
+        break;
+      }
+    }
+    for (const pollfd& fd : fds) {
+      if (fd.fd >= 0) ::close(fd.fd);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!interrupt) check_signals();  // a Ctrl-C that also ended the child (a terminal's)
+    if (WIFEXITED(status)) {
+      outcome.exit_code = WEXITSTATUS(status);
+    } else if (!interrupt) {
+      outcome.exit_code = 128 + WTERMSIG(status);
+      const std::string line = fmt::format("rubcont: the command ended by signal {} ({})\n",
+                                           WTERMSIG(status), strsignal(WTERMSIG(status)));
+      err_tap.sputn(line.data(), static_cast<std::streamsize>(line.size()));
+    }
+  }
+  if (interrupt) throw *interrupt;
   err_tap.RethrowCallbackError();
   outcome.out = out_tap.text();
   outcome.err = err_tap.text();
