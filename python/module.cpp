@@ -33,8 +33,13 @@
 #include <pybind11/stl.h>
 #include <toml++/toml.h>
 
+#include "apps/attractor_command.h"
+#include "apps/batch_command.h"
 #include "apps/commands.h"
+#include "apps/ensemble_command.h"
 #include "apps/fit_command.h"
+#include "apps/flexible_command.h"
+#include "apps/lifetime_command.h"
 #include "apps/loop_command.h"
 #include "apps/map_command.h"
 #include "apps/ranks.h"
@@ -432,4 +437,110 @@ PYBIND11_MODULE(_rubcont, m) {
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("targets_file"), py::arg("threads"),
         py::arg("progress"));
+
+  // The commands whose options are many: their request structs, filled field by field from
+  // Python (rubcont.ensemble(scene, speed_rpm=..., copies=...), ...), then run as the others.
+  py::class_<EnsembleRequest>(m, "EnsembleRequest")
+      .def(py::init<>())
+      .def_readwrite("scene_file", &EnsembleRequest::scene_file)
+      .def_readwrite("speed_rpm", &EnsembleRequest::speed_rpm)
+      .def_readwrite("direction", &EnsembleRequest::direction)
+      .def_readwrite("copies", &EnsembleRequest::copies)
+      .def_readwrite("duration", &EnsembleRequest::duration)
+      .def_readwrite("window", &EnsembleRequest::window)
+      .def_readwrite("perturbation", &EnsembleRequest::perturbation)
+      .def_readwrite("seed", &EnsembleRequest::seed)
+      .def_readwrite("threads", &EnsembleRequest::threads)
+      .def_readwrite("until", &EnsembleRequest::until)
+      .def_readwrite("until_above_hz", &EnsembleRequest::until_above_hz)
+      .def_readwrite("until_contacts", &EnsembleRequest::until_contacts)
+      .def_readwrite("out_file", &EnsembleRequest::out_file)
+      .def_readwrite("quiet", &EnsembleRequest::quiet)
+      .def_readwrite("figure_format", &EnsembleRequest::figure_format);
+  m.def("ensemble",
+        [](const EnsembleRequest& request, py::object progress) {
+          EnsembleRequest r = request;
+          r.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) { return EnsembleCommand(r, out, err); });
+        },
+        py::arg("request"), py::arg("progress"));
+  py::class_<LifetimeRequest>(m, "LifetimeRequest")
+      .def(py::init<>())
+      .def_readwrite("scene_file", &LifetimeRequest::scene_file)
+      .def_readwrite("from_rpm", &LifetimeRequest::from_rpm)
+      .def_readwrite("to_rpm", &LifetimeRequest::to_rpm)
+      .def_readwrite("step_rpm", &LifetimeRequest::step_rpm)
+      .def_readwrite("direction", &LifetimeRequest::direction)
+      .def_readwrite("copies", &LifetimeRequest::copies)
+      .def_readwrite("duration", &LifetimeRequest::duration)
+      .def_readwrite("window", &LifetimeRequest::window)
+      .def_readwrite("perturbation", &LifetimeRequest::perturbation)
+      .def_readwrite("seed", &LifetimeRequest::seed)
+      .def_readwrite("threads", &LifetimeRequest::threads)
+      .def_readwrite("until", &LifetimeRequest::until)
+      .def_readwrite("until_above_hz", &LifetimeRequest::until_above_hz)
+      .def_readwrite("until_contacts", &LifetimeRequest::until_contacts)
+      .def_readwrite("check_copies", &LifetimeRequest::check_copies)
+      .def_readwrite("check_step_rpm", &LifetimeRequest::check_step_rpm)
+      .def_readwrite("check_dwell", &LifetimeRequest::check_dwell)
+      .def_readwrite("out_file", &LifetimeRequest::out_file)
+      .def_readwrite("quiet", &LifetimeRequest::quiet)
+      .def_readwrite("figure_format", &LifetimeRequest::figure_format);
+  m.def("lifetime",
+        [](const LifetimeRequest& request, py::object progress) {
+          LifetimeRequest r = request;
+          r.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) { return LifetimeCommand(r, out, err); });
+        },
+        py::arg("request"), py::arg("progress"));
+  py::class_<AttractorRequest>(m, "AttractorRequest")
+      .def(py::init<>())
+      .def_readwrite("scene_file", &AttractorRequest::scene_file)
+      .def_readwrite("from_rpm", &AttractorRequest::from_rpm)
+      .def_readwrite("to_rpm", &AttractorRequest::to_rpm)
+      .def_readwrite("step_rpm", &AttractorRequest::step_rpm)
+      .def_readwrite("direction", &AttractorRequest::direction)
+      .def_readwrite("approach", &AttractorRequest::approach)
+      .def_readwrite("duration", &AttractorRequest::duration)
+      .def_readwrite("discard", &AttractorRequest::discard)
+      .def_readwrite("interval", &AttractorRequest::interval)
+      .def_readwrite("sample_interval", &AttractorRequest::sample_interval)
+      .def_readwrite("exponents", &AttractorRequest::exponents)
+      .def_readwrite("tolerance", &AttractorRequest::tolerance)
+      .def_readwrite("out_file", &AttractorRequest::out_file)
+      .def_readwrite("quiet", &AttractorRequest::quiet)
+      .def_readwrite("figure_format", &AttractorRequest::figure_format);
+  m.def("attractor",
+        [](const AttractorRequest& request, py::object progress) {
+          AttractorRequest r = request;
+          r.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) { return AttractorCommand(r, out, err); });
+        },
+        py::arg("request"), py::arg("progress"));
+  py::class_<FlexibleRequest>(m, "FlexibleRequest")
+      .def(py::init<>())
+      .def_readwrite("scene_file", &FlexibleRequest::scene_file)
+      .def_readwrite("modes", &FlexibleRequest::modes)
+      .def_readwrite("gyroscopic", &FlexibleRequest::gyroscopic)
+      .def_readwrite("out_file", &FlexibleRequest::out_file)
+      .def_readwrite("quiet", &FlexibleRequest::quiet);
+  m.def("flexible",
+        [](const FlexibleRequest& request, py::object progress) {
+          FlexibleRequest r = request;
+          r.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) { return FlexibleCommand(r, out, err); });
+        },
+        py::arg("request"), py::arg("progress"));
+  py::class_<BatchRequest>(m, "BatchRequest")
+      .def(py::init<>())
+      .def_readwrite("jobs_file", &BatchRequest::jobs_file)
+      .def_readwrite("out_dir", &BatchRequest::out_dir)
+      .def_readwrite("quiet", &BatchRequest::quiet);
+  m.def("batch",
+        [](const BatchRequest& request, py::object progress) {
+          BatchRequest r = request;
+          r.quiet = progress.is_none();
+          return Call(progress, [&](std::ostream& out, std::ostream& err) { return BatchCommand(r, out, err); });
+        },
+        py::arg("request"), py::arg("progress"));
 }

@@ -36,9 +36,15 @@ except ImportError as _error:  # a source tree, or the command line's figures: p
     class SceneError(ValueError):
         """A scene that does not load (the compiled module's class when it is built)."""
 
+from .objects import (Branch, Loop, OrbitFamily, ProgressEvent, SpecialPoint, Sweep,
+                      TorusFamily, TqdmProgress, events, parse_progress)
+
 __all__ = [
     "Scene", "Result", "SceneError", "RubcontError", "load_scene", "scene", "default_scene",
     "run", "analytic", "branches", "orbits", "sweep", "loop", "map", "fit", "read", "__version__",
+    "Branch", "SpecialPoint", "Sweep", "Loop", "OrbitFamily", "TorusFamily", "continue_from",
+    "ProgressEvent", "parse_progress", "events", "TqdmProgress",
+    "ensemble", "lifetime", "attractor", "flexible", "batch",
 ]
 
 
@@ -188,6 +194,61 @@ class Result:
         where = self.file or "in memory"
         return f"<rubcont.Result {where}: {self.status}, {len(self._arrays)} datasets>"
 
+    # The objects of the file (rubcont/objects.py), built from the arrays above.
+    def _h5(self):
+        from .objects import h5_of
+
+        return h5_of(self._bytes)
+
+    def _objects(self):
+        from .objects import objects_of
+
+        return objects_of(self)
+
+    @property
+    def branches(self) -> "list[Branch]":
+        """The rotating-wave branches of /branches, in numeric order (branch2 before branch10)."""
+        return self._objects()["branches"]
+
+    @property
+    def orbit_families(self) -> "list[OrbitFamily]":
+        """The periodic-orbit families (/orbits/<family>, /branches/* of kind periodic_orbit)."""
+        return self._objects()["orbit_families"]
+
+    @property
+    def torus_families(self) -> "list[TorusFamily]":
+        """The torus families of /tori."""
+        return self._objects()["torus_families"]
+
+    @property
+    def sweep(self) -> "Sweep | None":
+        """The sweeps of /sweeps, or None."""
+        return self._objects()["sweep"]
+
+    @property
+    def loop(self) -> "Loop | None":
+        """The explained loop of /loop, or None."""
+        return self._objects()["loop"]
+
+    def plot(self):
+        """Every figure the command line draws from this file, as {name: Figure}."""
+        from . import plots
+
+        with self._h5() as f:
+            return dict(plots.figures(f, "result"))
+
+    def _repr_html_(self):
+        import html as _html
+
+        objects = self._objects()
+        counts = [f"{len(objects['branches'])} branches", f"{len(objects['orbit_families'])} orbit families",
+                  f"{len(objects['torus_families'])} torus families"]
+        counts += [k for k in ("sweep", "loop") if objects[k] is not None]
+        scene_name = self._attrs[""].get("scene_name", "")
+        return (f"<b>rubcont.Result</b> {_html.escape(str(scene_name))} ({_html.escape(self.status)}): "
+                f"{_html.escape(', '.join(counts))}; {len(self._arrays)} datasets"
+                + (f"<br><code>{_html.escape(self.file)}</code>" if self.file else ""))
+
 
 def _decoded(value):
     if isinstance(value, bytes):
@@ -334,3 +395,101 @@ def fit(scene, targets, threads=1, out=None, progress=None):
         return _core().fit(scene_file, file, targets_file, threads, progress), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "fit.h5"), call)
+
+
+
+def _request(kind: str, command: str, fields: dict):
+    """The compiled module's request `kind` with `fields` set; TypeError naming an unknown one."""
+    request = getattr(_core(), kind)()
+    for key, value in fields.items():
+        if key in ("quiet", "out_file", "scene_file", "jobs_file", "out_dir") or not hasattr(request, key):
+            known = sorted(k for k in dir(request) if not k.startswith("_") and k not in (
+                "quiet", "out_file", "scene_file", "jobs_file", "out_dir"))
+            raise TypeError(f"rubcont.{command}: unknown option {key!r}; options: {', '.join(known)}")
+        setattr(request, key, value)
+    return request
+
+
+def _options_command(kind: str, command: str, default_name: str):
+    """A Python function for a command with many options (`rubcont <command>`): the scene, the
+    command's options as keywords (the fields of apps/<command>_command.h, the CLI's flags with _
+    for -), `out` the HDF5 file (None: a temporary one), `progress` as for the others."""
+
+    def run_command(scene=None, out=None, progress=None, figure_format: str = "png", **options) -> "Result":
+        if command != "flexible":
+            options["figure_format"] = figure_format
+
+        def call(scene_file, file):
+            request = _request(kind, command, options)
+            request.scene_file = scene_file
+            request.out_file = file
+            return getattr(_core(), command)(request, progress), file
+
+        return _command(scene, out, lambda work, s: os.path.join(work, default_name), call)
+
+    run_command.__name__ = command
+    return run_command
+
+
+ensemble = _options_command("EnsembleRequest", "ensemble", "ensemble.h5")
+ensemble.__doc__ = """How long the state a sweep reached at `speed_rpm` lasts: copies perturbed and
+integrated (``rubcont ensemble``; ``/ensemble``). Options: speed_rpm (required), direction,
+copies, duration, window, perturbation, seed, threads, until, until_above_hz, until_contacts."""
+lifetime = _options_command("LifetimeRequest", "lifetime", "lifetime.h5")
+lifetime.__doc__ = """Escape rates over speeds and the fitted crisis law (``rubcont lifetime``;
+``/lifetime``). Options: from_rpm, to_rpm (required), step_rpm, direction, copies, duration,
+window, perturbation, seed, threads, until, until_above_hz, until_contacts, check_copies,
+check_step_rpm, check_dwell."""
+attractor = _options_command("AttractorRequest", "attractor", "attractor.h5")
+attractor.__doc__ = """Lyapunov exponents and Poincaré sections speed by speed (``rubcont
+attractor``; ``/attractor``). Options: from_rpm (required), to_rpm, step_rpm, direction,
+approach, duration, discard, interval, sample_interval, exponents, tolerance."""
+flexible = _options_command("FlexibleRequest", "flexible", "flexible.h5")
+flexible.__doc__ = """The rotor and stator as Timoshenko shafts reduced by Craig–Bampton, their
+rotating waves against the rigid model's (``rubcont flexible``). Options: modes, gyroscopic."""
+
+
+def batch(jobs, out=None, progress=None) -> str:
+    """Many jobs from a jobs file (``rubcont batch JOBS.toml``; apps/batch_command.h) into the
+    directory `out` (None: the jobs file's default): returns the command's summary text; the
+    results are the files it names. RubcontError when it fails."""
+    request = _request("BatchRequest", "batch", {})
+    request.jobs_file = os.fspath(jobs)
+    if out is not None:
+        request.out_dir = os.fspath(out)
+    outcome = _core().batch(request, progress)
+    if outcome.exit_code == 2:
+        raise ValueError(outcome.err.strip().removeprefix("rubcont: "))
+    if outcome.exit_code != 0:
+        raise RubcontError(outcome.err.strip() or f"batch failed (exit code {outcome.exit_code})")
+    return outcome.out
+
+
+def continue_from(point: SpecialPoint, result: Result, out=None, progress=None) -> OrbitFamily:
+    """The family continued from a special point of `result`, as the library can start one: the
+    modulated orbits from a Hopf point of the tanh-law rotating waves (/orbits/rotating_waves of an
+    orbits result; the stage follows the Hopf points bounding a stable piece of a wave, and the
+    family born at this one is returned). Any other start raises ValueError naming the point's
+    type: a fold, an event, a branch point of a rotating wave, or a Hopf point of the exact law's
+    branches have no continuation the library can start there (a branch point of an orbit family
+    is followed by the orbits stage itself, [analysis.orbits] branch_points = "follow")."""
+    where = point.owner
+    if point.type != "Hopf":
+        raise ValueError(f"continue_from: a {point.type!r} point ({point.label or where}, "
+                         f"{point.speed_rpm:.6g} rpm) cannot start a continuation: the library "
+                         f"starts orbit families from Hopf points only")
+    if not where.startswith("orbits/rotating_waves/"):
+        raise ValueError(f"continue_from: the Hopf point at {point.speed_rpm:.6g} rpm lies on "
+                         f"/{where}; the orbits stage starts from the Hopf points of the tanh-law "
+                         f"rotating waves (/orbits/rotating_waves/* of rubcont.orbits(scene))")
+    waves = [Branch(result, f"orbits/rotating_waves/{n}") for n in result.groups("orbits/rotating_waves")]
+    count = sum(1 for w in waves for p in w.special_points if p.type == "Hopf")
+    scene_ = result.scene.with_values({"analysis": {"stages": ["orbits"], "orbits": {"hopf_points": count}}})
+    again = orbits(scene_, out=out, progress=progress)
+    for family in again.orbit_families:
+        born = family.attrs.get("hopf_speed_rpm")
+        if born is not None and abs(float(born) - point.speed_rpm) <= 1e-6 * max(1.0, abs(point.speed_rpm)):
+            return family
+    raise ValueError(f"continue_from: no family starts at the Hopf point at {point.speed_rpm:.6g} rpm "
+                     f"(the stage follows only the Hopf points that bound a stable piece of a wave; "
+                     f"started: {[f.name for f in again.orbit_families]})")
