@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, new_figure, text
 
 DPI = 150
 
@@ -225,9 +225,7 @@ def figures(result, stem=""):
         if mode in result["analytic"]:
             yield f"analytic_{mode}", mode_figure(result, mode)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

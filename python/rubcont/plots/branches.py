@@ -18,7 +18,7 @@ import h5py
 import numpy as np
 from matplotlib.lines import Line2D
 
-from .common import MissingData, keep_inside, main as _main, new_figure, text
+from .common import MissingData, command_line, keep_inside, new_figure, text
 
 DPI = 150
 
@@ -274,9 +274,7 @@ def figures(result, stem=""):
     yield "branches_slip", slip_figure(result)
     yield "branches_mu", mu_figure(result)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

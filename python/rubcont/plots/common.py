@@ -60,6 +60,21 @@ def stem_of(path: str) -> str:
 Figures = Callable[[Any, str], Iterator[tuple[str, Any]]]
 
 
+def one_figure(draw: Callable[[Any], Any], name: str | None = None) -> Figures:
+    """The `figures` of a module with one figure: `name`, or the file's stem when None."""
+
+    def figures(f: Any, stem: str = "") -> Iterator[tuple[str, Any]]:
+        yield (stem if name is None else name), draw(f)
+
+    return figures
+
+
+def command_line(figures: Figures, dpi: float, doc: str | None,
+                 module: str) -> Callable[..., int]:
+    """A module's ``main(argv=None)``: :func:`main` on its figures."""
+    return lambda argv=None: main(figures, dpi, doc, module, argv)
+
+
 def main(figures: Figures, dpi: float, doc: str | None, module: str,
          argv: Sequence[str] | None = None) -> int:
     """``python3 -m <module> RESULT.h5 OUTDIR [--format png|pdf|svg]``: draws `figures` of the

@@ -14,7 +14,7 @@ import sys
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, one_figure, new_figure, text
 
 DPI = 120
 
@@ -103,13 +103,9 @@ def figure(f, fig=None):
     return fig
 
 
-def figures(f, stem):
-    """<file stem>: the file's figure."""
-    yield stem, figure(f)
+figures = one_figure(figure)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,7 @@ import tomllib
 
 import numpy as np
 
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, new_figure, text
 
 DPI = 100
 
@@ -179,9 +179,7 @@ def figures(f, stem):
     scene_name = text(f.attrs["scene_name"]) if "scene_name" in f.attrs else ""
     yield ("loop" if stem == scene_name else stem), figure(f)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import ListedColormap, BoundaryNorm
 
-from .common import MissingData, keep_inside, main as _main, new_figure, text
+from .common import MissingData, command_line, keep_inside, new_figure, text
 
 DPI = 120
 
@@ -113,9 +113,7 @@ def figures(f, stem=""):
     for name in f["maps"]:
         yield f"map_{name}", map_figure(f["maps"][name], name)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

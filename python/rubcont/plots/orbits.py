@@ -15,7 +15,7 @@ import sys
 import h5py
 import numpy as np
 
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, one_figure, new_figure, text
 
 DPI = 130
 
@@ -85,13 +85,9 @@ def figure(f, fig=None):
     return fig
 
 
-def figures(f, stem=""):
-    """orbits: the file's figure."""
-    yield "orbits", figure(f)
+figures = one_figure(figure, "orbits")
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ from matplotlib.lines import Line2D
 
 from .branches import (MARKERS, MODE_COLORS, contacts_of, mark, plot_lines, special_points,
                        stable_runs)
-from .common import MissingData, keep_inside, main as _main, new_figure, text
+from .common import MissingData, command_line, one_figure, keep_inside, new_figure, text
 
 DPI = 130
 
@@ -169,13 +169,9 @@ def figure(f, fig=None):
     return fig
 
 
-def figures(f, stem=""):
-    """orbits: the file's figure."""
-    yield "orbits", figure(f)
+figures = one_figure(figure, "orbits")
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 def _fit_y(ax, waves, orbits, lo, hi, wave_key, orbit_keys):

@@ -24,7 +24,7 @@ from fractions import Fraction
 import numpy as np
 
 from .branches import stable_runs
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, one_figure, new_figure, text
 
 DPI = 130
 
@@ -155,13 +155,9 @@ def figure(f, fig=None):
     return fig
 
 
-def figures(f, stem=""):
-    """tori: the file's figure."""
-    yield "tori", figure(f)
+figures = one_figure(figure, "tori")
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

@@ -29,7 +29,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from . import branches as branch_plots  # the same colours and markers
-from .common import MissingData, main as _main, new_figure, text
+from .common import MissingData, command_line, new_figure, text
 
 DPI = 110
 SIDES = ("left", "right")
@@ -334,9 +334,7 @@ def figures(f, stem):
     yield "sweep_precession", precession(f, name=name)
     yield "sweep_slip_velocity", slip_velocity(f, name=name)
 
-
-def main(argv=None):
-    return _main(figures, DPI, __doc__, __spec__.name, argv)
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":
