@@ -87,7 +87,7 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
 
     WriteAttractorResult(file, scene, structure, result);
     PrintAttractorSummary(out, err, scene, structure, result, file);
-    DrawFigures("attractor.py", file, out, err);
+    DrawFigures("attractor", file, request.figure_format, out, err);
     return result.status == AttractorStudyStatus::kMeasured ? kExitSuccess : kExitFailure;
   });
 }

@@ -38,6 +38,7 @@ struct AttractorRequest {
   std::optional<double> tolerance;     // relative = absolute; default the scene's sweep integrator's
   std::optional<std::string> out_file; // default results/<scene>/attractor.h5
   bool quiet = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
 };
 
 int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::ostream& err);

@@ -51,6 +51,7 @@ struct ExecuteOptions {
   bool resume = false;  // sweeps continue from their checkpoints
   bool fresh = false;   // sweeps start again over their checkpoints (neither: a checkpoint is refused)
   bool figures = true;  // draw the figures after the file is complete
+  std::string figure_format = "png";  // png, pdf or svg (kFigureFormats)
   std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
 };
 
@@ -369,17 +370,17 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
     switch (stage) {
       case Stage::kAnalytic: {
         model.analytic(scene, context);
-        scripts.push_back("analytic.py");
+        scripts.push_back("analytic");
         break;
       }
       case Stage::kSweep: {
         SweepStage(scene, options, h5_file, writer, progress, out, err, failures, checkpoints);
-        scripts.push_back("sweep.py");
+        scripts.push_back("sweep");
         break;
       }
       case Stage::kBranches: {
         RunBranches(scene, writer, progress, out, failures);
-        scripts.push_back("branches.py");
+        scripts.push_back("branches");
         break;
       }
       case Stage::kOrbits: {
@@ -389,12 +390,12 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       }
       case Stage::kTori: {
         RunRubTori(scene, context);
-        scripts.push_back("rub_tori.py");
+        scripts.push_back("rub_tori");
         break;
       }
       case Stage::kLoop: {
         RunLoopStage(scene, context);
-        scripts.push_back("loop.py");
+        scripts.push_back("loop");
         break;
       }
     }
@@ -410,13 +411,14 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   }
 
   if (!options.figures) scripts.clear();
-  for (const std::string& script : scripts) {
+  for (const std::string& module : scripts) {
     const SteadyClock::time_point start = SteadyClock::now();
-    progress("figures: {} {} ...", PythonInterpreter(), (PlotsDirectory() / script).string());
-    const FigureOutcome figures = MakeFigures(script, h5_file, out_dir);
+    progress("figures: {} -m rubcont.plots.{} (from {}) ...", PythonInterpreter(), module,
+             PythonPackageDirectory().string());
+    const FigureOutcome figures = MakeFigures(module, h5_file, out_dir, options.figure_format);
     if (figures.made) {
       progress("figures: done in {:.1f} s", SecondsSince(start));
-      fmt::print(out, "wrote figures ({}) in {}\n", script, out_dir.string());
+      fmt::print(out, "wrote figures ({}) in {}\n", module, out_dir.string());
     } else {
       fmt::print(err, "rubcont: warning: {}\n", figures.warning);
     }
@@ -436,6 +438,7 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
     options.resume = request.resume;
     options.fresh = request.fresh;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
 }
@@ -449,6 +452,7 @@ int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     return Execute(scene, {Stage::kAnalytic}, file, options, out, err);
   });
 }
@@ -460,6 +464,7 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     options.resume = request.resume;
     options.fresh = request.fresh;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     if (request.direction == "up") {
       options.directions = {SweepDirection::kUp};
     } else if (request.direction == "down") {
@@ -485,6 +490,7 @@ int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, options, out, err);
   });
 }

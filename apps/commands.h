@@ -20,6 +20,7 @@ struct RunRequest {
   bool resume = false;                    // sweeps continue from their checkpoints, if any
   bool fresh = false;                     // sweeps start again, discarding their checkpoints
   bool figures = true;                    // draw the figures after the HDF5 file (--no-figures)
+  std::string figure_format = "png";      // their file format: png, pdf or svg (--format)
 };
 
 // `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
@@ -30,6 +31,7 @@ struct AnalyticRequest {
   std::optional<std::string> out_file;  // none: results/<scene name>/analytic.h5
   bool quiet = false;
   bool figures = true;  // draw the figures after the HDF5 file
+  std::string figure_format = "png";  // their file format: png, pdf or svg (--format)
 };
 
 // `rubcont analytic SCENE`: the L0 stage only; figures next to the HDF5 file.
@@ -47,6 +49,7 @@ struct SweepRequest {
   // checkpoint is refused (exit 2): an interrupted sweep's finished speeds are never lost unasked.
   bool fresh = false;
   bool figures = true;  // draw the figures after the HDF5 file (--no-figures)
+  std::string figure_format = "png";  // their file format: png, pdf or svg (--format)
 };
 
 // `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);

@@ -59,7 +59,7 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
 
     WriteEnsembleResult(file, scene, structure, result);
     PrintEnsembleSummary(out, scene, structure, result, file);
-    DrawFigures("ensemble.py", file, out, err);
+    DrawFigures("ensemble", file, request.figure_format, out, err);
     PrintEnsembleFailures(err, result);
     return result.status == EnsembleStudyStatus::kComplete ? kExitSuccess : kExitFailure;
   });

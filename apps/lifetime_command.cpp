@@ -116,7 +116,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     std::error_code ignored;
     std::filesystem::remove(checkpoint, ignored);  // its speeds are in the result now
     PrintLifetimeSummary(out, scene, structure, result, file);
-    DrawFigures("lifetime.py", file, out, err);
+    DrawFigures("lifetime", file, request.figure_format, out, err);
     return result.status == LifetimeStatus::kComplete ? kExitSuccess : kExitFailure;
   });
 }

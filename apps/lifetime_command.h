@@ -49,6 +49,7 @@ struct LifetimeRequest {
   // Start again although a checkpoint exists (it is overwritten). With neither flag an existing
   // checkpoint is refused (exit 2): the finished speeds of an interrupted study are never lost unasked.
   bool fresh = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

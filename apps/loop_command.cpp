@@ -55,7 +55,7 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     WriteLoopResult(file, scene, structure, options, result);
     PrintLoopSummary(out, scene, options, result);
     fmt::print(out, "wrote {}\n", file.string());
-    if (request.figures) DrawFigures("loop.py", file, out, err);
+    if (request.figures) DrawFigures("loop", file, request.figure_format, out, err);
     return result.status == LoopStatus::kRunFailed ? kExitFailure : kExitSuccess;
   });
 }

@@ -14,10 +14,23 @@
 #include "apps/ensemble_command.h"
 #include "apps/lifetime_command.h"
 #include "apps/loop_command.h"
+#include "apps/figures.h"
 #include "apps/fit_command.h"
 #include "apps/flexible_command.h"
 #include "apps/map_command.h"
 #include "apps/version.h"
+
+namespace {
+
+// --format of a command with figures.
+void AddFigureFormat(CLI::App* command, std::string& format) {
+  std::vector<std::string> formats(rubcont::kFigureFormats.begin(), rubcont::kFigureFormats.end());
+  command->add_option("--format", format, "file format of the figures: png, pdf or svg")
+      ->check(CLI::IsMember(formats))
+      ->capture_default_str();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the writer reports with the
@@ -38,6 +51,7 @@ int main(int argc, char** argv) {
                                       "(scenes/default.toml)");
   run->add_option("--out", run_request.out_dir, "output directory")->capture_default_str();
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
+  AddFigureFormat(run, run_request.figure_format);
   run->add_flag("--resume", run_request.resume,
                 "sweeps continue from the checkpoints of an interrupted run");
   run->add_flag("--fresh", run_request.fresh,
@@ -55,6 +69,7 @@ int main(int argc, char** argv) {
                        "HDF5 file to write (figures go next to it); default "
                        "results/<scene name>/analytic.h5");
   analytic->add_flag("-q,--quiet", analytic_request.quiet, "no progress on stderr");
+  AddFigureFormat(analytic, analytic_request.figure_format);
 
   rubcont::SweepRequest sweep_request;
   std::string sweep_out;
@@ -69,6 +84,7 @@ int main(int argc, char** argv) {
                     "HDF5 file to write (figures and checkpoints go next to it); default "
                     "results/<scene name>/sweep.h5");
   sweep->add_flag("-q,--quiet", sweep_request.quiet, "no progress on stderr");
+  AddFigureFormat(sweep, sweep_request.figure_format);
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
@@ -87,6 +103,7 @@ int main(int argc, char** argv) {
                        "HDF5 file to write (figures go next to it); default "
                        "results/<scene name>/branches.h5");
   branches->add_flag("-q,--quiet", branches_request.quiet, "no progress on stderr");
+  AddFigureFormat(branches, branches_request.figure_format);
 
   rubcont::MapRequest map_request;
   std::vector<double> map_range;
@@ -108,6 +125,7 @@ int main(int argc, char** argv) {
   map->add_option("--out", map_request.out_file,
                   "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
+  AddFigureFormat(map, map_request.figure_format);
   map->add_flag("!--no-figures", map_request.figures, "write the HDF5 file and the summary only");
 
   rubcont::FitRequest fit_request;
@@ -173,6 +191,7 @@ int main(int argc, char** argv) {
   ensemble->add_option("--out", ensemble_out,
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
+  AddFigureFormat(ensemble, ensemble_request.figure_format);
 
   rubcont::LifetimeRequest lifetime_request;
   std::string lifetime_out;
@@ -219,6 +238,7 @@ int main(int argc, char** argv) {
                      "start again although a checkpoint exists (it is overwritten; with neither --resume nor "
                      "--fresh, a checkpoint is refused: exit 2)");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
+  AddFigureFormat(lifetime, lifetime_request.figure_format);
 
   rubcont::LoopRequest loop_request;
   std::vector<double> loop_schedule;
@@ -237,6 +257,7 @@ int main(int argc, char** argv) {
   loop->add_option("--out", loop_out, "HDF5 file; default results/<scene>/loop.h5");
   loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");
   loop->add_flag("-q,--quiet", loop_request.quiet, "no progress on stderr");
+  AddFigureFormat(loop, loop_request.figure_format);
 
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
@@ -286,6 +307,7 @@ int main(int argc, char** argv) {
                         "relative = absolute tolerance; default: the scene's sweep integrator's");
   attractor->add_option("--out", attractor_out, "HDF5 file; default results/<scene>/attractor.h5");
   attractor->add_flag("-q,--quiet", attractor_request.quiet, "no progress on stderr");
+  AddFigureFormat(attractor, attractor_request.figure_format);
 
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);

@@ -372,9 +372,9 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     fmt::print(out, "wrote {}\n", file.string());
     if (request.figures) {
-      const FigureOutcome figures = MakeFigures("map.py", file, out_dir);
+      const FigureOutcome figures = MakeFigures("map", file, out_dir, request.figure_format);
       if (figures.made) {
-        fmt::print(out, "wrote figures (map.py) in {}\n", out_dir.string());
+        fmt::print(out, "wrote figures (map) in {}\n", out_dir.string());
       } else {
         fmt::print(err, "rubcont: warning: {}\n", figures.warning);
       }

@@ -41,7 +41,7 @@ ModelEntry Textbook(ModelKind kind, std::string name, std::string parameter, Sta
   m.stages = m.default_stages = {Stage::kOrbits};
   m.sections = {m.name};  // [<name>] and [<name>.orbits]
   m.orbits = std::move(orbits);
-  m.orbits_figure = "orbits.py";
+  m.orbits_figure = "orbits";
   m.parameter = std::move(parameter);
   return m;
 }
@@ -64,7 +64,7 @@ std::vector<ModelEntry> MakeModels() {
   two_point.wave_friction = [](const Scene& s) { return s.two_point.friction_law.kind; };
   two_point.analytic = RunTwoPointAnalytic;
   two_point.orbits = RunRubOrbits;
-  two_point.orbits_figure = "rub_orbits.py";
+  two_point.orbits_figure = "rub_orbits";
   two_point.derived = TwoPointDerived;
   models.push_back(two_point);
 

@@ -46,7 +46,7 @@ struct ModelEntry {
   std::function<FrictionLawKind(const Scene&)> wave_friction;
   StageRunner analytic;                // stage "analytic" (L0), when it has it
   StageRunner orbits;                  // stage "orbits" (L2), when it has it
-  std::string orbits_figure;           // the plot script (plots/) of its orbits stage
+  std::string orbits_figure;           // the module of rubcont.plots drawing its orbits stage
   // A textbook model: its continuation parameter, of the keys <model>.<parameter>_range and
   // <model>.orbits.start.
   std::string parameter;

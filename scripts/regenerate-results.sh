@@ -86,7 +86,7 @@ done
 # ε → 0 convergence of the regularized whirl → whip transition (case A(a)), and branch-set timings.
 build/bench/branches_bench scenes 5 results/regularization/thesis_A_a.csv \
   > results/regularization/branches_bench.txt
-/usr/bin/python3 plots/regularization.py results/regularization/thesis_A_a.csv \
+PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.regularization results/regularization/thesis_A_a.csv \
   results/regularization/convergence.png
 # Hysteresis maps and the identification example of the default scene (results/design).
 mkdir -p results/design
@@ -232,7 +232,7 @@ for scene in $(scenes_of sweep); do
   for ((i = 0; i < ${#extra[@]}; i += 2)); do
     if [[ -f "${extra[i + 1]}" ]]; then present+=("${extra[i]}" "${extra[i + 1]}"); fi
   done
-  /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${present[@]}" \
+  PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.hysteresis --sweep "results/$scene/sweep.h5" "${present[@]}" \
     --out "results/$scene/hysteresis.png"
 done
 /usr/bin/python3 scripts/thesis_comparison.py results --update docs/studies/thesis_comparison.md

@@ -236,6 +236,24 @@ TEST_CASE("CLI: analytic writes the HDF5 file and the two figures", "[cli]") {
   CHECK(fs::file_size(dir.path / "sub" / "analytic_mode2.png") > 10000);
 }
 
+TEST_CASE("CLI: --format svg and pdf write the figures in that format, another is exit 2", "[cli]") {
+  TempDir dir;
+  const Outcome svg = Rubcont("analytic scenes/thesis_C_a.toml -q --format svg --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(svg.exit_code == 0);
+  CHECK(svg.err.empty());
+  CHECK_THAT(Slurp(dir.path / "analytic_mode1.svg"), Contains("<svg"));
+  CHECK_FALSE(fs::exists(dir.path / "analytic_mode1.png"));
+  const Outcome pdf = Rubcont("analytic scenes/thesis_C_a.toml -q --format pdf --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(pdf.exit_code == 0);
+  CHECK(Slurp(dir.path / "analytic_mode2.pdf").rfind("%PDF-", 0) == 0);
+  const Outcome jpg = Rubcont("analytic scenes/thesis_C_a.toml -q --format jpg --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(jpg.exit_code == 2);
+  CHECK_THAT(jpg.err, Contains("--format"));
+}
+
 TEST_CASE("CLI: branches of an imbalanced scene leave the imbalance out and say so", "[cli]") {
   TempDir dir;
   const fs::path h5 = dir.path / "imbalance.h5";
@@ -249,12 +267,12 @@ TEST_CASE("CLI: branches of an imbalanced scene leave the imbalance out and say 
   CHECK_THAT(reader.ReadStringAttribute("/branches", "note"), Contains("not stationary"));
 }
 
-TEST_CASE("CLI: a missing plotting script keeps the HDF5 file (exit 0, warning)", "[cli]") {
+TEST_CASE("CLI: a missing plotting module keeps the HDF5 file (exit 0, warning)", "[cli]") {
   TempDir dir;
   const Outcome o = Rubcont("analytic scenes/thesis_A_b.toml -q --out " + (dir.path / "a.h5").string(),
-                            "RUBCONT_PLOTS_DIR=" + dir.path.string());
+                            "RUBCONT_PYTHON_DIR=" + dir.path.string());
   CHECK(o.exit_code == 0);
-  CHECK_THAT(o.err, Contains("plotting script"));
+  CHECK_THAT(o.err, Contains("plotting module " + (dir.path / "rubcont/plots/analytic.py").string()));
   CHECK_THAT(o.err, Contains("the HDF5 result is complete"));
   CHECK(fs::exists(dir.path / "a.h5"));
 }

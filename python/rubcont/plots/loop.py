@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """The hysteresis loop of a scene, explained (rubcont loop): one page per contact.
 
-Usage: /usr/bin/python3 plots/loop.py LOOP.h5 OUTDIR
+Usage: python3 -m rubcont.plots.loop LOOP.h5 OUTDIR [--format png|pdf|svg]
 Writes OUTDIR/<file stem>.png from the HDF5 file only (layout: apps/loop_output.h). Against running
 speed, the backward precession (BP) at each contact:
   - the rolling line BP = (R/C)·speed, and the rotating waves (L1: stable solid, unstable dashed,
@@ -11,32 +10,22 @@ speed, the backward precession (BP) at each contact:
   - every corner numbered at its speed, its interval as a bar (the regularization's for L1, the
     5–95 % of the speed a run of the schedule leaves at for L3, with the crisis's p_c beside it);
   - the corners listed in a box: run, jump, speed and interval, cause, level.
-One page when both contacts show the same loop. Exit status 3 when numpy, h5py or matplotlib cannot
-be imported.
+One page when both contacts show the same loop. From Python: ``figure(f)`` returns the Figure.
 """
 import os
 import sys
 import tomllib
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import numpy as np
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError as error:
-    print(f"loop.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import MissingData, command_line, new_figure, text
+
+DPI = 100
 
 RUN_COLOR = {"up": "tab:orange", "down": "tab:purple"}
 RUN_MARKER = {"up": "^", "down": "v"}
 KIND_WORDS = {"whirl_to_whip": "whirl → whip", "whip_to_whirl": "whip → whirl", "contact_lost": "contact lost",
               "contact_regained": "contact regained", "frequency_jump": "frequency jump"}
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def strings(dataset):
@@ -157,41 +146,40 @@ def same_loop(f, names):
     return True
 
 
-def main():
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    path, out_dir = sys.argv[1], sys.argv[2]
-    with h5py.File(path, "r") as f:
-        if "loop" not in f:
-            print("loop.py: no /loop in the file", file=sys.stderr)
-            return 1
-        scene = tomllib.loads(text(f.attrs["scene_toml"]))
-        radius, clearance = scene["contact"]["radius"], scene["contact"]["clearance"]
-        names = sorted({k[len("precession_hz_"):] for k in f["loop/runs/up"] if k.startswith("precession_hz_")},
-                       key=lambda n: ("left", "right", "contact").index(n) if n in ("left", "right", "contact") else 9)
-        corners = {k: f["loop/corners"][k][()] for k in f["loop/corners"]}
-        count = len(corners.get("direction", []))
-        one = len(names) > 1 and same_loop(f, names)
-        pages = names[:1] if one or len(names) == 1 else names
-        fig, axes = plt.subplots(len(pages), 1, figsize=(14, 8.4 * len(pages)), squeeze=False)
-        for ax, contact in zip(axes[:, 0], pages):
-            k = names.index(contact)
-            on_page = [i for i in range(count) if one or contact in text(corners["contact"][i]).split(", ")]
-            contact_page(ax, f, contact, names, radius[k] / clearance[k], corners, on_page)
-        a = f["loop"].attrs
-        title = (f"{text(f.attrs['scene_name']) if 'scene_name' in f.attrs else os.path.basename(path)}: "
-                 f"the hysteresis loop of a run with {a['step_rpm']:g} rpm steps and {a['dwell_s']:g} s per speed"
-                 f"{' (both contacts alike)' if one else ''}")
-        fig.suptitle(title, fontsize=12)
-        fig.tight_layout(rect=(0, 0, 1, 0.97))
-        # `rubcont loop` writes loop.h5 (→ loop.png); the stage "loop" of `rubcont run` writes it
-        # into <scene>.h5 beside the other stages' groups (→ loop.png too).
-        stem = os.path.splitext(os.path.basename(path))[0]
-        scene_name = text(f.attrs["scene_name"]) if "scene_name" in f.attrs else ""
-        out = os.path.join(out_dir, ("loop" if stem == scene_name else stem) + ".png")
-        fig.savefig(out, dpi=100)
-    return 0
+def figure(f, fig=None):
+    """The loop of the file's /loop: one page per contact (one when both are alike)."""
+    if "loop" not in f:
+        raise MissingData("no /loop group")
+    scene = tomllib.loads(text(f.attrs["scene_toml"]))
+    radius, clearance = scene["contact"]["radius"], scene["contact"]["clearance"]
+    names = sorted({k[len("precession_hz_"):] for k in f["loop/runs/up"] if k.startswith("precession_hz_")},
+                   key=lambda n: ("left", "right", "contact").index(n) if n in ("left", "right", "contact") else 9)
+    corners = {k: f["loop/corners"][k][()] for k in f["loop/corners"]}
+    count = len(corners.get("direction", []))
+    one = len(names) > 1 and same_loop(f, names)
+    pages = names[:1] if one or len(names) == 1 else names
+    fig = new_figure(fig, figsize=(14, 8.4 * len(pages)))
+    axes = fig.subplots(len(pages), 1, squeeze=False)
+    for ax, contact in zip(axes[:, 0], pages):
+        k = names.index(contact)
+        on_page = [i for i in range(count) if one or contact in text(corners["contact"][i]).split(", ")]
+        contact_page(ax, f, contact, names, radius[k] / clearance[k], corners, on_page)
+    a = f["loop"].attrs
+    title = (f"{text(f.attrs['scene_name']) if 'scene_name' in f.attrs else os.path.basename(f.filename)}: "
+             f"the hysteresis loop of a run with {a['step_rpm']:g} rpm steps and {a['dwell_s']:g} s per speed"
+             f"{' (both contacts alike)' if one else ''}")
+    fig.suptitle(title, fontsize=12)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    return fig
+
+
+def figures(f, stem):
+    """`rubcont loop` writes loop.h5 (→ loop); the stage "loop" of `rubcont run` writes it into
+    <scene>.h5 beside the other stages' groups (→ loop too); another file name names its figure."""
+    scene_name = text(f.attrs["scene_name"]) if "scene_name" in f.attrs else ""
+    yield ("loop" if stem == scene_name else stem), figure(f)
+
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

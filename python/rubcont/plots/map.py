@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Figure of a hysteresis map (rubcont map): regions in (running speed, design parameter).
 
-Usage: /usr/bin/python3 plots/map.py RESULT.h5 OUTDIR
+Usage: python3 -m rubcont.plots.map RESULT.h5 OUTDIR [--format png|pdf|svg]
 Writes, from the HDF5 file only (layout: apps/map_command.h), for every /maps/<parameter>:
   OUTDIR/map_<parameter>.png  the number of coexisting stable circular rub states on the grid
                               (all families, then the Mode 1 and Mode 2 families alone)
@@ -10,23 +9,17 @@ Writes, from the HDF5 file only (layout: apps/map_command.h), for every /maps/<p
                               continued event, fold and Hopf curves (lines; cusps, Bogdanov-
                               Takens, zero-Hopf, double-Hopf and generalized Hopf points
                               marked).
-Exit status 3 when numpy, h5py or matplotlib cannot be imported.
+From Python: ``map_figure(f["maps"]["friction"], "friction")`` returns the Figure.
 """
-import os
 import sys
-import textwrap
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import ListedColormap, BoundaryNorm
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap, BoundaryNorm
-except ImportError as error:
-    print(f"map.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import MissingData, command_line, keep_inside, new_figure, text
+
+DPI = 120
 
 MARKERS = {"event": ("o", "stick/slip switch or contact change"),
            "non_smooth_fold": ("s", "non-smooth fold"),
@@ -37,10 +30,6 @@ MARKERS = {"event": ("o", "stick/slip switch or contact change"),
 # Codimension-two points on the continued curves (and where a Hopf curve meets a switch).
 CURVE_POINT_MARKERS = {"cusp": "P", "Bogdanov-Takens": "^", "zero-Hopf": "s", "double Hopf": "h",
                        "generalized Hopf": "v", "event": "o"}
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def draw_panel(ax, group, count, title, pattern=None):
@@ -91,27 +80,16 @@ def draw_panel(ax, group, count, title, pattern=None):
         ax.legend(fontsize=5.5, loc="upper right", framealpha=0.85)
 
 
-def fit_suptitle(fig, title, fontsize):
-    """The figure's title wrapped into as many lines as it needs to lie inside the figure's width
-    (a title of one or two fixed lines overran a one-panel map's and the three-panel map's edges)."""
-    renderer = fig.canvas.get_renderer()
-    width = len(title)
-    while True:
-        artist = fig.suptitle(textwrap.fill(title, width), fontsize=fontsize)
-        box = artist.get_window_extent(renderer)
-        if (box.x0 >= 0 and box.x1 <= fig.bbox.width) or width <= 20:
-            return artist
-        width = int(width * 0.9)
-
-
-def plot_map(group, name, out_dir):
+def map_figure(group, name, fig=None):
+    """The map of one /maps/<name> group."""
     unit = text(group.attrs.get("unit", ""))
     panels = [(group["stable_count"][()], "all circular rub states", None)]
     for pattern, title in (("mode1", "Mode 1 family only (what a sweep from a Mode 1 whirl follows)"),
                            ("mode2", "Mode 2 family only")):
         if "by_pattern" in group and pattern in group["by_pattern"]:
             panels.append((group["by_pattern"][pattern]["stable_count"][()], title, pattern))
-    fig, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 6.5), squeeze=False)
+    fig = new_figure(fig, figsize=(6.5 * len(panels), 6.5))
+    axes = fig.subplots(1, len(panels), squeeze=False)
     for ax, (count, title, pattern) in zip(axes[0], panels):
         draw_panel(ax, group, count, title, pattern)
     axes[0][0].set_ylabel(f"{name} [{unit}]")
@@ -123,25 +101,19 @@ def plot_map(group, name, out_dir):
              f"Hopf, ▽ generalized Hopf, ○ a Hopf curve meets a switch); grey markers: special "
              f"points of the branch set at each grid value; dotted: scene value "
              f"{group.attrs['base_value']:g}")
-    fit_suptitle(fig, title, fontsize=9)
+    keep_inside(fig, fig.suptitle(title, fontsize=9))
     fig.tight_layout()
-    path = os.path.join(out_dir, f"map_{name}.png")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return fig
 
 
-def main():
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    with h5py.File(sys.argv[1], "r") as f:
-        if "maps" not in f:
-            print("map.py: no /maps in the file", file=sys.stderr)
-            return 1
-        for name in f["maps"]:
-            plot_map(f["maps"][name], name, sys.argv[2])
-    return 0
+def figures(f, stem=""):
+    """map_<parameter> for every /maps/<parameter>."""
+    if "maps" not in f:
+        raise MissingData("no /maps group")
+    for name in f["maps"]:
+        yield f"map_{name}", map_figure(f["maps"][name], name)
+
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

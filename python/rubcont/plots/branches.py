@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Figures of the rotating-wave level (L1): the whirl and whip branches against running speed.
 
-Usage: /usr/bin/python3 plots/branches.py RESULT.h5 OUTDIR
+Usage: python3 -m rubcont.plots.branches RESULT.h5 OUTDIR [--format png|pdf|svg]
 Writes, from the HDF5 file only (layout: apps/branch_output.h, apps/analytic_output.h):
   OUTDIR/branches_precession.png  precession (BP) frequency against speed, every branch, stable
                                   solid and unstable dashed, special points marked, the rolling
@@ -9,22 +8,19 @@ Writes, from the HDF5 file only (layout: apps/branch_output.h, apps/analytic_out
   OUTDIR/branches_slip.png        slip velocity at each contact against speed (thesis Fig. 14(b, c));
   OUTDIR/branches_mu.png          mu_req(Omega) of the closed form with the branches' F/N and their
                                   stick/slip switch points placed on it.
-Exit status 3 when numpy, h5py or matplotlib cannot be imported.
+From Python: ``precession_figure(f)``, ``slip_figure(f)``, ``mu_figure(f)`` return the Figures;
+``draw_branch(ax, group)`` draws one branch onto an Axes.
 """
-import os
 import sys
+import tomllib
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import h5py
+import numpy as np
+from matplotlib.lines import Line2D
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-except ImportError as error:
-    print(f"branches.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import MissingData, command_line, keep_inside, new_figure, text
+
+DPI = 150
 
 MODE_COLORS = {"mode1": "#1f5fa8", "mode2": "#c0392b", "left_only": "#2e8b57",
                "right_only": "#d2691e", "single": "#1f5fa8"}
@@ -38,15 +34,14 @@ MARKERS = {"event": ("o", "stick/slip switch or contact change"),
            "branch point": ("X", "branch point")}
 
 
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
 def contacts_of(group):
     return [c for c in ("left", "right", "contact") if f"slip_velocity_{c}" in group]
 
 
 def branches_of(result):
+    """[(name, group)] of the file's /branches in numeric order (branch2 before branch10)."""
+    if "branches" not in result:
+        raise MissingData("no /branches group")
     out = []
     for name, group in result["branches"].items():
         if not isinstance(group, h5py.Group) or "speed_rpm" not in group:
@@ -117,9 +112,22 @@ def total_normal_force(group):
     return total
 
 
-def precession_figure(result, branches, out_dir):
-    fig, (ax, ax_n) = plt.subplots(2, 1, figsize=(8.6, 8.4), dpi=150, sharex=True,
-                                   gridspec_kw={"height_ratios": [3, 2]})
+def draw_branch(ax, group, color=None, y="precession_hz"):
+    """One branch's `y` against speed on `ax` (stable solid, unstable dashed, special points
+    marked); the family's colour unless `color`. Returns the special points drawn."""
+    color = color or MODE_COLORS.get(text(group.attrs.get("mode", "")), "0.3")
+    plot_lines(ax, group["speed_rpm"][()], group[y][()], group["stable"][()], color)
+    points = special_points(group)
+    if y == "precession_hz":
+        mark(ax, points, "rpm", lambda p: p["hz"], color)
+    return points
+
+
+def precession_figure(result, fig=None):
+    """Precession frequency and total normal force of every branch against speed."""
+    branches = branches_of(result)
+    fig = new_figure(fig, figsize=(8.6, 8.4), dpi=DPI)
+    ax, ax_n = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     modes, types = [], set()
     speed_range = result["branches"]["speed_range_rpm"][()]
     rpm = np.linspace(speed_range[0], speed_range[1], 2)
@@ -134,13 +142,10 @@ def precession_figure(result, branches, out_dir):
         color = MODE_COLORS.get(mode, "0.3")
         if mode not in modes:
             modes.append(mode)
-        x, y, stable = group["speed_rpm"][()], group["precession_hz"][()], group["stable"][()]
-        plot_lines(ax, x, y, stable, color)
-        total = total_normal_force(group)
-        plot_lines(ax_n, x, total, stable, color)
-        points = special_points(group)
+        points = draw_branch(ax, group, color)
+        x, stable = group["speed_rpm"][()], group["stable"][()]
+        plot_lines(ax_n, x, total_normal_force(group), stable, color)
         types.update(p["type"] for p in points)
-        mark(ax, points, "rpm", lambda p: p["hz"], color)
         mark(ax_n, points, "rpm", lambda p: p["total_normal"], color)
     handles = legend_handles(modes, sorted(types))
     handles += [Line2D([], [], color="0.55", lw=0.8, ls=":", label="rolling Ω = RCI·ω"),
@@ -156,16 +161,16 @@ def precession_figure(result, branches, out_dir):
         a.grid(True, lw=0.3, alpha=0.5)
     ax.legend(handles=handles, fontsize=7, loc="upper left", ncol=2, framealpha=0.9)
     fig.tight_layout()
-    path = os.path.join(out_dir, "branches_precession.png")
-    fig.savefig(path)
-    plt.close(fig)
+    return fig
 
 
-def slip_figure(result, branches, out_dir):
+def slip_figure(result, fig=None):
+    """Slip velocity at each contact against speed, every branch."""
+    branches = branches_of(result)
     contacts = contacts_of(branches[0][1])
-    fig, axes = plt.subplots(len(contacts), 1, figsize=(8.6, 3.0 + 2.4 * len(contacts)), dpi=150,
-                             sharex=True, squeeze=False)
-    modes, types = [], set()
+    fig = new_figure(fig, figsize=(8.6, 3.0 + 2.4 * len(contacts)), dpi=DPI)
+    axes = fig.subplots(len(contacts), 1, sharex=True, squeeze=False)
+    modes = []
     for k, contact in enumerate(contacts):
         ax = axes[k][0]
         for name, group in branches:
@@ -186,14 +191,18 @@ def slip_figure(result, branches, out_dir):
                                        "(0: rolling; contacts out of touch not drawn)"), fontsize=10)
     axes[0][0].legend(handles=legend_handles(modes, []), fontsize=7, loc="upper left")
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "branches_slip.png"))
-    plt.close(fig)
+    if keep_inside(fig, axes[0][0].title):
+        fig.tight_layout()
+    return fig
 
 
-def mu_figure(result, branches, out_dir):
+def mu_figure(result, fig=None):
+    """mu_req of the closed form with the branches' F/N and their stick/slip switches."""
+    branches = branches_of(result)
     analytic = result.get("analytic")
     mu = float(analytic.attrs["friction"]) if analytic is not None else None
-    fig, ax = plt.subplots(figsize=(8.6, 5.6), dpi=150)
+    fig = new_figure(fig, figsize=(8.6, 5.6), dpi=DPI)
+    ax = fig.subplots()
     limit = 3 * mu if mu else 1.5
     if analytic is not None:
         for mode in ("mode1", "mode2", "single"):
@@ -232,13 +241,11 @@ def mu_figure(result, branches, out_dir):
     ax.grid(True, lw=0.3, alpha=0.5)
     ax.legend(fontsize=7, loc="lower right", ncol=2)
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "branches_mu.png"))
-    plt.close(fig)
+    return fig
 
 
 def rci_of(result):
     """The contacts' R/C from the scene stored in the file."""
-    import tomllib  # Python 3.11 standard library
     scene = tomllib.loads(text(result.attrs["scene_toml"]))
     if "jeffcott" in scene:
         return [scene["jeffcott"]["R"] / scene["jeffcott"]["C"]]
@@ -259,25 +266,16 @@ def whip_frequencies(result):
     return sorted(set(round(hz, 6) for hz in out))
 
 
-def main(argv):
-    if len(argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    h5_file, out_dir = argv[1], argv[2]
-    os.makedirs(out_dir, exist_ok=True)
-    with h5py.File(h5_file, "r") as result:
-        if "branches" not in result:
-            print(f"branches.py: {h5_file} has no /branches group", file=sys.stderr)
-            return 1
-        branches = branches_of(result)
-        if not branches:
-            print(f"branches.py: {h5_file} holds no branch", file=sys.stderr)
-            return 1
-        precession_figure(result, branches, out_dir)
-        slip_figure(result, branches, out_dir)
-        mu_figure(result, branches, out_dir)
-    return 0
+def figures(result, stem=""):
+    """branches_precession, branches_slip and branches_mu."""
+    if not branches_of(result):
+        raise MissingData("no branch in /branches")
+    yield "branches_precession", precession_figure(result)
+    yield "branches_slip", slip_figure(result)
+    yield "branches_mu", mu_figure(result)
+
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())

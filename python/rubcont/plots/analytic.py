@@ -1,28 +1,20 @@
-#!/usr/bin/python3
 """Figures of the analytic level (L0): required friction against precession frequency.
 
-Usage: /usr/bin/python3 plots/analytic.py RESULT.h5 OUTDIR
+Usage: python3 -m rubcont.plots.analytic RESULT.h5 OUTDIR [--format png|pdf|svg]
 Writes OUTDIR/analytic_mode1.png and OUTDIR/analytic_mode2.png (or analytic_single.png for the
 single-contact Jeffcott scene), one per mode, to be read beside
 Kumar (2010) Figures 5-10: mu_req = F/N at both contacts against the precession frequency, the
 available mu as a line, the bands where a contact is lost (N <= 0) shaded, every transition
 labelled with its frequency. Reads only the HDF5 file (layout: apps/analytic_output.h).
-Exit status 3 when numpy, h5py or matplotlib cannot be imported (rubcont then keeps the HDF5
-file and warns).
+From Python: ``mode_figure(f, "mode1")`` returns the Figure of one mode.
 """
-import os
 import sys
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import numpy as np
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError as error:  # rubcont reports exit status 3 as "modules missing"
-    print(f"analytic.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import MissingData, command_line, new_figure, text
+
+DPI = 150
 
 SIDES = ("left", "right")
 COLORS = {"left": "#1f5fa8", "right": "#d2691e"}
@@ -32,10 +24,6 @@ STYLES["contact"] = "-"
 MODE_TITLES = {"mode1": "Mode 1 (contact normals in phase)",
                "mode2": "Mode 2 (contact normals in antiphase)",
                "single": "one contact (Jeffcott rotor, elastic stator)"}
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def read_transitions(group):
@@ -85,7 +73,8 @@ def fmt_number(value):
     return f"{value:g}".replace("-", "\u2212")
 
 
-def plot_mode(result, mode, out_dir):
+def mode_figure(result, mode, fig=None):
+    """mu_req of one mode ("mode1", "mode2" or "single") of the file's /analytic."""
     analytic = result["analytic"]
     group = analytic[mode]
     hz = group["precession_hz"][()]
@@ -108,7 +97,8 @@ def plot_mode(result, mode, out_dir):
 
     limit = 3.0 * mu_available if mu_available > 0 else 1.0
     span = hz[-1] - hz[0]
-    fig, ax = plt.subplots(figsize=(8.4, 5.6), dpi=150)
+    fig = new_figure(fig, figsize=(8.4, 5.6), dpi=DPI)
+    ax = fig.subplots()
 
     # Contact-loss bands: both contacts (grey), one contact only (its colour).
     lost = {side: normal[side] <= 0.0 for side in present}
@@ -224,27 +214,19 @@ def plot_mode(result, mode, out_dir):
                bbox_to_anchor=(0.5, 0.0))
     rows = (len(labels) + 2) // 3
     fig.tight_layout(rect=(0, 0.03 * rows + 0.01, 1, 1))
-    path = os.path.join(out_dir, f"analytic_{mode}.png")
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return fig
 
 
-def main(argv):
-    if len(argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    h5_file, out_dir = argv[1], argv[2]
-    os.makedirs(out_dir, exist_ok=True)
-    with h5py.File(h5_file, "r") as result:
-        if "analytic" not in result:
-            print(f"analytic.py: {h5_file} has no /analytic group", file=sys.stderr)
-            return 1
-        for mode in ("mode1", "mode2", "single"):
-            if mode in result["analytic"]:
-                plot_mode(result, mode, out_dir)
-    return 0
+def figures(result, stem=""):
+    """analytic_<mode> for every mode in /analytic."""
+    if "analytic" not in result:
+        raise MissingData("no /analytic group")
+    for mode in ("mode1", "mode2", "single"):
+        if mode in result["analytic"]:
+            yield f"analytic_{mode}", mode_figure(result, mode)
+
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Figures of the time-marching sweeps (level L3), read from the HDF5 file only.
 
-Usage: /usr/bin/python3 plots/sweep.py RESULT.h5 OUTDIR
+Usage: python3 -m rubcont.plots.sweep RESULT.h5 OUTDIR [--format png|pdf|svg]
 Writes into OUTDIR, for the directions the file holds (/sweeps/up, /sweeps/down; layout in
 apps/sweep_output.h):
   sweep_waterfall_up.png, sweep_waterfall_down.png
@@ -14,41 +13,29 @@ apps/sweep_output.h):
   sweep_precession.png
       BP frequency against speed, speed-up and speed-down, per contact, over the continuation
       branches of /sweeps/branches (the sweeps' tanh friction law; /branches when absent;
-      plots/branches.py colours: by family; stable solid, unstable dashed;
+      rubcont.plots.branches colours: by family; stable solid, unstable dashed;
       events, non-smooth folds, Hopf and branch points marked) and the rolling lines
       BP = RCI*speed; each jump of /sweeps/jump_table is an arrow from the bifurcation that
       predicts it to the middle of the jump's speed interval. Right panel: zoom on the jumps.
   sweep_slip_velocity.png
       mean slip velocity per contact over the time in contact (min-max band), both directions.
-Exit status 3 when numpy, h5py or matplotlib cannot be imported (rubcont then keeps the HDF5
-file and warns).
+From Python: ``waterfall(f, "up")``, ``spectrum_map(f, "up")``, ``precession(f)``,
+``slip_velocity(f)`` return the Figures (None where the direction has too few speeds).
 """
-import os
 import sys
+import tomllib
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import numpy as np
+from matplotlib.lines import Line2D
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
+from . import branches as branch_plots  # the same colours and markers
+from .common import MissingData, command_line, new_figure, text
 
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import branches as branch_plots  # plots/branches.py: the same colours and markers
-except ImportError as error:  # rubcont reports exit status 3 as "modules missing"
-    print(f"sweep.py: {error}", file=sys.stderr)
-    sys.exit(3)
-
+DPI = 110
 SIDES = ("left", "right")
 DIRECTIONS = ("up", "down")
 COLORS = {"up": "#b22222", "down": "#1f5fa8"}
 MARKERS = {"up": "^", "down": "v"}
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def texts(dataset):
@@ -57,10 +44,6 @@ def texts(dataset):
 
 def rci(f):
     """(RCI_L, RCI_R) from the resolved scene stored in the file, or None."""
-    try:
-        import tomllib
-    except ImportError:
-        return None
     try:
         scene = tomllib.loads(text(f.attrs["scene_toml"]))
         c = scene["contact"]
@@ -77,14 +60,22 @@ def same_contacts(g):
     return bool(np.nanmax(np.abs(a - b)) <= 1e-3 * np.nanmax(np.abs(a)))
 
 
-def spectrum_map(f, direction, outdir, name):
+def scene_name(f):
+    """The scene's name stored in the file ('' when it has none)."""
+    return text(f.attrs.get("scene_name", ""))
+
+
+def spectrum_map(f, direction, fig=None, name=None):
+    """log10 spectrum of d = u_r - u_s over speed and frequency, one direction (None: < 2 speeds)."""
+    name = scene_name(f) if name is None else name
     g = f["sweeps"][direction]
     speed = g["speed_rpm"][()]
     if len(speed) < 2:
-        return
+        return None
     freq = g["spectrum_frequency_hz"][()]
     sides = ["left"] if same_contacts(g) else list(SIDES)
-    fig, axes = plt.subplots(1, len(sides), figsize=(7.5 * len(sides), 6), squeeze=False)
+    fig = new_figure(fig, figsize=(7.5 * len(sides), 6))
+    axes = fig.subplots(1, len(sides), squeeze=False)
     order = np.argsort(speed)
     for ax, side in zip(axes[0], sides):
         spectra = g["spectrum_magnitude_" + side][()][order] * 1e6
@@ -100,18 +91,20 @@ def spectrum_map(f, direction, outdir, name):
     fig.suptitle(f"{name}: two-sided spectrum of d = u_r − u_s, speed-{direction} sweep "
                  f"(5 decades)", fontsize=11)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, f"sweep_spectrum_map_{direction}.png"), dpi=110)
-    plt.close(fig)
+    return fig
 
 
-def waterfall(f, direction, outdir, name):
+def waterfall(f, direction, fig=None, name=None):
+    """The spectra of one direction as traces offset by their speed (None: no speed)."""
+    name = scene_name(f) if name is None else name
     g = f["sweeps"][direction]
     speed = g["speed_rpm"][()]
     if len(speed) == 0:
-        return
+        return None
     freq = g["spectrum_frequency_hz"][()]
     sides = ["left"] if same_contacts(g) else list(SIDES)
-    fig, axes = plt.subplots(1, len(sides), figsize=(7.5 * len(sides), 8.5), squeeze=False)
+    fig = new_figure(fig, figsize=(7.5 * len(sides), 8.5))
+    axes = fig.subplots(1, len(sides), squeeze=False)
     step = float(np.median(np.abs(np.diff(speed)))) if len(speed) > 1 else 1.0
     order = np.argsort(speed)[::-1]  # draw the back (high speeds) first
     for ax, side in zip(axes[0], sides):
@@ -133,8 +126,7 @@ def waterfall(f, direction, outdir, name):
         ax.grid(alpha=0.2)
     fig.suptitle(f"{name}: two-sided spectrum, speed-{direction} sweep", fontsize=11)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, f"sweep_waterfall_{direction}.png"), dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def draw_branches(f, ax):
@@ -219,8 +211,11 @@ def draw_predictions(f, ax):
         ax.plot([mid], [bh], "|", color=COLORS[d], ms=14, mew=2, zorder=8)
 
 
-def precession(f, outdir, name):
-    fig, axes = plt.subplots(1, 2, figsize=(15, 6.5), gridspec_kw=dict(width_ratios=[1.1, 1]))
+def precession(f, fig=None, name=None):
+    """BP of both sweeps over the branches, whole range and zoom on the jumps."""
+    name = scene_name(f) if name is None else name
+    fig = new_figure(fig, figsize=(15, 6.5))
+    axes = fig.subplots(1, 2, gridspec_kw=dict(width_ratios=[1.1, 1]))
     top, lo, hi = 0.0, np.inf, -np.inf
     for ax in axes:
         ratios = rci(f)
@@ -278,12 +273,14 @@ def precession(f, outdir, name):
     fig.suptitle(f"{name}: BP frequency of the speed-up and speed-down sweeps (L3) over the "
                  f"continuation branches (L1{law})", fontsize=11)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "sweep_precession.png"), dpi=110)
-    plt.close(fig)
+    return fig
 
 
-def slip_velocity(f, outdir, name):
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+def slip_velocity(f, fig=None, name=None):
+    """Mean slip velocity (min-max band) per contact, both directions."""
+    name = scene_name(f) if name is None else name
+    fig = new_figure(fig, figsize=(12, 5))
+    axes = fig.subplots(1, 2, sharey=True)
     ratios = rci(f)
     for ax, side in zip(axes, SIDES):
         hi = 0.0
@@ -304,7 +301,6 @@ def slip_velocity(f, outdir, name):
                     color=COLORS[direction], label=f"speed-{direction}: mean (band: min–max)")
         if ratios is not None and hi > 0:
             try:
-                import tomllib
                 scene = tomllib.loads(text(f.attrs["scene_toml"]))
                 radius = scene["contact"]["radius"][SIDES.index(side)]
                 rpm = np.linspace(0.0, hi, 2)
@@ -320,28 +316,25 @@ def slip_velocity(f, outdir, name):
     axes[0].set_ylabel("slip velocity V while in contact [m/s]   (0: rolling)")
     fig.suptitle(f"{name}: slip velocity at the contacts (Kumar 2010, Figure 14(b), (c))", fontsize=11)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "sweep_slip_velocity.png"), dpi=110)
-    plt.close(fig)
+    return fig
 
 
-def main():
-    if len(sys.argv) != 3:
-        print("usage: sweep.py RESULT.h5 OUTDIR", file=sys.stderr)
-        return 2
-    path, outdir = sys.argv[1], sys.argv[2]
-    os.makedirs(outdir, exist_ok=True)
-    with h5py.File(path, "r") as f:
-        if "sweeps" not in f:
-            print(f"sweep.py: {path} has no /sweeps group", file=sys.stderr)
-            return 1
-        name = text(f.attrs.get("scene_name", os.path.splitext(os.path.basename(path))[0]))
-        for direction in DIRECTIONS:
-            if direction in f["sweeps"]:
-                waterfall(f, direction, outdir, name)
-                spectrum_map(f, direction, outdir, name)
-        precession(f, outdir, name)
-        slip_velocity(f, outdir, name)
-    return 0
+def figures(f, stem):
+    """The waterfall and spectrum map of each direction, the precession and the slip velocity."""
+    if "sweeps" not in f:
+        raise MissingData("no /sweeps group")
+    name = text(f.attrs.get("scene_name", stem))
+    for direction in DIRECTIONS:
+        if direction in f["sweeps"]:
+            for figure_name, draw in ((f"sweep_waterfall_{direction}", waterfall),
+                                      (f"sweep_spectrum_map_{direction}", spectrum_map)):
+                fig = draw(f, direction, name=name)
+                if fig is not None:
+                    yield figure_name, fig
+    yield "sweep_precession", precession(f, name=name)
+    yield "sweep_slip_velocity", slip_velocity(f, name=name)
+
+main = command_line(figures, DPI, __doc__, __spec__.name)
 
 
 if __name__ == "__main__":

@@ -1,24 +1,25 @@
 """Work-precision chart of bench/work_precision_bench: error against CPU time, log-log, one panel per
 question, one curve per method (points of one setting series joined in the order they were run).
 
-Usage: /usr/bin/python3 plots/work_precision.py OUTDIR   (reads OUTDIR/work_precision.csv and
-OUTDIR/summary.txt, writes OUTDIR/work_precision.png)
+Usage: python3 -m rubcont.plots.work_precision OUTDIR [--format png|pdf|svg]   (reads
+OUTDIR/work_precision.csv and OUTDIR/summary.txt, writes OUTDIR/work_precision.png)
+From Python: ``figure(directory)`` returns the Figure.
 
 Filled markers: the method reported its answer as ok. Open markers: answered, but with a warning
 (a sweep speed that ran to its dwell, a regularization bias above the flag). Answers with an error
 of zero (the reference itself) sit on the panel's floor, marked "reference". What has no answer
 (no_answer, failed, not_applicable) is listed under the panel with its count.
 """
+import argparse
 import csv
 import math
 import os
 import sys
 import textwrap
 
-import matplotlib
+from .common import FORMATS, new_figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+DPI = 110
 
 QUESTIONS = [
     ("q1", "q1: dominant precession at the q1 speed", "Hz"),
@@ -66,7 +67,8 @@ def color_of(key):
     return STYLE[level][0]
 
 
-def main(out_dir):
+def figure(out_dir, fig=None):
+    """The chart of `out_dir`/work_precision.csv (its scene from `out_dir`/summary.txt)."""
     with open(os.path.join(out_dir, "work_precision.csv")) as f:
         rows = list(csv.DictReader(f))
     scene = ""
@@ -74,7 +76,8 @@ def main(out_dir):
     if os.path.exists(summary):
         with open(summary) as f:
             scene = f.readline().strip().replace("work_precision_bench: ", "")
-    fig, axes = plt.subplots(1, 3, figsize=(17, 7.2))
+    fig = new_figure(fig, figsize=(17, 7.2))
+    axes = fig.subplots(1, 3)
     legend = {}
     for ax, (question, title, unit) in zip(axes, QUESTIONS):
         answered = [r for r in rows if r["question"] == question and r["status"] in
@@ -120,10 +123,21 @@ def main(out_dir):
     fig.suptitle(f"Work-precision, {scene}: error against the reference, CPU time of one answer "
                  "(open markers: answered with a warning)", fontsize=12)
     fig.tight_layout(rect=(0, 0.13, 1, 0.95))
-    fig.savefig(os.path.join(out_dir, "work_precision.png"), dpi=110)
+    return fig
+
+
+def main(argv=None):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    parser = argparse.ArgumentParser(prog="python3 -m rubcont.plots.work_precision",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("out_dir", metavar="OUTDIR")
+    parser.add_argument("--format", choices=FORMATS, default="png")
+    args = parser.parse_args(argv)
+    figure(args.out_dir).savefig(os.path.join(args.out_dir, f"work_precision.{args.format}"), dpi=DPI)
+    return 0
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: work_precision.py OUTDIR")
-    main(sys.argv[1])
+    sys.exit(main())

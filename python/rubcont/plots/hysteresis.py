@@ -1,8 +1,7 @@
-#!/usr/bin/python3
 """The hysteresis loop of one scene on one page: states, sweeps and the four corners.
 
-Usage: /usr/bin/python3 plots/hysteresis.py --sweep SWEEP.h5 [--orbits ORBITS.h5]
-                                            [--lifetime LIFETIME.h5] --out FIGURE.png
+Usage: python3 -m rubcont.plots.hysteresis --sweep SWEEP.h5 [--orbits ORBITS.h5]
+                                           [--lifetime LIFETIME.h5] --out FIGURE.{png,pdf,svg}
 Draws, against running speed, the backward precession (BP) at the left contact:
   - the rolling line BP = (R/C)·speed, the rotating waves of the sweep file (/branches, the exact
     friction law: stable solid blue, unstable dashed red);
@@ -16,27 +15,20 @@ Draws, against running speed, the backward precession (BP) at the left contact:
     shaded; when the likelihood leaves one end open, the other end as a line with an arrow towards
     the open side) when one is given.
 Reads HDF5 files only (layouts: apps/orbit_output.h, apps/sweep_output.h, apps/lifetime_command.h).
-Exit status 3 when numpy, h5py or matplotlib cannot be imported.
+From Python: ``figure(sweep, orbits=None, lifetime=None)`` (file paths) returns the Figure.
 """
 import argparse
 import sys
-from contextlib import nullcontext
 import tomllib
+from contextlib import nullcontext
+from types import SimpleNamespace
 
-try:
-    import h5py
-    import matplotlib
-    import numpy as np
+import h5py
+import numpy as np
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError as error:
-    print(f"hysteresis.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import new_figure, text
 
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
-
+DPI = 130
 
 def lines(ax, x, y, stable, color, lw, label=None):
     """Stable pieces solid, unstable dashed (each piece drawn up to the next point)."""
@@ -211,24 +203,39 @@ def draw(ax, contact, args, crisis):
     ax.legend(fontsize=8, loc="upper left")
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--orbits")
-    parser.add_argument("--sweep", required=True)
-    parser.add_argument("--lifetime")
-    parser.add_argument("--out", required=True)
-    args = parser.parse_args()
-    with h5py.File(args.sweep, "r") as s:
+def figure(sweep, orbits=None, lifetime=None, fig=None):
+    """The loop from the sweep file `sweep`, the orbits file `orbits` and the lifetime file
+    `lifetime` (paths; the last two optional)."""
+    files = SimpleNamespace(sweep=sweep, orbits=orbits, lifetime=lifetime)
+    with h5py.File(sweep, "r") as s:
         name = text(s.attrs["scene_name"])
         contacts = ["left"] if same_contacts(s) else ["left", "right"]
-    fig, axes = plt.subplots(len(contacts), 1, figsize=(11.0, 6.6 * len(contacts)), squeeze=False)
-    crisis = read_crisis(args.lifetime)
+    fig = new_figure(fig, figsize=(11.0, 6.6 * len(contacts)))
+    axes = fig.subplots(len(contacts), 1, squeeze=False)
+    crisis = read_crisis(lifetime)
     for ax, contact in zip(axes[:, 0], contacts):
-        draw(ax, contact, args, crisis)
+        draw(ax, contact, files, crisis)
     axes[0, 0].set_title(f"{name}: the hysteresis loop — states (L1, L2), sweeps (L3) and the bifurcations at its "
                          f"corners{'' if len(contacts) > 1 else ' (both contacts alike)'}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=130)
+    return fig
+
+
+def main(argv=None):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    parser = argparse.ArgumentParser(prog="python3 -m rubcont.plots.hysteresis",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--orbits")
+    parser.add_argument("--sweep", required=True)
+    parser.add_argument("--lifetime")
+    parser.add_argument("--out", required=True, help="the figure's file; its extension gives the format")
+    args = parser.parse_args(argv)
+    fig = figure(args.sweep, args.orbits, args.lifetime)
+    fig.savefig(args.out, dpi=DPI)
     plt.close(fig)
     return 0
 

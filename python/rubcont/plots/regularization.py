@@ -1,29 +1,26 @@
-#!/usr/bin/python3
 """ε → 0 convergence of the regularized whirl → whip transition (bench/branches_bench CSV).
 
-    /usr/bin/python3 plots/regularization.py results/regularization/thesis_A_a.csv OUT.png
+    python3 -m rubcont.plots.regularization results/regularization/thesis_A_a.csv OUT.{png,pdf,svg}
+
+From Python: ``figure(csv_path)`` returns the Figure.
 """
 import sys
 
-try:
-    import matplotlib
-    import numpy as np
+import numpy as np
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError as error:
-    print(f"regularization.py: {error}", file=sys.stderr)
-    sys.exit(3)
+from .common import new_figure
+
+DPI = 150
 
 
-def main(argv):
-    if len(argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    lines = [l for l in open(argv[1]) if not l.startswith("#")]
+def figure(csv_path, fig=None):
+    """Relative error of the tanh transition against ε, from the bench's CSV."""
+    with open(csv_path) as f:
+        lines = [line for line in f if not line.startswith("#")]
     data = np.genfromtxt(lines, delimiter=",", names=True)
     eps = data["eps_m_per_s"]
-    fig, ax = plt.subplots(figsize=(6.8, 4.6), dpi=150)
+    fig = new_figure(fig, figsize=(6.8, 4.6), dpi=DPI)
+    ax = fig.subplots()
     ax.loglog(eps, np.abs(data["precession_rel_error"]), "o-", color="#1f5fa8",
               label="precession Ω_t (relative error)")
     ax.loglog(eps, np.abs(data["speed_rel_error"]), "s-", color="#c0392b",
@@ -36,10 +33,21 @@ def main(argv):
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(argv[2])
-    print(f"wrote {argv[2]}")
+    return fig
+
+
+def main(argv=None):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    figure(argv[0]).savefig(argv[1])
+    print(f"wrote {argv[1]}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())
