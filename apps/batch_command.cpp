@@ -326,7 +326,7 @@ std::optional<size_t> JobIndex(const BatchRequest& request, size_t jobs) {
 }
 
 // Runs one job through its command; its stdout and stderr go to the log.
-Outcome RunJob(const Job& job, const fs::path& out, int rank) {
+Outcome RunJob(const Job& job, const fs::path& out, const ClaimOwner& me) {
   std::ostringstream log;
   const SteadyClock::time_point start = SteadyClock::now();
   const double cpu_start = ProcessCpuSeconds();
@@ -393,17 +393,17 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   o.present = true;
   o.exit_code = code;
   o.status = code == kExitSuccess ? "success" : code == kExitFailure ? "failure" : "bad input";
-  o.rank = rank;
+  o.rank = me.rank;
   o.wall_seconds = SecondsSince(start);
   o.cpu_seconds = CpuSecondsSince(cpu_start);
   o.result = result.string();
   WriteFileAtomically(out / (job.name + ".log"), log.str());
   WriteFileAtomically(OutcomeFile(out, job),
                       fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
-                                  "rank = {}\nwall_seconds = {:.3f}\ncpu_seconds = {:.3f}\n"
-                                  "result = \"{}\"\n",
-                                  job.name, job.command, o.exit_code, o.status, o.rank, o.wall_seconds,
-                                  o.cpu_seconds, o.result));
+                                  "rank = {}\nhost = \"{}\"\npid = {}\nallocation = \"{}\"\n"
+                                  "wall_seconds = {:.3f}\ncpu_seconds = {:.3f}\nresult = \"{}\"\n",
+                                  job.name, job.command, o.exit_code, o.status, o.rank, me.host,
+                                  me.pid, me.allocation, o.wall_seconds, o.cpu_seconds, o.result));
   return o;
 }
 
@@ -460,6 +460,19 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
     const SteadyClock::time_point start = SteadyClock::now();
     request.claims.Validate();
     const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
+    if (request.list) {
+      if (ranks.rank() == 0) {
+        fmt::print(out, "{} jobs, numbered for --job-index and SLURM_ARRAY_TASK_ID (a Slurm array: "
+                        "--array=1-{}); output into {}\n", jobs.jobs.size(), jobs.jobs.size(),
+                   jobs.out.string());
+        for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+          const Job& job = jobs.jobs[i];
+          fmt::print(out, "{:>5}  {:<32} {:<9} {}\n", i + 1, job.name, job.command,
+                     job.scene.value_or("default scene"));
+        }
+      }
+      return kExitSuccess;
+    }
     const std::optional<size_t> index = JobIndex(request, jobs.jobs.size());
     std::vector<size_t> selected;
     for (size_t i = 0; i < jobs.jobs.size(); ++i) {
@@ -507,7 +520,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
                        job.scene.value_or("default scene"));
           }
           ++run_here;
-          const Outcome o = RunJob(job, jobs.out, ranks.rank());
+          const Outcome o = RunJob(job, jobs.out, me);
           if (!request.quiet) {
             fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(),
                        job.name, o.status, o.wall_seconds);

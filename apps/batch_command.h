@@ -16,8 +16,8 @@
 //   vary = { scene = [...], direction = ["up", "down"] }   every combination: one job each
 //
 // Each job writes <out>/<name>.h5 (run: <out>/<name>/<scene>/<scene>.h5) atomically, its output in
-// <out>/<name>.log and its outcome in <out>/<name>.outcome (exit code, status, rank, wall and CPU
-// seconds); rank 0 writes <out>/summary.txt when every rank has finished. A job is done when its
+// <out>/<name>.log and its outcome in <out>/<name>.outcome (exit code, status, rank, host, pid,
+// Slurm allocation, wall and CPU seconds); rank 0 writes <out>/summary.txt when every rank has finished. A job is done when its
 // outcome says exit code 0 or 1 (a numerical failure is a result) and its result file exists: a
 // re-run does only what is missing. `out` must be on a file system every rank sees.
 //
@@ -33,8 +33,8 @@
 //
 // Job arrays: --job-index N, or else the environment's SLURM_ARRAY_TASK_ID, runs the one job N,
 // numbered from 1 in the order of the jobs file with its `vary` expanded (the order of the summary;
-// `#SBATCH --array=1-<number of jobs>`); its outcome and exit code are that job's, and summary.txt
-// is left to a run without an index.
+// `#SBATCH --array=1-<number of jobs>`; --list prints them numbered); its outcome and exit code
+// are that job's, and summary.txt is left to a run without an index.
 //
 // Exit codes: 0 every job (or the indexed one) done with exit code 0; 1 a job failed, did not
 // finish or runs elsewhere (the others' results are kept); 2 a bad jobs file (key, value and rule
@@ -53,6 +53,7 @@ struct BatchRequest {
   std::string jobs_file;
   std::optional<std::string> out_dir;
   bool quiet = false;
+  bool list = false;                   // --list: print the jobs, numbered, and run none
   std::optional<long long> job_index;  // --job-index: the one job to run, from 1; else SLURM_ARRAY_TASK_ID
   ClaimOptions claims;                 // --stale-after
 };

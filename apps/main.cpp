@@ -134,6 +134,8 @@ int main(int argc, char** argv) {
   batch->add_option("--out", batch_request.out_dir,
                     "output directory (default: the file's `out`, else results/batch/<stem>)");
   batch->add_flag("-q,--quiet", batch_request.quiet, "no progress on stderr");
+  batch->add_flag("--list", batch_request.list,
+                  "print the jobs numbered as --job-index counts them, and run none");
   batch->add_option("--job-index", batch_request.job_index,
                     "run only job N, numbered from 1 as in the summary (a Slurm array: "
                     "--array=1-<jobs>); default: $SLURM_ARRAY_TASK_ID when set, else every job");

@@ -264,6 +264,14 @@ TEST_CASE("batch: a job a live owner runs is left to it, a stale or dead claim i
 TEST_CASE("batch: --job-index or SLURM_ARRAY_TASK_ID runs one job, numbered from 1", "[batch]") {
   TempDir dir;
   const fs::path out = dir.path / "out";
+  BatchRequest list;
+  list.list = true;
+  const Ran listed = Batch(dir.path, kTwoJobs, list);
+  CHECK(listed.exit_code == kExitSuccess);
+  CHECK_THAT(listed.out, Contains("2 jobs, numbered for --job-index and SLURM_ARRAY_TASK_ID (a Slurm "
+                                  "array: --array=1-2)"));
+  CHECK_THAT(listed.out, Contains("    2  b                                analytic  scenes/thesis_B_a.toml"));
+  CHECK_FALSE(fs::exists(out));  // nothing run, nothing made
   BatchRequest second;
   second.job_index = 2;
   const Ran ran = Batch(dir.path, kTwoJobs, second);
