@@ -5,15 +5,15 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
-#include <map>
-#include <thread>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -452,6 +452,76 @@ std::pair<std::string, int> Summary(const JobsFile& jobs, const std::vector<size
   return {text, failed};
 }
 
+// This rank's share of the jobs `selected`: passes over them, running each that is free or whose
+// claim is stale or dead, until none is left but those a live owner runs; returns how many it ran.
+// A claim seen held is watched (its generation and heartbeat) until its heartbeat moves (live: left
+// to its owner) or it goes stale (taken over by TryClaim). A job that cannot be claimed, or cannot
+// write its log or outcome, fails alone: the rank goes on, so that every rank reaches the final
+// gather; the summary lists the job as not finished.
+int RunShare(const JobsFile& jobs, const std::vector<size_t>& selected, const BatchRequest& request,
+             int64_t run_start_ns, const Ranks& ranks, std::ostream& err) {
+  const ClaimOwner me = ThisProcess(ranks.rank(), request.claims.HeartbeatSeconds());
+  // Polls every 0.05 s at first, doubling up to half a heartbeat (at most 5 s): a job another
+  // rank of this run is finishing is seen done at once, a long one costs few looks.
+  const double max_poll_s = std::clamp(request.claims.HeartbeatSeconds() / 2.0, 0.01, 5.0);
+  double poll_s = std::min(0.05, max_poll_s);
+  std::map<size_t, std::pair<int, int64_t>> watched;
+  std::vector<size_t> pending = selected;
+  int run_here = 0;
+  while (!pending.empty()) {
+    std::vector<size_t> held;
+    for (const size_t i : pending) {
+      const Job& job = jobs.jobs[i];
+      if (Settled(jobs.out, job, run_start_ns)) continue;
+      try {
+        const ClaimAttempt attempt = TryClaim(ClaimStem(jobs.out, job), me, request.claims);
+        if (!attempt.held) {
+          const std::pair<int, int64_t> seen{attempt.seen.generation, attempt.seen.heartbeat_ns};
+          const auto [watch, first] = watched.emplace(i, seen);
+          if (first || watch->second == seen) held.push_back(i);
+          continue;
+        }
+        if (!attempt.taken_over_because.empty()) {
+          fmt::print(err, "rubcont: note: [batch] rank {}: {}: took over {}: {}\n", ranks.rank(),
+                     job.name, attempt.seen.file.string(), attempt.taken_over_because);
+        }
+        // Another rank may have finished it (and let go of its claim) since the check above.
+        if (Settled(jobs.out, job, run_start_ns)) continue;
+        if (!request.quiet) {
+          fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(),
+                     i + 1, jobs.jobs.size(), job.name, job.command,
+                     job.scene.value_or("default scene"));
+        }
+        ++run_here;
+        const Outcome o = RunJob(job, jobs.out, me);
+        if (!request.quiet) {
+          fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(),
+                     job.name, o.status, o.wall_seconds);
+        }
+      } catch (const std::exception& e) {
+        fmt::print(err, "rubcont: [batch] rank {}: {}: no outcome written: {}\n", ranks.rank(),
+                   job.name, e.what());
+      }
+    }
+    pending = std::move(held);
+    if (pending.empty()) break;
+    std::this_thread::sleep_for(std::chrono::duration<double>(poll_s));
+    poll_s = std::min(2.0 * poll_s, max_poll_s);
+  }
+  return run_here;
+}
+
+void ListJobs(const JobsFile& jobs, std::ostream& out) {
+  fmt::print(out, "{} jobs, numbered for --job-index and SLURM_ARRAY_TASK_ID (a Slurm array: "
+                  "--array=1-{}); output into {}\n", jobs.jobs.size(), jobs.jobs.size(),
+             jobs.out.string());
+  for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+    const Job& job = jobs.jobs[i];
+    fmt::print(out, "{:>5}  {:<32} {:<9} {}\n", i + 1, job.name, job.command,
+               job.scene.value_or("default scene"));
+  }
+}
+
 }  // namespace
 
 int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& err) {
@@ -461,16 +531,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
     request.claims.Validate();
     const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
     if (request.list) {
-      if (ranks.rank() == 0) {
-        fmt::print(out, "{} jobs, numbered for --job-index and SLURM_ARRAY_TASK_ID (a Slurm array: "
-                        "--array=1-{}); output into {}\n", jobs.jobs.size(), jobs.jobs.size(),
-                   jobs.out.string());
-        for (size_t i = 0; i < jobs.jobs.size(); ++i) {
-          const Job& job = jobs.jobs[i];
-          fmt::print(out, "{:>5}  {:<32} {:<9} {}\n", i + 1, job.name, job.command,
-                     job.scene.value_or("default scene"));
-        }
-      }
+      if (ranks.rank() == 0) ListJobs(jobs, out);
       return kExitSuccess;
     }
     const std::optional<size_t> index = JobIndex(request, jobs.jobs.size());
@@ -481,60 +542,7 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
     PrepareToWrite(jobs.out / "summary.txt");
     const int64_t run_start_ns = RealtimeNs();
     ranks.Barrier();  // every rank's start precedes every outcome of this run (Settled)
-    const ClaimOwner me = ThisProcess(ranks.rank(), request.claims.HeartbeatSeconds());
-    // Passes over the jobs until none is left but those whose live owner runs them: a claim seen
-    // held is watched (its generation and heartbeat) until its heartbeat moves (live: left to its
-    // owner) or it goes stale (taken over by TryClaim).
-    // Polls every 0.05 s at first, doubling up to half a heartbeat (at most 5 s): a job another
-    // rank of this run is finishing is seen done at once, a long one costs few looks.
-    const double max_poll_s = std::clamp(request.claims.HeartbeatSeconds() / 2.0, 0.01, 5.0);
-    double poll_s = std::min(0.05, max_poll_s);
-    std::map<size_t, std::pair<int, int64_t>> watched;
-    std::vector<size_t> pending = selected;
-    int run_here = 0;
-    while (!pending.empty()) {
-      std::vector<size_t> held;
-      for (const size_t i : pending) {
-        const Job& job = jobs.jobs[i];
-        if (Settled(jobs.out, job, run_start_ns)) continue;
-        // A job that cannot be claimed, or cannot write its log or outcome, fails alone: the rank
-        // goes on, so that every rank reaches the gather below; the summary lists the job as not
-        // finished.
-        try {
-          const ClaimAttempt attempt = TryClaim(ClaimStem(jobs.out, job), me, request.claims);
-          if (!attempt.held) {
-            const std::pair<int, int64_t> seen{attempt.seen.generation, attempt.seen.heartbeat_ns};
-            const auto [watch, first] = watched.emplace(i, seen);
-            if (first || watch->second == seen) held.push_back(i);
-            continue;
-          }
-          if (!attempt.taken_over_because.empty()) {
-            fmt::print(err, "rubcont: note: [batch] rank {}: {}: took over {}: {}\n", ranks.rank(),
-                       job.name, attempt.seen.file.string(), attempt.taken_over_because);
-          }
-          // Another rank may have finished it (and let go of its claim) since the check above.
-          if (Settled(jobs.out, job, run_start_ns)) continue;
-          if (!request.quiet) {
-            fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(),
-                       i + 1, jobs.jobs.size(), job.name, job.command,
-                       job.scene.value_or("default scene"));
-          }
-          ++run_here;
-          const Outcome o = RunJob(job, jobs.out, me);
-          if (!request.quiet) {
-            fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(),
-                       job.name, o.status, o.wall_seconds);
-          }
-        } catch (const std::exception& e) {
-          fmt::print(err, "rubcont: [batch] rank {}: {}: no outcome written: {}\n", ranks.rank(),
-                     job.name, e.what());
-        }
-      }
-      pending = std::move(held);
-      if (pending.empty()) break;
-      std::this_thread::sleep_for(std::chrono::duration<double>(poll_s));
-      poll_s = std::min(2.0 * poll_s, max_poll_s);
-    }
+    const int run_here = RunShare(jobs, selected, request, run_start_ns, ranks, err);
     const std::vector<std::string> counts = ranks.GatherToRoot(std::to_string(run_here));
     if (ranks.rank() != 0) return kExitSuccess;
     int total_run = 0;
