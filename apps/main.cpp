@@ -152,6 +152,15 @@ int main(int argc, char** argv) {
   batch->add_option("--out", batch_request.out_dir,
                     "output directory (default: the file's `out`, else results/batch/<stem>)");
   batch->add_flag("-q,--quiet", batch_request.quiet, "no progress on stderr");
+  batch->add_flag("--list", batch_request.list,
+                  "print the jobs numbered as --job-index counts them, and run none");
+  batch->add_option("--job-index", batch_request.job_index,
+                    "run only job N, numbered from 1 as in the summary (a Slurm array: "
+                    "--array=1-<jobs>); default: $SLURM_ARRAY_TASK_ID when set, else every job");
+  batch->add_option("--stale-after", batch_request.claims.stale_after_s,
+                    "seconds after its last heartbeat at which another run's claim on a job is "
+                    "taken over (a claim of a process gone from this host is taken at once)")
+      ->capture_default_str();
 
   rubcont::EnsembleRequest ensemble_request;
   std::string ensemble_out;
