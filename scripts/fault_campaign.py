@@ -272,7 +272,9 @@ def main():
         print(line, flush=True)
         lines.append(line)
 
-    head = [f"fault_campaign.py (seed {args.seed}): {args.trials} trials of sweep, lifetime and batch; "
+    version = subprocess.run([str(Path(args.build) / "rubcont"), "--version"], capture_output=True, text=True).stdout
+    head = [version.strip(),
+            f"fault_campaign.py (seed {args.seed}): {args.trials} trials of sweep, lifetime and batch; "
             f"uninterrupted wall {', '.join(f'{k} {wall[k]:.1f} s' for k in kinds)}",
             f"kills {totals['kills']}, finished items lost {totals['lost']}, unreadable files {totals['unreadable']}, "
             f"final results differing from the uninterrupted run {totals['different']}, temporaries left at the "
