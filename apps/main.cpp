@@ -288,6 +288,13 @@ int main(int argc, char** argv) {
   CLI::App* check = scene->add_subcommand("check", "validate a scene and print its resolved values");
   check->add_option("FILE", check_file, "scene file (TOML)")->required();
   CLI::App* keys = scene->add_subcommand("keys", "print the scene key reference (markdown)");
+  std::string matrices_file, matrices_out;
+  CLI::App* matrices = scene->add_subcommand(
+      "matrices", "write the full M, C, K, G of a flexible scene's structure and print the "
+                  "[flexible.matrices] section that reads them");
+  matrices->add_option("FILE", matrices_file, "scene file (TOML) with [flexible]")->required();
+  matrices->add_option("--out", matrices_out, "FILE.h5 (HDF5) or a directory (MatrixMarket .mtx)")
+      ->required();
 
   try {
     app.parse(argc, argv);
@@ -353,5 +360,6 @@ int main(int argc, char** argv) {
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
+  if (*matrices) return rubcont::SceneMatricesCommand(matrices_file, matrices_out, std::cout, std::cerr);
   return rubcont::kExitBadInput;
 }

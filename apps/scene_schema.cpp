@@ -197,10 +197,21 @@ void FlexibleNumber(std::vector<KeySpec>& s, const std::string& key, std::string
   if (presence == Presence::kRequiredInSection) s.back().default_text = "the rigid model";
   if (uniform.empty()) return;
   s.back().relevant = [uniform](const Scene& x) {
-    return uniform == "rotor" ? !x.flexible.RotorListed() : !x.flexible.StatorListed();
+    return uniform == "rotor" ? x.flexible.RotorUniform() : x.flexible.StatorUniform();
   };
-  s.back().irrelevant_reason =
-      "[[flexible." + uniform + "_shaft]] lists the " + uniform + "'s shaft";
+  s.back().irrelevant_reason = "[[flexible." + uniform + "_shaft]] lists the " + uniform +
+                               "'s shaft, or [flexible.matrices] gives the whole structure";
+}
+
+// A key of the shafts (material, elements, stations): not one of a structure from matrices.
+void NotWithMatrices(KeySpec& spec, std::function<bool(const Scene&)> relevant,
+                     const std::string& reason) {
+  spec.relevant = [relevant](const Scene& x) {
+    return !x.flexible.matrices.enabled && (!relevant || relevant(x));
+  };
+  spec.irrelevant_reason = reason.empty() ? "[flexible.matrices] gives the whole structure"
+                                          : reason + ", or [flexible.matrices] gives the whole "
+                                                     "structure";
 }
 
 // [flexible] (level L4, optional; an absent section means the rigid model): the uniform shafts'
@@ -236,16 +247,16 @@ void FlexibleShaftKeys(std::vector<KeySpec>& s) {
   FlexibleNumber(s, "density", "kg/m³", Rule::kNonNegative,
                  "ρ of both shafts (of the listed segments that give none).",
                  [](Scene& x) -> double& { return x.flexible.density; }, in_section);
+  for (std::size_t i = s.size() - 3; i < s.size(); ++i) NotWithMatrices(s[i], nullptr, "");
   s.push_back(Make<int, std::int64_t>(
       "flexible.elements", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
       "Timoshenko elements per uniform shaft (nodes are added at the mid-span, the mass "
       "centre and the disk).",
       [](Scene& x) -> int& { return x.flexible.elements; }));
-  s.back().relevant = [](const Scene& x) {
-    return !x.flexible.RotorListed() || !x.flexible.StatorListed();
-  };
-  s.back().irrelevant_reason = "both shafts are listed ([[flexible.rotor_shaft]], "
-                               "[[flexible.stator_shaft]])";
+  NotWithMatrices(
+      s.back(),
+      [](const Scene& x) { return !x.flexible.RotorListed() || !x.flexible.StatorListed(); },
+      "both shafts are listed ([[flexible.rotor_shaft]], [[flexible.stator_shaft]])");
 }
 
 // [flexible]: the contact stations of the listed shafts.
@@ -274,7 +285,8 @@ void FlexibleStationKeys(std::vector<KeySpec>& s) {
       return body == "rotor" ? x.flexible.RotorListed() : x.flexible.StatorListed();
     };
     stations.irrelevant_reason = "stations number a listed shaft: add [[flexible." + body +
-                                 "_shaft]] rows";
+                                 "_shaft]] rows (with [flexible.matrices]: "
+                                 "flexible.matrices." + body + "_contact_coordinates)";
     s.push_back(stations);
   }
 }
@@ -294,6 +306,51 @@ void FlexibleReductionKeys(std::vector<KeySpec>& s) {
       "model.",
       {"on", "off"}, [](Scene& x, const std::string& v) { x.flexible.gyroscopic = v == "on"; },
       [](const Scene& x) { return std::string(x.flexible.gyroscopic ? "on" : "off"); }));
+}
+
+// [flexible.matrices]: the whole flexible structure as an FE model's matrices in a file.
+void FlexibleMatrixKeys(std::vector<KeySpec>& s) {
+  s.push_back(Make<std::string>(
+      "flexible.matrices.file", ValueType::kString, "", Rule::kText, Presence::kRequiredInSection,
+      "The structure's matrices: an HDF5 file (`.h5`) with datasets `mass`, `damping`, "
+      "`stiffness`, `gyroscopic` (n × n), or a directory with MatrixMarket files `mass.mtx`, "
+      "`damping.mtx`, `stiffness.mtx`, `gyroscopic.mtx`; relative to the scene's directory "
+      "(the resolved scene gives it absolute). One plane's real symmetric matrices of M ü + "
+      "(C − jωG) u̇ + K u = f on complex coordinates (docs/levels/l4_flexible.md); "
+      "`rubcont scene matrices` writes a scene's.",
+      [](Scene& x) -> std::string& { return x.flexible.matrices.file; }));
+  for (const std::string body : {"rotor", "stator"}) {
+    KeySpec pair;
+    pair.key = "flexible.matrices." + body + "_contact_coordinates";
+    pair.type = ValueType::kIntegerPair;
+    pair.unit = "-";
+    pair.rule = Rule::kCoordinatePair;
+    pair.presence = Presence::kRequiredInSection;
+    pair.doc = "The " + body + "'s displacement coordinates (rows of the matrices, from 0) at the "
+               "left and right contacts.";
+    const auto field = [body](Scene& x) -> std::array<int, 2>& {
+      return body == "rotor" ? x.flexible.matrices.rotor_contact_coordinates
+                             : x.flexible.matrices.stator_contact_coordinates;
+    };
+    pair.set = [field](Scene& x, const Value& v) {
+      const auto& given = std::get<std::array<std::int64_t, 2>>(v);
+      field(x) = {static_cast<int>(given[0]), static_cast<int>(given[1])};
+    };
+    pair.get = [field](const Scene& x) {
+      const std::array<int, 2>& given = field(const_cast<Scene&>(x));
+      return Value(std::array<std::int64_t, 2>{given[0], given[1]});
+    };
+    s.push_back(pair);
+  }
+  s.push_back(Make<int, std::int64_t>(
+      "flexible.matrices.imbalance_coordinate", ValueType::kInteger, "-", Rule::kStation,
+      Presence::kOptional, "The displacement coordinate [imbalance]'s force acts on.",
+      [](Scene& x) -> int& { return x.flexible.matrices.imbalance_coordinate; }));
+  s.back().default_text = "the left rotor contact's";
+  for (std::size_t i = s.size() - 4; i < s.size(); ++i) {
+    s[i].relevant = [](const Scene& x) { return x.flexible.matrices.enabled; };
+    s[i].irrelevant_reason = "[flexible.matrices] is absent";
+  }
 }
 
 // [jeffcott]: the single-contact model, in Black's and Crandall's symbols.
@@ -997,6 +1054,7 @@ std::vector<KeySpec> BuildSchema() {
   FlexibleShaftKeys(s);
   FlexibleStationKeys(s);
   FlexibleReductionKeys(s);
+  FlexibleMatrixKeys(s);
   JeffcottKeys(s);
   DuffingKeys(s);
   StuartLandauKeys(s);
@@ -1087,7 +1145,8 @@ bool RunsStage(const Scene& scene, Stage stage) {
 }
 
 bool IsOptionalSubsection(const std::string& section) {
-  return section == "analysis.tori.transient" || section == "analysis.orbits.transient";
+  return section == "analysis.tori.transient" || section == "analysis.orbits.transient" ||
+         section == "flexible.matrices";
 }
 
 bool IsToriKey(const KeySpec& spec) {
