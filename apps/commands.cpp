@@ -370,6 +370,10 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
+        if (model.analytic_skipped && !model.analytic_skipped(scene).empty()) {
+          fmt::print(out, "[analytic] L0 closed form not computed: {}\n", model.analytic_skipped(scene));
+          break;
+        }
         model.analytic(scene, context);
         scripts.push_back("analytic.py");
         break;

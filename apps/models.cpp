@@ -62,6 +62,12 @@ std::vector<ModelEntry> MakeModels() {
   };
   two_point.wave_friction = [](const Scene& s) { return s.two_point.friction_law.kind; };
   two_point.analytic = RunTwoPointAnalytic;
+  two_point.analytic_skipped = [](const Scene& s) {
+    return s.flexible.enabled && !s.flexible.rotor_supports.empty()
+               ? std::string("the rigid model's rotor has no bearings; this scene's has "
+                             "[[flexible.rotor_supports]]")
+               : std::string();
+  };
   two_point.orbits = RunRubOrbits;
   two_point.orbits_figure = "rub_orbits.py";
   two_point.derived = TwoPointDerived;

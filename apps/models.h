@@ -45,6 +45,9 @@ struct ModelEntry {
   std::function<RubStructure(const Scene&)> structure;
   std::function<FrictionLawKind(const Scene&)> wave_friction;
   StageRunner analytic;                // stage "analytic" (L0), when it has it
+  // Why the closed form of stage "analytic" does not describe this scene ("" when it does): the
+  // stage is then not run, and says why.
+  std::function<std::string(const Scene&)> analytic_skipped;
   StageRunner orbits;                  // stage "orbits" (L2), when it has it
   std::string orbits_figure;           // the plot script (plots/) of its orbits stage
   // A textbook model: its continuation parameter, of the keys <model>.<parameter>_range and

@@ -409,8 +409,9 @@ class Loader {
     const bool rotor = body == "rotor";
     const std::vector<ShaftRow>& rows = rotor ? f.rotor_shaft : f.stator_shaft;
     const std::vector<Disk>& disk_rows = rotor ? f.rotor_disks : f.stator_disks;
-    std::vector<std::string> station_arrays = {disks};
-    if (!rotor) station_arrays.push_back("flexible.stator_supports");
+    const std::string supports = "flexible." + body + "_supports";
+    const std::vector<SupportRow>& support_rows = rotor ? f.rotor_supports : f.stator_supports;
+    const std::vector<std::string> station_arrays = {disks, supports};
     if (rows.empty()) {
       for (const std::string& path : station_arrays) {
         if (arrays_.count(path) == 0) continue;
@@ -451,6 +452,11 @@ class Loader {
       if (disk_rows[i].node > last)
         RowProblem(disks, i, "station", fmt::format("must name a station of the listed {} shaft "
                                                     "(0 to {})", body, last));
+    }
+    for (std::size_t i = 0; i < support_rows.size(); ++i) {
+      if (support_rows[i].station > last)
+        RowProblem(supports, i, "station", fmt::format("must name a station of the listed {} "
+                                                       "shaft (0 to {})", body, last));
     }
     if (rotor) return;
     for (std::size_t i = 0; i < f.stator_supports.size(); ++i) {
@@ -603,6 +609,17 @@ class Loader {
     CheckListedBody(scene, "rotor");
     CheckListedBody(scene, "stator");
     if (!problems_.empty()) return;
+    const ModelEntry& model = ModelOf(scene);
+    if (model.analytic_skipped && RunsStage(scene, Stage::kAnalytic) &&
+        !model.analytic_skipped(scene).empty()) {
+      std::vector<Stage>& stages = scene.analysis.stages;
+      if (nodes_.count("analysis.stages") == 0) {  // the defaults: the ones that apply
+        stages.erase(std::find(stages.begin(), stages.end(), Stage::kAnalytic));
+      } else {
+        KeyProblem(scene, "analysis.stages",
+                   "\"analytic\" (L0) does not apply: " + model.analytic_skipped(scene));
+      }
+    }
     SupplyRigidData(scene);
     if (!problems_.empty()) return;
     CheckBuild(scene);

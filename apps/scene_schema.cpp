@@ -1008,29 +1008,38 @@ TableArraySpec DiskRows(const std::string& body) {
   return disks;
 }
 
-// [[flexible.stator_supports]]: the listed stator's supports.
-TableArraySpec SupportRows() {
+// [[flexible.<body>_supports]]: springs and dashpots from a listed shaft's stations to ground.
+TableArraySpec SupportRows(const std::string& body) {
+  const auto support_rows = [body](Scene& x) -> std::vector<SupportRow>& {
+    return body == "rotor" ? x.flexible.rotor_supports : x.flexible.stator_supports;
+  };
   TableArraySpec supports;
-  supports.path = "flexible.stator_supports";
-  supports.doc = "A spring and dashpot from a station of the listed stator shaft to ground. The "
-                 "rigid model holds its stator at the contacts: supports go on contact stations, "
-                 "and give [stator]'s stiffness and damping.";
+  supports.path = "flexible." + body + "_supports";
+  supports.doc =
+      body == "rotor"
+          ? "A bearing: a spring and dashpot from a station of the listed rotor shaft to ground "
+            "(isotropic, as `rubcont scene import-ross` brings a ROSS rotor's). The rigid model's "
+            "rotor has none: a scene with them has no stage \"analytic\" (L0)."
+          : "A spring and dashpot from a station of the listed stator shaft to ground. The "
+            "rigid model holds its stator at the contacts: supports go on contact stations, "
+            "and give [stator]'s stiffness and damping.";
   supports.keys = {
-      RowKey("station", ValueType::kInteger, "-", Rule::kStation, "", "A contact station."),
+      RowKey("station", ValueType::kInteger, "-", Rule::kStation, "",
+             body == "rotor" ? "Its station." : "A contact station."),
       RowKey("stiffness", ValueType::kFloat, "N/m", Rule::kNonNegative, "", "k."),
       RowKey("damping", ValueType::kFloat, "N·s/m", Rule::kNonNegative, "`0.0`", "c."),
   };
-  supports.set = [](Scene& x, const Rows& given) {
-    x.flexible.stator_supports.clear();
+  supports.set = [support_rows](Scene& x, const Rows& given) {
+    std::vector<SupportRow>& out = support_rows(x);
+    out.clear();
     for (const Row& r : given) {
-      x.flexible.stator_supports.push_back({static_cast<int>(RowNumber(r, "station", 0.0)),
-                                            RowNumber(r, "stiffness", 0.0),
-                                            RowNumber(r, "damping", 0.0)});
+      out.push_back({static_cast<int>(RowNumber(r, "station", 0.0)), RowNumber(r, "stiffness", 0.0),
+                     RowNumber(r, "damping", 0.0)});
     }
   };
-  supports.get = [](const Scene& x) {
+  supports.get = [support_rows](const Scene& x) {
     Rows out;
-    for (const SupportRow& r : x.flexible.stator_supports) {
+    for (const SupportRow& r : support_rows(const_cast<Scene&>(x))) {
       out.push_back({{"station", std::int64_t{r.station}}, {"stiffness", r.stiffness},
                      {"damping", r.damping}});
     }
@@ -1040,8 +1049,8 @@ TableArraySpec SupportRows() {
 }
 
 std::vector<TableArraySpec> BuildTableArrays() {
-  return {ShaftRows("rotor"), DiskRows("rotor"), ShaftRows("stator"), DiskRows("stator"),
-          SupportRows()};
+  return {ShaftRows("rotor"), DiskRows("rotor"), SupportRows("rotor"), ShaftRows("stator"),
+          DiskRows("stator"), SupportRows("stator")};
 }
 
 std::vector<KeySpec> BuildSchema() {
