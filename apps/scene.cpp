@@ -543,16 +543,15 @@ class Loader {
                                    "structure", path));
     }
     if (!problems_.empty()) return;
-    const std::filesystem::path given(m.file);
-    std::filesystem::path file = given;
-    if (given.is_relative()) {
-      const std::filesystem::path scene_file(source_);
-      file = std::filesystem::exists(scene_file) ? scene_file.parent_path() / given : given;
-    }
-    m.file = std::filesystem::absolute(file).lexically_normal().string();
     try {
+      const std::filesystem::path given(m.file);
+      std::filesystem::path file = given;
+      std::error_code no_file;
+      if (given.is_relative() && std::filesystem::is_regular_file(source_, no_file))
+        file = std::filesystem::path(source_).parent_path() / given;
+      m.file = std::filesystem::absolute(file).lexically_normal().string();
       m.full = ReadStructuralMatrices(m.file);
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::exception& e) {  // the reader's rules, and the file system's reasons
       KeyProblem(scene, "flexible.matrices.file", e.what());
       return;
     }

@@ -259,28 +259,38 @@ void FlexibleShaftKeys(std::vector<KeySpec>& s) {
       "both shafts are listed ([[flexible.rotor_shaft]], [[flexible.stator_shaft]])");
 }
 
+// A pair of integers bound to a std::array<int, 2> of the Scene (stations, coordinates).
+KeySpec IntegerPair(std::string key, Rule rule, Presence presence, std::string doc,
+                    std::function<std::array<int, 2>&(Scene&)> field) {
+  KeySpec spec;
+  spec.key = std::move(key);
+  spec.type = ValueType::kIntegerPair;
+  spec.unit = "-";
+  spec.rule = rule;
+  spec.presence = presence;
+  spec.doc = std::move(doc);
+  spec.set = [field](Scene& x, const Value& v) {
+    const auto& pair = std::get<std::array<std::int64_t, 2>>(v);
+    field(x) = {static_cast<int>(pair[0]), static_cast<int>(pair[1])};
+  };
+  spec.get = [field](const Scene& x) {
+    const std::array<int, 2>& pair = field(const_cast<Scene&>(x));
+    return Value(std::array<std::int64_t, 2>{pair[0], pair[1]});
+  };
+  return spec;
+}
+
 // [flexible]: the contact stations of the listed shafts.
 void FlexibleStationKeys(std::vector<KeySpec>& s) {
   for (const std::string body : {"rotor", "stator"}) {
-    KeySpec stations;
-    stations.key = "flexible." + body + "_contact_stations";
-    stations.type = ValueType::kIntegerPair;
-    stations.unit = "-";
-    stations.rule = Rule::kStationPair;
-    stations.presence = Presence::kOptional;
+    KeySpec stations = IntegerPair(
+        "flexible." + body + "_contact_stations", Rule::kStationPair, Presence::kOptional,
+        "The stations of the listed " + body + " shaft at the left and right contacts.",
+        [body](Scene& x) -> std::array<int, 2>& {
+          return body == "rotor" ? x.flexible.rotor_contact_stations
+                                 : x.flexible.stator_contact_stations;
+        });
     stations.default_text = "the first and last stations";
-    stations.doc = "The stations of the listed " + body + " shaft at the left and right contacts.";
-    const auto field = [body](Scene& x) -> std::array<int, 2>& {
-      return body == "rotor" ? x.flexible.rotor_contact_stations : x.flexible.stator_contact_stations;
-    };
-    stations.set = [field](Scene& x, const Value& v) {
-      const auto& pair = std::get<std::array<std::int64_t, 2>>(v);
-      field(x) = {static_cast<int>(pair[0]), static_cast<int>(pair[1])};
-    };
-    stations.get = [field](const Scene& x) {
-      const std::array<int, 2>& pair = field(const_cast<Scene&>(x));
-      return Value(std::array<std::int64_t, 2>{pair[0], pair[1]});
-    };
     stations.relevant = [body](const Scene& x) {
       return body == "rotor" ? x.flexible.RotorListed() : x.flexible.StatorListed();
     };
@@ -320,33 +330,22 @@ void FlexibleMatrixKeys(std::vector<KeySpec>& s) {
       "`rubcont scene matrices` writes a scene's.",
       [](Scene& x) -> std::string& { return x.flexible.matrices.file; }));
   for (const std::string body : {"rotor", "stator"}) {
-    KeySpec pair;
-    pair.key = "flexible.matrices." + body + "_contact_coordinates";
-    pair.type = ValueType::kIntegerPair;
-    pair.unit = "-";
-    pair.rule = Rule::kCoordinatePair;
-    pair.presence = Presence::kRequiredInSection;
-    pair.doc = "The " + body + "'s displacement coordinates (rows of the matrices, from 0) at the "
-               "left and right contacts.";
-    const auto field = [body](Scene& x) -> std::array<int, 2>& {
-      return body == "rotor" ? x.flexible.matrices.rotor_contact_coordinates
-                             : x.flexible.matrices.stator_contact_coordinates;
-    };
-    pair.set = [field](Scene& x, const Value& v) {
-      const auto& given = std::get<std::array<std::int64_t, 2>>(v);
-      field(x) = {static_cast<int>(given[0]), static_cast<int>(given[1])};
-    };
-    pair.get = [field](const Scene& x) {
-      const std::array<int, 2>& given = field(const_cast<Scene&>(x));
-      return Value(std::array<std::int64_t, 2>{given[0], given[1]});
-    };
-    s.push_back(pair);
+    s.push_back(IntegerPair(
+        "flexible.matrices." + body + "_contact_coordinates", Rule::kCoordinatePair,
+        Presence::kRequiredInSection,
+        "The " + body + "'s displacement coordinates (rows of the matrices, from 0) at the left "
+        "and right contacts.",
+        [body](Scene& x) -> std::array<int, 2>& {
+          return body == "rotor" ? x.flexible.matrices.rotor_contact_coordinates
+                                 : x.flexible.matrices.stator_contact_coordinates;
+        }));
   }
   s.push_back(Make<int, std::int64_t>(
       "flexible.matrices.imbalance_coordinate", ValueType::kInteger, "-", Rule::kStation,
       Presence::kOptional, "The displacement coordinate [imbalance]'s force acts on.",
       [](Scene& x) -> int& { return x.flexible.matrices.imbalance_coordinate; }));
   s.back().default_text = "the left rotor contact's";
+  for (std::size_t i = s.size() - 4; i + 1 < s.size(); ++i) s[i].default_text = "the shafts'";
   for (std::size_t i = s.size() - 4; i < s.size(); ++i) {
     s[i].relevant = [](const Scene& x) { return x.flexible.matrices.enabled; };
     s[i].irrelevant_reason = "[flexible.matrices] is absent";

@@ -17,6 +17,9 @@ namespace rubcont {
 namespace {
 
 constexpr std::array<const char*, 4> kNames = {"mass", "damping", "stiffness", "gyroscopic"};
+// The largest dense model read: four 4000 × 4000 matrices are 512 MB; a larger FE model is reduced
+// before it comes in (its rub structure keeps the contacts and a few modes in any case).
+constexpr long kMaxCoordinates = 4000;
 
 bool IsHdf5(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
@@ -64,6 +67,9 @@ Matrix ReadMarket(const std::filesystem::path& file) {
     if (!sizes || rows < 1 || cols < 1 || (format == "coordinate" && entries < 0))
       fail(number, fmt::format("size line \"{}\": must be \"rows cols{}\", positive", line,
                                format == "coordinate" ? " entries" : ""));
+    if (rows > kMaxCoordinates || cols > kMaxCoordinates)
+      fail(number, fmt::format("{} × {}: at most {} coordinates are read (dense matrices); reduce "
+                               "the model first", rows, cols, kMaxCoordinates));
     break;
   }
   if (rows < 0) fail(number, "no size line");
@@ -144,6 +150,11 @@ StructuralMatrices ReadStructuralMatrices(const std::filesystem::path& path) {
           throw std::invalid_argument(fmt::format("{}: has no dataset {} (n × n doubles)",
                                                   path.string(), dataset));
         Named(out, i) = reader.ReadMatrix(dataset);
+        if (Named(out, i).rows() > kMaxCoordinates || Named(out, i).cols() > kMaxCoordinates)
+          throw std::invalid_argument(fmt::format(
+              "{}: {} is {} × {}: at most {} coordinates are read (dense matrices); reduce the "
+              "model first", path.string(), dataset, Named(out, i).rows(), Named(out, i).cols(),
+              kMaxCoordinates));
       }
     } catch (const std::runtime_error& e) {
       throw std::invalid_argument(e.what());

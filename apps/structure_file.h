@@ -20,7 +20,8 @@ namespace rubcont {
 // Reads and checks the four matrices (CheckStructuralMatrices, models/flexible.h). Throws
 // std::invalid_argument naming the file (and line), the matrix and the rule: a missing or
 // unreadable file, a malformed MatrixMarket line, an entry out of range or given twice, a shape
-// unlike the mass's, an asymmetric or indefinite matrix.
+// unlike the mass's, more than 4000 coordinates (the matrices are dense), an asymmetric or
+// indefinite matrix.
 StructuralMatrices ReadStructuralMatrices(const std::filesystem::path& path);
 
 // Writes them in the format the path says (an .h5 file atomically; a directory's .mtx files with

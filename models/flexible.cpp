@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/core.h>
@@ -109,7 +110,8 @@ FlexibleRub BuildMatrixRub(const MatrixRubModel& model) {
   if (reduced_mass.info() != Eigen::Success) {
     throw std::invalid_argument(
         "mass: not positive definite on the contact coordinates and the kept modes: a contact "
-        "coordinate carries no mass (with its interior held)");
+        "coordinate moves no mass (neither its own nor, through its constraint mode, the "
+        "interior's)");
   }
 
   RubStructure& s = out.structure;
@@ -154,6 +156,7 @@ void CheckStructuralMatrices(const StructuralMatrices& matrices) {
     const double largest = x->cwiseAbs().maxCoeff();
     Index row = 0, col = 0;
     const double asymmetry = (*x - x->transpose()).cwiseAbs().maxCoeff(&row, &col);
+    if (row > col) std::swap(row, col);  // the upper entry first, whichever maxCoeff found
     if (asymmetry > 1e-10 * largest) {
       throw std::invalid_argument(fmt::format(
           "{}: not symmetric: entry ({}, {}) − entry ({}, {}) = {:.3g} (largest |entry| {:.3g}): "

@@ -140,7 +140,7 @@ TEST_CASE("import-ross: what the rows cannot hold is refused, naming the element
   CHECK_THAT(Import(kRoss, {1, 7}).err, Contains("--contact-stations 1 7: must be ROSS nodes"));
 }
 
-TEST_CASE("import-ross --out writes the scene; rotor supports rule out stage analytic",
+TEST_CASE("import-ross --out writes the scene, and rotor supports rule out stage analytic",
           "[ross_import]") {
   TempDir dir;
   const std::string out = (dir.path / "ross_rotor.toml").string();
