@@ -85,11 +85,12 @@ MatrixRubModel AssembledMatrices(const FlexibleRubModel& model);
 FlexibleRub BuildMatrixRub(const MatrixRubModel& model);
 
 // The rules any structure's matrices keep (FE input checked before it is reduced): all four
-// square of one size n ≥ 1, finite, symmetric to 1e-10 of their largest entry; M, C and K positive
-// semi-definite (eigenvalues ≥ −1e-10 of the largest; BuildMatrixRub asks the reduced M to be
-// definite: a lumped model's massless rotations are condensed away, a massless contact is not). Throws
-// std::invalid_argument naming the matrix ("mass", "damping", "stiffness", "gyroscopic") and the
-// rule, e.g. "stiffness: not symmetric: K(3, 5) − K(5, 3) = 2.5e+04 (max |K| 1.2e+09)".
+// square of one size n ≥ 1, finite, symmetric to 1e-10 of their largest entry; M, C and K
+// positive semi-definite (eigenvalues ≥ −1e-10 of the largest; BuildMatrixRub asks the reduced M
+// to be definite: a lumped model's massless rotations are condensed away, a massless contact is
+// not). Throws std::invalid_argument naming the matrix ("mass", "damping", "stiffness",
+// "gyroscopic") and the rule, e.g. "stiffness: not symmetric: entry (3, 5) − entry (5, 3) =
+// 1e+03 (largest |entry| 2.8e+10): must agree to 1e-10 of it".
 void CheckStructuralMatrices(const StructuralMatrices& matrices);
 
 // One body of the two-point model as a shaft (models/beam.h: elements end to end from station 0,
