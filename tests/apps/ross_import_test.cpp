@@ -97,45 +97,48 @@ TEST_CASE("import-ross: what the rows cannot hold is refused, naming the element
           "[ross_import]") {
   TempDir dir;
   const std::string good = testing::Slurp(kRoss);
-  // `from` (which must occur once after `anchor`) replaced by `to`.
-  auto refused = [&](const std::string& anchor, const std::string& from, const std::string& to) {
+  // In the element whose table header is `anchor`, `from` replaced by `to`: the message.
+  struct Case {
+    std::string anchor, from, to, message;
+  };
+  const std::vector<Case> cases = {
+      {"[\"BearingElement_Bearing 1\"]", "kyy = [ 10000000.0,]", "kyy = [ 8000000.0,]",
+       "[\"BearingElement_Bearing 1\"] anisotropic (kxx = 10000000, kyy = 8000000, cxx = 100, "
+       "cyy = 100): rubcont's supports act alike in x and y"},
+      {"[\"BearingElement_Bearing 0\"]", "kxy = [ 0,]", "kxy = [ 2500.0,]",
+       "[\"BearingElement_Bearing 0\"] kxy = 2500: cross-coupled: rubcont's supports are "
+       "isotropic springs and dashpots"},
+      {"[\"SealElement_Seal 0\"]", "kxx = [ 100000.0, 100000.0,]", "kxx = [ 100000.0, 120000.0,]",
+       "[\"SealElement_Seal 0\"] kxx: varies with frequency (2 values, 100000 … 120000): "
+       "rubcont's supports have constant coefficients"},
+      {"[\"ShaftElement_ShaftElement 4\"]", "odr = 0.05", "odr = 0.04",
+       "[\"ShaftElement_ShaftElement 4\"] tapered (idl = 0.0, idr = 0.0, odl = 0.05, odr = 0.04): "
+       "rubcont's elements are uniform"},
+      {"[\"ShaftElement_ShaftElement 1\"]", "shear_effects = true", "shear_effects = false",
+       "[\"ShaftElement_ShaftElement 1\"] shear_effects: must be true"},
+      {"[\"ShaftElement_ShaftElement 3\".material]", "G_s = 81200000000.0", "nu = 0.3",
+       "[\"ShaftElement_ShaftElement 3\".material] Poisson: missing"},
+      {"[\"BearingElement_Bearing 0\"]", "[\"BearingElement_Bearing 0\"]",
+       "[\"BallBearingElement_Bearing 0\"]",
+       "[\"BallBearingElement_Bearing 0\"] class BallBearingElement: not one rubcont reads"},
+      {"[\"ShaftElement_ShaftElement 5\"]", "n = 5", "n = 4",
+       "[\"ShaftElement_ShaftElement 5\"] n = 4: [\"ShaftElement_ShaftElement 4\"] starts at "
+       "node 4 too"},
+      {"[\"DiskElement_Disk 0\"]", "n = 3", "n = 7",
+       "[\"DiskElement_Disk 0\"] n = 7: must be a node of the shaft (0 to 6)"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.anchor << ": " << c.from << " → " << c.to);
     std::string text = good;
-    const std::size_t at = text.find(from, text.find(anchor));
+    const std::size_t at = text.find(c.from, text.find(c.anchor));
     REQUIRE(at != std::string::npos);
-    text.replace(at, from.size(), to);
+    text.replace(at, c.from.size(), c.to);
     const testing::fs::path file = dir.path / "rotor.toml";
     std::ofstream(file) << text;
     const Imported imported = Import(file.string());
     CHECK(imported.exit_code == 2);
-    return imported.err;
-  };
-  CHECK_THAT(refused("[\"BearingElement_Bearing 1\"]", "kyy = [ 10000000.0,]", "kyy = [ 8000000.0,]"),
-             Contains("[\"BearingElement_Bearing 1\"] anisotropic (kxx = 10000000, kyy = 8000000, "
-                      "cxx = 100, cyy = 100): rubcont's supports act alike in x and y"));
-  CHECK_THAT(refused("[\"BearingElement_Bearing 0\"]", "kxy = [ 0,]", "kxy = [ 2500.0,]"),
-             Contains("[\"BearingElement_Bearing 0\"] kxy = 2500: cross-coupled: rubcont's "
-                      "supports are isotropic springs and dashpots"));
-  CHECK_THAT(refused("[\"SealElement_Seal 0\"]", "kxx = [ 100000.0, 100000.0,]",
-                     "kxx = [ 100000.0, 120000.0,]"),
-             Contains("[\"SealElement_Seal 0\"] kxx: varies with frequency (2 values, 100000 … "
-                      "120000): rubcont's supports have constant coefficients"));
-  CHECK_THAT(refused("[\"ShaftElement_ShaftElement 4\"]", "odr = 0.05", "odr = 0.04"),
-             Contains("[\"ShaftElement_ShaftElement 4\"] tapered (idl = 0.0, idr = 0.0, odl = 0.05, "
-                      "odr = 0.04): rubcont's elements are uniform"));
-  CHECK_THAT(refused("[\"ShaftElement_ShaftElement 1\"]", "shear_effects = true",
-                     "shear_effects = false"),
-             Contains("[\"ShaftElement_ShaftElement 1\"] shear_effects: must be true"));
-  CHECK_THAT(refused("[\"ShaftElement_ShaftElement 3\".material]", "G_s = 81200000000.0", "nu = 0.3"),
-             Contains("[\"ShaftElement_ShaftElement 3\".material] Poisson: missing"));
-  CHECK_THAT(refused("[\"BearingElement_Bearing 0\"]", "[\"BearingElement_Bearing 0\"]",
-                     "[\"BallBearingElement_Bearing 0\"]"),
-             Contains("[\"BallBearingElement_Bearing 0\"] class BallBearingElement: not one rubcont "
-                      "reads"));
-  CHECK_THAT(refused("[\"ShaftElement_ShaftElement 5\"]", "n = 5", "n = 4"),
-             Contains("[\"ShaftElement_ShaftElement 5\"] n = 4: [\"ShaftElement_ShaftElement 4\"] "
-                      "starts at node 4 too"));
-  CHECK_THAT(refused("[\"DiskElement_Disk 0\"]", "n = 3", "n = 7"),
-             Contains("[\"DiskElement_Disk 0\"] n = 7: must be a node of the shaft (0 to 6)"));
+    CHECK_THAT(imported.err, Contains(c.message));
+  }
   // The contacts must be nodes of the rotor; the scene it makes must load.
   CHECK_THAT(Import(kRoss, {1, 7}).err, Contains("--contact-stations 1 7: must be ROSS nodes"));
 }
