@@ -20,7 +20,9 @@
 #include "apps/loop_output.h"
 #include "apps/models.h"
 #include "apps/scene.h"
+#include "apps/scene_schema.h"
 #include "apps/stage_options.h"
+#include "apps/structure_file.h"
 #include "apps/sweep_output.h"
 #include "apps/tori_stage.h"
 #include "models/units.h"
@@ -369,6 +371,10 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
+        if (model.analytic_skipped && !model.analytic_skipped(scene).empty()) {
+          fmt::print(out, "[analytic] L0 closed form not computed: {}\n", model.analytic_skipped(scene));
+          break;
+        }
         model.analytic(scene, context);
         scripts.push_back("analytic");
         break;
@@ -500,6 +506,29 @@ int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& 
     const Scene scene = LoadScene(file);
     fmt::print(out, "{}: valid scene \"{}\" (model {})\n{}", file, scene.name, ToString(scene.model),
                DescribeScene(scene));
+    return kExitSuccess;
+  });
+}
+
+int SceneMatricesCommand(const std::string& file, const std::string& out_path, std::ostream& out,
+                         std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(file);
+    if (!scene.flexible.enabled) {
+      throw std::invalid_argument(fmt::format(
+          "scene {} has no [flexible] section: its rigid model has no structural matrices to "
+          "write (level L4 scenes only)", file));
+    }
+    const MatrixRubModel model = FlexibleMatricesOf(scene);
+    WriteStructuralMatrices(out_path, model.full);
+    // The section that loads them back: the same structure, so the same results.
+    fmt::print(out, "# {}: the {} × {} matrices of scene {}'s flexible structure\n"
+                    "[flexible.matrices]\nfile = {}\nrotor_contact_coordinates = [{}, {}]\n"
+                    "stator_contact_coordinates = [{}, {}]\nimbalance_coordinate = {}\n",
+               out_path, model.full.Coordinates(), model.full.Coordinates(), scene.name,
+               schema::Quote(std::filesystem::absolute(out_path).lexically_normal().string()),
+               model.contacts[0].rotor, model.contacts[1].rotor, model.contacts[0].stator,
+               model.contacts[1].stator, model.imbalance_coordinate);
     return kExitSuccess;
   });
 }

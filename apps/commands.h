@@ -61,6 +61,12 @@ int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
 // `rubcont scene check FILE`: validates and prints the resolved values with units.
 int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& err);
 
+// `rubcont scene matrices FILE --out PATH`: writes the full matrices of a scene's flexible
+// structure (apps/structure_file.h: PATH.h5, or a directory of .mtx files) and prints the
+// [flexible.matrices] section that loads them back.
+int SceneMatricesCommand(const std::string& file, const std::string& out_path, std::ostream& out,
+                         std::ostream& err);
+
 // `rubcont scene keys`: the key reference (markdown) that scenes/README.md embeds.
 int SceneKeysCommand(std::ostream& out);
 

@@ -18,6 +18,7 @@
 #include "apps/fit_command.h"
 #include "apps/flexible_command.h"
 #include "apps/map_command.h"
+#include "apps/ross_import.h"
 #include "apps/version.h"
 
 namespace {
@@ -324,6 +325,28 @@ int main(int argc, char** argv) {
   CLI::App* check = scene->add_subcommand("check", "validate a scene and print its resolved values");
   check->add_option("FILE", check_file, "scene file (TOML)")->required();
   CLI::App* keys = scene->add_subcommand("keys", "print the scene key reference (markdown)");
+  std::string matrices_file, matrices_out;
+  CLI::App* matrices = scene->add_subcommand(
+      "matrices", "write the full M, C, K, G of a flexible scene's structure and print the "
+                  "[flexible.matrices] section that reads them");
+  matrices->add_option("FILE", matrices_file, "scene file (TOML) with [flexible]")->required();
+  matrices->add_option("--out", matrices_out, "FILE.h5 (HDF5) or a directory (MatrixMarket .mtx)")
+      ->required();
+
+  rubcont::ImportRossRequest ross_request;
+  std::vector<int> ross_stations;
+  std::string ross_out;
+  CLI::App* import_ross = scene->add_subcommand(
+      "import-ross", "a ROSS rotor file (ross.Rotor.save's TOML) as the listed rotor of a scene: "
+                     "prints the scene (or writes --out)");
+  import_ross->add_option("ROSS", ross_request.ross_file, "ROSS rotor file (TOML)")->required();
+  import_ross->add_option("--base", ross_request.base_scene,
+                          "two_point scene whose stator, contacts and analysis are kept (its rotor "
+                          "is replaced)")->required();
+  import_ross->add_option("--contact-stations", ross_stations,
+                          "L R: the ROSS nodes of the left and right contacts")
+      ->expected(2)->required();
+  import_ross->add_option("--out", ross_out, "scene file to write (TOML); default: print it");
 
   try {
     app.parse(argc, argv);
@@ -389,5 +412,11 @@ int main(int argc, char** argv) {
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
+  if (*import_ross) {
+    ross_request.contact_stations = {ross_stations[0], ross_stations[1]};
+    if (!ross_out.empty()) ross_request.out_file = ross_out;
+    return rubcont::ImportRossCommand(ross_request, std::cout, std::cerr);
+  }
+  if (*matrices) return rubcont::SceneMatricesCommand(matrices_file, matrices_out, std::cout, std::cerr);
   return rubcont::kExitBadInput;
 }
