@@ -20,6 +20,7 @@ struct RunRequest {
   bool resume = false;                    // sweeps continue from their checkpoints, if any
   bool fresh = false;                     // sweeps start again, discarding their checkpoints
   bool figures = true;                    // draw the figures after the HDF5 file (--no-figures)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 // `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
@@ -47,6 +48,7 @@ struct SweepRequest {
   // checkpoint is refused (exit 2): an interrupted sweep's finished speeds are never lost unasked.
   bool fresh = false;
   bool figures = true;  // draw the figures after the HDF5 file (--no-figures)
+  bool force = false;   // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 // `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);

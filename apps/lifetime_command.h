@@ -43,6 +43,7 @@ struct LifetimeRequest {
   double check_dwell = 5.0;             // [s] per speed of the check sweeps
   std::optional<std::string> out_file;  // default results/<scene>/lifetime.h5
   bool quiet = false;
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   run->add_flag("--fresh", run_request.fresh,
                 "sweeps start again and overwrite the checkpoints of an interrupted run (without "
                 "--resume or --fresh, a checkpoint is refused: exit 2)");
+  run->add_flag("--force", run_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   run->add_flag("!--no-figures", run_request.figures,
                 "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
   sweep->add_flag("--fresh", sweep_request.fresh,
                   "start again and overwrite the checkpoints of an interrupted sweep (without "
                   "--resume or --fresh, a checkpoint is refused: exit 2)");
+  sweep->add_flag("--force", sweep_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   sweep->add_flag("!--no-figures", sweep_request.figures,
                   "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;
@@ -109,6 +111,7 @@ int main(int argc, char** argv) {
                   "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
   map->add_flag("!--no-figures", map_request.figures, "write the HDF5 file and the summary only");
+  map->add_flag("--force", map_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FitRequest fit_request;
   CLI::App* fit = app.add_subcommand(
@@ -173,6 +176,7 @@ int main(int argc, char** argv) {
   ensemble->add_option("--out", ensemble_out,
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
+  ensemble->add_flag("--force", ensemble_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LifetimeRequest lifetime_request;
   std::string lifetime_out;
@@ -214,6 +218,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
+  lifetime->add_flag("--force", lifetime_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LoopRequest loop_request;
   std::vector<double> loop_schedule;
@@ -232,6 +237,7 @@ int main(int argc, char** argv) {
   loop->add_option("--out", loop_out, "HDF5 file; default results/<scene>/loop.h5");
   loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");
   loop->add_flag("-q,--quiet", loop_request.quiet, "no progress on stderr");
+  loop->add_flag("--force", loop_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
@@ -281,6 +287,7 @@ int main(int argc, char** argv) {
                         "relative = absolute tolerance; default: the scene's sweep integrator's");
   attractor->add_option("--out", attractor_out, "HDF5 file; default results/<scene>/attractor.h5");
   attractor->add_flag("-q,--quiet", attractor_request.quiet, "no progress on stderr");
+  attractor->add_flag("--force", attractor_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
