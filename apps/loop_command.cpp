@@ -41,7 +41,7 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
-    WarnUnitMistakes(scene, err);
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
     // The plan of the loop as the command line sets it: its schedule and budget over the scene's.
     Scene planned = scene;
     planned.analysis.sweep.speed_step_rpm = request.step_rpm.value_or(planned.analysis.sweep.speed_step_rpm);

@@ -312,16 +312,10 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     options.eta_points = request.eta_points;
     options.speed_points = request.speed_points;
-    WarnUnitMistakes(scene, err);
-    // One branch set per grid value of the parameter; the cells keep the stable count and one count
-    // per pattern (mode1, mode2, left_only, right_only): five ints.
-    PlannedWork cells;
-    cells.key = "--eta-points × --speed-points";
-    cells.value = fmt::format("{} × {}", request.eta_points, request.speed_points);
-    cells.what = "branch sets (one per grid value)";
-    cells.items = request.eta_points;
-    cells.memory_bytes = 5.0 * sizeof(int) * request.eta_points * static_cast<double>(request.speed_points);
-    CheckPlan({cells}, request.force, err);
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
+    CheckPlan({MapWork("--eta-points × --speed-points", fmt::format("{} × {}", request.eta_points, request.speed_points),
+                        request.eta_points, request.speed_points)},
+              request.force, err);
     options.branches = BranchOptionsOf(scene);
 
     const std::filesystem::path file =

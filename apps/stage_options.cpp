@@ -1,7 +1,6 @@
 #include "apps/stage_options.h"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -176,11 +175,9 @@ std::vector<PlannedWork> SweepPlanOf(const Scene& scene) {
 
 PlannedWork CopiesWorkOf(const Scene& scene, std::string key, std::string value, std::string what,
                          double runs, double duration, double window) {
-  const SweepSettings& s = scene.analysis.sweep;
-  const double stretches = std::ceil(duration / (2.0 * window));
   const double bytes = SweepSpeedBytes(static_cast<int>(SweepStructureOf(scene).contacts.size()),
-                                       s.spectrum_max_hz, 2.0 * window);
-  return MarchingWork(std::move(key), std::move(value), std::move(what), runs, duration, stretches * bytes);
+                                       scene.analysis.sweep.spectrum_max_hz, 2.0 * window);
+  return CopiesWork(std::move(key), std::move(value), std::move(what), runs, duration, window, bytes);
 }
 
 std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage>& stages) {

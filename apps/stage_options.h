@@ -76,8 +76,8 @@ LoopOptions LoopOptionsOf(const Scene& scene);
 // spectra (SweepSpeedBytes for the model's contacts). Pure bookkeeping of the scene, here beside
 // SweepOptionsOf, which it must count alike; the arithmetic and the limits are the library's.
 std::vector<PlannedWork> SweepPlanOf(const Scene& scene);
-// `runs` perturbed copy runs of `duration` s (ensembles, lifetimes' ensembles and check sweeps),
-// each keeping a sweep speed's reading per stretch of two `window`s (sweeps/ensemble.h).
+// CopiesWork (studies/work_plan.h) with a sweep speed's reading of the scene's rub structure and
+// [analysis.sweep] spectra, over stretches of two `window`s, as the copies keep it.
 PlannedWork CopiesWorkOf(const Scene& scene, std::string key, std::string value, std::string what,
                          double runs, double duration, double window);
 // The work `stages` plan: the sweeps for "sweep" and "loop" (the loop's run-up and run-down are

@@ -64,6 +64,23 @@ PlannedWork SweepWork(std::string key, std::string what, double from_rpm, double
                       std::move(what), speeds, dwell, bytes_per_speed + 2 * sizeof(double));
 }
 
+PlannedWork CopiesWork(std::string key, std::string value, std::string what, double runs,
+                       double duration, double window, double bytes_per_stretch) {
+  const double stretches = std::ceil(duration / (2.0 * window) - 1e-9);
+  return MarchingWork(std::move(key), std::move(value), std::move(what), runs, duration,
+                      stretches * bytes_per_stretch);
+}
+
+PlannedWork MapWork(std::string key, std::string value, int eta_points, int speed_points) {
+  PlannedWork work;
+  work.key = std::move(key);
+  work.value = std::move(value);
+  work.what = "branch sets (one per grid value)";
+  work.items = eta_points;
+  work.memory_bytes = 5.0 * sizeof(int) * eta_points * static_cast<double>(speed_points);
+  return work;
+}
+
 std::string Describe(const PlannedWork& work) {
   std::string text = fmt::format("{:.3g} {}", work.items, work.what);
   if (work.simulated_seconds > 0.0) text += fmt::format(", {:.3g} s simulated", work.simulated_seconds);

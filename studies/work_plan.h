@@ -65,6 +65,19 @@ double SweepSpeedBytes(int contacts, double band_hz, double analysis_length);
 PlannedWork SweepWork(std::string key, std::string what, double from_rpm, double to_rpm,
                       double step_rpm, double dwell, double bytes_per_speed);
 
+// `runs` perturbed copy runs of `duration` s each (an ensemble's copies, a lifetime's copies at
+// each speed, its check sweeps' speeds), each keeping one sweep speed's reading (`bytes_per_stretch`)
+// per stretch of two `window`s: ⌈duration / (2·window)⌉ stretches, StretchCount (sweeps/rub_runs.h)
+// in doubles, since a refused plan may count more than an int holds.
+PlannedWork CopiesWork(std::string key, std::string value, std::string what, double runs,
+                       double duration, double window, double bytes_per_stretch);
+
+// A hysteresis map of `eta_points` × `speed_points` (studies/hysteresis_map.h): one branch set per
+// grid value of the parameter (the items; its CPU is not estimated: at most 2000 of them, the
+// default scene's 41 took 1.1 s), and per cell the stable count and one count per pattern (mode1,
+// mode2, left_only, right_only): five ints.
+PlannedWork MapWork(std::string key, std::string value, int eta_points, int speed_points);
+
 // The first item of `plan` over a limit, as one sentence naming its key, its value, what it
 // plans and the estimate against the limit; else, when the plan's CPU or memory in all is over
 // its limit, the item that contributes most; empty when the plan is within the limits.

@@ -62,6 +62,31 @@ TEST_CASE("Plan check: a sweep over [20, 1e9] rpm is refused (exit 2) before any
   CHECK_THAT(forced.err, Contains("running it anyway (--force)"));
 }
 
+TEST_CASE("Plan check: ensemble, lifetime, attractor and loop refuse their own absurd plans",
+          "[plan_check]") {
+  TempDir dir;
+  const std::string aa = "scenes/thesis_A_a.toml --out " + (dir.path / "x.h5").string() + " -q ";
+  const struct {
+    std::string args, named;
+  } cases[] = {
+      {"ensemble " + aa + "--speed 176 --copies 100000 --duration 1e6",
+       "--copies × --duration = 100000 × 1e+06 s plans 1e+05 copies, 1e+11 s simulated"},
+      {"lifetime " + aa + "--from 170 --to 180 --duration 1e5",
+       "--copies × --duration = 16 × 100000 s at 11 speeds plans 176 copy runs"},
+      {"attractor " + aa + "--from 100 --to 110 --duration 1e6 --interval 1",
+       "--discard + --duration = 0.5 + 1e+06 s at 3 speeds plans 3 speeds, 3e+06 s simulated"},
+      {"loop " + aa + "--budget 1e9", "analysis.loop.budget = 1e+09 s plans 1 loop, ≈ 31.7 years of CPU"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.args);
+    const testing::Outcome o = RubcontNoPython(c.args);
+    CHECK(o.exit_code == 2);
+    CHECK_THAT(o.err, Contains(c.named));
+    CHECK_THAT(o.err, Contains("--force to run it anyway"));
+  }
+  CHECK_FALSE(fs::exists(dir.path / "x.h5"));
+}
+
 TEST_CASE("Plan check: every committed scene passes, without a warning", "[plan_check]") {
   int scenes = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator("scenes")) {

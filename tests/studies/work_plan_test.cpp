@@ -24,6 +24,15 @@ TEST_CASE("Work plan: a sweep counts SpeedSchedule's speeds without making them"
   CHECK(up.value == "[20, 256] in steps of 4 rpm");
   // A(a)'s sweep keeps 11 158 bytes a speed in its file; the estimate 10 640.
   CHECK(SweepSpeedBytes(2, 600.0, 0.5) == Approx(10640.0));
+  // 16 copies of 5 s in stretches of 0.1 s: 50 stretches each.
+  const PlannedWork copies = CopiesWork("--copies × --duration", "16 × 5 s", "copies", 16.0, 5.0, 0.05, 100.0);
+  CHECK(copies.simulated_seconds == Approx(80.0));
+  CHECK(copies.memory_bytes == Approx(16.0 * 50.0 * 100.0));
+  // The default scene's friction map: 41 branch sets, 41 × 481 cells of five ints.
+  const PlannedWork map = MapWork("--eta-points × --speed-points", "41 × 481", 41, 481);
+  CHECK(map.items == 41.0);
+  CHECK(map.memory_bytes == Approx(20.0 * 41 * 481));
+  CHECK(map.cpu_seconds == 0.0);
 }
 
 TEST_CASE("Work plan: the first item over a limit is named with its estimate", "[work_plan]") {
