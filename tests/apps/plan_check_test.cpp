@@ -16,15 +16,15 @@
 namespace rubcont {
 namespace {
 
+namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 using testing::RubcontNoPython;
-using testing::Slurp;
 using testing::TempDir;
-namespace fs = std::filesystem;
 
-// Case A(a) with `lines` added to its [analysis] table (and its [analysis.sweep] kept after).
+// Case A(a) with `analysis` added to its [analysis] table and its speed-up range replaced by
+// `sweep`.
 fs::path WideScene(const fs::path& dir, const std::string& analysis, const std::string& sweep) {
-  std::string text = Slurp("scenes/thesis_A_a.toml");
+  std::string text = testing::Slurp("scenes/thesis_A_a.toml");
   text.insert(text.find("[analysis.sweep]"), analysis + "\n");
   text.replace(text.find("up_range_rpm = [20.0, 256.0]"), 28, sweep);
   const fs::path file = dir / "wide.toml";
@@ -134,7 +134,7 @@ TEST_CASE("Unit mistakes: a scene in mm, a 1000 km radius, masses in g: each nam
 TEST_CASE("Unit mistakes: a scene in mm warns at the command line and still runs (exit 0)",
           "[plan_check]") {
   TempDir dir;
-  std::string text = Slurp("scenes/thesis_A_a.toml");
+  std::string text = testing::Slurp("scenes/thesis_A_a.toml");
   text.replace(text.find("contact_span = 0.29"), 19, "contact_span = 290.0");
   const fs::path scene = dir.path / "mm.toml";
   std::ofstream(scene) << text;
