@@ -47,7 +47,11 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     planned.analysis.sweep.speed_step_rpm = request.step_rpm.value_or(planned.analysis.sweep.speed_step_rpm);
     planned.analysis.sweep.dwell = request.dwell.value_or(planned.analysis.sweep.dwell);
     planned.analysis.loop.budget = request.budget.value_or(planned.analysis.loop.budget);
-    CheckPlan(StagePlanOf(planned, {Stage::kLoop}), request.force, err);
+    std::vector<PlannedWork> plan = StagePlanOf(planned, {Stage::kLoop});
+    for (PlannedWork& work : plan) {
+      if (request.budget && work.key == "analysis.loop.budget") work.key = "--budget";
+    }
+    CheckPlan(plan, request.force, err);
     LoopOptions options = LoopOptionsOf(scene);
     if (request.step_rpm) options.step_rpm = *request.step_rpm;
     if (request.dwell) options.dwell = *request.dwell;
