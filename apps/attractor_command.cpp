@@ -12,6 +12,7 @@
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
@@ -57,6 +58,16 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     Check(request);
     const Scene scene = AttractorSceneOf(LoadScene(request.scene_file));
     const RubStructure structure = SweepStructureOf(scene);
+    WarnUnitMistakes(scene, err);
+    std::vector<PlannedWork> plan = SweepPlanOf(scene);  // the approach's schedule
+    // Each speed integrates its discard and duration with `exponents` tangents beside the state:
+    // 1 + exponents times the cost of a simulated second.
+    const double speeds = SpeedCount(request.from_rpm, request.to_rpm.value_or(request.from_rpm), request.step_rpm);
+    plan.push_back(MarchingWork("--discard + --duration",
+                                fmt::format("{:g} + {:g} s at {:g} speeds", request.discard, request.duration, speeds),
+                                "speeds", speeds, request.discard + request.duration, 0.0,
+                                1.0 + request.exponents));
+    CheckPlan(plan, request.force, err);
     AttractorStudyOptions options = AttractorStudyOptionsOf(
         scene, ParseDirection("approach", request.approach.value_or(request.direction)));
     options.direction = ParseDirection("direction", request.direction);

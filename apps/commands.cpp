@@ -19,6 +19,7 @@
 #include "apps/hdf5_file.h"
 #include "apps/loop_output.h"
 #include "apps/models.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
 #include "apps/scene_schema.h"
 #include "apps/stage_options.h"
@@ -54,6 +55,7 @@ struct ExecuteOptions {
   bool fresh = false;   // sweeps start again over their checkpoints (neither: a checkpoint is refused)
   bool figures = true;  // draw the figures after the file is complete
   std::string figure_format = "png";  // png, pdf or svg (kFigureFormats)
+  bool force = false;   // run a plan the plan check refuses, with a warning
   std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
 };
 
@@ -340,6 +342,8 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   if (options.resume && options.fresh) {
     throw std::invalid_argument("--resume and --fresh: give one of them");
   }
+  WarnUnitMistakes(scene, err);
+  CheckPlan(StagePlanOf(scene, stages), options.force, err);
   if (std::find(stages.begin(), stages.end(), Stage::kSweep) != stages.end() && !options.resume &&
       !options.fresh) {
     for (SweepDirection direction : options.directions) {
@@ -445,6 +449,7 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
     options.fresh = request.fresh;
     options.figures = request.figures;
     options.figure_format = request.figure_format;
+    options.force = request.force;
     return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
 }
@@ -471,6 +476,7 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     options.fresh = request.fresh;
     options.figures = request.figures;
     options.figure_format = request.figure_format;
+    options.force = request.force;
     if (request.direction == "up") {
       options.directions = {SweepDirection::kUp};
     } else if (request.direction == "down") {
@@ -506,6 +512,10 @@ int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& 
     const Scene scene = LoadScene(file);
     fmt::print(out, "{}: valid scene \"{}\" (model {})\n{}", file, scene.name, ToString(scene.model),
                DescribeScene(scene));
+    // What `run` would refuse or warn of, as warnings.
+    WarnUnitMistakes(scene, err);
+    const std::string excess = ExcessiveWork(StagePlanOf(scene, scene.analysis.stages));
+    if (!excess.empty()) fmt::print(err, "rubcont: warning: {}; `rubcont run` refuses it without --force\n", excess);
     return kExitSuccess;
   });
 }

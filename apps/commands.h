@@ -21,6 +21,7 @@ struct RunRequest {
   bool fresh = false;                     // sweeps start again, discarding their checkpoints
   bool figures = true;                    // draw the figures after the HDF5 file (--no-figures)
   std::string figure_format = "png";      // their file format: png, pdf or svg (--format)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 // `rubcont run [SCENE]`: every stage the scene lists, into <out_dir>/<name>/<name>.h5 + figures.
@@ -50,6 +51,7 @@ struct SweepRequest {
   bool fresh = false;
   bool figures = true;  // draw the figures after the HDF5 file (--no-figures)
   std::string figure_format = "png";  // their file format: png, pdf or svg (--format)
+  bool force = false;   // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 // `rubcont sweep SCENE`: the level-L3 time-marching sweeps of [analysis.sweep] (Kumar 2010 §3.5);

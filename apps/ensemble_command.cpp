@@ -12,6 +12,7 @@
 #include "apps/ensemble_output.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
@@ -37,6 +38,12 @@ int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostr
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
+    WarnUnitMistakes(scene, err);
+    std::vector<PlannedWork> plan = SweepPlanOf(scene);  // the approach's schedule
+    plan.push_back(CopiesWorkOf(scene, "--copies × --duration",
+                                fmt::format("{} × {:g} s", request.copies, request.duration), "copies",
+                                request.copies, request.duration, request.window));
+    CheckPlan(plan, request.force, err);
     EnsembleStudyOptions options;
     options.target = ParseUntil(structure, request.until, request.until_above_hz, request.until_contacts);
     options.sweep = RubSweepOptionsOf(scene, ParseDirection("direction", request.direction));

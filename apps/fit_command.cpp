@@ -16,6 +16,7 @@
 #include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/ranks.h"
 #include "apps/scene.h"
@@ -336,6 +337,7 @@ BatchRunner RankBatchRunner(const Ranks& ranks, int threads) {
 int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
     TwoPointParamsOf(scene, "rubcont fit");
     FitSpec spec = LoadTargets(request.targets_file);
     spec.options.branches = BranchOptionsOf(scene);

@@ -13,6 +13,7 @@
 #include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
 #include "apps/models.h"
@@ -30,6 +31,7 @@ namespace {
 int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
+    WarnUnitMistakes(scene, err);
     if (!scene.flexible.RotorUniform() || !scene.flexible.StatorUniform()) {
       // Tables 2–3 compare the three cases on one pair of uniform sections; listed shafts and
       // matrices are one machine's (their rigid-versus-flexible L1 points: `rubcont branches`

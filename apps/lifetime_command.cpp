@@ -12,6 +12,7 @@
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/lifetime_output.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
@@ -67,6 +68,19 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
+    WarnUnitMistakes(scene, err);
+    std::vector<PlannedWork> plan = SweepPlanOf(scene);  // the approach's schedule
+    const double speeds = SpeedCount(request.from_rpm, request.to_rpm, request.step_rpm);
+    plan.push_back(CopiesWorkOf(scene, "--copies × --duration",
+                                fmt::format("{} × {:g} s at {:g} speeds", request.copies, request.duration, speeds),
+                                "copy runs", request.copies * speeds, request.duration, request.window));
+    const double check_speeds = SpeedCount(request.from_rpm, request.to_rpm, request.check_step_rpm);
+    plan.push_back(CopiesWorkOf(scene, "--check-copies × --check-dwell",
+                                fmt::format("{} × {:g} s at {:g} speeds", request.check_copies, request.check_dwell,
+                                            check_speeds),
+                                "check-sweep speeds", request.check_copies * check_speeds, request.check_dwell,
+                                request.window));
+    CheckPlan(plan, request.force, err);
     LifetimeStudyOptions options;
     options.target = ParseUntil(structure, request.until, request.until_above_hz, request.until_contacts);
     options.sweep = RubSweepOptionsOf(scene, ParseDirection("direction", request.direction));

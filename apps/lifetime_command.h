@@ -50,6 +50,7 @@ struct LifetimeRequest {
   // checkpoint is refused (exit 2): the finished speeds of an interrupted study are never lost unasked.
   bool fresh = false;
   std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

@@ -12,6 +12,7 @@
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/loop_output.h"
+#include "apps/plan_check.h"
 #include "apps/ranks.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
@@ -40,6 +41,17 @@ int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
+    // The plan of the loop as the command line sets it: its schedule and budget over the scene's.
+    Scene planned = scene;
+    planned.analysis.sweep.speed_step_rpm = request.step_rpm.value_or(planned.analysis.sweep.speed_step_rpm);
+    planned.analysis.sweep.dwell = request.dwell.value_or(planned.analysis.sweep.dwell);
+    planned.analysis.loop.budget = request.budget.value_or(planned.analysis.loop.budget);
+    std::vector<PlannedWork> plan = StagePlanOf(planned, {Stage::kLoop});
+    for (PlannedWork& work : plan) {
+      if (request.budget && work.key == "analysis.loop.budget") work.key = "--budget";
+    }
+    CheckPlan(plan, request.force, err);
     LoopOptions options = LoopOptionsOf(scene);
     if (request.step_rpm) options.step_rpm = *request.step_rpm;
     if (request.dwell) options.dwell = *request.dwell;

@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   run->add_flag("--fresh", run_request.fresh,
                 "sweeps start again and overwrite the checkpoints of an interrupted run (without "
                 "--resume or --fresh, a checkpoint is refused: exit 2)");
+  run->add_flag("--force", run_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   run->add_flag("!--no-figures", run_request.figures,
                 "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
   sweep->add_flag("--fresh", sweep_request.fresh,
                   "start again and overwrite the checkpoints of an interrupted sweep (without "
                   "--resume or --fresh, a checkpoint is refused: exit 2)");
+  sweep->add_flag("--force", sweep_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   sweep->add_flag("!--no-figures", sweep_request.figures,
                   "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;
@@ -128,6 +130,7 @@ int main(int argc, char** argv) {
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
   AddFigureFormat(map, map_request.figure_format);
   map->add_flag("!--no-figures", map_request.figures, "write the HDF5 file and the summary only");
+  map->add_flag("--force", map_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FitRequest fit_request;
   CLI::App* fit = app.add_subcommand(
@@ -202,6 +205,7 @@ int main(int argc, char** argv) {
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
   AddFigureFormat(ensemble, ensemble_request.figure_format);
+  ensemble->add_flag("--force", ensemble_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LifetimeRequest lifetime_request;
   std::string lifetime_out;
@@ -249,6 +253,7 @@ int main(int argc, char** argv) {
                      "--fresh, a checkpoint is refused: exit 2)");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
   AddFigureFormat(lifetime, lifetime_request.figure_format);
+  lifetime->add_flag("--force", lifetime_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LoopRequest loop_request;
   std::vector<double> loop_schedule;
@@ -268,6 +273,7 @@ int main(int argc, char** argv) {
   loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");
   loop->add_flag("-q,--quiet", loop_request.quiet, "no progress on stderr");
   AddFigureFormat(loop, loop_request.figure_format);
+  loop->add_flag("--force", loop_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
@@ -318,6 +324,7 @@ int main(int argc, char** argv) {
   attractor->add_option("--out", attractor_out, "HDF5 file; default results/<scene>/attractor.h5");
   attractor->add_flag("-q,--quiet", attractor_request.quiet, "no progress on stderr");
   AddFigureFormat(attractor, attractor_request.figure_format);
+  attractor->add_flag("--force", attractor_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);

@@ -17,6 +17,7 @@
 #include "apps/dataset_description.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/map_output.h"
 #include "apps/ranks.h"
@@ -311,6 +312,10 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     options.eta_points = request.eta_points;
     options.speed_points = request.speed_points;
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
+    CheckPlan({MapWork("--eta-points × --speed-points", fmt::format("{} × {}", request.eta_points, request.speed_points),
+                        request.eta_points, request.speed_points)},
+              request.force, err);
     options.branches = BranchOptionsOf(scene);
 
     const std::filesystem::path file =

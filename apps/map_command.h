@@ -38,6 +38,7 @@ struct MapRequest {
   int speed_points = 481;
   std::optional<std::string> out_file;  // default results/<scene name>/map_<parameter>.h5
   bool quiet = false;
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
   bool figures = true;  // draw the figure after the HDF5 file
   std::string figure_format = "png";  // its file format: png, pdf or svg (--format)
   // Under mpirun, share the grid out over the ranks (every rank must call MapCommand); false: this
