@@ -350,8 +350,9 @@ PYBIND11_MODULE(_rubcont, m) {
 
   m.def("run",
         [](const std::string& scene_file, const std::string& out_dir, bool resume, bool fresh,
-           bool figures, py::object progress) {
+           bool figures, py::object progress, bool force) {
           RunRequest request;
+          request.force = force;
           request.scene_file = scene_file;
           request.out_dir = out_dir;
           request.resume = resume;
@@ -363,11 +364,12 @@ PYBIND11_MODULE(_rubcont, m) {
           });
         },
         py::arg("scene_file"), py::arg("out_dir"), py::arg("resume"), py::arg("fresh"),
-        py::arg("figures"), py::arg("progress"));
+        py::arg("figures"), py::arg("progress"), py::arg("force") = false);
   m.def("sweep",
         [](const std::string& scene_file, const std::string& out_file, const std::string& direction,
-           bool resume, bool fresh, bool figures, py::object progress) {
+           bool resume, bool fresh, bool figures, py::object progress, bool force) {
           SweepRequest request;
+          request.force = force;
           request.scene_file = scene_file;
           request.out_file = out_file;
           request.direction = direction;
@@ -380,12 +382,13 @@ PYBIND11_MODULE(_rubcont, m) {
           });
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("direction"), py::arg("resume"),
-        py::arg("fresh"), py::arg("figures"), py::arg("progress"));
+        py::arg("fresh"), py::arg("figures"), py::arg("progress"), py::arg("force") = false);
   m.def("map",
         [](const std::string& scene_file, const std::string& out_file, const std::string& parameter,
            std::optional<double> eta_min, std::optional<double> eta_max, int eta_points,
-           int speed_points, int threads, py::object progress) {
+           int speed_points, int threads, py::object progress, bool force) {
           MapRequest request;
+          request.force = force;
           request.scene_file = scene_file;
           request.out_file = out_file;
           request.parameter = parameter;
@@ -402,12 +405,13 @@ PYBIND11_MODULE(_rubcont, m) {
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("parameter"), py::arg("eta_min"),
         py::arg("eta_max"), py::arg("eta_points"), py::arg("speed_points"), py::arg("threads"),
-        py::arg("progress"));
+        py::arg("progress"), py::arg("force") = false);
   m.def("loop",
         [](const std::string& scene_file, const std::string& out_file, std::optional<double> step_rpm,
            std::optional<double> dwell, std::optional<double> budget, int threads, bool figures,
-           py::object progress) {
+           py::object progress, bool force) {
           LoopRequest request;
+          request.force = force;
           request.scene_file = scene_file;
           request.out_file = out_file;
           request.step_rpm = step_rpm;
@@ -421,7 +425,7 @@ PYBIND11_MODULE(_rubcont, m) {
           });
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("step_rpm"), py::arg("dwell"), py::arg("budget"),
-        py::arg("threads"), py::arg("figures"), py::arg("progress"));
+        py::arg("threads"), py::arg("figures"), py::arg("progress"), py::arg("force") = false);
   m.def("fit",
         [](const std::string& scene_file, const std::string& out_file,
            const std::string& targets_file, int threads, py::object progress) {
@@ -456,6 +460,7 @@ PYBIND11_MODULE(_rubcont, m) {
       .def_readwrite("until_contacts", &EnsembleRequest::until_contacts)
       .def_readwrite("out_file", &EnsembleRequest::out_file)
       .def_readwrite("quiet", &EnsembleRequest::quiet)
+      .def_readwrite("force", &EnsembleRequest::force)
       .def_readwrite("figure_format", &EnsembleRequest::figure_format);
   m.def("ensemble",
         [](const EnsembleRequest& request, py::object progress) {
@@ -487,6 +492,7 @@ PYBIND11_MODULE(_rubcont, m) {
       .def_readwrite("quiet", &LifetimeRequest::quiet)
       .def_readwrite("resume", &LifetimeRequest::resume)
       .def_readwrite("fresh", &LifetimeRequest::fresh)
+      .def_readwrite("force", &LifetimeRequest::force)
       .def_readwrite("figure_format", &LifetimeRequest::figure_format);
   m.def("lifetime",
         [](const LifetimeRequest& request, py::object progress) {
@@ -511,6 +517,7 @@ PYBIND11_MODULE(_rubcont, m) {
       .def_readwrite("tolerance", &AttractorRequest::tolerance)
       .def_readwrite("out_file", &AttractorRequest::out_file)
       .def_readwrite("quiet", &AttractorRequest::quiet)
+      .def_readwrite("force", &AttractorRequest::force)
       .def_readwrite("figure_format", &AttractorRequest::figure_format);
   m.def("attractor",
         [](const AttractorRequest& request, py::object progress) {

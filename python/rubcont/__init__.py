@@ -283,7 +283,7 @@ def _outcome(outcome, file, temporary):
         if message.startswith("rubcont: "):
             message = message[len("rubcont: "):]
         raise ValueError(message)
-    if not os.path.exists(file):
+    if not os.path.isfile(file):  # none written (an I/O error), or a directory in its place
         raise RubcontError(outcome.err.strip() or f"no result file {file}")
     with open(file, "rb") as f:
         data = f.read()
@@ -307,12 +307,14 @@ def _command(scene_, out, default_file, call):
         return _outcome(outcome, file, temporary=out is None)
 
 
-def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=False, fresh=False):
+def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=False, fresh=False,
+        force=False):
     """Every stage the scene lists (or `stages`), as ``rubcont run``: the result of
     <out>/<name>/<name>.h5 (`out` a directory; None: a temporary one). `progress`: called with
     each progress line. `figures`: draw the figures next to the file (needs `out`). A sweep's
     checkpoint left by an interrupted run is refused unless `resume` (continue from it) or `fresh`
-    (start again over it)."""
+    (start again over it). Work the plan check refuses (docs/robustness.md, "The plan check") raises
+    ValueError naming the key and the estimate unless `force`."""
     if stages is not None:
         scene_ = scene if isinstance(scene, Scene) else (
             default_scene() if scene is None else load_scene(scene))
@@ -321,7 +323,7 @@ def run(scene=None, stages=None, out=None, progress=None, figures=False, resume=
     def call(scene_file, out_dir):
         name = os.path.splitext(os.path.basename(scene_file))[0]
         outcome = _core().run(scene_file, out_dir, resume, fresh, figures and out is not None,
-                               progress)
+                               progress, force)
         return outcome, os.path.join(out_dir, name, name + ".h5")
 
     return _command(scene, out, lambda work, s: work, call)
@@ -343,40 +345,41 @@ def orbits(scene=None, **options):
 
 
 def sweep(scene=None, direction="both", out=None, progress=None, resume=False, figures=False,
-          fresh=False):
+          fresh=False, force=False):
     """The L3 time-marching sweeps of [analysis.sweep] with the branches, as ``rubcont sweep``
-    (`out`: the HDF5 file; `resume` / `fresh` as in `run`)."""
+    (`out`: the HDF5 file; `resume` / `fresh` / `force` as in `run`)."""
 
     def call(scene_file, file):
         return _core().sweep(scene_file, file, direction, resume, fresh, figures and out is not None,
-                              progress), file
+                              progress, force), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "sweep.h5"), call)
 
 
-def loop(scene=None, schedule=None, budget=None, threads=0, out=None, progress=None, figures=False):
+def loop(scene=None, schedule=None, budget=None, threads=0, out=None, progress=None, figures=False,
+         force=False):
     """The hysteresis loop of the scene's rotor, explained, as ``rubcont loop`` (``/loop``; its
     table of jumps is ``/loop/corners``): `schedule` = (step_rpm, dwell_s) of the run (None: the
     scene's [analysis.sweep]), `budget` CPU seconds (None: 300), the copies over `threads` threads
-    (0: one per core); `out` the HDF5 file."""
+    (0: one per core); `out` the HDF5 file; `force` as in `run`."""
     step, dwell = schedule if schedule is not None else (None, None)
 
     def call(scene_file, file):
         return _core().loop(scene_file, file, step, dwell, budget, threads, figures and out is not None,
-                             progress), file
+                             progress, force), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "loop.h5"), call)
 
 
 def map(scene=None, parameter="friction", eta_range=None, eta_points=31, speed_points=481,
-        threads=1, out=None, progress=None):
+        threads=1, out=None, progress=None, force=False):
     """The hysteresis map in (running speed, `parameter`), as ``rubcont map`` (``/maps``); its
-    grid over `threads` threads (0: one per core)."""
+    grid over `threads` threads (0: one per core); `force` as in `run`."""
     eta_min, eta_max = eta_range if eta_range is not None else (None, None)
 
     def call(scene_file, file):
         return _core().map(scene_file, file, parameter, eta_min, eta_max, eta_points,
-                            speed_points, threads, progress), file
+                            speed_points, threads, progress, force), file
 
     return _command(scene, out, lambda work, s: os.path.join(work, "map.h5"), call)
 
@@ -434,17 +437,18 @@ def _options_command(kind: str, command: str, default_name: str):
 ensemble = _options_command("EnsembleRequest", "ensemble", "ensemble.h5")
 ensemble.__doc__ = """How long the state a sweep reached at `speed_rpm` lasts: copies perturbed and
 integrated (``rubcont ensemble``; ``/ensemble``). Options: speed_rpm (required), direction,
-copies, duration, window, perturbation, seed, threads, until, until_above_hz, until_contacts."""
+copies, duration, window, perturbation, seed, threads, until, until_above_hz, until_contacts,
+force."""
 lifetime = _options_command("LifetimeRequest", "lifetime", "lifetime.h5")
 lifetime.__doc__ = """Escape rates over speeds and the fitted crisis law (``rubcont lifetime``;
 ``/lifetime``). Options: from_rpm, to_rpm (required), step_rpm, direction, copies, duration,
 window, perturbation, seed, threads, until, until_above_hz, until_contacts, check_copies,
-check_step_rpm, check_dwell, resume and fresh (with `out`: its checkpoint `<stem>.checkpoint.h5`,
-as the CLI's --resume and --fresh)."""
+check_step_rpm, check_dwell, force, resume and fresh (with `out`: its checkpoint
+`<stem>.checkpoint.h5`, as the CLI's --resume and --fresh)."""
 attractor = _options_command("AttractorRequest", "attractor", "attractor.h5")
 attractor.__doc__ = """Lyapunov exponents and Poincaré sections speed by speed (``rubcont
 attractor``; ``/attractor``). Options: from_rpm (required), to_rpm, step_rpm, direction,
-approach, duration, discard, interval, sample_interval, exponents, tolerance."""
+approach, duration, discard, interval, sample_interval, exponents, tolerance, force."""
 flexible = _options_command("FlexibleRequest", "flexible", "flexible.h5")
 flexible.__doc__ = """The rotor and stator as Timoshenko shafts reduced by Craig–Bampton, their
 rotating waves against the rigid model's (``rubcont flexible``). Options: modes, gyroscopic."""
