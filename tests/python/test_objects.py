@@ -1,6 +1,6 @@
 """rubcont's objects (python/rubcont/objects.py): branches with typed special points, sweeps,
 loops, orbit and torus families, their plot() through rubcont.plots, _repr_html_, progress as
-events, continue_from's refusals, and the commands with many options (ensemble, lifetime,
+events, continue_from (a Hopf point of the tanh waves, and its refusals), and the commands with many options (ensemble, lifetime,
 attractor, flexible, batch). Committed result files are read where a run would cost minutes.
 """
 import os
@@ -88,6 +88,21 @@ def test_continue_from_names_the_points_it_cannot_start_from():
         rubcont.continue_from(hopf, result)
 
 
+def test_continue_from_a_hopf_point_of_the_tanh_waves_gives_the_family_born_there():
+    # A short orbits stage (two steps of 100 intervals a family) makes the point to start from.
+    short = rubcont.load_scene(A_A).with_values({"analysis": {
+        "stages": ["orbits"], "speed_range_rpm": [20.0, 100.0],
+        "orbits": {"hopf_points": 1, "max_steps": 2, "collocation_intervals": 100}}})
+    result = rubcont.orbits(short)
+    waves = [rubcont.Branch(result, f"orbits/rotating_waves/{n}") for n in result.groups("orbits/rotating_waves")]
+    hopf = [p for w in waves for p in w.special_points if p.type == "Hopf"]
+    mode1 = min(hopf, key=lambda p: abs(p.speed_rpm - 51.6847))  # the whirl's, A(a)'s modulated whip
+    family = rubcont.continue_from(mode1, result)
+    assert isinstance(family, rubcont.OrbitFamily)
+    assert abs(family.attrs["hopf_speed_rpm"] - mode1.speed_rpm) < 1e-9
+    assert len(family.speed_rpm) >= 1 and abs(family.speed_rpm[0] - mode1.speed_rpm) < 0.5
+
+
 def test_ensemble_lifetime_attractor_flexible_and_batch_are_reachable(tmp_path):
     small = rubcont.load_scene(A_A).with_values(
         {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "speed_step_rpm": 4.0, "dwell": 0.75}}})
@@ -103,6 +118,11 @@ def test_ensemble_lifetime_attractor_flexible_and_batch_are_reachable(tmp_path):
         rubcont.ensemble(small, speed_rpm=48.0, copys=2)
     with pytest.raises((ValueError, rubcont.RubcontError), match="missing.toml"):
         rubcont.batch(tmp_path / "missing.toml", out=tmp_path)
+    jobs = tmp_path / "jobs.toml"
+    jobs.write_text(f'[[job]]\nname = "waves"\ncommand = "analytic"\nscene = "{A_A}"\n')
+    summary = rubcont.batch(jobs, out=tmp_path / "batch")
+    assert "1 done, 0 failed" in summary
+    assert rubcont.read(tmp_path / "batch" / "waves" / "waves.h5").status == "success"
 
 
 def test_the_package_is_typed():
