@@ -1,7 +1,8 @@
 """rubcont's objects (python/rubcont/objects.py): branches with typed special points, sweeps,
 loops, orbit and torus families, their plot() through rubcont.plots, _repr_html_, progress as
-events, continue_from (a Hopf point of the tanh waves, and its refusals), and the commands with many options (ensemble, lifetime,
-attractor, flexible, batch). Committed result files are read where a run would cost minutes.
+events, continue_from (from a Hopf point of the tanh waves, and its refusals), and the commands
+with many options (ensemble, lifetime, attractor, flexible, batch). Committed result files are
+read where a run would cost minutes.
 """
 import os
 import subprocess
