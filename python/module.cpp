@@ -43,6 +43,7 @@
 #include "apps/loop_command.h"
 #include "apps/map_command.h"
 #include "apps/ranks.h"
+#include "apps/ross_import.h"
 #include "apps/scene.h"
 #include "apps/version.h"
 
@@ -426,6 +427,24 @@ PYBIND11_MODULE(_rubcont, m) {
         },
         py::arg("scene_file"), py::arg("out_file"), py::arg("step_rpm"), py::arg("dwell"), py::arg("budget"),
         py::arg("threads"), py::arg("figures"), py::arg("progress"), py::arg("force") = false);
+  m.def("import_ross",
+        [](const std::string& ross_file, const std::string& base_scene, int left, int right) {
+          ImportRossRequest request;
+          request.ross_file = ross_file;
+          request.base_scene = base_scene;
+          request.contact_stations = {left, right};
+          return Call(py::none(), [&](std::ostream& out, std::ostream& err) {
+            return ImportRossCommand(request, out, err);
+          });
+        },
+        py::arg("ross_file"), py::arg("base_scene"), py::arg("left"), py::arg("right"));
+  m.def("scene_matrices",
+        [](const std::string& scene_file, const std::string& out_path) {
+          return Call(py::none(), [&](std::ostream& out, std::ostream& err) {
+            return SceneMatricesCommand(scene_file, out_path, out, err);
+          });
+        },
+        py::arg("scene_file"), py::arg("out_path"));
   m.def("fit",
         [](const std::string& scene_file, const std::string& out_file,
            const std::string& targets_file, int threads, py::object progress) {

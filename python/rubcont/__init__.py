@@ -44,7 +44,7 @@ __all__ = [
     "run", "analytic", "branches", "orbits", "sweep", "loop", "map", "fit", "read", "__version__",
     "Branch", "SpecialPoint", "Sweep", "Loop", "OrbitFamily", "TorusFamily", "continue_from",
     "ProgressEvent", "parse_progress", "events", "TqdmProgress",
-    "ensemble", "lifetime", "attractor", "flexible", "batch",
+    "ensemble", "lifetime", "attractor", "flexible", "batch", "import_ross", "scene_matrices",
 ]
 
 
@@ -468,6 +468,48 @@ def batch(jobs, out=None, progress=None) -> str:
     if outcome.exit_code != 0:
         raise RubcontError(outcome.err.strip() or f"batch failed (exit code {outcome.exit_code})")
     return outcome.out
+
+
+def _scene_file(scene_, work):
+    """`scene_` (a Scene, a path, or None: the default scene) as a file in `work`."""
+    if scene_ is None:
+        scene_ = default_scene()
+    if not isinstance(scene_, Scene):
+        return os.fspath(scene_)
+    path = os.path.join(work, scene_.name + ".toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(scene_.toml)
+    return path
+
+
+def _text_of(outcome, command):
+    """The printed output of a command that writes no result file, or the exception its exit
+    code means."""
+    if outcome.exit_code == 2:
+        raise ValueError(outcome.err.strip().removeprefix("rubcont: "))
+    if outcome.exit_code != 0:
+        raise RubcontError(outcome.err.strip() or f"{command} failed (exit code {outcome.exit_code})")
+    return outcome.out
+
+
+def import_ross(ross_file, base, contact_stations) -> "Scene":
+    """A ROSS rotor (``ross.Rotor.save``'s TOML) as the listed rotor of the scene `base` (a Scene
+    or a scene file: its stator, contacts and analysis kept), the contacts at the ROSS nodes
+    `contact_stations` = (left, right), as ``rubcont scene import-ross`` (docs/howto.md, "Bring
+    your own rotor"). ValueError naming the element and the rule for what the rows cannot hold."""
+    left, right = contact_stations
+    with tempfile.TemporaryDirectory(prefix="rubcont-") as work:
+        text = _text_of(_core().import_ross(os.fspath(ross_file), _scene_file(base, work), int(left), int(right)),
+                        "import-ross")
+    return scene(text)
+
+
+def scene_matrices(scene_, out) -> str:
+    """Writes the full M, C, K, G of a flexible scene's structure to `out` (FILE.h5, or a
+    directory of MatrixMarket files), as ``rubcont scene matrices``; returns the
+    [flexible.matrices] section that reads them back."""
+    with tempfile.TemporaryDirectory(prefix="rubcont-") as work:
+        return _text_of(_core().scene_matrices(_scene_file(scene_, work), os.fspath(out)), "scene matrices")
 
 
 def continue_from(point: SpecialPoint, result: Result, out=None, progress=None) -> OrbitFamily:

@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 
+import h5py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -124,6 +125,20 @@ def test_ensemble_lifetime_attractor_flexible_and_batch_are_reachable(tmp_path):
     summary = rubcont.batch(jobs, out=tmp_path / "batch")
     assert "1 done, 0 failed" in summary
     assert rubcont.read(tmp_path / "batch" / "waves" / "waves.h5").status == "success"
+
+
+def test_a_ross_rotor_and_an_fe_models_matrices_come_in(tmp_path):
+    ross = os.path.join(ROOT, "tests", "apps", "ross")
+    imported = rubcont.import_ross(os.path.join(ross, "rotor.toml"), os.path.join(ross, "base.toml"), (1, 5))
+    with pytest.raises(ValueError, match="--contact-stations 1 7: must be ROSS nodes"):
+        rubcont.import_ross(os.path.join(ross, "rotor.toml"), os.path.join(ross, "base.toml"), (1, 7))
+    # The imported rotor assembles to the matrices of the same rotor written by hand.
+    section = rubcont.scene_matrices(imported, tmp_path / "imported.h5")
+    assert "[flexible.matrices]" in section
+    rubcont.scene_matrices(os.path.join(ross, "rotor_by_hand.toml"), tmp_path / "by_hand.h5")
+    with h5py.File(tmp_path / "imported.h5") as a, h5py.File(tmp_path / "by_hand.h5") as b:
+        for name in ("mass", "damping", "stiffness", "gyroscopic"):
+            assert np.array_equal(a[name][()], b[name][()]), name
 
 
 def test_the_package_is_typed():
