@@ -108,16 +108,17 @@ def test_continue_from_a_hopf_point_of_the_tanh_waves_gives_the_family_born_ther
 def test_ensemble_lifetime_attractor_flexible_and_batch_are_reachable(tmp_path):
     small = rubcont.load_scene(A_A).with_values(
         {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "speed_step_rpm": 4.0, "dwell": 0.75}}})
-    ensemble = rubcont.ensemble(small, speed_rpm=48.0, copies=2, duration=0.2, threads=2)
+    # From 44 rpm: the approach is one speed of the sweep (40 rpm).
+    ensemble = rubcont.ensemble(small, speed_rpm=44.0, copies=2, duration=0.2, threads=2)
     assert ensemble.status == "success" and ensemble["ensemble/arrival_time_s"].shape == (2,)
-    lifetime = rubcont.lifetime(small, from_rpm=48.0, to_rpm=52.0, step_rpm=4.0, copies=2,
+    lifetime = rubcont.lifetime(small, from_rpm=44.0, to_rpm=48.0, step_rpm=4.0, copies=2,
                                 duration=0.2, check_copies=0, threads=2)
-    assert list(lifetime["lifetime/speed_rpm"]) == [48.0, 52.0]
-    attractor = rubcont.attractor(small, from_rpm=48.0, duration=0.2, discard=0.1, exponents=2)
+    assert list(lifetime["lifetime/speed_rpm"]) == [44.0, 48.0]
+    attractor = rubcont.attractor(small, from_rpm=44.0, duration=0.2, discard=0.1, exponents=2)
     assert attractor["attractor/exponents"].shape == (1, 2)
     assert rubcont.flexible(A_A, modes=2).status == "success"
     with pytest.raises(TypeError, match="unknown option 'copys'; options: copies"):
-        rubcont.ensemble(small, speed_rpm=48.0, copys=2)
+        rubcont.ensemble(small, speed_rpm=44.0, copys=2)
     with pytest.raises((ValueError, rubcont.RubcontError), match="missing.toml"):
         rubcont.batch(tmp_path / "missing.toml", out=tmp_path)
     jobs = tmp_path / "jobs.toml"
