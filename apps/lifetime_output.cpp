@@ -46,15 +46,6 @@ void PrintCrisis(std::ostream& out, const CrisisFit& fit, CrisisSide side) {
              fit.message.empty() ? "" : "; " + fit.message);
 }
 
-// A regime's name (ToString) read back from `file`.
-RubRegime ParseRubRegime(const std::string& name, const std::filesystem::path& file) {
-  for (RubRegime r : {RubRegime::kUnknown, RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl,
-                      RubRegime::kWhip}) {
-    if (name == ToString(r)) return r;
-  }
-  throw std::runtime_error(fmt::format("{}: \"{}\" is no regime", file.string(), name));
-}
-
 }  // namespace
 
 void WriteLifetimeResult(const std::filesystem::path& file, const Scene& scene, const RubStructure& structure,
@@ -205,7 +196,9 @@ std::optional<LifetimeStudyStart> ReadLifetimeCheckpoint(const std::filesystem::
   start.approach.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
   start.approach.speeds = reader.ReadDoubles(a + "/speed_rad_s");
   for (const std::string& name : reader.ReadStrings(a + "/regimes")) {
-    start.approach.regimes.push_back(ParseRubRegime(name, file));
+    const std::optional<RubRegime> regime = RubRegimeNamed(name);
+    if (!regime) throw std::runtime_error(fmt::format("{}: {}/regimes: \"{}\" is no regime", file.string(), a, name));
+    start.approach.regimes.push_back(*regime);
   }
   for (std::size_t i = 0;; ++i) {
     const std::string s = fmt::format("{}/speed{}", g, i);

@@ -253,11 +253,10 @@ ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regim
     throw std::invalid_argument(fmt::format("--until-above = {}: must be a precession in Hz (0: by --until)", above_hz));
   }
   if (above_hz > 0.0) target.precession_above_hz = above_hz;
-  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip}) {
-    if (regime == ToString(r)) {
-      target.regime = r;
-      return target;
-    }
+  const std::optional<RubRegime> named = RubRegimeNamed(regime);
+  if (named && *named != RubRegime::kUnknown) {  // "unknown" (a failed speed) is no target
+    target.regime = *named;
+    return target;
   }
   throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", regime));
 }

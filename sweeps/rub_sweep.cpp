@@ -134,6 +134,14 @@ const char* ToString(RubRegime regime) {
   return "?";
 }
 
+std::optional<RubRegime> RubRegimeNamed(const std::string& name) {
+  for (RubRegime r : {RubRegime::kUnknown, RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl,
+                      RubRegime::kWhip}) {
+    if (name == ToString(r)) return r;
+  }
+  return std::nullopt;
+}
+
 const char* ToString(RubJumpKind kind) {
   switch (kind) {
     case RubJumpKind::kWhirlToWhip: return "whirl_to_whip";

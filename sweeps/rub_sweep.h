@@ -12,6 +12,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,8 @@ enum class RubRegime {
   kWhip,       // otherwise: the contact slips (BP locked elsewhere, usually below f_roll,k)
 };
 const char* ToString(RubRegime regime);
+// The regime whose ToString is `name`; nothing when no regime has that name.
+std::optional<RubRegime> RubRegimeNamed(const std::string& name);
 
 struct RubRegimeOptions {
   // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In

@@ -276,13 +276,15 @@ def read(path):
     return Result(data, file=path)
 
 
+def _raise_bad_input(outcome):
+    """ValueError with the command's message when it exited with 2 (bad input)."""
+    if outcome.exit_code == 2:
+        raise ValueError(outcome.err.strip().removeprefix("rubcont: "))
+
+
 def _outcome(outcome, file, temporary):
     """The Result of a command, or the exception its exit code means."""
-    if outcome.exit_code == 2:
-        message = outcome.err.strip()
-        if message.startswith("rubcont: "):
-            message = message[len("rubcont: "):]
-        raise ValueError(message)
+    _raise_bad_input(outcome)
     if not os.path.isfile(file):  # none written (an I/O error), or a directory in its place
         raise RubcontError(outcome.err.strip() or f"no result file {file}")
     with open(file, "rb") as f:
@@ -291,17 +293,36 @@ def _outcome(outcome, file, temporary):
                   log=outcome.out, messages=outcome.err)
 
 
+def _scene_file(scene_, work):
+    """`scene_` (a Scene, a path, or None: the default scene) as a file in `work`."""
+    if scene_ is None:
+        scene_ = default_scene()
+    if not isinstance(scene_, Scene):
+        return os.fspath(scene_)
+    path = os.path.join(work, scene_.name + ".toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(scene_.toml)
+    return path
+
+
+def _text_of(outcome, command):
+    """The printed output of a command that writes no result file, or the exception its exit
+    code means."""
+    _raise_bad_input(outcome)
+    if outcome.exit_code != 0:
+        raise RubcontError(outcome.err.strip() or f"{command} failed (exit code {outcome.exit_code})")
+    return outcome.out
+
+
 def _command(scene_, out, default_file, call):
     """Writes the scene to a file the command reads, runs it, returns the Result. `out`: a
     directory (run) or file (the others); None: a temporary directory, removed afterwards."""
     if scene_ is None:
         scene_ = default_scene()
     if not isinstance(scene_, Scene):
-        scene_ = load_scene(scene_)
+        scene_ = load_scene(scene_)  # checked here, as SceneError
     with tempfile.TemporaryDirectory(prefix="rubcont-") as work:
-        scene_file = os.path.join(work, scene_.name + ".toml")
-        with open(scene_file, "w", encoding="utf-8") as f:
-            f.write(scene_.toml)
+        scene_file = _scene_file(scene_, work)
         target = os.fspath(out) if out is not None else default_file(work, scene_)
         outcome, file = call(scene_file, target)
         return _outcome(outcome, file, temporary=out is None)
@@ -462,34 +483,7 @@ def batch(jobs, out=None, progress=None) -> str:
     request.jobs_file = os.fspath(jobs)
     if out is not None:
         request.out_dir = os.fspath(out)
-    outcome = _core().batch(request, progress)
-    if outcome.exit_code == 2:
-        raise ValueError(outcome.err.strip().removeprefix("rubcont: "))
-    if outcome.exit_code != 0:
-        raise RubcontError(outcome.err.strip() or f"batch failed (exit code {outcome.exit_code})")
-    return outcome.out
-
-
-def _scene_file(scene_, work):
-    """`scene_` (a Scene, a path, or None: the default scene) as a file in `work`."""
-    if scene_ is None:
-        scene_ = default_scene()
-    if not isinstance(scene_, Scene):
-        return os.fspath(scene_)
-    path = os.path.join(work, scene_.name + ".toml")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(scene_.toml)
-    return path
-
-
-def _text_of(outcome, command):
-    """The printed output of a command that writes no result file, or the exception its exit
-    code means."""
-    if outcome.exit_code == 2:
-        raise ValueError(outcome.err.strip().removeprefix("rubcont: "))
-    if outcome.exit_code != 0:
-        raise RubcontError(outcome.err.strip() or f"{command} failed (exit code {outcome.exit_code})")
-    return outcome.out
+    return _text_of(_core().batch(request, progress), "batch")
 
 
 def import_ross(ross_file, base, contact_stations) -> "Scene":
