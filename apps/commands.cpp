@@ -347,13 +347,8 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   if (std::find(stages.begin(), stages.end(), Stage::kSweep) != stages.end() && !options.resume &&
       !options.fresh) {
     for (SweepDirection direction : options.directions) {
-      const std::filesystem::path checkpoint = CheckpointPath(h5_file, direction);
-      if (std::filesystem::exists(checkpoint)) {
-        throw std::invalid_argument(fmt::format(
-            "{} holds the finished speeds of an interrupted {} sweep: --resume continues from it, "
-            "--fresh starts again and overwrites it",
-            checkpoint.string(), ToString(direction)));
-      }
+      RefuseUnaskedCheckpoint(CheckpointPath(h5_file, direction), fmt::format("{} sweep", ToString(direction)),
+                              options.resume, options.fresh);
     }
   }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
@@ -541,6 +536,14 @@ int SceneMatricesCommand(const std::string& file, const std::string& out_path, s
                model.contacts[1].stator, model.imbalance_coordinate);
     return kExitSuccess;
   });
+}
+
+void RefuseUnaskedCheckpoint(const std::filesystem::path& checkpoint, const std::string& what, bool resume,
+                             bool fresh) {
+  if (resume || fresh || !std::filesystem::exists(checkpoint)) return;
+  throw std::invalid_argument(fmt::format("{} holds the finished speeds of an interrupted {}: --resume continues "
+                                          "from it, --fresh starts again and overwrites it",
+                                          checkpoint.string(), what));
 }
 
 int SceneKeysCommand(std::ostream& out) {

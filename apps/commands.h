@@ -3,6 +3,7 @@
 // `err` (stderr).
 #pragma once
 
+#include <filesystem>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -68,6 +69,12 @@ int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& 
 // [flexible.matrices] section that loads them back.
 int SceneMatricesCommand(const std::string& file, const std::string& out_path, std::ostream& out,
                          std::ostream& err);
+
+// Refuses (std::invalid_argument: exit 2) to start over `checkpoint`, the finished speeds of an
+// interrupted `what` ("up sweep", "lifetime study"), when neither --resume nor --fresh is given:
+// they are never lost unasked.
+void RefuseUnaskedCheckpoint(const std::filesystem::path& checkpoint, const std::string& what, bool resume,
+                             bool fresh);
 
 // `rubcont scene keys`: the key reference (markdown) that scenes/README.md embeds.
 int SceneKeysCommand(std::ostream& out);

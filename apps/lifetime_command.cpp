@@ -102,12 +102,7 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     const std::filesystem::path checkpoint = LifetimeCheckpointPath(file);
     const std::string request_text = RequestText(request);
     if (request.resume && request.fresh) throw std::invalid_argument("--resume and --fresh: give one of them");
-    if (!request.resume && !request.fresh && std::filesystem::exists(checkpoint)) {
-      throw std::invalid_argument(fmt::format(
-          "{} holds the finished speeds of an interrupted lifetime study: --resume continues from it, "
-          "--fresh starts again and overwrites it",
-          checkpoint.string()));
-    }
+    RefuseUnaskedCheckpoint(checkpoint, "lifetime study", request.resume, request.fresh);
     const std::optional<LifetimeStudyStart> start =
         request.resume ? ReadLifetimeCheckpoint(checkpoint, scene, request_text) : std::nullopt;
     PrepareToWrite(file);  // before the work
