@@ -21,7 +21,10 @@ int ContactCount(const AnalyticCurve& curve) {
 void WriteCurve(ResultWriter& writer, const std::string& group, const AnalyticCurve& curve,
                 bool with_grid) {
   writer.CreateGroup(group);
-  if (with_grid) writer.WriteDoubles(group + "/precession_hz", curve.precession_hz);
+  if (with_grid) {
+    writer.WriteDoubles(group + "/precession_hz", curve.precession_hz);
+    writer.SetDimensionScales(group, "precession_hz");  // xarray: the grid is the coordinate
+  }
   for (int k = 0; k < ContactCount(curve); ++k) {
     const std::string side = ContactName(curve, k);
     writer.WriteDoubles(group + "/normal_force_" + side, curve.normal_force[k]);

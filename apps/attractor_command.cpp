@@ -7,10 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/attractor_output.h"
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
@@ -56,6 +58,16 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
     Check(request);
     const Scene scene = AttractorSceneOf(LoadScene(request.scene_file));
     const RubStructure structure = SweepStructureOf(scene);
+    WarnUnitMistakes(scene, err);
+    std::vector<PlannedWork> plan = SweepPlanOf(scene);  // the approach's schedule
+    // Each speed integrates its discard and duration with `exponents` tangents beside the state:
+    // 1 + exponents times the cost of a simulated second.
+    const double speeds = SpeedCount(request.from_rpm, request.to_rpm.value_or(request.from_rpm), request.step_rpm);
+    plan.push_back(MarchingWork("--discard + --duration",
+                                fmt::format("{:g} + {:g} s at {:g} speeds", request.discard, request.duration, speeds),
+                                "speeds", speeds, request.discard + request.duration, 0.0,
+                                1.0 + request.exponents));
+    CheckPlan(plan, request.force, err);
     AttractorStudyOptions options = AttractorStudyOptionsOf(
         scene, ParseDirection("approach", request.approach.value_or(request.direction)));
     options.direction = ParseDirection("direction", request.direction);
@@ -76,16 +88,17 @@ int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::os
                                               options.attractor.exponents, structure.States()));
     }
 
+    const std::filesystem::path file = request.out_file
+                                           ? std::filesystem::path(*request.out_file)
+                                           : std::filesystem::path("results") / scene.name / "attractor.h5";
+    PrepareToWrite(file);  // before the work
     const AttractorStudyResult result = RunAttractorStudy(
         structure, options, request.quiet ? AttractorStudyProgress{} : PrintAttractorProgress(err, SteadyClock::now()));
     if (result.status == AttractorStudyStatus::kApproachFailed) throw std::runtime_error(result.message);
 
-    const std::filesystem::path file = request.out_file
-                                           ? std::filesystem::path(*request.out_file)
-                                           : std::filesystem::path("results") / scene.name / "attractor.h5";
     WriteAttractorResult(file, scene, structure, result);
     PrintAttractorSummary(out, err, scene, structure, result, file);
-    DrawFigures("attractor.py", file, out, err);
+    DrawFigures("attractor", file, request.figure_format, out, err);
     return result.status == AttractorStudyStatus::kMeasured ? kExitSuccess : kExitFailure;
   });
 }

@@ -38,6 +38,8 @@ struct AttractorRequest {
   std::optional<double> tolerance;     // relative = absolute; default the scene's sweep integrator's
   std::optional<std::string> out_file; // default results/<scene>/attractor.h5
   bool quiet = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::ostream& err);

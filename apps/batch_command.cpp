@@ -1,15 +1,19 @@
 #include "apps/batch_command.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -17,6 +21,8 @@
 #include <fmt/ostream.h>
 #include <toml++/toml.h>
 
+#include "apps/atomic_file.h"
+#include "apps/claims.h"
 #include "apps/commands.h"
 #include "apps/fit_command.h"
 #include "apps/guarded.h"
@@ -250,16 +256,6 @@ JobsFile ReadJobs(const fs::path& file, const std::optional<std::string>& out_di
 // <out>/<name>/<scene name>/<scene name>.h5, the path the command prints).
 fs::path ResultOf(const Job& job, const fs::path& out) { return out / job.name / (job.name + ".h5"); }
 
-void WriteAtomically(const fs::path& file, const std::string& text) {
-  const fs::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream stream(temporary);
-    stream << text;
-    if (!stream) throw std::runtime_error("cannot write " + temporary.string());
-  }
-  fs::rename(temporary, file);
-}
-
 struct Outcome {
   bool present = false;
   int exit_code = -1;
@@ -272,7 +268,7 @@ struct Outcome {
 
 Outcome ReadOutcome(const fs::path& file) {
   Outcome o;
-  if (!fs::exists(file)) return o;
+  if (!fs::is_regular_file(file)) return o;  // none yet, or a directory in its place
   try {
     const toml::table t = toml::parse_file(file.string());
     o.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
@@ -292,29 +288,56 @@ bool Done(const Outcome& o) {
 }
 
 fs::path OutcomeFile(const fs::path& out, const Job& job) { return out / (job.name + ".outcome"); }
-fs::path ClaimFile(const fs::path& out, const Job& job) { return out / (job.name + ".claim"); }
-bool JobDone(const fs::path& out, const Job& job) { return Done(ReadOutcome(OutcomeFile(out, job))); }
+// The stem of the job's claim files <out>/<name>.claim.<generation> (apps/claims.h).
+fs::path ClaimStem(const fs::path& out, const Job& job) { return out / (job.name + ".claim"); }
 
-// Takes the job for this rank: false when another rank has.
-bool Claim(const fs::path& file) {
-  const int fd = ::open(file.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0644);
-  if (fd < 0) return false;
-  ::close(fd);
-  return true;
+// Nothing left to do for this run: the job is done, or its outcome was written since `run_start_ns`
+// (a rank of this run, or another run, tried it: a bad input is not tried again by every rank).
+bool Settled(const fs::path& out, const Job& job, int64_t run_start_ns) {
+  const fs::path file = OutcomeFile(out, job);
+  return Done(ReadOutcome(file)) || ModifiedNs(file) > run_start_ns;
+}
+
+// The one job of --job-index or SLURM_ARRAY_TASK_ID (numbered from 1), as an index from 0; none
+// when neither is given. Throws invalid_argument naming the option, its value and the jobs' number.
+std::optional<size_t> JobIndex(const BatchRequest& request, size_t jobs) {
+  std::string given;
+  long long index = 0;
+  if (request.job_index) {
+    given = fmt::format("--job-index {}", *request.job_index);
+    index = *request.job_index;
+  } else if (const char* task = std::getenv("SLURM_ARRAY_TASK_ID"); task != nullptr && *task != '\0') {
+    given = fmt::format("SLURM_ARRAY_TASK_ID={} (the job index, as --job-index is not given)", task);
+    char* end = nullptr;
+    errno = 0;
+    index = std::strtoll(task, &end, 10);
+    if (*end != '\0' || errno != 0) {
+      throw std::invalid_argument(given + ": must be an integer");
+    }
+  } else {
+    return std::nullopt;
+  }
+  if (index < 1 || index > static_cast<long long>(jobs)) {
+    throw std::invalid_argument(fmt::format(
+        "{}: out of range: the jobs file has {} job(s), numbered from 1 to {} (for a Slurm array: "
+        "#SBATCH --array=1-{})", given, jobs, jobs, jobs));
+  }
+  return static_cast<size_t>(index - 1);
 }
 
 // Runs one job through its command; its stdout and stderr go to the log.
-Outcome RunJob(const Job& job, const fs::path& out, int rank) {
+Outcome RunJob(const Job& job, const fs::path& out, const ClaimOwner& me) {
   std::ostringstream log;
   const SteadyClock::time_point start = SteadyClock::now();
   const double cpu_start = ProcessCpuSeconds();
   int code = kExitFailure;
   fs::path result = ResultOf(job, out);
-  fs::create_directories(result.parent_path());
+  PrepareToWrite(result);
   if (job.command == "run") {
     RunRequest r;
     r.scene_file = job.scene;
     r.out_dir = result.parent_path().string();
+    r.resume = true;  // a job re-run after a kill continues its sweeps' checkpoints
     r.quiet = true;
     r.figures = job.figures;
     std::ostringstream printed;
@@ -338,6 +361,7 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
     r.scene_file = *job.scene;
     r.out_file = result.string();
     r.direction = job.direction;
+    r.resume = true;
     r.figures = job.figures;
     r.quiet = true;
     code = SweepCommand(r, log, log);
@@ -369,29 +393,44 @@ Outcome RunJob(const Job& job, const fs::path& out, int rank) {
   o.present = true;
   o.exit_code = code;
   o.status = code == kExitSuccess ? "success" : code == kExitFailure ? "failure" : "bad input";
-  o.rank = rank;
+  o.rank = me.rank;
   o.wall_seconds = SecondsSince(start);
   o.cpu_seconds = CpuSecondsSince(cpu_start);
   o.result = result.string();
-  WriteAtomically(out / (job.name + ".log"), log.str());
-  WriteAtomically(OutcomeFile(out, job),
-                  fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
-                              "rank = {}\nwall_seconds = {:.3f}\ncpu_seconds = {:.3f}\n"
-                              "result = \"{}\"\n",
-                              job.name, job.command, o.exit_code, o.status, o.rank, o.wall_seconds,
-                              o.cpu_seconds, o.result));
+  WriteFileAtomically(out / (job.name + ".log"), log.str());
+  WriteFileAtomically(OutcomeFile(out, job),
+                      fmt::format("name = \"{}\"\ncommand = \"{}\"\nexit_code = {}\nstatus = \"{}\"\n"
+                                  "rank = {}\nhost = \"{}\"\npid = {}\nallocation = \"{}\"\n"
+                                  "wall_seconds = {:.3f}\ncpu_seconds = {:.3f}\nresult = \"{}\"\n",
+                                  job.name, job.command, o.exit_code, o.status, o.rank, me.host,
+                                  me.pid, me.allocation, o.wall_seconds, o.cpu_seconds, o.result));
   return o;
 }
 
-// The summary's text, and how many jobs failed or did not finish.
-std::pair<std::string, int> Summary(const JobsFile& jobs, const Ranks& ranks, double elapsed,
-                                    int run_here) {
+// The summary's text over the jobs `shown`, and how many of them failed, did not finish or run
+// elsewhere (a claim left after every rank of this run has finished is another run's).
+std::pair<std::string, int> Summary(const JobsFile& jobs, const std::vector<size_t>& shown,
+                                    const Ranks& ranks, double elapsed, int run_here) {
   std::string text = fmt::format("batch of {} jobs into {} ({}; {} run now, the rest done before)\n",
                                  jobs.jobs.size(), jobs.out.string(), ranks.Describe(), run_here);
-  int done = 0, failed = 0;
+  if (shown.size() < jobs.jobs.size()) {
+    text += fmt::format("job {} of {} only (--job-index or SLURM_ARRAY_TASK_ID)\n", shown.front() + 1,
+                        jobs.jobs.size());
+  }
+  int done = 0, failed = 0, elsewhere = 0;
   double job_seconds = 0.0;
-  for (const Job& job : jobs.jobs) {
+  for (const size_t i : shown) {
+    const Job& job = jobs.jobs[i];
     const Outcome o = ReadOutcome(OutcomeFile(jobs.out, job));
+    const ClaimState claim = LookAtClaim(ClaimStem(jobs.out, job));
+    if (!Done(o) && claim.generation >= 0) {
+      text += fmt::format("  {:<32} {:<9} running elsewhere: {}, heartbeat {:.0f} s ago\n", job.name,
+                          job.command, claim.owner_known ? claim.owner.Describe() : claim.file.string(),
+                          claim.heartbeat_age_s);
+      ++failed;
+      ++elsewhere;
+      continue;
+    }
     if (!o.present) {
       text += fmt::format("  {:<32} {:<9} not finished (no outcome: its rank stopped)\n", job.name,
                           job.command);
@@ -405,45 +444,56 @@ std::pair<std::string, int> Summary(const JobsFile& jobs, const Ranks& ranks, do
                         job.name, job.command, o.status, o.rank, o.wall_seconds, o.cpu_seconds,
                         o.result);
   }
-  text += fmt::format("{} done, {} failed or not finished; jobs' wall time {:.1f} s, this run {:.1f} s "
-                      "on {} rank(s)\n",
-                      done, failed, job_seconds, elapsed, ranks.size());
+  text += fmt::format("{} done, {} failed or not finished{}; jobs' wall time {:.1f} s, this run "
+                      "{:.1f} s on {} rank(s)\n",
+                      done, failed,
+                      elsewhere > 0 ? fmt::format(" ({} running elsewhere)", elsewhere) : "",
+                      job_seconds, elapsed, ranks.size());
   return {text, failed};
 }
 
-}  // namespace
-
-int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& err) {
-  const Ranks& ranks = Ranks::World();
-  return Guarded(err, [&] {
-    const SteadyClock::time_point start = SteadyClock::now();
-    const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
-    fs::create_directories(jobs.out);
-    // Rank 0 forgets the claims of jobs that are not done (a rank that stopped, an earlier run).
-    if (ranks.rank() == 0) {
-      for (const Job& job : jobs.jobs) {
-        if (!JobDone(jobs.out, job)) fs::remove(ClaimFile(jobs.out, job));
-      }
-    }
-    ranks.Barrier();
-    int run_here = 0;
-    for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+// This rank's share of the jobs `selected`: passes over them, running each that is free or whose
+// claim is stale or dead, until none is left but those a live owner runs; returns how many it ran.
+// A claim seen held is watched (its generation and heartbeat) until its heartbeat moves (live: left
+// to its owner) or it goes stale (taken over by TryClaim). A job that cannot be claimed, or cannot
+// write its log or outcome, fails alone: the rank goes on, so that every rank reaches the final
+// gather; the summary lists the job as not finished.
+int RunShare(const JobsFile& jobs, const std::vector<size_t>& selected, const BatchRequest& request,
+             int64_t run_start_ns, const Ranks& ranks, std::ostream& err) {
+  const ClaimOwner me = ThisProcess(ranks.rank(), request.claims.HeartbeatSeconds());
+  // Polls every 0.05 s at first, doubling up to half a heartbeat (at most 5 s): a job another
+  // rank of this run is finishing is seen done at once, a long one costs few looks.
+  const double max_poll_s = std::clamp(request.claims.HeartbeatSeconds() / 2.0, 0.01, 5.0);
+  double poll_s = std::min(0.05, max_poll_s);
+  std::map<size_t, std::pair<int, int64_t>> watched;
+  std::vector<size_t> pending = selected;
+  int run_here = 0;
+  while (!pending.empty()) {
+    std::vector<size_t> held;
+    for (const size_t i : pending) {
       const Job& job = jobs.jobs[i];
-      if (JobDone(jobs.out, job) || !Claim(ClaimFile(jobs.out, job))) continue;
-      // Another rank may have finished it (and let go of its claim) since the check above.
-      if (JobDone(jobs.out, job)) {
-        fs::remove(ClaimFile(jobs.out, job));
-        continue;
-      }
-      if (!request.quiet) {
-        fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(), i + 1,
-                   jobs.jobs.size(), job.name, job.command, job.scene.value_or("default scene"));
-      }
-      // A job that cannot write its log or outcome fails alone: the rank goes on, so that every
-      // rank reaches the gather below; the summary lists the job as not finished.
+      if (Settled(jobs.out, job, run_start_ns)) continue;
       try {
-        const Outcome o = RunJob(job, jobs.out, ranks.rank());
-        fs::remove(ClaimFile(jobs.out, job));  // after the outcome: the job is done
+        const ClaimAttempt attempt = TryClaim(ClaimStem(jobs.out, job), me, request.claims);
+        if (!attempt.held) {
+          const std::pair<int, int64_t> seen{attempt.seen.generation, attempt.seen.heartbeat_ns};
+          const auto [watch, first] = watched.emplace(i, seen);
+          if (first || watch->second == seen) held.push_back(i);
+          continue;
+        }
+        if (!attempt.taken_over_because.empty()) {
+          fmt::print(err, "rubcont: note: [batch] rank {}: {}: took over {}: {}\n", ranks.rank(),
+                     job.name, attempt.seen.file.string(), attempt.taken_over_because);
+        }
+        // Another rank may have finished it (and let go of its claim) since the check above.
+        if (Settled(jobs.out, job, run_start_ns)) continue;
+        if (!request.quiet) {
+          fmt::print(err, "rubcont: [batch] rank {}: job {} of {}: {} ({} {})\n", ranks.rank(),
+                     i + 1, jobs.jobs.size(), job.name, job.command,
+                     job.scene.value_or("default scene"));
+        }
+        ++run_here;
+        const Outcome o = RunJob(job, jobs.out, me);
         if (!request.quiet) {
           fmt::print(err, "rubcont: [batch] rank {}: {}: {} in {:.1f} s\n", ranks.rank(),
                      job.name, o.status, o.wall_seconds);
@@ -452,14 +502,53 @@ int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& e
         fmt::print(err, "rubcont: [batch] rank {}: {}: no outcome written: {}\n", ranks.rank(),
                    job.name, e.what());
       }
-      ++run_here;
     }
+    pending = std::move(held);
+    if (pending.empty()) break;
+    std::this_thread::sleep_for(std::chrono::duration<double>(poll_s));
+    poll_s = std::min(2.0 * poll_s, max_poll_s);
+  }
+  return run_here;
+}
+
+void ListJobs(const JobsFile& jobs, std::ostream& out) {
+  fmt::print(out, "{} jobs, numbered for --job-index and SLURM_ARRAY_TASK_ID (a Slurm array: "
+                  "--array=1-{}); output into {}\n", jobs.jobs.size(), jobs.jobs.size(),
+             jobs.out.string());
+  for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+    const Job& job = jobs.jobs[i];
+    fmt::print(out, "{:>5}  {:<32} {:<9} {}\n", i + 1, job.name, job.command,
+               job.scene.value_or("default scene"));
+  }
+}
+
+}  // namespace
+
+int BatchCommand(const BatchRequest& request, std::ostream& out, std::ostream& err) {
+  const Ranks& ranks = Ranks::World();
+  return Guarded(err, [&] {
+    const SteadyClock::time_point start = SteadyClock::now();
+    request.claims.Validate();
+    const JobsFile jobs = ReadJobs(request.jobs_file, request.out_dir);
+    if (request.list) {
+      if (ranks.rank() == 0) ListJobs(jobs, out);
+      return kExitSuccess;
+    }
+    const std::optional<size_t> index = JobIndex(request, jobs.jobs.size());
+    std::vector<size_t> selected;
+    for (size_t i = 0; i < jobs.jobs.size(); ++i) {
+      if (!index || i == *index) selected.push_back(i);
+    }
+    PrepareToWrite(jobs.out / "summary.txt");
+    const int64_t run_start_ns = RealtimeNs();
+    ranks.Barrier();  // every rank's start precedes every outcome of this run (Settled)
+    const int run_here = RunShare(jobs, selected, request, run_start_ns, ranks, err);
     const std::vector<std::string> counts = ranks.GatherToRoot(std::to_string(run_here));
     if (ranks.rank() != 0) return kExitSuccess;
     int total_run = 0;
     for (const std::string& c : counts) total_run += std::stoi(c);
-    const auto [summary, failed] = Summary(jobs, ranks, SecondsSince(start), total_run);
-    WriteAtomically(jobs.out / "summary.txt", summary);
+    const auto [summary, failed] = Summary(jobs, selected, ranks, SecondsSince(start), total_run);
+    if (!index) WriteFileAtomically(jobs.out / "summary.txt", summary);
     out << summary;
     return failed == 0 ? kExitSuccess : kExitFailure;
   });

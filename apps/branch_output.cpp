@@ -28,6 +28,7 @@ void WriteBranchPointColumns(ResultWriter& writer, const std::string& group, con
     stable[i] = p.StableFlag();
   }
   writer.WriteDoubles(group + "/" + parameter.name, lambda);
+  writer.SetDimensionScales(group, parameter.name);  // xarray: the parameter is the coordinate
   writer.WriteInts(group + "/stable", stable);
   writer.WriteInts(group + "/unstable_count", unstable);
   writer.WriteDoubles(group + "/arclength", arclength);
@@ -56,6 +57,7 @@ void WriteSpecialPointColumns(ResultWriter& writer, const std::string& group, co
   writer.WriteStrings(group + "/type", type);
   writer.WriteStrings(group + "/label", label);
   writer.WriteDoubles(group + "/" + parameter.name, lambda);
+  writer.SetDimensionScales(group, parameter.name);
   writer.WriteInts(group + "/converged", converged);
   writer.WriteDoubles(group + "/residual_norm", residual);
   writer.WriteDoubles(group + "/last_correction", correction);

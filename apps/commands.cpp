@@ -12,14 +12,18 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/branch_output.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/hdf5_file.h"
 #include "apps/loop_output.h"
 #include "apps/models.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
+#include "apps/scene_schema.h"
 #include "apps/stage_options.h"
+#include "apps/structure_file.h"
 #include "apps/sweep_output.h"
 #include "apps/tori_stage.h"
 #include "models/units.h"
@@ -48,7 +52,10 @@ class Progress {
 struct ExecuteOptions {
   bool quiet = false;
   bool resume = false;  // sweeps continue from their checkpoints
+  bool fresh = false;   // sweeps start again over their checkpoints (neither: a checkpoint is refused)
   bool figures = true;  // draw the figures after the file is complete
+  std::string figure_format = "png";  // png, pdf or svg (kFigureFormats)
+  bool force = false;   // run a plan the plan check refuses, with a warning
   std::vector<SweepDirection> directions{SweepDirection::kUp, SweepDirection::kDown};
 };
 
@@ -92,8 +99,7 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
     if (options.resume) {
       saved = ReadSweepCheckpoint(checkpoint, scene, direction);
     } else if (std::filesystem::exists(checkpoint)) {
-      fmt::print(err, "rubcont: warning: starting the {} sweep afresh; {} (from an interrupted run) "
-                      "will be overwritten (--resume continues from it)\n",
+      fmt::print(err, "rubcont: note: starting the {} sweep afresh (--fresh); {} will be overwritten\n",
                  ToString(direction), checkpoint.string());
     }
     std::optional<std::vector<SweepPoint>> finished;
@@ -258,7 +264,9 @@ void SweepStage(const Scene& scene, const ExecuteOptions& options, const std::fi
                row.contact, ToString(j.kind), j.speed_from_rpm, j.speed_to_rpm,
                Hz(j.precession_from_hz), Hz(j.precession_to_hz));
     if (!j.trusted) fmt::print(out, "[untrusted: a speed penetrates beyond max_penetration] ");
-    if (!row.bifurcation.empty() && row.branch.empty()) {
+    // A cause that is no point of a wave (no precession: the crisis the loop located at L3) is
+    // printed with the median it predicts, not with the branch its states were matched to.
+    if (!row.bifurcation.empty() && (row.branch.empty() || std::isnan(row.bifurcation_precession_hz))) {
       fmt::print(out, "{}; jump − median {:+.2f} rpm\n", row.bifurcation, row.difference_rpm);
     } else if (row.bifurcation.empty()) {
       if (row.branch.empty()) {
@@ -331,13 +339,25 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
                                               ToString(stage), ToString(scene.model)));
     }
   }
+  if (options.resume && options.fresh) {
+    throw std::invalid_argument("--resume and --fresh: give one of them");
+  }
+  WarnUnitMistakes(scene, err);
+  CheckPlan(StagePlanOf(scene, stages), options.force, err);
+  if (std::find(stages.begin(), stages.end(), Stage::kSweep) != stages.end() && !options.resume &&
+      !options.fresh) {
+    for (SweepDirection direction : options.directions) {
+      RefuseUnaskedCheckpoint(CheckpointPath(h5_file, direction), fmt::format("{} sweep", ToString(direction)),
+                              options.resume, options.fresh);
+    }
+  }
   const std::filesystem::path out_dir = h5_file.parent_path().empty() ? "." : h5_file.parent_path();
-  std::filesystem::create_directories(out_dir);
+  PrepareToWrite(h5_file);
 
   ResultWriter writer(h5_file);
-  if (writer.replaces_leftover()) {
-    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is overwritten\n",
-               writer.temporary().string());
+  for (const std::filesystem::path& leftover : writer.removed_leftovers()) {
+    fmt::print(err, "rubcont: note: {} was left by an interrupted run; it is removed\n",
+               leftover.string());
   }
   WriteSceneAttributes(writer, scene);
   std::vector<std::string> failures;
@@ -350,18 +370,22 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   for (Stage stage : stages) {
     switch (stage) {
       case Stage::kAnalytic: {
+        if (model.analytic_skipped && !model.analytic_skipped(scene).empty()) {
+          fmt::print(out, "[analytic] L0 closed form not computed: {}\n", model.analytic_skipped(scene));
+          break;
+        }
         model.analytic(scene, context);
-        scripts.push_back("analytic.py");
+        scripts.push_back("analytic");
         break;
       }
       case Stage::kSweep: {
         SweepStage(scene, options, h5_file, writer, progress, out, err, failures, checkpoints);
-        scripts.push_back("sweep.py");
+        scripts.push_back("sweep");
         break;
       }
       case Stage::kBranches: {
         RunBranches(scene, writer, progress, out, failures);
-        scripts.push_back("branches.py");
+        scripts.push_back("branches");
         break;
       }
       case Stage::kOrbits: {
@@ -371,12 +395,12 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
       }
       case Stage::kTori: {
         RunRubTori(scene, context);
-        scripts.push_back("rub_tori.py");
+        scripts.push_back("rub_tori");
         break;
       }
       case Stage::kLoop: {
         RunLoopStage(scene, context);
-        scripts.push_back("loop.py");
+        scripts.push_back("loop");
         break;
       }
     }
@@ -392,13 +416,14 @@ int Execute(const Scene& scene, const std::vector<Stage>& stages, const std::fil
   }
 
   if (!options.figures) scripts.clear();
-  for (const std::string& script : scripts) {
+  for (const std::string& module : scripts) {
     const SteadyClock::time_point start = SteadyClock::now();
-    progress("figures: {} {} ...", PythonInterpreter(), (PlotsDirectory() / script).string());
-    const FigureOutcome figures = MakeFigures(script, h5_file, out_dir);
+    progress("figures: {} -m rubcont.plots.{} (from {}) ...", PythonInterpreter(), module,
+             PythonPackageDirectory().string());
+    const FigureOutcome figures = MakeFigures(module, h5_file, out_dir, options.figure_format);
     if (figures.made) {
       progress("figures: done in {:.1f} s", SecondsSince(start));
-      fmt::print(out, "wrote figures ({}) in {}\n", script, out_dir.string());
+      fmt::print(out, "wrote figures ({}) in {}\n", module, out_dir.string());
     } else {
       fmt::print(err, "rubcont: warning: {}\n", figures.warning);
     }
@@ -416,7 +441,10 @@ int RunCommand(const RunRequest& request, std::ostream& out, std::ostream& err) 
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.fresh = request.fresh;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
+    options.force = request.force;
     return Execute(scene, scene.analysis.stages, dir / (scene.name + ".h5"), options, out, err);
   });
 }
@@ -430,6 +458,7 @@ int AnalyticCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     return Execute(scene, {Stage::kAnalytic}, file, options, out, err);
   });
 }
@@ -439,7 +468,10 @@ int SweepCommand(const SweepRequest& request, std::ostream& out, std::ostream& e
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.resume = request.resume;
+    options.fresh = request.fresh;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
+    options.force = request.force;
     if (request.direction == "up") {
       options.directions = {SweepDirection::kUp};
     } else if (request.direction == "down") {
@@ -465,6 +497,7 @@ int BranchesCommand(const AnalyticRequest& request, std::ostream& out, std::ostr
     ExecuteOptions options;
     options.quiet = request.quiet;
     options.figures = request.figures;
+    options.figure_format = request.figure_format;
     return Execute(scene, {Stage::kAnalytic, Stage::kBranches}, file, options, out, err);
   });
 }
@@ -474,8 +507,43 @@ int SceneCheckCommand(const std::string& file, std::ostream& out, std::ostream& 
     const Scene scene = LoadScene(file);
     fmt::print(out, "{}: valid scene \"{}\" (model {})\n{}", file, scene.name, ToString(scene.model),
                DescribeScene(scene));
+    // What `run` would refuse or warn of, as warnings.
+    WarnUnitMistakes(scene, err);
+    const std::string excess = ExcessiveWork(StagePlanOf(scene, scene.analysis.stages));
+    if (!excess.empty()) fmt::print(err, "rubcont: warning: {}; `rubcont run` refuses it without --force\n", excess);
     return kExitSuccess;
   });
+}
+
+int SceneMatricesCommand(const std::string& file, const std::string& out_path, std::ostream& out,
+                         std::ostream& err) {
+  return Guarded(err, [&] {
+    const Scene scene = LoadScene(file);
+    if (!scene.flexible.enabled) {
+      throw std::invalid_argument(fmt::format(
+          "scene {} has no [flexible] section: its rigid model has no structural matrices to "
+          "write (level L4 scenes only)", file));
+    }
+    const MatrixRubModel model = FlexibleMatricesOf(scene);
+    WriteStructuralMatrices(out_path, model.full);
+    // The section that loads them back: the same structure, so the same results.
+    fmt::print(out, "# {}: the {} × {} matrices of scene {}'s flexible structure\n"
+                    "[flexible.matrices]\nfile = {}\nrotor_contact_coordinates = [{}, {}]\n"
+                    "stator_contact_coordinates = [{}, {}]\nimbalance_coordinate = {}\n",
+               out_path, model.full.Coordinates(), model.full.Coordinates(), scene.name,
+               schema::Quote(std::filesystem::absolute(out_path).lexically_normal().string()),
+               model.contacts[0].rotor, model.contacts[1].rotor, model.contacts[0].stator,
+               model.contacts[1].stator, model.imbalance_coordinate);
+    return kExitSuccess;
+  });
+}
+
+void RefuseUnaskedCheckpoint(const std::filesystem::path& checkpoint, const std::string& what, bool resume,
+                             bool fresh) {
+  if (resume || fresh || !std::filesystem::exists(checkpoint)) return;
+  throw std::invalid_argument(fmt::format("{} holds the finished speeds of an interrupted {}: --resume continues "
+                                          "from it, --fresh starts again and overwrites it",
+                                          checkpoint.string(), what));
 }
 
 int SceneKeysCommand(std::ostream& out) {

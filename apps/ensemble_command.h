@@ -34,6 +34,8 @@ struct EnsembleRequest {
   std::string until_contacts = "every";  // every or any: the contacts that must be in `until`
   std::optional<std::string> out_file;  // default results/<scene>/ensemble_<rpm>rpm.h5
   bool quiet = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err);

@@ -13,8 +13,10 @@
 #include <fmt/ostream.h>
 #include <toml++/toml.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/ranks.h"
 #include "apps/scene.h"
@@ -335,6 +337,7 @@ BatchRunner RankBatchRunner(const Ranks& ranks, int threads) {
 int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
     TwoPointParamsOf(scene, "rubcont fit");
     FitSpec spec = LoadTargets(request.targets_file);
     spec.options.branches = BranchOptionsOf(scene);
@@ -346,7 +349,7 @@ int FitCommand(const FitRequest& request, std::ostream& out, std::ostream& err) 
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "fit.h5";
-    if (root) std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    if (root) PrepareToWrite(file);
     const bool talk = root && !request.quiet;
     if (talk) {
       fmt::print(err, "rubcont: [fit] {} parameters, {} targets, {} + {} evaluations of a branch set "

@@ -10,8 +10,10 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
 #include "apps/models.h"
@@ -29,14 +31,17 @@ namespace {
 int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
     const Scene scene = LoadScene(request.scene_file);
-    if (scene.flexible.RotorListed() || scene.flexible.StatorListed()) {
-      // Tables 2–3 compare the three cases on one pair of uniform sections; listed shafts are one
-      // machine's (their rigid-versus-flexible L1 points: `rubcont branches` with and without
-      // [flexible]).
+    WarnUnitMistakes(scene, err);
+    if (!scene.flexible.RotorUniform() || !scene.flexible.StatorUniform()) {
+      // Tables 2–3 compare the three cases on one pair of uniform sections; listed shafts and
+      // matrices are one machine's (their rigid-versus-flexible L1 points: `rubcont branches`
+      // with and without [flexible]).
       throw std::invalid_argument(fmt::format(
-          "[flexible] in scene {} lists its shafts: rubcont flexible fits and evaluates uniform "
+          "[flexible] in scene {} {}: rubcont flexible fits and evaluates uniform "
           "sections (flexible.rotor_outer_diameter, …) on the thesis's Tables 2–3; run rubcont "
-          "branches on the scene for its L4 branch set", scene.name));
+          "branches on the scene for its L4 branch set", scene.name,
+          scene.flexible.matrices.enabled ? "gives its structure's matrices ([flexible.matrices])"
+                                          : "lists its shafts"));
     }
     Scene rigid_scene = scene;
     rigid_scene.flexible.enabled = false;
@@ -76,7 +81,7 @@ int FlexibleCommand(const FlexibleRequest& request, std::ostream& out, std::ostr
     const std::filesystem::path file = request.out_file
                                            ? std::filesystem::path(*request.out_file)
                                            : std::filesystem::path("results") / scene.name / "flexible.h5";
-    std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    PrepareToWrite(file);
     ResultWriter writer(file);
     WriteSceneAttributes(writer, scene);
     writer.SetAttribute("/", "level", ToString(Level::kL4));

@@ -1,9 +1,13 @@
 // Result files (HDF5): a small writer with atomic commit, and a reader.
 //
-// ResultWriter writes `<target>.tmp` next to the target; Commit() closes it and renames it onto the
-// target (atomic on one file system). If the writer is destroyed without Commit() — an exception,
-// an early return — the temporary is deleted and the target is left as it was: a crash never
-// leaves a half-written result under the target name.
+// ResultWriter builds the file in memory (HDF5's core driver) and Commit() writes it with
+// WriteFileAtomically (apps/atomic_file.h): a temporary name unique to the process, fsync, rename
+// onto the target. So HDF5 never writes to the disk itself (a full disk used to fail inside
+// H5Fclose, and the half-closed file crashed the process when it was closed again), every I/O error
+// is one line with the file and the system's reason, two writers of one target never share a
+// temporary, and a writer destroyed without Commit() — an exception, an early return — leaves the
+// disk as it was: a crash never leaves a half-written result under the target name.
+// The writer's memory is the file's size (the largest committed result: under 5 MB).
 //
 // Paths are absolute HDF5 paths ("/analytic/mode1/precession_hz"); missing parent groups are
 // created. Datasets: double 1-D / 2-D (row-major on disk, as h5py and MATLAB expect), int 1-D,
@@ -11,7 +15,16 @@
 // be empty), on any group or dataset.
 // Object modification times are not recorded, so equal content gives equal bytes.
 //
-// Errors (HDF5 failures, I/O) throw std::runtime_error naming the file and the object.
+// The file describes itself (apps/dataset_description.h): each numeric dataset gets, when it is
+// written, the `units` attribute of its name ("1" for a dimensionless number or a code), and a
+// coded integer `flag_values` / `flag_meanings` too; groups keep their links in creation order
+// (h5py lists branch1, branch2, …, branch10 as written, not sorted as text); and groups declared
+// with SetDimensionScales get HDF5 dimension scales at Commit, so that xarray (engine
+// "h5netcdf") opens them with, e.g., speed_rpm as the coordinate.
+//
+// Errors (HDF5 failures, I/O) throw std::runtime_error naming the file and the object or the
+// system's reason ("cannot read a.h5: No such file or directory", "cannot read a.h5: unable to lock
+// file, errno = 11, ..." when another process writes it with HDF5 file locking).
 #pragma once
 
 #include <filesystem>
@@ -25,7 +38,9 @@ namespace rubcont {
 
 class ResultWriter {
  public:
-  // Creates (truncates) `<target>.tmp`. The parent directory must exist.
+  // Checks that the target can be written (its directory exists and takes a new file, the target
+  // is not a directory; throws otherwise, so a long run fails before its work) and removes the
+  // temporaries of the target that killed runs left (RemoveStaleTemporaries).
   explicit ResultWriter(std::filesystem::path target);
   ~ResultWriter();
   ResultWriter(const ResultWriter&) = delete;
@@ -44,21 +59,32 @@ class ResultWriter {
   void SetAttribute(const std::string& object, const std::string& name, const char* value) {
     SetAttribute(object, name, std::string(value));
   }
+  // The `units` of a dataset whose unit depends on the run (DatasetDescription::kContext: a map's
+  // η), replacing any. `units` must not be empty.
+  void SetUnits(const std::string& dataset, const std::string& units);
 
-  // Closes the file and renames the temporary onto the target. After it, no more writes.
+  // At Commit, `<group>/<scale>` (a 1-D dataset) becomes a dimension scale and labels axis 0 of
+  // every dataset of `group` (not of its subgroups) whose axis 0 has its length, the datasets
+  // written after this call too. Axis 1 of a 2-D dataset is labelled by the 1-D dataset of the
+  // same group that NameSecondAxis named for it (its name relative to the group), when its length
+  // fits; otherwise neither axis is labelled (netCDF readers refuse a half-labelled variable;
+  // xarray opens such a group with phony_dims="sort").
+  void SetDimensionScales(const std::string& group, const std::string& scale);
+  void NameSecondAxis(const std::string& dataset, const std::string& dimension);
+
+  // Writes the file onto the target (atomically). After it, no more writes. On an I/O error it
+  // throws and the target is as it was.
   void Commit();
 
   const std::filesystem::path& target() const { return target_; }
-  // Whether `<target>.tmp` existed when this writer was made (left by a run that was killed before
-  // it committed): it is truncated and written anew, and the caller says so.
-  bool replaces_leftover() const { return replaces_leftover_; }
-  const std::filesystem::path& temporary() const { return temporary_; }
+  // The temporaries of the target that runs killed while writing left behind, removed when this
+  // writer was made (the caller says so).
+  const std::vector<std::filesystem::path>& removed_leftovers() const { return removed_leftovers_; }
 
  private:
   struct Impl;
   std::filesystem::path target_;
-  std::filesystem::path temporary_;
-  bool replaces_leftover_ = false;
+  std::vector<std::filesystem::path> removed_leftovers_;
   std::unique_ptr<Impl> impl_;
 };
 

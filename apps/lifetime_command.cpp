@@ -2,15 +2,18 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
 #include "apps/lifetime_output.h"
+#include "apps/plan_check.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
@@ -47,6 +50,17 @@ void Check(const LifetimeRequest& r) {
   }
 }
 
+// The options that decide a study's numbers, as text (a checkpoint belongs to a study with the same):
+// all but the threads (the numbers do not depend on them), the output and the check sweeps (run
+// after the last checkpoint).
+std::string RequestText(const LifetimeRequest& r) {
+  return fmt::format("--from {:.17g} --to {:.17g} --step {:.17g} --direction {} --copies {} --duration {:.17g} "
+                     "--window {:.17g} --perturbation {:.17g} --seed {} --until {} --until-above {:.17g} "
+                     "--until-contacts {}",
+                     r.from_rpm, r.to_rpm, r.step_rpm, r.direction, r.copies, r.duration, r.window, r.perturbation,
+                     r.seed, r.until, r.until_above_hz, r.until_contacts);
+}
+
 }  // namespace
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
@@ -54,6 +68,19 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     Check(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
+    WarnUnitMistakes(scene, err);
+    std::vector<PlannedWork> plan = SweepPlanOf(scene);  // the approach's schedule
+    const double speeds = SpeedCount(request.from_rpm, request.to_rpm, request.step_rpm);
+    plan.push_back(CopiesWorkOf(scene, "--copies × --duration",
+                                fmt::format("{} × {:g} s at {:g} speeds", request.copies, request.duration, speeds),
+                                "copy runs", request.copies * speeds, request.duration, request.window));
+    const double check_speeds = SpeedCount(request.from_rpm, request.to_rpm, request.check_step_rpm);
+    plan.push_back(CopiesWorkOf(scene, "--check-copies × --check-dwell",
+                                fmt::format("{} × {:g} s at {:g} speeds", request.check_copies, request.check_dwell,
+                                            check_speeds),
+                                "check-sweep speeds", request.check_copies * check_speeds, request.check_dwell,
+                                request.window));
+    CheckPlan(plan, request.force, err);
     LifetimeStudyOptions options;
     options.target = ParseUntil(structure, request.until, request.until_above_hz, request.until_contacts);
     options.sweep = RubSweepOptionsOf(scene, ParseDirection("direction", request.direction));
@@ -70,18 +97,35 @@ int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostr
     options.check_step_rpm = request.check_step_rpm;
     options.check_dwell = request.check_dwell;
 
-    const LifetimeStudyResult result = RunLifetimeStudy(
-        structure, options, request.quiet ? LifetimeStudyProgress{} : PrintLifetimeProgress(err, SteadyClock::now()));
+    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
+                                                        : std::filesystem::path("results") / scene.name / "lifetime.h5";
+    const std::filesystem::path checkpoint = LifetimeCheckpointPath(file);
+    const std::string request_text = RequestText(request);
+    if (request.resume && request.fresh) throw std::invalid_argument("--resume and --fresh: give one of them");
+    RefuseUnaskedCheckpoint(checkpoint, "lifetime study", request.resume, request.fresh);
+    const std::optional<LifetimeStudyStart> start =
+        request.resume ? ReadLifetimeCheckpoint(checkpoint, scene, request_text) : std::nullopt;
+    PrepareToWrite(file);  // before the work
+    LifetimeStudyProgress progress =
+        request.quiet ? LifetimeStudyProgress{} : PrintLifetimeProgress(err, SteadyClock::now());
+    progress.finished = [&](const SweepApproach& approach, const std::vector<SpeedEscapes>& escapes) {
+      WriteLifetimeCheckpoint(checkpoint, scene, request_text, approach, escapes);
+    };
+    if (start && !request.quiet) {
+      fmt::print(err, "rubcont: [lifetime] resuming from {}: the approach and {} speed(s) done\n",
+                 checkpoint.string(), start->escapes.size());
+    }
+    const LifetimeStudyResult result = RunLifetimeStudy(structure, options, progress, start ? &*start : nullptr);
     PrintLifetimeFailures(err, result);
     if (result.status == LifetimeStatus::kApproachFailed || result.status == LifetimeStatus::kNoEstimate) {
       throw std::runtime_error(result.message);
     }
 
-    const std::filesystem::path file = request.out_file ? std::filesystem::path(*request.out_file)
-                                                        : std::filesystem::path("results") / scene.name / "lifetime.h5";
     WriteLifetimeResult(file, scene, structure, result);
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint, ignored);  // its speeds are in the result now
     PrintLifetimeSummary(out, scene, structure, result, file);
-    DrawFigures("lifetime.py", file, out, err);
+    DrawFigures("lifetime", file, request.figure_format, out, err);
     return result.status == LifetimeStatus::kComplete ? kExitSuccess : kExitFailure;
   });
 }

@@ -43,6 +43,14 @@ struct LifetimeRequest {
   double check_dwell = 5.0;             // [s] per speed of the check sweeps
   std::optional<std::string> out_file;  // default results/<scene>/lifetime.h5
   bool quiet = false;
+  // Continue from `<out stem>.checkpoint.h5` (written after the approach and after every speed);
+  // a checkpoint of another scene or other options is an error (exit 2).
+  bool resume = false;
+  // Start again although a checkpoint exists (it is overwritten). With neither flag an existing
+  // checkpoint is refused (exit 2): the finished speeds of an interrupted study are never lost unasked.
+  bool fresh = false;
+  std::string figure_format = "png";  // the figure's file format: png, pdf or svg (--format)
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
 };
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err);

@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -124,6 +126,106 @@ void WriteLifetimeResult(const std::filesystem::path& file, const Scene& scene, 
     writer.WriteDoubles(k + "/jump_time_s", check.leave_time);
   }
   writer.Commit();
+}
+
+std::filesystem::path LifetimeCheckpointPath(const std::filesystem::path& h5_file) {
+  std::filesystem::path path = h5_file;
+  path.replace_filename(h5_file.stem().string() + ".checkpoint.h5");
+  return path;
+}
+
+void WriteLifetimeCheckpoint(const std::filesystem::path& file, const Scene& scene, const std::string& request,
+                             const SweepApproach& approach, const std::vector<SpeedEscapes>& escapes) {
+  ResultWriter writer(file);
+  WriteSceneAttributes(writer, scene);
+  const std::string g = "/checkpoint";
+  writer.CreateGroup(g);
+  writer.SetAttribute(g, "request", request);
+  const std::string a = g + "/approach";
+  writer.CreateGroup(a);
+  writer.SetAttribute(a, "message", approach.message);
+  writer.WriteDoubles(a + "/state", approach.state);
+  writer.WriteDoubles(a + "/speed_rad_s", approach.speeds);
+  std::vector<std::string> regimes;
+  for (RubRegime r : approach.regimes) regimes.emplace_back(ToString(r));
+  writer.WriteStrings(a + "/regimes", regimes);
+  for (std::size_t i = 0; i < escapes.size(); ++i) {
+    const SpeedEscapes& e = escapes[i];
+    const std::string s = fmt::format("{}/speed{}", g, i);
+    writer.CreateGroup(s);
+    writer.SetAttribute(s, "speed_rpm", e.observations.parameter);
+    writer.SetAttribute(s, "stretch", e.observations.stretch);
+    writer.SetAttribute(s, "duration", e.observations.duration);
+    writer.SetAttribute(s, "stayed", static_cast<double>(e.observations.stayed));
+    writer.SetAttribute(s, "failed", static_cast<double>(e.failed));
+    writer.SetAttribute(s, "untrusted", static_cast<double>(e.untrusted));
+    writer.SetAttribute(s, "first_untrusted_copy", static_cast<double>(e.first_untrusted_copy));
+    writer.SetAttribute(s, "first_untrusted", e.first_untrusted);
+    writer.SetAttribute(s, "wall_seconds", e.wall_seconds);
+    writer.WriteInts(s + "/escape_stretch", e.observations.escape_stretch);
+    writer.WriteDoubles(s + "/arrival_time_s", e.arrival_time);
+    std::vector<int> copies;
+    std::vector<std::string> messages;
+    for (const CopyFailure& f : e.failures) {
+      copies.push_back(f.copy);
+      messages.push_back(f.message);
+    }
+    writer.WriteInts(s + "/failure_copy", copies);
+    writer.WriteStrings(s + "/failure_message", messages);
+  }
+  writer.Commit();
+}
+
+std::optional<LifetimeStudyStart> ReadLifetimeCheckpoint(const std::filesystem::path& file, const Scene& scene,
+                                                         const std::string& request) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return std::nullopt;
+  const ResultReader reader(file);
+  const std::string g = "/checkpoint";
+  if (reader.ReadStringAttribute("/", "scene_toml") != ResolvedSceneToml(scene) ||
+      reader.ReadStringAttribute(g, "request") != request) {
+    throw std::invalid_argument(fmt::format(
+        "checkpoint {} was written for another scene or other options than this lifetime study of {} "
+        "(it holds: {}): --fresh starts again and overwrites it",
+        file.string(), scene.source, reader.ReadStringAttribute(g, "request")));
+  }
+  LifetimeStudyStart start;
+  const std::string a = g + "/approach";
+  start.approach.message = reader.ReadStringAttribute(a, "message");
+  const std::vector<double> state = reader.ReadDoubles(a + "/state");
+  start.approach.state = Eigen::Map<const Vector>(state.data(), static_cast<Index>(state.size()));
+  start.approach.speeds = reader.ReadDoubles(a + "/speed_rad_s");
+  for (const std::string& name : reader.ReadStrings(a + "/regimes")) {
+    const std::optional<RubRegime> regime = RubRegimeNamed(name);
+    if (!regime) throw std::runtime_error(fmt::format("{}: {}/regimes: \"{}\" is no regime", file.string(), a, name));
+    start.approach.regimes.push_back(*regime);
+  }
+  for (std::size_t i = 0;; ++i) {
+    const std::string s = fmt::format("{}/speed{}", g, i);
+    if (!reader.Exists(s)) break;
+    SpeedEscapes e;
+    auto count = [&](const char* name) { return static_cast<int>(reader.ReadDoubleAttribute(s, name)); };
+    e.observations.parameter = reader.ReadDoubleAttribute(s, "speed_rpm");
+    e.observations.stretch = reader.ReadDoubleAttribute(s, "stretch");
+    e.observations.duration = reader.ReadDoubleAttribute(s, "duration");
+    e.observations.stayed = count("stayed");
+    e.failed = count("failed");
+    e.untrusted = count("untrusted");
+    e.first_untrusted_copy = count("first_untrusted_copy");
+    e.first_untrusted = reader.ReadStringAttribute(s, "first_untrusted");
+    e.wall_seconds = reader.ReadDoubleAttribute(s, "wall_seconds");
+    e.observations.escape_stretch = reader.ReadInts(s + "/escape_stretch");
+    e.arrival_time = reader.ReadDoubles(s + "/arrival_time_s");
+    const std::vector<int> copies = reader.ReadInts(s + "/failure_copy");
+    const std::vector<std::string> messages = reader.ReadStrings(s + "/failure_message");
+    if (copies.size() != messages.size()) {
+      throw std::runtime_error(fmt::format("{}: {}: {} failed copies but {} messages", file.string(), s,
+                                           copies.size(), messages.size()));
+    }
+    for (std::size_t c = 0; c < copies.size(); ++c) e.failures.push_back({copies[c], messages[c]});
+    start.escapes.push_back(std::move(e));
+  }
+  return start;
 }
 
 void PrintLifetimeSummary(std::ostream& out, const Scene& scene, const RubStructure& structure,

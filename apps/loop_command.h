@@ -19,7 +19,9 @@ struct LoopRequest {
   std::optional<std::string> out_file;  // none: results/<scene>/loop.h5
   int threads = 0;                      // 0: one per core
   bool quiet = false;
-  bool figures = true;
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
+  bool figures = true;                  // draw the figure after the HDF5 file (--no-figures)
+  std::string figure_format = "png";    // its file format: png, pdf or svg (--format)
 };
 
 int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err);

@@ -17,7 +17,6 @@
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
-#include "solvers/constants.h"
 
 namespace rubcont {
 namespace {
@@ -52,7 +51,7 @@ void WriteRun(ResultWriter& writer, const std::string& group, const RubStructure
     std::vector<double> fraction;
     for (std::size_t i = 0; i < run.points.size(); ++i) {
       regime.push_back(ToString(run.regimes.regime[k][i]));
-      fraction.push_back(run.points[i].channels.size() > k ? run.points[i].channels[k].active_fraction : kNaN);
+      fraction.push_back(ContactTimeShare(run.points[i], k));
     }
     writer.WriteStrings(group + "/regime" + side, regime);
     writer.WriteDoubles(group + "/precession_hz" + side, run.regimes.precession_hz[k]);

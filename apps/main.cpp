@@ -1,5 +1,6 @@
 // The rubcont executable: argument parsing only (CLI11 stays in this translation unit); the
 // commands live in the rubcont_io library (apps/commands.h).
+#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -13,12 +14,29 @@
 #include "apps/ensemble_command.h"
 #include "apps/lifetime_command.h"
 #include "apps/loop_command.h"
+#include "apps/figures.h"
 #include "apps/fit_command.h"
 #include "apps/flexible_command.h"
 #include "apps/map_command.h"
+#include "apps/ross_import.h"
 #include "apps/version.h"
 
+namespace {
+
+// --format of a command with figures.
+void AddFigureFormat(CLI::App* command, std::string& format) {
+  std::vector<std::string> formats(rubcont::kFigureFormats.begin(), rubcont::kFigureFormats.end());
+  command->add_option("--format", format, "file format of the figures: png, pdf or svg")
+      ->check(CLI::IsMember(formats))
+      ->capture_default_str();
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the writer reports with the
+  // file's name, instead of SIGXFSZ ending the process without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"rubcont: continuation and bifurcation toolkit for rotor–stator rub "
                "(dry-friction backward whirl and whip).\n"
                "Exit codes: 0 success, 1 numerical failure or I/O error, 2 bad scene or arguments."};
@@ -34,8 +52,13 @@ int main(int argc, char** argv) {
                                       "(scenes/default.toml)");
   run->add_option("--out", run_request.out_dir, "output directory")->capture_default_str();
   run->add_flag("-q,--quiet", run_request.quiet, "no progress on stderr");
+  AddFigureFormat(run, run_request.figure_format);
   run->add_flag("--resume", run_request.resume,
                 "sweeps continue from the checkpoints of an interrupted run");
+  run->add_flag("--fresh", run_request.fresh,
+                "sweeps start again and overwrite the checkpoints of an interrupted run (without "
+                "--resume or --fresh, a checkpoint is refused: exit 2)");
+  run->add_flag("--force", run_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   run->add_flag("!--no-figures", run_request.figures,
                 "write the HDF5 file and the summary only (scripts/check_results.sh)");
 
@@ -48,6 +71,7 @@ int main(int argc, char** argv) {
                        "HDF5 file to write (figures go next to it); default "
                        "results/<scene name>/analytic.h5");
   analytic->add_flag("-q,--quiet", analytic_request.quiet, "no progress on stderr");
+  AddFigureFormat(analytic, analytic_request.figure_format);
 
   rubcont::SweepRequest sweep_request;
   std::string sweep_out;
@@ -62,9 +86,14 @@ int main(int argc, char** argv) {
                     "HDF5 file to write (figures and checkpoints go next to it); default "
                     "results/<scene name>/sweep.h5");
   sweep->add_flag("-q,--quiet", sweep_request.quiet, "no progress on stderr");
+  AddFigureFormat(sweep, sweep_request.figure_format);
   sweep->add_flag("--resume", sweep_request.resume,
                   "continue from the checkpoints of an interrupted sweep (<out>.<direction>."
                   "checkpoint.h5) instead of starting again");
+  sweep->add_flag("--fresh", sweep_request.fresh,
+                  "start again and overwrite the checkpoints of an interrupted sweep (without "
+                  "--resume or --fresh, a checkpoint is refused: exit 2)");
+  sweep->add_flag("--force", sweep_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
   sweep->add_flag("!--no-figures", sweep_request.figures,
                   "write the HDF5 file and the summary only (scripts/check_results.sh)");
   rubcont::AnalyticRequest branches_request;
@@ -77,6 +106,7 @@ int main(int argc, char** argv) {
                        "HDF5 file to write (figures go next to it); default "
                        "results/<scene name>/branches.h5");
   branches->add_flag("-q,--quiet", branches_request.quiet, "no progress on stderr");
+  AddFigureFormat(branches, branches_request.figure_format);
 
   rubcont::MapRequest map_request;
   std::vector<double> map_range;
@@ -98,7 +128,9 @@ int main(int argc, char** argv) {
   map->add_option("--out", map_request.out_file,
                   "HDF5 file (figure next to it); default results/<scene>/map_<parameter>.h5");
   map->add_flag("-q,--quiet", map_request.quiet, "no progress on stderr");
+  AddFigureFormat(map, map_request.figure_format);
   map->add_flag("!--no-figures", map_request.figures, "write the HDF5 file and the summary only");
+  map->add_flag("--force", map_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FitRequest fit_request;
   CLI::App* fit = app.add_subcommand(
@@ -124,6 +156,15 @@ int main(int argc, char** argv) {
   batch->add_option("--out", batch_request.out_dir,
                     "output directory (default: the file's `out`, else results/batch/<stem>)");
   batch->add_flag("-q,--quiet", batch_request.quiet, "no progress on stderr");
+  batch->add_flag("--list", batch_request.list,
+                  "print the jobs numbered as --job-index counts them, and run none");
+  batch->add_option("--job-index", batch_request.job_index,
+                    "run only job N, numbered from 1 as in the summary (a Slurm array: "
+                    "--array=1-<jobs>); default: $SLURM_ARRAY_TASK_ID when set, else every job");
+  batch->add_option("--stale-after", batch_request.claims.stale_after_s,
+                    "seconds after its last heartbeat at which another run's claim on a job is "
+                    "taken over (a claim of a process gone from this host is taken at once)")
+      ->capture_default_str();
 
   rubcont::EnsembleRequest ensemble_request;
   std::string ensemble_out;
@@ -163,6 +204,8 @@ int main(int argc, char** argv) {
   ensemble->add_option("--out", ensemble_out,
                        "HDF5 file; default results/<scene>/ensemble_<speed>rpm.h5");
   ensemble->add_flag("-q,--quiet", ensemble_request.quiet, "no progress on stderr");
+  AddFigureFormat(ensemble, ensemble_request.figure_format);
+  ensemble->add_flag("--force", ensemble_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LifetimeRequest lifetime_request;
   std::string lifetime_out;
@@ -203,7 +246,14 @@ int main(int argc, char** argv) {
   lifetime->add_option("--check-dwell", lifetime_request.check_dwell, "simulated time per speed of the check sweeps [s]")
       ->capture_default_str();
   lifetime->add_option("--out", lifetime_out, "HDF5 file; default results/<scene>/lifetime.h5");
+  lifetime->add_flag("--resume", lifetime_request.resume,
+                     "continue from <out stem>.checkpoint.h5 (written after the approach and after every speed)");
+  lifetime->add_flag("--fresh", lifetime_request.fresh,
+                     "start again although a checkpoint exists (it is overwritten; with neither --resume nor "
+                     "--fresh, a checkpoint is refused: exit 2)");
   lifetime->add_flag("-q,--quiet", lifetime_request.quiet, "no progress on stderr");
+  AddFigureFormat(lifetime, lifetime_request.figure_format);
+  lifetime->add_flag("--force", lifetime_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::LoopRequest loop_request;
   std::vector<double> loop_schedule;
@@ -222,6 +272,8 @@ int main(int argc, char** argv) {
   loop->add_option("--out", loop_out, "HDF5 file; default results/<scene>/loop.h5");
   loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");
   loop->add_flag("-q,--quiet", loop_request.quiet, "no progress on stderr");
+  AddFigureFormat(loop, loop_request.figure_format);
+  loop->add_flag("--force", loop_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   rubcont::FlexibleRequest flexible_request;
   std::string flexible_out;
@@ -271,6 +323,8 @@ int main(int argc, char** argv) {
                         "relative = absolute tolerance; default: the scene's sweep integrator's");
   attractor->add_option("--out", attractor_out, "HDF5 file; default results/<scene>/attractor.h5");
   attractor->add_flag("-q,--quiet", attractor_request.quiet, "no progress on stderr");
+  AddFigureFormat(attractor, attractor_request.figure_format);
+  attractor->add_flag("--force", attractor_request.force, "run work the plan check refuses (more than 1e6 speeds or copy runs, a week of estimated CPU, 4 GB of memory)");
 
   CLI::App* scene = app.add_subcommand("scene", "scene files");
   scene->require_subcommand(1);
@@ -278,6 +332,28 @@ int main(int argc, char** argv) {
   CLI::App* check = scene->add_subcommand("check", "validate a scene and print its resolved values");
   check->add_option("FILE", check_file, "scene file (TOML)")->required();
   CLI::App* keys = scene->add_subcommand("keys", "print the scene key reference (markdown)");
+  std::string matrices_file, matrices_out;
+  CLI::App* matrices = scene->add_subcommand(
+      "matrices", "write the full M, C, K, G of a flexible scene's structure and print the "
+                  "[flexible.matrices] section that reads them");
+  matrices->add_option("FILE", matrices_file, "scene file (TOML) with [flexible]")->required();
+  matrices->add_option("--out", matrices_out, "FILE.h5 (HDF5) or a directory (MatrixMarket .mtx)")
+      ->required();
+
+  rubcont::ImportRossRequest ross_request;
+  std::vector<int> ross_stations;
+  std::string ross_out;
+  CLI::App* import_ross = scene->add_subcommand(
+      "import-ross", "a ROSS rotor file (ross.Rotor.save's TOML) as the listed rotor of a scene: "
+                     "prints the scene (or writes --out)");
+  import_ross->add_option("ROSS", ross_request.ross_file, "ROSS rotor file (TOML)")->required();
+  import_ross->add_option("--base", ross_request.base_scene,
+                          "two_point scene whose stator, contacts and analysis are kept (its rotor "
+                          "is replaced)")->required();
+  import_ross->add_option("--contact-stations", ross_stations,
+                          "L R: the ROSS nodes of the left and right contacts")
+      ->expected(2)->required();
+  import_ross->add_option("--out", ross_out, "scene file to write (TOML); default: print it");
 
   try {
     app.parse(argc, argv);
@@ -343,5 +419,11 @@ int main(int argc, char** argv) {
   }
   if (*check) return rubcont::SceneCheckCommand(check_file, std::cout, std::cerr);
   if (*keys) return rubcont::SceneKeysCommand(std::cout);
+  if (*import_ross) {
+    ross_request.contact_stations = {ross_stations[0], ross_stations[1]};
+    if (!ross_out.empty()) ross_request.out_file = ross_out;
+    return rubcont::ImportRossCommand(ross_request, std::cout, std::cerr);
+  }
+  if (*matrices) return rubcont::SceneMatricesCommand(matrices_file, matrices_out, std::cout, std::cerr);
   return rubcont::kExitBadInput;
 }

@@ -12,9 +12,12 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "apps/commands.h"
+#include "apps/dataset_description.h"
 #include "apps/figures.h"
 #include "apps/guarded.h"
+#include "apps/plan_check.h"
 #include "apps/hdf5_file.h"
 #include "apps/map_output.h"
 #include "apps/ranks.h"
@@ -150,8 +153,16 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
   writer.SetAttribute(group, "region_codes",
                       "0: no stable circular rub state, 1: one, 2: two or more coexisting "
                       "(hysteresis); the no-rub state is not counted");
-  writer.WriteDoubles(group + "/eta", map.eta);
+  // η's unit is the mapped parameter's (DatasetDescription::kContext).
+  const std::string eta_units = DesignParameterUnits(map.parameter);
+  auto write_eta = [&](const std::string& path, const auto& values) {
+    writer.WriteDoubles(path, values);
+    writer.SetUnits(path, eta_units);
+  };
+  write_eta(group + "/eta", map.eta);
   writer.WriteDoubles(group + "/speed_rpm", Vector(map.speed * kRpmPerRadPerSecond));
+  // xarray: the counts and regions are a field over (eta, speed_rpm).
+  writer.SetDimensionScales(group, "eta");
   Matrix count = map.stable_count.cast<double>();
   Matrix region = count;
   for (Index i = 0; i < region.rows(); ++i) {
@@ -161,6 +172,8 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
   }
   writer.WriteMatrix(group + "/stable_count", count);
   writer.WriteMatrix(group + "/region", region);
+  writer.NameSecondAxis(group + "/stable_count", "speed_rpm");
+  writer.NameSecondAxis(group + "/region", "speed_rpm");
   for (std::size_t p = 0; p < map.patterns.size(); ++p) {
     writer.WriteMatrix(group + "/by_pattern/" + map.patterns[p] + "/stable_count",
                        map.pattern_counts[p].cast<double>());
@@ -182,7 +195,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     before.push_back(p.stable_before);
     after.push_back(p.stable_after);
   }
-  writer.WriteDoubles(points + "/eta", eta);
+  write_eta(points + "/eta", eta);
   writer.WriteDoubles(points + "/speed_rpm", speed);
   writer.WriteDoubles(points + "/precession_hz", precession);
   writer.WriteStrings(points + "/type", type);
@@ -209,7 +222,7 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
     writer.SetAttribute(g, "fold_sense", static_cast<double>(c.fold_sense));
     writer.SetAttribute(g, "partner_margins", fmt::format("{}", fmt::join(c.partner_margins, "; ")));
     const bool has_points = !c.curve.points.empty();
-    writer.WriteDoubles(g + "/eta", has_points ? c.curve.Lambda() : Vector());
+    write_eta(g + "/eta", has_points ? c.curve.Lambda() : Vector());
     writer.WriteDoubles(g + "/speed_rpm",
                         has_points ? Vector(c.curve.Measure("lambda") * kRpmPerRadPerSecond) : Vector());
     writer.WriteDoubles(g + "/precession_hz",
@@ -248,15 +261,15 @@ void WriteHysteresisMap(ResultWriter& writer, const HysteresisMap& map, Friction
       x_status.push_back(ToString(e.ipopt.status));
     }
     writer.CreateGroup(g + "/extrema");
-    writer.WriteDoubles(g + "/extrema/eta", x_eta);
+    write_eta(g + "/extrema/eta", x_eta);
     writer.WriteDoubles(g + "/extrema/speed_rpm", x_speed);
-    writer.WriteDoubles(g + "/extrema/ipopt_eta", x_ipopt_eta);
+    write_eta(g + "/extrema/ipopt_eta", x_ipopt_eta);
     writer.WriteDoubles(g + "/extrema/ipopt_speed_rpm", x_ipopt_speed);
     writer.WriteStrings(g + "/extrema/ipopt_status", x_status);
     writer.CreateGroup(g + "/special_points");
     writer.WriteStrings(g + "/special_points/type", sp_type);
     writer.WriteStrings(g + "/special_points/label", sp_label);
-    writer.WriteDoubles(g + "/special_points/eta", sp_eta);
+    write_eta(g + "/special_points/eta", sp_eta);
     writer.WriteDoubles(g + "/special_points/speed_rpm", sp_speed);
   }
   writer.WriteStrings(group + "/failures", map.failures);
@@ -299,6 +312,10 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     options.eta_points = request.eta_points;
     options.speed_points = request.speed_points;
+    if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun
+    CheckPlan({MapWork("--eta-points × --speed-points", fmt::format("{} × {}", request.eta_points, request.speed_points),
+                        request.eta_points, request.speed_points)},
+              request.force, err);
     options.branches = BranchOptionsOf(scene);
 
     const std::filesystem::path file =
@@ -306,7 +323,7 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
                          : std::filesystem::path("results") / scene.name /
                                (std::string("map_") + ToString(parameter) + ".h5");
     const std::filesystem::path out_dir = file.parent_path().empty() ? "." : file.parent_path();
-    std::filesystem::create_directories(out_dir);
+    PrepareToWrite(file);
 
     const SteadyClock::time_point start = SteadyClock::now();
     const Ranks& ranks = Ranks::World();
@@ -360,9 +377,9 @@ int MapCommand(const MapRequest& request, std::ostream& out, std::ostream& err) 
     }
     fmt::print(out, "wrote {}\n", file.string());
     if (request.figures) {
-      const FigureOutcome figures = MakeFigures("map.py", file, out_dir);
+      const FigureOutcome figures = MakeFigures("map", file, out_dir, request.figure_format);
       if (figures.made) {
-        fmt::print(out, "wrote figures (map.py) in {}\n", out_dir.string());
+        fmt::print(out, "wrote figures (map) in {}\n", out_dir.string());
       } else {
         fmt::print(err, "rubcont: warning: {}\n", figures.warning);
       }

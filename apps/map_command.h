@@ -1,6 +1,6 @@
 // `rubcont map SCENE --parameter NAME`: the hysteresis map of a two-point scene in (running speed,
 // design parameter) (studies/hysteresis_map.h), written atomically to HDF5 under
-// /maps/<parameter>/ with a figure (plots/map.py).
+// /maps/<parameter>/ with a figure (rubcont.plots.map).
 //
 // Kept free of Eigen so that main.cpp stays light; the writer is in apps/map_output.h.
 //
@@ -38,7 +38,9 @@ struct MapRequest {
   int speed_points = 481;
   std::optional<std::string> out_file;  // default results/<scene name>/map_<parameter>.h5
   bool quiet = false;
+  bool force = false;  // run a plan the plan check refuses (apps/plan_check.h), with a warning
   bool figures = true;  // draw the figure after the HDF5 file
+  std::string figure_format = "png";  // its file format: png, pdf or svg (--format)
   // Under mpirun, share the grid out over the ranks (every rank must call MapCommand); false: this
   // rank computes the whole map alone (a job of `rubcont batch`).
   bool over_ranks = true;

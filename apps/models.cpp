@@ -41,7 +41,7 @@ ModelEntry Textbook(ModelKind kind, std::string name, std::string parameter, Sta
   m.stages = m.default_stages = {Stage::kOrbits};
   m.sections = {m.name};  // [<name>] and [<name>.orbits]
   m.orbits = std::move(orbits);
-  m.orbits_figure = "orbits.py";
+  m.orbits_figure = "orbits";
   m.parameter = std::move(parameter);
   return m;
 }
@@ -58,13 +58,18 @@ std::vector<ModelEntry> MakeModels() {
   two_point.sections = {"rotor", "stator", "contact", "imbalance", "center_damper", "flexible",
                         "analysis.sweep", "analysis.orbits", "analysis.tori", "analysis.loop"};
   two_point.structure = [](const Scene& s) {
-    return s.flexible.enabled ? BuildFlexibleRub(FlexibleModelOf(s)).structure
-                              : TwoPointStructure(s.two_point);
+    return s.flexible.enabled ? FlexibleRubOf(s).structure : TwoPointStructure(s.two_point);
   };
   two_point.wave_friction = [](const Scene& s) { return s.two_point.friction_law.kind; };
   two_point.analytic = RunTwoPointAnalytic;
+  two_point.analytic_skipped = [](const Scene& s) {
+    return s.flexible.enabled && !s.flexible.rotor_supports.empty()
+               ? std::string("the rigid model's rotor has no bearings; this scene's has "
+                             "[[flexible.rotor_supports]]")
+               : std::string();
+  };
   two_point.orbits = RunRubOrbits;
-  two_point.orbits_figure = "rub_orbits.py";
+  two_point.orbits_figure = "rub_orbits";
   two_point.derived = TwoPointDerived;
   models.push_back(two_point);
 
@@ -128,10 +133,40 @@ FlexibleRubModel FlexibleModelOf(const Scene& scene) {
           ? ListedBody("stator", f.stator_shaft, f.stator_disks, f.stator_contact_stations)
           : UniformStator(p, section(f.stator_outer_diameter, f.stator_inner_diameter), f.elements);
   FlexibleRubModel model = FlexibleTwoPoint(p, rotor, stator, f.modes);
+  for (const SupportRow& r : f.rotor_supports) {
+    model.beams.springs.push_back({0, r.station, -1, 0, r.stiffness, r.damping});
+  }
   model.modal_damping = f.modal_damping;
   model.gyroscopic = f.gyroscopic;
   return model;
 }
+
+MatrixRubModel MatrixModelOf(const Scene& scene) {
+  const FlexibleSettings& f = scene.flexible;
+  const MatrixSettings& m = f.matrices;
+  const TwoPointParams& p = scene.two_point;
+  MatrixRubModel model;
+  model.full = m.full;
+  for (std::size_t side = 0; side < 2; ++side) {
+    model.contacts.push_back({side == 0 ? "left" : "right", m.rotor_contact_coordinates[side],
+                              m.stator_contact_coordinates[side],
+                              {p.clearance[side], p.radius[side]}});
+  }
+  model.modes = f.modes;
+  model.modal_damping = f.modal_damping;
+  model.gyroscopic = f.gyroscopic;
+  model.law = ContactLawOf(p);
+  model.imbalance = p.imbalance;
+  model.imbalance_coordinate = m.imbalance_coordinate;
+  return model;
+}
+
+MatrixRubModel FlexibleMatricesOf(const Scene& scene) {
+  return scene.flexible.matrices.enabled ? MatrixModelOf(scene)
+                                         : AssembledMatrices(FlexibleModelOf(scene));
+}
+
+FlexibleRub FlexibleRubOf(const Scene& scene) { return BuildMatrixRub(FlexibleMatricesOf(scene)); }
 
 bool ModelEntry::Has(Stage stage) const {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();

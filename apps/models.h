@@ -45,8 +45,11 @@ struct ModelEntry {
   std::function<RubStructure(const Scene&)> structure;
   std::function<FrictionLawKind(const Scene&)> wave_friction;
   StageRunner analytic;                // stage "analytic" (L0), when it has it
+  // Why the closed form of stage "analytic" does not describe this scene ("" when it does): the
+  // stage is then not run, and says why.
+  std::function<std::string(const Scene&)> analytic_skipped;
   StageRunner orbits;                  // stage "orbits" (L2), when it has it
-  std::string orbits_figure;           // the plot script (plots/) of its orbits stage
+  std::string orbits_figure;           // the module of rubcont.plots drawing its orbits stage
   // A textbook model: its continuation parameter, of the keys <model>.<parameter>_range and
   // <model>.orbits.start.
   std::string parameter;
@@ -66,9 +69,14 @@ const ModelEntry& ModelOf(const Scene& scene);
 // The names of the models that have `stage`, quoted and comma-separated (for messages).
 std::string ModelsWith(Stage stage);
 
-// Model two_point's [flexible] section as the library's flexible model (models/flexible.h); the
-// scene loader has checked that it builds.
+// Model two_point's [flexible] section as the library's flexible model (models/flexible.h): of
+// uniform or listed shafts (FlexibleModelOf), or of [flexible.matrices] (MatrixModelOf); either as
+// full matrices with their contact coordinates (FlexibleMatricesOf: what `rubcont scene matrices`
+// writes), built and reduced (FlexibleRubOf). The scene loader has checked that it builds.
 FlexibleRubModel FlexibleModelOf(const Scene& scene);
+MatrixRubModel MatrixModelOf(const Scene& scene);
+MatrixRubModel FlexibleMatricesOf(const Scene& scene);
+FlexibleRub FlexibleRubOf(const Scene& scene);
 // A listed body's shaft: the rows' segments cut into their elements, the disks on their stations,
 // the contacts at `contact_stations` (a right one < 0: the last station).
 BodyShaft ListedBody(const std::string& name, const std::vector<ShaftRow>& rows,

@@ -11,7 +11,6 @@
 #endif
 
 namespace rubcont {
-namespace {
 
 bool LaunchedByMpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
@@ -19,8 +18,6 @@ bool LaunchedByMpi() {
   }
   return false;
 }
-
-}  // namespace
 
 void Unpacker::Take(char* to, size_t n) {
   if (n > buffer_.size() - at_) {
@@ -39,22 +36,29 @@ Ranks& Ranks::World() {
 // MPI_Init, MPI_Comm_rank, MPI_Finalize and MPI_Wtime, and it comes first in the link: every rank
 // was rank 0 of 2 (measured). Those four are called by their profiling names (PMPI_), which only
 // Open MPI defines.
+// MPI may be running already: a Python script that imported mpi4py first (issue 50 item 8)
+// initialised it, and a second MPI_Init_thread is an error that aborts every rank. Then rubcont
+// uses it and leaves finalising to its owner.
 Ranks::Ranks() {
 #ifdef RUBCONT_MPI
   if (!LaunchedByMpi()) return;
-  int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  int initialized = 0;
+  PMPI_Initialized(&initialized);
+  if (initialized == 0) {
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    owns_mpi_ = true;
+  }
   PMPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   mpi_ = true;
-#else
-  (void)LaunchedByMpi;
 #endif
 }
 
 Ranks::~Ranks() {
 #ifdef RUBCONT_MPI
-  if (mpi_) PMPI_Finalize();
+  int finalized = 0;
+  if (owns_mpi_ && PMPI_Finalized(&finalized) == MPI_SUCCESS && finalized == 0) PMPI_Finalize();
 #endif
 }
 

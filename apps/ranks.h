@@ -81,7 +81,11 @@ class Ranks {
   int rank_ = 0;
   int size_ = 1;
   bool mpi_ = false;
+  bool owns_mpi_ = false;  // MPI was initialised here (not before, by mpi4py): finalise it here
 };
+
+// The process was started by mpirun / srun (their environment variables are set).
+bool LaunchedByMpi();
 
 // Jobs over the ranks and, within each, `threads` threads: rank r runs the jobs r, r + N, r + 2N, …
 // and every rank receives every result, in order (AllGather). With one rank it is ThreadJobs.

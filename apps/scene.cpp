@@ -17,6 +17,7 @@
 
 #include "apps/models.h"
 #include "apps/scene_schema.h"
+#include "apps/structure_file.h"
 #include "sweeps/escape_design.h"
 
 namespace rubcont {
@@ -119,6 +120,12 @@ std::optional<std::string> CheckRule(const KeySpec& spec, const Value& value) {
         return fmt::format("must be stations 0 ≤ left < right ≤ {}", kMaxStation);
       return std::nullopt;
     }
+    case Rule::kCoordinatePair: {
+      const auto& pair = std::get<std::array<std::int64_t, 2>>(value);
+      for (std::int64_t n : pair)
+        if (n < 0 || n > kMaxStation) return fmt::format("each must be from 0 to {}", kMaxStation);
+      return std::nullopt;
+    }
   }
   return std::nullopt;
 }
@@ -197,6 +204,9 @@ class Loader {
     // The rows first, so that a key can depend on which shafts are listed; stored again once the
     // [flexible] material their defaults come from is read.
     ReadTableArrays(scene);
+    // Which form [flexible] takes decides which of its keys apply (KeySpec::relevant).
+    scene.flexible.matrices.enabled = ModelOf(scene).HasSection("flexible") &&
+                                      present_sections_.count("flexible.matrices") > 0;
 
     for (const KeySpec& spec : Schema()) {
       if (!OfModel(spec, scene)) {
@@ -399,8 +409,9 @@ class Loader {
     const bool rotor = body == "rotor";
     const std::vector<ShaftRow>& rows = rotor ? f.rotor_shaft : f.stator_shaft;
     const std::vector<Disk>& disk_rows = rotor ? f.rotor_disks : f.stator_disks;
-    std::vector<std::string> station_arrays = {disks};
-    if (!rotor) station_arrays.push_back("flexible.stator_supports");
+    const std::string supports = "flexible." + body + "_supports";
+    const std::vector<SupportRow>& support_rows = rotor ? f.rotor_supports : f.stator_supports;
+    const std::vector<std::string> station_arrays = {disks, supports};
     if (rows.empty()) {
       for (const std::string& path : station_arrays) {
         if (arrays_.count(path) == 0) continue;
@@ -441,6 +452,11 @@ class Loader {
       if (disk_rows[i].node > last)
         RowProblem(disks, i, "station", fmt::format("must name a station of the listed {} shaft "
                                                     "(0 to {})", body, last));
+    }
+    for (std::size_t i = 0; i < support_rows.size(); ++i) {
+      if (support_rows[i].station > last)
+        RowProblem(supports, i, "station", fmt::format("must name a station of the listed {} "
+                                                       "shaft (0 to {})", body, last));
     }
     if (rotor) return;
     for (std::size_t i = 0; i < f.stator_supports.size(); ++i) {
@@ -517,10 +533,66 @@ class Loader {
     supply_pair("stator.damping", p.support_damping, damping, "N·s/m");
   }
 
+  // [flexible.matrices]: no listed rows beside it; the file read (relative to the scene's
+  // directory) and its matrices checked; the imbalance's coordinate resolved.
+  void CheckMatrices(Scene& scene) {
+    MatrixSettings& m = scene.flexible.matrices;
+    for (const auto& [path, rows] : arrays_) {
+      if (path.rfind("flexible.", 0) == 0)
+        Problem(*rows, fmt::format("[[{}]]: not with [flexible.matrices], which gives the whole "
+                                   "structure", path));
+    }
+    if (!problems_.empty()) return;
+    try {
+      const std::filesystem::path given(m.file);
+      std::filesystem::path file = given;
+      std::error_code no_file;
+      if (given.is_relative() && std::filesystem::is_regular_file(source_, no_file))
+        file = std::filesystem::path(source_).parent_path() / given;
+      m.file = std::filesystem::absolute(file).lexically_normal().string();
+      m.full = ReadStructuralMatrices(m.file);
+    } catch (const std::exception& e) {  // the reader's rules, and the file system's reasons
+      KeyProblem(scene, "flexible.matrices.file", e.what());
+      return;
+    }
+    if (m.imbalance_coordinate < 0) m.imbalance_coordinate = m.rotor_contact_coordinates[0];
+    const int n = static_cast<int>(m.full.Coordinates());
+    auto check_range = [&](const std::string& key, std::vector<int> given) {
+      for (int i : given)
+        if (i >= n) {
+          KeyProblem(scene, key, fmt::format("must index the matrices' {} coordinates (0 to {})",
+                                             n, n - 1));
+          return;
+        }
+    };
+    check_range("flexible.matrices.rotor_contact_coordinates",
+                {m.rotor_contact_coordinates[0], m.rotor_contact_coordinates[1]});
+    check_range("flexible.matrices.stator_contact_coordinates",
+                {m.stator_contact_coordinates[0], m.stator_contact_coordinates[1]});
+    check_range("flexible.matrices.imbalance_coordinate", {m.imbalance_coordinate});
+    const std::array<int, 4> contacts = {m.rotor_contact_coordinates[0], m.rotor_contact_coordinates[1],
+                                         m.stator_contact_coordinates[0], m.stator_contact_coordinates[1]};
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (contacts[i] == contacts[j]) {
+          KeyProblem(scene, i < 2 ? "flexible.matrices.rotor_contact_coordinates"
+                                  : "flexible.matrices.stator_contact_coordinates",
+                     fmt::format("coordinate {} is given twice among the four contact coordinates: "
+                                 "each contact joins its own rotor and stator coordinates",
+                                 contacts[i]));
+          return;
+        }
+  }
+
   // [flexible]: the rules that tie keys together, then whether the bodies can be built (a shaft
   // lighter than its body, a disk of positive inertia, modes the interior has).
   void CheckFlexible(Scene& scene) {
     const FlexibleSettings& f = scene.flexible;
+    if (f.matrices.enabled) {
+      CheckMatrices(scene);
+      if (problems_.empty()) CheckBuild(scene);
+      return;
+    }
     if (!f.RotorListed() && !(f.rotor_inner_diameter < f.rotor_outer_diameter))
       FlexibleProblem(scene, "rotor_inner_diameter",
                       fmt::format("must be below flexible.rotor_outer_diameter = {} m",
@@ -536,10 +608,26 @@ class Loader {
     CheckListedBody(scene, "rotor");
     CheckListedBody(scene, "stator");
     if (!problems_.empty()) return;
+    const ModelEntry& model = ModelOf(scene);
+    if (model.analytic_skipped && RunsStage(scene, Stage::kAnalytic) &&
+        !model.analytic_skipped(scene).empty()) {
+      std::vector<Stage>& stages = scene.analysis.stages;
+      if (nodes_.count("analysis.stages") == 0) {  // the defaults: the ones that apply
+        stages.erase(std::find(stages.begin(), stages.end(), Stage::kAnalytic));
+      } else {
+        KeyProblem(scene, "analysis.stages",
+                   "\"analytic\" (L0) does not apply: " + model.analytic_skipped(scene));
+      }
+    }
     SupplyRigidData(scene);
     if (!problems_.empty()) return;
+    CheckBuild(scene);
+  }
+
+  // Whether the flexible structure builds, each failure at the key it names.
+  void CheckBuild(const Scene& scene) {
     try {
-      BuildFlexibleRub(FlexibleModelOf(scene));
+      FlexibleRubOf(scene);
     } catch (const ModelInputError& e) {
       const std::string what = e.what();
       if (e.input() == "modes") {
@@ -550,7 +638,12 @@ class Loader {
         problems_.push_back(fmt::format("{}: [flexible]: {}", source_, what));
       }
     } catch (const std::invalid_argument& e) {
-      problems_.push_back(fmt::format("{}: [flexible]: {}", source_, e.what()));
+      if (scene.flexible.matrices.enabled) {
+        KeyProblem(scene, "flexible.matrices.file",
+                   fmt::format("cannot be reduced at the contact coordinates: {}", e.what()));
+      } else {
+        problems_.push_back(fmt::format("{}: [flexible]: {}", source_, e.what()));
+      }
     }
   }
 

@@ -210,7 +210,19 @@ struct ShaftRow {       // one [[flexible.<body>_shaft]] row
   ShaftElement section;  // its length is the row's; material resolved from [flexible]'s defaults
   int elements = 1;      // equal elements it is cut into
 };
-struct SupportRow {  // one [[flexible.stator_supports]] row: a spring and dashpot to ground
+// [flexible.matrices]: the whole flexible structure (rotor, stator, their supports and dampers) as
+// an FE model's matrices, read from a file (apps/structure_file.h) and reduced by the same
+// Craig–Bampton (models/flexible.h BuildMatrixRub). The contacts join the coordinates named here;
+// [rotor], [stator] and [center_damper] describe only the rigid model (stage "analytic", L0).
+struct MatrixSettings {
+  bool enabled = false;  // the section is present
+  std::string file;      // as resolved: absolute (the scene gives it relative to its own directory)
+  std::array<int, 2> rotor_contact_coordinates{0, 0};   // [left, right], 0-based
+  std::array<int, 2> stator_contact_coordinates{0, 0};  // [left, right]
+  int imbalance_coordinate = -1;  // -1: the left rotor contact's
+  StructuralMatrices full;        // read by the loader from `file`
+};
+struct SupportRow {  // one [[flexible.<body>_supports]] row: a spring and dashpot to ground
   int station = 0;
   double stiffness = 0.0;  // [N/m]
   double damping = 0.0;    // [N·s/m]
@@ -232,11 +244,18 @@ struct FlexibleSettings {
   std::vector<ShaftRow> rotor_shaft, stator_shaft;
   std::vector<Disk> rotor_disks, stator_disks;  // Disk::node is the station
   std::vector<SupportRow> stator_supports;      // empty: [stator]'s supports at its contacts
+  // The listed rotor's bearings to ground (a rotor from ROSS; the rigid model has none, so a scene
+  // with them has no stage "analytic").
+  std::vector<SupportRow> rotor_supports;
+  MatrixSettings matrices;
   std::array<int, 2> rotor_contact_stations{0, -1};   // -1: the last station
   std::array<int, 2> stator_contact_stations{0, -1};
 
   bool RotorListed() const { return !rotor_shaft.empty(); }
   bool StatorListed() const { return !stator_shaft.empty(); }
+  // Whether a body is uniform (neither listed nor in the matrices).
+  bool RotorUniform() const { return !RotorListed() && !matrices.enabled; }
+  bool StatorUniform() const { return !StatorListed() && !matrices.enabled; }
 };
 
 struct Scene {

@@ -130,6 +130,7 @@ std::string RuleText(const KeySpec& spec) {
     case Rule::kOpenUnit: return "0 < x < 1";
     case Rule::kStation: return fmt::format("0 … {}", kMaxStation);
     case Rule::kStationPair: return fmt::format("0 ≤ left < right ≤ {}", kMaxStation);
+    case Rule::kCoordinatePair: return fmt::format("each 0 … {}", kMaxStation);
   }
   return "";
 }

@@ -208,10 +208,21 @@ void FlexibleNumber(std::vector<KeySpec>& s, const std::string& key, std::string
   if (presence == Presence::kRequiredInSection) s.back().default_text = "the rigid model";
   if (uniform.empty()) return;
   s.back().relevant = [uniform](const Scene& x) {
-    return uniform == "rotor" ? !x.flexible.RotorListed() : !x.flexible.StatorListed();
+    return uniform == "rotor" ? x.flexible.RotorUniform() : x.flexible.StatorUniform();
   };
-  s.back().irrelevant_reason =
-      "[[flexible." + uniform + "_shaft]] lists the " + uniform + "'s shaft";
+  s.back().irrelevant_reason = "[[flexible." + uniform + "_shaft]] lists the " + uniform +
+                               "'s shaft, or [flexible.matrices] gives the whole structure";
+}
+
+// A key of the shafts (material, elements, stations): not one of a structure from matrices.
+void NotWithMatrices(KeySpec& spec, std::function<bool(const Scene&)> relevant,
+                     const std::string& reason) {
+  spec.relevant = [relevant](const Scene& x) {
+    return !x.flexible.matrices.enabled && (!relevant || relevant(x));
+  };
+  spec.irrelevant_reason = reason.empty() ? "[flexible.matrices] gives the whole structure"
+                                          : reason + ", or [flexible.matrices] gives the whole "
+                                                     "structure";
 }
 
 // [flexible] (level L4, optional; an absent section means the rigid model): the uniform shafts'
@@ -247,45 +258,56 @@ void FlexibleShaftKeys(std::vector<KeySpec>& s) {
   FlexibleNumber(s, "density", "kg/m³", Rule::kNonNegative,
                  "ρ of both shafts (of the listed segments that give none).",
                  [](Scene& x) -> double& { return x.flexible.density; }, in_section);
+  for (std::size_t i = s.size() - 3; i < s.size(); ++i) NotWithMatrices(s[i], nullptr, "");
   s.push_back(Make<int, std::int64_t>(
       "flexible.elements", ValueType::kInteger, "-", Rule::kCount, Presence::kOptional,
       "Timoshenko elements per uniform shaft (nodes are added at the mid-span, the mass "
       "centre and the disk).",
       [](Scene& x) -> int& { return x.flexible.elements; }));
-  s.back().relevant = [](const Scene& x) {
-    return !x.flexible.RotorListed() || !x.flexible.StatorListed();
+  NotWithMatrices(
+      s.back(),
+      [](const Scene& x) { return !x.flexible.RotorListed() || !x.flexible.StatorListed(); },
+      "both shafts are listed ([[flexible.rotor_shaft]], [[flexible.stator_shaft]])");
+}
+
+// A pair of integers bound to a std::array<int, 2> of the Scene (stations, coordinates).
+KeySpec IntegerPair(std::string key, Rule rule, Presence presence, std::string doc,
+                    std::function<std::array<int, 2>&(Scene&)> field) {
+  KeySpec spec;
+  spec.key = std::move(key);
+  spec.type = ValueType::kIntegerPair;
+  spec.unit = "-";
+  spec.rule = rule;
+  spec.presence = presence;
+  spec.doc = std::move(doc);
+  spec.set = [field](Scene& x, const Value& v) {
+    const auto& pair = std::get<std::array<std::int64_t, 2>>(v);
+    field(x) = {static_cast<int>(pair[0]), static_cast<int>(pair[1])};
   };
-  s.back().irrelevant_reason = "both shafts are listed ([[flexible.rotor_shaft]], "
-                               "[[flexible.stator_shaft]])";
+  spec.get = [field](const Scene& x) {
+    const std::array<int, 2>& pair = field(const_cast<Scene&>(x));
+    return Value(std::array<std::int64_t, 2>{pair[0], pair[1]});
+  };
+  return spec;
 }
 
 // [flexible]: the contact stations of the listed shafts.
 void FlexibleStationKeys(std::vector<KeySpec>& s) {
   for (const std::string body : {"rotor", "stator"}) {
-    KeySpec stations;
-    stations.key = "flexible." + body + "_contact_stations";
-    stations.type = ValueType::kIntegerPair;
-    stations.unit = "-";
-    stations.rule = Rule::kStationPair;
-    stations.presence = Presence::kOptional;
+    KeySpec stations = IntegerPair(
+        "flexible." + body + "_contact_stations", Rule::kStationPair, Presence::kOptional,
+        "The stations of the listed " + body + " shaft at the left and right contacts.",
+        [body](Scene& x) -> std::array<int, 2>& {
+          return body == "rotor" ? x.flexible.rotor_contact_stations
+                                 : x.flexible.stator_contact_stations;
+        });
     stations.default_text = "the first and last stations";
-    stations.doc = "The stations of the listed " + body + " shaft at the left and right contacts.";
-    const auto field = [body](Scene& x) -> std::array<int, 2>& {
-      return body == "rotor" ? x.flexible.rotor_contact_stations : x.flexible.stator_contact_stations;
-    };
-    stations.set = [field](Scene& x, const Value& v) {
-      const auto& pair = std::get<std::array<std::int64_t, 2>>(v);
-      field(x) = {static_cast<int>(pair[0]), static_cast<int>(pair[1])};
-    };
-    stations.get = [field](const Scene& x) {
-      const std::array<int, 2>& pair = field(const_cast<Scene&>(x));
-      return Value(std::array<std::int64_t, 2>{pair[0], pair[1]});
-    };
     stations.relevant = [body](const Scene& x) {
       return body == "rotor" ? x.flexible.RotorListed() : x.flexible.StatorListed();
     };
     stations.irrelevant_reason = "stations number a listed shaft: add [[flexible." + body +
-                                 "_shaft]] rows";
+                                 "_shaft]] rows (with [flexible.matrices]: "
+                                 "flexible.matrices." + body + "_contact_coordinates)";
     s.push_back(stations);
   }
 }
@@ -305,6 +327,40 @@ void FlexibleReductionKeys(std::vector<KeySpec>& s) {
       "model.",
       {"on", "off"}, [](Scene& x, const std::string& v) { x.flexible.gyroscopic = v == "on"; },
       [](const Scene& x) { return std::string(x.flexible.gyroscopic ? "on" : "off"); }));
+}
+
+// [flexible.matrices]: the whole flexible structure as an FE model's matrices in a file.
+void FlexibleMatrixKeys(std::vector<KeySpec>& s) {
+  s.push_back(Make<std::string>(
+      "flexible.matrices.file", ValueType::kString, "", Rule::kText, Presence::kRequiredInSection,
+      "The structure's matrices: an HDF5 file (`.h5`) with datasets `mass`, `damping`, "
+      "`stiffness`, `gyroscopic` (n × n), or a directory with MatrixMarket files `mass.mtx`, "
+      "`damping.mtx`, `stiffness.mtx`, `gyroscopic.mtx`; relative to the scene's directory "
+      "(the resolved scene gives it absolute). One plane's real symmetric matrices of M ü + "
+      "(C − jωG) u̇ + K u = f on complex coordinates (docs/levels/l4_flexible.md); "
+      "`rubcont scene matrices` writes a scene's.",
+      [](Scene& x) -> std::string& { return x.flexible.matrices.file; }));
+  for (const std::string body : {"rotor", "stator"}) {
+    s.push_back(IntegerPair(
+        "flexible.matrices." + body + "_contact_coordinates", Rule::kCoordinatePair,
+        Presence::kRequiredInSection,
+        "The " + body + "'s displacement coordinates (rows of the matrices, from 0) at the left "
+        "and right contacts.",
+        [body](Scene& x) -> std::array<int, 2>& {
+          return body == "rotor" ? x.flexible.matrices.rotor_contact_coordinates
+                                 : x.flexible.matrices.stator_contact_coordinates;
+        }));
+  }
+  s.push_back(Make<int, std::int64_t>(
+      "flexible.matrices.imbalance_coordinate", ValueType::kInteger, "-", Rule::kStation,
+      Presence::kOptional, "The displacement coordinate [imbalance]'s force acts on.",
+      [](Scene& x) -> int& { return x.flexible.matrices.imbalance_coordinate; }));
+  s.back().default_text = "the left rotor contact's";
+  for (std::size_t i = s.size() - 4; i + 1 < s.size(); ++i) s[i].default_text = "the shafts'";
+  for (std::size_t i = s.size() - 4; i < s.size(); ++i) {
+    s[i].relevant = [](const Scene& x) { return x.flexible.matrices.enabled; };
+    s[i].irrelevant_reason = "[flexible.matrices] is absent";
+  }
 }
 
 // [jeffcott]: the single-contact model, in Black's and Crandall's symbols.
@@ -984,29 +1040,38 @@ TableArraySpec DiskRows(const std::string& body) {
   return disks;
 }
 
-// [[flexible.stator_supports]]: the listed stator's supports.
-TableArraySpec SupportRows() {
+// [[flexible.<body>_supports]]: springs and dashpots from a listed shaft's stations to ground.
+TableArraySpec SupportRows(const std::string& body) {
+  const auto support_rows = [body](Scene& x) -> std::vector<SupportRow>& {
+    return body == "rotor" ? x.flexible.rotor_supports : x.flexible.stator_supports;
+  };
   TableArraySpec supports;
-  supports.path = "flexible.stator_supports";
-  supports.doc = "A spring and dashpot from a station of the listed stator shaft to ground. The "
-                 "rigid model holds its stator at the contacts: supports go on contact stations, "
-                 "and give [stator]'s stiffness and damping.";
+  supports.path = "flexible." + body + "_supports";
+  supports.doc =
+      body == "rotor"
+          ? "A bearing: a spring and dashpot from a station of the listed rotor shaft to ground "
+            "(isotropic, as `rubcont scene import-ross` brings a ROSS rotor's). The rigid model's "
+            "rotor has none: a scene with them has no stage \"analytic\" (L0)."
+          : "A spring and dashpot from a station of the listed stator shaft to ground. The "
+            "rigid model holds its stator at the contacts: supports go on contact stations, "
+            "and give [stator]'s stiffness and damping.";
   supports.keys = {
-      RowKey("station", ValueType::kInteger, "-", Rule::kStation, "", "A contact station."),
+      RowKey("station", ValueType::kInteger, "-", Rule::kStation, "",
+             body == "rotor" ? "Its station." : "A contact station."),
       RowKey("stiffness", ValueType::kFloat, "N/m", Rule::kNonNegative, "", "k."),
       RowKey("damping", ValueType::kFloat, "N·s/m", Rule::kNonNegative, "`0.0`", "c."),
   };
-  supports.set = [](Scene& x, const Rows& given) {
-    x.flexible.stator_supports.clear();
+  supports.set = [support_rows](Scene& x, const Rows& given) {
+    std::vector<SupportRow>& out = support_rows(x);
+    out.clear();
     for (const Row& r : given) {
-      x.flexible.stator_supports.push_back({static_cast<int>(RowNumber(r, "station", 0.0)),
-                                            RowNumber(r, "stiffness", 0.0),
-                                            RowNumber(r, "damping", 0.0)});
+      out.push_back({static_cast<int>(RowNumber(r, "station", 0.0)), RowNumber(r, "stiffness", 0.0),
+                     RowNumber(r, "damping", 0.0)});
     }
   };
-  supports.get = [](const Scene& x) {
+  supports.get = [support_rows](const Scene& x) {
     Rows out;
-    for (const SupportRow& r : x.flexible.stator_supports) {
+    for (const SupportRow& r : support_rows(const_cast<Scene&>(x))) {
       out.push_back({{"station", std::int64_t{r.station}}, {"stiffness", r.stiffness},
                      {"damping", r.damping}});
     }
@@ -1016,8 +1081,8 @@ TableArraySpec SupportRows() {
 }
 
 std::vector<TableArraySpec> BuildTableArrays() {
-  return {ShaftRows("rotor"), DiskRows("rotor"), ShaftRows("stator"), DiskRows("stator"),
-          SupportRows()};
+  return {ShaftRows("rotor"), DiskRows("rotor"), SupportRows("rotor"), ShaftRows("stator"),
+          DiskRows("stator"), SupportRows("stator")};
 }
 
 std::vector<KeySpec> BuildSchema() {
@@ -1030,6 +1095,7 @@ std::vector<KeySpec> BuildSchema() {
   FlexibleShaftKeys(s);
   FlexibleStationKeys(s);
   FlexibleReductionKeys(s);
+  FlexibleMatrixKeys(s);
   JeffcottKeys(s);
   DuffingKeys(s);
   StuartLandauKeys(s);
@@ -1120,7 +1186,8 @@ bool RunsStage(const Scene& scene, Stage stage) {
 }
 
 bool IsOptionalSubsection(const std::string& section) {
-  return section == "analysis.tori.transient" || section == "analysis.orbits.transient";
+  return section == "analysis.tori.transient" || section == "analysis.orbits.transient" ||
+         section == "flexible.matrices";
 }
 
 bool IsToriKey(const KeySpec& spec) {

@@ -48,6 +48,7 @@ enum class Rule {
   kOpenUnit,              // 0 < x < 1
   kStation,               // integer 0 … kMaxStation
   kStationPair,           // integer pair 0 ≤ left < right ≤ kMaxStation
+  kCoordinatePair,        // integer pair, each 0 … kMaxStation (coordinates of a matrix file)
 };
 
 enum class Presence {

@@ -1,5 +1,6 @@
 #include "apps/stage_options.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -160,6 +161,49 @@ LoopOptions LoopOptionsOf(const Scene& scene) {
   o.orbit_start.newton.max_iterations = 10;
   o.orbit_family = RubOrbitOptionsOf(scene).orbits;
   return o;
+}
+
+std::vector<PlannedWork> SweepPlanOf(const Scene& scene) {
+  const SweepSettings& s = scene.analysis.sweep;
+  const double bytes = SweepSpeedBytes(static_cast<int>(SweepStructureOf(scene).contacts.size()),
+                                       s.spectrum_max_hz, s.analysis_length);
+  return {SweepWork("analysis.sweep.up_range_rpm", "speeds of the speed-up sweep", s.up_range_rpm[0],
+                    s.up_range_rpm[1], s.speed_step_rpm, s.dwell, bytes),
+          SweepWork("analysis.sweep.down_range_rpm", "speeds of the speed-down sweep",
+                    s.down_range_rpm[1], s.down_range_rpm[0], s.speed_step_rpm, s.dwell, bytes)};
+}
+
+PlannedWork CopiesWorkOf(const Scene& scene, std::string key, std::string value, std::string what,
+                         double runs, double duration, double window) {
+  const double bytes = SweepSpeedBytes(static_cast<int>(SweepStructureOf(scene).contacts.size()),
+                                       scene.analysis.sweep.spectrum_max_hz, 2.0 * window);
+  return CopiesWork(std::move(key), std::move(value), std::move(what), runs, duration, window, bytes);
+}
+
+std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage>& stages) {
+  std::vector<PlannedWork> plan;
+  auto runs = [&](Stage stage) { return std::find(stages.begin(), stages.end(), stage) != stages.end(); };
+  if (runs(Stage::kSweep) || runs(Stage::kLoop)) plan = SweepPlanOf(scene);
+  if (runs(Stage::kLoop)) {
+    PlannedWork budget;
+    budget.key = "analysis.loop.budget";
+    budget.value = fmt::format("{:g} s", scene.analysis.loop.budget);
+    budget.what = "loop";
+    budget.items = 1.0;
+    budget.cpu_seconds = scene.analysis.loop.budget;
+    plan.push_back(budget);
+  }
+  const RubOrbitsSettings::Transient& orbit = scene.analysis.orbits.transient;
+  if (runs(Stage::kOrbits) && orbit.enabled) {
+    plan.push_back(MarchingWork("analysis.orbits.transient.seconds", fmt::format("{:g} s", orbit.seconds),
+                                "transient", 1.0, orbit.seconds, 0.0));
+  }
+  const RubToriSettings::Transient& torus = scene.analysis.tori.transient;
+  if (runs(Stage::kTori) && torus.enabled) {
+    plan.push_back(MarchingWork("analysis.tori.transient.seconds", fmt::format("{:g} s", torus.seconds),
+                                "transient", 1.0, torus.seconds, 0.0));
+  }
+  return plan;
 }
 
 // ---------------------------------------------------------------------------------------------

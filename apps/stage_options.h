@@ -7,6 +7,7 @@
 #include "models/rub_model.h"
 #include "studies/attractor_study.h"
 #include "studies/loop.h"
+#include "studies/work_plan.h"
 #include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
 #include "waves/rotating_wave_branches.h"
@@ -69,6 +70,22 @@ AttractorStudyOptions AttractorStudyOptionsOf(const Scene& scene, SweepDirection
 // sweep's jump table's. The budget, the escape design's settings and a schedule given on the command
 // line are the caller's.
 LoopOptions LoopOptionsOf(const Scene& scene);
+
+// The work the scene's sweeps plan (studies/work_plan.h), counted from its keys before
+// SweepOptionsOf makes a schedule: each direction's speeds of [analysis.sweep] dwell, with their
+// spectra (SweepSpeedBytes for the model's contacts). Pure bookkeeping of the scene, here beside
+// SweepOptionsOf, which it must count alike; the arithmetic and the limits are the library's.
+std::vector<PlannedWork> SweepPlanOf(const Scene& scene);
+// CopiesWork (studies/work_plan.h) with a sweep speed's reading of the scene's rub structure and
+// [analysis.sweep] spectra, over stretches of two `window`s, as the copies keep it.
+PlannedWork CopiesWorkOf(const Scene& scene, std::string key, std::string value, std::string what,
+                         double runs, double duration, double window);
+// The work `stages` plan: the sweeps for "sweep" and "loop" (the loop's run-up and run-down are
+// the sweeps' schedule), the loop's budget ([analysis.loop] budget as CPU; the budget counts the
+// runs too and the runs skip speeds along waves, so the sum is an upper bound), and the transients
+// of [analysis.orbits.transient] and [analysis.tori.transient] (one run of their seconds). The
+// other stages' work is bounded by the code (continuation steps, grid points) and not counted.
+std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage>& stages);
 
 // ---------------------------------------------------------------------------------------------
 // The orbits and tori stages (level L2: apps/orbits_stage.cpp, apps/tori_stage.cpp).

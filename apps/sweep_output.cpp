@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
+#include "apps/atomic_file.h"
 #include "solvers/constants.h"
 
 namespace rubcont {
@@ -106,6 +107,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const Scene& sc
 
   writer.WriteDoubles(group + "/speed_rpm",
                       PerPoint(points, [](const SweepPoint& p) { return RadPerSecondToRpm(p.parameter); }));
+  writer.SetDimensionScales(group, "speed_rpm");  // xarray: speed is the coordinate
   for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
     const std::string side = "_" + structure.contacts[k].name;
     writer.WriteDoubles(group + "/precession_hz" + side, regimes.precession_hz[k]);
@@ -144,6 +146,7 @@ void WritePoints(ResultWriter& writer, const std::string& group, const Scene& sc
         spectrum.row(static_cast<Index>(i)) = points[i].channels[k].spectrum.transpose();
     }
     writer.WriteMatrix(group + "/spectrum_magnitude" + side, spectrum);
+    writer.NameSecondAxis(group + "/spectrum_magnitude" + side, "spectrum_frequency_hz");
   }
   writer.WriteDoubles(group + "/spectrum_frequency_hz", run.stepper().BandFrequencies());
 
@@ -250,11 +253,10 @@ ArrivalTarget ParseUntil(const RubStructure& structure, const std::string& regim
     throw std::invalid_argument(fmt::format("--until-above = {}: must be a precession in Hz (0: by --until)", above_hz));
   }
   if (above_hz > 0.0) target.precession_above_hz = above_hz;
-  for (RubRegime r : {RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl, RubRegime::kWhip}) {
-    if (regime == ToString(r)) {
-      target.regime = r;
-      return target;
-    }
+  const std::optional<RubRegime> named = RubRegimeNamed(regime);
+  if (named && *named != RubRegime::kUnknown) {  // "unknown" (a failed speed) is no target
+    target.regime = *named;
+    return target;
   }
   throw std::invalid_argument(fmt::format("--until = {}: must be whirl, whip, intermittent or no_contact", regime));
 }
@@ -416,7 +418,7 @@ std::optional<SweepCheckpoint> ReadSweepCheckpoint(const std::filesystem::path& 
 
 std::unique_ptr<ResultWriter> OpenStudyResult(const std::filesystem::path& file, const Scene& scene,
                                               const std::string& group) {
-  std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+  PrepareToWrite(file);
   auto writer = std::make_unique<ResultWriter>(file);
   WriteSceneAttributes(*writer, scene);
   writer->SetAttribute("/", "level", ToString(ResultLevel(scene, Level::kL3)));

@@ -45,7 +45,7 @@ std::vector<EscapeObservations> ReadEnsembles(const std::string& file, double& c
   const double stretch = r.ReadDoubleAttribute("/lifetime", "stretch");
   const double duration = r.ReadDoubleAttribute("/lifetime", "duration");
   cpu_seconds = r.ReadDoubleAttribute("/lifetime", "cpu_seconds");
-  target = r.HasAttribute("/lifetime", "arrival") ? r.ReadStringAttribute("/lifetime", "arrival") : "";
+  target = r.ReadStringAttribute("/lifetime", "until");
   std::vector<EscapeObservations> out;
   for (std::size_t i = 0; i < speed.size(); ++i) {
     EscapeObservations o;

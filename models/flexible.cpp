@@ -1,9 +1,12 @@
 #include "models/flexible.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/core.h>
 
 namespace rubcont {
@@ -25,7 +28,43 @@ void CheckContactNode(const BeamModel& beams, const std::string& key, int shaft,
 }  // namespace
 
 FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
+  return BuildMatrixRub(AssembledMatrices(model));
+}
+
+MatrixRubModel AssembledMatrices(const FlexibleRubModel& model) {
   model.beams.Validate();
+  if (model.contacts.empty()) {
+    throw std::invalid_argument("contacts: at least one contact is needed");
+  }
+  CheckContactNode(model.beams, "imbalance", model.imbalance_shaft, model.imbalance_node);
+  MatrixRubModel matrices;
+  for (std::size_t k = 0; k < model.contacts.size(); ++k) {
+    const FlexibleContact& c = model.contacts[k];
+    const std::string key = fmt::format("contacts[{}].", k);
+    CheckContactNode(model.beams, key + "rotor", c.rotor_shaft, c.rotor_node);
+    CheckContactNode(model.beams, key + "stator", c.stator_shaft, c.stator_node);
+    if (c.rotor_shaft == c.stator_shaft) {
+      throw std::invalid_argument(fmt::format(
+          "{}stator_shaft = {}: must differ from rotor_shaft (a contact joins two shafts)", key,
+          c.stator_shaft));
+    }
+    matrices.contacts.push_back({c.name, model.beams.Coordinate(c.rotor_shaft, c.rotor_node, 0),
+                                 model.beams.Coordinate(c.stator_shaft, c.stator_node, 0),
+                                 c.geometry});
+  }
+  matrices.full = Assemble(model.beams);
+  matrices.modes = model.modes;
+  matrices.modal_damping = model.modal_damping;
+  matrices.gyroscopic = model.gyroscopic;
+  matrices.law = model.law;
+  matrices.imbalance = model.imbalance;
+  matrices.imbalance_coordinate =
+      model.beams.Coordinate(model.imbalance_shaft, model.imbalance_node, 0);
+  return matrices;
+}
+
+FlexibleRub BuildMatrixRub(const MatrixRubModel& model) {
+  CheckStructuralMatrices(model.full);
   if (model.contacts.empty()) {
     throw std::invalid_argument("contacts: at least one contact is needed");
   }
@@ -37,23 +76,22 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
     throw std::invalid_argument(
         fmt::format("imbalance = {}: must be finite and non-negative (kg·m)", model.imbalance));
   }
-  CheckContactNode(model.beams, "imbalance", model.imbalance_shaft, model.imbalance_node);
-
+  const Index n = model.full.Coordinates();
+  auto check_coordinate = [&](const std::string& key, Index i) {
+    if (i < 0 || i >= n) {
+      throw std::invalid_argument(fmt::format(
+          "{} = {}: must be a coordinate of the matrices (0 to {})", key, i, n - 1));
+    }
+  };
+  check_coordinate("imbalance_coordinate", model.imbalance_coordinate);
   const Index m = static_cast<Index>(model.contacts.size());
   std::vector<Index> boundary(static_cast<std::size_t>(2 * m));
   for (Index k = 0; k < m; ++k) {
-    const FlexibleContact& c = model.contacts[static_cast<std::size_t>(k)];
-    const std::string key = fmt::format("contacts[{}].", k);
-    CheckContactNode(model.beams, key + "rotor", c.rotor_shaft, c.rotor_node);
-    CheckContactNode(model.beams, key + "stator", c.stator_shaft, c.stator_node);
-    if (c.rotor_shaft == c.stator_shaft) {
-      throw std::invalid_argument(fmt::format(
-          "{}stator_shaft = {}: must differ from rotor_shaft (a contact joins two shafts)", key,
-          c.stator_shaft));
-    }
-    boundary[static_cast<std::size_t>(k)] = model.beams.Coordinate(c.rotor_shaft, c.rotor_node, 0);
-    boundary[static_cast<std::size_t>(m + k)] =
-        model.beams.Coordinate(c.stator_shaft, c.stator_node, 0);
+    const MatrixContact& c = model.contacts[static_cast<std::size_t>(k)];
+    check_coordinate(fmt::format("contacts[{}].rotor", k), c.rotor);
+    check_coordinate(fmt::format("contacts[{}].stator", k), c.stator);
+    boundary[static_cast<std::size_t>(k)] = c.rotor;
+    boundary[static_cast<std::size_t>(m + k)] = c.stator;
   }
   for (std::size_t i = 0; i < boundary.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
@@ -64,9 +102,17 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
     }
   }
   FlexibleRub out;
-  out.full = Assemble(model.beams);
+  out.full = model.full;
   out.reduction = CraigBampton(out.full, boundary, model.modes);
   const StructuralMatrices reduced = out.reduction.Reduce(out.full);
+  // A massless coordinate is condensed away by the constraint modes; a massless contact is not.
+  const Eigen::LLT<Matrix> reduced_mass(reduced.mass);
+  if (reduced_mass.info() != Eigen::Success) {
+    throw std::invalid_argument(
+        "mass: not positive definite on the contact coordinates and the kept modes: a contact "
+        "coordinate moves no mass (neither its own nor, through its constraint mode, the "
+        "interior's)");
+  }
 
   RubStructure& s = out.structure;
   s.mass = reduced.mass;
@@ -79,10 +125,9 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
   if (model.gyroscopic) s.gyroscopic = reduced.gyroscopic;
   s.law = model.law;
   s.imbalance = model.imbalance;
-  s.imbalance_weights = out.reduction.basis.row(
-      model.beams.Coordinate(model.imbalance_shaft, model.imbalance_node, 0)).transpose();
+  s.imbalance_weights = out.reduction.basis.row(model.imbalance_coordinate).transpose();
   for (Index k = 0; k < m; ++k) {
-    const FlexibleContact& c = model.contacts[static_cast<std::size_t>(k)];
+    const MatrixContact& c = model.contacts[static_cast<std::size_t>(k)];
     s.contacts.push_back(RubContact{static_cast<int>(k), static_cast<int>(m + k), c.geometry,
                                     c.name});
   }
@@ -91,6 +136,47 @@ FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model) {
   for (Index j = 0; j < model.modes; ++j) s.coordinate_names.push_back(fmt::format("mode_{}", j + 1));
   s.Validate();
   return out;
+}
+
+void CheckStructuralMatrices(const StructuralMatrices& matrices) {
+  const Index n = matrices.mass.rows();
+  if (n < 1 || matrices.mass.cols() != n) {
+    throw std::invalid_argument(fmt::format(
+        "mass: is {} × {}: must be square with at least one coordinate", n, matrices.mass.cols()));
+  }
+  const std::array<std::pair<const char*, const Matrix*>, 4> all = {{
+      {"mass", &matrices.mass}, {"damping", &matrices.damping},
+      {"stiffness", &matrices.stiffness}, {"gyroscopic", &matrices.gyroscopic}}};
+  for (const auto& [name, x] : all) {
+    if (x->rows() != n || x->cols() != n) {
+      throw std::invalid_argument(fmt::format("{}: is {} × {}: must be {} × {}, as the mass", name,
+                                              x->rows(), x->cols(), n, n));
+    }
+    if (!x->allFinite()) throw std::invalid_argument(fmt::format("{}: has a NaN or infinite entry", name));
+    const double largest = x->cwiseAbs().maxCoeff();
+    Index row = 0, col = 0;
+    const double asymmetry = (*x - x->transpose()).cwiseAbs().maxCoeff(&row, &col);
+    if (row > col) std::swap(row, col);  // the upper entry first, whichever maxCoeff found
+    if (asymmetry > 1e-10 * largest) {
+      throw std::invalid_argument(fmt::format(
+          "{}: not symmetric: entry ({}, {}) − entry ({}, {}) = {:.3g} (largest |entry| {:.3g}): "
+          "must agree to 1e-10 of it",
+          name, row, col, col, row, (*x)(row, col) - (*x)(col, row), largest));
+    }
+  }
+  // Semi-definiteness from the eigenvalues (n is an FE model's few hundred coordinates): M may be
+  // singular (massless rotations of lumped masses; BuildMatrixRub asks the reduced M to be definite).
+  for (const auto& [name, x] : {all[0], all[1], all[2]}) {
+    const Eigen::SelfAdjointEigenSolver<Matrix> eig(0.5 * (*x + x->transpose()),
+                                                     Eigen::EigenvaluesOnly);
+    const Vector& lambda = eig.eigenvalues();
+    const double scale = lambda.cwiseAbs().maxCoeff();
+    if (lambda.minCoeff() < -1e-10 * scale) {
+      throw std::invalid_argument(fmt::format(
+          "{}: not positive semi-definite: smallest eigenvalue {:.3g} (largest {:.3g}): must be "
+          "≥ −1e-10 of the largest", name, lambda.minCoeff(), scale));
+    }
+  }
 }
 
 RigidBodyData RigidBodyOf(const BodyShaft& body) {

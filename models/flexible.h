@@ -56,6 +56,43 @@ struct FlexibleRub {
 // modes than the interior has, a negative ζ or imbalance).
 FlexibleRub BuildFlexibleRub(const FlexibleRubModel& model);
 
+// The same rub structure from any structural matrices (an FE model's, or a file's): contact k
+// joins the displacement coordinates `rotor` and `stator` of the full matrices, reduced as above
+// with those coordinates physical. BuildFlexibleRub assembles its beams and calls this.
+struct MatrixContact {
+  std::string name;  // "left", "right", …
+  Index rotor = 0;   // the rotor's displacement coordinate at the contact plane
+  Index stator = 1;  // the stator's
+  ContactGeometry geometry;
+};
+struct MatrixRubModel {
+  StructuralMatrices full;  // M, C, K, G of M ü + (C − jωG) u̇ + K u = f (CheckStructuralMatrices)
+  std::vector<MatrixContact> contacts;
+  int modes = 4;                   // fixed-interface modes kept (≥ 0)
+  double modal_damping = 0.0;      // ζ ≥ 0 of the kept modes, as FlexibleRubModel's
+  bool gyroscopic = true;          // keep −jωG u̇ (false: as the rigid model)
+  ContactLaw law;
+  double imbalance = 0.0;          // m_u e [kg·m] ≥ 0, on imbalance_coordinate
+  Index imbalance_coordinate = 0;  // the displacement coordinate the imbalance force acts on
+};
+// The beam model assembled (models/beam.h Assemble) with its contacts' and imbalance's nodes as
+// coordinates: what BuildFlexibleRub reduces, and what a matrix file of it holds. Throws as
+// BuildFlexibleRub does for the beams' rules and nodes.
+MatrixRubModel AssembledMatrices(const FlexibleRubModel& model);
+// Throws std::invalid_argument naming the rule broken: the matrices' (CheckStructuralMatrices), a
+// contact coordinate out of range or shared, a boundary that leaves the interior free to move
+// rigidly, more modes than the interior has (ModelInputError "modes"), a negative ζ or imbalance.
+FlexibleRub BuildMatrixRub(const MatrixRubModel& model);
+
+// The rules any structure's matrices keep (FE input checked before it is reduced): all four
+// square of one size n ≥ 1, finite, symmetric to 1e-10 of their largest entry; M, C and K
+// positive semi-definite (eigenvalues ≥ −1e-10 of the largest; BuildMatrixRub asks the reduced M
+// to be definite: a lumped model's massless rotations are condensed away, a massless contact is
+// not). Throws std::invalid_argument naming the matrix ("mass", "damping", "stiffness",
+// "gyroscopic") and the rule, e.g. "stiffness: not symmetric: entry (3, 5) − entry (5, 3) =
+// 1e+03 (largest |entry| 2.8e+10): must agree to 1e-10 of it".
+void CheckStructuralMatrices(const StructuralMatrices& matrices);
+
 // One body of the two-point model as a shaft (models/beam.h: elements end to end from station 0,
 // disks on stations) and the stations where it touches the other body, left and right.
 struct BodyShaft {

@@ -9,6 +9,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev libboost-dev
   python3-matplotlib python3-h5py python3-numpy
   pybind11-dev python3-dev python3-pytest
+  python3-xarray python3-h5netcdf python3-mpi4py python3-tqdm
   libopenmpi-dev openmpi-bin
 )
 

@@ -11,7 +11,9 @@
 #   --sweep-tables  instead re-derives the regimes, jump tables and figures of the committed
 #                   results/<scene>/sweep.h5 from their finished speeds, without integrating
 #                   (`rubcont sweep --resume` on a complete file; a second or two per scene plus
-#                   the figures). Use it after a change of the regime rules.
+#                   the figures). Use it after a change of the regime rules. A file whose stored
+#                   scene leaves a key to its default that is not a sweep rule (a key added since,
+#                   e.g. [analysis.loop]'s in 0.2.0) is integrated again (2–5 min per scene).
 #   --orbits        also re-runs the modulated whip of case A(a) (stage "orbits",
 #                   scenes/thesis_A_a_modulated_whip.toml and thesis_A_a_whip_doubling.toml):
 #                   about 20 min on 2 cores; and on the flexible shafts
@@ -56,6 +58,7 @@ cmake --build build --parallel "$(nproc)"
 # form (its file has no /analytic), and `rubcont run` below draws them again with it.
 # The scenes: scripts/result_scenes.txt (scripts/check_results.sh checks the same list).
 scenes_of() { awk -v k="$1" '$1 == k { print $2 }' scripts/result_scenes.txt; }
+options_of() { awk -v k="$1" '$1 == "options" && $2 == k { $1 = $2 = ""; print }' scripts/result_scenes.txt; }
 mapfile -t sweep_scenes < <(scenes_of sweep)
 case "${1:-}" in
   --sweeps) resume=() ;;
@@ -83,7 +86,7 @@ done
 # ε → 0 convergence of the regularized whirl → whip transition (case A(a)), and branch-set timings.
 build/bench/branches_bench scenes 5 results/regularization/thesis_A_a.csv \
   > results/regularization/branches_bench.txt
-/usr/bin/python3 plots/regularization.py results/regularization/thesis_A_a.csv \
+PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.regularization results/regularization/thesis_A_a.csv \
   results/regularization/convergence.png
 # Hysteresis maps and the identification example of the default scene (results/design).
 mkdir -p results/design
@@ -199,10 +202,11 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
 fi
 # The loops, one after the other (each runs its run-up and run-down side by side, then its
-# ensembles over both cores), with the schedule of scripts/check_results.sh's LOOP_SCHEDULE.
+# ensembles over both cores), with the options of the `options loop` line of result_scenes.txt.
 if [[ "${1:-}" == "--loops" ]]; then
+  read -ra loop_options < <(options_of loop)
   for scene in $(scenes_of loop); do
-    build/rubcont loop "scenes/$scene.toml" --schedule 2 1.5 --budget 600 --quiet \
+    build/rubcont loop "scenes/$scene.toml" "${loop_options[@]}" --quiet \
       --out "results/$scene/loop.h5" > "results/$scene/loop.txt"
     echo "results/$scene: loop.h5 loop.txt loop.png"
   done
@@ -228,7 +232,7 @@ for scene in $(scenes_of sweep); do
   for ((i = 0; i < ${#extra[@]}; i += 2)); do
     if [[ -f "${extra[i + 1]}" ]]; then present+=("${extra[i]}" "${extra[i + 1]}"); fi
   done
-  /usr/bin/python3 plots/hysteresis.py --sweep "results/$scene/sweep.h5" "${present[@]}" \
+  PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.hysteresis --sweep "results/$scene/sweep.h5" "${present[@]}" \
     --out "results/$scene/hysteresis.png"
 done
 /usr/bin/python3 scripts/thesis_comparison.py results --update docs/studies/thesis_comparison.md

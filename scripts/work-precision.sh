@@ -17,7 +17,7 @@ for scene in default thesis_C_a; do
   out="results/bench/$scene"
   mkdir -p "$out"
   build/bench/work_precision_bench "scenes/$scene.toml" "$out" 2> "$out/log.txt"
-  /usr/bin/python3 plots/work_precision.py "$out"
+  PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.work_precision "$out"
   echo "$out: $(ls "$out" | tr '\n' ' ')"
 done
 echo "work-precision: $(( $(date +%s) - start )) s wall"

@@ -37,6 +37,30 @@ PredictedLeave Quantiles(const std::vector<double>& speeds, std::vector<double> 
   return p;
 }
 
+// A start belongs to the study: its approach reached the state, and its ensembles are the first
+// speeds of `speeds` (to 1e-9 relative) with `copies` copies each.
+void CheckStart(const LifetimeStudyStart& start, const LifetimeStudyOptions& options,
+                const std::vector<double>& speeds) {
+  if (start.approach.status != ApproachStatus::kReached) {
+    Reject("LifetimeStudyStart.approach.status", "failed", "a start must hold an approach that reached its state");
+  }
+  if (start.escapes.size() > speeds.size()) {
+    Reject("LifetimeStudyStart.escapes", start.escapes.size(), "more speeds than the study's schedule");
+  }
+  for (std::size_t i = 0; i < start.escapes.size(); ++i) {
+    const SpeedEscapes& e = start.escapes[i];
+    const double speed = e.observations.parameter;
+    if (!(std::abs(speed - speeds[i]) <= 1e-9 * std::abs(speeds[i]))) {
+      Reject(fmt::format("LifetimeStudyStart.escapes[{}] speed [rpm]", i), speed,
+             fmt::format("must be the schedule's speed {:g} rpm", speeds[i]).c_str());
+    }
+    if (e.arrival_time.size() != static_cast<std::size_t>(options.sampling.ensemble.copies)) {
+      Reject(fmt::format("LifetimeStudyStart.escapes[{}] copies", i), e.arrival_time.size(),
+             fmt::format("must be the study's {} copies", options.sampling.ensemble.copies).c_str());
+    }
+  }
+}
+
 }  // namespace
 
 void Validate(const EscapeSampling& s, const char* name) {
@@ -183,8 +207,10 @@ std::string LifetimeStudyResult::BriefReport() const {
 }
 
 LifetimeStudyResult RunLifetimeStudy(const RubStructure& structure, const LifetimeStudyOptions& options,
-                                     const LifetimeStudyProgress& progress) {
+                                     const LifetimeStudyProgress& progress, const LifetimeStudyStart* resume) {
   Validate(options, structure);
+  const std::vector<double> speeds = SpeedSchedule(options.from_rpm, options.to_rpm, options.step_rpm);
+  if (resume != nullptr) CheckStart(*resume, options, speeds);
   const double cpu_start = ProcessCpuSeconds();
   const SteadyClock::time_point start = SteadyClock::now();
   LifetimeStudyResult result;
@@ -203,21 +229,31 @@ LifetimeStudyResult RunLifetimeStudy(const RubStructure& structure, const Lifeti
     return [&progress, speed_rpm](int done, int total) { progress.copies(speed_rpm, done, total); };
   };
 
-  result.approach = ApproachState(structure, options.sweep, options.from_rpm, progress.approach);
-  if (result.approach.status == ApproachStatus::kFailed) {
-    return finish(LifetimeStatus::kApproachFailed, result.approach.message);
+  if (resume != nullptr) {
+    result.approach = resume->approach;
+  } else {
+    result.approach = ApproachState(structure, options.sweep, options.from_rpm, progress.approach);
+    if (result.approach.status == ApproachStatus::kFailed) {
+      return finish(LifetimeStatus::kApproachFailed, result.approach.message);
+    }
+    if (progress.finished) progress.finished(result.approach, result.escapes);
   }
 
   // The ensembles, one per speed, all from the approach's state.
   const std::uint64_t copies = static_cast<std::uint64_t>(options.sampling.ensemble.copies);
-  result.speeds_rpm = SpeedSchedule(options.from_rpm, options.to_rpm, options.step_rpm);
+  result.speeds_rpm = speeds;
   std::vector<EscapeObservations> observations;
   for (std::size_t i = 0; i < result.speeds_rpm.size(); ++i) {
     const double speed = result.speeds_rpm[i];
-    EscapeSampling sampling = options.sampling;
-    sampling.ensemble.seed = options.sampling.ensemble.seed + i * copies;
-    result.escapes.push_back(ObserveEscapes(structure, options.sweep, result.approach.state, speed, sampling,
-                                            options.target, copies_at(speed)));
+    const bool finished_before = resume != nullptr && i < resume->escapes.size();
+    if (finished_before) {
+      result.escapes.push_back(resume->escapes[i]);
+    } else {
+      EscapeSampling sampling = options.sampling;
+      sampling.ensemble.seed = options.sampling.ensemble.seed + i * copies;
+      result.escapes.push_back(ObserveEscapes(structure, options.sweep, result.approach.state, speed, sampling,
+                                              options.target, copies_at(speed)));
+    }
     const SpeedEscapes& escapes = result.escapes.back();
     if (!escapes.Observed()) {
       return finish(LifetimeStatus::kNoEstimate,
@@ -225,7 +261,9 @@ LifetimeStudyResult RunLifetimeStudy(const RubStructure& structure, const Lifeti
     }
     observations.push_back(escapes.observations);
     result.rates.push_back(EstimateEscapeRate(escapes.observations));
+    if (finished_before) continue;
     if (progress.speed) progress.speed(escapes, result.rates.back());
+    if (progress.finished) progress.finished(result.approach, result.escapes);
   }
   CrisisOptions crisis;
   crisis.side = result.side;

@@ -173,10 +173,25 @@ struct LifetimeStudyProgress {
   std::function<void(double speed_rpm, int done, int total)> copies;
   // After each speed's ensemble, with its estimated rate.
   std::function<void(const SpeedEscapes& escapes, const EscapeRate& rate)> speed;
+  // After the approach and after each speed's ensemble: everything finished so far, all that a
+  // study resumed from it needs (a checkpoint: LifetimeStudyStart).
+  std::function<void(const SweepApproach& approach, const std::vector<SpeedEscapes>& escapes)> finished;
 };
 
-// (d) The study (above). Throws std::invalid_argument for invalid options (Validate).
+// What an interrupted study had finished (a checkpoint): the approach, which reached its state, and
+// the ensembles of the first escapes.size() speeds of the study's schedule, in order. The copies of
+// the i-th speed are seeded as always (seed + i·copies), so a study resumed from it gives the
+// numbers of one run without interruption.
+struct LifetimeStudyStart {
+  SweepApproach approach;
+  std::vector<SpeedEscapes> escapes;
+};
+
+// (d) The study (above), from `resume` when given (the approach and those speeds are not run
+// again). Throws std::invalid_argument for invalid options (Validate) and for a start that does not
+// belong to these options (another schedule, another number of copies, an approach that failed).
 LifetimeStudyResult RunLifetimeStudy(const RubStructure& structure, const LifetimeStudyOptions& options,
-                                     const LifetimeStudyProgress& progress = {});
+                                     const LifetimeStudyProgress& progress = {},
+                                     const LifetimeStudyStart* resume = nullptr);
 
 }  // namespace rubcont

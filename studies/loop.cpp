@@ -16,6 +16,11 @@
 #include "sweeps/ensemble.h"
 
 namespace rubcont {
+
+double ContactTimeShare(const SweepPoint& point, std::size_t k) {
+  return point.channels.size() > k ? point.channels[k].active_fraction : kNaN;
+}
+
 namespace {
 
 int Sign(SweepDirection d) { return d == SweepDirection::kUp ? 1 : -1; }
@@ -34,6 +39,20 @@ Vector WaveState(const RubStructure& structure, const Vector& u) {
   Vector x = Vector::Zero(2 * n);
   x.head(n) = u.head(n);
   return frame.ToFixedFrame(0.0, x);
+}
+
+// Whether the integrated `point` can be a wave's state, not only near its frequency: settled, and
+// each contact touching (nearly) all the time or (nearly) never (`full`: the share that counts as
+// all the time). A circular wave touches steadily or not at all, so a contact that touches part of
+// the time is on none (the flexible A(a)'s left at 22 rpm, 0.21 of the time, matched a one-contact
+// whirl's frequency; B(b)'s whip at 168 rpm, half of the time on each).
+bool SteadyContacts(const RubStructure& structure, const SweepPoint& point, double full) {
+  if (point.status != SweepPointStatus::kSettled) return false;
+  for (std::size_t k = 0; k < structure.contacts.size(); ++k) {
+    const double share = ContactTimeShare(point, k);
+    if (!(share >= full || share <= 1.0 - full)) return false;
+  }
+  return true;
 }
 
 // The last schedule index before `limit_rpm` in the run's direction (strictly, by 1e-9 of a step),
@@ -83,12 +102,17 @@ LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranc
         run.regimes = ClassifySweep(structure, run.points, sweep.regimes);
         return run;
       }
-      // L1: on a stable wave, move along it to the last speed before its stable stretch ends.
+      // L1: on a stable wave, move along it to the last speed before its stable stretch ends. The
+      // waves are the balanced rotor's: an imbalanced one is forced off them at every speed, so
+      // its run is integrated speed by speed (the waves still explain its jumps, as the sweep's
+      // jump table does).
+      if (structure.imbalance != 0.0) continue;
+      if (!SteadyContacts(structure, point, 1.0 - o.barely_touching)) continue;
       const RubSweepRegimes regimes = ClassifySweep(structure, {point}, sweep.regimes);
       const WaveMatch match = MatchWave(structure, {point}, regimes, 0, waves, o.match);
       if (match.branch < 0 || match.stable != 1) continue;
-      const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
       const RotatingWaveBranch& wave = waves[static_cast<std::size_t>(match.branch)];
+      const WhirlLimit limit = StableLimitFrom(waves, match.branch, match.point, sign);
       double limit_rpm = 0.0;
       std::string why;
       if (limit.found) {
@@ -285,9 +309,7 @@ bool Flickers(const LoopRun& run, const std::vector<int>& contacts, std::size_t 
   bool touched = false;
   for (int k : contacts) {
     for (std::size_t i : {from, to}) {
-      const std::vector<ChannelSummary>& channels = run.points[i].channels;
-      if (channels.size() <= static_cast<std::size_t>(k)) return false;
-      const double share = channels[static_cast<std::size_t>(k)].active_fraction;
+      const double share = ContactTimeShare(run.points[i], static_cast<std::size_t>(k));
       if (!(share < barely)) return false;
       touched = touched || share > 0.0;
     }
@@ -300,7 +322,7 @@ std::string ContactShare(const LoopRun& run, const std::vector<int>& contacts, s
   std::string s;
   for (int k : contacts) {
     s += fmt::format("{}{:.1f} %", s.empty() ? "" : ", ",
-                     100.0 * run.points[i].channels[static_cast<std::size_t>(k)].active_fraction);
+                     100.0 * ContactTimeShare(run.points[i], static_cast<std::size_t>(k)));
   }
   return s;
 }
@@ -399,6 +421,10 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
   const std::vector<RotatingWaveBranch> waves_tenth = ComputeRotatingWaveBranches(tenth, FrictionLawKind::kTanh, waves);
   note(fmt::format("L1: {} rotating waves (tanh law, ε = {:g} m/s) in {:.2f} s CPU; and at ε/10 for the corners' "
                    "regularization bias", result.waves.size(), structure.law.velocity_scale, cpu()));
+  if (structure.imbalance != 0.0) {
+    note(fmt::format("imbalance {:g} kg·m: the waves are the balanced rotor's; they explain the jumps, and the runs "
+                     "are integrated at every speed (no move along a wave)", structure.imbalance));
+  }
 
   // The runs, both directions at once (each on its own thread).
   std::vector<LoopRun> runs(2);

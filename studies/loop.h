@@ -9,7 +9,8 @@
 //
 //  L1  The rotating waves (circular whirl and whip) of the tanh law the sweep integrates, with
 //      their stability and special points (waves/rotating_wave_branches.h). Wherever the tracked
-//      state lies on a stable wave (the jump table's matching rule, studies/jump_prediction.h),
+//      state lies on a stable wave (the jump table's matching rule, studies/jump_prediction.h;
+//      and settled, each contact touching all the time or never, as a circular wave does),
 //      the run is known to stay on it until that wave's stable stretch ends (StableLimitFrom): the
 //      tracker is moved there, onto the wave's own state (skip), and integrates again from the
 //      last schedule speed before the limit. Every jump the tracker then sees whose departure or
@@ -99,6 +100,10 @@ struct LoopSkip {
   std::string limit;   // what ends its stable stretch (SpecialPoint::Name()), or why none
 };
 
+// The share of the analysed time contact `k` touched at `point` (its channel's active_fraction), or
+// NaN where the point has no channel for it (a failed speed).
+double ContactTimeShare(const SweepPoint& point, std::size_t k);
+
 // One direction of the run as the tracker followed it.
 struct LoopRun {
   SweepDirection direction = SweepDirection::kUp;
@@ -185,7 +190,7 @@ struct LoopProgress {
 };
 
 // The loop of `structure` (its fixed frame, with imbalance if any; the waves are those of its
-// balanced rotor). `jobs` runs the escape copies (ThreadJobs, or the ranks of an MPI run). Throws
+// balanced rotor, and an imbalanced rotor's runs are integrated at every speed: no skip). `jobs` runs the escape copies (ThreadJobs, or the ranks of an MPI run). Throws
 // std::invalid_argument for invalid options.
 LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options, const JobRunner& jobs,
                        const LoopProgress& progress = {});

@@ -100,7 +100,7 @@ RubSettledSpeed SettleAtSpeed(const RubStructure& structure, const SweepOptions&
   return out;
 }
 
-std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm) {
+double SpeedCount(double from_rpm, double to_rpm, double step_rpm) {
   if (!std::isfinite(from_rpm) || !std::isfinite(to_rpm) || !(from_rpm > 0.0) || !(to_rpm > 0.0)) {
     throw std::invalid_argument(fmt::format(
         "SpeedSchedule: from {} rpm to {} rpm: both must be positive and finite", from_rpm, to_rpm));
@@ -109,12 +109,17 @@ std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rp
     throw std::invalid_argument(
         fmt::format("SpeedSchedule: step = {} rpm: must be positive and finite", step_rpm));
   }
-  const double span = std::abs(to_rpm - from_rpm);
+  return std::floor(std::abs(to_rpm - from_rpm) / step_rpm + 1e-9) + 1.0;
+}
+
+std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm) {
+  const double count = SpeedCount(from_rpm, to_rpm, step_rpm);
   const double sign = to_rpm >= from_rpm ? 1.0 : -1.0;
-  const long steps = static_cast<long>(std::floor(span / step_rpm + 1e-9));
   std::vector<double> speeds;
-  speeds.reserve(static_cast<std::size_t>(steps + 1));
-  for (long i = 0; i <= steps; ++i) speeds.push_back(from_rpm + sign * step_rpm * static_cast<double>(i));
+  speeds.reserve(static_cast<std::size_t>(count));
+  for (long i = 0; i < static_cast<long>(count); ++i) {
+    speeds.push_back(from_rpm + sign * step_rpm * static_cast<double>(i));
+  }
   return speeds;
 }
 
@@ -127,6 +132,14 @@ const char* ToString(RubRegime regime) {
     case RubRegime::kWhip: return "whip";
   }
   return "?";
+}
+
+std::optional<RubRegime> RubRegimeNamed(const std::string& name) {
+  for (RubRegime r : {RubRegime::kUnknown, RubRegime::kNoContact, RubRegime::kIntermittent, RubRegime::kWhirl,
+                      RubRegime::kWhip}) {
+    if (name == ToString(r)) return r;
+  }
+  return std::nullopt;
 }
 
 const char* ToString(RubJumpKind kind) {

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,10 @@ SweepOptions LongSettleOptions(double omega, double dwell = 8.0);
 // …, up to and including `to_rpm` when it lies on the grid (within 1e-9 steps), otherwise the
 // last value before it. Throws std::invalid_argument for non-finite or non-positive inputs.
 std::vector<double> SpeedSchedule(double from_rpm, double to_rpm, double step_rpm);
+// The number of speeds SpeedSchedule gives, without making them: a double, since a schedule a
+// plan check refuses (studies/work_plan.h) may count more speeds than any integer type holds.
+// Throws as SpeedSchedule.
+double SpeedCount(double from_rpm, double to_rpm, double step_rpm);
 
 // What each contact does at one speed of the sweep. Rolling is decided by the slip the sweep
 // measures, the frequency is a check: with V̄_k the mean slip velocity over the analysed samples
@@ -102,6 +107,8 @@ enum class RubRegime {
   kWhip,       // otherwise: the contact slips (BP locked elsewhere, usually below f_roll,k)
 };
 const char* ToString(RubRegime regime);
+// The regime whose ToString is `name`; nothing when no regime has that name.
+std::optional<RubRegime> RubRegimeNamed(const std::string& name);
 
 struct RubRegimeOptions {
   // Largest mean slip |V̄_k|, as a share of the surface speed R_k ω, of a rolling contact. In

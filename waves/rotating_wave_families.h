@@ -24,8 +24,12 @@ namespace rubcont {
 struct FamilySearchOptions {
   double speed_min = 0.0;      // ω range [rad/s], 0 < speed_min < speed_max
   double speed_max = 0.0;
-  double precession_max = 0.0;  // highest Ω [rad/s] searched for whip; ≤ 0: the highest whirl Ω
-  int samples = 800;           // grid points of the closed form over (0, Ω_max]
+  // Ω [rad/s] of a grid that does not depend on the speed range: the closed form is sampled at
+  // `samples` points over (0, precession_max] and at `samples` points up to the range's highest
+  // whirl Ω (when that is higher), so that a wider speed range finds every family a narrower one
+  // finds below precession_max. ≤ 0: the range's grid alone.
+  double precession_max = 0.0;
+  int samples = 800;           // grid points of the closed form on each grid
   NewtonOptions newton;
 };
 

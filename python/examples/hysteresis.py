@@ -21,10 +21,8 @@ waves = rubcont.branches(scene)
 sweeps = rubcont.read("results/thesis_A_a/sweep.h5")
 
 fig, ax = plt.subplots(figsize=(9, 5.5))
-for name in waves.groups("branches"):
-    group = f"branches/{name}/"
-    speed, hz = waves[group + "speed_rpm"], waves[group + "precession_hz"]
-    stable = waves[group + "stable"].astype(bool)
+for branch in waves.branches:  # rubcont.Branch: arrays, stability, special points
+    speed, hz, stable = branch.speed_rpm, branch.precession_hz, branch.stable
     ax.plot(speed, np.where(stable, hz, np.nan), "C0-", lw=1.5)
     ax.plot(speed, np.where(stable, np.nan, hz), "C3--", lw=0.8)
 for direction, marker, color in [("up", "^", "C1"), ("down", "v", "C4")]:

@@ -1,6 +1,7 @@
 // The rubcont executable, run as a user runs it: exit codes, messages, files written.
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -60,15 +61,17 @@ TEST_CASE("CLI: a bad scene is exit code 2 with key, value and rule", "[cli]") {
   CHECK_THAT(directory.err, Contains("is a directory, not a scene file"));
 }
 
-TEST_CASE("CLI: a temporary file left by an interrupted run is overwritten, and said so", "[cli]") {
+TEST_CASE("CLI: a temporary file left by an interrupted run is removed, and said so", "[cli]") {
   TempDir dir;
   const fs::path h5 = dir.path / "a.h5";
-  std::ofstream(dir.path / "a.h5.tmp") << "half a file";
+  std::ofstream(dir.path / "a.h5.tmp.12345.0badcafe") << "half a file";
+  fs::last_write_time(dir.path / "a.h5.tmp.12345.0badcafe",
+                      fs::file_time_type::clock::now() - std::chrono::minutes(1));
   const Outcome o = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
   CHECK(o.exit_code == 0);
-  CHECK_THAT(o.err, Contains("a.h5.tmp was left by an interrupted run; it is overwritten"));
+  CHECK_THAT(o.err, Contains("a.h5.tmp.12345.0badcafe was left by an interrupted run; it is removed"));
   CHECK(fs::exists(h5));
-  CHECK_FALSE(fs::exists(dir.path / "a.h5.tmp"));
+  CHECK_FALSE(fs::exists(dir.path / "a.h5.tmp.12345.0badcafe"));
   const Outcome again = testing::RubcontNoPython("analytic scenes/thesis_A_a.toml --quiet --out " + h5.string());
   CHECK_THAT(again.err, !Contains("interrupted run"));
 }
@@ -233,6 +236,24 @@ TEST_CASE("CLI: analytic writes the HDF5 file and the two figures", "[cli]") {
   CHECK(fs::file_size(dir.path / "sub" / "analytic_mode2.png") > 10000);
 }
 
+TEST_CASE("CLI: --format svg and pdf write the figures in that format, another is exit 2", "[cli]") {
+  TempDir dir;
+  const Outcome svg = Rubcont("analytic scenes/thesis_C_a.toml -q --format svg --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(svg.exit_code == 0);
+  CHECK(svg.err.empty());
+  CHECK_THAT(Slurp(dir.path / "analytic_mode1.svg"), Contains("<svg"));
+  CHECK_FALSE(fs::exists(dir.path / "analytic_mode1.png"));
+  const Outcome pdf = Rubcont("analytic scenes/thesis_C_a.toml -q --format pdf --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(pdf.exit_code == 0);
+  CHECK(Slurp(dir.path / "analytic_mode2.pdf").rfind("%PDF-", 0) == 0);
+  const Outcome jpg = Rubcont("analytic scenes/thesis_C_a.toml -q --format jpg --out " +
+                              (dir.path / "c_a.h5").string());
+  CHECK(jpg.exit_code == 2);
+  CHECK_THAT(jpg.err, Contains("--format"));
+}
+
 TEST_CASE("CLI: branches of an imbalanced scene leave the imbalance out and say so", "[cli]") {
   TempDir dir;
   const fs::path h5 = dir.path / "imbalance.h5";
@@ -246,12 +267,12 @@ TEST_CASE("CLI: branches of an imbalanced scene leave the imbalance out and say 
   CHECK_THAT(reader.ReadStringAttribute("/branches", "note"), Contains("not stationary"));
 }
 
-TEST_CASE("CLI: a missing plotting script keeps the HDF5 file (exit 0, warning)", "[cli]") {
+TEST_CASE("CLI: a missing plotting module keeps the HDF5 file (exit 0, warning)", "[cli]") {
   TempDir dir;
   const Outcome o = Rubcont("analytic scenes/thesis_A_b.toml -q --out " + (dir.path / "a.h5").string(),
-                            "RUBCONT_PLOTS_DIR=" + dir.path.string());
+                            "RUBCONT_PYTHON_DIR=" + dir.path.string());
   CHECK(o.exit_code == 0);
-  CHECK_THAT(o.err, Contains("plotting script"));
+  CHECK_THAT(o.err, Contains("plotting module " + (dir.path / "rubcont/plots/analytic.py").string()));
   CHECK_THAT(o.err, Contains("the HDF5 result is complete"));
   CHECK(fs::exists(dir.path / "a.h5"));
 }

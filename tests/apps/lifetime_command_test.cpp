@@ -3,12 +3,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
 #include "apps/hdf5_file.h"
+#include "apps/lifetime_output.h"
+#include "apps/scene.h"
+#include "solvers/constants.h"
 #include "cli_support.h"
 
 namespace rubcont {
@@ -95,6 +99,68 @@ TEST_CASE("rubcont lifetime: bad input names the option, the value and the rule,
   CHECK_THAT(bad("--from 48 --to 50 --until spin"), Contains("--until = spin: must be whirl, whip"));
   CHECK_THAT(bad("--from 48 --to 50 --check-dwell 0.01"), Contains("--check-dwell = 0.01: must be at least two windows"));
   CHECK_THAT(bad("--from 48 --to 50 --step 0.0001"), Contains("--step = 0.0001: gives more than 1000 speeds"));
+  CHECK_THAT(bad("--from 48 --to 50 --resume --fresh"), Contains("--resume and --fresh: give one of them"));
+}
+
+TEST_CASE("rubcont lifetime: a checkpoint reads back as written, is refused without --resume or --fresh and "
+          "from other options, and is kept", "[lifetime_cli]") {
+  TempDir dir;
+  const fs::path scene_file = WhirlScene(dir.path);
+  const Scene scene = LoadScene(scene_file.string());
+  SweepApproach approach;
+  approach.state = Vector::LinSpaced(16, -1.0, 1.0);
+  approach.speeds = {4.2, 4.6};
+  approach.regimes = {RubRegime::kWhirl, RubRegime::kIntermittent};
+  std::vector<SpeedEscapes> escapes(2);
+  for (int i = 0; i < 2; ++i) {
+    SpeedEscapes& e = escapes[static_cast<std::size_t>(i)];
+    e.observations = {48.0 + 0.5 * i, 0.1, 0.4, {1, 3}, 1};
+    e.arrival_time = {0.1, kNaN, 0.3};
+    e.failed = i;
+    if (i == 1) e.failures.push_back({2, "too many steps"});
+    e.untrusted = 1;
+    e.first_untrusted_copy = 0;
+    e.first_untrusted = "penetrated 2e-6 m";
+    e.wall_seconds = 0.25;
+  }
+  const fs::path out = dir.path / "study.h5";
+  const fs::path checkpoint = LifetimeCheckpointPath(out);
+  CHECK(checkpoint.filename() == "study.checkpoint.h5");
+  WriteLifetimeCheckpoint(checkpoint, scene, "the request", approach, escapes);
+  const std::optional<LifetimeStudyStart> back = ReadLifetimeCheckpoint(checkpoint, scene, "the request");
+  REQUIRE(back);
+  CHECK(back->approach.state == approach.state);
+  CHECK(back->approach.speeds == approach.speeds);
+  CHECK(back->approach.regimes == approach.regimes);
+  REQUIRE(back->escapes.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const SpeedEscapes& a = escapes[i];
+    const SpeedEscapes& b = back->escapes[i];
+    CHECK(b.observations.parameter == a.observations.parameter);
+    CHECK(b.observations.escape_stretch == a.observations.escape_stretch);
+    CHECK(b.observations.stayed == 1);
+    CHECK(b.arrival_time[0] == 0.1);
+    CHECK(std::isnan(b.arrival_time[1]));
+    CHECK(b.failed == a.failed);
+    CHECK(b.failures.size() == a.failures.size());
+    CHECK(b.first_untrusted == a.first_untrusted);
+  }
+  CHECK(back->escapes[1].failures[0].message == "too many steps");
+  CHECK_THROWS_WITH(ReadLifetimeCheckpoint(checkpoint, scene, "another request"),
+                    Contains("was written for another scene or other options"));
+  CHECK_FALSE(ReadLifetimeCheckpoint(dir.path / "none.h5", scene, "the request"));
+
+  const std::string command = "lifetime " + scene_file.string() + " --from 48 --to 48.5 --step 0.5 --copies 2 "
+                              "--duration 0.2 --quiet --out " + out.string();
+  const Outcome refused = testing::RubcontNoPython(command);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("holds the finished speeds of an interrupted lifetime study: --resume continues "
+                                   "from it, --fresh starts again"));
+  const Outcome other = testing::RubcontNoPython(command + " --resume");
+  CHECK(other.exit_code == 2);
+  CHECK_THAT(other.err, Contains("was written for another scene or other options") && Contains("the request"));
+  CHECK(fs::exists(checkpoint));
+  CHECK_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "apps/loop_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -30,6 +31,42 @@ std::filesystem::path WindowScene(const std::filesystem::path& dir) {
   const std::filesystem::path file = dir / "thesis_A_a.toml";
   std::ofstream(file) << text;
   return file;
+}
+
+// Case A(a) with the thesis's imbalance, run up and down over 44–60 rpm (4 rpm, 0.75 s per speed):
+// the rotating frame has no imbalance, so the runs are integrated at every speed (no skip along a
+// wave, which used to end the loop with exit 2 when the run-down moved onto a wave); the balanced
+// rotor's knee still explains the run-up's whirl → whip.
+TEST_CASE("rubcont loop: an imbalanced rotor's runs are integrated at every speed, its jumps explained by the balanced waves",
+          "[loop][cli]") {
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_A_a_imbalance.toml");
+  text = text.substr(0, text.find("[analysis.sweep]")) +
+         "[analysis.sweep]\nup_range_rpm = [44.0, 60.0]\ndown_range_rpm = [44.0, 60.0]\n"
+         "speed_step_rpm = 4.0\ndwell = 0.75\n";
+  const std::filesystem::path scene = dir.path / "imbalanced.toml";
+  std::ofstream(scene) << text;
+  const std::string file = (dir.path / "loop.h5").string();
+  const auto r = RubcontNoPython("loop " + scene.string() + " --quiet --out " + file);
+  INFO(r.out << r.err);
+  REQUIRE(r.exit_code == 0);
+  const ResultReader loop(file);
+  for (const char* direction : {"up", "down"}) {
+    const std::string run = std::string("/loop/runs/") + direction;
+    CHECK(loop.ReadDoubles(run + "/skips/from_rpm").empty());
+    CHECK(loop.ReadDoubles(run + "/speed_rpm").size() == loop.ReadDoubles(run + "/schedule_rpm").size());
+  }
+  const std::vector<std::string> decisions = loop.ReadStrings("/loop/decisions");
+  CHECK(std::any_of(decisions.begin(), decisions.end(),
+                    [](const std::string& d) { return d.find("the waves are the balanced rotor's") != std::string::npos; }));
+  const std::vector<std::string> direction = loop.ReadStrings("/loop/corners/direction");
+  const std::vector<std::string> kind = loop.ReadStrings("/loop/corners/kind");
+  const std::vector<std::string> cause = loop.ReadStrings("/loop/corners/cause");
+  bool knee_up = false;
+  for (std::size_t i = 0; i < kind.size(); ++i) {
+    knee_up = knee_up || (direction[i] == "up" && kind[i] == "whirl_to_whip" && cause[i] == "knee");
+  }
+  CHECK(knee_up);
 }
 
 TEST_CASE("rubcont loop: the L1 corners are the committed jump table's, and a run-up that ends on the whip says so",

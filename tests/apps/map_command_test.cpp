@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "cli_support.h"
+#include "describe_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -51,6 +52,19 @@ TEST_CASE("rubcont map writes /maps/<parameter> with grid, points and curves", "
   CHECK(reader.ReadStringAttribute(g + "/curves/" + curves[0], "kind") == "event");
   CHECK(!reader.ReadDoubles(g + "/curves/" + curves[0] + "/eta").empty());
   CHECK(reader.ReadStringAttribute("/", "level") == "L1");
+  // Self-described (apps/hdf5_file.h): η in the parameter's unit wherever it is written, the
+  // counts a field over (eta, speed_rpm), the regions coded.
+  const H5::H5File h5(file.string(), H5F_ACC_RDONLY);
+  CHECK(testing::StringAttribute(h5.openDataSet(g + "/eta"), "units") == "N s/m");
+  CHECK(testing::StringAttribute(h5.openDataSet(g + "/points/eta"), "units") == "N s/m");
+  CHECK(testing::StringAttribute(h5.openDataSet(g + "/curves/" + curves[0] + "/eta"), "units") ==
+        "N s/m");
+  CHECK(testing::ScaleOf(h5, g + "/stable_count", 0) == "eta");
+  CHECK(testing::ScaleOf(h5, g + "/stable_count", 1) == "speed_rpm");
+  CHECK(testing::ScaleOf(h5, g + "/speed_rpm", 0).empty());
+  CHECK(testing::StringAttribute(h5.openDataSet(g + "/region"), "flag_meanings") ==
+        "not_computed no_stable_circular_state one_stable_circular_state "
+        "coexisting_stable_circular_states");
 }
 
 TEST_CASE("rubcont map rejects bad parameters and ranges with exit code 2", "[cli][map][failure]") {

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "cli_support.h"
+#include "describe_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -95,6 +96,23 @@ TEST_CASE("rubcont sweep: one direction after the other gives one file with both
     REQUIRE(speeds.size() == 2);
     CHECK(speeds[0] == Approx(44.0).epsilon(1e-12));
     CHECK(speeds[1] == Approx(40.0).epsilon(1e-12));
+  }
+  {
+    // Both directions describe themselves (apps/hdf5_file.h), the one rewritten from the file too:
+    // speed labels every per-speed column, the spectrum's bins its second axis.
+    const H5::H5File file(h5.string(), H5F_ACC_RDONLY);
+    for (const std::string g : {"/sweeps/up", "/sweeps/down"}) {
+      CHECK(testing::ScaleOf(file, g + "/precession_hz_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/regime_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/spectrum_magnitude_left", 0) == "speed_rpm");
+      CHECK(testing::ScaleOf(file, g + "/spectrum_magnitude_left", 1) == "spectrum_frequency_hz");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/speed_rpm"), "units") == "rpm");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/spectrum_magnitude_left"), "units") == "m");
+      CHECK(testing::StringAttribute(file.openDataSet(g + "/settled"), "flag_meanings") ==
+            "not_settled settled");
+    }
+    CHECK(testing::CreationOrder(file, "/sweeps") ==
+          std::vector<std::string>{"up", "down", "branches", "jump_table"});  // as written
   }
 
   // --resume with both directions complete in the file: nothing is integrated again.
@@ -249,6 +267,37 @@ TEST_CASE("rubcont sweep: a speed beyond max_penetration is untrusted in the sum
   REQUIRE(untrusted.size() == 2);
   CHECK_THAT(untrusted[1], Contains("contact penetrates"));
   CHECK(r.Exists("/sweeps/jump_table/trusted"));
+}
+
+TEST_CASE("rubcont sweep: a checkpoint is refused without --resume or --fresh (exit 2) and kept",
+          "[sweep_cli]") {
+  // It used to be overwritten with a warning: 28 of 41 finished speeds lost by a re-run (issue 50).
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
+  const fs::path h5 = dir.path / "sweep.h5";
+  const fs::path checkpoint = dir.path / "sweep.up.checkpoint.h5";
+  const std::string saved = "the finished speeds of an interrupted run";
+  std::ofstream(checkpoint) << saved;
+  const std::string run = "sweep " + scene.string() + " --direction up --quiet --out " + h5.string();
+
+  const Outcome refused = testing::RubcontNoPython(run);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err == "rubcont: " + checkpoint.string() +
+                           " holds the finished speeds of an interrupted up sweep: --resume continues "
+                           "from it, --fresh starts again and overwrites it\n");
+  CHECK(Slurp(checkpoint) == saved);
+  CHECK_FALSE(fs::exists(h5));
+  const Outcome both = testing::RubcontNoPython(run + " --resume --fresh");
+  CHECK(both.exit_code == 2);
+  CHECK_THAT(both.err, Contains("--resume and --fresh: give one of them"));
+  CHECK(Slurp(checkpoint) == saved);
+
+  const Outcome fresh = testing::RubcontNoPython(run + " --fresh");
+  INFO(fresh.err);
+  CHECK(fresh.exit_code == 0);
+  CHECK_THAT(fresh.err, Contains("starting the up sweep afresh (--fresh)"));
+  CHECK(ResultReader(h5).ReadDoubles("/sweeps/up/speed_rpm").size() == 2);
+  CHECK_FALSE(fs::exists(checkpoint));
 }
 
 TEST_CASE("rubcont sweep: bad input names the key, the value and the rule, with exit code 2",

@@ -170,6 +170,18 @@ def test_bad_arguments_raise_value_error():
         rubcont.run(A_A, stages=["nonsense"])
 
 
+def test_absurd_work_is_refused_unless_forced(tmp_path):
+    huge = rubcont.load_scene(A_A).with_values({"analysis": {"sweep": {"up_range_rpm": [20.0, 1e9]}}})
+    with pytest.raises(ValueError, match=r"analysis.sweep.up_range_rpm.*--force to run it anyway"):
+        rubcont.sweep(huge, direction="up")
+    with pytest.raises(ValueError, match=r"--force to run it anyway"):
+        rubcont.lifetime(A_A, from_rpm=48.0, to_rpm=50.0, step_rpm=0.5, copies=100000, duration=100.0)
+    # Forced, the sweep gets past the check to the next one: an output that cannot be written.
+    (tmp_path / "taken").mkdir()
+    with pytest.raises(rubcont.RubcontError, match=r"(?s)running it anyway \(--force\).*Is a directory"):
+        rubcont.sweep(huge, direction="up", force=True, out=tmp_path / "taken")
+
+
 def test_the_loop_gives_the_table_of_jumps_with_causes():
     window = rubcont.load_scene(A_A).with_values(
         {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "down_range_rpm": [40.0, 120.0],

@@ -157,6 +157,61 @@ TEST_CASE("Lifetime study: a failed approach and copies that all fail are status
   CHECK_THAT(copies.BriefReport(), Contains("no estimate"));
 }
 
+TEST_CASE("Lifetime study: interrupted after its first speed and resumed from what it had finished, it "
+          "gives the uninterrupted study's numbers without running the approach or that speed again",
+          "[lifetime_study]") {
+  const RubStructure structure = WhirlStructure();
+  const LifetimeStudyOptions o = WhirlLifetime(RubRegime::kWhirl);
+  const LifetimeStudyResult whole = RunLifetimeStudy(structure, o);
+  REQUIRE(whole.status == LifetimeStatus::kComplete);
+
+  // The checkpoints the study hands out: after the approach (no speed), after 48 rpm; then it is
+  // "killed" (an exception from the checkpoint writer).
+  struct Interrupted {};
+  std::vector<LifetimeStudyStart> checkpoints;
+  LifetimeStudyProgress interrupt;
+  interrupt.finished = [&](const SweepApproach& approach, const std::vector<SpeedEscapes>& escapes) {
+    checkpoints.push_back({approach, escapes});
+    if (escapes.size() == 1) throw Interrupted{};
+  };
+  CHECK_THROWS_AS(RunLifetimeStudy(structure, o, interrupt), Interrupted);
+  REQUIRE(checkpoints.size() == 2);
+  CHECK(checkpoints[0].escapes.empty());
+  CHECK(checkpoints[0].approach.state == whole.approach.state);
+
+  std::vector<double> ran;  // the speeds whose copies ran again
+  bool approached = false;
+  LifetimeStudyProgress watch;
+  watch.approach = [&](const SweepRun&) { approached = true; };
+  watch.copies = [&](double speed_rpm, int, int) {
+    if (ran.empty() || !(ran.back() == speed_rpm || (std::isnan(speed_rpm) && std::isnan(ran.back())))) {
+      ran.push_back(speed_rpm);
+    }
+  };
+  const LifetimeStudyResult resumed = RunLifetimeStudy(structure, o, watch, &checkpoints[1]);
+  REQUIRE(resumed.status == LifetimeStatus::kComplete);
+  CHECK_FALSE(approached);
+  REQUIRE(ran.size() == 2);  // 48.5 rpm and the check sweeps
+  CHECK(ran[0] == 48.5);
+  CHECK(std::isnan(ran[1]));
+  REQUIRE(resumed.escapes.size() == whole.escapes.size());
+  for (std::size_t i = 0; i < whole.escapes.size(); ++i) {
+    CHECK(resumed.escapes[i].observations.escape_stretch == whole.escapes[i].observations.escape_stretch);
+    CHECK(resumed.escapes[i].arrival_time == whole.escapes[i].arrival_time);
+    CHECK(resumed.rates[i].rate == whole.rates[i].rate);
+  }
+  CHECK(resumed.check.leave_speed_rpm == whole.check.leave_speed_rpm);
+
+  // A start that is not this study's: another schedule, another number of copies.
+  LifetimeStudyOptions other = o;
+  other.from_rpm = 47.5;
+  CHECK_THROWS_WITH(RunLifetimeStudy(structure, other, {}, &checkpoints[1]),
+                    Contains("must be the schedule's speed 47.5 rpm"));
+  other = o;
+  other.sampling.ensemble.copies = 3;
+  CHECK_THROWS_WITH(RunLifetimeStudy(structure, other, {}, &checkpoints[1]), Contains("must be the study's 3 copies"));
+}
+
 TEST_CASE("Lifetime study: bad options are rejected naming the field, the value and the rule",
           "[lifetime_study]") {
   const RubStructure structure = WhirlStructure();

@@ -409,3 +409,75 @@ TEST_CASE("the rotating waves' stability tolerance, 0.1 s⁻¹, lies in the gap 
 
 }  // namespace
 }  // namespace rubcont
+
+namespace rubcont {
+namespace {
+
+// Whether `point` (a point of another branch set, on piece `piece`) lies on some branch of
+// `branches`: within `tolerance` of a segment of that piece in (speed, precession, normal forces),
+// each relative to the point's own value (forces below 1 N count as 1 N). A distance to the segment,
+// not an interpolation in speed, since the points may lie on either side of a fold.
+bool OnSomeBranch(const std::vector<RotatingWaveBranch>& branches, const Branch& from,
+                  const BranchPoint& point, double tolerance) {
+  const std::vector<std::string> names{"precession_hz", "normal_force_left", "normal_force_right"};
+  auto coordinates = [&](const Branch& branch, const BranchPoint& q) {
+    Vector x(names.size() + 1);
+    x(0) = q.lambda / point.lambda;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const double own = point.measures(from.MeasureIndex(names[j]));
+      x(static_cast<Index>(j) + 1) = q.measures(branch.MeasureIndex(names[j])) / std::max(std::abs(own), 1.0);
+    }
+    return x;
+  };
+  const Vector x = coordinates(from, point);
+  for (const RotatingWaveBranch& b : branches) {
+    const auto& p = b.branch.points;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+      if (p[i].piece != point.piece || p[i + 1].piece != point.piece) continue;
+      const Vector a = coordinates(b.branch, p[i]), d = coordinates(b.branch, p[i + 1]) - a;
+      const double t = d.squaredNorm() == 0.0 ? 0.0 : std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      if ((a + t * d - x).lpNorm<Eigen::Infinity>() <= tolerance) return true;
+    }
+  }
+  return false;
+}
+
+// Issue 50: A(a) over [20, 1000] rpm had lost the Mode 1 whip at 1.67 Hz (its μ crossing lay below
+// the first point of the family search's grid, whose spacing grew with the range), over
+// [20, 10000] rpm two branches more. Every point and special point of a narrower range's branches
+// lies on a branch of the wider range's.
+TEST_CASE("a wider speed range's branch set holds every branch of a narrower one (A(a), 260 → 10⁴ rpm)",
+          "[branches]") {
+  const RubStructure structure = TwoPointStructure(ThesisCaseAa());
+  std::vector<std::vector<RotatingWaveBranch>> sets;
+  for (double top_rpm : {260.0, 1000.0, 1e4}) {
+    RotatingWaveBranchOptions options = ThesisRange();
+    options.search.speed_max = top_rpm * kRadPerSecondPerRpm;
+    sets.push_back(ComputeRotatingWaveBranches(structure, FrictionLawKind::kExact, options));
+  }
+  for (std::size_t narrow = 0; narrow + 1 < sets.size(); ++narrow) {
+    for (const RotatingWaveBranch& b : sets[narrow]) {
+      int points_off = 0;
+      for (const BranchPoint& p : b.branch.points) {
+        points_off += OnSomeBranch(sets[narrow + 1], b.branch, p, 5e-3) ? 0 : 1;
+      }
+      INFO("range " << narrow << " → " << narrow + 1 << ": " << b.name << " (" << b.family
+                    << "): " << b.branch.BriefReport());
+      CHECK(points_off == 0);
+      for (const SpecialPoint& sp : b.branch.special_points) {
+        bool found = false;
+        for (const RotatingWaveBranch& w : sets[narrow + 1]) {
+          for (const SpecialPoint& q : w.branch.special_points) {
+            // An event's label names the contact that switched first: either of a symmetric pair.
+            found = found || (q.type == sp.type && std::abs(q.lambda - sp.lambda) <= 1e-6 * sp.lambda);
+          }
+        }
+        INFO(sp.Name() << " at " << sp.lambda << " rad/s");
+        CHECK(found);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rubcont
