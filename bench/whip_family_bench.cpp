@@ -113,6 +113,11 @@ int Main(int argc, char** argv) {
               branch.points.size(), newton, result.orbits.work.steps, cpu, waves_cpu,
               branch.BriefReport().c_str());
   const BranchStatistics& st = branch.statistics;
+  const ShootingStatistics& work = result.orbits.work;
+  std::printf("  integrator: %ld collocation Newton iterations (%.2f per step), %ld factorisations\n",
+              work.nonlinear_iterations,
+              static_cast<double>(work.nonlinear_iterations) / static_cast<double>(std::max(1L, work.steps)),
+              work.linear_solver_setups);
   std::printf("  %d corrector failures, %d angle rejections, %ld residuals, %ld Jacobians\n",
               st.corrector_failures, st.angle_rejections, st.residual_evaluations,
               st.jacobian_evaluations);

@@ -647,6 +647,8 @@ bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need nee
         integrator.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
                              data.ends[i], stm, dxdp, dxdt1);
     statistics_.steps += result.statistics.steps;
+    statistics_.nonlinear_iterations += result.statistics.nonlinear_iterations;
+    statistics_.linear_solver_setups += result.statistics.linear_solver_setups;
     if (stm == nullptr) {
       ++statistics_.residual_integrations;
     } else {
@@ -937,6 +939,8 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
     const IntegrationResult result =
         integrator_.Sample(t0, u.segment(i * n_, n_), times, segment_states);
     statistics_.steps += result.statistics.steps;
+    statistics_.nonlinear_iterations += result.statistics.nonlinear_iterations;
+    statistics_.linear_solver_setups += result.statistics.linear_solver_setups;
     ++statistics_.residual_integrations;
     if (!result.Succeeded()) {
       last_failure_ = result;
@@ -1021,6 +1025,8 @@ Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double la
     const IntegrationResult result = integrator_.Integrate(
         SegmentTime(T, i - 1), starts.col(i - 1), SegmentTime(T, i), starts.col(i));
     statistics_.steps += result.statistics.steps;
+    statistics_.nonlinear_iterations += result.statistics.nonlinear_iterations;
+    statistics_.linear_solver_setups += result.statistics.linear_solver_setups;
     ++statistics_.residual_integrations;
     if (!result.Succeeded()) {
       last_failure_ = result;

@@ -276,11 +276,15 @@ struct ShootingStatistics {
   long residual_integrations = 0;     // segment integrations without sensitivities
   long sensitivity_integrations = 0;  // segment integrations with the STM
   long steps = 0;                     // integrator steps, all integrations
+  long nonlinear_iterations = 0;      // the implicit integrators' Newton iterations, all steps
+  long linear_solver_setups = 0;      // their factorisations
   long cache_hits = 0;                // evaluations served from the cache
   ShootingStatistics& operator+=(const ShootingStatistics& more) {
     residual_integrations += more.residual_integrations;
     sensitivity_integrations += more.sensitivity_integrations;
     steps += more.steps;
+    nonlinear_iterations += more.nonlinear_iterations;
+    linear_solver_setups += more.linear_solver_setups;
     cache_hits += more.cache_hits;
     return *this;
   }

@@ -88,6 +88,7 @@ void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b) {
   a.rhs_evaluations += b.rhs_evaluations;
   a.jacobian_evaluations += b.jacobian_evaluations;
   a.linear_solver_setups += b.linear_solver_setups;
+  a.reduced_setups += b.reduced_setups;
   a.error_test_failures += b.error_test_failures;
   a.nonlinear_iterations += b.nonlinear_iterations;
   a.nonlinear_convergence_failures += b.nonlinear_convergence_failures;

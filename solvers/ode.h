@@ -134,6 +134,7 @@ struct IntegrationStatistics {
   long rhs_evaluations = 0;            // f evaluations by the integrator (not the sensitivity ones)
   long jacobian_evaluations = 0;       // analytic or difference-quotient Jacobians for the Newton matrix
   long linear_solver_setups = 0;
+  long reduced_setups = 0;  // of those, Gauss's on a second-order system's Schur complement (half size)
   long error_test_failures = 0;
   long nonlinear_iterations = 0;
   long nonlinear_convergence_failures = 0;

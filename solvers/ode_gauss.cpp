@@ -23,6 +23,15 @@
 // with the factorisation of M from the last Newton iteration (its Jacobians one increment below
 // the converged stages: a relative error of the Newton tolerance in Φ).
 //
+// A second-order system x = [q; v], f = [v; a(t, q, v)] (every rotor model: checked at each stage,
+// f's first half equal to x's second half and J's first block row exactly [0 I]) has the stages'
+// first halves linear in their second: Q_i = h Σ_j A_ij (v + V_j). Eliminating them, every solve
+// with M (Newton's and the sensitivities') is one with the Schur complement of size s·n/2,
+//   M_V = I − h (A ⊗ I) blockdiag(a_v,j) − h² (A ⊗ I) blockdiag(a_q,j) (A ⊗ I),
+//   M_V Δ_V = G_V + h (A ⊗ I) blockdiag(a_q,j) G_Q,   Δ_Q = G_Q + h (A ⊗ I) Δ_V,
+// the same linear algebra as M's by block elimination (the same iterates, to rounding), an eighth
+// of its factorisation's cost (SolveWithNewtonMatrix).
+//
 // Errors are not estimated: the accuracy is the mesh's (collocation_steps per call), measured
 // against a tight CVODES reference where it is used (docs/studies/orbits.md). Events are not
 // supported.
@@ -145,17 +154,22 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
   double damping = 1.0;
   int iteration = 0;
   for (int pass = 0; pass < kMaxNewtonIterations + kMaxHalvings; ++pass) {
+    second_order_ = n % 2 == 0;
     for (Index i = 0; i < s; ++i) {
       const double ti = t + coefficients_.c(i) * h;
       stage_state_ = x + stages_.col(i);
       ++statistics_.rhs_evaluations;
+      Matrix& J = jacobians_[static_cast<std::size_t>(i)];
       if (EvaluateRhs(context_, ti, stage_state_.data(), derivatives_.col(i).data()) != 0 ||
-          EvaluateJacobian(context_, ti, stage_state_.data(),
-                           jacobians_[static_cast<std::size_t>(i)].data()) != 0) {
+          EvaluateJacobian(context_, ti, stage_state_.data(), J.data()) != 0) {
         failure = fmt::format("the right-hand side or its Jacobian failed at t = {:.9g}", ti);
         return false;
       }
       ++statistics_.jacobian_evaluations;
+      const Index h2 = n / 2;
+      second_order_ = second_order_ && derivatives_.col(i).head(h2) == stage_state_.tail(h2) &&
+                      (J.topLeftCorner(h2, h2).array() == 0.0).all() &&
+                      J.topRightCorner(h2, h2) == Matrix::Identity(h2, h2);
     }
     // G = Z − h (A ⊗ I) F.
     double merit = 0.0;
@@ -175,17 +189,9 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
     ++iteration;
     previous_merit = merit;
     damping = 1.0;
-    // M = I − h (A ⊗ I) blockdiag(J).
-    for (Index i = 0; i < s; ++i) {
-      for (Index j = 0; j < s; ++j) {
-        newton_matrix_.block(i * n, j * n, n, n) = -h * A(i, j) * jacobians_[static_cast<std::size_t>(j)];
-      }
-    }
-    newton_matrix_.diagonal().array() += 1.0;
-    lu_.compute(newton_matrix_);
-    ++statistics_.linear_solver_setups;
+    FactorNewtonMatrix(h);
     ++statistics_.nonlinear_iterations;
-    increment_ = lu_.solve(residual_);
+    SolveWithNewtonMatrix(h, residual_, increment_);
     double norm = 0.0;
     for (Index i = 0; i < s; ++i) {
       stages_.col(i) -= increment_.segment(i * n, n);
@@ -204,6 +210,86 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
       "(h = {:.3g}): refine the mesh (collocation_steps)",
       kMaxNewtonIterations, t, h);
   return false;
+}
+
+// M = I − h (A ⊗ I) blockdiag(J_j) at the Jacobians of the last evaluation, factorised: M itself,
+// or for a second-order system its Schur complement M_V (block (i, k):
+// δ_ik I − h A_ik a_v,k − h² Σ_j A_ij A_jk a_q,j).
+void GaussBackend::FactorNewtonMatrix(double h) {
+  const Index n = context_.n;
+  const Index s = stages_.cols();
+  const Matrix& A = coefficients_.A;
+  ++statistics_.linear_solver_setups;
+  reduced_ = second_order_;
+  if (reduced_) {
+    ++statistics_.reduced_setups;
+    const Index m = n / 2;
+    reduced_matrix_.setZero(m * s, m * s);
+    for (Index i = 0; i < s; ++i) {
+      for (Index k = 0; k < s; ++k) {
+        auto block = reduced_matrix_.block(i * m, k * m, m, m);
+        block.noalias() -= (h * A(i, k)) * jacobians_[static_cast<std::size_t>(k)].bottomRightCorner(m, m);
+        for (Index j = 0; j < s; ++j) {
+          block.noalias() -= (h * h * A(i, j) * A(j, k)) *
+                             jacobians_[static_cast<std::size_t>(j)].bottomLeftCorner(m, m);
+        }
+      }
+    }
+    reduced_matrix_.diagonal().array() += 1.0;
+    reduced_lu_.compute(reduced_matrix_);
+    return;
+  }
+  for (Index i = 0; i < s; ++i) {
+    for (Index j = 0; j < s; ++j) {
+      newton_matrix_.block(i * n, j * n, n, n) = -h * A(i, j) * jacobians_[static_cast<std::size_t>(j)];
+    }
+  }
+  newton_matrix_.diagonal().array() += 1.0;
+  lu_.compute(newton_matrix_);
+}
+
+// out = M⁻¹ rhs (columns of s·n rows, stage by stage) with FactorNewtonMatrix's factorisation.
+void GaussBackend::SolveWithNewtonMatrix(double h, const Matrix& rhs, Matrix& out) {
+  if (!reduced_) {
+    out = lu_.solve(rhs);
+    return;
+  }
+  const Index n = context_.n;
+  const Index m = n / 2;
+  const Index s = stages_.cols();
+  const Matrix& A = coefficients_.A;
+  // a_q,j G_Q,j, then G_V + h (A ⊗ I) of it.
+  reduced_products_.resize(m * s, rhs.cols());
+  for (Index j = 0; j < s; ++j) {
+    reduced_products_.middleRows(j * m, m).noalias() =
+        jacobians_[static_cast<std::size_t>(j)].bottomLeftCorner(m, m) * rhs.middleRows(j * n, m);
+  }
+  reduced_rhs_.resize(m * s, rhs.cols());
+  for (Index i = 0; i < s; ++i) {
+    reduced_rhs_.middleRows(i * m, m) = rhs.middleRows(i * n + m, m);
+    for (Index j = 0; j < s; ++j) {
+      reduced_rhs_.middleRows(i * m, m) += (h * A(i, j)) * reduced_products_.middleRows(j * m, m);
+    }
+  }
+  reduced_products_ = reduced_lu_.solve(reduced_rhs_);  // Δ_V
+  out.resize(n * s, rhs.cols());
+  for (Index i = 0; i < s; ++i) {
+    out.middleRows(i * n + m, m) = reduced_products_.middleRows(i * m, m);
+    out.middleRows(i * n, m) = rhs.middleRows(i * n, m);
+    for (Index j = 0; j < s; ++j) {
+      out.middleRows(i * n, m) += (h * A(i, j)) * reduced_products_.middleRows(j * m, m);
+    }
+  }
+}
+
+void GaussBackend::SolveWithNewtonMatrix(double h, const Vector& rhs, Vector& out) {
+  if (!reduced_) {
+    out = lu_.solve(rhs);
+    return;
+  }
+  vector_rhs_ = rhs;
+  SolveWithNewtonMatrix(h, vector_rhs_, vector_out_);
+  out = vector_out_.col(0);
 }
 
 IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
@@ -322,7 +408,7 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
         // The step h = (t1 − t0)/N itself: ∂G/∂t1 = −(A ⊗ I) F / N = −Z/(t1 − t0) at the stages.
         if (with_dxdt1) sensitivity_rhs_.block(i * n, t1_column, n, 1) += stages_.col(i) / (t1 - t0);
       }
-      blocks_ = lu_.solve(sensitivity_rhs_);
+      SolveWithNewtonMatrix(h, sensitivity_rhs_, blocks_);
       for (Index i = 0; i < s; ++i) {
         stm += coefficients_.d(i) * blocks_.block(i * n, 0, n, stm_columns);
         if (with_dxdp) dxdp += coefficients_.d(i) * blocks_.block(i * n, p_column, n, 1);

@@ -186,6 +186,9 @@ class GaussBackend {
 
  private:
   bool SolveStages(double t, const Vector& x, double h, std::string& failure);
+  void FactorNewtonMatrix(double h);
+  void SolveWithNewtonMatrix(double h, const Matrix& rhs, Matrix& out);
+  void SolveWithNewtonMatrix(double h, const Vector& rhs, Vector& out);
   IntegrationResult Fail(IntegrationStatus status, double t, std::string message);
 
   CallbackContext& context_;
@@ -199,6 +202,12 @@ class GaussBackend {
   Vector output_weights_;
   Matrix newton_matrix_;
   Eigen::PartialPivLU<Matrix> lu_;
+  // Whether the last evaluation's stages are a second-order system's, and whether the last
+  // factorisation is the Schur complement M_V (its matrix, factors and work space below).
+  bool second_order_ = false;
+  bool reduced_ = false;
+  Matrix reduced_matrix_, reduced_rhs_, reduced_products_, vector_rhs_, vector_out_;
+  Eigen::PartialPivLU<Matrix> reduced_lu_;
   Vector residual_, increment_;
   Matrix sensitivity_rhs_, blocks_;
 };
