@@ -119,6 +119,11 @@ struct RubOrbitsSettings {
   // grazing"; PeriodicOrbitBranchOptions::stop_at_grazing) instead of creeping past it on the fixed
   // mesh (A(a): 87 orbits and 640 s of CPU to a corrector failure, bench/whip_family_bench.cpp).
   bool stop_at_grazing = false;
+  // predictor = "curved": the continuation's corrector starts from the parabola through the
+  // previous orbit (StepOptions::curved_predictor): A(a)'s whip family from its Hopf point to its
+  // grazing in 59 orbits instead of 279 (bench/whip_family_bench.cpp). "tangent" (the default):
+  // the tangent line, as before the key.
+  bool curved_predictor = false;
   // [analysis.orbits.transient]: the orbits through the relative periodic orbit a settled
   // transient lies on (ContinueTransientOrbits), for whips no Hopf point's family reaches.
   struct Transient {

@@ -782,6 +782,16 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "docs/levels/l2_orbits_tori.md).",
       {"continue", "stop"}, "stop",
       [](Scene& x) -> bool& { return x.analysis.orbits.stop_at_grazing; }));
+  s.push_back(Switch(
+      "analysis.orbits.predictor",
+      "Where the continuation's corrector starts each orbit: \"tangent\", along the family's "
+      "tangent; \"curved\", on the parabola through the previous orbit tangent to the family at "
+      "the last (an error of third order in the step instead of second: fewer Newton iterations "
+      "and longer steps; A(a)'s whip family from its Hopf point to its grazing in 59 orbits and "
+      "0.17 of the CPU, docs/performance.md). The landmarks are located to the same tolerances "
+      "either way, but the steps differ and with them the sampled ones (grazing).",
+      {"tangent", "curved"}, "curved",
+      [](Scene& x) -> bool& { return x.analysis.orbits.curved_predictor; }));
 }
 
 // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.

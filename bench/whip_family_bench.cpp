@@ -8,7 +8,7 @@
 // Usage: whip_family_bench [--to RPM] [--intervals N] [--angle A] [--max-angle A] [--iterations K]
 //                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
 //                          [--step-tolerance D] [--failure-memory N]
-//                          [--stop-at-grazing] [--verbose]
+//                          [--curved-predictor] [--stop-at-grazing] [--verbose]
 // --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
@@ -16,7 +16,8 @@
 // --tolerance: the shooting's (Gauss: its Newton stops at 1e-3·T, scaled); --residual: the
 // continuation corrector's residual tolerance (default the engine's); --step-tolerance: its bound on
 // the last Newton correction (default the engine's); --failure-memory: StepOptions::failure_memory
-// (default 0, off).
+// (default 0, off); --curved-predictor: StepOptions::curved_predictor (the parabola through the
+// previous point as the corrector's first iterate).
 // Default: to 63 rpm (the first figure), the stage's settings.
 #include <algorithm>
 #include <cmath>
@@ -39,7 +40,7 @@ int Main(int argc, char** argv) {
   double to_rpm = 63.0, angle = 0.3, max_angle = 0.0, growth = 2.0, max_step = 1.0,
          tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
   int intervals = 400, iterations = 5, steps = 400, failure_memory = 0;
-  bool verbose = false, stop_at_grazing = false;
+  bool verbose = false, stop_at_grazing = false, curved_predictor = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -56,6 +57,7 @@ int Main(int argc, char** argv) {
     else if (a == "--step-tolerance") step_tolerance = next();
     else if (a == "--failure-memory") failure_memory = static_cast<int>(next());
     else if (a == "--stop-at-grazing") stop_at_grazing = true;
+    else if (a == "--curved-predictor") curved_predictor = true;
     else if (a == "--verbose") verbose = true;
   }
   TwoPointParams params = ThesisCaseAa();
@@ -88,6 +90,7 @@ int Main(int argc, char** argv) {
   c.step.target_iterations = iterations;
   c.step.max_growth = growth;
   c.step.failure_memory = failure_memory;
+  c.step.curved_predictor = curved_predictor;
   c.bounds.max_steps = steps;
   if (residual > 0.0) c.corrector.residual_tolerance = residual;
   if (step_tolerance > 0.0) c.corrector.step_tolerance = step_tolerance;
@@ -105,10 +108,10 @@ int Main(int argc, char** argv) {
   for (const BranchPoint& p : branch.points) newton += p.newton_iterations;
   std::printf("whip_family_bench: Hopf %.8f rpm → %g rpm, %d intervals, angle %g, iterations %d, "
               "max angle %g, growth %g, max step %g, tolerance %g, residual %g, correction %g, "
-              "failure memory %d\n",
+              "failure memory %d%s\n",
               RadPerSecondToRpm(starts.front().speed), to_rpm, intervals, angle, iterations,
               c.step.max_angle, growth, max_step, tolerance, c.corrector.residual_tolerance,
-              c.corrector.step_tolerance, failure_memory);
+              c.corrector.step_tolerance, failure_memory, curved_predictor ? ", curved predictor" : "");
   std::printf("  %zu orbits, %ld Newton iterations, %ld integrator steps, %.2f s CPU (waves %.2f s): %s\n",
               branch.points.size(), newton, result.orbits.work.steps, cpu, waves_cpu,
               branch.BriefReport().c_str());

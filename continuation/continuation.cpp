@@ -103,6 +103,9 @@ struct Continuation::Impl {
   // points.
   double ceiling = kInfinity;
   int ceiling_steps = 0;
+  // StepOptions::curved_predictor: the accepted point before `current` on the same piece (empty at
+  // a start and after a switch).
+  Vector previous_x;
   bool started = false;
   bool stability_on = false;
   std::vector<std::string> event_names;
@@ -236,7 +239,22 @@ struct Continuation::Impl {
         if (entry.first > sigma && (hi == nullptr || entry.first < hi->first)) hi = &entry;
       }
       Vector guess;
-      if (lo != nullptr && hi != nullptr) {
+      // Their tangents' σ-components (nearly 1 on a step the angle test passed).
+      const auto along = [this](const std::pair<double, CorrectedPoint>* p) {
+        return from_.point.tangent.dot(p->second.tangent);
+      };
+      constexpr double kMinAlong = 0.5;
+      if (lo != nullptr && hi != nullptr && impl_.options.step.curved_predictor &&
+          along(lo) > kMinAlong && along(hi) > kMinAlong) {
+        // The cubic Hermite arc between them, dX/dσ = τ/(τ̂_kᵀτ) at each (the corrector's).
+        const double width = hi->first - lo->first;
+        const double t = (sigma - lo->first) / width;
+        const Vector m0 = lo->second.tangent / along(lo);
+        const Vector m1 = hi->second.tangent / along(hi);
+        guess = (2 * t * t * t - 3 * t * t + 1) * lo->second.x +
+                (t * t * t - 2 * t * t + t) * width * m0 +
+                (-2 * t * t * t + 3 * t * t) * hi->second.x + (t * t * t - t * t) * width * m1;
+      } else if (lo != nullptr && hi != nullptr) {
         const double t = (sigma - lo->first) / (hi->first - lo->first);
         guess = (1.0 - t) * lo->second.x + t * hi->second.x;
       } else {
@@ -339,6 +357,7 @@ struct Continuation::Impl {
     }
     ComputeStability(data);
     current = data;
+    previous_x.resize(0);
     AppendPoint(current, 0.0);
     start_x = current.point.x;
     start_tangent = current.point.tangent;
@@ -1017,6 +1036,22 @@ struct Continuation::Impl {
     }
   }
 
+  // The corrector's first iterate at arclength σ: x̂_k + σ τ̂_k, or with
+  // StepOptions::curved_predictor the parabola x̂_k + σ τ̂_k + σ² c through the previous point
+  // x̂_{k−1} (c = (x̂_{k−1} − x̂_k + h τ̂_k)/h², h = −τ̂_kᵀ(x̂_{k−1} − x̂_k), so c ⊥ τ̂_k and the guess
+  // lies on the corrector's hyperplane τ̂_kᵀ(x̂ − x̂_k) = σ as the tangent's does). Its error is
+  // O(σ³) where the tangent's is O(σ²): fewer Newton iterations per step, and longer steps for the
+  // same target.
+  Vector Predictor(double sigma) const {
+    Vector guess = current.point.x + sigma * current.point.tangent;
+    if (!options.step.curved_predictor || previous_x.size() != guess.size()) return guess;
+    const Vector back = previous_x - current.point.x;
+    const double h = -current.point.tangent.dot(back);
+    if (!(h > 0.0)) return guess;  // the previous point is not behind: no parabola
+    guess += (sigma * sigma / (h * h)) * (back + h * current.point.tangent);
+    return guess;
+  }
+
   // The corrector's point at arclength ds along the tangent, the step halved until it converges
   // and the tangent turns at most step.max_angle (or the step is the smallest): false when it
   // fails at the smallest step (the branch has ended, kStepTooSmall).
@@ -1024,7 +1059,7 @@ struct Continuation::Impl {
     const StepOptions& step = options.step;
     for (;;) {
       sigma = ds;
-      const Vector guess = current.point.x + sigma * current.point.tangent;
+      const Vector guess = Predictor(sigma);
       const CorrectorStatus status =
           corrector.Correct(current.point.x, current.point.tangent, sigma, guess, candidate);
       const bool at_minimum = ds <= step.min * (1.0 + 1e-12);
@@ -1116,7 +1151,14 @@ struct Continuation::Impl {
         return true;
       };
       const ArcRoot root = LocateOnArc(sampler, psi, 0.0, fa, sigma_end, fb);
-      if (!root.found || root.sigma <= 0.0) {
+      // A point inside the step the corrector could not reach: the root is not bracketed any
+      // more, and taking the step's end would store a point beyond the bound. Shorter, unless
+      // this is the shortest step.
+      if (root.evaluation_failed && !shortest) {
+        left_branch = true;
+        return StepResult::kContinue;
+      }
+      if (!root.found || root.sigma <= 0.0 || root.evaluation_failed) {
         return End(BranchStatus::kReachedLambdaBound,
                    fmt::format("reached λ {} = {:.10g} (the last point could not be placed on "
                                "it)",
@@ -1216,6 +1258,7 @@ struct Continuation::Impl {
     for (SpecialPoint& sp : special) AddSpecialPoint(std::move(sp));
 
     if (cut == Cut::kEvent) return SwitchAtEvent(event, event_root, next);
+    previous_x = std::move(current.point.x);
     current = std::move(next);
     if (cut == Cut::kLambdaBound) {
       return End(BranchStatus::kReachedLambdaBound,
@@ -1385,6 +1428,7 @@ struct Continuation::Impl {
     data.tests = TestsAt(data.point.x);
     ComputeStability(data);
     current = data;
+    previous_x.resize(0);
     AppendPoint(current, 0.0);
     if (branch.statistics.steps >= options.bounds.max_steps) {
       return End(BranchStatus::kMaxSteps,

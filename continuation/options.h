@@ -47,6 +47,9 @@ struct StepOptions {
   // modulated whip the iteration target grows a step that converged in 4 iterations by √2 into
   // one that fails, every second step: 136 failures in 279 orbits (bench/whip_family_bench.cpp).
   int failure_memory = 0;
+  // The corrector starts from the parabola through the previous point, tangent to the branch at the
+  // current one, instead of the tangent line (continuation.cpp, Predictor): off by default.
+  bool curved_predictor = false;
 };
 
 // Where the branch ends. λ bounds are met exactly (the last point is located on the bound).

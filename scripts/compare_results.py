@@ -45,8 +45,8 @@ RESOLVED_BY = re.compile(r"(as resolved by rubcont )\S+")
 ADDED_ATTRIBUTES = {"units", "flag_values", "flag_meanings", "CLASS", "NAME", "DIMENSION_LIST"}
 ADDED_DATASETS = {"state"}
 # Scene keys added later, as the line a resolved scene prints at the default that keeps what runs
-# before the key did (scene_schema's defaults): [analysis.orbits] at_grazing (issue 49).
-SCENE_KEYS_ADDED = {'at_grazing = "continue"'}
+# before the key did (scene_schema's defaults): [analysis.orbits] at_grazing and predictor (issue 49).
+SCENE_KEYS_ADDED = {'at_grazing = "continue"', 'predictor = "tangent"'}
 
 
 def mask_durations(line):

@@ -197,6 +197,46 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
   CHECK(halved);
 }
 
+TEST_CASE("curved_predictor: the parabola through the previous point starts Newton closer, so the "
+          "same circle costs fewer iterations and longer steps",
+          "[continuation][step]") {
+  // u² + λ² = 1 from (1, 0): a curvature of 1 in scaled units.
+  LambdaProblem circle(
+      1, [](const Vector& u, double l, double, Vector& F) { F(0) = u(0) * u(0) + l * l - 1.0; },
+      [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 2.0 * u(0); },
+      [](const Vector&, double l, double, Vector& dF) { dF(0) = 2.0 * l; });
+  const auto run = [&](bool curved, double step, int target_iterations) {
+    ContinuationOptions options;
+    options.step.initial = step;
+    options.step.max = step;
+    options.step.target_iterations = target_iterations;
+    options.step.max_angle = options.step.target_angle = 1.0;
+    options.step.curved_predictor = curved;
+    options.bounds.max_steps = 12;
+    return Continue(circle, Vec({1.0}), 0.0, options);
+  };
+  const auto iterations = [](const Branch& b) {
+    int n = 0;
+    for (const BranchPoint& p : b.points) n += p.newton_iterations;
+    return n;
+  };
+  // Equal steps of 0.2: every point on the circle, fewer Newton iterations after the first step.
+  const Branch tangent = run(false, 0.2, 8), curved = run(true, 0.2, 8);
+  INFO(tangent.BriefReport() << " / " << curved.BriefReport());
+  REQUIRE(curved.points.size() == tangent.points.size());
+  for (const BranchPoint& p : curved.points) {
+    CHECK(std::abs(p.u(0) * p.u(0) + p.lambda * p.lambda - 1.0) <= 1e-10);
+  }
+  CHECK(iterations(curved) < iterations(tangent));
+  for (std::size_t k = 2; k < curved.points.size(); ++k) {
+    CAPTURE(k);
+    CHECK(curved.points[k].newton_iterations <= tangent.points[k].newton_iterations);
+  }
+  // With the step chosen by an iteration target of 2, the curved predictor's steps grow longer.
+  const Branch tangent2 = run(false, 1.0, 2), curved2 = run(true, 1.0, 2);
+  CHECK(curved2.points.back().arclength > 1.3 * tangent2.points.back().arclength);
+}
+
 TEST_CASE("failure_memory: after a corrector failure the steps stay below the one that failed, "
           "so the same branch costs fewer failures",
           "[continuation][step]") {
