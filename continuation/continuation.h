@@ -8,7 +8,8 @@
 // its units.
 //
 // One step, from the accepted point x̂_k with unit tangent τ̂_k:
-//  1. predictor x̂ = x̂_k + Δs τ̂_k;
+//  1. predictor x̂ = x̂_k + Δs τ̂_k (StepOptions::curved_predictor: + Δs² c, the parabola through
+//     x̂_{k−1});
 //  2. corrector: Newton on [F̂(x̂); τ̂_kᵀ(x̂ − x̂_k) − Δs] = 0 (BorderedCorrector); on failure Δs is
 //     halved and the step retried, and below StepOptions::min the branch ends (kStepTooSmall);
 //  3. tangent τ̂_{k+1} from [DF̂; τ̂_kᵀ] z = e_{n+1} with the corrector's last LU, so that
