@@ -336,6 +336,10 @@ std::vector<std::pair<std::string, SweepKeyValue>> SweepKeyValues(const Scene& s
 void CopySweepRules(const Scene& from, Scene& to);
 // Whether `key` (full dotted name) is one of those rules.
 bool IsSweepRule(const std::string& key);
+// Whether `key` was added after results were committed, with a default that keeps what runs did
+// before it ([analysis.orbits] at_grazing, predictor): a stored scene that leaves it to its
+// default describes the same run (scripts/compare_results.py's SCENE_KEYS_ADDED says the same).
+bool AddedAtOlderBehaviour(const std::string& key);
 
 // The key reference in markdown, generated from the schema: one table per section with key,
 // type, unit, rule, required/default and meaning. scenes/README.md embeds it verbatim.

@@ -1244,4 +1244,8 @@ bool IsSweepRule(const std::string& key) {
   return false;
 }
 
+bool AddedAtOlderBehaviour(const std::string& key) {
+  return key == "analysis.orbits.at_grazing" || key == "analysis.orbits.predictor";
+}
+
 }  // namespace rubcont

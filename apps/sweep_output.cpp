@@ -28,7 +28,8 @@ std::string SceneBody(const Scene& scene) {
 // nor one that lacks a key other than those rules: it was written by an earlier version, before
 // the key existed, and today's default need not be what its run used (the sweeps' integrator was
 // CVODES BDF until 2026-11-26, "explicit" since: such a file read as the same would be labelled
-// with the wrong integrator).
+// with the wrong integrator) — unless the key was added with its older behaviour as its default
+// (AddedAtOlderBehaviour).
 bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
   Scene stored;
   try {
@@ -37,7 +38,7 @@ bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
     return false;
   }
   for (const std::string& key : stored.defaulted_keys) {
-    if (!IsSweepRule(key)) return false;
+    if (!IsSweepRule(key) && !AddedAtOlderBehaviour(key)) return false;
   }
   CopySweepRules(scene, stored);
   return SceneBody(stored) == SceneBody(scene);

@@ -182,6 +182,40 @@ TEST_CASE("rubcont sweep: --resume does not take a file from before a key existe
   CHECK(r.ReadStringAttribute("/sweeps/up", "status") == "complete");
 }
 
+TEST_CASE("rubcont sweep: --resume takes a file from before a key added at its older behaviour",
+          "[sweep_cli]") {
+  // [analysis.orbits] at_grazing and predictor were added with defaults that keep what runs did
+  // before them (AddedAtOlderBehaviour): a stored scene without them describes the same sweeps.
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
+  const fs::path h5 = dir.path / "sweep.h5";
+  const Outcome first =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(first.out << first.err);
+  REQUIRE(first.exit_code == 0);
+  {
+    H5::H5File file(h5.string(), H5F_ACC_RDWR);
+    const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+    std::string toml;
+    {
+      const H5::Attribute stored = file.openAttribute("scene_toml");
+      stored.read(stored.getStrType(), toml);
+    }
+    for (const std::string line : {"at_grazing = \"continue\"\n", "predictor = \"tangent\"\n"}) {
+      const auto at = toml.find(line);
+      REQUIRE(at != std::string::npos);
+      toml.erase(at, line.size());
+    }
+    file.removeAttr("scene_toml");
+    file.createAttribute("scene_toml", type, H5::DataSpace(H5S_SCALAR)).write(type, toml);
+  }
+  const Outcome again =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --resume --out " + h5.string());
+  INFO(again.out << again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("[sweep up] complete in"));  // read, not integrated again
+}
+
 TEST_CASE("rubcont sweep: the auto integrator takes Dormand-Prince where the contact bounces, and "
           "at a loose explicit tolerance would keep up a chatter that has died out",
           "[sweep_cli]") {
