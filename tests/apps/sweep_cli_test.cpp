@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -43,6 +44,30 @@ fs::path ShortSweepScene(const fs::path& dir, const std::string& sweep_section) 
 const std::string kTwoSpeeds =
     "[analysis.sweep]\nup_range_rpm = [40.0, 44.0]\ndown_range_rpm = [40.0, 44.0]\n"
     "speed_step_rpm = 4.0\ndwell = 0.75\n";
+
+// Sweeps `scene` up into `h5`, then removes `lines` (each a whole line of the resolved scene, with
+// its newline) from the file's stored scene: a file as an earlier version, before those keys, wrote it.
+void SweepUpAsWrittenWithout(const fs::path& scene, const fs::path& h5,
+                             const std::vector<std::string>& lines) {
+  const Outcome first =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
+  INFO(first.out << first.err);
+  REQUIRE(first.exit_code == 0);
+  H5::H5File file(h5.string(), H5F_ACC_RDWR);
+  const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  std::string toml;
+  {
+    const H5::Attribute stored = file.openAttribute("scene_toml");
+    stored.read(stored.getStrType(), toml);
+  }
+  for (const std::string& line : lines) {
+    const auto at = toml.find(line);
+    REQUIRE(at != std::string::npos);
+    toml.erase(at, line.size());
+  }
+  file.removeAttr("scene_toml");
+  file.createAttribute("scene_toml", type, H5::DataSpace(H5S_SCALAR)).write(type, toml);
+}
 
 TEST_CASE("rubcont sweep: one direction after the other gives one file with both, and the jump table",
           "[sweep_cli]") {
@@ -154,24 +179,7 @@ TEST_CASE("rubcont sweep: --resume does not take a file from before a key existe
   TempDir dir;
   const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
   const fs::path h5 = dir.path / "sweep.h5";
-  const Outcome first =
-      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
-  INFO(first.out << first.err);
-  REQUIRE(first.exit_code == 0);
-  {
-    H5::H5File file(h5.string(), H5F_ACC_RDWR);
-    const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-    std::string toml;
-    {
-      const H5::Attribute stored = file.openAttribute("scene_toml");
-      stored.read(stored.getStrType(), toml);
-    }
-    const auto at = toml.find("integrator = \"explicit\"\n");
-    REQUIRE(at != std::string::npos);
-    toml.erase(at, toml.find('\n', at) + 1 - at);
-    file.removeAttr("scene_toml");
-    file.createAttribute("scene_toml", type, H5::DataSpace(H5S_SCALAR)).write(type, toml);
-  }
+  SweepUpAsWrittenWithout(scene, h5, {"integrator = \"explicit\"\n"});
   const Outcome again =
       testing::RubcontNoPython("sweep " + scene.string() + " --direction up --resume --out " + h5.string());
   INFO(again.out << again.err);
@@ -189,26 +197,7 @@ TEST_CASE("rubcont sweep: --resume takes a file from before a key added at its o
   TempDir dir;
   const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds);
   const fs::path h5 = dir.path / "sweep.h5";
-  const Outcome first =
-      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --quiet --out " + h5.string());
-  INFO(first.out << first.err);
-  REQUIRE(first.exit_code == 0);
-  {
-    H5::H5File file(h5.string(), H5F_ACC_RDWR);
-    const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-    std::string toml;
-    {
-      const H5::Attribute stored = file.openAttribute("scene_toml");
-      stored.read(stored.getStrType(), toml);
-    }
-    for (const std::string line : {"at_grazing = \"continue\"\n", "predictor = \"tangent\"\n"}) {
-      const auto at = toml.find(line);
-      REQUIRE(at != std::string::npos);
-      toml.erase(at, line.size());
-    }
-    file.removeAttr("scene_toml");
-    file.createAttribute("scene_toml", type, H5::DataSpace(H5S_SCALAR)).write(type, toml);
-  }
+  SweepUpAsWrittenWithout(scene, h5, {"at_grazing = \"continue\"\n", "predictor = \"tangent\"\n"});
   const Outcome again =
       testing::RubcontNoPython("sweep " + scene.string() + " --direction up --resume --out " + h5.string());
   INFO(again.out << again.err);

@@ -39,6 +39,23 @@ ShootingOptions Gauss(long steps) {
   return shooting;
 }
 
+// The damped soft impact oscillator whose family from w = 0.5 to 2 grazes twice.
+SoftImpactParams DampedImpact() {
+  SoftImpactParams params;
+  params.damping = 0.3;
+  params.stiffness = 1.0;
+  return params;
+}
+
+// The branch's located grazing points, in order.
+std::vector<SpecialPoint> GrazingPoints(const Branch& branch) {
+  std::vector<SpecialPoint> grazing;
+  for (const SpecialPoint& p : branch.special_points) {
+    if (p.type == SpecialPointType::kGrazing) grazing.push_back(p);
+  }
+  return grazing;
+}
+
 // Newton on an orbit at w (any kind), to `tolerance`.
 void Solve(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-12) {
   NewtonOptions newton;
@@ -119,9 +136,7 @@ TEST_CASE("grazing test function: the sampled extremum of a free orbit equals a 
 TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points located at the "
           "closed-form frequencies, the family continued through them, striking between",
           "[grazing][shooting][branch]") {
-  SoftImpactParams params;
-  params.damping = 0.3;
-  params.stiffness = 1.0;
+  const SoftImpactParams params = DampedImpact();
   SoftImpactOscillator system(params);
   const std::vector<double> expected = system.GrazingFrequencies();
   REQUIRE(expected.size() == 2);
@@ -145,10 +160,7 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
     INFO(branch.BriefReport() << " — " << branch.message);
     REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
 
-    std::vector<SpecialPoint> grazing;
-    for (const SpecialPoint& p : branch.special_points) {
-      if (p.type == SpecialPointType::kGrazing) grazing.push_back(p);
-    }
+    const std::vector<SpecialPoint> grazing = GrazingPoints(branch);
     REQUIRE(grazing.size() == 2);
     for (std::size_t k = 0; k < 2; ++k) {
       CAPTURE(k);
@@ -178,9 +190,7 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
 TEST_CASE("stop_at_grazing: the family ends with status kGrazing at its first located grazing, "
           "where without it it goes on through both",
           "[grazing][shooting][branch]") {
-  SoftImpactParams params;
-  params.damping = 0.3;
-  params.stiffness = 1.0;
+  const SoftImpactParams params = DampedImpact();
   SoftImpactOscillator system(params);
   const std::vector<double> expected = system.GrazingFrequencies();
   REQUIRE(expected.size() == 2);
@@ -203,10 +213,7 @@ TEST_CASE("stop_at_grazing: the family ends with status kGrazing at its first lo
     const PeriodicOrbitBranch family = ContinuePeriodicOrbits(system, OrbitKind::kForced, start, options);
     const Branch& branch = family.branch;
     INFO(branch.BriefReport() << " — " << branch.message);
-    std::vector<SpecialPoint> grazing;
-    for (const SpecialPoint& p : branch.special_points) {
-      if (p.type == SpecialPointType::kGrazing) grazing.push_back(p);
-    }
+    const std::vector<SpecialPoint> grazing = GrazingPoints(branch);
     if (!stop) {
       CHECK(branch.status == BranchStatus::kReachedLambdaBound);
       CHECK(grazing.size() == 2);
@@ -348,9 +355,7 @@ TEST_CASE("soft impact oscillator past grazing: segment boundaries on the stop g
 TEST_CASE("soft impact oscillator on event boundaries: the striking family continued both ways "
           "ends where its contact shrinks to nothing, at the closed-form grazing frequencies",
           "[grazing][shooting][branch]") {
-  SoftImpactParams params;
-  params.damping = 0.3;
-  params.stiffness = 1.0;
+  SoftImpactParams params = DampedImpact();
   params.frequency = 0.9;
   AutonomousSoftImpactOscillator system(params);
   const std::vector<double> grazing = SoftImpactOscillator(params).GrazingFrequencies();
