@@ -337,8 +337,9 @@ void CopySweepRules(const Scene& from, Scene& to);
 // Whether `key` (full dotted name) is one of those rules.
 bool IsSweepRule(const std::string& key);
 // Whether `key` was added after results were committed, with a default that keeps what runs did
-// before it ([analysis.orbits] at_grazing, predictor): a stored scene that leaves it to its
-// default describes the same run (scripts/compare_results.py's SCENE_KEYS_ADDED says the same).
+// before it (KeySpec::added_at_older_behaviour: [analysis.orbits] at_grazing, predictor): a stored
+// scene that leaves it to its default describes the same run (scripts/compare_results.py's
+// SCENE_KEYS_ADDED lists the same keys, as the lines their defaults print).
 bool AddedAtOlderBehaviour(const std::string& key);
 
 // The key reference in markdown, generated from the schema: one table per section with key,

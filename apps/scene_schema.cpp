@@ -782,6 +782,7 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "docs/levels/l2_orbits_tori.md).",
       {"continue", "stop"}, "stop",
       [](Scene& x) -> bool& { return x.analysis.orbits.stop_at_grazing; }));
+  s.back().added_at_older_behaviour = true;
   s.push_back(Switch(
       "analysis.orbits.predictor",
       "Where the continuation's corrector starts each orbit: \"tangent\", along the family's "
@@ -792,6 +793,7 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "either way, but the steps differ and with them the sampled ones (grazing).",
       {"tangent", "curved"}, "curved",
       [](Scene& x) -> bool& { return x.analysis.orbits.curved_predictor; }));
+  s.back().added_at_older_behaviour = true;
 }
 
 // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.
@@ -1245,7 +1247,9 @@ bool IsSweepRule(const std::string& key) {
 }
 
 bool AddedAtOlderBehaviour(const std::string& key) {
-  return key == "analysis.orbits.at_grazing" || key == "analysis.orbits.predictor";
+  for (const KeySpec& spec : Schema())
+    if (spec.key == key) return spec.added_at_older_behaviour;
+  return false;
 }
 
 }  // namespace rubcont

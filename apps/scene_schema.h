@@ -84,6 +84,9 @@ struct KeySpec {
   // [analysis.sweep] keys that only classify finished speeds (the regime and jump rules of
   // sweeps/rub_sweep.h): a sweep file with other values holds the same integrations.
   bool reclassifies = false;
+  // Added after results were committed, with a default that keeps what runs did before it: a
+  // stored scene that leaves it to its default describes the same run (AddedAtOlderBehaviour).
+  bool added_at_older_behaviour = false;
   // Whether the key describes the scene as loaded (null: always, given its model): a key of one
   // form of [flexible] is not one of the other's (given, it is a problem; it is not written out).
   std::function<bool(const Scene&)> relevant;

@@ -45,7 +45,7 @@ RESOLVED_BY = re.compile(r"(as resolved by rubcont )\S+")
 ADDED_ATTRIBUTES = {"units", "flag_values", "flag_meanings", "CLASS", "NAME", "DIMENSION_LIST"}
 ADDED_DATASETS = {"state"}
 # Scene keys added later, as the line a resolved scene prints at the default that keeps what runs
-# before the key did (scene_schema's defaults): [analysis.orbits] at_grazing and predictor (issue 49).
+# before the key did: the keys marked KeySpec::added_at_older_behaviour in apps/scene_schema.cpp.
 SCENE_KEYS_ADDED = {'at_grazing = "continue"', 'predictor = "tangent"'}
 
 
