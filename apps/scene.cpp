@@ -676,6 +676,9 @@ class Loader {
       KeyProblem(scene, "analysis.orbits.transient.laps",
                  fmt::format("must be at most {}", kMaxLaps));
     if (!RunsStage(scene, Stage::kOrbits) || !ModelOf(scene).HasSection("analysis.orbits")) return;
+    if (o.adapt_mesh && o.integrator != OrbitIntegrator::kGauss)
+      KeyProblem(scene, "analysis.orbits.mesh",
+                 "\"adapted\" needs analysis.orbits.integrator = \"gauss\" (BDF has no mesh)");
     if (o.hopf_points == 0 && !o.transient.enabled)
       KeyProblem(
           scene, "analysis.orbits.hopf_points",

@@ -794,6 +794,16 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       {"tangent", "curved"}, "curved",
       [](Scene& x) -> bool& { return x.analysis.orbits.curved_predictor; }));
   s.back().added_at_older_behaviour = true;
+  s.push_back(Switch(
+      "analysis.orbits.mesh",
+      "Gauss collocation's mesh: \"uniform\", collocation_intervals equal steps per period; "
+      "\"adapted\", the same number of steps moved at every third orbit to equidistribute the "
+      "collocation error's monitor (AUTO-07p's adaptation): steps shorten where the orbit changes "
+      "fast (A(a)'s period doubling at 400 intervals within 0.003 rpm of the 1600-interval "
+      "uniform mesh's, where the uniform 400 are 0.03 rpm off; docs/performance.md).",
+      {"uniform", "adapted"}, "adapted",
+      [](Scene& x) -> bool& { return x.analysis.orbits.adapt_mesh; }));
+  s.back().added_at_older_behaviour = true;
 }
 
 // [analysis.orbits.transient]: the orbits through the orbit a settled transient lies on.

@@ -211,6 +211,9 @@ std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage
 
 namespace {
 
+// mesh = "adapted": the mesh moves at every third orbit, AUTO-07p's default (IAD = 3).
+constexpr int kAdaptMeshEvery = 3;
+
 // `tolerance`: the integrator's rtol = atol on scaled states.
 ShootingOptions OrbitShootingOptions(int segments, double tolerance, IntegrationMethod method) {
   ShootingOptions options;
@@ -264,6 +267,7 @@ ShootingOptions RubShootingOptionsOf(const Scene& scene) {
   options.integrator.max_steps = 2000000;
   options.integrator.collocation_steps =
       CollocationStepsPerSegment(settings.collocation_intervals, settings.segments);
+  options.adapt_mesh_every = settings.adapt_mesh ? kAdaptMeshEvery : 0;
   return options;
 }
 

@@ -8,7 +8,8 @@
 // Usage: whip_family_bench [--to RPM] [--intervals N] [--angle A] [--max-angle A] [--iterations K]
 //                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
 //                          [--step-tolerance D] [--failure-memory N]
-//                          [--curved-predictor] [--stop-at-grazing] [--verbose]
+//                          [--curved-predictor] [--stop-at-grazing] [--adapt-mesh K]
+//                          [--mesh-floor F] [--verbose]
 // --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
@@ -17,7 +18,9 @@
 // continuation corrector's residual tolerance (default the engine's); --step-tolerance: its bound on
 // the last Newton correction (default the engine's); --failure-memory: StepOptions::failure_memory
 // (default 0, off); --curved-predictor: StepOptions::curved_predictor (the parabola through the
-// previous point as the corrector's first iterate).
+// previous point as the corrector's first iterate); --adapt-mesh K: ShootingOptions::
+// adapt_mesh_every (the collocation steps equidistributed on every K-th orbit; default 0, uniform),
+// --mesh-floor: its adapt_mesh_floor.
 // Default: to 63 rpm (the first figure), the stage's settings.
 #include <algorithm>
 #include <cmath>
@@ -25,6 +28,8 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
+
+#include <fmt/core.h>
 
 #include "models/rub_model.h"
 #include "models/units.h"
@@ -39,7 +44,8 @@ namespace {
 int Main(int argc, char** argv) {
   double to_rpm = 63.0, angle = 0.3, max_angle = 0.0, growth = 2.0, max_step = 1.0,
          tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
-  int intervals = 400, iterations = 5, steps = 400, failure_memory = 0;
+  int intervals = 400, iterations = 5, steps = 400, failure_memory = 0, adapt_mesh = 0;
+  double mesh_floor = ShootingOptions{}.adapt_mesh_floor;
   bool verbose = false, stop_at_grazing = false, curved_predictor = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -58,6 +64,8 @@ int Main(int argc, char** argv) {
     else if (a == "--failure-memory") failure_memory = static_cast<int>(next());
     else if (a == "--stop-at-grazing") stop_at_grazing = true;
     else if (a == "--curved-predictor") curved_predictor = true;
+    else if (a == "--adapt-mesh") adapt_mesh = static_cast<int>(next());
+    else if (a == "--mesh-floor") mesh_floor = next();
     else if (a == "--verbose") verbose = true;
   }
   TwoPointParams params = ThesisCaseAa();
@@ -83,6 +91,8 @@ int Main(int argc, char** argv) {
   shooting.integrator.relative_tolerance = shooting.integrator.absolute_tolerance = tolerance;
   shooting.integrator.collocation_steps = (intervals + 3) / 4;
   shooting.sensitivities_in_residual = true;
+  shooting.adapt_mesh_every = adapt_mesh;
+  shooting.adapt_mesh_floor = mesh_floor;
   ContinuationOptions& c = options.orbits.continuation;
   c.step.max = max_step;
   c.step.target_angle = angle;
@@ -108,10 +118,12 @@ int Main(int argc, char** argv) {
   for (const BranchPoint& p : branch.points) newton += p.newton_iterations;
   std::printf("whip_family_bench: Hopf %.8f rpm → %g rpm, %d intervals, angle %g, iterations %d, "
               "max angle %g, growth %g, max step %g, tolerance %g, residual %g, correction %g, "
-              "failure memory %d%s\n",
+              "failure memory %d%s, mesh %s (floor %g)\n",
               RadPerSecondToRpm(starts.front().speed), to_rpm, intervals, angle, iterations,
               c.step.max_angle, growth, max_step, tolerance, c.corrector.residual_tolerance,
-              c.corrector.step_tolerance, failure_memory, curved_predictor ? ", curved predictor" : "");
+              c.corrector.step_tolerance, failure_memory, curved_predictor ? ", curved predictor" : "",
+              adapt_mesh > 0 ? fmt::format("adapted every {} orbits", adapt_mesh).c_str() : "uniform",
+              mesh_floor);
   std::printf("  %zu orbits, %ld Newton iterations, %ld integrator steps, %.2f s CPU (waves %.2f s): %s\n",
               branch.points.size(), newton, result.orbits.work.steps, cpu, waves_cpu,
               branch.BriefReport().c_str());

@@ -57,6 +57,19 @@ void Validate(const ShootingOptions& options) {
       }
     }
   }
+  if (options.adapt_mesh_every < 0 ||
+      (options.adapt_mesh_every > 0 &&
+       options.integrator.method != IntegrationMethod::kGaussCollocation)) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingOptions.adapt_mesh_every = {}: must be ≥ 0, and 0 unless the integrator is Gauss "
+        "collocation (it is {})",
+        options.adapt_mesh_every, ToString(options.integrator.method)));
+  }
+  if (!(options.adapt_mesh_floor > 0.0) || !std::isfinite(options.adapt_mesh_floor)) {
+    throw std::invalid_argument(fmt::format(
+        "ShootingOptions.adapt_mesh_floor = {}: must be positive and finite",
+        options.adapt_mesh_floor));
+  }
   for (std::size_t j = 0; j < options.event_boundaries.size(); ++j) {
     const ShootingOptions::EventBoundary& event = options.event_boundaries[j];
     if (event.boundary < 1 || event.boundary >= options.segments) {
@@ -252,9 +265,13 @@ OrbitMeasure UnresolvedMultiplier(std::shared_ptr<OdeSystem> system, int stages,
             system->JacobianX(orbit.times(0), orbit.states.col(0), J);
             const auto N = static_cast<double>(steps_per_period);
             const double h = orbit.period / N;
+            const Vector steps = orbit.period * orbit.collocation_steps;
             double largest = 0.0;
             for (const std::complex<double>& lambda : J.eigenvalues()) {
-              const double discrete = std::pow(std::abs(GaussStabilityFunction(stages, lambda * h)), N);
+              const double discrete =
+                  steps.size() > 0
+                      ? std::exp(GaussLogGrowth(stages, lambda, steps))
+                      : std::pow(std::abs(GaussStabilityFunction(stages, lambda * h)), N);
               if (std::abs(discrete - std::exp(lambda.real() * orbit.period)) > 1e-3) {
                 largest = std::max(largest, discrete);
               }
@@ -370,6 +387,7 @@ ShootingProblem::ShootingProblem(OdeSystem& system, OrbitKind kind, const Shooti
     data->ends.assign(segments_, Vector::Zero(n_));
     data->stm.assign(segments_, Matrix::Zero(n_, n_));
     data->dxdp.assign(segments_, Vector::Zero(n_));
+    if (options.adapt_mesh_every > 0) data->derivatives.assign(segments_, Matrix());
     data->dxdt1.assign(segments_, Vector::Zero(n_));
   }
 }
@@ -584,6 +602,71 @@ void ShootingProblem::SetPhaseReference(const Vector& u, double lambda) {
 
 void ShootingProblem::PointAccepted(const Vector& u, double lambda) {
   if (options_.refresh_phase_reference && kind_ != OrbitKind::kForced) SetPhaseReference(u, lambda);
+  ++accepted_points_;
+  if (options_.adapt_mesh_every > 0 && accepted_points_ % options_.adapt_mesh_every == 0) {
+    AdaptCollocationMeshes(u, lambda);
+  }
+}
+
+void ShootingProblem::UseCollocationMesh(OdeIntegrator& integrator, Index segment) {
+  if (!collocation_meshes_.empty()) {
+    integrator.SetCollocationMesh(collocation_meshes_[static_cast<std::size_t>(segment)]);
+  }
+}
+
+void ShootingProblem::AdaptCollocationMeshes(const Vector& u, double lambda) {
+  const bool cached = SameKey(u, lambda);
+  if (!cached && !IntegrateSegments(u, lambda, Need::kState, scratch_, integrator_)) return;
+  const SegmentData& data = cached ? cache_ : scratch_;
+  // The whole period's mesh and u^(s) in scaled units, segment after segment.
+  const double T = Period(u, lambda);
+  Index total = 0;
+  for (const Matrix& d : data.derivatives) total += d.cols();
+  Vector times(total + 1);
+  Matrix derivatives(n_, total);
+  Index at = 0;
+  for (Index i = 0; i < segments_; ++i) {
+    const Matrix& d = data.derivatives[static_cast<std::size_t>(i)];
+    const double t0 = SegmentTime(T, i), t1 = SegmentTime(T, i + 1);
+    for (Index k = 0; k < d.cols(); ++k) {
+      const double theta = collocation_meshes_.empty()
+                               ? static_cast<double>(k) / static_cast<double>(d.cols())
+                               : collocation_meshes_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+      times(at + k) = t0 + theta * (t1 - t0);
+    }
+    derivatives.middleCols(at, d.cols()) = state_scale_.cwiseInverse().asDiagonal() * d;
+    at += d.cols();
+  }
+  times(total) = SegmentTime(T, segments_);
+  Vector density = CollocationMonitor(times, derivatives, options_.integrator.collocation_stages);
+  const double mean = density.dot((times.tail(total) - times.head(total))) / (times(total) - times(0));
+  if (!(mean > 0.0) || !std::isfinite(mean)) return;  // nothing to equidistribute
+  density.array() += options_.adapt_mesh_floor * mean;
+  std::vector<std::vector<double>> meshes;
+  for (Index i = 0; i < segments_; ++i) {
+    meshes.push_back(EquidistributedMesh(times, density, SegmentTime(T, i), SegmentTime(T, i + 1),
+                                         data.derivatives[static_cast<std::size_t>(i)].cols()));
+  }
+  collocation_meshes_ = std::move(meshes);
+  // Another discrete map: nothing computed on the old meshes holds.
+  cache_valid_ = false;
+  residual_ready_ = false;
+  samples_valid_ = false;
+}
+
+Vector ShootingProblem::CollocationStepFractions() const {
+  const long uniform = options_.integrator.collocation_steps;
+  std::vector<double> steps;
+  for (Index i = 0; i < segments_; ++i) {
+    const double length = mesh_[static_cast<std::size_t>(i) + 1] - mesh_[static_cast<std::size_t>(i)];
+    if (collocation_meshes_.empty()) {
+      steps.insert(steps.end(), static_cast<std::size_t>(uniform), length / static_cast<double>(uniform));
+      continue;
+    }
+    const std::vector<double>& mesh = collocation_meshes_[static_cast<std::size_t>(i)];
+    for (std::size_t k = 0; k + 1 < mesh.size(); ++k) steps.push_back(length * (mesh[k + 1] - mesh[k]));
+  }
+  return Eigen::Map<const Vector>(steps.data(), static_cast<Index>(steps.size()));
 }
 
 void ShootingProblem::SetMeasures(std::vector<OrbitMeasure> measures) {
@@ -643,9 +726,13 @@ bool ShootingProblem::IntegrateSegments(const Vector& u, double lambda, Need nee
     Matrix* stm = need == Need::kState ? nullptr : &data.stm[i];
     Vector* dxdp = need == Need::kStmAndParameter ? &data.dxdp[i] : nullptr;
     Vector* dxdt1 = events && stm != nullptr ? &data.dxdt1[i] : nullptr;
+    UseCollocationMesh(integrator, i);
     const IntegrationResult result =
         integrator.Integrate(SegmentTime(T, i), u.segment(i * n_, n_), SegmentTime(T, i + 1),
                              data.ends[i], stm, dxdp, dxdt1);
+    if (options_.adapt_mesh_every > 0 && result.Succeeded()) {
+      data.derivatives[static_cast<std::size_t>(i)] = integrator.CollocationDerivatives();
+    }
     statistics_.steps += result.statistics.steps;
     statistics_.nonlinear_iterations += result.statistics.nonlinear_iterations;
     statistics_.linear_solver_setups += result.statistics.linear_solver_setups;
@@ -936,6 +1023,7 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   for (Index i = 0; i < segments_; ++i) {
     const double t0 = SegmentTime(T, i), t1 = SegmentTime(T, i + 1);
     const Vector times = Vector::LinSpaced(s + 1, t0, t1);
+    UseCollocationMesh(integrator_, i);
     const IntegrationResult result =
         integrator_.Sample(t0, u.segment(i * n_, n_), times, segment_states);
     statistics_.steps += result.statistics.steps;
@@ -951,6 +1039,7 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
     orbit.times.segment(i * s, count) = times.head(count);
     orbit.states.middleCols(i * s, count) = segment_states.leftCols(count);
   }
+  if (!collocation_meshes_.empty()) orbit.collocation_steps = CollocationStepFractions();
   orbit.valid = true;
   return orbit;
 }
@@ -1022,6 +1111,7 @@ Vector ShootingProblem::InitialGuess(ConstVectorRef x0, double period, double la
   Matrix starts(n_, segments_);
   starts.col(0) = x0;
   for (Index i = 1; i < segments_; ++i) {
+    UseCollocationMesh(integrator_, i - 1);
     const IntegrationResult result = integrator_.Integrate(
         SegmentTime(T, i - 1), starts.col(i - 1), SegmentTime(T, i), starts.col(i));
     statistics_.steps += result.statistics.steps;

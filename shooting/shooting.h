@@ -123,6 +123,19 @@ struct ShootingOptions {
   // has no events: event_boundaries put its segment ends on the switches instead) or for a system
   // without switching functions.
   bool restart_at_switches = true;
+  // Gauss collocation: at every `adapt_mesh_every`-th accepted continuation point
+  // (PointAccepted), each segment's collocation steps (their number kept) move to equidistribute
+  // the error monitor of that orbit over the period (CollocationMonitor plus
+  // adapt_mesh_floor × its mean; EquidistributedMesh), as AUTO-07p adapts its mesh every IAD
+  // steps. The segment boundaries stay. 0: the uniform mesh throughout. Other methods: must be 0.
+  int adapt_mesh_every = 0;
+  // The floor added to the monitor, as a fraction of its mean over the period (> 0): where the
+  // orbit is smooth the steps grow to at most (1 + floor)/floor times the mean step. Measured on
+  // A(a)'s whip family at 400 intervals (bench/whip_family_bench.cpp): 0.1 (steps up to 11×)
+  // locates the period doubling best with the curved predictor but with the tangent one the family
+  // stalls short of its grazing among spurious crossings of multipliers (the contact's stiff mode,
+  // unresolved on the long steps); 1 (2×) leaves 0.014 rpm of error; 0.3 (4.3×) neither.
+  double adapt_mesh_floor = 0.3;
   // Samples per segment for measures and Orbit() (≥ 2).
   int samples_per_segment = 64;
   // Move the phase conditions' reference to every accepted continuation point (PointAccepted),
@@ -152,6 +165,10 @@ struct OrbitSamples {
   double period = 0.0;
   double rotation = 0.0;  // φ (kRelative), else 0
   double parameter = 0.0;
+  // Gauss collocation on an adapted mesh (ShootingOptions::adapt_mesh_every): the length of every
+  // step as a fraction of the period, in time order; empty on a uniform mesh and for the other
+  // methods.
+  Vector collocation_steps;
   bool valid = false;     // false when an integration failed
 };
 
@@ -191,8 +208,9 @@ OrbitMeasure MirrorAsymmetry(std::shared_ptr<const OdeSystem> system,
 double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>& states);
 
 // The modes a fixed Gauss mesh does not resolve, frozen at the orbit's first sample: for each
-// eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, |R(λ_k h)|^N (R the
-// stability function, GaussStabilityFunction; N = steps_per_period, h = T/N), against the exact
+// eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, Π_j |R(λ_k h_j)| over
+// the orbit's steps (R the stability function, GaussLogGrowth; OrbitSamples::collocation_steps, or
+// N = steps_per_period uniform steps h = T/N where the samples do not carry them), against the exact
 // e^{Re λ_k T}. Returns the largest discrete modulus among the modes misplaced by more than 1e-3
 // (0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
 // lightly damped stiff mode it does not resolve (the thesis's contact at |λ|h = 11: 0.68 for
@@ -373,6 +391,13 @@ class ShootingProblem : public Problem {
   // sensitivity error control when accurate_stability applies); empty on failure.
   const std::vector<Matrix>& SegmentMonodromies(const Vector& u, double lambda);
 
+  // Each segment's collocation mesh (fractions of the segment, SetCollocationMesh), adapted by
+  // adapt_mesh_every; empty while uniform.
+  const std::vector<std::vector<double>>& CollocationMeshes() const { return collocation_meshes_; }
+  // Every collocation step over the period as a fraction of it, in time order (the segments'
+  // uniform steps while not adapted). Gauss collocation only.
+  Vector CollocationStepFractions() const;
+
   // The last integration failure (status kSuccess if none since construction).
   const IntegrationResult& LastFailure() const { return last_failure_; }
   const ShootingStatistics& statistics() const { return statistics_; }
@@ -385,6 +410,7 @@ class ShootingProblem : public Problem {
     std::vector<Matrix> stm;    // M_i
     std::vector<Vector> dxdp;   // ∂y_i/∂p
     std::vector<Vector> dxdt1;  // ∂y_i/∂t_{i+1}, with the STM when there are event boundaries
+    std::vector<Matrix> derivatives;  // Gauss's u^(s) on each step, when adapt_mesh_every > 0
     bool has_stm = false;
     bool has_dxdp = false;
   };
@@ -412,6 +438,11 @@ class ShootingProblem : public Problem {
   // Copies u's event boundaries into mesh_; false (last_failure_ set) unless they lie strictly
   // inside their neighbours.
   bool UseMesh(const Vector& u);
+  // Sets segment i's collocation mesh into `integrator` (when adapted).
+  void UseCollocationMesh(OdeIntegrator& integrator, Index segment);
+  // Re-equidistributes the collocation meshes on the orbit (u, λ) (adapt_mesh_every); leaves
+  // them as they are when its integration fails.
+  void AdaptCollocationMeshes(const Vector& u, double lambda);
   // ∇h_k at x by central differences in the scaled states.
   Vector SwitchingGradient(int surface, ConstVectorRef x);
   double ForcingPeriodAt(double lambda);
@@ -427,6 +458,8 @@ class ShootingProblem : public Problem {
   Index segments_;
   std::vector<double> mesh_;       // N + 1 fractions (the event boundaries of the last u used)
   std::vector<double> base_mesh_;  // options' mesh or uniform: the event boundaries' start
+  std::vector<std::vector<double>> collocation_meshes_;  // per segment; empty: uniform
+  long accepted_points_ = 0;                              // PointAccepted calls
   // Per boundary: the event it is (index into event_boundaries) or −1; for the others the nearest
   // event boundary or end on each side and the fraction of the way between them (base mesh).
   std::vector<int> event_at_;

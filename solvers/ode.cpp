@@ -297,6 +297,14 @@ class OdeIntegrator::Impl {
     NotifyEvents();
   }
 
+  detail::GaussBackend& Gauss(const char* caller) const {
+    if (!gauss_) {
+      throw std::invalid_argument(fmt::format("OdeIntegrator::{}: Gauss collocation only, not {}",
+                                              caller, ToString(options_.method)));
+    }
+    return *gauss_;
+  }
+
   const IntegratorOptions& options() const { return options_; }
   OdeSystem& system() { return *context_.system; }
   Index n() const { return context_.n; }
@@ -447,6 +455,78 @@ IntegrationResult OdeIntegrator::IntegrateTangents(double t0, ConstVectorRef x0,
   IntegrationResult result = impl_->Run(request);
   if (samples != nullptr) *samples = states.leftCols(m);
   return result;
+}
+
+void OdeIntegrator::SetCollocationMesh(std::vector<double> fractions) {
+  impl_->Gauss("SetCollocationMesh").SetMesh(std::move(fractions));
+}
+
+const Matrix& OdeIntegrator::CollocationDerivatives() const {
+  return impl_->Gauss("CollocationDerivatives").Derivatives();
+}
+
+Vector CollocationMonitor(const Vector& times, const Matrix& derivatives, int stages) {
+  const Index steps = times.size() - 1;
+  if (steps < 1 || derivatives.cols() != steps || stages < 1) {
+    throw std::invalid_argument(fmt::format(
+        "CollocationMonitor: {} times, {} derivative columns, {} stages: need N + 1 ≥ 2 times, "
+        "N columns and stages ≥ 1",
+        times.size(), derivatives.cols(), stages));
+  }
+  Vector density = Vector::Zero(steps);
+  if (steps == 1) return density;
+  // |u^(s+1)|^(1/(s+1)) at the boundary between steps k and k + 1 from the jump of u^(s) across
+  // it over the distance between the steps' midpoints; each step takes the mean of its two.
+  const double power = 1.0 / (stages + 1.0);
+  Vector at_boundary(steps - 1);
+  for (Index k = 0; k + 1 < steps; ++k) {
+    const double distance = 0.5 * (times(k + 2) - times(k));
+    at_boundary(k) = std::pow(
+        (derivatives.col(k + 1) - derivatives.col(k)).cwiseAbs().maxCoeff() / distance, power);
+  }
+  for (Index k = 0; k < steps; ++k) {
+    const double left = k > 0 ? at_boundary(k - 1) : at_boundary(k);
+    const double right = k + 1 < steps ? at_boundary(k) : at_boundary(k - 1);
+    density(k) = 0.5 * (left + right);
+  }
+  return density;
+}
+
+std::vector<double> EquidistributedMesh(const Vector& times, const Vector& density, double a,
+                                        double b, long steps) {
+  const Index old_steps = times.size() - 1;
+  if (steps < 1 || old_steps < 1 || density.size() != old_steps || !(a < b) || a < times(0) ||
+      b > times(old_steps)) {
+    throw std::invalid_argument(fmt::format(
+        "EquidistributedMesh: {} steps on [{}, {}] from {} times and {} densities: need steps ≥ 1, "
+        "a < b within [{}, {}] and one density per old step",
+        steps, a, b, times.size(), density.size(), times(0), times(old_steps)));
+  }
+  // The cumulative integral I(t) of the density from a, piecewise linear on the old mesh cut to
+  // [a, b]; the new points are where I reaches k/N of I(b).
+  std::vector<double> knots{a}, integral{0.0};
+  for (Index k = 0; k < old_steps; ++k) {
+    const double lo = std::max(times(k), a), hi = std::min(times(k + 1), b);
+    if (!(hi > lo)) continue;
+    if (!(density(k) > 0.0) || !std::isfinite(density(k))) {
+      throw std::invalid_argument(fmt::format(
+          "EquidistributedMesh: density({}) = {}: must be positive and finite", k, density(k)));
+    }
+    knots.push_back(hi);
+    integral.push_back(integral.back() + density(k) * (hi - lo));
+  }
+  std::vector<double> fractions(static_cast<std::size_t>(steps) + 1);
+  fractions.front() = 0.0;
+  fractions.back() = 1.0;
+  std::size_t piece = 1;
+  for (long j = 1; j < steps; ++j) {
+    const double target = integral.back() * static_cast<double>(j) / static_cast<double>(steps);
+    while (piece + 1 < knots.size() && integral[piece] < target) ++piece;
+    const double weight = (target - integral[piece - 1]) / (integral[piece] - integral[piece - 1]);
+    const double t = knots[piece - 1] + weight * (knots[piece] - knots[piece - 1]);
+    fractions[static_cast<std::size_t>(j)] = (t - a) / (b - a);
+  }
+  return fractions;
 }
 
 IntegrationResult OdeIntegrator::Sample(double t0, ConstVectorRef x0, const Vector& times,

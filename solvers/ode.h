@@ -110,9 +110,29 @@ struct IntegratorOptions {
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const IntegratorOptions& options);
 
+// A mesh for piecewise polynomial collocation of degree s that equidistributes the monitor of de
+// Boor and AUTO-07p (Doedel et al.; Ascher, Mattheij & Russell §9.3): the local error of a step is
+// ∝ (h ω)^(s+1) with ω = ‖u^(s+1)‖^(1/(s+1)), and u^(s+1) is estimated from the jumps of the
+// piecewise constant u^(s) (CollocationDerivatives, scaled) between neighbouring steps.
+//   `times`        the old mesh, N + 1 increasing times (a whole period across segments);
+//   `derivatives`  n × N: u^(s) on each old step, each row in the units of its state's scale;
+//   `stages`       s ≥ 1.
+// Returns the density ω on each old step (N entries, ≥ 0, per time unit), with the one-sided jump
+// at either end. A step whose neighbours agree (u^(s+1) ≈ 0) gets ω ≈ 0; callers add a floor.
+Vector CollocationMonitor(const Vector& times, const Matrix& derivatives, int stages);
+// N + 1 fractions 0 = θ_0 < … < θ_N = 1 of [a, b] (within the span of `times`) that give each new
+// step the same integral of the piecewise constant `density` on the old mesh `times` (the
+// density must be positive on [a, b]). Throws std::invalid_argument on N < 1, a ≥ b, sizes that do
+// not match or a non-positive density.
+std::vector<double> EquidistributedMesh(const Vector& times, const Vector& density, double a,
+                                        double b, long steps);
+
 // The stability function R(z) = 1 + z bᵀ(I − zA)⁻¹𝟙 of s-stage Gauss collocation (s in [1, 6]):
 // one step of ẋ = λx multiplies x by R(λh). |R(iy)| = 1, |R(z)| < 1 for Re z < 0, R(−∞) = (−1)^s.
 std::complex<double> GaussStabilityFunction(int stages, std::complex<double> z);
+// Σ_k ln |R(λ h_k)|: the logarithm of the modulus the steps h_k together give the mode ẋ = λx
+// (on a uniform mesh N ln |R(λh)|). Throws std::invalid_argument for stages outside [1, 6].
+double GaussLogGrowth(int stages, std::complex<double> lambda, const Vector& steps);
 
 enum class IntegrationStatus {
   kSuccess,
@@ -229,6 +249,16 @@ class OdeIntegrator {
   // Dense output: states (resized to n × m) column k = x(times(k)), from x(t0) = x0. times has
   // m ≥ 1 entries, monotone in the direction of integration, none before t0 (in that direction).
   IntegrationResult Sample(double t0, ConstVectorRef x0, const Vector& times, Matrix& states);
+
+  // Gauss collocation only (std::invalid_argument otherwise). The mesh of every later call until
+  // changed: N + 1 fractions 0 = θ_0 < θ_1 < … < θ_N = 1 of the integrated span [t0, t1], step k
+  // covering [t0 + θ_k (t1 − t0), t0 + θ_{k+1} (t1 − t0)]; empty: options().collocation_steps
+  // uniform steps. Throws std::invalid_argument naming the rule a mesh breaks.
+  void SetCollocationMesh(std::vector<double> fractions);
+  // Gauss collocation only: d^s u/dt^s of the collocation polynomial u (degree s = stages, so
+  // constant on a step) on each step of the last call, n × N in state units per time unit^s —
+  // what a mesh is equidistributed from (EquidistributedMesh).
+  const Matrix& CollocationDerivatives() const;
 
  private:
   class Impl;

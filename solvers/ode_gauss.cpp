@@ -1,4 +1,4 @@
-// Gauss–Legendre collocation on a fixed uniform mesh (the implicit Runge–Kutta method of order 2s
+// Gauss–Legendre collocation on a fixed mesh (the implicit Runge–Kutta method of order 2s
 // with s stages; Hairer & Wanner, Solving ODEs II, §IV.5 and §IV.8). SUNDIALS has no fully implicit
 // Runge–Kutta method, and this one is what the stiff rub contact needs in shooting:
 //   - A-stable with |R(iy)| = 1: a nearly undamped stiff mode (the contact at √(k1/m) ≈ 1.3e5 rad/s)
@@ -32,9 +32,11 @@
 // the same linear algebra as M's by block elimination (the same iterates, to rounding), an eighth
 // of its factorisation's cost (SolveWithNewtonMatrix).
 //
-// Errors are not estimated: the accuracy is the mesh's (collocation_steps per call), measured
-// against a tight CVODES reference where it is used (docs/studies/orbits.md). Events are not
-// supported.
+// The mesh is uniform (collocation_steps per call) or set by OdeIntegrator::SetCollocationMesh.
+// Errors are not estimated: the accuracy is the mesh's, measured against a tight CVODES reference
+// where it is used (docs/studies/orbits.md); each call leaves u^(s) on its steps
+// (CollocationDerivatives), from which a caller equidistributes a mesh (EquidistributedMesh, as
+// AUTO-07p adapts its collocation mesh). Events are not supported.
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -115,6 +117,40 @@ GaussBackend::GaussBackend(CallbackContext& context, const IntegratorOptions& op
       coefficients_.Interpolation(1.0 + coefficients_.c(i));
   output_weights_.resize(s);
   stage_state_.resize(n);
+  // u(θ) = x_n + Σ_i γ_i(θ) Z_i interpolates (0, x_n) and (c_i, x_n + Z_i), so γ_i is the Lagrange
+  // polynomial θ Π_{k≠i} (θ − c_k) / (c_i Π_{k≠i} (c_i − c_k)), whose s-th derivative is s! over
+  // that denominator.
+  derivative_weights_.resize(s);
+  double factorial = 1.0;
+  for (Index k = 2; k <= s; ++k) factorial *= static_cast<double>(k);
+  for (Index i = 0; i < s; ++i) {
+    double denominator = coefficients_.c(i);
+    for (Index k = 0; k < s; ++k) {
+      if (k != i) denominator *= coefficients_.c(i) - coefficients_.c(k);
+    }
+    derivative_weights_(i) = factorial / denominator;
+  }
+}
+
+void GaussBackend::SetMesh(std::vector<double> fractions) {
+  if (!fractions.empty()) {
+    const std::size_t last = fractions.size() - 1;
+    if (fractions.size() < 2 || fractions[0] != 0.0 || fractions[last] != 1.0) {
+      throw std::invalid_argument(fmt::format(
+          "OdeIntegrator::SetCollocationMesh: {} fractions from {} to {}: need at least 2, from "
+          "exactly 0 to exactly 1",
+          fractions.size(), fractions[0], fractions[last]));
+    }
+    for (std::size_t k = 0; k < last; ++k) {
+      if (!(fractions[k + 1] > fractions[k])) {
+        throw std::invalid_argument(fmt::format(
+            "OdeIntegrator::SetCollocationMesh: fractions[{}] = {} ≤ fractions[{}] = {}: must "
+            "increase strictly",
+            k + 1, fractions[k + 1], k, fractions[k]));
+      }
+    }
+  }
+  mesh_ = std::move(fractions);
 }
 
 IntegrationResult GaussBackend::Fail(IntegrationStatus status, double t, std::string message) {
@@ -332,12 +368,25 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
     result.t_reached = t1;
     return result;
   }
-  const long steps = options_.collocation_steps;
-  const double h = (t1 - t0) / static_cast<double>(steps);
+  // Step k: [t0 + θ_k (t1 − t0), t0 + θ_{k+1} (t1 − t0)], θ_k = k/N on the uniform mesh (whose
+  // times are computed as t0 + k h, h = (t1 − t0)/N, as before meshes could be set).
+  const bool uniform = mesh_.empty();
+  const long steps = uniform ? options_.collocation_steps : static_cast<long>(mesh_.size()) - 1;
+  const double span = t1 - t0;
+  const double uniform_h = span / static_cast<double>(steps);
+  const auto fraction = [&](long k) {
+    return uniform ? static_cast<double>(k) / static_cast<double>(steps)
+                   : mesh_[static_cast<std::size_t>(k)];
+  };
+  step_derivatives_.resize(n, steps);
   std::string failure;
+  double previous_h = 0.0;
   for (long step = 0; step < steps; ++step) {
-    const double t = t0 + static_cast<double>(step) * h;
-    const double t_next = step + 1 == steps ? t1 : t0 + static_cast<double>(step + 1) * h;
+    const double t = uniform ? t0 + static_cast<double>(step) * uniform_h : t0 + fraction(step) * span;
+    const double t_next = step + 1 == steps ? t1
+                          : uniform ? t0 + static_cast<double>(step + 1) * uniform_h
+                                    : t0 + fraction(step + 1) * span;
+    const double h = uniform ? uniform_h : t_next - t;
     // Guess: the previous step's collocation polynomial extended over this step, or h·c_i·f(x).
     if (step == 0) {
       ++statistics_.rhs_evaluations;
@@ -346,14 +395,20 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
       }
       for (Index i = 0; i < s; ++i) stages_.col(i) = coefficients_.c(i) * h * stage_state_;
     } else {
+      const double ratio = h / previous_h;
       for (Index i = 0; i < s; ++i) {
-        stages_.col(i) = previous_x_ - x_ + previous_stages_ * extrapolation_[static_cast<std::size_t>(i)];
+        const Vector& weights = ratio == 1.0 ? extrapolation_[static_cast<std::size_t>(i)]
+                                             : coefficients_.Interpolation(1.0 + ratio * coefficients_.c(i));
+        stages_.col(i) = previous_x_ - x_ + previous_stages_ * weights;
       }
     }
+    previous_h = h;
     if (!SolveStages(t, x_, h, failure)) {
       return Fail(IntegrationStatus::kConvergenceFailures, t, failure);
     }
     ++statistics_.steps;
+    step_derivatives_.col(step).noalias() = stages_ * derivative_weights_;
+    step_derivatives_.col(step) /= std::pow(h, static_cast<double>(s));
     // Outputs inside (t, t_next]: the collocation polynomial.
     while (output < request.count &&
            (h > 0 ? request.times[output] <= t_next : request.times[output] >= t_next)) {
@@ -389,15 +444,17 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
         if (with_dxdt1) {
           blocks_.block(i * n, t1_column, n, 1).noalias() = J * dxdt1;
           // ∂f/∂t by a central difference (exactly 0 for an autonomous f): the stage time
-          // t0 + (step + c_i)(t1 − t0)/N moves with t1 at (step + c_i)/N.
+          // t0 + (θ_k + c_i (θ_{k+1} − θ_k))(t1 − t0) moves with t1 at θ_k + c_i (θ_{k+1} − θ_k)
+          // ((k + c_i)/N on the uniform mesh).
           const double dt = CentralDifferenceStep(ti, std::abs(h));
           if (EvaluateRhs(context_, ti + dt, stage_state_.data(), later_.data()) != 0 ||
               EvaluateRhs(context_, ti - dt, stage_state_.data(), earlier_.data()) != 0) {
             return Fail(IntegrationStatus::kRhsFailure, t, "the right-hand side failed");
           }
-          blocks_.block(i * n, t1_column, n, 1) +=
-              (later_ - earlier_) / (2.0 * dt) *
-              ((static_cast<double>(step) + coefficients_.c(i)) / static_cast<double>(steps));
+          const double moves =
+              uniform ? (static_cast<double>(step) + coefficients_.c(i)) / static_cast<double>(steps)
+                      : fraction(step) + coefficients_.c(i) * (fraction(step + 1) - fraction(step));
+          blocks_.block(i * n, t1_column, n, 1) += (later_ - earlier_) / (2.0 * dt) * moves;
         }
       }
       for (Index i = 0; i < s; ++i) {
@@ -405,7 +462,8 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
         for (Index j = 0; j < s; ++j) {
           sensitivity_rhs_.middleRows(i * n, n) += (h * coefficients_.A(i, j)) * blocks_.middleRows(j * n, n);
         }
-        // The step h = (t1 − t0)/N itself: ∂G/∂t1 = −(A ⊗ I) F / N = −Z/(t1 − t0) at the stages.
+        // The step h = (θ_{k+1} − θ_k)(t1 − t0) itself: ∂G/∂t1 = −(A ⊗ I) F (θ_{k+1} − θ_k)
+        // = −Z/(t1 − t0) at the stages.
         if (with_dxdt1) sensitivity_rhs_.block(i * n, t1_column, n, 1) += stages_.col(i) / (t1 - t0);
       }
       SolveWithNewtonMatrix(h, sensitivity_rhs_, blocks_);
@@ -429,14 +487,34 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
 
 }  // namespace detail
 
-std::complex<double> GaussStabilityFunction(int stages, std::complex<double> z) {
+namespace {
+
+detail::GaussCoefficients CoefficientsFor(const char* caller, int stages) {
   if (stages < 1 || stages > 6) {
-    throw std::invalid_argument(fmt::format("GaussStabilityFunction: stages = {}: must lie in [1, 6]", stages));
+    throw std::invalid_argument(fmt::format("{}: stages = {}: must lie in [1, 6]", caller, stages));
   }
-  const detail::GaussCoefficients g = detail::GaussCoefficients::Make(stages);
-  const Eigen::MatrixXcd M = Eigen::MatrixXcd::Identity(stages, stages) - z * g.A.cast<std::complex<double>>();
-  const Eigen::VectorXcd y = M.partialPivLu().solve(Eigen::VectorXcd::Ones(stages));
+  return detail::GaussCoefficients::Make(stages);
+}
+
+// R(z) = 1 + z bᵀ(I − zA)⁻¹𝟙.
+std::complex<double> StabilityFunction(const detail::GaussCoefficients& g, std::complex<double> z) {
+  const Index s = g.c.size();
+  const Eigen::MatrixXcd M = Eigen::MatrixXcd::Identity(s, s) - z * g.A.cast<std::complex<double>>();
+  const Eigen::VectorXcd y = M.partialPivLu().solve(Eigen::VectorXcd::Ones(s));
   return 1.0 + z * g.b.cast<std::complex<double>>().dot(y);
+}
+
+}  // namespace
+
+std::complex<double> GaussStabilityFunction(int stages, std::complex<double> z) {
+  return StabilityFunction(CoefficientsFor("GaussStabilityFunction", stages), z);
+}
+
+double GaussLogGrowth(int stages, std::complex<double> lambda, const Vector& steps) {
+  const detail::GaussCoefficients g = CoefficientsFor("GaussLogGrowth", stages);
+  double sum = 0.0;
+  for (Index k = 0; k < steps.size(); ++k) sum += std::log(std::abs(StabilityFunction(g, lambda * steps(k))));
+  return sum;
 }
 
 }  // namespace rubcont

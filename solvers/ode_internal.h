@@ -183,6 +183,8 @@ class GaussBackend {
  public:
   GaussBackend(CallbackContext& context, const IntegratorOptions& options);
   IntegrationResult Run(const IntegrationRequest& request);
+  void SetMesh(std::vector<double> fractions);
+  const Matrix& Derivatives() const { return step_derivatives_; }
 
  private:
   bool SolveStages(double t, const Vector& x, double h, std::string& failure);
@@ -200,6 +202,9 @@ class GaussBackend {
   std::vector<Matrix> jacobians_;                   // J at each stage
   std::vector<Vector> extrapolation_;               // γ(1 + c_i)
   Vector output_weights_;
+  std::vector<double> mesh_;   // fractions of the span; empty: uniform collocation_steps
+  Vector derivative_weights_;  // u^(s) = Z·derivative_weights_ / h^s on a step
+  Matrix step_derivatives_;    // n × steps: u^(s) on each step of the last Run
   Matrix newton_matrix_;
   Eigen::PartialPivLU<Matrix> lu_;
   // Whether the last evaluation's stages are a second-order system's, and whether the last

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <stdexcept>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -361,6 +362,141 @@ TEST_CASE("Gauss collocation refuses events and invalid meshes, and reports Newt
   const IntegrationResult result = coarse.Integrate(0.0, (Vector(2) << 30.0, 0.0).finished(), 50.0, x);
   CHECK(result.status == IntegrationStatus::kConvergenceFailures);
   CHECK(result.message.find("collocation_steps") != std::string::npos);
+}
+
+// A smooth non-uniform mesh θ(x) = x + a sin(2πx)/(2π) on N steps (θ' = 1 + a cos 2πx > 0).
+std::vector<double> GradedMesh(long steps, double a) {
+  std::vector<double> mesh(static_cast<std::size_t>(steps) + 1);
+  for (long k = 0; k <= steps; ++k) {
+    const double x = static_cast<double>(k) / static_cast<double>(steps);
+    mesh[static_cast<std::size_t>(k)] = x + a * std::sin(kTwoPi * x) / kTwoPi;
+  }
+  mesh.back() = 1.0;
+  return mesh;
+}
+
+// ẍ = −x: x = cos t, v = −sin t from (1, 0).
+class Harmonic : public OdeSystem {
+ public:
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override { f << x(1), -x(0); }
+  double Parameter() const override { return 0.0; }
+  void SetParameter(double) override {}
+};
+
+TEST_CASE("Gauss collocation on a set mesh: the uniform one reproduced, order 2s on a graded one, "
+          "the STM and dx/dt1 the derivatives of its map",
+          "[ode][gauss]") {
+  SECTION("the uniform mesh as fractions integrates as the default mesh, to rounding") {
+    StuartLandauOscillator system(Shear());
+    const Vector x0 = (Vector(2) << 0.2, 0.0).finished();
+    OdeIntegrator integrator(system, Gauss(4, 20));
+    Vector uniform(2), meshed(2);
+    REQUIRE(integrator.Integrate(0.0, x0, 4.0, uniform).Succeeded());
+    integrator.SetCollocationMesh(GradedMesh(20, 0.0));
+    REQUIRE(integrator.Integrate(0.0, x0, 4.0, meshed).Succeeded());
+    CHECK((meshed - uniform).norm() <= 1e-14);
+    integrator.SetCollocationMesh({});
+    REQUIRE(integrator.Integrate(0.0, x0, 4.0, meshed).Succeeded());
+    CHECK(meshed == uniform);  // back to the uniform mesh, bit for bit
+  }
+  SECTION("order 2s = 8 on the graded mesh") {
+    const StuartLandauParams p = Shear();
+    StuartLandauOscillator system(p);
+    const double T = 4.0;
+    const Vector exact = StuartLandauExact(p, 0.2, T);
+    const Vector x0 = (Vector(2) << 0.2, 0.0).finished();
+    double errors[2];
+    for (int k = 0; k < 2; ++k) {
+      OdeIntegrator integrator(system, Gauss(4, 1));
+      integrator.SetCollocationMesh(GradedMesh(10L << k, 0.5));
+      Vector x(2);
+      REQUIRE(integrator.Integrate(0.0, x0, T, x).Succeeded());
+      CHECK(integrator.CollocationDerivatives().cols() == (10L << k));
+      errors[k] = (x - exact).norm();
+    }
+    CHECK(std::log2(errors[0] / errors[1]) == Approx(8.0).epsilon(0).margin(0.3));
+  }
+  SECTION("the forced Duffing oscillator: STM, dx/dp and dx/dt1 by differences of the map") {
+    DuffingOscillator system;
+    const Vector x0 = (Vector(2) << 0.7, -0.3).finished();
+    const double T = kTwoPi / system.Parameter();
+    OdeIntegrator integrator(system, Gauss(3, 1));
+    integrator.SetCollocationMesh(GradedMesh(25, 0.6));  // coarse: the map differs from the flow
+    Vector x(2), dxdp, dxdt1;
+    Matrix stm;
+    REQUIRE(integrator.Integrate(0.0, x0, T, x, &stm, &dxdp, &dxdt1).Succeeded());
+    const double h = 1e-6;
+    const Matrix fd = testing::FlowJacobianByDifferences(integrator, x0, T, h);
+    CHECK((stm - fd).norm() <= 1e-8 * stm.norm());
+    Vector later(2), earlier(2);
+    const double dt = 1e-7 * T;
+    REQUIRE(integrator.Integrate(0.0, x0, T + dt, later).Succeeded());
+    REQUIRE(integrator.Integrate(0.0, x0, T - dt, earlier).Succeeded());
+    CHECK((dxdt1 - (later - earlier) / (2.0 * dt)).norm() <= 1e-6 * dxdt1.norm());
+    const double w = system.Parameter();
+    system.SetParameter(w + h);
+    REQUIRE(integrator.Integrate(0.0, x0, T, later).Succeeded());
+    system.SetParameter(w - h);
+    REQUIRE(integrator.Integrate(0.0, x0, T, earlier).Succeeded());
+    system.SetParameter(w);
+    CHECK((dxdp - (later - earlier) / (2 * h)).norm() <= 1e-7 * dxdp.norm());
+  }
+  SECTION("meshes that break the rules, and other methods, are refused") {
+    DuffingOscillator system;
+    OdeIntegrator gauss(system, Gauss(4, 10));
+    CHECK_THROWS_WITH(gauss.SetCollocationMesh({0.0, 0.5}), Catch::Contains("exactly 0 to exactly 1"));
+    CHECK_THROWS_WITH(gauss.SetCollocationMesh({0.0, 0.6, 0.6, 1.0}),
+                      Catch::Contains("must increase strictly"));
+    OdeIntegrator bdf(system, IntegratorOptions());
+    CHECK_THROWS_WITH(bdf.SetCollocationMesh({}), Catch::Contains("Gauss collocation only"));
+    CHECK_THROWS_WITH(bdf.CollocationDerivatives(), Catch::Contains("Gauss collocation only"));
+  }
+}
+
+TEST_CASE("Gauss collocation's u^(s) on each step, the monitor and the equidistributed mesh",
+          "[ode][gauss]") {
+  SECTION("u^(4) of x = cos t, v = −sin t on each step is (cos, −sin) at its middle, to O(h²)") {
+    Harmonic system;
+    OdeIntegrator integrator(system, Gauss(4, 40));
+    Vector x(2);
+    REQUIRE(integrator.Integrate(0.0, (Vector(2) << 1.0, 0.0).finished(), 4.0, x).Succeeded());
+    const Matrix& d = integrator.CollocationDerivatives();
+    REQUIRE(d.cols() == 40);
+    const double h = 0.1;
+    for (Index k = 0; k < 40; ++k) {
+      CAPTURE(k);
+      CHECK(d(0, k) == Approx(std::cos((k + 0.5) * h)).epsilon(0).margin(h * h));
+      CHECK(d(1, k) == Approx(-std::sin((k + 0.5) * h)).epsilon(0).margin(h * h));
+    }
+  }
+  SECTION("a linear u^(s) gives the constant monitor |slope|^(1/(s+1)) on any mesh") {
+    const Vector times = (Vector(6) << 0.0, 0.1, 0.15, 0.4, 0.8, 1.0).finished();
+    Matrix derivatives(2, 5);
+    for (Index k = 0; k < 5; ++k) {
+      const double middle = 0.5 * (times(k) + times(k + 1));
+      derivatives(0, k) = 3.0 * middle;
+      derivatives(1, k) = -32.0 * middle;  // the larger slope: the ∞-norm takes it
+    }
+    const Vector density = CollocationMonitor(times, derivatives, 4);
+    for (Index k = 0; k < 5; ++k) CHECK(density(k) == Approx(2.0));  // 32^(1/5)
+  }
+  SECTION("the equidistributed mesh of a two-level density, on the whole span and on a part") {
+    const Vector times = (Vector(3) << 0.0, 0.5, 1.0).finished();
+    const Vector density = (Vector(2) << 1.0, 3.0).finished();
+    // ∫ = 2, a quarter per step: 0.25, 0.5, then steps of 1/12.
+    const std::vector<double> mesh = EquidistributedMesh(times, density, 0.0, 1.0, 8);
+    const std::vector<double> expected = {0.0, 0.25, 0.5, 7.0 / 12, 2.0 / 3, 0.75, 5.0 / 6, 11.0 / 12, 1.0};
+    REQUIRE(mesh.size() == expected.size());
+    for (std::size_t k = 0; k < mesh.size(); ++k) CHECK(mesh[k] == Approx(expected[k]).margin(1e-15));
+    // [0.25, 0.75] in two: ∫ = 0.25 + 0.75, halved at t = 0.5 + 0.25/3, 2/3 of the way.
+    const std::vector<double> part = EquidistributedMesh(times, density, 0.25, 0.75, 2);
+    REQUIRE(part.size() == 3);
+    CHECK(part[1] == Approx(2.0 / 3.0));
+    CHECK_THROWS_WITH(EquidistributedMesh(times, (Vector(2) << 1.0, 0.0).finished(), 0.0, 1.0, 4),
+                      Catch::Contains("must be positive"));
+    CHECK_THROWS_WITH(EquidistributedMesh(times, density, 0.5, 0.5, 4), Catch::Contains("a < b"));
+  }
 }
 
 }  // namespace
