@@ -8,15 +8,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 start=$(date +%s)
-if [[ ! -f build/build.ninja ]]; then
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+build=${BUILD:-build}  # another build directory (bench/against_peers.py passes its own)
+if [[ ! -f $build/build.ninja ]]; then
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-cmake --build build --target work_precision_bench --parallel "$(nproc)"
+cmake --build "$build" --target work_precision_bench --parallel "$(nproc)"
 
 for scene in default thesis_C_a; do
   out="results/bench/$scene"
   mkdir -p "$out"
-  build/bench/work_precision_bench "scenes/$scene.toml" "$out" 2> "$out/log.txt"
+  "$build/bench/work_precision_bench" "scenes/$scene.toml" "$out" 2> "$out/log.txt"
   PYTHONPATH=python /usr/bin/python3 -m rubcont.plots.work_precision "$out"
   echo "$out: $(ls "$out" | tr '\n' ' ')"
 done
