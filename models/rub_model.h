@@ -134,7 +134,8 @@ class RubFixedFrame : public OdeSystem {
   // of the vector field: N = k1 δ + … > 0 only for δ > 0). Invariant under Rotate.
   int SwitchingCount() const override { return static_cast<int>(structure_.contacts.size()); }
   void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override;
-  // |h_k| is 1-Lipschitz in d = u_r − u_s: s |ḋ_f| (ḋ_f the positions' entries of f) plus rounding.
+  // h_k = |d| − C along d + s ḋ: the radial motion's s |n·ḋ| to first order (ḋ: the positions'
+  // entries of f), plus rounding.
   bool SwitchingIncrementBounds(double t, ConstVectorRef x, ConstVectorRef f, double s,
                                 VectorRef bound) const override;
 

@@ -359,7 +359,8 @@ TEST_CASE("switching increment bounds: they hold along x + s f, and landing that
       }
     }
   }
-  // Radial motion: the bound is tight (h moves by s |ḋ| to rounding).
+  // Radial motion: the bound is tight (h moves by s |ḋ| to 1e-3). Tangential motion (a contact
+  // whirling closed): h moves by s² |ḋ|² / 2|d|, and so does the bound, far below s |ḋ|.
   {
     Vector f(16), h(2), h_ahead(2), bound(2);
     model.Rhs(0.0, radial, f);
@@ -367,7 +368,17 @@ TEST_CASE("switching increment bounds: they hold along x + s f, and landing that
     const double s = 1e-6;
     model.SwitchingIncrementBounds(0.0, radial, f, s, bound);
     model.SwitchingFunctions(s, radial + s * f, h_ahead);
-    CHECK(std::abs(h_ahead(0) - h(0)) >= (1.0 - 1e-6) * bound(0));
+    CHECK(std::abs(h_ahead(0) - h(0)) >= 0.999 * bound(0));
+    Vector tangential = radial;
+    tangential(8) = 0.0;
+    tangential(9) = 0.3;
+    model.Rhs(0.0, tangential, f);
+    model.SwitchingFunctions(0.0, tangential, h);
+    model.SwitchingIncrementBounds(0.0, tangential, f, s, bound);
+    model.SwitchingFunctions(s, tangential + s * f, h_ahead);
+    CHECK(std::abs(h_ahead(0) - h(0)) <= bound(0));
+    CHECK(bound(0) <= 2.0 * s * s * 0.09 / (2.0 * tangential(0)));
+    CHECK(bound(0) <= 1e-3 * s * 0.3);
   }
 
   // From the touching state the contacts open and close: landing must take the same steps with
