@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -331,6 +332,33 @@ void RubFixedFrame::SwitchingFunctions(double /*t*/, ConstVectorRef x, VectorRef
     h(static_cast<Index>(c)) =
         std::hypot(x(r) - x(s), x(r + 1) - x(s + 1)) - contact.geometry.clearance;
   }
+}
+
+bool RubFixedFrame::SwitchingIncrementBounds(double /*t*/, ConstVectorRef x, ConstVectorRef f,
+                                             double s, VectorRef bound) const {
+  // h_k = |d| − C along d + s ḋ (ḋ = the positions' entries of f):
+  //   |d + s ḋ| − |d| = (2 s d·ḋ + s² |ḋ|²) / (|d + s ḋ| + |d|),  |d + s ḋ| ≥ |d| − s |ḋ|,
+  // so |Δh| ≤ (2 s |d·ḋ| + s² |ḋ|²) / (2|d| − s|ḋ|) while s|ḋ| < |d|/2 (else s|ḋ|, h being
+  // 1-Lipschitz in d). The first is the radial motion's: a contact whirling closed (|ḋ| ≈ 0.1 m/s
+  // tangential, δ a few nm) moves h by s δ̇, not s |ḋ|. The rounding of x + s f, of d's differences
+  // and of hypot stays within a few ulps of the positions, |d| and C: 64 ulps of their sum covers
+  // it with room, and 1e-10 the relative rounding of this bound (the integrator doubles it again).
+  constexpr double kUlp = std::numeric_limits<double>::epsilon();
+  for (std::size_t c = 0; c < structure_.contacts.size(); ++c) {
+    const RubContact& contact = structure_.contacts[c];
+    const Index r = 2 * contact.rotor, q = 2 * contact.stator;
+    const double dx = x(r) - x(q), dy = x(r + 1) - x(q + 1);
+    const double vx = f(r) - f(q), vy = f(r + 1) - f(q + 1);
+    const double rho = std::sqrt(dx * dx + dy * dy);
+    const double travel = s * std::sqrt(vx * vx + vy * vy);
+    const double change =
+        travel < 0.5 * rho ? (2.0 * s * std::abs(dx * vx + dy * vy) + travel * travel) / (2.0 * rho - travel)
+                           : travel;
+    const double size = std::abs(x(r)) + std::abs(x(r + 1)) + std::abs(x(q)) + std::abs(x(q + 1)) +
+                        travel + contact.geometry.clearance;
+    bound(static_cast<Index>(c)) = change * (1.0 + 1e-10) + 64.0 * kUlp * size;
+  }
+  return true;
 }
 
 Vector RubFixedFrame::StateScale() const {

@@ -134,6 +134,10 @@ class RubFixedFrame : public OdeSystem {
   // of the vector field: N = k1 δ + … > 0 only for δ > 0). Invariant under Rotate.
   int SwitchingCount() const override { return static_cast<int>(structure_.contacts.size()); }
   void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override;
+  // h_k = |d| − C along d + s ḋ: the radial motion's s |n·ḋ| to first order (ḋ: the positions'
+  // entries of f), plus rounding.
+  bool SwitchingIncrementBounds(double t, ConstVectorRef x, ConstVectorRef f, double s,
+                                VectorRef bound) const override;
 
   const RubStructure& structure() const { return structure_; }
   // Contact quantities (N, V, F, δ, ...) at state x for the current ω.
@@ -199,6 +203,11 @@ class RubRotatingFrame : public OdeSystem {
   int SwitchingCount() const override { return fixed_.SwitchingCount(); }
   void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override {
     fixed_.SwitchingFunctions(t, x, h);
+  }
+  // The same functions of x as in the fixed frame, so the same bound along x + s f.
+  bool SwitchingIncrementBounds(double t, ConstVectorRef x, ConstVectorRef f, double s,
+                                VectorRef bound) const override {
+    return fixed_.SwitchingIncrementBounds(t, x, f, s, bound);
   }
 
   void SetFrictionModes(std::vector<FrictionMode> modes, Vector stick_forces) {

@@ -72,6 +72,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
     g_.resize(switches_);
     g_previous_.resize(switches_);
     g_ahead_.resize(switches_);
+    bound_.resize(switches_);
     for (OdeintState* v : {&z_, &dz_, &z_new_, &dz_new_, &output_}) Resize(*v, n);
   }
 
@@ -165,9 +166,11 @@ class DormandPrince final : public OdeintBackend::Stepper {
           std::swap(z_, z_new_);
           std::swap(dz_, dz_new_);
           if (land) {
-            g_previous_ = g_;
+            g_previous_.swap(g_);
             t_previous_ = t;
-            Switches(t_try, z_, g_);
+            // x_ and f_ hold the new state unscaled and its derivative: try_step's last evaluation
+            // is the FSAL stage at z_new_ (now z_), and nothing has evaluated since.
+            context_.system->SwitchingFunctions(t_try, x_, g_);
           }
           t = t_try;
         }
@@ -208,10 +211,18 @@ class DormandPrince final : public OdeintBackend::Stepper {
   // rejections). Each g is extrapolated by the parabola through g(t_previous), g(t) and ġ(t) (ġ a
   // difference quotient along f); a zero in the first 2 % of the step is left to the step (a kink
   // near its start costs it little).
+  //
+  // Where the system bounds how far each g can move along the extrapolation (OdeSystem::
+  // SwitchingIncrementBounds) and every |g| exceeds twice what the parabola could cover within the
+  // step, the prediction is skipped: it could find no root there (|p(τ)| ≥ |g|/2 for |τ| ≤ |dt|,
+  // the computed roots beyond it with their rounding), so the step is the one it would give, bit
+  // for bit, without the extrapolated evaluation. Contacts that stay closed (A(a)'s whirl and
+  // full-contact whip) take this path at every step.
   double LandOnSwitch(double t, double dt) {
     const double h = t - t_previous_;
     if (h == 0.0) return dt;
     const double epsilon = 1e-3 * h;
+    if (FarFromSwitches(t, epsilon, h, std::abs(dt))) return dt;
     for (std::size_t i = 0; i < z_.size(); ++i) output_[i] = z_[i] + epsilon * dz_[i];
     Switches(t + epsilon, output_, g_ahead_);
     double land = std::abs(dt);
@@ -228,6 +239,20 @@ class DormandPrince final : public OdeintBackend::Stepper {
       }
     }
     return dt > 0.0 ? land : -land;
+  }
+
+  // Whether no switching function can vanish in the parabola of LandOnSwitch within `span` (> 0)
+  // of t: |g| > 2 (B span + C span²) for every g, B ≥ |ġ| bounding its difference quotient over
+  // `epsilon` and C ≥ |curvature| the curvature's with it. x_ and f_ are the state at t and its
+  // derivative (the step's FSAL evaluation). False where the system gives no bounds.
+  bool FarFromSwitches(double t, double epsilon, double h, double span) {
+    if (!context_.system->SwitchingIncrementBounds(t, x_, f_, std::abs(epsilon), bound_)) return false;
+    for (Index k = 0; k < switches_; ++k) {
+      const double rate = bound_(k) / std::abs(epsilon);
+      const double curvature = (std::abs(g_previous_(k) - g_(k)) + rate * std::abs(h)) / (h * h);
+      if (!(std::abs(g_(k)) > 2.0 * (rate * span + curvature * span * span))) return false;
+    }
+    return true;
   }
 
   // The real roots of c τ² + b τ + a into roots (stably); returns how many (0, 1 or 2).
@@ -276,6 +301,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
   OdeintState z_, dz_, z_new_, dz_new_, output_;
   Index switches_ = 0;                  // OdeSystem::SwitchingCount()
   Vector g_, g_previous_, g_ahead_;     // at t, at the previous step's start, at t + ε
+  Vector bound_;                        // OdeSystem::SwitchingIncrementBounds over ε
   double t_previous_ = 0.0;
   long evaluations_ = 0;
 };

@@ -70,6 +70,16 @@ class OdeSystem {
   // restart) it integrates each smooth piece on its own (shooting/shooting.h uses this).
   virtual int SwitchingCount() const { return 0; }
   virtual void SwitchingFunctions(double /*t*/, ConstVectorRef /*x*/, VectorRef /*h*/) const {}
+  // Optional, for IntegratorOptions::land_on_switches: per switching function a bound b_k ≥
+  // |h_k(t + s, x + s f) − h_k(t, x)| for this s > 0 and f = f(t, x), both h as evaluated in
+  // floating point with x + s f rounded componentwise (within a few ulps). With it the integrator
+  // skips predicting a switch that cannot come within the step (the prediction's own cost on A(a)
+  // in full contact, where no contact switches: bench/march_bench.cpp). Returns false where the
+  // system gives no bound (the default: every step predicts).
+  virtual bool SwitchingIncrementBounds(double /*t*/, ConstVectorRef /*x*/, ConstVectorRef /*f*/,
+                                        double /*s*/, VectorRef /*bound*/) const {
+    return false;
+  }
 };
 
 }  // namespace rubcont

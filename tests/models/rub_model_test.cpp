@@ -10,6 +10,7 @@
 #include "models/flexible.h"
 #include "models/units.h"
 #include "solvers/finite_difference.h"
+#include "solvers/ode.h"
 
 namespace rubcont {
 namespace {
@@ -307,5 +308,107 @@ TEST_CASE("rigid-contact orbit of the general structure equals the analytic Mode
   }
 }
 
+
+// The model without its switching increment bounds (everything else delegated): landing on the
+// switches then predicts at every step.
+class WithoutIncrementBounds final : public OdeSystem {
+ public:
+  explicit WithoutIncrementBounds(RubFixedFrame& model) : model_(model) {}
+  Index Dimension() const override { return model_.Dimension(); }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override { model_.Rhs(t, x, f); }
+  double Parameter() const override { return model_.Parameter(); }
+  void SetParameter(double p) override { model_.SetParameter(p); }
+  Vector StateScale() const override { return model_.StateScale(); }
+  int SwitchingCount() const override { return model_.SwitchingCount(); }
+  void SwitchingFunctions(double t, ConstVectorRef x, VectorRef h) const override {
+    model_.SwitchingFunctions(t, x, h);
+  }
+
+ private:
+  RubFixedFrame& model_;
+};
+
+TEST_CASE("switching increment bounds: they hold along x + s f, and landing that skips predictions "
+          "with them takes the same steps bit for bit", "[rub_model]") {
+  RubFixedFrame model(TwoPointStructure(ThesisCaseAa()), RpmToRadPerSecond(160.0));
+  const double C = model.structure().contacts[0].geometry.clearance;
+  // Radial motion of the left contact (d and ḋ along x: h moves by exactly s |ḋ|), oblique motion
+  // at the right one, and the touching state.
+  Vector radial = Vector::Zero(16);
+  radial(0) = 1.0001 * C;
+  radial(8) = 0.3;
+  radial(2) = 0.5 * C;
+  radial(3) = 0.7 * C;
+  radial(10) = -0.2;
+  radial(11) = 0.15;
+  for (const Vector& x : {radial, TouchingState(model.structure())}) {
+    Vector f(16), h(2), h_ahead(2), bound(2);
+    model.Rhs(0.0, x, f);
+    model.SwitchingFunctions(0.0, x, h);
+    for (double s : {1e-9, 1e-6, 1e-4}) {
+      CAPTURE(s);
+      REQUIRE(model.SwitchingIncrementBounds(0.0, x, f, s, bound));
+      const Vector ahead = x + s * f;
+      model.SwitchingFunctions(s, ahead, h_ahead);
+      for (int k = 0; k < 2; ++k) {
+        const Index r = 2 * k, q = 4 + 2 * k;
+        const double rate = std::hypot(f(r) - f(q), f(r + 1) - f(q + 1));
+        CHECK(std::abs(h_ahead(k) - h(k)) <= bound(k));
+        // Not looser than the L1 norm of ḋ allows (√2 |ḋ|) and the rounding terms.
+        CHECK(bound(k) <= 1.5 * s * rate + 1e-12 * s * rate + 1e-18);
+      }
+    }
+  }
+  // Radial motion: the bound is tight (h moves by s |ḋ| to 1e-3). Tangential motion (a contact
+  // whirling closed): h moves by s² |ḋ|² / 2|d|, and so does the bound, far below s |ḋ|.
+  {
+    Vector f(16), h(2), h_ahead(2), bound(2);
+    model.Rhs(0.0, radial, f);
+    model.SwitchingFunctions(0.0, radial, h);
+    const double s = 1e-6;
+    model.SwitchingIncrementBounds(0.0, radial, f, s, bound);
+    model.SwitchingFunctions(s, radial + s * f, h_ahead);
+    CHECK(std::abs(h_ahead(0) - h(0)) >= 0.999 * bound(0));
+    Vector tangential = radial;
+    tangential(8) = 0.0;
+    tangential(9) = 0.3;
+    model.Rhs(0.0, tangential, f);
+    model.SwitchingFunctions(0.0, tangential, h);
+    model.SwitchingIncrementBounds(0.0, tangential, f, s, bound);
+    model.SwitchingFunctions(s, tangential + s * f, h_ahead);
+    CHECK(std::abs(h_ahead(0) - h(0)) <= bound(0));
+    CHECK(bound(0) <= 2.0 * s * s * 0.09 / (2.0 * tangential(0)));
+    CHECK(bound(0) <= 1e-3 * s * 0.3);
+  }
+
+  // From the touching state the contacts open and close: landing must take the same steps with
+  // the bounds (predictions skipped far from a switch) as without (every step predicts).
+  IntegratorOptions options;
+  options.method = IntegrationMethod::kDormandPrince;
+  options.max_steps = 1000000;
+  WithoutIncrementBounds plain(model);
+  const Vector x0 = TouchingState(model.structure());
+  Vector times(400);
+  for (Index k = 0; k < times.size(); ++k) times(k) = 0.02 * static_cast<double>(k + 1) / 400.0;
+  Matrix with_bounds, without_bounds;
+  const IntegrationResult a = OdeIntegrator(model, options).Sample(0.0, x0, times, with_bounds);
+  const IntegrationResult b = OdeIntegrator(plain, options).Sample(0.0, x0, times, without_bounds);
+  REQUIRE(a.status == IntegrationStatus::kSuccess);
+  REQUIRE(b.status == IntegrationStatus::kSuccess);
+  int switches = 0;
+  Vector h(2), h_before(2);
+  model.SwitchingFunctions(0.0, x0, h_before);
+  for (Index k = 0; k < times.size(); ++k) {
+    model.SwitchingFunctions(times(k), with_bounds.col(k), h);
+    for (int c = 0; c < 2; ++c) switches += (h(c) > 0.0) != (h_before(c) > 0.0) ? 1 : 0;
+    h_before = h;
+  }
+  CAPTURE(switches, a.statistics.steps, a.statistics.error_test_failures);
+  CHECK(switches >= 4);
+  CHECK(a.statistics.steps == b.statistics.steps);
+  CHECK(a.statistics.rhs_evaluations == b.statistics.rhs_evaluations);
+  CHECK(a.statistics.error_test_failures == b.statistics.error_test_failures);
+  CHECK((with_bounds.array() == without_bounds.array()).all());
+}
 }  // namespace
 }  // namespace rubcont
