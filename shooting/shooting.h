@@ -194,7 +194,8 @@ double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>
 // eigenvalue λ_k of ∂f/∂x there, the modulus one period gives it on the mesh, |R(λ_k h)|^N (R the
 // stability function, GaussStabilityFunction; N = steps_per_period, h = T/N), against the exact
 // e^{Re λ_k T}. Returns the largest discrete modulus among the modes misplaced by more than 1e-3
-// (0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
+// (relative to e^{Re λ_k T} where it exceeds 1: a growing frozen mode the mesh resolves is not
+// misplaced; 0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
 // lightly damped stiff mode it does not resolve (the thesis's contact at |λ|h = 11: 0.68 for
 // 0.33), so a value well below 1 means those modes cannot decide the orbit's stability; near 1
 // the mesh must be refined. `system` is a copy owned by the measure.
