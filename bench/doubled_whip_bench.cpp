@@ -1,6 +1,7 @@
 // The period-doubled whip of case A(a) (issue 53, part 2): its family from the main whip's period
 // doubling at 128.35 rpm with the orbits stage's settings (4 segments per lap, Gauss collocation
-// s = 4, target angle 0.3, 5 target iterations, the curved predictor), its CPU and special points;
+// s = 4, target angle 0.3, 5 target iterations, the curved predictor, ending at a grazing), its CPU
+// (all families, and the doubled one alone) and special points;
 // then, at each --check speed, the stable-flagged doubled orbit measured independently of the
 // collocation:
 //   1. the Floquet multipliers of the same orbit (the collocation's segment starts) from CVODES BDF
@@ -36,6 +37,8 @@
 #include "solvers/constants.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
+
+#include "a_a_whip_starts.h"
 
 namespace rubcont {
 namespace {
@@ -241,15 +244,10 @@ int Main(int argc, char** argv) {
     }
   }
   if (s.checks.empty()) s.checks = {125.0, 130.0};
-  TwoPointParams params = ThesisCaseAa();
-  params.friction_law.kind = FrictionLawKind::kTanh;
-  const RubStructure structure = TwoPointStructure(params);
-  RotatingWaveBranchOptions wave_options;
-  wave_options.search.speed_min = RpmToRadPerSecond(20);
-  wave_options.search.speed_max = RpmToRadPerSecond(100);
-  wave_options.search.precession_max = kTwoPi * 200;
-  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, wave_options, {});
-  const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
+  const AaWhipStarts a = ComputeAaWhipStarts();
+  const RubStructure& structure = a.structure;
+  const auto& branches = a.branches;
+  const auto& starts = a.starts;
   if (starts.empty()) return 1;
 
   HopfOrbitOptions options;
@@ -270,11 +268,24 @@ int Main(int argc, char** argv) {
   c.step.curved_predictor = true;
   c.bounds.max_steps = 400;
   options.orbits.stop_at_grazing = true;
+  // The families come one after the other (the main one, the side branches, the doubled one
+  // last): a step with fewer points than the one before starts the next, and the doubled family's
+  // cost runs from the last step of the family before it to the end.
+  std::size_t last_points = 0;
+  double cpu_last_step = 0.0, cpu_doubled_start = 0.0;
+  options.on_step = [&](const Branch& b) {
+    if (b.points.size() < last_points) cpu_doubled_start = cpu_last_step;
+    last_points = b.points.size();
+    cpu_last_step = ProcessCpuSeconds();
+    return true;
+  };
   const double cpu0 = ProcessCpuSeconds();
   const RubModulatedOrbits result = ContinueModulatedOrbits(structure, branches, starts.front(), options, true);
   const double cpu = CpuSecondsSince(cpu0);
-  std::printf("doubled_whip_bench: Hopf %.6f rpm → %g rpm, %d intervals per lap: %.1f s CPU in all\n",
-              RadPerSecondToRpm(starts.front().speed), s.to_rpm, s.intervals, cpu);
+  std::printf("doubled_whip_bench: Hopf %.6f rpm → %g rpm, %d intervals per lap: %.1f s CPU in all, "
+              "the doubled family %.1f s\n",
+              RadPerSecondToRpm(starts.front().speed), s.to_rpm, s.intervals, cpu,
+              CpuSecondsSince(cpu_doubled_start));
   std::printf("  main family: %s\n", result.orbits.branch.BriefReport().c_str());
   if (result.doublings.empty() || !result.doublings.front().ok) {
     std::printf("  no doubled family\n");
