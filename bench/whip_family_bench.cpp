@@ -38,6 +38,8 @@
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
 
+#include "a_a_whip_starts.h"
+
 namespace rubcont {
 namespace {
 
@@ -68,16 +70,11 @@ int Main(int argc, char** argv) {
     else if (a == "--mesh-floor") mesh_floor = next();
     else if (a == "--verbose") verbose = true;
   }
-  TwoPointParams params = ThesisCaseAa();
-  params.friction_law.kind = FrictionLawKind::kTanh;
-  const RubStructure structure = TwoPointStructure(params);
-  RotatingWaveBranchOptions wave_options;
-  wave_options.search.speed_min = RpmToRadPerSecond(20);
-  wave_options.search.speed_max = RpmToRadPerSecond(100);
-  wave_options.search.precession_max = kTwoPi * 200;
   const double cpu_waves = ProcessCpuSeconds();
-  const auto branches = ComputeRotatingWaveBranches(structure, FrictionLawKind::kTanh, wave_options, {});
-  const auto starts = StableBoundaryHopfPoints(branches, structure.Coordinates());
+  const AaWhipStarts a = ComputeAaWhipStarts();
+  const RubStructure& structure = a.structure;
+  const auto& branches = a.branches;
+  const auto& starts = a.starts;
   if (starts.empty()) return 1;
   const double waves_cpu = CpuSecondsSince(cpu_waves);
 

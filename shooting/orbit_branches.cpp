@@ -480,7 +480,10 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
     }
     result.amplitude = amplitude;
     result.message = failed.empty() ? "" : failed + fmt::format("; amplitude {:g} used", amplitude);
-    result.branch = FamilyOf(problem, doubled, point.lambda, RunToEnd(stepper, on_step));
+    // The ends options ask for (stop_at_grazing: A(a)'s doubled whip crept 290 orbits past its
+    // grazing on a fixed mesh without it).
+    result.branch = FamilyOf(problem, doubled, point.lambda,
+                             RunToEnd(stepper, on_step, OrbitEndTest(options, point.lambda)));
     break;
   }
   result.ok = true;

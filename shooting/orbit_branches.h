@@ -208,7 +208,7 @@ OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
 // before (twice the intervals per doubled period). A start whose correction fails (C(a)'s stiff
 // contact at 1e-3: a non-finite residual) is tried again at amplitude/10 and amplitude/100
 // (kDoublingStartAttempts in all); the message names the failed starts and `amplitude` the one
-// the family started from.
+// the family started from. The family ends where options ask (OrbitEndTest: stop_at_grazing).
 inline constexpr int kDoublingStartAttempts = 3;
 struct OrbitPeriodDoubling {
   std::size_t special_point = 0;  // index into the family's branch.special_points

@@ -212,7 +212,8 @@ double MirrorAsymmetryOf(const OdeSystem& system, const Eigen::Ref<const Matrix>
 // the orbit's steps (R the stability function, GaussLogGrowth; OrbitSamples::collocation_steps, or
 // N = steps_per_period uniform steps h = T/N where the samples do not carry them), against the exact
 // e^{Re λ_k T}. Returns the largest discrete modulus among the modes misplaced by more than 1e-3
-// (0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
+// (relative to e^{Re λ_k T} where it exceeds 1: a growing frozen mode the mesh resolves is not
+// misplaced; 0 when there are none). Gauss keeps the sign of Re λ and underestimates the damping of a
 // lightly damped stiff mode it does not resolve (the thesis's contact at |λ|h = 11: 0.68 for
 // 0.33), so a value well below 1 means those modes cannot decide the orbit's stability; near 1
 // the mesh must be refined. `system` is a copy owned by the measure.

@@ -262,6 +262,37 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
                   std::invalid_argument);
 }
 
+TEST_CASE("stop_at_grazing ends the doubled orbits at their first located grazing as well",
+          "[shooting][period_doubling][grazing]") {
+  CycleWithMoebiusBand system;
+  const PeriodicOrbitBranch family =
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, MoebiusCycleStart(), Options());
+  REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
+  std::size_t k = 0;
+  while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
+  // |w|² = a² = λ on the doubled orbits: they touch |w| = 0.3 at λ = 0.09.
+  PeriodicOrbitBranchOptions options = Options();
+  options.test_functions = {Grazing([](ConstVectorRef x) { return x(2) * x(2) + x(3) * x(3) - 0.09; },
+                                    GrazingSide::kTouchdown, "touchdown")};
+  for (const bool stop : {true, false}) {
+    CAPTURE(stop);
+    options.stop_at_grazing = stop;
+    const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, options);
+    REQUIRE(doubling.ok);
+    const Branch& doubled = doubling.branch.branch;
+    INFO(doubled.BriefReport() << " — " << doubled.message);
+    REQUIRE(doubled.Count(SpecialPointType::kGrazing) == 1);
+    if (!stop) {
+      CHECK(doubled.status == BranchStatus::kReachedLambdaBound);
+      continue;
+    }
+    REQUIRE(doubled.status == BranchStatus::kGrazing);
+    const SpecialPoint& grazing = doubled.special_points.back();
+    CHECK(grazing.lambda == Approx(0.09).epsilon(0).margin(1e-6));
+    CHECK(doubled.points.back().lambda < 0.5);
+  }
+}
+
 // The same flow, defined only within 0.05 of the cycle (|w| ≤ 0.05): like the stiff contact's
 // flow, which the integrator does not survive far inside the stator. A doubled start at amplitude
 // 0.1 cannot be corrected; the retry at 0.01 starts the same doubled orbits.

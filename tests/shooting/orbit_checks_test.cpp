@@ -50,36 +50,62 @@ TEST_CASE("the periodicity defect is small on a true orbit and large on a wrong 
   CHECK(std::isnan(defect.evaluate(orbit)));
 }
 
-// ẍ + 2ζω ẋ + ω² x = 0 with ω = 1e5, ζ = 1e-4: the lightly damped stiff contact mode in miniature.
+// ẍ + 2ζω ẋ + ω² x = 0 with ω = 1e5: with ζ = 1e-4 the lightly damped stiff contact mode in
+// miniature; with ζ < 0 a growing one (the frozen contact mode of A(a)'s doubled whip).
 class DampedStiffMode : public OdeSystem {
  public:
+  explicit DampedStiffMode(double zeta = 1e-4) : zeta_(zeta) {}
   Index Dimension() const override { return 2; }
   void Rhs(double, ConstVectorRef x, VectorRef f) override {
-    f << x(1), -kOmega * kOmega * x(0) - 2 * kZeta * kOmega * x(1);
+    f << x(1), -kOmega * kOmega * x(0) - 2 * zeta_ * kOmega * x(1);
   }
   bool HasJacobian() const override { return true; }
   void JacobianX(double, ConstVectorRef, MatrixRef J) override {
-    J << 0, 1, -kOmega * kOmega, -2 * kZeta * kOmega;
+    J << 0, 1, -kOmega * kOmega, -2 * zeta_ * kOmega;
   }
   double Parameter() const override { return 0.0; }
   void SetParameter(double) override {}
-  static constexpr double kOmega = 1e5, kZeta = 1e-4;
+  static constexpr double kOmega = 1e5;
+
+ private:
+  double zeta_;
 };
+
+// One sample at the origin (the Jacobian is constant) of an orbit of period T.
+OrbitSamples OneSample(double period) {
+  OrbitSamples orbit;
+  orbit.times = Vector::LinSpaced(2, 0.0, period);
+  orbit.states = Matrix::Zero(2, 2);
+  orbit.period = period;
+  orbit.valid = true;
+  return orbit;
+}
 
 TEST_CASE("the unresolved multiplier flags a lightly damped stiff mode the mesh steps over",
           "[shooting][checks]") {
   auto system = std::make_shared<DampedStiffMode>();
-  OrbitSamples orbit;
-  orbit.times = Vector::LinSpaced(2, 0.0, 0.05);
-  orbit.states = Matrix::Zero(2, 2);
-  orbit.period = 0.05;  // e^{−ζωT} = e^{−0.5} = 0.607
-  orbit.valid = true;
+  const OrbitSamples orbit = OneSample(0.05);  // e^{−ζωT} = e^{−0.5} = 0.607
   // 1e4 steps: |λ|h = 0.5, resolved (Padé error far below 1e-3).
   CHECK(UnresolvedMultiplier(system, 4, 10000).evaluate(orbit) == 0.0);
   // 200 steps: |λ|h = 25; Gauss keeps the mode but damps it less than the flow does.
   const double coarse = UnresolvedMultiplier(system, 4, 200).evaluate(orbit);
   CHECK(coarse > std::exp(-0.5) + 1e-3);
   CHECK(coarse < 1.0);
+}
+
+TEST_CASE("the unresolved multiplier leaves out a growing mode the mesh resolves",
+          "[shooting][checks]") {
+  // ζ = −6e-3: e^{−ζωT} = e^{30} = 1.1e13 over T = 0.05, the size of A(a)'s doubled whip's frozen
+  // contact mode at its first sample. 1e4 steps resolve it (|λ|h = 0.5): |R(λh)|^N equals e^{30}
+  // to round-off, which is far above 1e-3 in absolute terms (the check once reported e^{30}).
+  auto system = std::make_shared<DampedStiffMode>(-6e-3);
+  const OrbitSamples orbit = OneSample(0.05);
+  CHECK(UnresolvedMultiplier(system, 4, 10000).evaluate(orbit) == 0.0);
+  // 200 steps (|λ|h = 25) do not resolve it: Gauss keeps it growing (|R| > 1 for Re z > 0) but
+  // by far less than the flow, and the check reports it.
+  const double coarse = UnresolvedMultiplier(system, 4, 200).evaluate(orbit);
+  CHECK(coarse > 1.0);
+  CHECK(coarse < 1e-3 * std::exp(30.0));
 }
 
 }  // namespace
