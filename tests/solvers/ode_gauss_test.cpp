@@ -26,6 +26,28 @@ IntegratorOptions Gauss(int stages, long steps) {
   return options;
 }
 
+// Central differences of the map x0 ↦ x(t1): in the system's parameter (step h), and in the end
+// time t1 (step 1e-7·t1).
+Vector ParameterDerivativeByDifferences(OdeIntegrator& integrator, OdeSystem& system,
+                                        const Vector& x0, double t1, double h) {
+  const double p = system.Parameter();
+  Vector plus(x0.size()), minus(x0.size());
+  system.SetParameter(p + h);
+  REQUIRE(integrator.Integrate(0.0, x0, t1, plus).Succeeded());
+  system.SetParameter(p - h);
+  REQUIRE(integrator.Integrate(0.0, x0, t1, minus).Succeeded());
+  system.SetParameter(p);
+  return (plus - minus) / (2 * h);
+}
+
+Vector EndTimeDerivativeByDifferences(OdeIntegrator& integrator, const Vector& x0, double t1) {
+  const double dt = 1e-7 * t1;
+  Vector later(x0.size()), earlier(x0.size());
+  REQUIRE(integrator.Integrate(0.0, x0, t1 + dt, later).Succeeded());
+  REQUIRE(integrator.Integrate(0.0, x0, t1 - dt, earlier).Succeeded());
+  return (later - earlier) / (2.0 * dt);
+}
+
 // Stuart–Landau ż = (λ + iω) z − (1 + iγ)|z|² z from z0 = r0 (real): r² = λ r0² e^{2λt} / D,
 // D = λ + r0²(e^{2λt} − 1), θ = ωt − (γ/2) ln(D/λ).
 Vector StuartLandauExact(const StuartLandauParams& p, double r0, double t) {
@@ -78,14 +100,8 @@ TEST_CASE("Gauss collocation's STM and dx/dp are the derivatives of its discrete
   const double h = 1e-6;
   const Matrix fd = testing::FlowJacobianByDifferences(integrator, x0, T, h);
   CHECK((stm - fd).norm() <= 1e-8 * stm.norm());
-  const double w = system.Parameter();
-  Vector x_plus(2), x_minus(2);
-  system.SetParameter(w + h);
-  REQUIRE(integrator.Integrate(0.0, x0, T, x_plus).Succeeded());
-  system.SetParameter(w - h);
-  REQUIRE(integrator.Integrate(0.0, x0, T, x_minus).Succeeded());
-  system.SetParameter(w);
-  CHECK((dxdp - (x_plus - x_minus) / (2 * h)).norm() <= 1e-7 * dxdp.norm());
+  CHECK((dxdp - ParameterDerivativeByDifferences(integrator, system, x0, T, h)).norm() <=
+        1e-7 * dxdp.norm());
 }
 
 // ẍ = −ω² x, ω = 1e5 — the stiff contact's scale — over steps with ωh = 20.
@@ -216,13 +232,6 @@ TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end ti
           "[ode][gauss]") {
   // The map on N uniform steps of [0, t1] moves with t1 through h = t1/N: where the mesh does not
   // resolve a mode the two differ. Central differences of the map in t1 (steps 1e-7 of t1).
-  auto difference = [](OdeIntegrator& integrator, const Vector& x0, double t1) {
-    const double dt = 1e-7 * t1;
-    Vector later(x0.size()), earlier(x0.size());
-    REQUIRE(integrator.Integrate(0.0, x0, t1 + dt, later).Succeeded());
-    REQUIRE(integrator.Integrate(0.0, x0, t1 - dt, earlier).Succeeded());
-    return Vector((later - earlier) / (2.0 * dt));
-  };
   SECTION("the unresolved stiff oscillator (ωh = 20): f(t1, x1) is off by its whole size") {
     StiffOscillator system;
     const double t1 = 0.01;
@@ -232,7 +241,7 @@ TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end ti
     Matrix stm;
     REQUIRE(gauss.Integrate(0.0, x0, t1, x, &stm, nullptr, &dxdt1).Succeeded());
     const Vector scale = system.StateScale();
-    const Vector fd = difference(gauss, x0, t1);
+    const Vector fd = EndTimeDerivativeByDifferences(gauss, x0, t1);
     CHECK((dxdt1 - fd).cwiseQuotient(scale).norm() <= 1e-5 * dxdt1.cwiseQuotient(scale).norm());
     system.Rhs(t1, x, f);
     CHECK((f - fd).cwiseQuotient(scale).norm() > 0.5 * fd.cwiseQuotient(scale).norm());
@@ -245,7 +254,7 @@ TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end ti
     Vector x(2), dxdp, dxdt1, f(2);
     Matrix stm;
     REQUIRE(gauss.Integrate(0.0, x0, t1, x, &stm, &dxdp, &dxdt1).Succeeded());
-    const Vector fd = difference(gauss, x0, t1);
+    const Vector fd = EndTimeDerivativeByDifferences(gauss, x0, t1);
     CHECK((dxdt1 - fd).norm() <= 1e-6 * dxdt1.norm());
     // Resolved: here the map's derivative is near the flow's.
     system.Rhs(t1, x, f);
@@ -429,18 +438,9 @@ TEST_CASE("Gauss collocation on a set mesh: the uniform one reproduced, order 2s
     const double h = 1e-6;
     const Matrix fd = testing::FlowJacobianByDifferences(integrator, x0, T, h);
     CHECK((stm - fd).norm() <= 1e-8 * stm.norm());
-    Vector later(2), earlier(2);
-    const double dt = 1e-7 * T;
-    REQUIRE(integrator.Integrate(0.0, x0, T + dt, later).Succeeded());
-    REQUIRE(integrator.Integrate(0.0, x0, T - dt, earlier).Succeeded());
-    CHECK((dxdt1 - (later - earlier) / (2.0 * dt)).norm() <= 1e-6 * dxdt1.norm());
-    const double w = system.Parameter();
-    system.SetParameter(w + h);
-    REQUIRE(integrator.Integrate(0.0, x0, T, later).Succeeded());
-    system.SetParameter(w - h);
-    REQUIRE(integrator.Integrate(0.0, x0, T, earlier).Succeeded());
-    system.SetParameter(w);
-    CHECK((dxdp - (later - earlier) / (2 * h)).norm() <= 1e-7 * dxdp.norm());
+    CHECK((dxdt1 - EndTimeDerivativeByDifferences(integrator, x0, T)).norm() <= 1e-6 * dxdt1.norm());
+    CHECK((dxdp - ParameterDerivativeByDifferences(integrator, system, x0, T, h)).norm() <=
+          1e-7 * dxdp.norm());
   }
   SECTION("meshes that break the rules, and other methods, are refused") {
     DuffingOscillator system;
