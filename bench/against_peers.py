@@ -69,7 +69,6 @@ def duffing(build, out, quick):
                f"{median / AUTO_DUFFING[1]:.2f}–{median / AUTO_DUFFING[0]:.2f}")
     folds = [line.strip() for line in summary.splitlines() if "fold" in line.lower()]
     out.extend(f"  {line}" for line in folds[:4])
-    return {"duffing_cpu": median}
 
 
 WHIP_RUNS = [
@@ -111,7 +110,6 @@ def whip_family(build, out, quick):
         ratio = f"{cpu / auto:.2f}" if auto else "–"
         beyond = f"{past.group(1)} s, {past.group(2)} orbits" if past else "–"
         out.append(f"| {label} | {orbits} | {newton} | {cpu:.2f} | {ratio} | {landmarks} | {beyond} |")
-    return {}
 
 
 def flexible(build, out, quick):
@@ -131,7 +129,6 @@ def flexible(build, out, quick):
         reached = re.findall(r"λ ∈ \[[\d.]+, ([\d.]+)\]", summary)
         out.append(f"  {label}: {points} orbits in {cpu:.1f} s CPU (the whole run, L1 included): "
                    f"{cpu / max(points, 1):.2f} s per orbit; families reach λ = {', '.join(reached)} rad/s")
-    return {}
 
 
 def marching(build, out, quick):
@@ -143,20 +140,18 @@ def marching(build, out, quick):
         args += ["--schedule"]
     text, _ = run(args)
     out.append(text.rstrip())
-    return {}
 
 
 def work_precision(build, out, quick):
     out.append("## 5. The work-precision charts (scripts/work-precision.sh)")
     if quick:
         out.append("  skipped (--quick)")
-        return {}
+        return
     start = time.time()
     text, cpu = run(["scripts/work-precision.sh"], env={**os.environ, "BUILD": build})
     out.append(f"  regenerated results/bench/default/ and results/bench/thesis_C_a/ in "
                f"{time.time() - start:.0f} s wall, {cpu:.0f} s CPU")
     out.append("  " + text.strip().splitlines()[-1])
-    return {}
 
 
 def main(argv):

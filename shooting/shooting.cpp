@@ -625,24 +625,14 @@ void ShootingProblem::AdaptCollocationMeshes(const Vector& u, double lambda) {
   const SegmentData& data = cached ? cache_ : scratch_;
   // The whole period's mesh and u^(s) in scaled units, segment after segment.
   const double T = Period(u, lambda);
-  Index total = 0;
-  for (const Matrix& d : data.derivatives) total += d.cols();
-  Vector times(total + 1);
+  const Vector times = CollocationTimes(T);
+  const Index total = times.size() - 1;
   Matrix derivatives(n_, total);
   Index at = 0;
-  for (Index i = 0; i < segments_; ++i) {
-    const Matrix& d = data.derivatives[static_cast<std::size_t>(i)];
-    const double t0 = SegmentTime(T, i), t1 = SegmentTime(T, i + 1);
-    for (Index k = 0; k < d.cols(); ++k) {
-      const double theta = collocation_meshes_.empty()
-                               ? static_cast<double>(k) / static_cast<double>(d.cols())
-                               : collocation_meshes_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
-      times(at + k) = t0 + theta * (t1 - t0);
-    }
+  for (const Matrix& d : data.derivatives) {
     derivatives.middleCols(at, d.cols()) = state_scale_.cwiseInverse().asDiagonal() * d;
     at += d.cols();
   }
-  times(total) = SegmentTime(T, segments_);
   Vector density = CollocationMonitor(times, derivatives, options_.integrator.collocation_stages);
   const double mean = density.dot((times.tail(total) - times.head(total))) / (times(total) - times(0));
   if (!(mean > 0.0) || !std::isfinite(mean)) return;  // nothing to equidistribute
@@ -659,19 +649,28 @@ void ShootingProblem::AdaptCollocationMeshes(const Vector& u, double lambda) {
   samples_valid_ = false;
 }
 
-Vector ShootingProblem::CollocationStepFractions() const {
+Vector ShootingProblem::CollocationTimes(double period) const {
   const long uniform = options_.integrator.collocation_steps;
-  std::vector<double> steps;
+  std::vector<double> times;
   for (Index i = 0; i < segments_; ++i) {
-    const double length = mesh_[static_cast<std::size_t>(i) + 1] - mesh_[static_cast<std::size_t>(i)];
+    const double t0 = SegmentTime(period, i), t1 = SegmentTime(period, i + 1);
     if (collocation_meshes_.empty()) {
-      steps.insert(steps.end(), static_cast<std::size_t>(uniform), length / static_cast<double>(uniform));
+      for (long k = 0; k < uniform; ++k) {
+        times.push_back(t0 + static_cast<double>(k) / static_cast<double>(uniform) * (t1 - t0));
+      }
       continue;
     }
     const std::vector<double>& mesh = collocation_meshes_[static_cast<std::size_t>(i)];
-    for (std::size_t k = 0; k + 1 < mesh.size(); ++k) steps.push_back(length * (mesh[k + 1] - mesh[k]));
+    for (std::size_t k = 0; k + 1 < mesh.size(); ++k) times.push_back(t0 + mesh[k] * (t1 - t0));
   }
-  return Eigen::Map<const Vector>(steps.data(), static_cast<Index>(steps.size()));
+  times.push_back(SegmentTime(period, segments_));
+  return Eigen::Map<const Vector>(times.data(), static_cast<Index>(times.size()));
+}
+
+Vector ShootingProblem::CollocationStepFractions() const {
+  const Vector times = CollocationTimes(1.0);
+  const Index steps = times.size() - 1;
+  return times.tail(steps) - times.head(steps);
 }
 
 void ShootingProblem::SetMeasures(std::vector<OrbitMeasure> measures) {

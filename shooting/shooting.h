@@ -439,6 +439,9 @@ class ShootingProblem : public Problem {
   // Copies u's event boundaries into mesh_; false (last_failure_ set) unless they lie strictly
   // inside their neighbours.
   bool UseMesh(const Vector& u);
+  // The collocation mesh over the period as times, N + 1 from SegmentTime(period, 0) to
+  // SegmentTime(period, segments), segment after segment (uniform while not adapted).
+  Vector CollocationTimes(double period) const;
   // Sets segment i's collocation mesh into `integrator` (when adapted).
   void UseCollocationMesh(OdeIntegrator& integrator, Index segment);
   // Re-equidistributes the collocation meshes on the orbit (u, λ) (adapt_mesh_every); leaves

@@ -395,11 +395,15 @@ IntegrationResult GaussBackend::Run(const IntegrationRequest& request) {
       }
       for (Index i = 0; i < s; ++i) stages_.col(i) = coefficients_.c(i) * h * stage_state_;
     } else {
+      // γ(1 + c_i h/h_prev): the cached γ(1 + c_i) on equal steps (no copy on the uniform mesh).
       const double ratio = h / previous_h;
       for (Index i = 0; i < s; ++i) {
-        const Vector& weights = ratio == 1.0 ? extrapolation_[static_cast<std::size_t>(i)]
-                                             : coefficients_.Interpolation(1.0 + ratio * coefficients_.c(i));
-        stages_.col(i) = previous_x_ - x_ + previous_stages_ * weights;
+        const Vector* weights = &extrapolation_[static_cast<std::size_t>(i)];
+        if (ratio != 1.0) {
+          guess_weights_ = coefficients_.Interpolation(1.0 + ratio * coefficients_.c(i));
+          weights = &guess_weights_;
+        }
+        stages_.col(i) = previous_x_ - x_ + previous_stages_ * *weights;
       }
     }
     previous_h = h;

@@ -201,7 +201,7 @@ class GaussBackend {
   Matrix stages_, previous_stages_, derivatives_;  // n × s: Z, Z of the previous step, F
   std::vector<Matrix> jacobians_;                   // J at each stage
   std::vector<Vector> extrapolation_;               // γ(1 + c_i)
-  Vector output_weights_;
+  Vector output_weights_, guess_weights_;
   std::vector<double> mesh_;   // fractions of the span; empty: uniform collocation_steps
   Vector derivative_weights_;  // u^(s) = Z·derivative_weights_ / h^s on a step
   Matrix step_derivatives_;    // n × steps: u^(s) on each step of the last Run
