@@ -126,8 +126,9 @@ struct RubOrbitsSettings {
   bool curved_predictor = false;
   // mesh = "adapted": Gauss's collocation_intervals move to equidistribute the error monitor of
   // every third orbit (ShootingOptions::adapt_mesh_every = 3, AUTO-07p's IAD): A(a)'s period
-  // doubling within 0.003 rpm of the 1600-interval reference at 400 intervals, where the uniform
-  // mesh is 0.03 rpm off (bench/whip_family_bench.cpp). "uniform" (the default): as before the key.
+  // doubling 0.001–0.004 rpm from the 1600-interval reference at 400 intervals (two runs, the
+  // tangent and the curved predictor), where the uniform mesh is 0.03 rpm off
+  // (bench/whip_family_bench.cpp). "uniform" (the default): as before the key.
   bool adapt_mesh = false;
   // [analysis.orbits.transient]: the orbits through the relative periodic orbit a settled
   // transient lies on (ContinueTransientOrbits), for whips no Hopf point's family reaches.

@@ -799,8 +799,8 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "Gauss collocation's mesh: \"uniform\", collocation_intervals equal steps per period; "
       "\"adapted\", the same number of steps moved at every third orbit to equidistribute the "
       "collocation error's monitor (AUTO-07p's adaptation): steps shorten where the orbit changes "
-      "fast (A(a)'s period doubling at 400 intervals within 0.003 rpm of the 1600-interval "
-      "uniform mesh's, where the uniform 400 are 0.03 rpm off; docs/performance.md).",
+      "fast (A(a)'s period doubling at 400 intervals 0.001–0.004 rpm from the 1600-interval "
+      "uniform mesh's in two runs, where the uniform 400 are 0.03 rpm off; docs/performance.md).",
       {"uniform", "adapted"}, "adapted",
       [](Scene& x) -> bool& { return x.analysis.orbits.adapt_mesh; }));
   s.back().added_at_older_behaviour = true;

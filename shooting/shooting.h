@@ -131,7 +131,7 @@ struct ShootingOptions {
   int adapt_mesh_every = 0;
   // The floor added to the monitor, as a fraction of its mean over the period (> 0): where the
   // orbit is smooth the steps grow to at most (1 + floor)/floor times the mean step. Measured on
-  // A(a)'s whip family at 400 intervals (bench/whip_family_bench.cpp): 0.1 (steps up to 11×)
+  // A(a)'s whip family at 400 intervals (bench/whip_family_bench.cpp, one run each): 0.1 (steps up to 11×)
   // locates the period doubling best with the curved predictor but with the tangent one the family
   // stalls short of its grazing among spurious crossings of multipliers (the contact's stiff mode,
   // unresolved on the long steps); 1 (2×) leaves 0.014 rpm of error; 0.3 (4.3×) neither.
