@@ -151,6 +151,7 @@ struct RubToriSettings {
   int lyapunov_iterates = 40;      // iterates of the map for each torus's Lyapunov exponents
   int samples = 64;                // instants per period for the lines of each contact
   bool from_neimark_sacker = true;  // neimark_sacker = "follow" (else "skip")
+  bool contact_chart = false;       // coordinates = "chart" (else "state")
   // [analysis.tori.transient]: the tori through the torus a settled transient lies on
   // (ContinueTransientTori), for whips no Neimark–Sacker point of a computed family reaches.
   struct Transient {
@@ -158,6 +159,7 @@ struct RubToriSettings {
     double speed_rpm = 49.0;        // required in the section, inside speed_range_rpm
     double seconds = 8.0;           // the transient from rest and the impulse [s]
     int harmonics = 8;              // K of its circles
+    int max_harmonics = 0;          // refined in K up to this (0: harmonics only)
     double max_fourier_tail = 0.2;  // its families' breakdown / locking event
     int max_steps = 20;             // continuation steps each way
   } transient;

@@ -880,6 +880,18 @@ void ToriKeys(std::vector<KeySpec>& s) {
       "of [analysis.tori.transient], which must then be given.",
       {"follow", "skip"}, "follow",
       [](Scene& x) -> bool& { return x.analysis.tori.from_neimark_sacker; }));
+  s.push_back(Switch(
+      "analysis.tori.coordinates",
+      "The coordinates of each torus's circle: \"state\", the Fourier series in the state; "
+      "\"chart\", in the contact chart — each contact's gap |d| − C, angle and their rates as "
+      "coordinates of their own (shooting/invariant_circle.h) — with the transient's first "
+      "circle solved by Gauss collocation on [analysis.orbits]' mesh instead of CVODES BDF. For "
+      "contacts pressed by nanometres: C(c) at 64 rpm, K = 8, the state's circle met a singular "
+      "Jacobian, the chart's converged in 3 Newton iterations (CVODES BDF stalled at |F| ≈ 2e-4; "
+      "tests/shooting/modulated_orbit_test.cpp).",
+      {"state", "chart"}, "chart",
+      [](Scene& x) -> bool& { return x.analysis.tori.contact_chart; }));
+  s.back().added_at_older_behaviour = true;
 }
 
 // [analysis.loop]: the loop study (studies/loop.h). Every key is optional.
@@ -928,6 +940,15 @@ void ToriTransientKeys(std::vector<KeySpec>& s) {
       "transient of the sweep's defaults (it converged from a BDF one: "
       "tests/shooting/modulated_orbit_test.cpp); K = 8 converged from both.",
       [](Scene& x) -> int& { return x.analysis.tori.transient.harmonics; }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.transient.max_harmonics", ValueType::kInteger, "-", Rule::kCountOrNone,
+      Presence::kOptional,
+      "Convergence in K: the transient's torus, solved with `harmonics`, is solved again with "
+      "twice as many (from the transient's points at the solved ρ, Newton damped) while its "
+      "Fourier tail exceeds 1e-4 and 2K stays within this; each K's ρ, tail and invariance "
+      "error in the summary. 0: `harmonics` only. Its families continue with the finest K "
+      "solved.",
+      [](Scene& x) -> int& { return x.analysis.tori.transient.max_harmonics; }));
   s.push_back(Float("analysis.tori.transient.max_fourier_tail", "-", Rule::kOpenUnit,
                     "As analysis.tori.max_fourier_tail, for the transient's families (a torus far "
                     "from its birth is less smooth: C(a) at 49 rpm has a tail of 0.016 at K = 8).",

@@ -321,11 +321,21 @@ RubTorusOptions TorusOptionsOf(const Scene& scene) {
   options.tori.continuation.corrector.residual_tolerance =
       (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
   options.samples = t.samples;
+  options.tori.coordinates = t.contact_chart ? CircleCoordinates::kChart : CircleCoordinates::kState;
   return options;
 }
 
 ModulatedTorusOptions TransientTorusStartOf(const Scene& scene) {
-  return SettledTransientStart(scene.analysis.tori.transient.harmonics);
+  const RubToriSettings& t = scene.analysis.tori;
+  ModulatedTorusOptions start = SettledTransientStart(t.transient.harmonics);
+  start.max_harmonics = t.transient.max_harmonics;
+  if (t.contact_chart) {
+    start.coordinates = CircleCoordinates::kChart;
+    if (scene.analysis.orbits.integrator == OrbitIntegrator::kGauss) {
+      start.collocation_intervals = scene.analysis.orbits.collocation_intervals;
+    }
+  }
+  return start;
 }
 
 RubTorusOptions TransientTorusOptionsOf(const Scene& scene) {

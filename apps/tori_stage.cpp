@@ -35,6 +35,7 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
     writer.SetAttribute(group, "birth_modulus", tori.birth_modulus);
   }
   writer.SetAttribute(group, "harmonics", static_cast<double>(tori.harmonics));
+  writer.SetAttribute(group, "circle_coordinates", ToString(tori.coordinates));
   writer.SetAttribute(group, "end", ToString(tori.end));
   writer.SetAttribute(group, "end_note", tori.end_note);
   writer.SetAttribute(group, "status", ToString(b.status));
@@ -175,8 +176,10 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
         return true;
       });
   const ModulatedTorus& torus = result.start;
-  fmt::print(out, "  its torus ({} harmonics, {} modulation period{} per section; {:.1f} s): {}\n",
-             t.harmonics, torus.laps, torus.laps == 1 ? "" : "s", torus.seconds, torus.message);
+  fmt::print(out, "  its torus ({} harmonics, {} modulation period{} per section, circles in the {}; "
+                  "{:.1f} s): {}\n",
+             torus.converged ? torus.harmonics : t.harmonics, torus.laps, torus.laps == 1 ? "" : "s",
+             ToString(start.coordinates), torus.seconds, torus.message);
   if (!torus.converged) {
     context.failures.push_back(fmt::format("[tori] the torus of the transient at {:g} rpm: {}",
                                            t.speed_rpm, torus.message));
@@ -193,12 +196,16 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     const std::string group = "/tori/" + name;
     WriteTorusFamily(context.writer, group, "transient", tori, result.lines[j], plan.structure);
     ResultWriter& w = context.writer;
+    const std::string first_map =
+        start.collocation_intervals > 0
+            ? fmt::format("Gauss collocation on {} intervals per period", start.collocation_intervals)
+            : fmt::format("CVODES BDF ≤ 2 at {:g} (sensitivities outside the error test)",
+                          start.integrator.relative_tolerance);
     w.SetAttribute(group, "numerics",
-                   fmt::format("invariant circles of {} harmonics ({} points); the first solved "
-                               "with each point over one period by CVODES BDF ≤ 2 at {:g} "
-                               "(sensitivities outside the error test), then by the orbits' {}",
-                               t.harmonics, 2 * t.harmonics + 1, start.integrator.relative_tolerance,
-                               RubOrbitsNumerics(scene)));
+                   fmt::format("invariant circles of {} harmonics ({} points) in the {}; the first "
+                               "solved with each point over one period by {}, then by the orbits' {}",
+                               torus.harmonics, 2 * torus.harmonics + 1, ToString(start.coordinates),
+                               first_map, RubOrbitsNumerics(scene)));
     WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
     w.SetAttribute(group, "start_laps", static_cast<double>(torus.laps));
     w.SetAttribute(group, "start_rotation_number", torus.rotation_number);

@@ -2,9 +2,11 @@
 // (shooting/rub_tori.h, ContinueTransientTori) — the sweep's time-marching model settled at one
 // speed from rest and a 1 N·s impulse, the torus it lies on solved by BDF, and the family through
 // it continued both ways in running speed — with every torus printed and the cost of each part.
-// Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS]]]]
+// Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS [CASE [COORDINATES]]]]]]
 // COLLOCATION_STEPS > 0: the continuation by Gauss collocation of that many steps per modulation
-// period; 0: by the start's BDF (sensitivities outside the error test). Defaults 49, 12, 16, 400.
+// period; 0: by the start's BDF (sensitivities outside the error test). CASE: a, b or c (case
+// C(a), C(b), C(c)); COORDINATES: state or chart (the circle's, shooting/invariant_circle.h).
+// Defaults 49, 12, 16, 400, a, state.
 // STEPS = 0: the start only, and its circle's residual under other maps (BDF at tighter
 // tolerances, Gauss on finer meshes): how accurate the start's own map is.
 #include <cmath>
@@ -25,7 +27,11 @@ int Main(int argc, char** argv) {
   const int steps = argc > 2 ? std::atoi(argv[2]) : 12;
   const int harmonics = argc > 3 ? std::atoi(argv[3]) : 16;
   const long collocation_steps = argc > 4 ? std::atol(argv[4]) : 400;
-  const RubStructure structure = TwoPointStructure(ThesisCaseCa());
+  const char case_letter = argc > 5 ? argv[5][0] : 'a';
+  const CircleCoordinates coordinates =
+      argc > 6 && std::string(argv[6]) == "chart" ? CircleCoordinates::kChart : CircleCoordinates::kState;
+  const RubStructure structure = TwoPointStructure(
+      case_letter == 'b' ? ThesisCaseCb() : case_letter == 'c' ? ThesisCaseCc() : ThesisCaseCa());
   const double omega = RpmToRadPerSecond(rpm);
 
   // The transient: 8 s at the speed from rest plus the impulse, settled by 0.5 s windows.
@@ -33,11 +39,14 @@ int Main(int argc, char** argv) {
   const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega), 1.0);
   const double precession_hz = transient.precession_hz;
   const double precession = HzToRadPerSecond(precession_hz);  // [rad/s]
-  std::printf("C(a) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", rpm,
+  std::printf("C(%c) at %.3f rpm: the transient %s, precession %.4f Hz (%.1f s CPU)\n", case_letter, rpm,
               transient.settled ? "settled" : "did not settle", precession_hz,
               CpuSecondsSince(settle_start));
 
-  const ModulatedTorusOptions start = SettledTransientStart(harmonics);
+  ModulatedTorusOptions start = SettledTransientStart(harmonics);
+  start.coordinates = coordinates;
+  if (argc > 7) start.collocation_intervals = std::atoi(argv[7]);
+  if (argc > 8) start.max_harmonics = std::atoi(argv[8]);
   if (steps == 0) {
     const ModulatedTorus torus =
         SolveModulatedTorus(structure, omega, precession, transient.state,
@@ -47,7 +56,8 @@ int Main(int argc, char** argv) {
     const auto frame =
         std::make_shared<RubRotatingFrame>(structure, precession, omega);
     auto residual = [&](const IntegratorOptions& integrator, const std::string& name) {
-      InvariantCircleProblem problem(frame, harmonics, OrbitKind::kRelative, integrator);
+      InvariantCircleProblem problem(frame, torus.harmonics, OrbitKind::kRelative, integrator,
+                                     coordinates);
       problem.SetPhaseReference(torus.u);
       Vector F;
       problem.Residual(torus.u, omega, F);
@@ -92,7 +102,7 @@ int Main(int argc, char** argv) {
   double step_start = tori_start;
   const auto frame =
       std::make_shared<RubRotatingFrame>(structure, precession, omega);
-  InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative);
+  InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative, {}, coordinates);
   const RubTransientTori tori = ContinueTransientTori(
       structure, omega, precession, transient.state, start, options,
       [&](std::size_t family, const Branch& branch) {

@@ -219,6 +219,82 @@ RubFixedFrame::RubFixedFrame(RubStructure structure, double omega)
   stick_forces_.setZero(static_cast<Index>(structure_.contacts.size()));
   load_.resize(2, structure_.Coordinates());
   exchange_ = ContactExchange(structure_);
+  // The contact chart needs a stator coordinate per contact that no other contact uses.
+  chart_ = !structure_.contacts.empty();
+  std::vector<int> used;
+  for (const RubContact& c : structure_.contacts) used.push_back(c.rotor);
+  for (const RubContact& c : structure_.contacts) {
+    if (std::find(used.begin(), used.end(), c.stator) != used.end()) chart_ = false;
+    used.push_back(c.stator);
+  }
+}
+
+void RubFixedFrame::ToChart(ConstVectorRef x, VectorRef y) const {
+  y = x;
+  if (!chart_) return;
+  const Index v = 2 * structure_.Coordinates();  // the velocities' offset
+  for (const RubContact& c : structure_.contacts) {
+    const Index r = 2 * c.rotor, s = 2 * c.stator;
+    const double dx = x(r) - x(s), dy = x(r + 1) - x(s + 1);
+    const double angle = std::atan2(dy, dx);
+    const double cos_a = std::cos(angle), sin_a = std::sin(angle);
+    const double dvx = x(v + r) - x(v + s), dvy = x(v + r + 1) - x(v + s + 1);
+    y(s) = std::hypot(dx, dy) - c.geometry.clearance;
+    y(s + 1) = angle;
+    y(v + s) = cos_a * dvx + sin_a * dvy;    // n·ḋ: the gap's rate
+    y(v + s + 1) = -sin_a * dvx + cos_a * dvy;  // t·ḋ
+  }
+}
+
+void RubFixedFrame::FromChart(ConstVectorRef y, VectorRef x, Matrix* jacobian) const {
+  x = y;
+  if (jacobian) jacobian->setIdentity(Dimension(), Dimension());
+  if (!chart_) return;
+  const Index v = 2 * structure_.Coordinates();
+  for (const RubContact& c : structure_.contacts) {
+    const Index r = 2 * c.rotor, s = 2 * c.stator;
+    const double radius = c.geometry.clearance + y(s), angle = y(s + 1);
+    const double cos_a = std::cos(angle), sin_a = std::sin(angle);
+    const double rate = y(v + s), along = y(v + s + 1);
+    // u_stator = u_rotor − (C + r) n, u̇_stator = u̇_rotor − (ṙ n + w t), n = e^{jα}, t = j n.
+    x(s) = y(r) - radius * cos_a;
+    x(s + 1) = y(r + 1) - radius * sin_a;
+    x(v + s) = y(v + r) - (rate * cos_a - along * sin_a);
+    x(v + s + 1) = y(v + r + 1) - (rate * sin_a + along * cos_a);
+    if (!jacobian) continue;
+    Matrix& J = *jacobian;
+    J(s, s) = -cos_a;
+    J(s + 1, s) = -sin_a;
+    J(s, s + 1) = radius * sin_a;
+    J(s + 1, s + 1) = -radius * cos_a;
+    J(s, r) = 1.0;
+    J(s + 1, r + 1) = 1.0;
+    J(v + s, v + s) = -cos_a;
+    J(v + s + 1, v + s) = -sin_a;
+    J(v + s, v + s + 1) = sin_a;
+    J(v + s + 1, v + s + 1) = -cos_a;
+    J(v + s, s + 1) = rate * sin_a + along * cos_a;
+    J(v + s + 1, s + 1) = -rate * cos_a + along * sin_a;
+    J(v + s, v + r) = 1.0;
+    J(v + s + 1, v + r + 1) = 1.0;
+  }
+}
+
+Vector RubFixedFrame::ChartScale() const {
+  Vector scale = StateScale();
+  if (!chart_) return scale;
+  for (const RubContact& c : structure_.contacts) {
+    scale(2 * c.stator) = 1e-3 * c.geometry.clearance;
+    scale(2 * c.stator + 1) = 1.0;
+  }
+  return scale;
+}
+
+std::vector<Index> RubFixedFrame::ChartAngles() const {
+  std::vector<Index> angles;
+  if (!chart_) return angles;
+  for (const RubContact& c : structure_.contacts) angles.push_back(2 * c.stator + 1);
+  return angles;
 }
 
 void RubFixedFrame::Rhs(double t, ConstVectorRef x, VectorRef f) {

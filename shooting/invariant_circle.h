@@ -60,12 +60,27 @@
 
 namespace rubcont {
 
+// The coordinates the circle's Fourier series is written in: the state x, or the system's chart y
+// (OdeSystem::HasStateChart, x = Ψ(y)): u(θ) = Ψ(a₀ + Σ_k a_k cos kθ + b_k sin kθ). The chart's
+// purpose is a stiff contact: where the torus lies within nanometres of the contact surface (its
+// penetration) while it moves by micrometres along it, the series in x leaves the surface by its
+// truncation error — C(c) at 64 rpm: K = 8 points up to 44 nm off against penetrations of
+// 0.5–2.5 nm, so the contact opens and closes within the map and its Jacobian is singular — and
+// the series in the chart by that error relative to the penetration's own variation. Everything
+// else is the same: the residual compares states, the phase conditions and the Fourier tail are
+// taken on the coefficients (scaled by OdeSystem::ChartScale), the chart's angles are unwrapped
+// where points are fitted (CircleFromOrbit).
+enum class CircleCoordinates { kState, kChart };
+const char* ToString(CircleCoordinates coordinates);
+
 class InvariantCircleProblem : public Problem {
  public:
   // K ≥ 1 harmonics. kForced needs a forced system (ForcingPeriod() > 0 at its parameter), the
-  // others an unforced one, kRelative one with a rotation symmetry; std::invalid_argument else.
+  // others an unforced one, kRelative one with a rotation symmetry, kChart one with a chart;
+  // std::invalid_argument else.
   InvariantCircleProblem(std::shared_ptr<OdeSystem> system, int harmonics, OrbitKind kind,
-                         const IntegratorOptions& options = {});
+                         const IntegratorOptions& options = {},
+                         CircleCoordinates coordinates = CircleCoordinates::kState);
 
   int harmonics() const { return harmonics_; }
   Index states() const { return n_; }
@@ -81,8 +96,12 @@ class InvariantCircleProblem : public Problem {
   double Period(const Vector& u, double lambda);
   // φ (kRelative), else 0.
   double Rotation(const Vector& u) const;
-  // u(θ) for the circle held in u.
+  // u(θ) for the circle held in u (a state).
   Vector PointAt(const Vector& u, double theta) const;
+  CircleCoordinates coordinates() const { return chart_ ? CircleCoordinates::kChart : CircleCoordinates::kState; }
+  // A state in the circle's coordinates (the chart's y = Ψ⁻¹(x), or x), and ∂x/∂y at y.
+  Vector ToCoordinates(const Vector& x) const;
+  Matrix CoordinateJacobian(const Vector& y) const;
   // ‖(a_k, b_k) ./ scale‖ of harmonic k in 1 … K of the circle held in u.
   double HarmonicSize(const Vector& u, int k) const;
 
@@ -155,6 +174,12 @@ class InvariantCircleProblem : public Problem {
   // those of the map the points came from, are packed as given. Throws std::invalid_argument when
   // the points do not wind (a locked or non-circular set).
   Vector CircleFromOrbit(const Matrix& points, double period = 0.0, double rotation = 0.0) const;
+  // The circle through the same points when ρ is known (a solved circle's, of fewer harmonics):
+  // θ_k = 2πkρ, the coefficients fitted by least squares. Where the first fit's ρ is off by δ the
+  // m points' angles drift by 2πmδ: C(c) at 64 rpm, K = 16, fitted ρ 4.8e-4 from the solved one
+  // over 132 points (0.4 rad), and Newton diverged from that circle. Throws as CircleFromOrbit.
+  Vector CircleAtRotationNumber(const Matrix& points, double rho, double period = 0.0,
+                                double rotation = 0.0) const;
 
  private:
   struct Integrated {
@@ -172,6 +197,9 @@ class InvariantCircleProblem : public Problem {
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;
   double FourierTail(const Vector& u) const;
+  // Coefficients (n × (2K + 1), in the circle's coordinates) fitted by least squares to states at
+  // given angles.
+  Matrix FitCoefficients(const Matrix& states, const Vector& angles) const;
   // ‖(a_k, b_k) ./ scale‖ of harmonic k of an n × (2K + 1) coefficient matrix.
   double HarmonicSizeOf(const Matrix& coefficients, int k) const;
   // A phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩ from directions v_j at the reference's points
@@ -179,6 +207,8 @@ class InvariantCircleProblem : public Problem {
   Matrix PhaseWeights(const Matrix& directions) const;
   const Integrated& Integrate(const Vector& u, double lambda, bool sensitivities);
   double PeriodAt(double lambda);
+  // x = Ψ(y) (or y), with ∂Ψ/∂y into `jacobian` when not null.
+  Vector ToState(const Vector& y, Matrix* jacobian = nullptr) const;
   Matrix RotationMatrix(double phi) const;  // R_φ (identity unless kRelative)
   Index Extras() const;                     // e: 0, 1, 2
 
@@ -188,7 +218,10 @@ class InvariantCircleProblem : public Problem {
   Index n_;
   Index points_;  // N = 2K + 1
   IntegratorOptions options_;
-  Vector scale_;  // the system's state scale
+  bool chart_ = false;        // CircleCoordinates::kChart
+  Vector scale_;              // the system's state scale
+  Vector coordinate_scale_;   // the coefficients' scale: the chart's, or scale_
+  std::vector<Index> angles_;  // the chart's angle coordinates
   Matrix reference_;  // n × (2K + 1)
   std::vector<Matrix> phase_weights_;  // θ, flow (kAutonomous, kRelative), group (kRelative)
   double period_scale_ = 1.0;          // |T| of the reference

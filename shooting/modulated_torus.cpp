@@ -86,6 +86,14 @@ void Validate(const ModulatedTorusOptions& options) {
         "ModulatedTorusOptions.collocation_intervals = {}: must be ≥ 0 (0: the map by integrator)",
         options.collocation_intervals));
   }
+  if (options.max_harmonics < 0 || options.max_harmonics > 500) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.max_harmonics = {}: must be in 0 … 500", options.max_harmonics));
+  }
+  if (!(options.converged_tail > 0.0 && options.converged_tail < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.converged_tail = {}: must be in (0, 1)", options.converged_tail));
+  }
   if (options.laps < 0 || options.laps > 64) {
     throw std::invalid_argument(fmt::format(
         "ModulatedTorusOptions.laps = {}: must be 0 (automatic) or in 1 … 64", options.laps));
@@ -134,7 +142,8 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   std::unique_ptr<InvariantCircleProblem> circle;
   auto first_circle = [&](int laps, Matrix& points) -> std::string {
     circle = std::make_unique<InvariantCircleProblem>(frame, options.harmonics, OrbitKind::kRelative,
-                                                      MapIntegrator(options, laps));
+                                                      MapIntegrator(options, laps),
+                                                      options.coordinates);
     const Index samples_count = static_cast<Index>(iterates) * laps * kSamplesPerPeriod + 1;
     const Vector times = Vector::LinSpaced(samples_count, 0.0, iterates * laps * period);
     Matrix samples;
@@ -178,37 +187,95 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     const std::string retry = first_circle(cuts.cuts, points);
     if (!retry.empty()) return done(failure + cuts.hint + "; " + retry);
   }
-  InvariantCircleProblem& problem = *circle;
-  problem.SetPhaseReference(torus.u);
-  torus.newton = NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, omega, F); },
-                             [&](const Vector& v, Matrix& J) { problem.Jacobian(v, omega, J); },
-                             torus.u, options.newton, problem.Scale(), problem.ResidualScale());
+  auto solve = [&](InvariantCircleProblem& problem, const NewtonOptions& newton) {
+    problem.SetPhaseReference(torus.u);
+    return NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, omega, F); },
+                       [&](const Vector& v, Matrix& J) { problem.Jacobian(v, omega, J); }, torus.u,
+                       newton, problem.Scale(), problem.ResidualScale());
+  };
+  auto record = [&](InvariantCircleProblem& problem) {
+    const Vector measures = problem.Measures(torus.u, omega);
+    torus.by_harmonics.push_back({problem.harmonics(), problem.RotationNumber(torus.u), measures(1),
+                                  measures(2), torus.newton.iterations});
+  };
+  torus.newton = solve(*circle, options.newton);
   if (!torus.newton.Converged()) {
     return done(fmt::format("Newton from the transient's circle ({} × T ≈ {:.6g} s, φ ≈ {:.4g}, "
                             "ρ ≈ {:.4f}, K = {}): {}", torus.laps, period, torus.search_rotation,
-                            problem.RotationNumber(torus.u), options.harmonics,
+                            circle->RotationNumber(torus.u), options.harmonics,
                             torus.newton.BriefReport()));
   }
+  record(*circle);
+  // Convergence in K: doubled from the solved circle while its tail says the series is short.
+  std::string refinement;
+  while (torus.by_harmonics.back().fourier_tail > options.converged_tail &&
+         2 * circle->harmonics() <= options.max_harmonics) {
+    auto finer = std::make_unique<InvariantCircleProblem>(
+        frame, 2 * circle->harmonics(), OrbitKind::kRelative, MapIntegrator(options, torus.laps),
+        options.coordinates);
+    const Vector coarse = torus.u;
+    // The transient's orbit of the solved map P = R_{−φ} Φ_T: 4(2K′ + 1) points at the solved ρ.
+    // (Not the first fit's points: they are the search's T and φ̄ apart, and its ρ is a fit's.
+    // Over more points their angles drift apart: C(a) at 49 rpm, 260 points fitted as the first
+    // circle are no circle.)
+    const double solved_period = circle->Period(coarse, omega), phi = circle->Rotation(coarse);
+    const Index count = 4 * (2 * finer->harmonics() + 1);
+    Matrix samples;
+    OdeIntegrator integrator(*frame, options.integrator);
+    const IntegrationResult sampled = integrator.Sample(
+        0.0, search.state, Vector::LinSpaced(count, 0.0, static_cast<double>(count - 1) * solved_period),
+        samples);
+    if (!sampled.Succeeded()) {
+      refinement = fmt::format("; not refined to K = {}: its points: {}", finer->harmonics(),
+                               sampled.BriefReport());
+      break;
+    }
+    for (Index k = 0; k < count; ++k) frame->Rotate(-static_cast<double>(k) * phi, samples.col(k));
+    torus.u = finer->CircleAtRotationNumber(samples, circle->RotationNumber(coarse), solved_period, phi);
+    // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
+    // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
+    NewtonOptions damped = options.newton;
+    damped.max_step_halvings = 8;
+    const NewtonResult newton = solve(*finer, damped);
+    if (!newton.Converged()) {
+      torus.u = coarse;
+      refinement = fmt::format("; not refined to K = {}: {}", finer->harmonics(), newton.BriefReport());
+      break;
+    }
+    torus.newton = newton;
+    circle = std::move(finer);
+    record(*circle);
+  }
+  InvariantCircleProblem& problem = *circle;
+  torus.harmonics = problem.harmonics();
   torus.period = problem.Period(torus.u, omega);
   torus.rotation = problem.Rotation(torus.u);
   torus.rotation_number = problem.RotationNumber(torus.u);
   torus.carrier_hz = RadPerSecondToHz(frame->CarrierPrecession(torus.period, torus.rotation));
   torus.first_hz = 1.0 / torus.period;
   torus.second_hz = torus.rotation_number / torus.period;
-  const Vector measures = problem.Measures(torus.u, omega);
-  torus.fourier_tail = measures(1);
-  torus.invariance_error = measures(2);
+  torus.fourier_tail = torus.by_harmonics.back().fourier_tail;
+  torus.invariance_error = torus.by_harmonics.back().invariance_error;
   if (options.lyapunov_iterates > 0) {
     torus.stability = problem.LyapunovStability(torus.u, omega, options.lyapunov_iterates);
   }
   torus.converged = true;
+  std::string in_k;
+  if (torus.by_harmonics.size() > 1) {
+    in_k = "; in K:";
+    for (const ModulatedTorus::AtHarmonics& k : torus.by_harmonics) {
+      in_k += fmt::format(" K = {} ρ {:.8f} (tail {:.2g}, invariance error {:.2g}){}", k.harmonics,
+                          k.rotation_number, k.fourier_tail, k.invariance_error,
+                          &k == &torus.by_harmonics.back() ? "" : ",");
+    }
+  }
   return done(fmt::format(
       "{}T = {:.9g} s, φ = {:+.6g} rad, ρ = {:.8f}: carrier {:.6f} Hz, modulation {:.6f} and {:.6f} "
-      "Hz; Fourier tail {:.2g}, invariance error {:.2g}; {}{}",
+      "Hz; K = {}, Fourier tail {:.2g}, invariance error {:.2g}{}{}; {}{}",
       torus.laps > 1 ? fmt::format("on the section of {} modulation periods: ", torus.laps) : "",
       torus.period, torus.rotation,
-      torus.rotation_number, torus.carrier_hz, torus.first_hz, torus.second_hz, torus.fourier_tail,
-      torus.invariance_error, torus.newton.BriefReport(),
+      torus.rotation_number, torus.carrier_hz, torus.first_hz, torus.second_hz, torus.harmonics,
+      torus.fourier_tail, torus.invariance_error, in_k, refinement, torus.newton.BriefReport(),
       torus.stability.valid
           ? fmt::format("; {} (largest non-trivial exponent {:.3g} per period, tolerance {:.2g})",
                         torus.stability.Verdict(),

@@ -75,6 +75,21 @@ struct ModulatedTorusOptions {
   // on the first step from the circle's points with 400 intervals (20 µs) and failed at 2 of 33
   // with 1000, where BDF takes steps of ~0.6 µs (12 000 per period at 49 rpm).
   int collocation_intervals = 0;
+  // The circle's coordinates (shooting/invariant_circle.h): the state, or the rub model's contact
+  // chart (the gap |d| − C a coordinate of its own), for contacts pressed by nanometres.
+  CircleCoordinates coordinates = CircleCoordinates::kState;
+  // Convergence in K: once the circle with `harmonics` converged, K is doubled while the Fourier
+  // tail exceeds `converged_tail` and 2K ≤ max_harmonics: the finer circle fitted to 4(2K + 1)
+  // points of the transient's orbit under the solved map (its T and φ) at the solved ρ
+  // (CircleAtRotationNumber), then Newton with its steps halved where they fail (up to 8 times);
+  // each K's ρ, tail and invariance error are reported (ModulatedTorus::by_harmonics), and where
+  // the finer Newton fails, the coarser circle stays with the reason. 0: harmonics only. Measured
+  // (chart, Gauss 800): a fit of 33 points with a fitted ρ started at |F| 5.7e-2 and diverged
+  // (C(c), 64 rpm); at the solved ρ C(a)'s at 49 rpm started at 6.5e-4 but stalled at 4.4e-5
+  // (ρ 0.378 is 0.003 from 3/8, harmonic 8 inside K = 16), C(c)'s at 7.9e-3 and met a singular
+  // Jacobian (ρ 0.695 is 0.0024 from 9/13).
+  int max_harmonics = 0;
+  double converged_tail = 1e-4;  // (0, 1)
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -106,6 +121,16 @@ struct ModulatedTorus {
   double second_hz = kNaN;        // f₂ = ρ/T
   double fourier_tail = kNaN;
   double invariance_error = kNaN;
+  // The circle at each K solved (ModulatedTorusOptions::max_harmonics), ascending; the last is u's.
+  struct AtHarmonics {
+    int harmonics = 0;
+    double rotation_number = kNaN;
+    double fourier_tail = kNaN;
+    double invariance_error = kNaN;
+    int newton_iterations = 0;
+  };
+  std::vector<AtHarmonics> by_harmonics;
+  int harmonics = 0;  // K of u
   InvariantCircleProblem::TorusStability stability;  // valid = false when not computed
   Vector u;                  // the circle's unknowns (InvariantCircleProblem::Pack layout)
   double seconds = 0.0;      // wall time of the search, Newton and the stability

@@ -40,12 +40,13 @@ StepCallback FamilyStep(const std::function<bool(std::size_t, const Branch&)>& o
 }  // namespace
 
 RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vector& u,
-                         double lambda, const IntegratorOptions& integrator, int samples) {
+                         double lambda, const IntegratorOptions& integrator, int samples,
+                         CircleCoordinates coordinates) {
   if (samples < 4) {
     throw std::invalid_argument(fmt::format("TorusLines: samples = {}: must be at least 4", samples));
   }
   auto system = std::make_shared<RubRotatingFrame>(frame);
-  InvariantCircleProblem circle(system, harmonics, OrbitKind::kRelative, integrator);
+  InvariantCircleProblem circle(system, harmonics, OrbitKind::kRelative, integrator, coordinates);
   const double period = circle.Period(u, lambda), phi = circle.Rotation(u);
   const double rho = circle.RotationNumber(u);
   const RubStructure& structure = frame.structure();
@@ -125,10 +126,11 @@ namespace {
 
 // The lines of every torus of `tori` (TorusLines at each point).
 std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBranch& tori,
-                                   const IntegratorOptions& integrator, int samples) {
+                                   const TorusBranchOptions& options, int samples) {
   std::vector<RubTorusLines> lines;
   for (const BranchPoint& p : tori.branch.points) {
-    lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, integrator, samples));
+    lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, options.integrator, samples,
+                               options.coordinates));
   }
   return lines;
 }
@@ -158,7 +160,7 @@ RubModulatedTori ContinueModulatedTori(
     const StepCallback step = FamilyStep(on_torus_step, result.tori.size());
     result.tori.push_back(ContinueToriFromNeimarkSacker(std::make_shared<RubRotatingFrame>(frame),
                                                         family, k, tori, step));
-    result.lines.push_back(LinesOf(frame, result.tori.back(), tori.integrator, options.samples));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
     const TorusBranch& ended = result.tori.back();
     LockedOrbits locked;
     if (ended.ok && ended.end == TorusEnd::kLocking && !ended.branch.points.empty()) {
@@ -178,11 +180,13 @@ RubTransientTori ContinueTransientTori(
     const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
   TorusBranchOptions tori = options.tori;
   tori.harmonics = start.harmonics;
+  tori.coordinates = start.coordinates;
   Validate(tori);
   CheckSamples(options);
   RubTransientTori result;
   result.start = SolveModulatedTorus(structure, omega, frame_rate, fixed_state, start);
   if (!result.start.converged) return result;
+  tori.harmonics = result.start.harmonics;  // refined in K (ModulatedTorusOptions::max_harmonics)
   tori.integrator = JoinedIntegrator(tori.integrator, result.start.laps);
   const RubRotatingFrame frame(structure, frame_rate, omega);
   for (const int direction : {-1, +1}) {
@@ -196,7 +200,7 @@ RubTransientTori ContinueTransientTori(
                                        OrbitKind::kRelative, first ? first->u : result.start.u,
                                        first ? first->lambda : omega, tori,
                                        FamilyStep(on_torus_step, result.tori.size())));
-    result.lines.push_back(LinesOf(frame, result.tori.back(), tori.integrator, options.samples));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
   }
   return result;
 }

@@ -41,10 +41,12 @@ struct RubTorusLines {
   std::vector<Contact> contacts;  // in structure.contacts order
 };
 
-// The lines of the torus held in `u` (InvariantCircleProblem::Pack layout, kRelative, of `frame`)
-// at running speed λ = ω [rad/s], from `samples` ≥ 4 instants per period integrated by `integrator`.
+// The lines of the torus held in `u` (InvariantCircleProblem::Pack layout, kRelative, of `frame`,
+// in `coordinates`) at running speed λ = ω [rad/s], from `samples` ≥ 4 instants per period
+// integrated by `integrator`.
 RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vector& u,
-                         double lambda, const IntegratorOptions& integrator, int samples);
+                         double lambda, const IntegratorOptions& integrator, int samples,
+                         CircleCoordinates coordinates = CircleCoordinates::kState);
 
 struct RubTorusOptions {
   // Range, harmonics, engine, amplitude, breakdown and locking limits, Lyapunov iterates. The

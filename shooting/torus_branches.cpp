@@ -86,6 +86,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   result.special_point = special_point;
   result.kind = family.kind;
   result.harmonics = options.harmonics;
+  result.coordinates = options.coordinates;
   result.birth_lambda = point.lambda;
 
   // The family's return map at the point, and its critical pair.
@@ -137,12 +138,15 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   const Eigen::VectorXcd v = eigen.eigenvectors().col(critical);
   const double size = std::sqrt(v.real().cwiseQuotient(scale).squaredNorm() +
                                 v.imag().cwiseQuotient(scale).squaredNorm());
-  InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator);
+  InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator,
+                                 options.coordinates);
   problem.SetMaxFourierTail(options.max_fourier_tail);
+  // In the circle's coordinates: the centre y₀ = Ψ⁻¹(x₀), the directions D⁻¹ v.
   Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
-  centre.col(0) = at.starts.col(0);
-  ellipse.col(1) = v.real() / size;
-  ellipse.col(2) = -v.imag() / size;
+  centre.col(0) = problem.ToCoordinates(at.starts.col(0));
+  const Eigen::PartialPivLU<Matrix> chart(problem.CoordinateJacobian(centre.col(0)));
+  ellipse.col(1) = chart.solve(Vector(v.real() / size));
+  ellipse.col(2) = chart.solve(Vector(-v.imag() / size));
   const Vector u0 =
       problem.Pack(centre + options.amplitude * ellipse, rho, period, phi);
   problem.SetPhaseReference(u0);
@@ -160,7 +164,8 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
                          double lambda0, const TorusBranchOptions& options,
                          const StepCallback& on_step) {
   Validate(options);
-  InvariantCircleProblem problem(system, options.harmonics, kind, options.integrator);
+  InvariantCircleProblem problem(system, options.harmonics, kind, options.integrator,
+                                 options.coordinates);
   if (u0.size() != problem.Dimension()) {
     throw std::invalid_argument(fmt::format(
         "ContinueTori: the circle has {} unknowns; {} harmonics of {} states need {}", u0.size(),
@@ -172,6 +177,7 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
   result.kind = kind;
   result.state_dimension = problem.states();
   result.harmonics = options.harmonics;
+  result.coordinates = options.coordinates;
   Continuation stepper(problem, EngineOptions(options));
   if (stepper.Start(u0, lambda0) == StepResult::kFailed) {
     result.message = "the start did not converge: " + stepper.branch().message;
@@ -268,7 +274,8 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
   result.p = tori.locking_p;
   result.q = tori.locking_q;
   const int q = result.q;
-  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, options.integrator);
+  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, options.integrator,
+                                options.coordinates);
   const BranchPoint& last = points.back();
   const double period = circle.Period(last.u, last.lambda), phi = circle.Rotation(last.u);
   const double rho = circle.RotationNumber(last.u), target = static_cast<double>(result.p) / q;

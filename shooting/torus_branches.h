@@ -53,6 +53,8 @@ struct TorusBranchOptions {
   // Lyapunov exponents of every stored torus from this many iterates of the map
   // (InvariantCircleProblem::LyapunovStability); 0: no stability.
   int lyapunov_iterates = 0;
+  // The circle's coordinates (InvariantCircleProblem): the state, or the system's chart.
+  CircleCoordinates coordinates = CircleCoordinates::kState;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -69,6 +71,7 @@ struct TorusBranch {
   OrbitKind kind = OrbitKind::kAutonomous;
   Index state_dimension = 0;
   int harmonics = 0;
+  CircleCoordinates coordinates = CircleCoordinates::kState;  // of the circles in `branch`
   double birth_lambda = kNaN;
   double birth_rotation_number = kNaN;  // ρ₀ = arg μ / 2π
   double birth_modulus = kNaN;          // |μ| at the point

@@ -20,6 +20,10 @@ void Validate(const NewtonOptions& options) {
     throw std::invalid_argument(fmt::format(
         "NewtonOptions.residual_tolerance = {}: must be positive", options.residual_tolerance));
   }
+  if (options.max_step_halvings < 0) {
+    throw std::invalid_argument(fmt::format(
+        "NewtonOptions.max_step_halvings = {}: must be ≥ 0", options.max_step_halvings));
+  }
   if (!(options.divergence_factor > 1.0)) {
     throw std::invalid_argument(fmt::format(
         "NewtonOptions.divergence_factor = {}: must be greater than 1", options.divergence_factor));
@@ -80,13 +84,21 @@ NewtonResult NewtonSolve(const ResidualFunction& residual, const JacobianFunctio
       result.status = NewtonStatus::kSingularJacobian;
       return result;
     }
-    const Vector step_scaled = lu.solve(-F.cwiseQuotient(fs));
-    x += xs.cwiseProduct(step_scaled);
+    Vector step_scaled = lu.solve(-F.cwiseQuotient(fs));
+    const Vector from = x;
+    const double previous_norm = result.residual_norm;
+    for (int halving = 0;; ++halving) {
+      x = from + xs.cwiseProduct(step_scaled);
+      residual(x, F);
+      result.residual_norm = F.cwiseQuotient(fs).lpNorm<Eigen::Infinity>();
+      if (halving == options.max_step_halvings ||
+          (std::isfinite(result.residual_norm) && result.residual_norm <= previous_norm)) {
+        break;
+      }
+      step_scaled *= 0.5;
+    }
     result.iterations = iteration;
     result.step_norm = step_scaled.lpNorm<Eigen::Infinity>();
-    const double previous_norm = result.residual_norm;
-    residual(x, F);
-    result.residual_norm = F.cwiseQuotient(fs).lpNorm<Eigen::Infinity>();
     if (!std::isfinite(result.residual_norm) || !std::isfinite(result.step_norm)) {
       result.status = NewtonStatus::kNonFinite;
       return result;

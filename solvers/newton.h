@@ -17,6 +17,10 @@ struct NewtonOptions {
                                       // longer halves it (round-off floor of an ill-conditioned
                                       // system: further steps only move x by noise)
   double divergence_factor = 1e6;     // stop when the scaled residual grows by this factor
+  // Where a full step's residual is non-finite or larger than the last iterate's, the step is
+  // halved, up to this many times (≥ 0; 0: full steps always). For maps whose integration fails
+  // off a stiff manifold (a torus circle refined in K: shooting/modulated_torus.h).
+  int max_step_halvings = 0;
 };
 
 // Throws std::invalid_argument naming the field, the value and the rule.

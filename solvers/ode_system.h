@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "solvers/types.h"
 
@@ -80,6 +81,27 @@ class OdeSystem {
                                         double /*s*/, VectorRef /*bound*/) const {
     return false;
   }
+
+  // Optional chart of the state space, x = Ψ(y) (Dimension() coordinates both), in which the
+  // system's invariant sets are represented with less error than in x: where a stiff contact
+  // holds a state within nanometres of a surface (its penetration) while the state moves by
+  // micrometres along it, a curve interpolated in x leaves the surface by its interpolation
+  // error, in y (the penetration one of the coordinates) by that error relative to the
+  // penetration's own variation (shooting/invariant_circle.h uses it; the rub models' chart in
+  // models/rub_model.h). Coordinates listed by ChartAngles are angles: Ψ is 2π-periodic in each,
+  // ToChart returns them in (−π, π], and a caller comparing two of them takes the difference
+  // modulo 2π. Default: none.
+  virtual bool HasStateChart() const { return false; }
+  // y = Ψ⁻¹(x).
+  virtual void ToChart(ConstVectorRef x, VectorRef y) const { y = x; }
+  // x = Ψ(y), and ∂Ψ/∂y into `jacobian` when it is not null.
+  virtual void FromChart(ConstVectorRef y, VectorRef x, Matrix* jacobian = nullptr) const {
+    x = y;
+    if (jacobian) jacobian->setIdentity(Dimension(), Dimension());
+  }
+  // The typical size of each chart coordinate (as StateScale for x).
+  virtual Vector ChartScale() const { return StateScale(); }
+  virtual std::vector<Index> ChartAngles() const { return {}; }
 };
 
 }  // namespace rubcont

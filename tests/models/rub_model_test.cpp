@@ -164,6 +164,55 @@ TEST_CASE("rotating frame: Jacobian, equivariance and agreement with the fixed f
   }
 }
 
+TEST_CASE("contact chart: the gap and angle of each contact, inverted exactly, with its Jacobian",
+          "[rub_model]") {
+  const RubRotatingFrame frame(TwoPointStructure(ThesisCaseCc()), kTwoPi * 80.0, kTwoPi * 1.05);
+  REQUIRE(frame.HasStateChart());
+  const Vector x = TouchingState(frame.structure());
+  Vector y(16), back(16);
+  frame.ToChart(x, y);
+  // Contact k's stator position becomes (|d| − C, arg d), d = u_rotor − u_stator, its velocity
+  // (n·ḋ, t·ḋ) = Re and Im of ḋ e^{−j arg d}; the rotor's coordinates stay.
+  for (const RubContact& c : frame.structure().contacts) {
+    const Index r = 2 * c.rotor, s = 2 * c.stator;
+    const std::complex<double> d(x(r) - x(s), x(r + 1) - x(s + 1));
+    const std::complex<double> rate(x(8 + r) - x(8 + s), x(8 + r + 1) - x(8 + s + 1));
+    CHECK(y(s) == Approx(std::abs(d) - c.geometry.clearance).margin(1e-18));
+    CHECK(y(s + 1) == Approx(std::arg(d)));
+    CHECK(y(8 + s) == Approx((rate * std::conj(d) / std::abs(d)).real()));
+    CHECK(y(8 + s + 1) == Approx((rate * std::conj(d) / std::abs(d)).imag()));
+    CHECK(y(r) == x(r));
+    CHECK(y(8 + r + 1) == x(8 + r + 1));
+  }
+  CHECK(frame.ChartAngles() == std::vector<Index>{5, 7});
+  // Round trip to rounding, and the angle taken modulo 2π.
+  Matrix D(16, 16);
+  frame.FromChart(y, back, &D);
+  CHECK((back - x).cwiseQuotient(frame.StateScale()).lpNorm<Eigen::Infinity>() <= 1e-12);
+  Vector turned = y;
+  turned(5) += kTwoPi;
+  frame.FromChart(turned, back);
+  CHECK((back - x).cwiseQuotient(frame.StateScale()).lpNorm<Eigen::Infinity>() <= 1e-12);
+  // ∂Ψ/∂y against central differences.
+  const Vector scale = frame.ChartScale();
+  for (Index j = 0; j < 16; ++j) {
+    const double h = 1e-6 * scale(j);
+    Vector plus = y, minus = y, x_plus(16), x_minus(16);
+    plus(j) += h;
+    minus(j) -= h;
+    frame.FromChart(plus, x_plus);
+    frame.FromChart(minus, x_minus);
+    const Vector column = (x_plus - x_minus) / (2 * h);
+    INFO("column " << j);
+    // Per scaled unit of y_j, in scaled units of x.
+    CHECK(((column - D.col(j)) * scale(j)).cwiseQuotient(frame.StateScale()).norm() <= 1e-8);
+  }
+  // A structure whose contacts share a stator coordinate has no chart.
+  RubStructure shared = TwoPointStructure(ThesisCaseAa());
+  shared.contacts[1].stator = shared.contacts[0].stator;
+  CHECK(!RubFixedFrame(shared).HasStateChart());
+}
+
 TEST_CASE("gyroscopic moments (a flexible rotor): Jacobians, ∂f/∂ω, whirl out of contact",
           "[rub_model]") {
   ShaftElement rotor, stator;

@@ -427,6 +427,89 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   CHECK(!Solve(plain, v, mu).Converged());
 }
 
+// The chain with a chart: every oscillator but the last in polar coordinates (|z_k|, arg z_k),
+// the last (the one that turns along the circle) as it is.
+class ChartedChain : public StuartLandauChain {
+ public:
+  using StuartLandauChain::StuartLandauChain;
+  bool HasStateChart() const override { return true; }
+  void ToChart(ConstVectorRef x, VectorRef y) const override {
+    y = x;
+    for (Index k = 0; 2 * k + 2 < Dimension(); ++k) {
+      y(2 * k) = std::hypot(x(2 * k), x(2 * k + 1));
+      y(2 * k + 1) = std::atan2(x(2 * k + 1), x(2 * k));
+    }
+  }
+  void FromChart(ConstVectorRef y, VectorRef x, Matrix* jacobian) const override {
+    x = y;
+    if (jacobian) jacobian->setIdentity(Dimension(), Dimension());
+    for (Index k = 0; 2 * k + 2 < Dimension(); ++k) {
+      const double r = y(2 * k), c = std::cos(y(2 * k + 1)), s = std::sin(y(2 * k + 1));
+      x(2 * k) = r * c;
+      x(2 * k + 1) = r * s;
+      if (jacobian) {
+        (*jacobian)(2 * k, 2 * k) = c;
+        (*jacobian)(2 * k + 1, 2 * k) = s;
+        (*jacobian)(2 * k, 2 * k + 1) = -r * s;
+        (*jacobian)(2 * k + 1, 2 * k + 1) = r * c;
+      }
+    }
+  }
+  std::vector<Index> ChartAngles() const override {
+    std::vector<Index> angles;
+    for (Index k = 0; 2 * k + 2 < Dimension(); ++k) angles.push_back(2 * k + 1);
+    return angles;
+  }
+};
+
+TEST_CASE("invariant circle in a chart: the relative torus in closed form, its Jacobian exact",
+          "[torus]") {
+  // The relative torus above, its circle written in polar coordinates for z₀ and z₁ (angles near
+  // ±π, so that the fit must unwrap them) and Cartesian ones for z₂; fitted from points of the
+  // rough circle at θ_k = 2πkρ (CircleAtRotationNumber), then solved.
+  const double mu = 0.5;
+  auto system = std::make_shared<ChartedChain>(std::vector<double>{1.0, 2.3, 2.75},
+                                               std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
+  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight(), CircleCoordinates::kChart);
+  CHECK(problem.coordinates() == CircleCoordinates::kChart);
+  const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
+  const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
+  const double rho = Fraction((system->Turn(2) - system->Turn(0)) / (system->Turn(1) - system->Turn(0)));
+  Matrix rough = RoughCircle(6, mu);
+  // z₀ = −0.7 + 0.02 i cos θ: its angle crosses ±π twice along the circle.
+  rough.block(0, 0, 2, 2) << -0.7, 0.0, 0.0, 0.02;
+  Matrix points(6, 30);
+  for (Index k = 0; k < points.cols(); ++k) {
+    const double theta = kTwoPi * rho * static_cast<double>(k);
+    Vector basis(7);
+    basis << 1.0, std::cos(theta), std::sin(theta), std::cos(2 * theta), std::sin(2 * theta),
+        std::cos(3 * theta), std::sin(3 * theta);
+    points.col(k) = rough * basis;
+  }
+  Vector u = problem.CircleAtRotationNumber(points, rho, 0.98 * period, rotation + 0.05);
+  // The fit reproduces the rough circle (in states; z₀'s angle is no trigonometric polynomial,
+  // but its third harmonic is ~(0.02/0.7)³), its z₀ angle unwrapped across ±π: mean π.
+  CHECK((problem.PointAt(u, 0.0) - points.col(0)).norm() <= 1e-4);
+  CHECK(std::abs(problem.Coefficients(u)(1, 0) - kPi) <= 1e-3);
+  u(problem.Dimension() - 3) = rho - 0.01;
+  const NewtonResult result = Solve(problem, u, mu);
+  INFO(result.BriefReport());
+  REQUIRE(result.Converged());
+  CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-9);
+  CHECK(std::abs(problem.Period(u, mu) - period) <= 1e-9 * period);
+  CHECK(std::abs(std::remainder(problem.Rotation(u) - rotation, kTwoPi)) <= 1e-9);
+  // In the chart the oscillators' radii are coefficients of their own: constant on the circle.
+  CHECK(std::abs(problem.Coefficients(u)(0, 0) - std::sqrt(mu)) <= 5e-9);
+  CHECK(problem.HarmonicSize(u, 1) >= 0.5);  // z₂ turns once along the circle
+  CheckChainTorus(problem, u, mu, period, 5e-9);
+  // Without a chart the system refuses kChart.
+  CHECK_THROWS_WITH(InvariantCircleProblem(std::make_shared<StuartLandauChain>(
+                                               std::vector<double>{1.0, 2.3}, std::vector<double>{0.2, -0.3},
+                                               mu, 0.5, true),
+                                           3, OrbitKind::kRelative, Tight(), CircleCoordinates::kChart),
+                    Catch::Contains("no state chart"));
+}
+
 // Only the points matter to CircleFromOrbit: a forced system of four states that does nothing.
 class FourStatesAtRest : public OdeSystem {
  public:

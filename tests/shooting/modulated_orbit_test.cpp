@@ -151,6 +151,51 @@ TEST_CASE("case C(a) at 49 rpm, past the 2:5 tongue: the torus a transient settl
   CHECK(std::abs(torus.carrier_hz - transient.precession_hz) < 0.01);
 }
 
+TEST_CASE("case C(c) at 64 rpm, its left contact pressed by nanometres: the torus's circle "
+          "converges in the contact chart, not in the state", "[modulated_orbit][torus]") {
+  // The stiff direction that breaks the circle in x (docs/studies/attractors.md): the left
+  // contact is pressed by 0.5–2.5 nm (1.75e11 N/m) while the rotor moves by micrometres, so a
+  // circle of 8 harmonics fitted in x puts its points tens of nanometres off the contact surface
+  // and the map from them opens and closes the contact: the Jacobian is singular. In the contact
+  // chart (gap and gap rate coordinates of their own) the same points, the same map (Gauss, 800
+  // intervals per modulation period) converge.
+  const TwoPointParams params = ThesisCaseCc();
+  const RubSettledSpeed transient = Settle(params, 64.0, 8.0);
+  REQUIRE(transient.settled);
+  ModulatedTorusOptions start = SettledTransientStart(8);
+  start.collocation_intervals = 800;
+  auto solve = [&](CircleCoordinates coordinates) {
+    start.coordinates = coordinates;
+    return SolveModulatedTorus(TwoPointStructure(params), RpmToRadPerSecond(64.0),
+                               HzToRadPerSecond(transient.precession_hz), transient.state, start);
+  };
+  const ModulatedTorus in_state = solve(CircleCoordinates::kState);
+  INFO(in_state.message);
+  CHECK(!in_state.converged);
+  const ModulatedTorus torus = solve(CircleCoordinates::kChart);
+  INFO(torus.message);
+  REQUIRE(torus.converged);
+  // Measured ρ = 0.305323 (or 1 − ρ, the circle's other orientation), f₁ = 139.161 Hz, carrier
+  // 79.2123 Hz: the carrier the transient's precession (79.2118 Hz), found by the sweep's spectrum.
+  CHECK(std::min(torus.rotation_number, 1.0 - torus.rotation_number) == Approx(0.30532).margin(1e-4));
+  CHECK(torus.first_hz == Approx(139.16).epsilon(0).margin(0.05));
+  CHECK(std::abs(torus.carrier_hz - transient.precession_hz) < 0.01);
+  // Invariant under an independent map: CVODES BDF ≤ 5 at 1e-11 moves the circle's points by
+  // 3.1e-5 (scaled; as much as Gauss on 1600 intervals does: the 800-interval mesh's own error),
+  // against 4e-11 under its own map.
+  const auto frame = std::make_shared<RubRotatingFrame>(TwoPointStructure(params),
+                                                        torus.frame_rate, RpmToRadPerSecond(64.0));
+  IntegratorOptions bdf;
+  bdf.relative_tolerance = bdf.absolute_tolerance = 1e-11;
+  bdf.max_steps = 20000000;
+  InvariantCircleProblem circle(frame, torus.harmonics, OrbitKind::kRelative, bdf,
+                                CircleCoordinates::kChart);
+  circle.SetPhaseReference(torus.u);
+  Vector F;
+  circle.Residual(torus.u, RpmToRadPerSecond(64.0), F);
+  CHECK(F.cwiseQuotient(circle.ResidualScale()).lpNorm<Eigen::Infinity>() < 1e-4);
+}
+
 TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of three modulation "
           "periods, stable from the tongue's edge (a fold) to a period doubling",
           "[modulated_orbit][torus]") {
