@@ -11,7 +11,9 @@
 //                                  rate), hopf_modulation_hz
 //   /tori/<branch>_hopf<k>_ns<j>   the tori from its j-th followed Neimark–Sacker point: attrs
 //                                  parent, birth_speed_rpm, birth_rotation_number, birth_modulus,
-//                                  harmonics, end ("phase locking", "breakdown", "reached the
+//                                  harmonics, circle_coordinates ("state", or "chart": the
+//                                  coefficients below are then the contact chart's,
+//                                  RubFixedFrame::ToChart), end ("phase locking", "breakdown", "reached the
 //                                  range's end", "reached the step limit", "failed"), end_note,
 //                                  status, message, summary; per torus speed_rpm, rotation_number,
 //                                  fourier_tail, invariance_error, period, rotation, carrier_hz,
@@ -24,7 +26,8 @@
 //                                  nontrivial Lyapunov exponent per period), exponent_tolerance,
 //                                  exponents (tori × states, per period); unknowns (tori × n(2K + 1)
 //                                  + 3: each circle's Fourier coefficients a₀, a₁, b₁, … column
-//                                  by column in the co-rotating frame's states (SI), then ρ, T
+//                                  by column in the co-rotating frame's states (SI; or their
+//                                  chart's: circle_coordinates), then ρ, T
 //                                  [s], φ [rad]: InvariantCircleProblem::Pack), so that a torus
 //                                  can be reopened; the frame turns at its family's
 //                                  hopf_precession_hz; special_points/ (apps/branch_output.h

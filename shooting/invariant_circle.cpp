@@ -505,19 +505,18 @@ InvariantCircleProblem::TorusStability InvariantCircleProblem::LyapunovStability
   return result;
 }
 
-Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& states, double period,
+Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double period,
                                                double rotation) const {
-  const Index m = states.cols();
-  if (states.rows() != n_ || m < points_ + 1) {
+  const Index m = points.cols();
+  if (points.rows() != n_ || m < points_ + 1) {
     throw std::invalid_argument(fmt::format(
-        "CircleFromOrbit: {} × {} points; need {} rows and at least {} columns", states.rows(), m,
+        "CircleFromOrbit: {} × {} points; need {} rows and at least {} columns", points.rows(), m,
         n_, points_ + 1));
   }
   // The angles θ_k and ρ from the states; with a chart, the coefficients are fitted at the end in
   // its coordinates at those angles. (Angles and ρ from the chart's points were worse: C(c) at 64
   // rpm, K = 8, ρ 0.309 against the torus's 0.3053 — the transient's ringing of the contact,
   // which the chart's gap rate magnifies, weighed in the misfit — and Newton failed.)
-  const Matrix& points = states;
   // Scaled, centred; the plane of the two leading principal directions.
   const Vector centre = points.rowwise().mean();
   Matrix scaled = (points.colwise() - centre).array().colwise() / scale_.array();

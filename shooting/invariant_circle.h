@@ -171,8 +171,9 @@ class InvariantCircleProblem : public Problem {
   // traversed the other way), and the coefficients are fitted by least squares in θ. Then the
   // map's own angles θ_k = 2πkρ (the parametrisation in which P turns the circle rigidly), ρ
   // refined by the least misfit round that estimate, replace them where they fit better. T and φ,
-  // those of the map the points came from, are packed as given. Throws std::invalid_argument when
-  // the points do not wind (a locked or non-circular set).
+  // those of the map the points came from, are packed as given. With a chart the angles and ρ
+  // come from the states as above, the coefficients are then fitted in the chart at those angles.
+  // Throws std::invalid_argument when the points do not wind (a locked or non-circular set).
   Vector CircleFromOrbit(const Matrix& points, double period = 0.0, double rotation = 0.0) const;
   // The circle through the same points when ρ is known (a solved circle's, of fewer harmonics):
   // θ_k = 2πkρ, the coefficients fitted by least squares. Where the first fit's ρ is off by δ the
