@@ -13,8 +13,9 @@
 //                                  parent, birth_speed_rpm, birth_rotation_number, birth_modulus,
 //                                  harmonics, circle_coordinates ("state", or "chart": the
 //                                  coefficients below are then the contact chart's,
-//                                  RubFixedFrame::ToChart), end ("phase locking", "breakdown", "reached the
-//                                  range's end", "reached the step limit", "failed"), end_note,
+//                                  RubFixedFrame::ToChart), end ("phase locking", "breakdown",
+//                                  "reached the range's end", "reached the step limit", "a
+//                                  contact lifts off", "failed"), end_note,
 //                                  status, message, summary; per torus speed_rpm, rotation_number,
 //                                  fourier_tail, invariance_error, period, rotation, carrier_hz,
 //                                  first_hz (1/T), second_hz (ρ/T), per contact <c> line_hz_<c>,

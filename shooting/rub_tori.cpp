@@ -137,6 +137,24 @@ std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBra
 
 }  // namespace
 
+void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>& lines,
+                 TorusBranch& tori) {
+  if (tori.end != TorusEnd::kFailed || lines.empty() || !lines.back().valid) return;
+  const RubTorusLines& last = lines.back();
+  for (std::size_t c = 0; c < last.contacts.size(); ++c) {
+    const RubTorusLines::Contact& k = last.contacts[c];
+    if (k.max_normal_force > 0.0 && k.min_normal_force <= kLiftOffForceShare * k.max_normal_force) {
+      tori.end = TorusEnd::kGrazing;
+      tori.end_note = fmt::format(
+          "the {} contact lifts off at {:.4f} rpm: its least normal force {:.2g} N of {:.4g} N at "
+          "most over the last torus, beyond which the corrector failed ({})",
+          structure.contacts[c].name, RadPerSecondToRpm(tori.branch.points.back().lambda),
+          k.min_normal_force, k.max_normal_force, tori.end_note);
+      return;
+    }
+  }
+}
+
 RubModulatedTori ContinueModulatedTori(
     const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
     const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
@@ -161,6 +179,7 @@ RubModulatedTori ContinueModulatedTori(
     result.tori.push_back(ContinueToriFromNeimarkSacker(std::make_shared<RubRotatingFrame>(frame),
                                                         family, k, tori, step));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
+    ReadLiftOff(structure, result.lines.back(), result.tori.back());
     const TorusBranch& ended = result.tori.back();
     LockedOrbits locked;
     if (ended.ok && ended.end == TorusEnd::kLocking && !ended.branch.points.empty()) {
@@ -201,6 +220,7 @@ RubTransientTori ContinueTransientTori(
                                        first ? first->lambda : omega, tori,
                                        FamilyStep(on_torus_step, result.tori.size())));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
+    ReadLiftOff(structure, result.lines.back(), result.tori.back());
   }
   return result;
 }

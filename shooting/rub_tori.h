@@ -48,6 +48,18 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
                          double lambda, const IntegratorOptions& integrator, int samples,
                          CircleCoordinates coordinates = CircleCoordinates::kState);
 
+// A family whose continuation failed (TorusEnd::kFailed) with a contact's least normal force at
+// its last torus below this share of that contact's largest is read as ending where the contact
+// lifts off (TorusEnd::kGrazing; the Gauss map does not follow the contact opening): C(c)'s torus
+// at 71.1142 rpm, its left contact's least force 0.6 N of 495.6 N, where the corrector failed;
+// 3.6 N (0.7 %) at 71.03 rpm, where the family went on. Decision: read from the lines, as locking is
+// read from the harmonics, not located as an event.
+constexpr double kLiftOffForceShare = 0.01;
+// That reading, of a family and its lines (one per torus): a kFailed family whose last torus has
+// such a contact ends kGrazing, its note naming the contact, its forces and the speed.
+void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>& lines,
+                 TorusBranch& tori);
+
 struct RubTorusOptions {
   // Range, harmonics, engine, amplitude, breakdown and locking limits, Lyapunov iterates. The
   // integrator is the modulated family's (its Gauss mesh covering one period), set here.

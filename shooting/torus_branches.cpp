@@ -58,6 +58,7 @@ const char* ToString(TorusEnd end) {
     case TorusEnd::kSteps: return "reached the step limit";
     case TorusEnd::kBreakdown: return "breakdown";
     case TorusEnd::kLocking: return "phase locking";
+    case TorusEnd::kGrazing: return "a contact lifts off";
     case TorusEnd::kFailed: return "failed";
   }
   return "?";

@@ -21,6 +21,8 @@
 //               the circle folds towards q points as the torus meets the p:q resonance, where the
 //               motion on it locks to a periodic orbit of q laps — read as phase locking (C(a):
 //               harmonic 5 grows to 2.5 times harmonic 4 as ρ falls to 0.404);
+//   kGrazing    a contact lifts off at the last torus (the rub model's reading of a failed end,
+//               shooting/rub_tori.h ReadLiftOff);
 //   kBound      the range's end; kFailed the engine's other ends (step too small, ...) with its message;
 //   kSteps      the step limit.
 // Decision: locking is read from the circle's harmonics and ρ at the tail event, not proved by
@@ -60,7 +62,9 @@ struct TorusBranchOptions {
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const TorusBranchOptions& options);
 
-enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kFailed };
+// kGrazing: a contact lifts off at the family's last torus (read by the rub model's tori,
+// shooting/rub_tori.h, from an end that would otherwise be kFailed).
+enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kGrazing, kFailed };
 const char* ToString(TorusEnd end);
 
 

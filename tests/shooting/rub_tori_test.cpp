@@ -3,6 +3,7 @@
 #include "shooting/rub_tori.h"
 
 #include <cmath>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -16,6 +17,42 @@ TwoPointParams CaseCaTanh() {
   TwoPointParams params = ThesisCaseCa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   return params;
+}
+
+TEST_CASE("a failed torus family whose last torus has a contact lifting off ends at a grazing",
+          "[torus][rub]") {
+  // C(c)'s torus at 71.1142 rpm (results/thesis_C_c_tori): the left contact's least normal force
+  // 0.6 N of 495.6 N, the right's 4846 N of more; the corrector failed beyond it.
+  const RubStructure structure = TwoPointStructure(ThesisCaseCc());
+  TorusBranch tori;
+  tori.end = TorusEnd::kFailed;
+  tori.end_note = "the corrector failed";
+  BranchPoint last;
+  last.lambda = RpmToRadPerSecond(71.1142);
+  tori.branch.points.push_back(last);
+  RubTorusLines lines;
+  lines.valid = true;
+  lines.contacts.resize(2);
+  lines.contacts[0].min_normal_force = 0.6;
+  lines.contacts[0].max_normal_force = 495.6;
+  lines.contacts[1].min_normal_force = 4845.8;
+  lines.contacts[1].max_normal_force = 6300.0;
+  const std::vector<RubTorusLines> all{lines};
+  TorusBranch failed = tori;
+  ReadLiftOff(structure, all, failed);
+  CHECK(failed.end == TorusEnd::kGrazing);
+  CHECK_THAT(failed.end_note, Catch::Contains("the left contact lifts off at 71.1142 rpm"));
+  CHECK_THAT(failed.end_note, Catch::Contains("the corrector failed"));
+  // Pressed by more than 1 % of its largest force: still a failure; and no other end is re-read.
+  lines.contacts[0].min_normal_force = 5.0;
+  TorusBranch pressed = tori;
+  ReadLiftOff(structure, {lines}, pressed);
+  CHECK(pressed.end == TorusEnd::kFailed);
+  lines.contacts[0].min_normal_force = 0.6;
+  TorusBranch bound = tori;
+  bound.end = TorusEnd::kBound;
+  ReadLiftOff(structure, {lines}, bound);
+  CHECK(bound.end == TorusEnd::kBound);
 }
 
 // Measured on this case with these numerics (the committed scene runs the same): the modulated whip
