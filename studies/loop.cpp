@@ -501,16 +501,25 @@ OrbitRide RideFamily(const PeriodicOrbitBranch& family, double orbit, int sign, 
   }
   ride.rides = true;
   ride.end = SkeletonEnd(family, doublings, ride.from, sign, scale, unit);
-  if (ride.end.found && ride.end.type == SpecialPointType::kPeriodDoubling &&
-      !ride.end.doubled && follow && sign * (ride.end.lambda - far) <= 0.0) {
+  if (ride.end.found && ride.end.type == SpecialPointType::kPeriodDoubling && !ride.end.doubled) {
     for (std::size_t k = 0; k < b.special_points.size(); ++k) {
       const SpecialPoint& p = b.special_points[k];
       const bool followed = std::any_of(doublings.begin(), doublings.end(),
                                         [k](const OrbitPeriodDoubling& d) { return d.special_point == k; });
       if (p.type != SpecialPointType::kPeriodDoubling || p.lambda != ride.end.lambda || followed) continue;
-      if (!p.converged || !BoundsStablePiece(b, p)) break;
-      doublings.push_back(follow(k));
-      ride.end = SkeletonEnd(family, doublings, ride.from, sign, scale, unit);
+      // Why not, where not (B(b)'s at 148.07 rpm: a multiplier jumping from 0.97 to 2.7 between two
+      // orbits where a contact grazes, located only to a bracket).
+      std::string why;
+      if (!p.converged) why = "located only to a bracket";
+      else if (!BoundsStablePiece(b, p)) why = "the family is not stable on exactly one side of it";
+      else if (!(sign * (p.lambda - far) <= 0.0)) why = "past the landing";
+      else if (!follow) why = "no budget left, or doubled_steps = 0";
+      if (why.empty()) {
+        doublings.push_back(follow(k));
+        ride.end = SkeletonEnd(family, doublings, ride.from, sign, scale, unit);
+      } else if (!ride.end.route.empty() && ride.end.route.back() == ')') {
+        ride.end.route.insert(ride.end.route.size() - 1, ": " + why);  // "(its doubled orbits not followed: …)"
+      }
       break;
     }
   }
@@ -549,6 +558,8 @@ void Validate(const LoopOptions& o) {
   }
   if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
   if (o.orbit_steps < 1) fail("orbit_steps", o.orbit_steps, "must be at least 1");
+  if (o.route_tries < 0) fail("route_tries", o.route_tries, "must be non-negative (0: no route)");
+  if (o.doubled_steps < 0) fail("doubled_steps", o.doubled_steps, "must be non-negative (0: not followed)");
   if (!(o.min_escape_budget >= 0.0)) fail("min_escape_budget", o.min_escape_budget, "must be non-negative");
   if (!(o.barely_touching > 0.0 && o.barely_touching <= 1.0)) fail("barely_touching", o.barely_touching, "must be in (0, 1]");
   if (o.orbits) Validate(o.orbit_start);
@@ -674,6 +685,50 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     }
   }
 
+  // L2's families: over a jump (lo … hi rpm) and from an orbit at orbit_rpm, in the run's direction.
+  auto family_over = [&](double orbit_rpm, int sign, double lo, double hi) {
+    PeriodicOrbitBranchOptions family = options.orbit_family;
+    family.lambda_min = RpmToRadPerSecond(std::max(std::min(lo, orbit_rpm - options.step_rpm), 1e-3));
+    family.lambda_max = RpmToRadPerSecond(std::max(hi, orbit_rpm + options.step_rpm));
+    family.direction = sign;
+    family.on_step = [&](const Branch&) { return spent() < options.budget; };
+    return family;
+  };
+  // The skeleton along the family L2 found (asked.orbits, converged): RideFamily, the doubled family
+  // followed to past the landing and as far back as the escape design reaches (a subcritical
+  // doubling's orbits run back first: A(a)'s to a fold 7.3 rpm below it).
+  auto ride_family = [&](LoopOrbits& asked, int sign, double lo, double hi) {
+    const RubTransientOrbits& family = asked.orbits;
+    const auto follow = [&](std::size_t k) {
+      const double at = family.family.orbits.branch.special_points[k].lambda;
+      PeriodicOrbitBranchOptions doubled = family_over(asked.orbit_rpm, sign, lo, hi);
+      const double back = RpmToRadPerSecond(options.escape_reach_rpm);
+      doubled.lambda_min = std::max(RpmToRadPerSecond(1e-3), std::min(doubled.lambda_min, at - back));
+      doubled.lambda_max = std::max(doubled.lambda_max, at + back);
+      doubled.continuation.bounds.max_steps = options.doubled_steps;
+      doubled.stop_at_grazing = true;
+      const double t0 = spent();
+      OrbitPeriodDoubling d = ContinueTransientDoubling(balanced, family, k, doubled);
+      note(fmt::format("  L2: the doubled family from the period doubling at {:.4f} rpm: {} ({:.1f} s CPU)",
+                       RadPerSecondToRpm(at), d.ok ? d.branch.branch.BriefReport() : d.message, spent() - t0));
+      return d;
+    };
+    const bool may_follow = options.doubled_steps > 0 && spent() < options.budget;
+    const OrbitRide ride = RideFamily(asked.orbits.family.orbits, RpmToRadPerSecond(asked.orbit_rpm), sign,
+                                      RpmToRadPerSecond(sign > 0 ? hi : lo), asked.orbits.family.doublings,
+                                      may_follow ? DoublingFollower(follow) : DoublingFollower(), kRpmPerRadPerSecond,
+                                      "rpm");
+    asked.skeleton = ride.text;
+    note("  L2 skeleton: " + asked.skeleton);
+    return ride;
+  };
+  struct PendingRoute {
+    std::size_t corner;
+    std::size_t from;      // the departure's index in its run
+    std::size_t first_on;  // the run's first index on the whip
+  };
+  std::vector<PendingRoute> routes;
+
   // L3 for the corners L1 leaves open: principal ones first.
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < result.corners.size(); ++i)
@@ -753,112 +808,26 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       asked.seen_from_rpm = c.seen_from_rpm;
       asked.seen_to_rpm = c.seen_to_rpm;
       asked.orbit_rpm = c.seen_from_rpm;
-      // The family over the jump and, from a route's orbit, the way to it.
-      auto family_over = [&](double orbit_rpm) {
-        PeriodicOrbitBranchOptions family = options.orbit_family;
-        family.lambda_min = RpmToRadPerSecond(std::max(std::min(lo, orbit_rpm - options.step_rpm), 1e-3));
-        family.lambda_max = RpmToRadPerSecond(std::max(hi, orbit_rpm + options.step_rpm));
-        family.direction = sign;
-        family.on_step = [&](const Branch&) { return spent() < options.budget; };
-        return family;
-      };
       asked.orbits = ContinueTransientOrbits(balanced, RpmToRadPerSecond(c.seen_from_rpm), HzToRadPerSecond(frame_hz),
-                                             run.states[from], options.orbit_start, family_over(c.seen_from_rpm),
-                                             options.orbit_steps);
-      const std::string departure = asked.orbits.start.message;
-      if (!asked.orbits.start.converged) note(fmt::format("  L2: no orbit: {}", departure));
+                                             run.states[from], options.orbit_start,
+                                             family_over(c.seen_from_rpm, sign, lo, hi), options.orbit_steps);
+      if (!asked.orbits.start.converged) note(fmt::format("  L2: no orbit: {}", asked.orbits.start.message));
+      // The route to a whip's end that is no orbit explains, it never decides: asked after every
+      // corner is decided, with what is left of the budget (below).
       if (!asked.orbits.start.converged && c.kind == "whip_to_whirl" && options.route_tries > 0) {
-        // The route to a whip's end that is no orbit: bisection over the run's settled states with
-        // steady contacts since it arrived on the whip (a route into chaos passes periodic states
-        // first), the latest first.
-        std::vector<std::size_t> states;
-        for (std::size_t k = first_on; k < from; ++k) {
-          const double hz = run.regimes.precession_hz[0][k];
-          if (std::isfinite(hz) && hz > 0.0 && SteadyContacts(structure, run.points[k], 1.0 - options.barely_touching)) {
-            states.push_back(k);
-          }
-        }
-        int below = -1, above = static_cast<int>(states.size());  // an orbit at `below`, none from `above` on
-        for (int tries = 0; tries < options.route_tries && above - below > 1 && spent() < options.budget; ++tries) {
-          const int mid = tries == 0 ? above - 1 : (below + above) / 2;
-          const std::size_t k = states[static_cast<std::size_t>(mid)];
-          const double t0 = spent();
-          const ModulatedOrbit o = SolveModulatedOrbit(balanced, run.points[k].parameter,
-                                                       HzToRadPerSecond(run.regimes.precession_hz[0][k]),
-                                                       run.states[k], options.orbit_start);
-          const std::string tried = fmt::format("{:g} rpm {} ({:.1f} s CPU)", RadPerSecondToRpm(run.points[k].parameter),
-                                                o.converged ? fmt::format("an orbit of modulation {:.4g} Hz", 1.0 / o.period)
-                                                            : "no orbit",
-                                                spent() - t0);
-          note("  L2 route: " + tried + (o.converged ? "" : ": " + o.message));
-          asked.tries += (asked.tries.empty() ? "" : "; ") + tried;
-          (o.converged ? below : above) = mid;
-        }
-        if (states.empty()) note("  L2 route: no settled state with steady contacts on the whip");
-        if (below >= 0 && spent() < options.budget) {
-          // The family from the latest orbit (its start solved again from the run's state: one
-          // more Newton, a few seconds).
-          const std::size_t k = states[static_cast<std::size_t>(below)];
-          asked.route = true;
-          asked.orbit_rpm = RadPerSecondToRpm(run.points[k].parameter);
-          RubTransientOrbits route = ContinueTransientOrbits(
-              balanced, run.points[k].parameter, HzToRadPerSecond(run.regimes.precession_hz[0][k]), run.states[k],
-              options.orbit_start, family_over(asked.orbit_rpm), options.orbit_steps);
-          if (route.start.converged) {
-            asked.orbits = std::move(route);
-          } else {
-            asked.route = false;
-            asked.orbit_rpm = c.seen_from_rpm;
-          }
-        }
+        routes.push_back(PendingRoute{i, from, first_on});
       }
       RubTransientOrbits& l2 = asked.orbits;
       const int index = static_cast<int>(result.orbits.size());
       c.orbits = index;
-      OrbitRide ride;
-      if (l2.start.converged) {
-        // The doubled family: to past the landing, and as far back as the escape design reaches (a
-        // subcritical doubling's orbits run back first: A(a)'s to a fold 7.3 rpm below it).
-        const RubTransientOrbits& family = l2;
-        const auto follow = [&](std::size_t k) {
-          const double at = family.family.orbits.branch.special_points[k].lambda;
-          PeriodicOrbitBranchOptions doubled = family_over(asked.orbit_rpm);
-          const double back = RpmToRadPerSecond(options.escape_reach_rpm);
-          doubled.lambda_min = std::max(RpmToRadPerSecond(1e-3), std::min(doubled.lambda_min, at - back));
-          doubled.lambda_max = std::max(doubled.lambda_max, at + back);
-          doubled.continuation.bounds.max_steps = options.doubled_steps;
-          doubled.stop_at_grazing = true;
-          const double t0 = spent();
-          OrbitPeriodDoubling d = ContinueTransientDoubling(balanced, family, k, doubled);
-          note(fmt::format("  L2: the doubled family from the period doubling at {:.4f} rpm: {} ({:.1f} s CPU)",
-                           RadPerSecondToRpm(at), d.ok ? d.branch.branch.BriefReport() : d.message, spent() - t0));
-          return d;
-        };
-        const bool may_follow = options.doubled_steps > 0 && spent() < options.budget;
-        ride = RideFamily(l2.family.orbits, RpmToRadPerSecond(asked.orbit_rpm), sign,
-                          RpmToRadPerSecond(sign > 0 ? hi : lo), l2.family.doublings,
-                          may_follow ? DoublingFollower(follow) : DoublingFollower(), kRpmPerRadPerSecond, "rpm");
-        asked.skeleton = ride.text;
-        note("  L2 skeleton: " + asked.skeleton);
-      }
+      const OrbitRide ride = l2.start.converged ? ride_family(asked, sign, lo, hi) : OrbitRide();
       const OrbitSkeletonEnd& skeleton = ride.end;
       result.orbits.push_back(asked);
       c.cpu_seconds += spent() - before_l2;
       const std::string pd_evidence = fmt::format("orbits/{}_pd1/special_points", index);
       if (!l2.start.converged) {
-        c.note += fmt::format("; L2: no relative periodic orbit from the state at {:g} rpm ({}){}", c.seen_from_rpm,
-                              l2.start.message,
-                              asked.tries.empty() ? "" : "; nor on the way to it (" + asked.tries + ")");
-      } else if (asked.route) {
-        // A departure that is no orbit was not left at an orbit's end: the route is named, L3 decides.
-        const bool before = skeleton.found && sign * (RadPerSecondToRpm(skeleton.lambda) - c.seen_from_rpm) < 0.0;
-        c.note += fmt::format("; L2: no relative periodic orbit from the state at {:g} rpm ({}); the route: the state "
-                              "at {:g} rpm is one (tries: {}), {}{}",
-                              c.seen_from_rpm, departure, asked.orbit_rpm, asked.tries, asked.skeleton,
-                              before ? fmt::format(", {:.2f} rpm before the jump: the state the run leaves is no "
-                                                   "periodic orbit",
-                                                   std::abs(RadPerSecondToRpm(skeleton.lambda) - c.seen_from_rpm))
-                                     : "");
+        c.note += fmt::format("; L2: no relative periodic orbit from the state at {:g} rpm ({})", c.seen_from_rpm,
+                              l2.start.message);
       } else {
         const Branch& b = l2.family.orbits.branch;
         const bool stable = !b.points.empty() && b.points.front().num_unstable == 0;
@@ -1070,6 +1039,79 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     } else {
       c.note += fmt::format("; L3: {}", d.BriefReport());
     }
+  }
+
+  // The routes of whip ends that are no orbit: the latest state of the run on the whip that is one,
+  // by bisection over its settled states with steady contacts (a route into chaos passes periodic
+  // states first), the latest first; then its family and doubled family (studies/loop.h, L2).
+  for (const PendingRoute& r : routes) {
+    LoopCorner& c = result.corners[r.corner];
+    LoopOrbits& asked = result.orbits[static_cast<std::size_t>(c.orbits)];
+    const LoopRun& run = c.direction == "up" ? result.up : result.down;
+    const int sign = Sign(run.direction);
+    const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
+    const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
+    const double before = spent();
+    if (spent() >= options.budget) {
+      c.note += "; L2's route to the whip's end not asked: the budget was spent deciding the corners";
+      continue;
+    }
+    note(fmt::format("L2 route for {} {} {:g} → {:g} rpm ({}): the latest periodic state on the whip", c.direction,
+                     c.kind, c.seen_from_rpm, c.seen_to_rpm, c.contact));
+    std::vector<std::size_t> states;
+    for (std::size_t k = r.first_on; k < r.from; ++k) {
+      const double hz = run.regimes.precession_hz[0][k];
+      if (std::isfinite(hz) && hz > 0.0 && SteadyContacts(structure, run.points[k], 1.0 - options.barely_touching)) {
+        states.push_back(k);
+      }
+    }
+    int below = -1, above = static_cast<int>(states.size());  // an orbit at `below`, none from `above` on
+    for (int tries = 0; tries < options.route_tries && above - below > 1 && spent() < options.budget; ++tries) {
+      const int mid = tries == 0 ? above - 1 : (below + above) / 2;
+      const std::size_t k = states[static_cast<std::size_t>(mid)];
+      const double t0 = spent();
+      const ModulatedOrbit o = SolveModulatedOrbit(balanced, run.points[k].parameter,
+                                                   HzToRadPerSecond(run.regimes.precession_hz[0][k]), run.states[k],
+                                                   options.orbit_start);
+      const std::string tried = fmt::format("{:g} rpm {} ({:.1f} s CPU)", RadPerSecondToRpm(run.points[k].parameter),
+                                            o.converged ? fmt::format("an orbit of modulation {:.4g} Hz", 1.0 / o.period)
+                                                        : "no orbit",
+                                            spent() - t0);
+      note("  L2 route: " + tried + (o.converged ? "" : ": " + o.message));
+      asked.tries += (asked.tries.empty() ? "" : "; ") + tried;
+      (o.converged ? below : above) = mid;
+    }
+    if (states.empty()) note("  L2 route: no settled state with steady contacts on the whip");
+    if (below >= 0 && spent() < options.budget) {
+      // The family from the latest orbit (its start solved again from the run's state: one more
+      // Newton, a few seconds).
+      const std::size_t k = states[static_cast<std::size_t>(below)];
+      const double orbit_rpm = RadPerSecondToRpm(run.points[k].parameter);
+      RubTransientOrbits route = ContinueTransientOrbits(
+          balanced, run.points[k].parameter, HzToRadPerSecond(run.regimes.precession_hz[0][k]), run.states[k],
+          options.orbit_start, family_over(orbit_rpm, sign, lo, hi), options.orbit_steps);
+      if (route.start.converged) {
+        asked.route = true;
+        asked.orbit_rpm = orbit_rpm;
+        asked.orbits = std::move(route);
+      }
+    }
+    if (asked.route) {
+      const OrbitSkeletonEnd end = ride_family(asked, sign, lo, hi).end;
+      const bool early = end.found && sign * (RadPerSecondToRpm(end.lambda) - c.seen_from_rpm) < 0.0;
+      c.note += fmt::format("; L2's route (asked after every corner was decided): the state at {:g} rpm is a relative "
+                            "periodic orbit (tries: {}), {}{}",
+                            asked.orbit_rpm, asked.tries, asked.skeleton,
+                            early ? fmt::format(", {:.2f} rpm before the jump: the state the run leaves is no periodic "
+                                                "orbit",
+                                                std::abs(RadPerSecondToRpm(end.lambda) - c.seen_from_rpm))
+                                  : "");
+    } else {
+      c.note += fmt::format("; L2's route (asked after every corner was decided): no periodic state on the way to "
+                            "the whip's end ({})",
+                            asked.tries.empty() ? "no settled state with steady contacts on the whip" : asked.tries);
+    }
+    c.cpu_seconds += spent() - before;
   }
 
   // The status.

@@ -40,8 +40,10 @@
 //      latest state of the run on the whip that is a relative periodic orbit (bisection over its
 //      settled states with steady contacts, at most route_tries starts: a route into chaos
 //      passes periodic states first), rides that orbit's family and its doubled family as above,
-//      and names where the stable periodic whip ends ("…, 42.3 rpm before the jump: the state the
-//      run leaves is no periodic orbit"). The jump stays L3's.
+//      and names where the stable periodic whip ends ("…, 42.4 rpm before the jump: the state the
+//      run leaves is no periodic orbit"). The jump stays L3's. The route explains and never
+//      decides, so it is asked after every corner is decided, with what is left of the budget: the
+//      default scene's loop at 120 s, route first, had no budget left for its whip end's L3.
 //  L3  When L2 has no orbit (the state is no periodic motion) or its family passes the jump
 //      unchanged, L3. When the run leaves its state
 //      by chance — a chaotic whip past a crisis, whose lifetime falls with speed — the speed at
@@ -106,13 +108,13 @@ struct LoopOptions {
   // L2's route to a departure that is no orbit (a chaotic whip): the latest of the run's states on
   // the departure's regime that is one, by bisection over its settled states with steady contacts
   // (SolveModulatedOrbit from each), with at most route_tries starts (≥ 0; 0: no route). A(a)'s
-  // run-up: 47 such states from 52 to 146 rpm, 6 starts.
+  // run-up: 48 such states from 52 to 146 rpm; 6 starts found the latest orbit (128 rpm) in 35 s.
   int route_tries = 6;
   // The doubled family from the period doubling the run meets on the L2 family (one that bounds a
   // stable piece), with at most doubled_steps continuation steps (≥ 0; 0: not followed) and ending
-  // at its first grazing. A(a)'s doubled whip from its doubling (128.35 rpm) down to its fold
-  // (121.01) and up to its grazing (137.68) took 112 steps on 1600 intervals with the curved
-  // predictor (results/thesis_A_a_whip_doubling).
+  // at its first grazing. A(a)'s doubled whip from its doubling (128.36 rpm) down to its fold
+  // (121.0) and up to its grazing (137.6) took 120 steps on the loop's 400 intervals (237.5 s of
+  // CPU), 112 on 1600 with the curved predictor (results/thesis_A_a_whip_doubling).
   int doubled_steps = 200;
   double budget = 300.0;  // [CPU s] > 0 for the whole loop
   // An escape design is not started with less of the budget left [CPU s] ≥ 0: its first batch

@@ -75,5 +75,17 @@ TEST_CASE("loop file: L2's family and the doubled family beside it are written w
   CHECK(r.ReadInts("/loop/orbits/0/stable").size() == asked.orbits.family.orbits.branch.points.size());
 }
 
+TEST_CASE("loop options: a negative route_tries or doubled_steps is refused by name", "[loop][output]") {
+  const LoopOptions options = LoopOptionsOf(LoadScene("scenes/thesis_A_a.toml"));
+  LoopOptions bad = options;
+  bad.route_tries = -1;
+  CHECK_THROWS_WITH(Validate(bad), Catch::Contains("LoopOptions.route_tries = -1"));
+  bad = options;
+  bad.doubled_steps = -2;
+  CHECK_THROWS_WITH(Validate(bad), Catch::Contains("LoopOptions.doubled_steps = -2"));
+  bad.doubled_steps = 0;  // not followed: allowed
+  CHECK_NOTHROW(Validate(bad));
+}
+
 }  // namespace
 }  // namespace rubcont

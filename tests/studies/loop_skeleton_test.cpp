@@ -66,12 +66,13 @@ TEST_CASE("loop L2: a doubling not followed, or beyond the jump, is itself the e
   CHECK_FALSE(alone.end.doubled);
   CHECK(alone.end.type == SpecialPointType::kPeriodDoubling);
   CHECK(alone.end.lambda == Approx(0.0).epsilon(0).margin(1e-8));
-  CHECK_THAT(alone.text, Catch::Contains("not followed"));
+  CHECK_THAT(alone.text, Catch::Contains("not followed: no budget left, or doubled_steps = 0"));
   // A doubling past the landing (`far` before it) is not followed.
   const OrbitRide short_run = RideFamily(m.family, -0.5, +1, -0.1, doublings, m.Follower(calls));
   CHECK(calls == 0);
   CHECK(doublings.empty());
   CHECK(short_run.end.type == SpecialPointType::kPeriodDoubling);
+  CHECK_THAT(short_run.text, Catch::Contains("not followed: past the landing"));
   // From an unstable orbit (λ = 0.3, past the doubling) the ride starts at the last stable orbit
   // before it, and meets the doubling behind that orbit.
   const OrbitRide back = RideFamily(m.family, 0.3, +1, 0.5, doublings, m.Follower(calls));
