@@ -75,7 +75,7 @@ std::vector<Rule> MakeRules() {
   add(".*_hz" + kContact, Unit("Hz"));
   add(".*_deg", Unit("degree"));
   add(".*(_s|seconds|_time)" + kContact, Unit("s"));
-  add("period", Unit("s"), "^/(orbits|tori)/");
+  add("period", Unit("s"), "^/(orbits|tori|loop/orbits)/");
   add("frequency_change", Unit("Hz"));  // a sweep's last window-to-window |Δf| of the BP
   // Quantities by what they are.
   add("(min_|max_|section_)?(normal_force|friction_force)(_min|_max)?" + kContact, Unit("N"));

@@ -14,6 +14,7 @@
 #include "apps/branch_output.h"
 #include "apps/hdf5_file.h"
 #include "apps/level.h"
+#include "apps/orbit_output.h"
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
@@ -126,6 +127,45 @@ void WriteEscapes(ResultWriter& writer, const std::string& group, const LoopEsca
   writer.WriteStrings(group + "/log", d.log);
 }
 
+// L2's question k: /loop/orbits/<k> (its family, period 1) and /loop/orbits/<k>_pd1 (the doubled
+// family from the doubling the run meets on it), with what was asked as attributes of <k>.
+void WriteOrbits(ResultWriter& writer, const std::string& root, std::size_t k, const LoopOrbits& asked) {
+  const std::string name = std::to_string(k);
+  const RubTransientOrbits& l2 = asked.orbits;
+  const ParameterColumn speed{"speed_rpm", kRpmPerRadPerSecond};
+  if (l2.start.converged) {
+    WritePeriodicOrbitBranch(writer, name, l2.family.orbits, speed, root);
+  } else {
+    writer.CreateGroup(root);
+    writer.SetAttribute(root, "level", ToString(Level::kL2));
+    writer.SetAttribute(root, "parameter_name", speed.name);
+    writer.CreateGroup(root + "/" + name);
+  }
+  const std::string g = root + "/" + name;
+  writer.SetAttribute(g, "direction", asked.direction);
+  writer.SetAttribute(g, "seen_from_rpm", asked.seen_from_rpm);
+  writer.SetAttribute(g, "seen_to_rpm", asked.seen_to_rpm);
+  writer.SetAttribute(g, "orbit_rpm", asked.orbit_rpm);
+  writer.SetAttribute(g, "route", asked.route ? 1.0 : 0.0);
+  writer.SetAttribute(g, "tries", asked.tries);
+  writer.SetAttribute(g, "converged", l2.start.converged ? 1.0 : 0.0);
+  writer.SetAttribute(g, "start_message", l2.start.message);
+  writer.SetAttribute(g, "skeleton", asked.skeleton);
+  for (std::size_t d = 0; d < l2.family.doublings.size(); ++d) {
+    const OrbitPeriodDoubling& doubling = l2.family.doublings[d];
+    const std::string pd = fmt::format("{}_pd{}", name, d + 1);
+    if (doubling.ok) {
+      WritePeriodicOrbitBranch(writer, pd, doubling.branch, speed, root);
+    } else {
+      writer.CreateGroup(root + "/" + pd);
+    }
+    const SpecialPoint& at = l2.family.orbits.branch.special_points[doubling.special_point];
+    writer.SetAttribute(root + "/" + pd, "doubling_rpm", RadPerSecondToRpm(at.lambda));
+    writer.SetAttribute(root + "/" + pd, "period_doubling_multiplier", doubling.multiplier);
+    writer.SetAttribute(root + "/" + pd, "start_message", doubling.message);
+  }
+}
+
 // "50.74 … 50.96" or "below 177.9": an interval with NaN ends said as one-sided.
 std::string Interval(double lower, double upper) {
   if (std::isnan(lower) && std::isnan(upper)) return "–";
@@ -197,6 +237,7 @@ void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& str
   writer.CreateGroup(g + "/runs");
   WriteRun(writer, g + "/runs/up", structure, result.up);
   WriteRun(writer, g + "/runs/down", structure, result.down);
+  for (std::size_t k = 0; k < result.orbits.size(); ++k) WriteOrbits(writer, g + "/orbits", k, result.orbits[k]);
   writer.CreateGroup(g + "/escapes");
   for (std::size_t k = 0; k < result.escape_designs.size(); ++k) {
     WriteEscapes(writer, fmt::format("{}/escapes/{}", g, k), result.escape_designs[k]);

@@ -20,6 +20,16 @@
 //                         integrated), regime_<c>, precession_hz_<c>, contact_fraction_<c>,
 //                         settled (1/0); attrs end (where the run ends), message, cpu_seconds;
 //                         skips/{from_rpm, to_rpm, branch, limit} (the stretches L1 decided)
+//     orbits/<k>          L2's question k (a corner's `orbits` index; the evidence "orbits/<k>/…"):
+//                         the family of the orbit found (apps/orbit_output.h's layout: speed_rpm,
+//                         precession_hz, stable, multipliers, special_points/…; only attributes when
+//                         no orbit converged), attrs direction, seen_from_rpm, seen_to_rpm, orbit_rpm
+//                         (where the orbit was shot from: the departure, or the route's state), route
+//                         (1: the departure is no orbit, the route's), tries (the route's starts),
+//                         converged, start_message, skeleton (where the stable state the run rides ends)
+//     orbits/<k>_pd1      the doubled family (period 2T) from the period doubling the run meets on
+//                         orbits/<k>, same layout; attrs doubling_rpm, period_doubling_multiplier,
+//                         start_message
 //     escapes/<k>         the escape design of corner k's jump (sweeps/escape_design.h): attrs
 //                         direction, seen_from_rpm, seen_to_rpm, target, status, message,
 //                         median_rpm, low_rpm, high_rpm (5 / 50 / 95 % of the leave speed),

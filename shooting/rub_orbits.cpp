@@ -295,4 +295,22 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
   return result;
 }
 
+OrbitPeriodDoubling ContinueTransientDoubling(const RubStructure& structure,
+                                              const RubTransientOrbits& orbits,
+                                              std::size_t special_point,
+                                              PeriodicOrbitBranchOptions options) {
+  RequireBalanced("ContinueTransientDoubling", structure);
+  if (!orbits.start.converged) {
+    throw std::invalid_argument(
+        "ContinueTransientDoubling: the start did not converge: there is no family to double");
+  }
+  const PeriodicOrbitBranch& family = orbits.family.orbits;
+  RubRotatingFrame frame(structure, orbits.start.frame_rate, family.start_lambda);
+  options.shooting = family.shooting;
+  options.measures = FamilyMeasures(frame, family.shooting, 2);
+  options.test_functions = RubGrazingTests(structure);
+  return ContinueOrbitsFromPeriodDoubling(frame, family, special_point, options, 1e-3,
+                                          options.on_step);
+}
+
 }  // namespace rubcont

@@ -121,4 +121,15 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
                                            int family_max_steps,
                                            bool switch_at_branch_points = false);
 
+// The period-doubled orbits born at the period doubling `special_point` of `orbits.family.orbits`
+// (a family ContinueTransientOrbits found from a converged start), continued with `options`' range,
+// continuation (max_steps), stop_at_grazing and on_step; the shooting, measures (for two laps) and
+// grazing tests are the family's, as ContinueModulatedOrbits' doubled families have them (the
+// `loop` command's L2, which follows only the doubling its run meets). Throws
+// std::invalid_argument when the start did not converge, and as ContinueOrbitsFromPeriodDoubling.
+OrbitPeriodDoubling ContinueTransientDoubling(const RubStructure& structure,
+                                              const RubTransientOrbits& orbits,
+                                              std::size_t special_point,
+                                              PeriodicOrbitBranchOptions options);
+
 }  // namespace rubcont

@@ -286,23 +286,6 @@ double CounterpartRpm(const std::vector<RotatingWaveBranch>& waves, const std::s
   return best;
 }
 
-// Whether a special point of an orbit family can end the state a run is on: it stops existing (a
-// fold) or being stable (period doubling, Neimark–Sacker, a branch point, a multiplier +1), or a
-// contact opens or closes (grazing: the motion changes character).
-bool EndsState(const SpecialPoint& p) {
-  switch (p.type) {
-    case SpecialPointType::kFold:
-    case SpecialPointType::kPeriodDoubling:
-    case SpecialPointType::kNeimarkSacker:
-    case SpecialPointType::kBranchPoint:
-    case SpecialPointType::kMultiplierPlusOne:
-    case SpecialPointType::kGrazing:
-      return true;
-    default:
-      return false;
-  }
-}
-
 // Whether every contact of `contacts` touched less than `barely` of the analysed time at both
 // tracked points (and touched at all at one of them: no contact at both is no reading).
 bool Flickers(const LoopRun& run, const std::vector<int>& contacts, std::size_t from, std::size_t to, double barely) {
@@ -315,6 +298,29 @@ bool Flickers(const LoopRun& run, const std::vector<int>& contacts, std::size_t 
     }
   }
   return touched;
+}
+
+// The departure state as the run was on it: the index of the first tracked speed since the run's
+// previous jump at `contacts` (a barely touching other contact flickers: case C's left) up to the
+// departure (index `from`).
+std::size_t FirstOnState(const LoopRun& run, const std::vector<int>& contacts, std::size_t from, int sign,
+                         double seen_from_rpm, double barely) {
+  std::size_t first_on = 0;
+  for (const RubSweepJump& j : run.regimes.jumps) {
+    if (sign * (seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
+    if (std::find(contacts.begin(), contacts.end(), j.contact) == contacts.end()) continue;  // another contact's
+    std::size_t j_from = 0, j_to = 0;
+    for (std::size_t k = 0; k < run.points.size(); ++k) {
+      const double rpm = RadPerSecondToRpm(run.points[k].parameter);
+      if (std::abs(rpm - j.speed_from_rpm) < 1e-9) j_from = k;
+      if (std::abs(rpm - j.speed_to_rpm) < 1e-9) j_to = k;
+    }
+    if (Flickers(run, {j.contact}, j_from, j_to, barely)) continue;  // a reading, not a state
+    for (std::size_t k = 0; k <= from; ++k) {
+      if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
+    }
+  }
+  return first_on;
 }
 
 // "2.5 %" (or "2.5 %, 3.1 %" for several contacts): the share of the time in contact at point i.
@@ -342,6 +348,185 @@ bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
 }
 
 }  // namespace
+
+// A fold ends the state's existence; a period doubling, Neimark–Sacker or branch point or a
+// multiplier +1 its stability; a grazing its character (a contact opens or closes).
+bool EndsState(const SpecialPoint& p) {
+  switch (p.type) {
+    case SpecialPointType::kFold:
+    case SpecialPointType::kPeriodDoubling:
+    case SpecialPointType::kNeimarkSacker:
+    case SpecialPointType::kBranchPoint:
+    case SpecialPointType::kMultiplierPlusOne:
+    case SpecialPointType::kGrazing:
+      return true;
+    default:
+      return false;
+  }
+}
+
+OrbitSkeletonEnd SkeletonEnd(const PeriodicOrbitBranch& family, const std::vector<OrbitPeriodDoubling>& doublings,
+                             double from, int sign, double scale, const std::string& unit) {
+  OrbitSkeletonEnd end;
+  end.lambda = end.doubling_lambda = kNaN;
+  auto at = [&](double lambda) { return fmt::format("{:.4f}{}", lambda * scale, unit.empty() ? "" : " " + unit); };
+  const Branch& b = family.branch;
+  int first = -1;
+  for (std::size_t k = 0; k < b.special_points.size(); ++k) {
+    const SpecialPoint& p = b.special_points[k];
+    if (!EndsState(p) || !(sign * (p.lambda - from) > 0.0)) continue;
+    if (first < 0 || sign * p.lambda < sign * b.special_points[static_cast<std::size_t>(first)].lambda) {
+      first = static_cast<int>(k);
+    }
+  }
+  if (first < 0) {
+    double reach = from;
+    for (const BranchPoint& q : b.points)
+      if (sign * (q.lambda - reach) > 0.0) reach = q.lambda;
+    end.route = fmt::format("no point that ends the state from {} to {}, as far as the family went ({})", at(from),
+                            at(reach), b.BriefReport());
+    return end;
+  }
+  const SpecialPoint& p = b.special_points[static_cast<std::size_t>(first)];
+  end.found = true;
+  end.lambda = p.lambda;
+  end.name = p.Name();
+  end.type = p.type;
+  end.route = fmt::format("{} at {}", p.Name(), at(p.lambda));
+  if (p.type != SpecialPointType::kPeriodDoubling) return end;
+  end.doubling_lambda = p.lambda;
+  const auto d = std::find_if(doublings.begin(), doublings.end(), [&](const OrbitPeriodDoubling& x) {
+    return x.special_point == static_cast<std::size_t>(first);
+  });
+  if (d == doublings.end()) {
+    end.route += " (its doubled orbits not followed)";
+    return end;
+  }
+  if (!d->ok) {
+    end.route += fmt::format(" (no doubled orbits: {})", d->message);
+    return end;
+  }
+  // The doubled family's stable stretch whose speeds hold the doubling (a stretch from the family's
+  // first orbit holds it too: that orbit lies a little past the doubling, by the start's amplitude).
+  const std::vector<BranchPoint>& q = d->branch.branch.points;
+  std::size_t lo = q.size(), hi = q.size();
+  double lo_lambda = kNaN, hi_lambda = kNaN;
+  for (std::size_t i = 0; i < q.size();) {
+    if (q[i].num_unstable != 0) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j + 1 < q.size() && q[j + 1].num_unstable == 0) ++j;
+    double a = q[i].lambda, c = q[i].lambda;
+    for (std::size_t k = i; k <= j; ++k) {
+      a = std::min(a, q[k].lambda);
+      c = std::max(c, q[k].lambda);
+    }
+    if (i == 0) {
+      a = std::min(a, p.lambda);
+      c = std::max(c, p.lambda);
+    }
+    if (a <= p.lambda && p.lambda <= c) {
+      lo = i;
+      hi = j;
+      lo_lambda = a;
+      hi_lambda = c;
+      break;
+    }
+    i = j + 1;
+  }
+  if (lo == q.size()) {
+    end.route += fmt::format("; the doubled orbits are unstable there ({}): the run has no periodic state to move on to",
+                             d->branch.branch.BriefReport());
+    return end;
+  }
+  std::size_t e = lo;
+  for (std::size_t i = lo; i <= hi; ++i)
+    if (sign * q[i].lambda > sign * q[e].lambda) e = i;
+  const std::vector<SpecialPoint>& dp = d->branch.branch.special_points;
+  int last = -1;
+  for (std::size_t k = 0; k < dp.size(); ++k) {
+    const Index index = dp[k].index;
+    if (!EndsState(dp[k]) || (index != static_cast<Index>(e) && index + 1 != static_cast<Index>(e))) continue;
+    if (last < 0 || std::abs(dp[k].lambda - q[e].lambda) <
+                        std::abs(dp[static_cast<std::size_t>(last)].lambda - q[e].lambda)) {
+      last = static_cast<int>(k);
+    }
+  }
+  // The stretch's other end, named by its special point where it has one (A(a)'s Neimark–Sacker point).
+  std::size_t b_end = lo;
+  for (std::size_t i = lo; i <= hi; ++i)
+    if (sign * q[i].lambda < sign * q[b_end].lambda) b_end = i;
+  std::string begins = at(sign > 0 ? lo_lambda : hi_lambda);
+  for (const SpecialPoint& x : dp) {
+    if (EndsState(x) && (x.index == static_cast<Index>(b_end) || x.index + 1 == static_cast<Index>(b_end))) {
+      begins = fmt::format("the {} at {}", x.Name(), at(x.lambda));
+    }
+  }
+  end.doubled = true;
+  end.route += fmt::format("; the doubled orbits (period 2T) stable from {}", begins);
+  if (last < 0) {
+    end.found = false;
+    end.lambda = kNaN;
+    end.name.clear();
+    end.route += fmt::format(" to {}, as far as their continuation went ({}): their end not reached",
+                             at(sign > 0 ? hi_lambda : lo_lambda), d->branch.branch.BriefReport());
+    return end;
+  }
+  end.lambda = dp[static_cast<std::size_t>(last)].lambda;
+  end.name = dp[static_cast<std::size_t>(last)].Name();
+  end.type = dp[static_cast<std::size_t>(last)].type;
+  end.route += fmt::format(" to where they end: {} at {}", end.name, at(end.lambda));
+  return end;
+}
+
+
+OrbitRide RideFamily(const PeriodicOrbitBranch& family, double orbit, int sign, double far,
+                     std::vector<OrbitPeriodDoubling>& doublings, const DoublingFollower& follow, double scale,
+                     const std::string& unit) {
+  OrbitRide ride;
+  ride.from = kNaN;
+  const Branch& b = family.branch;
+  for (const BranchPoint& q : b.points) {
+    if (q.num_unstable == 0 && sign * (q.lambda - orbit) <= 1e-9 * std::abs(orbit) &&
+        (std::isnan(ride.from) || sign * (q.lambda - ride.from) > 0.0)) {
+      ride.from = q.lambda;
+    }
+  }
+  if (std::isnan(ride.from)) {
+    ride.end.lambda = ride.end.doubling_lambda = kNaN;
+    ride.text = "no stable orbit of the family at or before the orbit found: the run was not on it";
+    return ride;
+  }
+  ride.rides = true;
+  ride.end = SkeletonEnd(family, doublings, ride.from, sign, scale, unit);
+  if (ride.end.found && ride.end.type == SpecialPointType::kPeriodDoubling && !ride.end.doubled) {
+    for (std::size_t k = 0; k < b.special_points.size(); ++k) {
+      const SpecialPoint& p = b.special_points[k];
+      const bool followed = std::any_of(doublings.begin(), doublings.end(),
+                                        [k](const OrbitPeriodDoubling& d) { return d.special_point == k; });
+      if (p.type != SpecialPointType::kPeriodDoubling || p.lambda != ride.end.lambda || followed) continue;
+      // Why not, where not (B(b)'s at 148.07 rpm: a multiplier jumping from 0.97 to 2.7 between two
+      // orbits where a contact grazes, located only to a bracket).
+      std::string why;
+      if (!p.converged) why = "located only to a bracket";
+      else if (!BoundsStablePiece(b, p)) why = "the family is not stable on exactly one side of it";
+      else if (!(sign * (p.lambda - far) <= 0.0)) why = "past the landing";
+      else if (!follow) why = "no budget left, or doubled_steps = 0";
+      if (why.empty()) {
+        doublings.push_back(follow(k));
+        ride.end = SkeletonEnd(family, doublings, ride.from, sign, scale, unit);
+      } else if (!ride.end.route.empty() && ride.end.route.back() == ')') {
+        ride.end.route.insert(ride.end.route.size() - 1, ": " + why);  // "(its doubled orbits not followed: …)"
+      }
+      break;
+    }
+  }
+  ride.text = fmt::format("the run rides the family from {:.4f}{}: {}", ride.from * scale,
+                          unit.empty() ? "" : " " + unit, ride.end.route);
+  return ride;
+}
 
 const char* ToString(LoopStatus status) {
   switch (status) {
@@ -373,6 +558,8 @@ void Validate(const LoopOptions& o) {
   }
   if (!(o.budget > 0.0) || !std::isfinite(o.budget)) fail("budget", o.budget, "must be positive (CPU seconds)");
   if (o.orbit_steps < 1) fail("orbit_steps", o.orbit_steps, "must be at least 1");
+  if (o.route_tries < 0) fail("route_tries", o.route_tries, "must be non-negative (0: no route)");
+  if (o.doubled_steps < 0) fail("doubled_steps", o.doubled_steps, "must be non-negative (0: not followed)");
   if (!(o.min_escape_budget >= 0.0)) fail("min_escape_budget", o.min_escape_budget, "must be non-negative");
   if (!(o.barely_touching > 0.0 && o.barely_touching <= 1.0)) fail("barely_touching", o.barely_touching, "must be in (0, 1]");
   if (o.orbits) Validate(o.orbit_start);
@@ -498,6 +685,50 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     }
   }
 
+  // L2's families: over a jump (lo … hi rpm) and from an orbit at orbit_rpm, in the run's direction.
+  auto family_over = [&](double orbit_rpm, int sign, double lo, double hi) {
+    PeriodicOrbitBranchOptions family = options.orbit_family;
+    family.lambda_min = RpmToRadPerSecond(std::max(std::min(lo, orbit_rpm - options.step_rpm), 1e-3));
+    family.lambda_max = RpmToRadPerSecond(std::max(hi, orbit_rpm + options.step_rpm));
+    family.direction = sign;
+    family.on_step = [&](const Branch&) { return spent() < options.budget; };
+    return family;
+  };
+  // The skeleton along the family L2 found (asked.orbits, converged): RideFamily, the doubled family
+  // followed to past the landing and as far back as the escape design reaches (a subcritical
+  // doubling's orbits run back first: A(a)'s to a fold 7.3 rpm below it).
+  auto ride_family = [&](LoopOrbits& asked, int sign, double lo, double hi) {
+    const RubTransientOrbits& family = asked.orbits;
+    const auto follow = [&](std::size_t k) {
+      const double at = family.family.orbits.branch.special_points[k].lambda;
+      PeriodicOrbitBranchOptions doubled = family_over(asked.orbit_rpm, sign, lo, hi);
+      const double back = RpmToRadPerSecond(options.escape_reach_rpm);
+      doubled.lambda_min = std::max(RpmToRadPerSecond(1e-3), std::min(doubled.lambda_min, at - back));
+      doubled.lambda_max = std::max(doubled.lambda_max, at + back);
+      doubled.continuation.bounds.max_steps = options.doubled_steps;
+      doubled.stop_at_grazing = true;
+      const double t0 = spent();
+      OrbitPeriodDoubling d = ContinueTransientDoubling(balanced, family, k, doubled);
+      note(fmt::format("  L2: the doubled family from the period doubling at {:.4f} rpm: {} ({:.1f} s CPU)",
+                       RadPerSecondToRpm(at), d.ok ? d.branch.branch.BriefReport() : d.message, spent() - t0));
+      return d;
+    };
+    const bool may_follow = options.doubled_steps > 0 && spent() < options.budget;
+    const OrbitRide ride = RideFamily(asked.orbits.family.orbits, RpmToRadPerSecond(asked.orbit_rpm), sign,
+                                      RpmToRadPerSecond(sign > 0 ? hi : lo), asked.orbits.family.doublings,
+                                      may_follow ? DoublingFollower(follow) : DoublingFollower(), kRpmPerRadPerSecond,
+                                      "rpm");
+    asked.skeleton = ride.text;
+    note("  L2 skeleton: " + asked.skeleton);
+    return ride;
+  };
+  struct PendingRoute {
+    std::size_t corner;
+    std::size_t from;      // the departure's index in its run
+    std::size_t first_on;  // the run's first index on the whip
+  };
+  std::vector<PendingRoute> routes;
+
   // L3 for the corners L1 leaves open: principal ones first.
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < result.corners.size(); ++i)
@@ -559,59 +790,84 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       note(fmt::format("budget: {} left undecided ({:.1f} s of {:g} s CPU spent)", what, spent(), options.budget));
       continue;
     }
+    const std::size_t first_on = FirstOnState(run, contacts, from, sign, c.seen_from_rpm, options.barely_touching);
     // L2: is the departure a relative periodic orbit, and does its family end between the speeds?
+    // Where it is none (a chaotic whip), the route: the latest state of the run on its way that is
+    // one. Along the family, the period doubling the run meets is followed into the doubled family
+    // (studies/loop.h, L2).
     const double frame_hz = run.regimes.precession_hz[0][from];
     if (options.orbits && balanced.imbalance == 0.0 && structure.imbalance == 0.0 && std::isfinite(frame_hz) &&
         frame_hz > 0.0) {
       const double before_l2 = spent();
-      PeriodicOrbitBranchOptions family = options.orbit_family;
       const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
       const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
-      family.lambda_min = RpmToRadPerSecond(std::max(lo, 1e-3));
-      family.lambda_max = RpmToRadPerSecond(hi);
-      family.direction = sign;
-      family.on_step = [&](const Branch&) { return spent() < options.budget; };
       note(fmt::format("L2 for {}: {}; its departure at {:g} rpm as a relative periodic orbit (frame {:.2f} Hz)", what,
                        c.note, c.seen_from_rpm, frame_hz));
       LoopOrbits asked;
       asked.direction = c.direction;
       asked.seen_from_rpm = c.seen_from_rpm;
       asked.seen_to_rpm = c.seen_to_rpm;
+      asked.orbit_rpm = c.seen_from_rpm;
       asked.orbits = ContinueTransientOrbits(balanced, RpmToRadPerSecond(c.seen_from_rpm), HzToRadPerSecond(frame_hz),
-                                             run.states[from], options.orbit_start, family, options.orbit_steps);
-      const RubTransientOrbits& l2 = asked.orbits;
-      c.orbits = static_cast<int>(result.orbits.size());
+                                             run.states[from], options.orbit_start,
+                                             family_over(c.seen_from_rpm, sign, lo, hi), options.orbit_steps);
+      if (!asked.orbits.start.converged) note(fmt::format("  L2: no orbit: {}", asked.orbits.start.message));
+      // The route to a whip's end that is no orbit explains, it never decides: asked after every
+      // corner is decided, with what is left of the budget (below).
+      if (!asked.orbits.start.converged && c.kind == "whip_to_whirl" && options.route_tries > 0) {
+        routes.push_back(PendingRoute{i, from, first_on});
+      }
+      RubTransientOrbits& l2 = asked.orbits;
+      const int index = static_cast<int>(result.orbits.size());
+      c.orbits = index;
+      const OrbitRide ride = l2.start.converged ? ride_family(asked, sign, lo, hi) : OrbitRide();
+      const OrbitSkeletonEnd& skeleton = ride.end;
       result.orbits.push_back(asked);
       c.cpu_seconds += spent() - before_l2;
+      const std::string pd_evidence = fmt::format("orbits/{}_pd1/special_points", index);
       if (!l2.start.converged) {
         c.note += fmt::format("; L2: no relative periodic orbit from the state at {:g} rpm ({})", c.seen_from_rpm,
                               l2.start.message);
-        note(fmt::format("  L2: no orbit: {}", l2.start.message));
       } else {
         const Branch& b = l2.family.orbits.branch;
         const bool stable = !b.points.empty() && b.points.front().num_unstable == 0;
+        const std::string orbit = fmt::format("a{} relative periodic orbit (modulation {:.3g} Hz)",
+                                              stable ? " stable" : "n unstable", 1.0 / l2.start.period);
+        const double end_rpm = RadPerSecondToRpm(skeleton.lambda);
+        if (skeleton.found && skeleton.doubled && end_rpm >= lo - 1e-9 && end_rpm <= hi + 1e-9) {
+          // The run moved on to the doubled orbits at the doubling and left them where they end.
+          c.level = "L2";
+          c.cause = CauseOf(skeleton.name, structure) + " of the period-doubled state";
+          c.speed_rpm = c.lower_rpm = c.upper_rpm = end_rpm;
+          c.interval = "the point itself (L2: located on the doubled family; the regularization not varied)";
+          c.evidence = pd_evidence;
+          c.note = fmt::format("the departure at {:g} rpm is {}; {}; the run jumped {:g} → {:g} rpm", c.seen_from_rpm,
+                               orbit, asked.skeleton, c.seen_from_rpm, c.seen_to_rpm);
+          note(fmt::format("  L2: {} of the doubled family at {:.4f} rpm", skeleton.name, c.speed_rpm));
+          continue;
+        }
         int found = -1;
         for (std::size_t k = 0; k < b.special_points.size() && found < 0; ++k) {
           const SpecialPoint& p = b.special_points[k];
           const double rpm = RadPerSecondToRpm(p.lambda);
           if (EndsState(p) && rpm >= lo - 1e-9 && rpm <= hi + 1e-9) found = static_cast<int>(k);
         }
-        const std::string orbit = fmt::format("a{} relative periodic orbit (modulation {:.3g} Hz)",
-                                              stable ? " stable" : "n unstable", 1.0 / l2.start.period);
+        const std::string ride = asked.skeleton.empty() ? "" : "; " + asked.skeleton;
         if (found >= 0) {
           const SpecialPoint& p = b.special_points[static_cast<std::size_t>(found)];
           c.level = "L2";
           c.cause = CauseOf(p.Name(), structure) + " of the modulated state";
           c.speed_rpm = c.lower_rpm = c.upper_rpm = RadPerSecondToRpm(p.lambda);
           c.interval = "the point itself (L2: located on the family; the regularization not varied)";
-          c.evidence = fmt::format("orbits/{}/special_points", c.orbits);
+          c.evidence = fmt::format("orbits/{}/special_points", index);
           c.note = fmt::format("the departure at {:g} rpm is {}; its family ends or changes there ({}); the run jumped "
-                               "{:g} → {:g} rpm", c.seen_from_rpm, orbit, p.Name(), c.seen_from_rpm, c.seen_to_rpm);
+                               "{:g} → {:g} rpm{}", c.seen_from_rpm, orbit, p.Name(), c.seen_from_rpm, c.seen_to_rpm,
+                               ride);
           note(fmt::format("  L2: {} at {:.4f} rpm", p.Name(), c.speed_rpm));
           continue;
         }
         c.note += fmt::format("; L2: the departure is {}, and its family ({}) has no special point between {:g} and "
-                              "{:g} rpm", orbit, b.BriefReport(), lo, hi);
+                              "{:g} rpm{}", orbit, b.BriefReport(), lo, hi, ride);
         note(fmt::format("  L2: {}; no special point in the jump", orbit));
         if (stable) {
           // A stable orbit that goes on past the jump: the run did not leave it by chance.
@@ -651,23 +907,6 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     } else {
       target.contacts = ArrivalContacts::kOne;
       target.contact = contacts.front();
-    }
-    // The departure state as the run was on it: the tracked speeds since the run's previous jump at
-    // these contacts (a barely touching other contact flickers: case C's left) up to the departure.
-    std::size_t first_on = 0;
-    for (const RubSweepJump& j : run.regimes.jumps) {
-      if (sign * (c.seen_from_rpm - j.speed_to_rpm) < -1e-9) continue;  // at or after this one
-      if (std::find(contacts.begin(), contacts.end(), j.contact) == contacts.end()) continue;  // another contact's
-      std::size_t j_from = 0, j_to = 0;
-      for (std::size_t k = 0; k < run.points.size(); ++k) {
-        const double rpm = RadPerSecondToRpm(run.points[k].parameter);
-        if (std::abs(rpm - j.speed_from_rpm) < 1e-9) j_from = k;
-        if (std::abs(rpm - j.speed_to_rpm) < 1e-9) j_to = k;
-      }
-      if (Flickers(run, {j.contact}, j_from, j_to, options.barely_touching)) continue;  // a reading, not a state
-      for (std::size_t k = 0; k <= from; ++k) {
-        if (std::abs(RadPerSecondToRpm(run.points[k].parameter) - j.speed_to_rpm) < 1e-9) first_on = std::max(first_on, k);
-      }
     }
     const double first_on_rpm = RadPerSecondToRpm(run.points[first_on].parameter);
     // The candidates: the schedule from escape_reach_rpm before the departure (not before the run
@@ -800,6 +1039,79 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     } else {
       c.note += fmt::format("; L3: {}", d.BriefReport());
     }
+  }
+
+  // The routes of whip ends that are no orbit: the latest state of the run on the whip that is one,
+  // by bisection over its settled states with steady contacts (a route into chaos passes periodic
+  // states first), the latest first; then its family and doubled family (studies/loop.h, L2).
+  for (const PendingRoute& r : routes) {
+    LoopCorner& c = result.corners[r.corner];
+    LoopOrbits& asked = result.orbits[static_cast<std::size_t>(c.orbits)];
+    const LoopRun& run = c.direction == "up" ? result.up : result.down;
+    const int sign = Sign(run.direction);
+    const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
+    const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
+    const double before = spent();
+    if (spent() >= options.budget) {
+      c.note += "; L2's route to the whip's end not asked: the budget was spent deciding the corners";
+      continue;
+    }
+    note(fmt::format("L2 route for {} {} {:g} → {:g} rpm ({}): the latest periodic state on the whip", c.direction,
+                     c.kind, c.seen_from_rpm, c.seen_to_rpm, c.contact));
+    std::vector<std::size_t> states;
+    for (std::size_t k = r.first_on; k < r.from; ++k) {
+      const double hz = run.regimes.precession_hz[0][k];
+      if (std::isfinite(hz) && hz > 0.0 && SteadyContacts(structure, run.points[k], 1.0 - options.barely_touching)) {
+        states.push_back(k);
+      }
+    }
+    int below = -1, above = static_cast<int>(states.size());  // an orbit at `below`, none from `above` on
+    for (int tries = 0; tries < options.route_tries && above - below > 1 && spent() < options.budget; ++tries) {
+      const int mid = tries == 0 ? above - 1 : (below + above) / 2;
+      const std::size_t k = states[static_cast<std::size_t>(mid)];
+      const double t0 = spent();
+      const ModulatedOrbit o = SolveModulatedOrbit(balanced, run.points[k].parameter,
+                                                   HzToRadPerSecond(run.regimes.precession_hz[0][k]), run.states[k],
+                                                   options.orbit_start);
+      const std::string tried = fmt::format("{:g} rpm {} ({:.1f} s CPU)", RadPerSecondToRpm(run.points[k].parameter),
+                                            o.converged ? fmt::format("an orbit of modulation {:.4g} Hz", 1.0 / o.period)
+                                                        : "no orbit",
+                                            spent() - t0);
+      note("  L2 route: " + tried + (o.converged ? "" : ": " + o.message));
+      asked.tries += (asked.tries.empty() ? "" : "; ") + tried;
+      (o.converged ? below : above) = mid;
+    }
+    if (states.empty()) note("  L2 route: no settled state with steady contacts on the whip");
+    if (below >= 0 && spent() < options.budget) {
+      // The family from the latest orbit (its start solved again from the run's state: one more
+      // Newton, a few seconds).
+      const std::size_t k = states[static_cast<std::size_t>(below)];
+      const double orbit_rpm = RadPerSecondToRpm(run.points[k].parameter);
+      RubTransientOrbits route = ContinueTransientOrbits(
+          balanced, run.points[k].parameter, HzToRadPerSecond(run.regimes.precession_hz[0][k]), run.states[k],
+          options.orbit_start, family_over(orbit_rpm, sign, lo, hi), options.orbit_steps);
+      if (route.start.converged) {
+        asked.route = true;
+        asked.orbit_rpm = orbit_rpm;
+        asked.orbits = std::move(route);
+      }
+    }
+    if (asked.route) {
+      const OrbitSkeletonEnd end = ride_family(asked, sign, lo, hi).end;
+      const bool early = end.found && sign * (RadPerSecondToRpm(end.lambda) - c.seen_from_rpm) < 0.0;
+      c.note += fmt::format("; L2's route (asked after every corner was decided): the state at {:g} rpm is a relative "
+                            "periodic orbit (tries: {}), {}{}",
+                            asked.orbit_rpm, asked.tries, asked.skeleton,
+                            early ? fmt::format(", {:.2f} rpm before the jump: the state the run leaves is no periodic "
+                                                "orbit",
+                                                std::abs(RadPerSecondToRpm(end.lambda) - c.seen_from_rpm))
+                                  : "");
+    } else {
+      c.note += fmt::format("; L2's route (asked after every corner was decided): no periodic state on the way to "
+                            "the whip's end ({})",
+                            asked.tries.empty() ? "no settled state with steady contacts on the whip" : asked.tries);
+    }
+    c.cpu_seconds += spent() - before;
   }
 
   // The status.

@@ -22,6 +22,28 @@
 //      from the departure towards the landing, end or lose stability in between — a fold, a
 //      period doubling, a Neimark–Sacker point, a branch point, a contact lifting off or touching
 //      down? Then that point is the cause, at level L2.
+//      The skeleton. A run on a stable orbit family rides it to the first point that ends its state
+//      (RideFamily, SkeletonEnd). At a period doubling that bounds a stable piece the run does not
+//      jump if the doubled orbits are stable there: it moves on to them (supercritical: the doubled
+//      family is stable from the doubling on; subcritical, as A(a)'s whip at 128.35 rpm: the
+//      doubled orbits born there are unstable, turn at a fold and gain stability at a
+//      Neimark–Sacker point, and their stable stretch holds the doubling's speed), and rides them to
+//      where that stretch ends — their own grazing (a contact lifting off), fold, further doubling
+//      or Neimark–Sacker point. So L2 follows the doubled family from the doubling the run meets
+//      (ContinueTransientDoubling, at most doubled_steps steps, ending at its first grazing: past
+//      it a fixed mesh only creeps) and reports that end as the cause when it lies in the jump
+//      ("grazing of the period-doubled state"); a doubling whose doubled orbits are unstable
+//      there is itself the cause, as before. A further doubling on the doubled family is named as
+//      the end, not followed (a cascade is for [analysis.orbits], not the loop's budget).
+//      The route. A whip's end whose departure is no orbit (a chaotic whip: A(a) at 180 rpm) was
+//      not left at an orbit's end, but the way into it is the skeleton too: L2 looks for the
+//      latest state of the run on the whip that is a relative periodic orbit (bisection over its
+//      settled states with steady contacts, at most route_tries starts: a route into chaos
+//      passes periodic states first), rides that orbit's family and its doubled family as above,
+//      and names where the stable periodic whip ends ("…, 42.4 rpm before the jump: the state the
+//      run leaves is no periodic orbit"). The jump stays L3's. The route explains and never
+//      decides, so it is asked after every corner is decided, with what is left of the budget: the
+//      default scene's loop at 120 s, route first, had no budget left for its whip end's L3.
 //  L3  When L2 has no orbit (the state is no periodic motion) or its family passes the jump
 //      unchanged, L3. When the run leaves its state
 //      by chance — a chaotic whip past a crisis, whose lifetime falls with speed — the speed at
@@ -83,6 +105,17 @@ struct LoopOptions {
   ModulatedOrbitOptions orbit_start;
   PeriodicOrbitBranchOptions orbit_family;
   int orbit_steps = 30;
+  // L2's route to a departure that is no orbit (a chaotic whip): the latest of the run's states on
+  // the departure's regime that is one, by bisection over its settled states with steady contacts
+  // (SolveModulatedOrbit from each), with at most route_tries starts (≥ 0; 0: no route). A(a)'s
+  // run-up: 48 such states from 52 to 146 rpm; 6 starts found the latest orbit (128 rpm) in 35 s.
+  int route_tries = 6;
+  // The doubled family from the period doubling the run meets on the L2 family (one that bounds a
+  // stable piece), with at most doubled_steps continuation steps (≥ 0; 0: not followed) and ending
+  // at its first grazing. A(a)'s doubled whip from its doubling (128.36 rpm) down to its fold
+  // (121.0) and up to its grazing (137.6) took 120 steps on the loop's 400 intervals (237.5 s of
+  // CPU), 112 on 1600 with the curved predictor (results/thesis_A_a_whip_doubling).
+  int doubled_steps = 200;
   double budget = 300.0;  // [CPU s] > 0 for the whole loop
   // An escape design is not started with less of the budget left [CPU s] ≥ 0: its first batch
   // (3 ensembles of 8 copies × 2 s) costs 20–50 s in an impacting whip (A(a), B(b)).
@@ -156,8 +189,58 @@ struct LoopOrbits {
   std::string direction;
   double seen_from_rpm = 0.0;
   double seen_to_rpm = 0.0;
-  RubTransientOrbits orbits;  // start (converged or why not) and its family
+  // Where the orbit was shot from: the departure, or the state the route found (its speed [rpm]).
+  double orbit_rpm = 0.0;
+  bool route = false;  // the departure is no orbit: orbit_rpm is the route's
+  std::string tries;   // the route's starts and their outcomes, in order ("" without a route)
+  // The start (converged or why not), its family (orbits.family.orbits: period 1) and, beside it,
+  // the doubled family from the period doubling the run meets on it (orbits.family.doublings: none
+  // or one, ContinueTransientDoubling).
+  RubTransientOrbits orbits;
+  // The stable state's end the run meets along them (SkeletonEnd), in words with its numbers.
+  std::string skeleton;
 };
+
+// Where the stable state a run rides on an orbit family ends, going `sign` (+1: up in λ) from
+// λ = `from` (a stable orbit of `family`): at the first special point past `from` that ends a state
+// (a fold, period doubling, Neimark–Sacker or branch point, a multiplier +1, a grazing). At a
+// period doubling the run moves on to the doubled orbits where they are stable there: the doubled
+// family followed from that point (an element of `doublings` whose special_point is it) has a
+// stable stretch whose speeds hold the doubling — supercritical, the stretch that starts at it;
+// subcritical, the stretch past the doubled orbits' fold and Neimark–Sacker point, as A(a)'s —
+// and the state ends where that stretch ends in the run's direction (the special point there). A
+// doubling whose doubled orbits are unstable there (or not followed) is itself the end: the run
+// jumps.
+struct OrbitSkeletonEnd {
+  bool found = false;   // false: the families as computed end before any such point
+  double lambda = 0.0;  // of the end (NaN when not found)
+  std::string name;     // SpecialPoint::Name() of the end
+  SpecialPointType type = SpecialPointType::kFold;  // and its type
+  bool doubled = false;  // the end lies on the doubled family
+  double doubling_lambda = 0.0;  // the period doubling passed on the way (NaN if none)
+  std::string route;     // the way in words, λ in `unit` (e.g. "period doubling at 128.32, ...")
+};
+// `scale` converts λ to the unit the route is written in (rpm per rad/s for the loop), `unit` names it.
+OrbitSkeletonEnd SkeletonEnd(const PeriodicOrbitBranch& family, const std::vector<OrbitPeriodDoubling>& doublings,
+                             double from, int sign, double scale = 1.0, const std::string& unit = "");
+// The stable state a run rides on `family` from its orbit at λ = `orbit` — or, where that orbit is
+// unstable, from the family's last stable orbit before it (the run left the family there) — to its
+// end (SkeletonEnd). Where that end is a period doubling that bounds a stable piece of the family,
+// lies before `far` in the run's direction and has no doubled family in `doublings` yet, `follow`
+// (when set) continues the doubled family from it (the family's special point index), appended to
+// `doublings`, and the end is sought along it.
+using DoublingFollower = std::function<OrbitPeriodDoubling(std::size_t special_point)>;
+struct OrbitRide {
+  bool rides = false;   // the family has a stable orbit at or before `orbit`
+  double from = 0.0;    // where the ride starts (NaN when it does not)
+  OrbitSkeletonEnd end;
+  std::string text;     // "the run rides the family from 125.6 rpm: period doubling at …"
+};
+OrbitRide RideFamily(const PeriodicOrbitBranch& family, double orbit, int sign, double far,
+                     std::vector<OrbitPeriodDoubling>& doublings, const DoublingFollower& follow,
+                     double scale = 1.0, const std::string& unit = "");
+// Whether a special point ends the state a run is on (the kinds SkeletonEnd stops at).
+bool EndsState(const SpecialPoint& p);
 
 struct LoopEscapeDesign {
   std::string direction;

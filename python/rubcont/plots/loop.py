@@ -9,7 +9,12 @@ speed, the backward precession (BP) at each contact:
     line along each wave the run was moved on by L1 (its stable stretch), and an arrow for each jump;
   - every corner numbered at its speed, its interval as a bar (the regularization's for L1, the
     5–95 % of the speed a run of the schedule leaves at for L3, with the crisis's p_c beside it);
-  - the corners listed in a box: run, jump, speed and interval, cause, level.
+  - the corners listed in a box: run, jump, speed and interval, cause, level;
+  - L2's orbit families (/loop/orbits: the modulated state's family, period T, green; the doubled
+    family from the period doubling the run meets on it, period 2T, brown), stable solid and
+    unstable dashed: their carrier precession on the page, and below it, on the same speed axis,
+    their modulation frequency with the special points that end a state (period doubling, fold,
+    Neimark–Sacker, branch point, grazing) marked and named.
 One page when both contacts show the same loop. From Python: ``figure(f)`` returns the Figure.
 """
 import os
@@ -42,6 +47,69 @@ def pieces(ax, x, y, stable, touching, color, lw):
             if touching[start]:
                 ax.plot(x[start:end], y[start:end], color=color, lw=lw, ls="-" if stable[start] else "--")
             start = i
+
+
+ORBIT_COLOR = {False: "tab:green", True: "tab:brown"}
+ORBIT_WORDS = {False: "modulated state, period T (L2)", True: "its doubled orbits, period 2T (L2)"}
+# The special points that end a state (studies/loop.h, EndsState), as marked on the families.
+ENDS_STATE = {"fold": "fold", "period doubling": "PD", "Neimark-Sacker": "NS", "branch point": "BP",
+              "multiplier +1": "+1", "grazing": "grazing"}
+
+
+def has_families(loop):
+    return "orbits" in loop and any("speed_rpm" in loop["orbits"][n] for n in loop["orbits"])
+
+
+def orbit_families(ax, loop, quantity="precession_hz", marks=True):
+    """L2's families: period T and the doubled ones, `quantity` against speed, stable solid, unstable
+    dashed; with `marks` the points that end a state marked and named. Returns the largest value drawn
+    (0 without families)."""
+    top = 0.0
+    if "orbits" not in loop:
+        return top
+    drawn = set()
+    placed = 0
+    for name in sorted(loop["orbits"], key=lambda n: (len(n), n)):
+        g = loop["orbits"][name]
+        if "speed_rpm" not in g or "precession_hz" not in g:
+            continue
+        doubled = "_pd" in name
+        color = ORBIT_COLOR[doubled]
+        x, y = g["speed_rpm"][()], g[quantity][()]
+        order = np.argsort(g["arclength"][()]) if "arclength" in g else np.arange(len(x))
+        x, y, stable = x[order], y[order], (g["stable"][()] > 0)[order]
+        pieces(ax, x, y, stable, np.ones(len(x), bool), color, 1.8)
+        if np.isfinite(y).any():
+            top = max(top, np.nanmax(y))
+        if doubled not in drawn:
+            drawn.add(doubled)
+            ax.plot([], [], color=color, lw=1.8, label=ORBIT_WORDS[doubled] + ", stable")
+            ax.plot([], [], color=color, lw=1.8, ls="--", label=ORBIT_WORDS[doubled] + ", unstable")
+        sp = g["special_points"]
+        if not marks or "type" not in sp or quantity not in sp:
+            continue
+        for k, kind in enumerate(strings(sp["type"])):
+            if kind not in ENDS_STATE:
+                continue
+            xs, ys = sp["speed_rpm"][k], sp[quantity][k]
+            ax.plot([xs], [ys], "D", color=color, mec="k", ms=5)
+            # Alternately above and below: a fold and a Neimark–Sacker point 0.07 rpm apart (A(a)).
+            ax.annotate(f"{ENDS_STATE[kind]} {xs:.2f}", (xs, ys), textcoords="offset points",
+                        xytext=(0, 8 if placed % 2 == 0 else -14), ha="center", fontsize=7, color=color)
+            placed += 1
+    return top
+
+
+def families_page(ax, loop, xlim):
+    """Below a page: L2's families against speed by their modulation frequency (the doubled orbits at
+    half the period-1 one's), with their special points."""
+    top = orbit_families(ax, loop, "modulation_hz")
+    ax.set_xlim(*xlim)
+    ax.set_ylim(0.0, 1.25 * max(top, 1.0))
+    ax.set_xlabel("running speed [rpm]")
+    ax.set_ylabel("modulation of L2's orbits [Hz]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
 
 
 def interval_text(lo, hi):
@@ -90,6 +158,7 @@ def contact_page(ax, f, contact, names, rci, corners, on_page):
             order = np.argsort(bx[inside])
             ax.plot(bx[inside][order], by[inside][order], color=color, lw=3, alpha=0.35,
                     label=f"run-{d}, moved along a stable wave (L1)" if k == 0 else None)
+    top = max(top, orbit_families(ax, loop, marks=False))
     # Corners.
     listing = []
     for n, i in enumerate(on_page, start=1):
@@ -158,12 +227,18 @@ def figure(f, fig=None):
     count = len(corners.get("direction", []))
     one = len(names) > 1 and same_loop(f, names)
     pages = names[:1] if one or len(names) == 1 else names
-    fig = new_figure(fig, figsize=(14, 8.4 * len(pages)))
-    axes = fig.subplots(len(pages), 1, squeeze=False)
-    for ax, contact in zip(axes[:, 0], pages):
+    families = has_families(f["loop"])
+    rows = 2 * len(pages) if families else len(pages)
+    fig = new_figure(fig, figsize=(14, (11.2 if families else 8.4) * len(pages)))
+    axes = fig.subplots(rows, 1, squeeze=False,
+                        gridspec_kw={"height_ratios": [3, 1] * len(pages)} if families else None)
+    for n, contact in enumerate(pages):
+        ax = axes[2 * n if families else n, 0]
         k = names.index(contact)
         on_page = [i for i in range(count) if one or contact in text(corners["contact"][i]).split(", ")]
         contact_page(ax, f, contact, names, radius[k] / clearance[k], corners, on_page)
+        if families:
+            families_page(axes[2 * n + 1, 0], f["loop"], ax.get_xlim())
     a = f["loop"].attrs
     title = (f"{text(f.attrs['scene_name']) if 'scene_name' in f.attrs else os.path.basename(f.filename)}: "
              f"the hysteresis loop of a run with {a['step_rpm']:g} rpm steps and {a['dwell_s']:g} s per speed"
