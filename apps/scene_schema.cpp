@@ -949,6 +949,7 @@ void ToriTransientKeys(std::vector<KeySpec>& s) {
       "error in the summary. 0: `harmonics` only. Its families continue with the finest K "
       "solved.",
       [](Scene& x) -> int& { return x.analysis.tori.transient.max_harmonics; }));
+  s.back().added_at_older_behaviour = true;
   s.push_back(Float("analysis.tori.transient.max_fourier_tail", "-", Rule::kOpenUnit,
                     "As analysis.tori.max_fourier_tail, for the transient's families (a torus far "
                     "from its birth is less smooth: C(a) at 49 rpm has a tail of 0.016 at K = 8).",
