@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """The lines of a sweep's spectra against the tori's (bench/tori_vs_sweep.sh).
 
-Usage: /usr/bin/python3 bench/tori_vs_sweep.py TORI.h5 SWEEP.h5
+Usage: /usr/bin/python3 bench/tori_vs_sweep.py TORI.h5 SWEEP.h5 [GROUP]
+GROUP: the torus family's group (default tori/branch1_hopf2_ns1).
 For every speed of the speed-up sweep inside the torus family's range, the tori's frequencies
 interpolated (linearly) to that speed, and the sweep's peak nearest to each of the torus's lines
-f = f_carrier - (k + l rho)/T, (l, k) in {(0, 0), (0, -1), (0, 1), (-1, 1), (1, -3)} (the carrier,
-carrier + f1, carrier - f1, carrier - f1 + f2, carrier + 3 f1 - f2), refined by a parabola through
+f = f_carrier - (k + l rho)/T, (l, k) in {(0, 0), (0, -1), (0, 1), (-1, 1), (1, -3), (-1, -2)} (the
+carrier, carrier + f1, carrier - f1, carrier - f1 + f2, carrier + 3 f1 - f2, carrier + 2 f1 + f2:
+C(c)'s right contact's strongest), refined by a parabola through
 the log magnitudes of the peak bin and its neighbours. Backward precession is positive here; the
 spectra store it at negative frequency.
 """
@@ -14,7 +16,7 @@ import sys
 import h5py
 import numpy as np
 
-LINES = [(0, 0), (0, -1), (0, 1), (-1, 1), (1, -3)]
+LINES = [(0, 0), (0, -1), (0, 1), (-1, 1), (1, -3), (-1, -2)]
 
 
 def peak_near(freq, magnitude, target, window):
@@ -30,11 +32,12 @@ def peak_near(freq, magnitude, target, window):
 
 
 def main(argv):
-    if len(argv) != 3:
+    if len(argv) not in (3, 4):
         print(__doc__, file=sys.stderr)
         return 2
+    group = argv[3] if len(argv) == 4 else "tori/branch1_hopf2_ns1"
     with h5py.File(argv[1], "r") as tori_file, h5py.File(argv[2], "r") as sweep_file:
-        t = tori_file["tori/branch1_hopf2_ns1"]
+        t = tori_file[group]
         rpm = t["speed_rpm"][()]
         order = np.argsort(rpm)
         columns = {name: t[name][()][order] for name in ("carrier_hz", "first_hz", "rotation_number")}

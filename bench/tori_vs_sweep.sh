@@ -1,20 +1,29 @@
 #!/usr/bin/env bash
-# The whip of case C(a) modulated at two frequencies, by continuation of its tori (L2) and by a
-# sweep over the same speeds (L3), in one run: CPU time (user + system) of
-#   orbits  the modulated whip from its Hopf point past its Neimark–Sacker point (stage "orbits" of
-#           scenes/thesis_C_a_tori.toml: 60 orbits, Gauss collocation);
+# A whip modulated at two frequencies, by continuation of its tori (L2) and by a sweep over the
+# same speeds (L3), in one run: CPU time (user + system), then bench/tori_vs_sweep.py compares the
+# lines the sweep's spectra show with the tori's (interpolated to each sweep speed).
+# CASE a (default): case C(a)'s tori born at a Neimark–Sacker point (scenes/thesis_C_a_tori.toml):
+#   orbits  the modulated whip from its Hopf point past its Neimark–Sacker point (stage "orbits":
+#           60 orbits, Gauss collocation);
 #   first   stage "tori" stopped after its first torus (the family above, then the torus started
 #           at the Neimark–Sacker point and one continuation step; no Lyapunov exponents);
 #   tori    stage "tori" as committed: the torus family to its end, each torus's lines and
 #           Lyapunov exponents (200 iterates);
 #   sweep   a speed-up sweep over 48.10–48.85 rpm in 0.05 rpm steps (Dormand–Prince at 1e-8, 8 s
 #           dwell, 6 s analysed: 1/6 Hz bins), the speeds the tori cover and the stable
-#           modulated whip below them;
-# then bench/tori_vs_sweep.py compares the lines the sweep's spectra show with the tori's
-# (interpolated to each sweep speed). Usage, from the repository root:
+#           modulated whip below them.
+# CASE c: case C(c)'s whip on a contact pressed by nanometres (scenes/thesis_C_c_tori.toml: the
+# circles in the contact chart, from a BDF transient at 64 rpm):
+#   tori    stage "tori" with the range cut to 63.9–72 rpm: the transient, its torus and the family
+#           from it upwards to where the left contact lifts off (71.11 rpm), each torus's lines and
+#           Lyapunov exponents (100 iterates); downwards one step to the range's end;
+#   sweep   a speed-up sweep over 64–71 rpm in 0.5 rpm steps (as above), the speeds the tori cover.
+# Usage, from the repository root:
 #   bench/tori_vs_sweep.sh BUILD_DIR > results/bench/tori_vs_sweep.txt
+#   bench/tori_vs_sweep.sh BUILD_DIR c > results/bench/tori_vs_sweep_C_c.txt
 set -euo pipefail
-build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR}
+build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR [a|c]}
+case_letter=${2:-a}
 rubcont="$build/rubcont"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -22,22 +31,17 @@ trap 'rm -rf "$work"' EXIT
 # CPU seconds (user + system) of a command, its output discarded.
 cpu() { /usr/bin/time -f "%U %S" "$@" 2>&1 >/dev/null | tail -1 | awk '{ print $1 + $2 }'; }
 
-scene=scenes/thesis_C_a_tori.toml
-body=$(sed '/^\[analysis\]/,$d' "$scene")
-analysis=$(sed -n '/^\[analysis\]/,$p' "$scene")
-printf '%s\n%s\n' "$body" "$(sed 's/^stages = .*/stages = ["orbits"]/' <<< "$analysis")" > "$work/orbits.toml"
-printf '%s\n%s\n' "$body" "$(sed -e 's/^stages = .*/stages = ["tori"]/' -e 's/^max_steps = 40/max_steps = 1/' \
-  -e 's/^lyapunov_iterates = .*/lyapunov_iterates = 1/' <<< "$analysis")" > "$work/first.toml"
-printf '%s\n%s\n' "$body" "$(sed 's/^stages = .*/stages = ["tori"]/' <<< "$analysis")" > "$work/tori.toml"
-cat > "$work/sweep.toml" <<EOF
+# The scene's structure ($body) with a speed-up sweep over [$1, $2] in $3 rpm steps, 8 s dwell.
+sweep_scene() {
+  cat > "$work/sweep.toml" <<EOF
 $body
 [analysis]
 stages = ["sweep"]
 
 [analysis.sweep]
-up_range_rpm = [48.10, 48.85]
-down_range_rpm = [48.80, 48.85]
-speed_step_rpm = 0.05
+up_range_rpm = [$1, $2]
+down_range_rpm = [$(awk "BEGIN { print $2 - $3 }"), $2]
+speed_step_rpm = $3
 dwell = 8.0
 settle_window = 2.0
 settle_windows = 2
@@ -45,19 +49,45 @@ analysis_length = 6.0
 sample_rate_hz = 2048.0
 spectrum_max_hz = 600.0
 EOF
+}
 
-echo "# bench/tori_vs_sweep.sh $build, $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores"
-orbits=$(cpu "$rubcont" run "$work/orbits.toml" --quiet --no-figures --out "$work")
-first=$(cpu "$rubcont" run "$work/first.toml" --quiet --no-figures --out "$work")
-tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
-sweep=$(cpu "$rubcont" sweep "$work/sweep.toml" --direction up --quiet --no-figures --out "$work/sweep.h5")
-tori_file="$work/tori/tori.h5"
-count=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$tori_file')['tori/branch1_hopf2_ns1/speed_rpm']))")
-speeds=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/sweep.h5')['sweeps/up/speed_rpm']))")
+case "$case_letter" in
+  a) scene=scenes/thesis_C_a_tori.toml ;;
+  c) scene=scenes/thesis_C_c_tori.toml ;;
+  *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a or c" >&2; exit 2 ;;
+esac
+body=$(sed '/^\[analysis\]/,$d' "$scene")
+analysis=$(sed -n '/^\[analysis\]/,$p' "$scene")
+echo "# bench/tori_vs_sweep.sh $build $case_letter, $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, $(git describe --always --dirty)"
 echo "CPU seconds (user + system), one run each:"
-echo "  orbits  modulated whip, 60 orbits                       $orbits s"
-echo "  first   orbits + the first torus (start and one step)   $first s  (the torus: $(awk "BEGIN { print $first - $orbits }") s)"
-echo "  tori    orbits + the torus family ($count tori, lines, Lyapunov)  $tori s  (the tori: $(awk "BEGIN { print $tori - $orbits }") s)"
-echo "  sweep   $speeds speeds, 48.10-48.85 rpm, 8 s dwell              $sweep s"
-echo "  ratio   sweep / torus family (tori - orbits)            $(awk "BEGIN { printf \"%.2f\", $sweep / ($tori - $orbits) }")"
-/usr/bin/python3 bench/tori_vs_sweep.py "$tori_file" "$work/sweep.h5"
+if [ "$case_letter" = a ]; then
+  printf '%s\n%s\n' "$body" "$(sed 's/^stages = .*/stages = ["orbits"]/' <<< "$analysis")" > "$work/orbits.toml"
+  printf '%s\n%s\n' "$body" "$(sed -e 's/^stages = .*/stages = ["tori"]/' -e 's/^max_steps = 40/max_steps = 1/' \
+    -e 's/^lyapunov_iterates = .*/lyapunov_iterates = 1/' <<< "$analysis")" > "$work/first.toml"
+  printf '%s\n%s\n' "$body" "$(sed 's/^stages = .*/stages = ["tori"]/' <<< "$analysis")" > "$work/tori.toml"
+  sweep_scene 48.10 48.85 0.05
+  orbits=$(cpu "$rubcont" run "$work/orbits.toml" --quiet --no-figures --out "$work")
+  first=$(cpu "$rubcont" run "$work/first.toml" --quiet --no-figures --out "$work")
+  tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
+  group=tori/branch1_hopf2_ns1
+else
+  printf '%s\n%s\n' "$body" "$(sed 's/^speed_range_rpm = .*/speed_range_rpm = [63.9, 72.0]/' <<< "$analysis")" > "$work/tori.toml"
+  sweep_scene 64.0 71.0 0.5
+  tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
+  group=tori/transient_up
+fi
+sweep=$(cpu "$rubcont" sweep "$work/sweep.toml" --direction up --quiet --no-figures --out "$work/sweep.h5")
+count=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/tori/tori.h5')['$group/speed_rpm']))")
+speeds=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/sweep.h5')['sweeps/up/speed_rpm']))")
+if [ "$case_letter" = a ]; then
+  echo "  orbits  modulated whip, 60 orbits                       $orbits s"
+  echo "  first   orbits + the first torus (start and one step)   $first s  (the torus: $(awk "BEGIN { print $first - $orbits }") s)"
+  echo "  tori    orbits + the torus family ($count tori, lines, Lyapunov)  $tori s  (the tori: $(awk "BEGIN { print $tori - $orbits }") s)"
+  echo "  sweep   $speeds speeds, 48.10-48.85 rpm, 8 s dwell              $sweep s"
+  echo "  ratio   sweep / torus family (tori - orbits)            $(awk "BEGIN { printf \"%.2f\", $sweep / ($tori - $orbits) }")"
+else
+  echo "  tori    transient, its torus and the family up ($count tori, lines, Lyapunov)  $tori s"
+  echo "  sweep   $speeds speeds, 64-71 rpm, 8 s dwell                     $sweep s"
+  echo "  ratio   sweep / tori                                       $(awk "BEGIN { printf \"%.2f\", $sweep / $tori }")"
+fi
+/usr/bin/python3 bench/tori_vs_sweep.py "$work/tori/tori.h5" "$work/sweep.h5" "$group"

@@ -2,11 +2,15 @@
 // (shooting/rub_tori.h, ContinueTransientTori) — the sweep's time-marching model settled at one
 // speed from rest and a 1 N·s impulse, the torus it lies on solved by BDF, and the family through
 // it continued both ways in running speed — with every torus printed and the cost of each part.
-// Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS [CASE [COORDINATES]]]]]]
+// Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS [CASE [COORDINATES
+//                              [START_COLLOCATION [MAX_HARMONICS [HALVINGS]]]]]]]]]
 // COLLOCATION_STEPS > 0: the continuation by Gauss collocation of that many steps per modulation
 // period; 0: by the start's BDF (sensitivities outside the error test). CASE: a, b or c (case
 // C(a), C(b), C(c)); COORDINATES: state or chart (the circle's, shooting/invariant_circle.h).
-// Defaults 49, 12, 16, 400, a, state.
+// START_COLLOCATION: the start's Gauss intervals per modulation period (the scene's
+// [analysis.orbits] collocation_intervals with a chart); MAX_HARMONICS: the start refined in K up
+// to it; HALVINGS: the start's Newton steps halved up to that many times where they fail.
+// Defaults 49, 12, 16, 400, a, state, the options' own.
 // STEPS = 0: the start only, and its circle's residual under other maps (BDF at tighter
 // tolerances, Gauss on finer meshes): how accurate the start's own map is.
 #include <cmath>
@@ -47,6 +51,7 @@ int Main(int argc, char** argv) {
   start.coordinates = coordinates;
   if (argc > 7) start.collocation_intervals = std::atoi(argv[7]);
   if (argc > 8) start.max_harmonics = std::atoi(argv[8]);
+  if (argc > 9) start.newton.max_step_halvings = std::atoi(argv[9]);
   if (steps == 0) {
     const ModulatedTorus torus =
         SolveModulatedTorus(structure, omega, precession, transient.state,

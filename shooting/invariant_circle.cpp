@@ -349,11 +349,11 @@ std::vector<std::string> InvariantCircleProblem::MeasureNames() const {
 }
 
 double InvariantCircleProblem::HarmonicSize(const Vector& u, int k) const {
-  return HarmonicSizeOf(Coefficients(u), k);
+  return HarmonicSizeOf(Coefficients(u), k, coordinate_scale_);
 }
 
-double InvariantCircleProblem::HarmonicSizeOf(const Matrix& coefficients, int k) const {
-  return coefficients.middleCols(2 * k - 1, 2).cwiseQuotient(coordinate_scale_.replicate(1, 2)).norm();
+double InvariantCircleProblem::HarmonicSizeOf(const Matrix& coefficients, int k, const Vector& scale) {
+  return coefficients.middleCols(2 * k - 1, 2).cwiseQuotient(scale.replicate(1, 2)).norm();
 }
 
 double InvariantCircleProblem::FourierTail(const Vector& u) const {
@@ -534,17 +534,13 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
     advance += step;
   }
   double rho = advance / kTwoPi / static_cast<double>(m - 1);
-  // The fit in given angles: coefficients and the largest scaled misfit.
-  Matrix A(m, points_), c;
-  Vector fitted_angles;
+  // The fit in given angles: coefficients in the state and the largest scaled misfit (A: the
+  // last fit's basis rows).
+  Matrix A, c;
   auto fit = [&](const Vector& angles) {
-    fitted_angles = angles;
-    for (Index k = 0; k < m; ++k) A.row(k) = Basis(angles(k)).transpose();
+    A = BasisMatrix(angles);
     c = A.colPivHouseholderQr().solve(points.transpose()).transpose();
     return ((c * A.transpose() - points).array().colwise() / scale_.array()).abs().maxCoeff();
-  };
-  auto harmonic_size = [&](int k) {
-    return c.middleCols(2 * k - 1, 2).cwiseQuotient(scale_.replicate(1, 2)).norm();
   };
   double misfit = fit(theta);
   // The map's own angles: on an invariant circle with rotation number ρ the orbit's points sit at
@@ -594,7 +590,7 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
     double multiples = 0.0, others = 0.0;
     for (int k = 1; k <= harmonics_; ++k) {
       double& largest = k % q == 0 ? multiples : others;
-      largest = std::max(largest, harmonic_size(k));
+      largest = std::max(largest, HarmonicSizeOf(c, k, scale_));
     }
     if (multiples > 0.0 && others <= kCoverRatio * multiples) {
       refine(q * rho, best_rho);
@@ -612,23 +608,26 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
         "in its principal plane",
         misfit, size));
   }
-  if (chart_) c = FitCoefficients(points, fitted_angles);
+  if (chart_) c = FitCoefficients(points, A);
   return Pack(c, rho, period, rotation);
 }
 
-Matrix InvariantCircleProblem::FitCoefficients(const Matrix& states, const Vector& angles) const {
+Matrix InvariantCircleProblem::BasisMatrix(const Vector& angles) const {
+  Matrix A(angles.size(), points_);
+  for (Index k = 0; k < angles.size(); ++k) A.row(k) = Basis(angles(k)).transpose();
+  return A;
+}
+
+Matrix InvariantCircleProblem::FitCoefficients(const Matrix& states, const Matrix& basis) const {
   const Index m = states.cols();
-  Matrix A(m, points_), values(n_, m);
-  for (Index k = 0; k < m; ++k) {
-    A.row(k) = Basis(angles(k)).transpose();
-    values.col(k) = ToCoordinates(states.col(k));
-  }
+  Matrix values(n_, m);
+  for (Index k = 0; k < m; ++k) values.col(k) = ToCoordinates(states.col(k));
   // The chart's angles unwrapped round their circular mean.
   for (const Index i : angles_) {
     const double mean = std::atan2(values.row(i).array().sin().sum(), values.row(i).array().cos().sum());
     for (Index k = 0; k < m; ++k) values(i, k) = mean + std::remainder(values(i, k) - mean, kTwoPi);
   }
-  return A.colPivHouseholderQr().solve(values.transpose()).transpose();
+  return basis.colPivHouseholderQr().solve(values.transpose()).transpose();
 }
 
 Vector InvariantCircleProblem::CircleAtRotationNumber(const Matrix& states, double rho,
@@ -640,7 +639,7 @@ Vector InvariantCircleProblem::CircleAtRotationNumber(const Matrix& states, doub
         states.rows(), m, n_, points_ + 1));
   }
   const Vector angles = Vector::LinSpaced(m, 0.0, kTwoPi * rho * static_cast<double>(m - 1));
-  return Pack(FitCoefficients(states, angles), rho, period, rotation);
+  return Pack(FitCoefficients(states, BasisMatrix(angles)), rho, period, rotation);
 }
 
 }  // namespace rubcont

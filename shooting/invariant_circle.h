@@ -198,11 +198,13 @@ class InvariantCircleProblem : public Problem {
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;
   double FourierTail(const Vector& u) const;
+  // The m × (2K + 1) matrix whose rows are the basis at m angles.
+  Matrix BasisMatrix(const Vector& angles) const;
   // Coefficients (n × (2K + 1), in the circle's coordinates) fitted by least squares to states at
-  // given angles.
-  Matrix FitCoefficients(const Matrix& states, const Vector& angles) const;
+  // the angles whose basis rows `basis` holds (BasisMatrix).
+  Matrix FitCoefficients(const Matrix& states, const Matrix& basis) const;
   // ‖(a_k, b_k) ./ scale‖ of harmonic k of an n × (2K + 1) coefficient matrix.
-  double HarmonicSizeOf(const Matrix& coefficients, int k) const;
+  static double HarmonicSizeOf(const Matrix& coefficients, int k, const Vector& scale);
   // A phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩ from directions v_j at the reference's points
   // (u_ref′(θ_j), f(u_ref(θ_j)), g(u_ref(θ_j))): w_j = v_j ./ scale² over the RMS of v ./ scale.
   Matrix PhaseWeights(const Matrix& directions) const;

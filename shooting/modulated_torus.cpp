@@ -1,5 +1,6 @@
 #include "shooting/modulated_torus.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <memory>
@@ -58,6 +59,25 @@ IntegratorOptions MapIntegrator(const ModulatedTorusOptions& options, int laps) 
   return JoinedIntegrator(gauss, laps);
 }
 
+// The flow from `state` sampled `count` times, `step` apart from t = 0.
+IntegrationResult SampleFlow(OdeSystem& system, const IntegratorOptions& options,
+                             const Vector& state, Index count, double step, Matrix& samples) {
+  OdeIntegrator integrator(system, options);
+  return integrator.Sample(0.0, state,
+                           Vector::LinSpaced(count, 0.0, static_cast<double>(count - 1) * step), samples);
+}
+
+// The orbit of P = R_{−φ} Φ_T from samples of the flow every T / stride: `count` points, the
+// k-th sample of period kT turned back by −kφ.
+Matrix MapOrbit(const OdeSystem& frame, const Matrix& samples, Index stride, Index count, double phi) {
+  Matrix points(samples.rows(), count);
+  for (Index k = 0; k < count; ++k) {
+    points.col(k) = samples.col(k * stride);
+    frame.Rotate(-static_cast<double>(k) * phi, points.col(k));
+  }
+  return points;
+}
+
 }  // namespace
 
 void Validate(const ModulatedTorusOptions& options) {
@@ -106,6 +126,9 @@ ModulatedTorusOptions SettledTransientStart(int harmonics) {
   start.approach = 4.0;
   start.search_duration = 4.0;
   start.newton.max_iterations = 30;
+  // Steps that fail halved: C(a) at 60 rpm (chart, K = 16, sections of 5 periods) met a non-finite
+  // residual after its first full step from |F| 7.1e-2; damped it converged in 5 iterations.
+  start.newton.max_step_halvings = 8;
   start.lyapunov_iterates = 0;
   return start;
 }
@@ -144,11 +167,11 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     circle = std::make_unique<InvariantCircleProblem>(frame, options.harmonics, OrbitKind::kRelative,
                                                       MapIntegrator(options, laps),
                                                       options.coordinates);
-    const Index samples_count = static_cast<Index>(iterates) * laps * kSamplesPerPeriod + 1;
-    const Vector times = Vector::LinSpaced(samples_count, 0.0, iterates * laps * period);
+    const Index stride = static_cast<Index>(laps) * kSamplesPerPeriod;
+    const Index samples_count = static_cast<Index>(iterates) * stride + 1;
     Matrix samples;
-    OdeIntegrator integrator(*frame, options.integrator);
-    const IntegrationResult sampled = integrator.Sample(0.0, search.state, times, samples);
+    const IntegrationResult sampled = SampleFlow(*frame, options.integrator, search.state, samples_count,
+                                                 period / kSamplesPerPeriod, samples);
     if (!sampled.Succeeded()) return "integrating the circle's first points failed: " + sampled.BriefReport();
     // φ̄: the least-squares slope of the unwrapped phase against time, per section. (The mean turn,
     // end minus start over the record, carries the phase's modulation over the record's length as
@@ -165,11 +188,7 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     const double phi = centred.dot(phase) / centred.squaredNorm() * laps * kSamplesPerPeriod;
     torus.laps = laps;
     torus.search_rotation = phi;
-    points.resize(samples.rows(), iterates);
-    for (int k = 0; k < iterates; ++k) {
-      points.col(k) = samples.col(static_cast<Index>(k) * laps * kSamplesPerPeriod);
-      frame->Rotate(-k * phi, points.col(k));
-    }
+    points = MapOrbit(*frame, samples, stride, iterates, phi);
     try {
       torus.u = circle->CircleFromOrbit(points, laps * period, phi);
     } catch (const std::invalid_argument& e) {
@@ -221,21 +240,19 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     const double solved_period = circle->Period(coarse, omega), phi = circle->Rotation(coarse);
     const Index count = 4 * (2 * finer->harmonics() + 1);
     Matrix samples;
-    OdeIntegrator integrator(*frame, options.integrator);
-    const IntegrationResult sampled = integrator.Sample(
-        0.0, search.state, Vector::LinSpaced(count, 0.0, static_cast<double>(count - 1) * solved_period),
-        samples);
+    const IntegrationResult sampled =
+        SampleFlow(*frame, options.integrator, search.state, count, solved_period, samples);
     if (!sampled.Succeeded()) {
       refinement = fmt::format("; not refined to K = {}: its points: {}", finer->harmonics(),
                                sampled.BriefReport());
       break;
     }
-    for (Index k = 0; k < count; ++k) frame->Rotate(-static_cast<double>(k) * phi, samples.col(k));
-    torus.u = finer->CircleAtRotationNumber(samples, circle->RotationNumber(coarse), solved_period, phi);
+    torus.u = finer->CircleAtRotationNumber(MapOrbit(*frame, samples, 1, count, phi),
+                                            circle->RotationNumber(coarse), solved_period, phi);
     // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
     // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
     NewtonOptions damped = options.newton;
-    damped.max_step_halvings = 8;
+    damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
     const NewtonResult newton = solve(*finer, damped);
     if (!newton.Converged()) {
       torus.u = coarse;

@@ -98,7 +98,7 @@ void Validate(const ModulatedTorusOptions& options);
 // The start from a settled transient of the rub, as measured on C(a) at 49 rpm
 // (docs/levels/l2_orbits_tori.md, "Tori from a settled transient"): 4 s of approach and 4 s of
 // search (with 2 s each the points were no circle: misfit 15 % of their size), up to 30 Newton
-// iterations (it took 10–19), and no Lyapunov exponents (a family's first torus has its own). The
+// iterations (it took 10–19) with failing steps halved up to 8 times, and no Lyapunov exponents (a family's first torus has its own). The
 // scene's transient, its test and bench/transient_tori_bench start so.
 ModulatedTorusOptions SettledTransientStart(int harmonics);
 
