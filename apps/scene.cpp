@@ -692,6 +692,8 @@ class Loader {
   void CheckTori(const Scene& scene) {
     const RubToriSettings& t = scene.analysis.tori;
     if (t.samples < 4) KeyProblem(scene, "analysis.tori.samples", "must be at least 4");
+    if (t.transient.laps > kMaxLaps)
+      KeyProblem(scene, "analysis.tori.transient.laps", fmt::format("must be at most {}", kMaxLaps));
     if (!RunsStage(scene, Stage::kTori)) return;
     if (!t.from_neimark_sacker && !t.transient.enabled)
       KeyProblem(scene, "analysis.tori.neimark_sacker",

@@ -160,6 +160,7 @@ struct RubToriSettings {
     double seconds = 8.0;           // the transient from rest and the impulse [s]
     int harmonics = 8;              // K of its circles
     int max_harmonics = 0;          // refined in K up to this (0: harmonics only)
+    int laps = 0;                   // modulation periods per section, 0 … 64 (0: automatic)
     double max_fourier_tail = 0.2;  // its families' breakdown / locking event
     int max_steps = 20;             // continuation steps each way
   } transient;

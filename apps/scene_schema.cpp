@@ -950,6 +950,15 @@ void ToriTransientKeys(std::vector<KeySpec>& s) {
       "solved.",
       [](Scene& x) -> int& { return x.analysis.tori.transient.max_harmonics; }));
   s.back().added_at_older_behaviour = true;
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.transient.laps", ValueType::kInteger, "-", Rule::kCountOrNone,
+      Presence::kOptional,
+      "Modulation periods per section of the transient's torus, at most 64; 0: chosen from the "
+      "transient's points (one period, else the m periods their sequence's strongest line "
+      "names, ≈ p/m). Where one-period points are no circle and name nothing, give m: C(b) at "
+      "54.5 rpm cuts a one-period section twice (2).",
+      [](Scene& x) -> int& { return x.analysis.tori.transient.laps; }));
+  s.back().added_at_older_behaviour = true;
   s.push_back(Float("analysis.tori.transient.max_fourier_tail", "-", Rule::kOpenUnit,
                     "As analysis.tori.max_fourier_tail, for the transient's families (a torus far "
                     "from its birth is less smooth: C(a) at 49 rpm has a tail of 0.016 at K = 8).",

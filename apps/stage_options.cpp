@@ -329,6 +329,7 @@ ModulatedTorusOptions TransientTorusStartOf(const Scene& scene) {
   const RubToriSettings& t = scene.analysis.tori;
   ModulatedTorusOptions start = SettledTransientStart(t.transient.harmonics);
   start.max_harmonics = t.transient.max_harmonics;
+  start.laps = t.transient.laps;
   if (t.contact_chart) {
     start.coordinates = CircleCoordinates::kChart;
     if (scene.analysis.orbits.integrator == OrbitIntegrator::kGauss) {

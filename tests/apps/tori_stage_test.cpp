@@ -192,7 +192,8 @@ TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits w
   const Outcome wrong = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(wrong.exit_code == 2);
   CHECK_THAT(wrong.err, Contains("\"tori\" does not apply to model \"duffing\""));
-  // Nothing left to compute, a transient outside the speed range, too short for the sweep's windows.
+  // Nothing left to compute; a transient outside the speed range, too short for the sweep's
+  // windows, with too many periods per section.
   text = Slurp("scenes/thesis_C_a_tori.toml");
   text = text.substr(0, text.find("[analysis.tori]"));
   std::ofstream(scene) << text << "[analysis.tori]\nneimark_sacker = \"skip\"\n";
@@ -200,13 +201,14 @@ TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits w
   CHECK(nothing.exit_code == 2);
   CHECK_THAT(nothing.err, Contains("analysis.tori.neimark_sacker = \"skip\": leaves the stage "
                                    "\"tori\" nothing to compute: give [analysis.tori.transient]"));
-  std::ofstream(scene) << text << "[analysis.tori.transient]\nspeed_rpm = 60.0\nseconds = 0.1\n";
+  std::ofstream(scene) << text << "[analysis.tori.transient]\nspeed_rpm = 60.0\nseconds = 0.1\nlaps = 65\n";
   const Outcome outside = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(outside.exit_code == 2);
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.speed_rpm = 60.0: must lie in "
                                    "analysis.speed_range_rpm = [20.0, 52.0]"));
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.seconds = 0.1: must be at least "
                                    "(settle_windows + 1)·settle_window of [analysis.sweep] = 0.75 s"));
+  CHECK_THAT(outside.err, Contains("analysis.tori.transient.laps = 65: must be at most 64"));
 }
 
 }  // namespace
