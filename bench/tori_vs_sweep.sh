@@ -18,11 +18,18 @@
 #           from it upwards to where the left contact lifts off (71.11 rpm), each torus's lines and
 #           Lyapunov exponents (100 iterates); downwards one step to the range's end;
 #   sweep   a speed-up sweep over 64–71 rpm in 0.5 rpm steps (as above), the speeds the tori cover.
+# CASE b: case C(b)'s whip (scenes/thesis_C_b_tori.toml: the circles in the contact chart on sections
+# of 2 modulation periods, from a BDF transient at 54.5 rpm):
+#   tori    stage "tori" with the range cut to 54.4–55.1 rpm: the transient, its torus and the
+#           family from it upwards in the scene's 30 steps (to about 55.08 rpm), each torus's lines
+#           and Lyapunov exponents (100 iterates); downwards to the range's end;
+#   sweep   a speed-up sweep over 54.5–55.0 rpm in 0.1 rpm steps (as above).
 # Usage, from the repository root:
 #   bench/tori_vs_sweep.sh BUILD_DIR > results/bench/tori_vs_sweep.txt
 #   bench/tori_vs_sweep.sh BUILD_DIR c > results/bench/tori_vs_sweep_C_c.txt
+#   bench/tori_vs_sweep.sh BUILD_DIR b > results/bench/tori_vs_sweep_C_b.txt
 set -euo pipefail
-build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR [a|c]}
+build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR [a|b|c]}
 case_letter=${2:-a}
 rubcont="$build/rubcont"
 work=$(mktemp -d)
@@ -53,8 +60,9 @@ EOF
 
 case "$case_letter" in
   a) scene=scenes/thesis_C_a_tori.toml ;;
-  c) scene=scenes/thesis_C_c_tori.toml ;;
-  *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a or c" >&2; exit 2 ;;
+  b) scene=scenes/thesis_C_b_tori.toml range="54.4, 55.1" sweep_range="54.5 55.0 0.1" ;;
+  c) scene=scenes/thesis_C_c_tori.toml range="63.9, 72.0" sweep_range="64.0 71.0 0.5" ;;
+  *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a, b or c" >&2; exit 2 ;;
 esac
 body=$(sed '/^\[analysis\]/,$d' "$scene")
 analysis=$(sed -n '/^\[analysis\]/,$p' "$scene")
@@ -71,8 +79,9 @@ if [ "$case_letter" = a ]; then
   tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
   group=tori/branch1_hopf2_ns1
 else
-  printf '%s\n%s\n' "$body" "$(sed 's/^speed_range_rpm = .*/speed_range_rpm = [63.9, 72.0]/' <<< "$analysis")" > "$work/tori.toml"
-  sweep_scene 64.0 71.0 0.5
+  printf '%s\n%s\n' "$body" "$(sed "s/^speed_range_rpm = .*/speed_range_rpm = [$range]/" <<< "$analysis")" > "$work/tori.toml"
+  read -r sweep_from sweep_to sweep_step <<< "$sweep_range"
+  sweep_scene "$sweep_from" "$sweep_to" "$sweep_step"
   tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
   group=tori/transient_up
 fi
@@ -87,7 +96,7 @@ if [ "$case_letter" = a ]; then
   echo "  ratio   sweep / torus family (tori - orbits)            $(awk "BEGIN { printf \"%.2f\", $sweep / ($tori - $orbits) }")"
 else
   echo "  tori    transient, its torus and the family up ($count tori, lines, Lyapunov)  $tori s"
-  echo "  sweep   $speeds speeds, 64-71 rpm, 8 s dwell                     $sweep s"
+  echo "  sweep   $speeds speeds, $sweep_from-$sweep_to rpm, 8 s dwell                     $sweep s"
   echo "  ratio   sweep / tori                                       $(awk "BEGIN { printf \"%.2f\", $sweep / $tori }")"
 fi
 /usr/bin/python3 bench/tori_vs_sweep.py "$work/tori/tori.h5" "$work/sweep.h5" "$group"
