@@ -191,6 +191,7 @@ class GaussBackend {
   void FactorNewtonMatrix(double h);
   void SolveWithNewtonMatrix(double h, const Matrix& rhs, Matrix& out);
   void SolveWithNewtonMatrix(double h, const Vector& rhs, Vector& out);
+  void SolveScalarOscillator(double h, const Matrix& rhs, Matrix& out);
   IntegrationResult Fail(IntegrationStatus status, double t, std::string message);
 
   CallbackContext& context_;

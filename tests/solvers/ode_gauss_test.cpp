@@ -199,15 +199,47 @@ class CoupledOscillators : public OdeSystem {
   double w_ = 1.3;
 };
 
-TEST_CASE("Gauss collocation solves a second-order system's stages on half the unknowns, "
-          "with the full method's map and derivatives",
-          "[ode][gauss]") {
-  CoupledOscillators plain(false), swapped(true);
-  const Eigen::PermutationMatrix<4> P = CoupledOscillators::Swap();
-  const Vector x0 = (Vector(4) << 0.8, -0.4, 0.2, 0.5).finished();
+// A forced Duffing oscillator (n = 2: the reduced system's blocks are numbers,
+// SolveScalarOscillator), plain x = [q; v] or swapped x = [v; q].
+class ForcedDuffing : public OdeSystem {
+ public:
+  explicit ForcedDuffing(bool swapped) : swapped_(swapped) {}
+  Index Dimension() const override { return 2; }
+  void Rhs(double t, ConstVectorRef x, VectorRef f) override {
+    const double q = x(swapped_ ? 1 : 0), v = x(swapped_ ? 0 : 1);
+    const double a = -0.2 * v - q - q * q * q + 0.5 * std::cos(w_ * t);
+    f(swapped_ ? 1 : 0) = v;
+    f(swapped_ ? 0 : 1) = a;
+  }
+  bool HasJacobian() const override { return true; }
+  void JacobianX(double, ConstVectorRef x, MatrixRef J) override {
+    const double q = x(swapped_ ? 1 : 0);
+    const Index iq = swapped_ ? 1 : 0, iv = swapped_ ? 0 : 1;
+    J.setZero();
+    J(iq, iv) = 1.0;
+    J(iv, iq) = -1.0 - 3.0 * q * q;
+    J(iv, iv) = -0.2;
+  }
+  double Parameter() const override { return w_; }
+  void SetParameter(double w) override { w_ = w; }
+  void DfDparameter(double t, ConstVectorRef, VectorRef df) override {
+    df.setZero();
+    df(swapped_ ? 0 : 1) = -0.5 * t * std::sin(w_ * t);
+  }
+
+ private:
+  bool swapped_;
+  double w_ = 1.2;
+};
+
+// `plain` (second order) and `swapped` (the same system, states permuted by P: not second order)
+// integrated by Gauss collocation give the same map and derivatives, the first on the reduced system.
+void CheckReducedAgainstFull(OdeSystem& plain, OdeSystem& swapped,
+                             const Eigen::PermutationMatrix<Eigen::Dynamic>& P, const Vector& x0) {
+  const Index n = x0.size();
   const double t1 = 7.0;
   OdeIntegrator reduced(plain, Gauss(4, 30)), full(swapped, Gauss(4, 30));
-  Vector x(4), y(4), dxdp, dydp, dxdt1, dydt1;
+  Vector x(n), y(n), dxdp, dydp, dxdt1, dydt1;
   Matrix stm, stm_full;
   const IntegrationResult a = reduced.Integrate(0.0, x0, t1, x, &stm, &dxdp, &dxdt1);
   const IntegrationResult b = full.Integrate(0.0, P * x0, t1, y, &stm_full, &dydp, &dydt1);
@@ -226,6 +258,22 @@ TEST_CASE("Gauss collocation solves a second-order system's stages on half the u
   // And the STM is the derivative of the map (central differences, steps 1e-6).
   const Matrix fd = testing::FlowJacobianByDifferences(reduced, x0, t1, 1e-6);
   CHECK((stm - fd).norm() <= 1e-7 * stm.norm());
+}
+
+TEST_CASE("Gauss collocation solves a second-order system's stages on half the unknowns, "
+          "with the full method's map and derivatives",
+          "[ode][gauss]") {
+  SECTION("two coupled oscillators (blocks of 2 × 2)") {
+    CoupledOscillators plain(false), swapped(true);
+    const Eigen::PermutationMatrix<Eigen::Dynamic> P(CoupledOscillators::Swap().indices());
+    CheckReducedAgainstFull(plain, swapped, P, (Vector(4) << 0.8, -0.4, 0.2, 0.5).finished());
+  }
+  SECTION("one Duffing oscillator (blocks of 1 × 1: numbers)") {
+    ForcedDuffing plain(false), swapped(true);
+    Eigen::PermutationMatrix<Eigen::Dynamic> P(2);
+    P.indices() << 1, 0;
+    CheckReducedAgainstFull(plain, swapped, P, (Vector(2) << 0.8, -0.3).finished());
+  }
 }
 
 TEST_CASE("Gauss collocation's dx/dt1 is the derivative of its map in the end time, not f(t1, x1)",
