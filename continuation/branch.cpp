@@ -80,6 +80,10 @@ std::string Branch::BriefReport() const {
     const int count = counts[name];
     report += fmt::format(", {} {}", count, count == 1 ? name : Plural(name));
   }
+  if (statistics.stray_rejections > 0) {  // Problem::StrayPoint
+    report += fmt::format(", {} stray point{} refused", statistics.stray_rejections,
+                          statistics.stray_rejections == 1 ? "" : "s");
+  }
   report += fmt::format(", ended: {}", message.empty() ? ToString(status) : message);
   return report;
 }
@@ -207,7 +211,8 @@ Branch JoinAtStart(const Branch& backward, const Branch& forward) {
                        a.jacobian_evaluations + b.jacobian_evaluations,
                        a.stability_evaluations + b.stability_evaluations,
                        a.switches + b.switches,
-                       a.jump_rejections + b.jump_rejections};
+                       a.jump_rejections + b.jump_rejections,
+                       a.stray_rejections + b.stray_rejections};
   return joined;
 }
 

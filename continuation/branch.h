@@ -102,6 +102,8 @@ struct BranchStatistics {
   int switches = 0;               // events at which the problem switched pieces
   int jump_rejections = 0;        // converged steps rejected because an event margin jumps within
                                   // them: the corrector's end point lay on another branch
+  int stray_rejections = 0;       // converged steps rejected because the problem named their
+                                  // point no continuation of the branch (Problem::StrayPoint)
 };
 
 struct Branch {

@@ -1063,8 +1063,11 @@ struct Continuation::Impl {
       const CorrectorStatus status =
           corrector.Correct(current.point.x, current.point.tangent, sigma, guess, candidate);
       const bool at_minimum = ds <= step.min * (1.0 + 1e-12);
-      if (status != CorrectorStatus::kConverged) {
-        ++branch.statistics.corrector_failures;
+      const std::string stray = status == CorrectorStatus::kConverged
+                                    ? problem.StrayPoint(system.StateOf(candidate.x), LambdaOf(candidate.x))
+                                    : std::string();
+      if (status != CorrectorStatus::kConverged || !stray.empty()) {
+        ++(stray.empty() ? branch.statistics.corrector_failures : branch.statistics.stray_rejections);
         if (step.failure_memory > 0) {
           constexpr double kCeilingFraction = 0.75;  // of the step that failed
           ceiling = std::min(ceiling_steps > 0 ? ceiling : kInfinity, kCeilingFraction * ds);
@@ -1072,8 +1075,11 @@ struct Continuation::Impl {
         }
         if (at_minimum) {
           End(BranchStatus::kStepTooSmall,
-              fmt::format("the corrector failed ({}) with the minimum step {:.3g} at λ = {:.10g}",
-                          ToString(status), ds, LambdaOf(current.point.x)));
+              stray.empty()
+                  ? fmt::format("the corrector failed ({}) with the minimum step {:.3g} at λ = {:.10g}",
+                                ToString(status), ds, LambdaOf(current.point.x))
+                  : fmt::format("the corrector's point at the minimum step {:.3g} from λ = {:.10g} "
+                                "continues no branch: {}", ds, LambdaOf(current.point.x), stray));
           return false;
         }
         ds = std::max(0.5 * ds, step.min);

@@ -147,6 +147,13 @@ class Problem {
   // bordering vectors of a minimally augmented system (continuation/fold.h). Default: nothing.
   virtual void PointAccepted(const Vector& /*u*/, double /*lambda*/) {}
 
+  // Called by the engine on the point a step's corrector converged to, before it is accepted: empty
+  // when it continues the branch, else why not. The engine then shortens the step as after a
+  // corrector failure. For problems whose equations have roots that are no neighbours of the last
+  // point: integral phase conditions are also met by the solution shifted by about half a period
+  // (shooting/invariant_circle.h). Default: every point continues the branch.
+  virtual std::string StrayPoint(const Vector& /*u*/, double /*lambda*/) { return {}; }
+
   // The first Lyapunov coefficient at a Hopf point (u, λ) of this problem's states, its critical
   // eigenvalue near `critical` (continuation/lyapunov.h): < 0 supercritical, > 0 subcritical.
   // Default: not valid, "not computed by this problem" (F need not be a vector field). Equilibria

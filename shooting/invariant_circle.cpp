@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -188,6 +189,36 @@ void InvariantCircleProblem::SetPhaseReference(const Vector& u) {
 
 void InvariantCircleProblem::PointAccepted(const Vector& u, double /*lambda*/) {
   SetPhaseReference(u);
+}
+
+std::string InvariantCircleProblem::StrayPoint(const Vector& u, double lambda) {
+  if (phase_weights_[0].isZero(0.0)) return {};  // no reference yet
+  system_->SetParameter(lambda);
+  const Matrix c = Coefficients(u);
+  std::vector<double> slope(phase_weights_.size(), 0.0);
+  Vector f(n_), g(n_);
+  Matrix D;
+  for (Index j = 0; j < points_; ++j) {
+    slope[0] += phase_weights_[0].col(j).dot(c * BasisDerivative(Node(j)));
+    if (phase_weights_.size() == 1) continue;
+    const Vector at = ToState(c * Basis(Node(j)), &D);
+    const Eigen::PartialPivLU<Matrix> lu(D);
+    system_->Rhs(0.0, at, f);
+    slope[1] += phase_weights_[1].col(j).dot(lu.solve(f));
+    if (phase_weights_.size() == 3) {
+      system_->RotationGenerator(at, g);
+      slope[2] += phase_weights_[2].col(j).dot(lu.solve(g));
+    }
+  }
+  const char* shifts[] = {"θ", "the flow", "the group orbit"};
+  for (std::size_t w = 0; w < slope.size(); ++w) {
+    if (!(slope[w] > 0.0)) {
+      return fmt::format("its circle is turned against the last one along {} (the phase condition's "
+                         "slope {:.3g} in that shift: its other root, about half a period away)",
+                         shifts[w], slope[w]);
+    }
+  }
+  return {};
 }
 
 double InvariantCircleProblem::PeriodAt(double lambda) {

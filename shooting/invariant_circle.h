@@ -127,6 +127,14 @@ class InvariantCircleProblem : public Problem {
   std::vector<std::string> MeasureNames() const override;
   Vector Measures(const Vector& u, double lambda) override;
   void PointAccepted(const Vector& u, double lambda) override;
+  // A corrected circle turned against the reference (the last accepted one) along θ, the flow or
+  // the group orbit: each phase condition, a function of that shift, has a second root about half
+  // a period away, where its slope in the shift — Σ_j ⟨w_j, d_j⟩, d_j the shift's direction at
+  // the new circle's point j — has the sign opposite to the reference's own. A long step can land
+  // there: the same torus, its circle turned by half a turn, and the tangent there oriented against
+  // the branch (C(a) at 62.99 rpm: the family came back on itself). Named, so that the engine
+  // shortens the step.
+  std::string StrayPoint(const Vector& u, double lambda) override;
   std::vector<std::string> EventNames() const override;
   Vector EventFunctions(const Vector& u, double lambda) override;
 

@@ -197,6 +197,48 @@ TEST_CASE("a corrector that diverges at a large step halves the step and the bra
   CHECK(halved);
 }
 
+// u = sin 3λ whose points the problem calls stray when they lie more than 0.1 in λ from the last
+// accepted one (Problem::StrayPoint): a stand-in for a root that is no neighbour of the branch.
+class NearLastOnly : public LambdaProblem {
+ public:
+  NearLastOnly()
+      : LambdaProblem(1, [](const Vector& u, double l, double, Vector& F) {
+          F(0) = u(0) - std::sin(3.0 * l);
+        }) {}
+  void PointAccepted(const Vector& /*u*/, double lambda) override { last_ = lambda; }
+  std::string StrayPoint(const Vector& /*u*/, double lambda) override {
+    return std::abs(lambda - last_) > 0.1 ? "too far from the last point" : std::string();
+  }
+
+ private:
+  double last_ = 0.0;
+};
+
+TEST_CASE("a converged point the problem calls stray shortens the step as a corrector failure does",
+          "[continuation][step]") {
+  NearLastOnly problem;
+  ContinuationOptions options;
+  options.step.initial = 0.5;
+  options.step.max = 0.5;
+  options.step.max_angle = 3.0;  // let StrayPoint, not the angle test, limit the step
+  options.step.target_angle = 3.0;
+  options.bounds.lambda_max = 1.0;
+  const Branch branch = Continue(problem, Vec({0.0}), 0.0, options);
+  INFO(branch.BriefReport());
+  REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
+  CHECK(branch.statistics.stray_rejections > 0);
+  CHECK_THAT(branch.BriefReport(), Catch::Contains("stray points refused"));
+  CHECK(branch.statistics.corrector_failures == 0);
+  for (std::size_t k = 1; k < branch.points.size(); ++k) {
+    CHECK(std::abs(branch.points[k].lambda - branch.points[k - 1].lambda) <= 0.1);
+  }
+  // At the smallest step every point is stray: the branch ends and says why.
+  options.step.min = options.step.initial = options.step.max = 0.5;
+  const Branch stuck = Continue(problem, Vec({0.0}), 0.0, options);
+  CHECK(stuck.status == BranchStatus::kStepTooSmall);
+  CHECK_THAT(stuck.message, Catch::Contains("continues no branch: too far from the last point"));
+}
+
 TEST_CASE("curved_predictor: the parabola through the previous point starts Newton closer, so the "
           "same circle costs fewer iterations and longer steps",
           "[continuation][step]") {

@@ -434,6 +434,42 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   CHECK(!Solve(plain, v, mu).Converged());
 }
 
+TEST_CASE("invariant circle: a circle turned half a turn against the reference is named stray, a "
+          "nearby one is not",
+          "[torus]") {
+  // The relative torus above, solved; the phase conditions' reference at it. Each condition is a
+  // function of its shift (θ, the flow, the group orbit) with a second root about half a period
+  // away: the same torus, its circle met from the other side.
+  const double mu = 0.5;
+  auto system = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 2.3, 2.75},
+                                                    std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
+  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight());
+  const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
+  const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
+  const double rho = Fraction((system->Turn(2) - system->Turn(0)) / (system->Turn(1) - system->Turn(0)));
+  Vector u = problem.Pack(RoughCircle(6, mu), rho - 0.01, 0.98 * period, rotation + 0.05);
+  SolveRelativeTorus(problem, u, mu, rho, period, rotation);
+  problem.SetPhaseReference(u);
+  CHECK(problem.StrayPoint(u, mu).empty());
+  // u(θ + α): harmonic k's (a_k, b_k) turned by kα.
+  auto turned = [&](double alpha) {
+    Matrix c = problem.Coefficients(u);
+    for (int k = 1; k <= problem.harmonics(); ++k) {
+      const Vector a = c.col(2 * k - 1), b = c.col(2 * k);
+      c.col(2 * k - 1) = std::cos(k * alpha) * a + std::sin(k * alpha) * b;
+      c.col(2 * k) = -std::sin(k * alpha) * a + std::cos(k * alpha) * b;
+    }
+    return problem.Pack(c, problem.RotationNumber(u), problem.Period(u, mu), problem.Rotation(u));
+  };
+  CHECK(problem.StrayPoint(turned(0.3), mu).empty());
+  CHECK_THAT(problem.StrayPoint(turned(kPi), mu), Catch::Contains("turned against the last one along θ"));
+  // The circle turned by π about the symmetry's axis (every oscillator's z ↦ −z): against the
+  // reference along all three shifts; θ is named first.
+  const Vector opposite = problem.Pack(-problem.Coefficients(u), problem.RotationNumber(u),
+                                       problem.Period(u, mu), problem.Rotation(u));
+  CHECK_THAT(problem.StrayPoint(opposite, mu), Catch::Contains("turned against the last one"));
+}
+
 // The chain with a chart: every oscillator but the last in polar coordinates (|z_k|, arg z_k),
 // the last (the one that turns along the circle) as it is.
 class ChartedChain : public StuartLandauChain {
