@@ -162,29 +162,32 @@ Matrix InvariantCircleProblem::CoordinateJacobian(const Vector& y) const {
   return D;
 }
 
-void InvariantCircleProblem::SetPhaseReference(const Vector& u) {
-  reference_ = Coefficients(u);
-  if (kind_ != OrbitKind::kForced) period_scale_ = std::max(std::abs(u(n_ * points_ + 1)), 1e-300);
-  Matrix tangent(n_, points_), flow(n_, points_), group(n_, points_);
+std::vector<Matrix> InvariantCircleProblem::ShiftDirections(const Matrix& c) const {
+  std::vector<Matrix> directions(static_cast<std::size_t>(1 + Extras()), Matrix(n_, points_));
   Vector f(n_), g(n_);
   Matrix D;
   for (Index j = 0; j < points_; ++j) {
-    const Vector at = ToState(reference_ * Basis(Node(j)), &D);
-    tangent.col(j) = reference_ * BasisDerivative(Node(j));
-    // The flow's and the group's directions in the circle's coordinates: D⁻¹ f, D⁻¹ g.
+    directions[0].col(j) = c * BasisDerivative(Node(j));
+    if (kind_ == OrbitKind::kForced) continue;
+    const Vector at = ToState(c * Basis(Node(j)), &D);
     const Eigen::PartialPivLU<Matrix> lu(D);
-    if (kind_ != OrbitKind::kForced) {
-      system_->Rhs(0.0, at, f);
-      flow.col(j) = lu.solve(f);
-    }
+    system_->Rhs(0.0, at, f);
+    directions[1].col(j) = lu.solve(f);
     if (kind_ == OrbitKind::kRelative) {
       system_->RotationGenerator(at, g);
-      group.col(j) = lu.solve(g);
+      directions[2].col(j) = lu.solve(g);
     }
   }
-  phase_weights_ = {PhaseWeights(tangent)};
-  if (kind_ != OrbitKind::kForced) phase_weights_.push_back(PhaseWeights(flow));
-  if (kind_ == OrbitKind::kRelative) phase_weights_.push_back(PhaseWeights(group));
+  return directions;
+}
+
+void InvariantCircleProblem::SetPhaseReference(const Vector& u) {
+  reference_ = Coefficients(u);
+  if (kind_ != OrbitKind::kForced) period_scale_ = std::max(std::abs(u(n_ * points_ + 1)), 1e-300);
+  phase_weights_.clear();
+  for (const Matrix& directions : ShiftDirections(reference_)) {
+    phase_weights_.push_back(PhaseWeights(directions));
+  }
 }
 
 void InvariantCircleProblem::PointAccepted(const Vector& u, double /*lambda*/) {
@@ -194,28 +197,14 @@ void InvariantCircleProblem::PointAccepted(const Vector& u, double /*lambda*/) {
 std::string InvariantCircleProblem::StrayPoint(const Vector& u, double lambda) {
   if (phase_weights_[0].isZero(0.0)) return {};  // no reference yet
   system_->SetParameter(lambda);
-  const Matrix c = Coefficients(u);
-  std::vector<double> slope(phase_weights_.size(), 0.0);
-  Vector f(n_), g(n_);
-  Matrix D;
-  for (Index j = 0; j < points_; ++j) {
-    slope[0] += phase_weights_[0].col(j).dot(c * BasisDerivative(Node(j)));
-    if (phase_weights_.size() == 1) continue;
-    const Vector at = ToState(c * Basis(Node(j)), &D);
-    const Eigen::PartialPivLU<Matrix> lu(D);
-    system_->Rhs(0.0, at, f);
-    slope[1] += phase_weights_[1].col(j).dot(lu.solve(f));
-    if (phase_weights_.size() == 3) {
-      system_->RotationGenerator(at, g);
-      slope[2] += phase_weights_[2].col(j).dot(lu.solve(g));
-    }
-  }
+  const std::vector<Matrix> directions = ShiftDirections(Coefficients(u));
   const char* shifts[] = {"θ", "the flow", "the group orbit"};
-  for (std::size_t w = 0; w < slope.size(); ++w) {
-    if (!(slope[w] > 0.0)) {
+  for (std::size_t w = 0; w < directions.size(); ++w) {
+    const double slope = phase_weights_[w].cwiseProduct(directions[w]).sum();  // Σ_j ⟨w_j, d_j⟩
+    if (!(slope > 0.0)) {
       return fmt::format("its circle is turned against the last one along {} (the phase condition's "
                          "slope {:.3g} in that shift: its other root, about half a period away)",
-                         shifts[w], slope[w]);
+                         shifts[w], slope);
     }
   }
   return {};

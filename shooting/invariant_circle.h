@@ -216,6 +216,10 @@ class InvariantCircleProblem : public Problem {
   // A phase condition Σ_j ⟨w_j, u(θ_j) − u_ref(θ_j)⟩ from directions v_j at the reference's points
   // (u_ref′(θ_j), f(u_ref(θ_j)), g(u_ref(θ_j))): w_j = v_j ./ scale² over the RMS of v ./ scale.
   Matrix PhaseWeights(const Matrix& directions) const;
+  // The directions of the circle with coefficients c's shifts at its points, in the circle's
+  // coordinates: along θ (u′(θ_j)), and where the kind has them along the flow (D⁻¹ f) and the
+  // group orbit (D⁻¹ g), f and g at the system's present parameter; one matrix per phase condition.
+  std::vector<Matrix> ShiftDirections(const Matrix& c) const;
   const Integrated& Integrate(const Vector& u, double lambda, bool sensitivities);
   double PeriodAt(double lambda);
   // x = Ψ(y) (or y), with ∂Ψ/∂y into `jacobian` when not null.
