@@ -321,6 +321,7 @@ RubTorusOptions TorusOptionsOf(const Scene& scene) {
   options.tori.continuation.corrector.residual_tolerance =
       (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
   options.samples = t.samples;
+  options.shooting = orbits.shooting;
   options.tori.coordinates = t.contact_chart ? CircleCoordinates::kChart : CircleCoordinates::kState;
   return options;
 }

@@ -1,5 +1,6 @@
 #include "apps/tori_stage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <ostream>
@@ -117,6 +118,18 @@ void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
   }
 }
 
+// A torus family's step as progress: its size, speed, ρ and radius; the orbits continued from
+// its end (locked, at its centre) by their size and speed.
+std::string StepProgress(const Branch& b) {
+  const BranchPoint& last = b.points.back();
+  const bool tori = std::find(b.measure_names.begin(), b.measure_names.end(), "radius") !=
+                    b.measure_names.end();
+  if (!tori) return fmt::format("{} orbits, {:.4f} rpm", b.Size(), RadPerSecondToRpm(last.lambda));
+  return fmt::format("{} tori, {:.4f} rpm, ρ = {:.6f}, radius {:.2g}", b.Size(),
+                     RadPerSecondToRpm(last.lambda), last.measures(b.MeasureIndex("rotation_number")),
+                     last.measures(b.MeasureIndex("radius")));
+}
+
 // The locked orbits a torus family ended at: /tori/<torus family>_locked, and a summary line.
 void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
                        const LockedOrbits& locked, std::ostream& out,
@@ -149,6 +162,37 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
 
+// The orbits a torus family shrank onto: /tori/<torus family>_centre, and a summary line.
+void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, const TorusBranch& tori,
+                       const CentreOrbits& centre, std::ostream& out,
+                       std::vector<std::string>& failures) {
+  if (tori.end != TorusEnd::kShrinks) return;
+  if (!centre.ok) {
+    fmt::print(out, "    the orbits at its centre: {}\n", centre.message);
+    failures.push_back(fmt::format("[tori] {}: the orbits at its centre: {}", torus_group,
+                                   centre.message));
+    return;
+  }
+  const std::string name = torus_group.substr(torus_group.rfind('/') + 1) + "_centre";
+  WritePeriodicOrbitBranch(writer, name, centre.orbits, {"speed_rpm", kRpmPerRadPerSecond}, "/tori");
+  const std::string group = "/tori/" + name;
+  writer.SetAttribute(group, "neimark_sacker_speed_rpm",
+                      centre.located ? RadPerSecondToRpm(centre.lambda) : kNaN);
+  writer.SetAttribute(group, "neimark_sacker_rotation_number", centre.rotation_number);
+  writer.SetAttribute(group, "note", centre.message);
+  const Branch& b = centre.orbits.branch;
+  fmt::print(out, "    the orbits at its centre ({} segments): {}\n", centre.orbits.segments,
+             b.BriefReport());
+  if (centre.located) {
+    fmt::print(out, "      Neimark–Sacker point at {:.5f} rpm, arg μ / 2π = {:.6f}: the tori end "
+                    "there\n",
+               RadPerSecondToRpm(centre.lambda), centre.rotation_number);
+  } else {
+    fmt::print(out, "      {}\n", centre.message);
+  }
+  if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
+}
+
 // The tori through the torus a transient settles on ([analysis.tori.transient]): the transient,
 // its torus, both families written as /tori/transient_down and /tori/transient_up.
 void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
@@ -169,10 +213,8 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
       plan.structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, start,
       TransientTorusOptionsOf(scene),
       [&](std::size_t j, const Branch& b) {
-        context.progress(fmt::format("[tori] transient_{}: {} tori, {:.4f} rpm, ρ = {:.6f}, {:.0f} s",
-                                     j == 0 ? "down" : "up", b.Size(),
-                                     RadPerSecondToRpm(b.points.back().lambda),
-                                     b.points.back().measures(0), SecondsSince(t0)));
+        context.progress(fmt::format("[tori] transient_{}: {}, {:.0f} s", j == 0 ? "down" : "up",
+                                     StepProgress(b), SecondsSince(t0)));
         return true;
       });
   const ModulatedTorus& torus = result.start;
@@ -218,6 +260,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     fmt::print(out, "  {}: {} ({:.1f} s)\n    {}\n", name, tori.branch.BriefReport(),
                SecondsSince(t0), tori.end_note);
     PrintTori(tori, result.lines[j], plan.structure, out);
+    WriteCentreOrbits(w, group, tori, result.centres[j], out, context.failures);
     if (tori.end == TorusEnd::kFailed) {
       context.failures.push_back(fmt::format("[tori] {}: {}", name, tori.end_note));
     }
@@ -274,10 +317,8 @@ void RunRubTori(const Scene& scene, StageContext& context) {
     const RubModulatedTori result = ContinueModulatedTori(
         plan.structure, plan.waves, start, plan.options, options,
         [&](std::size_t j, const Branch& b) {
-          context.progress(fmt::format("[tori] {}_ns{}: {} tori, {:.4f} rpm, ρ = {:.6f}, {:.0f} s",
-                                       name, j + 1, b.Size(),
-                                       RadPerSecondToRpm(b.points.back().lambda),
-                                       b.points.back().measures(0), SecondsSince(t0)));
+          context.progress(fmt::format("[tori] {}_ns{}: {}, {:.0f} s", name, j + 1,
+                                       StepProgress(b), SecondsSince(t0)));
           return true;
         });
     const PeriodicOrbitBranch& family = result.orbits.orbits;
@@ -308,6 +349,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
                  tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
       PrintTori(tori, result.lines[j], plan.structure, out);
       WriteLockedOrbits(writer, "/tori/" + torus_name, result.locked[j], out, context.failures);
+      WriteCentreOrbits(writer, "/tori/" + torus_name, tori, result.centres[j], out, context.failures);
       if (tori.end == TorusEnd::kFailed) {
         context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
       }

@@ -365,6 +365,7 @@ std::vector<std::string> InvariantCircleProblem::MeasureNames() const {
   std::vector<std::string> names{"rotation_number", "fourier_tail", "invariance_error"};
   if (Extras() >= 1) names.push_back("period");
   if (Extras() == 2) names.push_back("rotation");
+  names.push_back("radius");
   return names;
 }
 
@@ -376,6 +377,21 @@ double InvariantCircleProblem::HarmonicSizeOf(const Matrix& coefficients, int k,
   return coefficients.middleCols(2 * k - 1, 2).cwiseQuotient(scale.replicate(1, 2)).norm();
 }
 
+Vector InvariantCircleProblem::Centre(const Vector& u) const {
+  Vector mean = Vector::Zero(n_);
+  for (Index j = 0; j < points_; ++j) mean += PointAt(u, Node(j));
+  return mean / static_cast<double>(points_);
+}
+
+double InvariantCircleProblem::Radius(const Vector& u) const {
+  const Vector centre = Centre(u);
+  double sum = 0.0;
+  for (Index j = 0; j < points_; ++j) {
+    sum += (PointAt(u, Node(j)) - centre).cwiseQuotient(scale_).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(points_));
+}
+
 double InvariantCircleProblem::FourierTail(const Vector& u) const {
   double largest = 0.0;
   for (int k = 1; k <= harmonics_; ++k) largest = std::max(largest, HarmonicSize(u, k));
@@ -383,10 +399,11 @@ double InvariantCircleProblem::FourierTail(const Vector& u) const {
 }
 
 Vector InvariantCircleProblem::Measures(const Vector& u, double lambda) {
-  Vector m(3 + Extras());
+  Vector m(4 + Extras());
   m.head(3) << RotationNumber(u), FourierTail(u), InvarianceError(u, lambda);
   if (Extras() >= 1) m(3) = Period(u, lambda);
   if (Extras() == 2) m(4) = Rotation(u);
+  m(3 + Extras()) = Radius(u);
   return m;
 }
 
@@ -398,13 +415,27 @@ void InvariantCircleProblem::SetMaxFourierTail(double tail) {
   max_tail_ = tail;
 }
 
+void InvariantCircleProblem::SetMinRadius(double radius) {
+  if (!(radius >= 0.0 && std::isfinite(radius))) {
+    throw std::invalid_argument(
+        fmt::format("InvariantCircleProblem: min radius = {}: must be finite and ≥ 0", radius));
+  }
+  min_radius_ = radius;
+}
+
 std::vector<std::string> InvariantCircleProblem::EventNames() const {
-  return {"circle breaks down (Fourier tail)"};
+  return {"circle breaks down (Fourier tail)", std::string(kShrinksOntoCentre)};
 }
 
 Vector InvariantCircleProblem::EventFunctions(const Vector& u, double /*lambda*/) {
-  // ≥ 0 while the tail stays below the limit; in decades, so that it crosses 0 at a moderate slope.
-  return Vector::Constant(1, std::log10(max_tail_) - std::log10(std::max(FourierTail(u), 1e-300)));
+  // ≥ 0 while the tail stays below the limit and the radius above its own; in decades, so that
+  // they cross 0 at a moderate slope.
+  Vector margins(2);
+  margins(0) = std::log10(max_tail_) - std::log10(std::max(FourierTail(u), 1e-300));
+  margins(1) = min_radius_ > 0.0
+                   ? std::log10(std::max(Radius(u), 1e-300)) - std::log10(min_radius_)
+                   : 1.0;
+  return margins;
 }
 
 double InvariantCircleProblem::InvarianceError(const Vector& u, double lambda) {

@@ -73,6 +73,10 @@ namespace rubcont {
 enum class CircleCoordinates { kState, kChart };
 const char* ToString(CircleCoordinates coordinates);
 
+// The name of InvariantCircleProblem's event "the radius reached its minimum" (SetMinRadius): the
+// label of the special point a family ending there carries.
+inline constexpr char kShrinksOntoCentre[] = "circle shrinks onto its centre (radius)";
+
 class InvariantCircleProblem : public Problem {
  public:
   // K ≥ 1 harmonics. kForced needs a forced system (ForcingPeriod() > 0 at its parameter), the
@@ -104,6 +108,14 @@ class InvariantCircleProblem : public Problem {
   Matrix CoordinateJacobian(const Vector& y) const;
   // ‖(a_k, b_k) ./ scale‖ of harmonic k in 1 … K of the circle held in u.
   double HarmonicSize(const Vector& u, int k) const;
+  // The circle's radius (measure "radius"): the RMS over its N points x(θ_j) of their distance
+  // from the points' mean, ‖(x_j − x̄) ./ the state scale‖ (in the state also for a chart's
+  // circle): r for a round circle of radius r; 0 where the torus has shrunk onto the periodic
+  // orbit at its centre.
+  double Radius(const Vector& u) const;
+  // The points' mean x̄ (a state): near a Neimark–Sacker point, a point of the orbit the circle
+  // shrinks onto.
+  Vector Centre(const Vector& u) const;
 
   // The phase conditions' reference circle (its coefficients are taken from u; the flow's
   // direction at the system's present parameter). Set at the start; PointAccepted moves it to
@@ -116,6 +128,13 @@ class InvariantCircleProblem : public Problem {
   // 1e-10 to 0.13 and the invariance error between the points to 0.3); the branch ends there with
   // the event as its reason. Default 1e-6.
   void SetMaxFourierTail(double tail);
+  // The event "circle shrinks onto its centre": the radius falls to this (> 0; 0, the default,
+  // switches it off). Where a torus family ends at a Neimark–Sacker point of the orbit inside it,
+  // the circle shrinks as √|λ − λ_NS| and its phase conditions, which measure shifts of the circle,
+  // lose their hold: at radius 0 the equations are singular, and a step across meets the same
+  // tori again, parametrised half a turn apart (C(a) at 62.988 rpm: the family came back on
+  // itself). The branch ends at the event with it as its reason.
+  void SetMinRadius(double radius);
 
   Index Dimension() const override;
   void Residual(const Vector& u, double lambda, Vector& F) override;
@@ -241,6 +260,7 @@ class InvariantCircleProblem : public Problem {
   std::vector<Matrix> phase_weights_;  // θ, flow (kAutonomous, kRelative), group (kRelative)
   double period_scale_ = 1.0;          // |T| of the reference
   double max_tail_ = 1e-6;
+  double min_radius_ = 0.0;
   Vector cached_u_;
   double cached_lambda_ = 0.0;
   bool cached_sensitivities_ = false;

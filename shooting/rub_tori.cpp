@@ -137,6 +137,23 @@ std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBra
 
 }  // namespace
 
+namespace {
+
+// The orbits a family shrank onto (ContinueCentreOrbits), or ok = false with the reason.
+CentreOrbits CentresOf(const RubRotatingFrame& frame, const TorusBranch& tori,
+                       const ShootingOptions& shooting, const TorusBranchOptions& options,
+                       const StepCallback& step) {
+  if (!tori.ok || tori.end != TorusEnd::kShrinks) {
+    CentreOrbits none;
+    none.message = "the family did not shrink onto its centre";
+    return none;
+  }
+  return ContinueCentreOrbits(std::make_shared<RubRotatingFrame>(frame), tori, shooting, options,
+                              step);
+}
+
+}  // namespace
+
 void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>& lines,
                  TorusBranch& tori) {
   if (tori.end != TorusEnd::kFailed || lines.empty() || !lines.back().valid) return;
@@ -189,6 +206,7 @@ RubModulatedTori ContinueModulatedTori(
       locked.message = "the family did not end in phase locking";
     }
     result.locked.push_back(std::move(locked));
+    result.centres.push_back(CentresOf(frame, ended, family.shooting, tori, step));
   }
   return result;
 }
@@ -221,6 +239,10 @@ RubTransientTori ContinueTransientTori(
                                        FamilyStep(on_torus_step, result.tori.size())));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
     ReadLiftOff(structure, result.lines.back(), result.tori.back());
+    ShootingOptions shooting = options.shooting;
+    shooting.segments *= result.start.laps;
+    result.centres.push_back(CentresOf(frame, result.tori.back(), shooting, tori,
+                                       FamilyStep(on_torus_step, result.tori.size() - 1)));
   }
   return result;
 }

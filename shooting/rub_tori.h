@@ -65,6 +65,10 @@ struct RubTorusOptions {
   // integrator is the modulated family's (its Gauss mesh covering one period), set here.
   TorusBranchOptions tori;
   int samples = 64;  // TorusLines' instants per period
+  // The shooting of one modulation period: a transient family's centre orbits (ContinueCentreOrbits,
+  // where it ends kShrinks) are shot with it, its segments times the section's laps; the
+  // Neimark–Sacker families' with their orbit family's.
+  ShootingOptions shooting;
 };
 
 struct RubModulatedTori {
@@ -76,6 +80,9 @@ struct RubModulatedTori {
   // Per torus family: the locked orbits where it ended in phase locking (ContinueLockedOrbits:
   // q-lap relative periodic orbits, folds at the tongue's edges); ok = false otherwise.
   std::vector<LockedOrbits> locked;
+  // Per torus family: the orbits it shrank onto (ContinueCentreOrbits) where it ended kShrinks;
+  // ok = false otherwise.
+  std::vector<CentreOrbits> centres;
 };
 
 // The modulated orbits born at `start` (ContinueModulatedOrbits with `orbits`, no side branches),
@@ -106,6 +113,9 @@ struct RubTransientTori {
   // Empty when the start did not converge; else [0] towards lower speed, [1] towards higher.
   std::vector<TorusBranch> tori;
   std::vector<std::vector<RubTorusLines>> lines;  // per family, per point
+  // Per family: the orbits it shrank onto where it ended kShrinks (ContinueCentreOrbits with
+  // options.shooting); ok = false otherwise.
+  std::vector<CentreOrbits> centres;
 };
 
 // Throws std::invalid_argument as SolveModulatedTorus and for invalid torus options.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -45,6 +46,11 @@ void Validate(const TorusBranchOptions& options) {
   if (!(options.max_fourier_tail > 0.0 && options.max_fourier_tail < 1.0)) {
     fail("max_fourier_tail", options.max_fourier_tail, "must be in (0, 1)");
   }
+  if (!(options.min_radius >= 0.0 && options.min_radius < options.amplitude / std::sqrt(2.0))) {
+    fail("min_radius", options.min_radius,
+         fmt::format("must be in [0, amplitude / √2 = {:g}) (the first circle's radius)",
+                     options.amplitude / std::sqrt(2.0)));
+  }
   if (options.lyapunov_iterates < 0) {
     fail("lyapunov_iterates", options.lyapunov_iterates, "must be ≥ 0");
   }
@@ -59,6 +65,7 @@ const char* ToString(TorusEnd end) {
     case TorusEnd::kBreakdown: return "breakdown";
     case TorusEnd::kLocking: return "phase locking";
     case TorusEnd::kGrazing: return "a contact lifts off";
+    case TorusEnd::kShrinks: return "the circle shrinks onto its centre";
     case TorusEnd::kFailed: return "failed";
   }
   return "?";
@@ -142,6 +149,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator,
                                  options.coordinates);
   problem.SetMaxFourierTail(options.max_fourier_tail);
+  problem.SetMinRadius(options.min_radius);
   // In the circle's coordinates: the centre y₀ = Ψ⁻¹(x₀), the directions D⁻¹ v.
   Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
   centre.col(0) = problem.ToCoordinates(at.starts.col(0));
@@ -173,6 +181,7 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
         options.harmonics, problem.states(), problem.Dimension()));
   }
   problem.SetMaxFourierTail(options.max_fourier_tail);
+  problem.SetMinRadius(options.min_radius);
   problem.SetPhaseReference(u0);
   TorusBranch result;
   result.kind = kind;
@@ -200,6 +209,13 @@ ContinuationOptions EngineOptions(const TorusBranchOptions& options) {
   return continuation;
 }
 
+// The located event "circle shrinks onto its centre" a family ended at, or null.
+const SpecialPoint* ShrinkEvent(const Branch& tori) {
+  if (tori.status != BranchStatus::kSwitchRefused || tori.special_points.empty()) return nullptr;
+  const SpecialPoint& last = tori.special_points.back();
+  return last.type == SpecialPointType::kEvent && last.label == kShrinksOntoCentre ? &last : nullptr;
+}
+
 void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranchOptions& options,
              TorusBranch& result) {
   // How it ended: a harmonic standing out of the circle's decaying spectrum names the resonance.
@@ -223,7 +239,8 @@ void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranc
     case BranchStatus::kReachedLambdaBound: result.end = TorusEnd::kBound; break;
     case BranchStatus::kMaxSteps: result.end = TorusEnd::kSteps; break;
     case BranchStatus::kSwitchRefused:
-      result.end = excess >= kLockingExcess && distance <= 0.5 / (q * q) ? TorusEnd::kLocking
+      result.end = ShrinkEvent(tori) ? TorusEnd::kShrinks
+                   : excess >= kLockingExcess && distance <= 0.5 / (q * q) ? TorusEnd::kLocking
                                                                            : TorusEnd::kBreakdown;
       break;
     default: result.end = TorusEnd::kFailed; break;
@@ -244,10 +261,16 @@ void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranc
     result.locking_p = p;
     result.locking_q = q;
   }
+  const SpecialPoint* shrink = ShrinkEvent(tori);
   result.end_note =
       result.end == TorusEnd::kLocking
           ? fmt::format("phase locking near the {}:{} resonance: {}", p, q, tail)
       : result.end == TorusEnd::kBreakdown ? "breakdown: " + tail
+      : result.end == TorusEnd::kShrinks
+          ? fmt::format("the circle shrinks onto its centre: its radius reached {:g} at λ = {:.9g} "
+                        "with ρ = {:.6f} (a Neimark–Sacker point of the orbit at its centre next "
+                        "to it: ContinueCentreOrbits)",
+                        options.min_radius, shrink->lambda, problem.RotationNumber(shrink->u))
                                            : fmt::format("{} at ρ = {:.6f}{}: {}", ToString(result.end),
                                                          end_rho, spectrum, tori.message);
 
@@ -324,6 +347,72 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       "no {}-lap orbit converged from the last circle's first {} points at λ = {} (where ρ "
       "extrapolates to {}/{} and beyond)",
       q, tries, tried, result.p, q);
+  return result;
+}
+
+CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const TorusBranch& tori,
+                                  const ShootingOptions& shooting,
+                                  const TorusBranchOptions& options,
+                                  const StepCallback& on_step) {
+  Validate(options);
+  const SpecialPoint* shrink = ShrinkEvent(tori.branch);
+  if (tori.end != TorusEnd::kShrinks || shrink == nullptr) {
+    throw std::invalid_argument(
+        "ContinueCentreOrbits: the torus family did not end with its circle shrinking onto its "
+        "centre");
+  }
+  CentreOrbits result;
+  // From the located event's circle (radius min_radius): its centre lies that close to the orbit.
+  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, options.integrator,
+                                tori.coordinates);
+  const double lambda = shrink->lambda;
+  const double period = circle.Period(shrink->u, lambda), phi = circle.Rotation(shrink->u);
+  system->SetParameter(lambda);
+  ShootingProblem problem(*system, tori.kind, shooting);
+  const Vector u0 = problem.InitialGuess(circle.Centre(shrink->u), period, lambda, phi);
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.detect.stability = true;
+  // The point lies next to the start, in the direction the family moved in at its end (the
+  // options' where its last two tori share λ): the orbits end once it is located.
+  const std::vector<BranchPoint>& points = tori.branch.points;
+  if (points.size() >= 2 && points.back().lambda != points[points.size() - 2].lambda) {
+    continuation.direction = points.back().lambda > points[points.size() - 2].lambda ? 1 : -1;
+  }
+  const EndTest at_point = [](const Branch& b) -> std::optional<BranchEnd> {
+    for (const SpecialPoint& p : b.special_points) {
+      if (p.type == SpecialPointType::kNeimarkSacker && p.converged) {
+        return BranchEnd{BranchStatus::kStoppedByCaller, "the Neimark–Sacker point is located"};
+      }
+    }
+    return std::nullopt;
+  };
+  Branch branch = Continue(problem, u0, lambda, continuation, on_step, at_point);
+  if (branch.status == BranchStatus::kStartFailed) {
+    result.message = fmt::format(
+        "no orbit converged from the last circle's centre at λ = {:.9g} (T = {:.9g}, φ = {:.6g}): "
+        "{}",
+        lambda, period, phi, branch.message);
+    return result;
+  }
+  result.ok = true;
+  result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));
+  for (const SpecialPoint& p : result.orbits.branch.special_points) {
+    if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
+    result.located = true;
+    result.lambda = p.lambda;
+    result.rotation_number = std::abs(std::arg(p.critical_value)) / kTwoPi;
+    break;
+  }
+  result.message =
+      result.located
+          ? fmt::format("a Neimark–Sacker point at λ = {:.9g} with arg μ / 2π = {:.6f}, the "
+                        "family's end at λ = {:.9g} with ρ = {:.6f}",
+                        result.lambda, result.rotation_number, lambda,
+                        circle.RotationNumber(shrink->u))
+          : fmt::format("no Neimark–Sacker point located on the orbits from λ = {:.9g} ({})", lambda,
+                        result.orbits.branch.message);
   return result;
 }
 

@@ -23,6 +23,9 @@
 //               harmonic 5 grows to 2.5 times harmonic 4 as ρ falls to 0.404);
 //   kGrazing    a contact lifts off at the last torus (the rub model's reading of a failed end,
 //               shooting/rub_tori.h ReadLiftOff);
+//   kShrinks    the circle's radius falls to min_radius (InvariantCircleProblem's event): the torus
+//               shrinks onto the periodic orbit at its centre, as at a Neimark–Sacker point of
+//               that orbit; ContinueCentreOrbits finds the orbit and locates the point;
 //   kBound      the range's end; kFailed the engine's other ends (step too small, ...) with its message;
 //   kSteps      the step limit.
 // Decision: locking is read from the circle's harmonics and ρ at the tail event, not proved by
@@ -52,6 +55,12 @@ struct TorusBranchOptions {
   ContinuationOptions continuation;
   double amplitude = 1e-3;           // ε of the first circle (scaled state units)
   double max_fourier_tail = 1e-4;    // the breakdown event, (0, 1)
+  // The event "the circle shrinks onto its centre" (InvariantCircleProblem::Radius, scaled state
+  // units): in [0, amplitude / √2), 0 switching it off. Below the first circle a Neimark–Sacker
+  // start draws (radius amplitude / √2), so that a family born at one such point can end at
+  // another. Decision: an absolute size, as the start's amplitude is — a torus family whose whole
+  // modulation is smaller than this is not told from its orbit.
+  double min_radius = 5e-4;
   // Lyapunov exponents of every stored torus from this many iterates of the map
   // (InvariantCircleProblem::LyapunovStability); 0: no stability.
   int lyapunov_iterates = 0;
@@ -64,7 +73,7 @@ void Validate(const TorusBranchOptions& options);
 
 // kGrazing: a contact lifts off at the family's last torus (read by the rub model's tori,
 // shooting/rub_tori.h, from an end that would otherwise be kFailed).
-enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kGrazing, kFailed };
+enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kGrazing, kShrinks, kFailed };
 const char* ToString(TorusEnd end);
 
 
@@ -135,6 +144,27 @@ struct LockedOrbits {
 // Throws std::invalid_argument when `tori` did not end in kLocking or has no points.
 LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
                                   const PeriodicOrbitBranch& family, const TorusBranch& tori,
+                                  const TorusBranchOptions& options,
+                                  const StepCallback& on_step = {});
+
+// The orbit a torus family shrank onto (end kShrinks): the periodic orbit (of the family's kind,
+// period T and rotation φ of its last torus) through the last circle's centre, continued with
+// `shooting` in the direction the family moved in at its end over the options' range
+// until its first Neimark–Sacker point is located (or the engine's bounds end it). The point's
+// speed and the angle of its multiplier, arg μ / 2π, against the last torus's λ and ρ (or 1 − ρ:
+// the circle's orientation is the fit's) say whether the family ends there.
+struct CentreOrbits {
+  bool ok = false;  // false: the orbit did not converge (message says where)
+  std::string message;
+  PeriodicOrbitBranch orbits;
+  bool located = false;           // a Neimark–Sacker point was located on them
+  double lambda = kNaN;           // its parameter
+  double rotation_number = kNaN;  // arg μ / 2π of its critical multiplier, in (0, 1/2]
+};
+
+// Throws std::invalid_argument when `tori` did not end in kShrinks or has no points.
+CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const TorusBranch& tori,
+                                  const ShootingOptions& shooting,
                                   const TorusBranchOptions& options,
                                   const StepCallback& on_step = {});
 

@@ -187,5 +187,61 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
                     Catch::Contains("the circle has 10 unknowns; 3 harmonics of 4 states need 30"));
 }
 
+TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks onto its centre "
+          "and the centre's orbits locate the point and its angle",
+          "[torus]") {
+  auto system = std::make_shared<CycleBesideOscillator>();
+  TorusBranchOptions options = TorusOptions();
+  options.lambda_min = -0.1;
+  options.lyapunov_iterates = 0;
+  options.continuation.direction = -1;
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  // The torus at λ = 0.2: θ ↦ (1, 0, r cos θ, r sin θ), r = √λ, whose radius is r.
+  const double lambda0 = 0.2, period = kTwoPi / kOmega0;
+  Matrix c = Matrix::Zero(4, 7);
+  c(0, 0) = 1.0;
+  c(2, 1) = c(3, 2) = std::sqrt(lambda0);
+  const Vector u0 = problem.Pack(c, (kOmega1 + kShear * lambda0) / kOmega0, period);
+  CHECK(problem.Radius(u0) == Approx(std::sqrt(lambda0)).epsilon(1e-12));
+  const TorusBranch tori = ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options);
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  REQUIRE(tori.end == TorusEnd::kShrinks);
+  const Branch& b = tori.branch;
+  const Index radius = b.MeasureIndex("radius");
+  for (const BranchPoint& p : b.points) {
+    INFO("lambda = " << p.lambda);
+    CHECK(p.lambda > 0.0);
+    CHECK(p.measures(radius) == Approx(std::sqrt(p.lambda)).epsilon(0).margin(1e-8));
+  }
+  // The event where the radius is min_radius: λ = r² = 2.5e-7.
+  const SpecialPoint& end = b.special_points.back();
+  CHECK(end.label == kShrinksOntoCentre);
+  CHECK(end.lambda == Approx(options.min_radius * options.min_radius).epsilon(1e-3));
+  CHECK_THAT(tori.end_note, Catch::Contains("the circle shrinks onto its centre"));
+
+  // The orbit z₁ = 0 through the last circle's centre, its Neimark–Sacker point at λ = 0 with the
+  // angle 2πω₁/ω₀ of its multipliers.
+  ShootingOptions shooting;
+  shooting.segments = 2;
+  shooting.integrator = Tight();
+  const CentreOrbits centre = ContinueCentreOrbits(system, tori, shooting, options);
+  INFO(centre.message << " / " << centre.orbits.branch.BriefReport());
+  REQUIRE(centre.ok);
+  REQUIRE(centre.located);
+  CHECK(centre.lambda == Approx(0.0).epsilon(0).margin(1e-7));
+  CHECK(centre.rotation_number == Approx(kOmega1 / kOmega0).epsilon(1e-6));
+  CHECK(centre.orbits.branch.status == BranchStatus::kStoppedByCaller);
+
+  TorusBranch bound = tori;
+  bound.end = TorusEnd::kBound;
+  CHECK_THROWS_WITH(ContinueCentreOrbits(system, bound, shooting, options),
+                    Catch::Contains("did not end with its circle shrinking onto its centre"));
+  TorusBranchOptions bad = options;
+  bad.min_radius = 1e-3;
+  CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, bad),
+                    Catch::Contains("min_radius = 0.001: must be in [0, amplitude / √2"));
+}
+
 }  // namespace
 }  // namespace rubcont
