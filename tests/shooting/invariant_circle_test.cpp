@@ -374,8 +374,9 @@ TEST_CASE("invariant circle: autonomous torus, period 2pi/Omega_0 and rotation n
   CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-9);
   CHECK(std::abs(problem.Period(u, mu) - period) <= 1e-9 * period);
   CheckChainTorus(problem, u, mu, period, 1e-9);
-  CHECK(problem.MeasureNames().back() == "period");
+  CHECK(problem.MeasureNames()[3] == "period");
   CHECK(problem.Measures(u, mu)(3) == Approx(period).epsilon(1e-10));
+  CHECK(problem.MeasureNames().back() == "radius");
 
   // Continued in μ from 0.5 to 0.62: ρ(μ) = frac(Ω₁(μ)/Ω₀(μ)) from 0.409 to 0.345 and T(μ) follow
   // at every point. (The phases of this system do not interact, so at a rational ρ = p/q every

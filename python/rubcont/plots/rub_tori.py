@@ -14,8 +14,9 @@ Writes, from the HDF5 file only (layout: apps/tori_stage.h):
                    q / their period);
                    third: each contact's strongest line of precession besides the carrier
                    (fixed frame) and the carrier;
-                   bottom: the circle's Fourier tail and invariance error (log), with the tail
-                   limit at which a family ends.
+                   bottom: the circle's Fourier tail, invariance error and radius (log).
+                   Where a family shrinks onto its centre, the orbits there (1/T, top) and their
+                   Neimark–Sacker point (star, second) are drawn.
 From Python: ``figure(f)`` returns the Figure.
 """
 import sys
@@ -37,7 +38,8 @@ def line_contacts(group):
 
 
 def torus_families(tori):
-    return sorted(name for name in tori if name != "orbits" and not name.endswith("_locked"))
+    return sorted(name for name in tori
+                  if name != "orbits" and not name.endswith(("_locked", "_centre")))
 
 
 def scatter_stable(ax, x, y, stable, color, label):
@@ -115,6 +117,22 @@ def figure(f, fig=None):
             for fold in np.atleast_1d(lock.attrs.get("fold_speeds_rpm", [])):
                 ax_rho.axvline(float(fold), color="#c00000", lw=0.8, ls=":")
             ax_rho.legend(fontsize=7, loc="best")
+        if name + "_centre" in tori:
+            centre = tori[name + "_centre"]
+            crpm = centre["speed_rpm"][()]
+            focus.append(crpm)
+            for a, b, stable_run in stable_runs(centre["stable"][()]):
+                ax_f.plot(crpm[a:b + 1], 1.0 / centre["period"][()][a:b + 1],
+                          "-" if stable_run else "--", color="#6a3d9a", lw=2.0,
+                          label="the orbits the tori shrink onto: 1/T" if a == 0 else None)
+            ns = float(centre.attrs.get("neimark_sacker_speed_rpm", np.nan))
+            if np.isfinite(ns):
+                angle = float(centre.attrs["neimark_sacker_rotation_number"])
+                # The circle's orientation is its fit's: the multiplier's angle as ρ or 1 − ρ.
+                shown = angle if abs(angle - rho[-1]) <= abs(1 - angle - rho[-1]) else 1 - angle
+                ax_rho.plot([ns], [shown], "*", ms=13, color="#6a3d9a", zorder=5,
+                            label="Neimark–Sacker point of the orbits at the centre")
+                ax_rho.legend(fontsize=7, loc="best")
         end = text(g.attrs.get("end", ""))
         ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(-60, -4),
                         textcoords="offset points", color=color)
@@ -129,6 +147,9 @@ def figure(f, fig=None):
                          label="Fourier tail (last harmonic / largest)" if j == 0 else None)
         ax_tail.semilogy(rpm, g["invariance_error"][()], "s--", ms=3, color="#888888",
                          label="invariance error between the points" if j == 0 else None)
+        if "radius" in g:  # files made before the radius measure have none
+            ax_tail.semilogy(rpm, g["radius"][()], "^-", ms=3, color="#6a3d9a",
+                             label="circle radius (scaled state)" if j == 0 else None)
     if not families:
         ax_f.text(0.5, 0.5, "no Neimark–Sacker point bounds a stable modulated whip: no tori",
                   transform=ax_f.transAxes, ha="center")
