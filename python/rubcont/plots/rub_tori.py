@@ -148,7 +148,7 @@ def figure(f, fig=None):
         ax_tail.semilogy(rpm, g["invariance_error"][()], "s--", ms=3, color="#888888",
                          label="invariance error between the points" if j == 0 else None)
         if "radius" in g:  # files made before the radius measure have none
-            ax_tail.semilogy(rpm, g["radius"][()], "^-", ms=3, color="#6a3d9a",
+            ax_tail.semilogy(rpm, g["radius"][()], "^-", ms=3, color="#222222",
                              label="circle radius (scaled state)" if j == 0 else None)
     if not families:
         ax_f.text(0.5, 0.5, "no Neimark–Sacker point bounds a stable modulated whip: no tori",
