@@ -115,6 +115,8 @@ std::vector<Rule> MakeRules() {
   add("lambda|mu|frequency|period|amplitude_x|max_x|min_x|max_v|min_v|mean_radius|"
       "closed_form_(radius|period|multiplier)_error",
       Dimensionless(), "^/branches/periodic_orbits/");
+  // A torus's circle radius, in scaled state units (InvariantCircleProblem::Radius).
+  add("radius", Dimensionless(), "^/tori/");
   return rules;
 }
 
