@@ -135,10 +135,6 @@ std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBra
   return lines;
 }
 
-}  // namespace
-
-namespace {
-
 // The orbits a family shrank onto (ContinueCentreOrbits), or ok = false with the reason.
 CentreOrbits CentresOf(const RubRotatingFrame& frame, const TorusBranch& tori,
                        const ShootingOptions& shooting, const TorusBranchOptions& options,
