@@ -377,19 +377,19 @@ double InvariantCircleProblem::HarmonicSizeOf(const Matrix& coefficients, int k,
   return coefficients.middleCols(2 * k - 1, 2).cwiseQuotient(scale.replicate(1, 2)).norm();
 }
 
-Vector InvariantCircleProblem::Centre(const Vector& u) const {
-  Vector mean = Vector::Zero(n_);
-  for (Index j = 0; j < points_; ++j) mean += PointAt(u, Node(j));
-  return mean / static_cast<double>(points_);
+Matrix InvariantCircleProblem::States(const Vector& u) const {
+  Matrix states(n_, points_);
+  for (Index j = 0; j < points_; ++j) states.col(j) = PointAt(u, Node(j));
+  return states;
 }
 
+Vector InvariantCircleProblem::Centre(const Vector& u) const { return States(u).rowwise().mean(); }
+
 double InvariantCircleProblem::Radius(const Vector& u) const {
-  const Vector centre = Centre(u);
-  double sum = 0.0;
-  for (Index j = 0; j < points_; ++j) {
-    sum += (PointAt(u, Node(j)) - centre).cwiseQuotient(scale_).squaredNorm();
-  }
-  return std::sqrt(sum / static_cast<double>(points_));
+  const Matrix states = States(u);
+  const Matrix off = (states.colwise() - Vector(states.rowwise().mean())).cwiseQuotient(
+      scale_.replicate(1, points_));
+  return std::sqrt(off.squaredNorm() / static_cast<double>(points_));
 }
 
 double InvariantCircleProblem::FourierTail(const Vector& u) const {

@@ -225,6 +225,8 @@ class InvariantCircleProblem : public Problem {
   Vector Basis(double theta) const;
   Vector BasisDerivative(double theta) const;
   double FourierTail(const Vector& u) const;
+  // The states x(θ_j) at the circle's N points (n × N).
+  Matrix States(const Vector& u) const;
   // The m × (2K + 1) matrix whose rows are the basis at m angles.
   Matrix BasisMatrix(const Vector& angles) const;
   // Coefficients (n × (2K + 1), in the circle's coordinates) fitted by least squares to states at

@@ -380,13 +380,15 @@ CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const Torus
   if (points.size() >= 2 && points.back().lambda != points[points.size() - 2].lambda) {
     continuation.direction = points.back().lambda > points[points.size() - 2].lambda ? 1 : -1;
   }
-  const EndTest at_point = [](const Branch& b) -> std::optional<BranchEnd> {
+  const auto located_point = [](const Branch& b) -> const SpecialPoint* {
     for (const SpecialPoint& p : b.special_points) {
-      if (p.type == SpecialPointType::kNeimarkSacker && p.converged) {
-        return BranchEnd{BranchStatus::kStoppedByCaller, "the Neimark–Sacker point is located"};
-      }
+      if (p.type == SpecialPointType::kNeimarkSacker && p.converged) return &p;
     }
-    return std::nullopt;
+    return nullptr;
+  };
+  const EndTest at_point = [&located_point](const Branch& b) -> std::optional<BranchEnd> {
+    if (located_point(b) == nullptr) return std::nullopt;
+    return BranchEnd{BranchStatus::kStoppedByCaller, "the Neimark–Sacker point is located"};
   };
   Branch branch = Continue(problem, u0, lambda, continuation, on_step, at_point);
   if (branch.status == BranchStatus::kStartFailed) {
@@ -398,12 +400,10 @@ CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const Torus
   }
   result.ok = true;
   result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));
-  for (const SpecialPoint& p : result.orbits.branch.special_points) {
-    if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
+  if (const SpecialPoint* p = located_point(result.orbits.branch)) {
     result.located = true;
-    result.lambda = p.lambda;
-    result.rotation_number = std::abs(std::arg(p.critical_value)) / kTwoPi;
-    break;
+    result.lambda = p->lambda;
+    result.rotation_number = std::abs(std::arg(p->critical_value)) / kTwoPi;
   }
   result.message =
       result.located

@@ -174,15 +174,21 @@ LambdaProblem CurvedAtanProblem() {
       });
 }
 
-TEST_CASE("a corrector that diverges at a large step halves the step and the branch recovers",
-          "[continuation][step]") {
-  LambdaProblem problem = CurvedAtanProblem();
+// Steps of 0.5 up to λ = lambda_max, the angle test switched off: what limits them is the test's.
+ContinuationOptions LongSteps(double lambda_max) {
   ContinuationOptions options;
   options.step.initial = 0.5;
   options.step.max = 0.5;
-  options.step.max_angle = 3.0;  // let Newton, not the angle test, limit the step
+  options.step.max_angle = 3.0;
   options.step.target_angle = 3.0;
-  options.bounds.lambda_max = 3.0;
+  options.bounds.lambda_max = lambda_max;
+  return options;
+}
+
+TEST_CASE("a corrector that diverges at a large step halves the step and the branch recovers",
+          "[continuation][step]") {
+  LambdaProblem problem = CurvedAtanProblem();
+  const ContinuationOptions options = LongSteps(3.0);  // Newton, not the angle test, limits them
   const Branch branch = Continue(problem, Vec({0.0}), 0.0, options);
   INFO(branch.BriefReport());
   CHECK(branch.statistics.corrector_failures > 0);
@@ -217,12 +223,7 @@ class NearLastOnly : public LambdaProblem {
 TEST_CASE("a converged point the problem calls stray shortens the step as a corrector failure does",
           "[continuation][step]") {
   NearLastOnly problem;
-  ContinuationOptions options;
-  options.step.initial = 0.5;
-  options.step.max = 0.5;
-  options.step.max_angle = 3.0;  // let StrayPoint, not the angle test, limit the step
-  options.step.target_angle = 3.0;
-  options.bounds.lambda_max = 1.0;
+  ContinuationOptions options = LongSteps(1.0);  // StrayPoint, not the angle test, limits them
   const Branch branch = Continue(problem, Vec({0.0}), 0.0, options);
   INFO(branch.BriefReport());
   REQUIRE(branch.status == BranchStatus::kReachedLambdaBound);
