@@ -151,16 +151,8 @@ StageSetup ForcedVanDerPolSetup(const Scene& scene) {
 constexpr double kDefectLimit = 1e-5;
 constexpr double kUnresolvedMultiplierLimit = 0.99;
 
-// What an orbit's trust is judged by: the structure's clearances and the largest penetration
-// allowed as a share of them ([analysis.sweep] max_penetration).
-struct OrbitTrust {
-  const RubStructure& structure;
-  double max_penetration;
-};
+}  // namespace
 
-// The largest defect and unresolved multiplier of a branch, printed, and a note when either is over
-// its limit; the orbits that penetrate beyond the trust limit (UntrustedOrbits): the column
-// `untrusted` of the group and a note with the speeds.
 void ReportOrbitChecks(const Branch& branch, const std::string& group, const OrbitTrust& trust,
                        ResultWriter& writer, std::ostream& out) {
   if (branch.points.empty()) return;
@@ -199,7 +191,6 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, const Orb
   if (!notes.empty()) writer.SetAttribute(group, "check_note", fmt::format("{}", fmt::join(notes, "; ")));
 }
 
-// One line per special point of a family of modulated orbits.
 void PrintSpecialPoints(const Branch& branch, std::ostream& out) {
   for (const SpecialPoint& p : branch.special_points) {
     fmt::print(out, "    {:<28} {:9.4f} rpm  precession (carrier) {:.4f} Hz  modulation {:.2f} Hz{}\n",
@@ -209,6 +200,8 @@ void PrintSpecialPoints(const Branch& branch, std::ostream& out) {
                p.converged ? "" : "  (not located" + (p.note.empty() ? "" : ": " + p.note) + ")");
   }
 }
+
+namespace {
 
 // A branch followed from special point `point` of family `parent`: /orbits/<branch_name> with
 // attrs parent, branch_point_speed_rpm, branch_point_precession_hz, branch_point_note, its summary

@@ -87,6 +87,22 @@ bool ReportTransient(const std::string& prefix, const std::string& what, const S
 void WriteTransientAttributes(ResultWriter& writer, const std::string& group, double speed_rpm,
                               double seconds, const RubSettledSpeed& transient);
 
+// What an orbit's trust is judged by: the structure's clearances and the largest penetration
+// allowed as a share of them ([analysis.sweep] max_penetration).
+struct OrbitTrust {
+  const RubStructure& structure;
+  double max_penetration;
+};
+
+// The largest defect and unresolved multiplier of a family of modulated orbits (RubFamilyMeasures),
+// printed, and a note when either is over its limit; the orbits that penetrate beyond the trust
+// limit (UntrustedOrbits): the column `untrusted` of the group and a note with the speeds.
+void ReportOrbitChecks(const Branch& branch, const std::string& group, const OrbitTrust& trust,
+                       ResultWriter& writer, std::ostream& out);
+
+// One line per special point of a family of modulated orbits: name, speed, carrier, modulation.
+void PrintSpecialPoints(const Branch& branch, std::ostream& out);
+
 // Each appends a line to the context's failures when a branch ends on a numerical failure or
 // cannot start, and sends one progress line per finished run.
 void RunRubOrbits(const Scene& scene, StageContext& context);           // model two_point

@@ -152,6 +152,7 @@ struct RubToriSettings {
   int samples = 64;                // instants per period for the lines of each contact
   bool from_neimark_sacker = true;  // neimark_sacker = "follow" (else "skip")
   bool contact_chart = false;       // coordinates = "chart" (else "state")
+  bool centre_orbits_onward = true;  // centre_orbits = "follow" (else "to_point")
   // [analysis.tori.transient]: the tori through the torus a settled transient lies on
   // (ContinueTransientTori), for whips no Neimark–Sacker point of a computed family reaches.
   struct Transient {

@@ -892,6 +892,16 @@ void ToriKeys(std::vector<KeySpec>& s) {
       {"state", "chart"}, "chart",
       [](Scene& x) -> bool& { return x.analysis.tori.contact_chart; }));
   s.back().added_at_older_behaviour = true;
+  s.push_back(Switch(
+      "analysis.tori.centre_orbits",
+      "Where a torus family shrinks onto a periodic orbit (its end at a Neimark–Sacker point of "
+      "that orbit), the orbit is solved through the last circle's centre and continued in the "
+      "direction the family moved: \"follow\", on over speed_range_rpm to its own end (the whip "
+      "a supercritical point hands the motion to: its stability, special points and a contact's "
+      "lift-off located, [analysis.orbits]' engine and max_steps); \"to_point\", only until the "
+      "Neimark–Sacker point is located.",
+      {"follow", "to_point"}, "follow",
+      [](Scene& x) -> bool& { return x.analysis.tori.centre_orbits_onward; }));
 }
 
 // [analysis.loop]: the loop study (studies/loop.h). Every key is optional.

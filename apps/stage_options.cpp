@@ -321,7 +321,8 @@ RubTorusOptions TorusOptionsOf(const Scene& scene) {
   options.tori.continuation.corrector.residual_tolerance =
       (gauss ? 0.1 : 100.0) * scene.analysis.orbits.tolerance;
   options.samples = t.samples;
-  options.shooting = orbits.shooting;
+  options.centre_orbits = orbits;
+  options.centre_orbits.stop_at_neimark_sacker = !t.centre_orbits_onward;
   options.tori.coordinates = t.contact_chart ? CircleCoordinates::kChart : CircleCoordinates::kState;
   return options;
 }

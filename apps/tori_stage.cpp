@@ -18,6 +18,7 @@
 #include "shooting/rub_tori.h"
 #include "solvers/constants.h"
 #include "solvers/stopwatch.h"
+#include "studies/hysteresis_map.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -162,9 +163,10 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
 
-// The orbits a torus family shrank onto: /tori/<torus family>_centre, and a summary line.
+// The orbits a torus family shrank onto: /tori/<torus family>_centre, its summary lines (the
+// located point; the special points and stable speeds of the family beyond it) and checks.
 void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, const TorusBranch& tori,
-                       const CentreOrbits& centre, std::ostream& out,
+                       const CentreOrbits& centre, const OrbitTrust& trust, std::ostream& out,
                        std::vector<std::string>& failures) {
   if (tori.end != TorusEnd::kShrinks) return;
   if (!centre.ok) {
@@ -190,6 +192,14 @@ void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, con
   } else {
     fmt::print(out, "      {}\n", centre.message);
   }
+  PrintSpecialPoints(b, out);
+  std::vector<std::string> stable;
+  for (const auto& [from, to] : StableIntervals(b)) {
+    stable.push_back(fmt::format("{:.4f}–{:.4f}", RadPerSecondToRpm(std::min(from, to)),
+                                 RadPerSecondToRpm(std::max(from, to))));
+  }
+  fmt::print(out, "    stable at {} rpm\n", stable.empty() ? "no computed speed" : fmt::format("{}", fmt::join(stable, ", ")));
+  ReportOrbitChecks(b, group, trust, writer, out);
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
 
@@ -198,6 +208,7 @@ void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, con
 void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
   const RubToriSettings::Transient& t = scene.analysis.tori.transient;
   std::ostream& out = context.out;
+  const OrbitTrust trust{plan.structure, scene.analysis.sweep.max_penetration};
   const SteadyClock::time_point t0 = SteadyClock::now();
   const double omega = RpmToRadPerSecond(t.speed_rpm);
   context.progress(fmt::format("[tori] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
@@ -260,7 +271,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     fmt::print(out, "  {}: {} ({:.1f} s)\n    {}\n", name, tori.branch.BriefReport(),
                SecondsSince(t0), tori.end_note);
     PrintTori(tori, result.lines[j], plan.structure, out);
-    WriteCentreOrbits(w, group, tori, result.centres[j], out, context.failures);
+    WriteCentreOrbits(w, group, tori, result.centres[j], trust, out, context.failures);
     if (tori.end == TorusEnd::kFailed) {
       context.failures.push_back(fmt::format("[tori] {}: {}", name, tori.end_note));
     }
@@ -276,6 +287,7 @@ void RunRubTori(const Scene& scene, StageContext& context) {
   ResultWriter& writer = context.writer;
   std::ostream& out = context.out;
   const RubToriSettings& settings = scene.analysis.tori;
+  const OrbitTrust trust{plan.structure, scene.analysis.sweep.max_penetration};
   // K of the Neimark–Sacker families, or of the transient's when those are skipped.
   const int harmonics = settings.from_neimark_sacker ? settings.harmonics : settings.transient.harmonics;
   const std::string numerics =
@@ -349,7 +361,8 @@ void RunRubTori(const Scene& scene, StageContext& context) {
                  tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
       PrintTori(tori, result.lines[j], plan.structure, out);
       WriteLockedOrbits(writer, "/tori/" + torus_name, result.locked[j], out, context.failures);
-      WriteCentreOrbits(writer, "/tori/" + torus_name, tori, result.centres[j], out, context.failures);
+      WriteCentreOrbits(writer, "/tori/" + torus_name, tori, result.centres[j], trust, out,
+                        context.failures);
       if (tori.end == TorusEnd::kFailed) {
         context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
       }

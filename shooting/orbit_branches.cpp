@@ -242,15 +242,28 @@ EndTest EndAtGrazing() {
   };
 }
 
-EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda) {
-  const EndTest closed = options.stop_round_closed_curve ? EndRoundClosedCurve(start_lambda) : EndTest{};
-  const EndTest grazing = options.stop_at_grazing ? EndAtGrazing() : EndTest{};
-  if (!closed && !grazing) return {};
-  return [closed, grazing](const Branch& branch) -> std::optional<BranchEnd> {
-    if (closed) {
-      if (std::optional<BranchEnd> end = closed(branch)) return end;
+EndTest EndAtNeimarkSacker() {
+  return [](const Branch& branch) -> std::optional<BranchEnd> {
+    for (const SpecialPoint& p : branch.special_points) {
+      if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
+      return BranchEnd{BranchStatus::kStoppedByCaller,
+                       fmt::format("the Neimark–Sacker point is located at λ = {:.9g}", p.lambda)};
     }
-    return grazing ? grazing(branch) : std::nullopt;
+    return std::nullopt;
+  };
+}
+
+EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda) {
+  std::vector<EndTest> tests;
+  if (options.stop_round_closed_curve) tests.push_back(EndRoundClosedCurve(start_lambda));
+  if (options.stop_at_grazing) tests.push_back(EndAtGrazing());
+  if (options.stop_at_neimark_sacker) tests.push_back(EndAtNeimarkSacker());
+  if (tests.empty()) return {};
+  return [tests](const Branch& branch) -> std::optional<BranchEnd> {
+    for (const EndTest& test : tests) {
+      if (std::optional<BranchEnd> end = test(branch)) return end;
+    }
+    return std::nullopt;
   };
 }
 

@@ -79,6 +79,10 @@ struct PeriodicOrbitBranchOptions {
   // halving steps over 0.33 rpm (640 s) to a corrector failure (issue 49; bench/
   // whip_family_bench.cpp); ContinueAcrossSwitches (shooting/switching_orbits.h) continues there.
   bool stop_at_grazing = false;
+  // End a run at its first located Neimark–Sacker point (status kStoppedByCaller, the message
+  // names it): where the point is all a caller wants of the family (ContinueCentreOrbits proving
+  // where a torus family ends), not the family beyond it.
+  bool stop_at_neimark_sacker = false;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;
   // 0: both ways from the start (one way from an end of the range); ±1: only that way in λ.
@@ -105,8 +109,11 @@ EndTest EndRoundClosedCurve(double start_lambda);
 // The end at the first converged grazing special point of the branch (PeriodicOrbitBranchOptions::
 // stop_at_grazing): status BranchStatus::kGrazing.
 EndTest EndAtGrazing();
-// The ends `options` ask for (stop_round_closed_curve, stop_at_grazing) as one end test of a run
-// started at start_lambda; empty when they ask for none.
+// The end at the first converged Neimark–Sacker point (PeriodicOrbitBranchOptions::
+// stop_at_neimark_sacker): status kStoppedByCaller.
+EndTest EndAtNeimarkSacker();
+// The ends `options` ask for (stop_round_closed_curve, stop_at_grazing, stop_at_neimark_sacker) as
+// one end test of a run started at start_lambda; empty when they ask for none.
 EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda);
 
 // Throws std::invalid_argument naming the field (an empty or non-finite range).

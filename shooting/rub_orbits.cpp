@@ -183,13 +183,8 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
   return starts;
 }
 
-namespace {
-
-// The measures of a family's orbits run `laps` times per shooting period (period-doubled
-// families: 2): the unresolved-mode check needs the mesh's steps per period, which doubles with
-// the period.
-std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame,
-                                         const ShootingOptions& shooting, int laps) {
+std::vector<OrbitMeasure> RubFamilyMeasures(const RubRotatingFrame& frame,
+                                            const ShootingOptions& shooting, int laps) {
   std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
   const IntegratorOptions& integrator = shooting.integrator;
   if (integrator.method == IntegrationMethod::kGaussCollocation) {
@@ -200,6 +195,8 @@ std::vector<OrbitMeasure> FamilyMeasures(const RubRotatingFrame& frame,
   }
   return measures;
 }
+
+namespace {
 
 // The side branches of result.orbits (ContinueModulatedOrbits with switch_at_branch_points).
 void FollowSideBranches(RubRotatingFrame& frame, const PeriodicOrbitBranchOptions& options,
@@ -227,7 +224,7 @@ void FollowSideBranches(RubRotatingFrame& frame, const PeriodicOrbitBranchOption
       continue;
     }
     PeriodicOrbitBranchOptions doubled = options;
-    doubled.measures = FamilyMeasures(frame, options.shooting, 2);
+    doubled.measures = RubFamilyMeasures(frame, options.shooting, 2);
     result.doublings.push_back(
         ContinueOrbitsFromPeriodDoubling(frame, result.orbits, k, doubled, 1e-3, on_step));
   }
@@ -264,7 +261,7 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u = Vector::Zero(4 * nc);
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
-  options.orbits.measures = FamilyMeasures(frame, options.orbits.shooting, 1);
+  options.orbits.measures = RubFamilyMeasures(frame, options.orbits.shooting, 1);
   options.orbits.test_functions = RubGrazingTests(structure);
   RubModulatedOrbits result;
   result.hopf = start;
@@ -284,7 +281,7 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
   if (!result.start.converged) return result;
   RubRotatingFrame frame(structure, frame_rate, omega);
   options.shooting = start.shooting;
-  options.measures = FamilyMeasures(frame, options.shooting, 1);
+  options.measures = RubFamilyMeasures(frame, options.shooting, 1);
   options.test_functions = RubGrazingTests(structure);
   PeriodicOrbitBranchOptions family = options;
   family.stop_round_closed_curve = true;
@@ -307,7 +304,7 @@ OrbitPeriodDoubling ContinueTransientDoubling(const RubStructure& structure,
   const PeriodicOrbitBranch& family = orbits.family.orbits;
   RubRotatingFrame frame(structure, orbits.start.frame_rate, family.start_lambda);
   options.shooting = family.shooting;
-  options.measures = FamilyMeasures(frame, family.shooting, 2);
+  options.measures = RubFamilyMeasures(frame, family.shooting, 2);
   options.test_functions = RubGrazingTests(structure);
   return ContinueOrbitsFromPeriodDoubling(frame, family, special_point, options, 1e-3,
                                           options.on_step);

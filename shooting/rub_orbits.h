@@ -46,6 +46,12 @@ namespace rubcont {
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
 std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
 
+// The measures of a family's orbits shot with `shooting`, run `laps` times per shooting period
+// (period-doubled families: 2): RubOrbitMeasures, and with Gauss collocation the unresolved-mode
+// check (UnresolvedMultiplier), which needs the mesh's steps per period.
+std::vector<OrbitMeasure> RubFamilyMeasures(const RubRotatingFrame& frame,
+                                            const ShootingOptions& shooting, int laps);
+
 // Per point of a family (RubOrbitMeasures), why the orbit is untrusted, or "": a contact
 // penetrates more than `max_penetration` × its clearance, beyond the small overlap the contact laws
 // describe (the sweeps' rule, [analysis.sweep] max_penetration; sweeps/rub_sweep.h).

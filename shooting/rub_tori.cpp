@@ -135,17 +135,22 @@ std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBra
   return lines;
 }
 
-// The orbits a family shrank onto (ContinueCentreOrbits), or ok = false with the reason.
-CentreOrbits CentresOf(const RubRotatingFrame& frame, const TorusBranch& tori,
-                       const ShootingOptions& shooting, const TorusBranchOptions& options,
-                       const StepCallback& step) {
+// The orbits a family shrank onto (ContinueCentreOrbits with `orbits`, shot with `shooting`), or
+// ok = false with the reason.
+CentreOrbits CentresOf(const RubStructure& structure, const RubRotatingFrame& frame,
+                       const TorusBranch& tori, const ShootingOptions& shooting,
+                       PeriodicOrbitBranchOptions orbits, const StepCallback& step) {
   if (!tori.ok || tori.end != TorusEnd::kShrinks) {
     CentreOrbits none;
     none.message = "the family did not shrink onto its centre";
     return none;
   }
-  return ContinueCentreOrbits(std::make_shared<RubRotatingFrame>(frame), tori, shooting, options,
-                              step);
+  orbits.shooting = shooting;
+  orbits.measures = RubFamilyMeasures(frame, shooting, 1);
+  orbits.test_functions = RubGrazingTests(structure);
+  orbits.stop_at_grazing = true;
+  orbits.on_step = step;
+  return ContinueCentreOrbits(std::make_shared<RubRotatingFrame>(frame), tori, orbits);
 }
 
 }  // namespace
@@ -202,7 +207,8 @@ RubModulatedTori ContinueModulatedTori(
       locked.message = "the family did not end in phase locking";
     }
     result.locked.push_back(std::move(locked));
-    result.centres.push_back(CentresOf(frame, ended, family.shooting, tori, step));
+    result.centres.push_back(
+        CentresOf(structure, frame, ended, family.shooting, options.centre_orbits, step));
   }
   return result;
 }
@@ -235,9 +241,10 @@ RubTransientTori ContinueTransientTori(
                                        FamilyStep(on_torus_step, result.tori.size())));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
     ReadLiftOff(structure, result.lines.back(), result.tori.back());
-    ShootingOptions shooting = options.shooting;
+    ShootingOptions shooting = options.centre_orbits.shooting;
     shooting.segments *= result.start.laps;
-    result.centres.push_back(CentresOf(frame, result.tori.back(), shooting, tori,
+    result.centres.push_back(CentresOf(structure, frame, result.tori.back(), shooting,
+                                       options.centre_orbits,
                                        FamilyStep(on_torus_step, result.tori.size() - 1)));
   }
   return result;

@@ -65,10 +65,13 @@ struct RubTorusOptions {
   // integrator is the modulated family's (its Gauss mesh covering one period), set here.
   TorusBranchOptions tori;
   int samples = 64;  // TorusLines' instants per period
-  // The shooting of one modulation period: a transient family's centre orbits (ContinueCentreOrbits,
-  // where it ends kShrinks) are shot with it, its segments times the section's laps; the
-  // Neimark–Sacker families' with their orbit family's.
-  ShootingOptions shooting;
+  // The orbits a family shrinks onto (ContinueCentreOrbits, where it ends kShrinks): their range,
+  // engine, stop_at_neimark_sacker and on_step as given; their shooting is this one's of one
+  // modulation period, its segments times the section's laps, for a transient family, and the
+  // orbit family's for a Neimark–Sacker family; their measures (RubFamilyMeasures), grazing tests
+  // (RubGrazingTests) and stop_at_grazing are set here: past a contact's lift-off the fixed mesh
+  // creeps (PeriodicOrbitBranchOptions::stop_at_grazing).
+  PeriodicOrbitBranchOptions centre_orbits;
 };
 
 struct RubModulatedTori {
@@ -114,7 +117,7 @@ struct RubTransientTori {
   std::vector<TorusBranch> tori;
   std::vector<std::vector<RubTorusLines>> lines;  // per family, per point
   // Per family: the orbits it shrank onto where it ended kShrinks (ContinueCentreOrbits with
-  // options.shooting); ok = false otherwise.
+  // options.centre_orbits); ok = false otherwise.
   std::vector<CentreOrbits> centres;
 };
 

@@ -351,9 +351,7 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
 }
 
 CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const TorusBranch& tori,
-                                  const ShootingOptions& shooting,
-                                  const TorusBranchOptions& options,
-                                  const StepCallback& on_step) {
+                                  PeriodicOrbitBranchOptions options) {
   Validate(options);
   const SpecialPoint* shrink = ShrinkEvent(tori.branch);
   if (tori.end != TorusEnd::kShrinks || shrink == nullptr) {
@@ -363,56 +361,46 @@ CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const Torus
   }
   CentreOrbits result;
   // From the located event's circle (radius min_radius): its centre lies that close to the orbit.
-  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, options.integrator,
+  // (The circle's integrator is not used: only its unknowns are read.)
+  InvariantCircleProblem circle(system, tori.harmonics, tori.kind, IntegratorOptions{},
                                 tori.coordinates);
-  const double lambda = shrink->lambda;
-  const double period = circle.Period(shrink->u, lambda), phi = circle.Rotation(shrink->u);
-  system->SetParameter(lambda);
-  ShootingProblem problem(*system, tori.kind, shooting);
-  const Vector u0 = problem.InitialGuess(circle.Centre(shrink->u), period, lambda, phi);
-  ContinuationOptions continuation = options.continuation;
-  continuation.bounds.lambda_min = options.lambda_min;
-  continuation.bounds.lambda_max = options.lambda_max;
-  continuation.detect.stability = true;
+  OrbitStart start;
+  start.lambda = shrink->lambda;
+  start.period = circle.Period(shrink->u, start.lambda);
+  start.rotation = circle.Rotation(shrink->u);
+  start.x0 = circle.Centre(shrink->u);
+  start.valid = true;
   // The point lies next to the start, in the direction the family moved in at its end (the
-  // options' where its last two tori share λ): the orbits end once it is located.
+  // options' where its last two tori share λ).
   const std::vector<BranchPoint>& points = tori.branch.points;
   if (points.size() >= 2 && points.back().lambda != points[points.size() - 2].lambda) {
-    continuation.direction = points.back().lambda > points[points.size() - 2].lambda ? 1 : -1;
+    options.direction = points.back().lambda > points[points.size() - 2].lambda ? 1 : -1;
   }
-  const auto located_point = [](const Branch& b) -> const SpecialPoint* {
-    for (const SpecialPoint& p : b.special_points) {
-      if (p.type == SpecialPointType::kNeimarkSacker && p.converged) return &p;
-    }
-    return nullptr;
-  };
-  const EndTest at_point = [&located_point](const Branch& b) -> std::optional<BranchEnd> {
-    if (located_point(b) == nullptr) return std::nullopt;
-    return BranchEnd{BranchStatus::kStoppedByCaller, "the Neimark–Sacker point is located"};
-  };
-  Branch branch = Continue(problem, u0, lambda, continuation, on_step, at_point);
+  result.orbits = ContinuePeriodicOrbits(*system, tori.kind, start, options);
+  const Branch& branch = result.orbits.branch;
   if (branch.status == BranchStatus::kStartFailed) {
     result.message = fmt::format(
         "no orbit converged from the last circle's centre at λ = {:.9g} (T = {:.9g}, φ = {:.6g}): "
         "{}",
-        lambda, period, phi, branch.message);
+        start.lambda, start.period, start.rotation, branch.message);
     return result;
   }
   result.ok = true;
-  result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));
-  if (const SpecialPoint* p = located_point(result.orbits.branch)) {
+  for (const SpecialPoint& p : branch.special_points) {
+    if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
     result.located = true;
-    result.lambda = p->lambda;
-    result.rotation_number = std::abs(std::arg(p->critical_value)) / kTwoPi;
+    result.lambda = p.lambda;
+    result.rotation_number = std::abs(std::arg(p.critical_value)) / kTwoPi;
+    break;
   }
   result.message =
       result.located
           ? fmt::format("a Neimark–Sacker point at λ = {:.9g} with arg μ / 2π = {:.6f}, the "
                         "family's end at λ = {:.9g} with ρ = {:.6f}",
-                        result.lambda, result.rotation_number, lambda,
+                        result.lambda, result.rotation_number, start.lambda,
                         circle.RotationNumber(shrink->u))
-          : fmt::format("no Neimark–Sacker point located on the orbits from λ = {:.9g} ({})", lambda,
-                        result.orbits.branch.message);
+          : fmt::format("no Neimark–Sacker point located on the orbits from λ = {:.9g} ({})",
+                        start.lambda, branch.message);
   return result;
 }
 

@@ -149,23 +149,25 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
 
 // The orbit a torus family shrank onto (end kShrinks): the periodic orbit (of the family's kind,
 // period T and rotation φ of its last torus) through the last circle's centre, continued with
-// `shooting` in the direction the family moved in at its end over the options' range
-// until its first Neimark–Sacker point is located (or the engine's bounds end it). The point's
-// speed and the angle of its multiplier, arg μ / 2π, against the last torus's λ and ρ (or 1 − ρ:
-// the circle's orientation is the fit's) say whether the family ends there.
+// `options` (ContinuePeriodicOrbits: its shooting, range, engine, measures, test functions and
+// ends) in the direction the family moved in at its end. Its first located Neimark–Sacker point,
+// next to the start: the point's speed and the angle of its multiplier, arg μ / 2π, against the
+// last torus's λ and ρ (or 1 − ρ: the circle's orientation is the fit's) say whether the family
+// ends there. With options.stop_at_neimark_sacker the orbits end at that point; without, they go
+// on over the range to their own end: the orbit a supercritical point hands the motion to, and
+// what becomes of it.
 struct CentreOrbits {
   bool ok = false;  // false: the orbit did not converge (message says where)
   std::string message;
   PeriodicOrbitBranch orbits;
   bool located = false;           // a Neimark–Sacker point was located on them
-  double lambda = kNaN;           // its parameter
+  double lambda = kNaN;           // the first one's parameter
   double rotation_number = kNaN;  // arg μ / 2π of its critical multiplier, in (0, 1/2]
 };
 
-// Throws std::invalid_argument when `tori` did not end in kShrinks or has no points.
+// Throws std::invalid_argument when `tori` did not end in kShrinks or has no points, and as
+// ContinuePeriodicOrbits (invalid options; the end's λ outside their range).
 CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const TorusBranch& tori,
-                                  const ShootingOptions& shooting,
-                                  const TorusBranchOptions& options,
-                                  const StepCallback& on_step = {});
+                                  PeriodicOrbitBranchOptions options);
 
 }  // namespace rubcont

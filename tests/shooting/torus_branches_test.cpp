@@ -222,10 +222,14 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
 
   // The orbit z₁ = 0 through the last circle's centre, its Neimark–Sacker point at λ = 0 with the
   // angle 2πω₁/ω₀ of its multipliers.
-  ShootingOptions shooting;
-  shooting.segments = 2;
-  shooting.integrator = Tight();
-  const CentreOrbits centre = ContinueCentreOrbits(system, tori, shooting, options);
+  PeriodicOrbitBranchOptions orbits;
+  orbits.lambda_min = options.lambda_min;
+  orbits.lambda_max = options.lambda_max;
+  orbits.continuation = options.continuation;
+  orbits.shooting.segments = 2;
+  orbits.shooting.integrator = Tight();
+  orbits.stop_at_neimark_sacker = true;
+  const CentreOrbits centre = ContinueCentreOrbits(system, tori, orbits);
   INFO(centre.message << " / " << centre.orbits.branch.BriefReport());
   REQUIRE(centre.ok);
   REQUIRE(centre.located);
@@ -233,9 +237,25 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
   CHECK(centre.rotation_number == Approx(kOmega1 / kOmega0).epsilon(1e-6));
   CHECK(centre.orbits.branch.status == BranchStatus::kStoppedByCaller);
 
+  // Without the stop the orbits go on over the range, downwards as the tori went: unstable above
+  // the point (the oscillator grows at rate λ), stable below it, to the range's end.
+  orbits.stop_at_neimark_sacker = false;
+  const CentreOrbits onward = ContinueCentreOrbits(system, tori, orbits);
+  INFO(onward.message << " / " << onward.orbits.branch.BriefReport());
+  REQUIRE(onward.located);
+  CHECK(onward.lambda == Approx(centre.lambda).epsilon(0).margin(1e-9));
+  const Branch& family = onward.orbits.branch;
+  CHECK(family.status == BranchStatus::kReachedLambdaBound);
+  CHECK(family.points.back().lambda == Approx(options.lambda_min));
+  for (const BranchPoint& p : family.points) {
+    INFO("lambda = " << p.lambda);
+    CHECK(p.lambda <= end.lambda + 1e-12);
+    if (std::abs(p.lambda) > 1e-6) CHECK(p.StableFlag() == (p.lambda < 0.0 ? 1 : 0));
+  }
+
   TorusBranch bound = tori;
   bound.end = TorusEnd::kBound;
-  CHECK_THROWS_WITH(ContinueCentreOrbits(system, bound, shooting, options),
+  CHECK_THROWS_WITH(ContinueCentreOrbits(system, bound, orbits),
                     Catch::Contains("did not end with its circle shrinking onto its centre"));
   TorusBranchOptions bad = options;
   bad.min_radius = 1e-3;
