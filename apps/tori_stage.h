@@ -48,6 +48,15 @@
 //                                  relative periodic orbits of the resonance (apps/orbit_output.h
 //                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the
 //                                  tongue's edges), note (where they were found).
+//   /tori/<family>_centre          where a family (either kind) ends shrinking onto its centre:
+//                                  the relative periodic orbits through the last circle's centre
+//                                  (ContinueCentreOrbits; apps/orbit_output.h layout with the
+//                                  modulated orbits' measures, their untrusted column and
+//                                  check_note), continued in the family's direction to their
+//                                  located Neimark–Sacker point and, with centre_orbits =
+//                                  "follow", on over the range to their end; attrs
+//                                  neimark_sacker_speed_rpm, neimark_sacker_rotation_number
+//                                  (arg μ / 2π), note.
 #pragma once
 
 #include "apps/models.h"

@@ -48,6 +48,10 @@ double LargestMultiplier(const BranchPoint& p) {
 void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
   const Branch& b = family.branch;
   std::printf("%s: %s\n", name, b.BriefReport().c_str());
+  const BranchStatistics& work = b.statistics;
+  std::printf("  engine: %d steps, %d corrector failures, %d angle rejections, %d stray, %d jump "
+              "rejections\n", work.steps, work.corrector_failures, work.angle_rejections,
+              work.stray_rejections, work.jump_rejections);
   for (const SpecialPoint& p : b.special_points) {
     std::printf("  %-16s %.5f rpm  critical multiplier %+.4f%+.4fi  %s\n", ToString(p.type),
                 RadPerSecondToRpm(p.lambda), p.critical_value.real(), p.critical_value.imag(),

@@ -13,6 +13,8 @@
 #include <catch2/catch.hpp>
 
 #include "apps/hdf5_file.h"
+#include "apps/scene.h"
+#include "apps/stage_options.h"
 #include "cli_support.h"
 
 namespace rubcont {
@@ -209,6 +211,33 @@ TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits w
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.seconds = 0.1: must be at least "
                                    "(settle_windows + 1)·settle_window of [analysis.sweep] = 0.75 s"));
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.laps = 65: must be at most 64"));
+}
+
+TEST_CASE("centre_orbits in [analysis.tori]: \"follow\" (the default) continues the orbits a "
+          "family shrinks onto over the range, \"to_point\" stops them at their Neimark-Sacker "
+          "point, another value is exit 2 naming the key",
+          "[tori][cli]") {
+  std::string text = Slurp("scenes/thesis_C_a_tori.toml");
+  text = text.substr(0, text.find("[analysis.tori]")) + "[analysis.tori]\n";
+  const auto stops = [&text](const std::string& keys) {
+    const Scene scene = ParseScene(text + keys, "centre_orbits", "centre_orbits");
+    const RubTorusOptions options = TorusOptionsOf(scene);
+    // The orbits' own range and engine, as the scene's [analysis.orbits] gives them.
+    CHECK(options.centre_orbits.lambda_max == options.tori.lambda_max);
+    CHECK(options.centre_orbits.continuation.bounds.max_steps == scene.analysis.orbits.max_steps);
+    return options.centre_orbits.stop_at_neimark_sacker;
+  };
+  CHECK_FALSE(stops(""));
+  CHECK_FALSE(stops("centre_orbits = \"follow\"\n"));
+  CHECK(stops("centre_orbits = \"to_point\"\n"));
+
+  TempDir dir;
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << text << "centre_orbits = \"onward\"\n";
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("analysis.tori.centre_orbits = \"onward\": must be one of "
+                               "\"follow\", \"to_point\""));
 }
 
 }  // namespace

@@ -15,8 +15,9 @@ Writes, from the HDF5 file only (layout: apps/tori_stage.h):
                    third: each contact's strongest line of precession besides the carrier
                    (fixed frame) and the carrier;
                    bottom: the circle's Fourier tail, invariance error and radius (log).
-                   Where a family shrinks onto its centre, the orbits there (1/T, top) and their
-                   Neimark–Sacker point (star, second) are drawn.
+                   Where a family shrinks onto its centre, the orbits there (1/T, top; their
+                   carrier, third; stable solid, unstable dashed, over the speeds they were
+                   followed) and their Neimark–Sacker point (star, second) are drawn.
 From Python: ``figure(f)`` returns the Figure.
 """
 import sys
@@ -124,7 +125,13 @@ def figure(f, fig=None):
             for a, b, stable_run in stable_runs(centre["stable"][()]):
                 ax_f.plot(crpm[a:b + 1], 1.0 / centre["period"][()][a:b + 1],
                           "-" if stable_run else "--", color="#6a3d9a", lw=2.0,
-                          label="the orbits the tori shrink onto: 1/T" if a == 0 else None)
+                          label=("the orbits the tori shrink onto: 1/T (stable solid)"
+                                 if a == 0 else None))
+                if "precession_hz" in centre:  # files made before their rub measures have none
+                    ax_lines.plot(crpm[a:b + 1], centre["precession_hz"][()][a:b + 1],
+                                  "-" if stable_run else "--", color="#6a3d9a", lw=1.5,
+                                  label=("the orbits the tori shrink onto: carrier"
+                                         if a == 0 else None))
             ns = float(centre.attrs.get("neimark_sacker_speed_rpm", np.nan))
             if np.isfinite(ns):
                 angle = float(centre.attrs["neimark_sacker_rotation_number"])
