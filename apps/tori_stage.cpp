@@ -198,8 +198,11 @@ void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, con
     stable.push_back(fmt::format("{:.4f}–{:.4f}", RadPerSecondToRpm(std::min(from, to)),
                                  RadPerSecondToRpm(std::max(from, to))));
   }
-  fmt::print(out, "    {}\n", stable.empty() ? std::string("stable at no computed speed")
-                                              : fmt::format("stable at {} rpm", fmt::join(stable, ", ")));
+  if (stable.empty()) {
+    fmt::print(out, "    stable at no computed speed\n");
+  } else {
+    fmt::print(out, "    stable at {} rpm\n", fmt::join(stable, ", "));
+  }
   ReportOrbitChecks(b, group, trust, writer, out);
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
