@@ -10,6 +10,7 @@
 // defaults 49.4 3 49 59 58 1e-5 a 0 (AMPLITUDE: the doubled orbits' first step off the doubling,
 // scaled, tried again 10 and 100 times closer where its start fails; CASE: a, b or c of case C;
 // MEMORY: the engine's StepOptions::failure_memory).
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -53,6 +54,28 @@ void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
   std::printf("  engine: %d steps, %d corrector failures, %d angle rejections, %d stray, %d jump "
               "rejections\n", work.steps, work.corrector_failures, work.angle_rejections,
               work.stray_rejections, work.jump_rejections);
+  // Where the tangent turns (scaled unknowns: the segment starts' n states, T, φ, then λ): the
+  // shares of Σ_k |τ_(k+1) − τ_k|² by state index, T, φ and λ, and the mean turning angle.
+  const Index n = family.state_dimension, starts = n * family.segments;
+  if (b.points.size() >= 2 && b.points[0].tangent.size() >= starts + 1) {
+    Vector share = Vector::Zero(n + 3);
+    double angles = 0.0;
+    for (std::size_t k = 0; k + 1 < b.points.size(); ++k) {
+      const Vector d = b.points[k + 1].tangent - b.points[k].tangent;
+      if (d.size() != b.points[k].tangent.size()) continue;
+      for (Index i = 0; i < starts; ++i) share(i % n) += d(i) * d(i);
+      for (Index i = starts; i + 1 < d.size(); ++i) {
+        share(n + std::min<Index>(i - starts, 1)) += d(i) * d(i);
+      }
+      share(n + 2) += d(d.size() - 1) * d(d.size() - 1);
+      angles += std::acos(std::clamp(b.points[k + 1].tangent.dot(b.points[k].tangent), -1.0, 1.0));
+    }
+    share /= share.sum();
+    std::printf("  tangent turning: mean %.3f rad per step; shares:",
+                angles / static_cast<double>(b.points.size() - 1));
+    for (Index i = 0; i < n; ++i) std::printf(" x%ld %.3f", static_cast<long>(i), share(i));
+    std::printf(" T %.3f phi %.3f lambda %.3f\n", share(n), share(n + 1), share(n + 2));
+  }
   for (const SpecialPoint& p : b.special_points) {
     std::printf("  %-16s %.5f rpm  critical multiplier %+.4f%+.4fi  %s\n", ToString(p.type),
                 RadPerSecondToRpm(p.lambda), p.critical_value.real(), p.critical_value.imag(),
