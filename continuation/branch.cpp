@@ -55,6 +55,13 @@ int Branch::Count(SpecialPointType type) const {
                                         [type](const SpecialPoint& p) { return p.type == type; }));
 }
 
+const SpecialPoint* Branch::FirstLocated(SpecialPointType type) const {
+  for (const SpecialPoint& p : special_points) {
+    if (p.type == type && p.converged) return &p;
+  }
+  return nullptr;
+}
+
 std::string Branch::BriefReport() const {
   std::string report = fmt::format("branch: {} point{}", points.size(),
                                    points.size() == 1 ? "" : "s");

@@ -120,6 +120,8 @@ struct Branch {
 
   Index Size() const { return static_cast<Index>(points.size()); }
   int Count(SpecialPointType type) const;
+  // The first special point of that type that converged (located), or nullptr.
+  const SpecialPoint* FirstLocated(SpecialPointType type) const;
 
   // Columns, one entry per point.
   Vector Lambda() const;

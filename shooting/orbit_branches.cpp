@@ -230,26 +230,21 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda) {
 
 EndTest EndAtGrazing() {
   return [](const Branch& branch) -> std::optional<BranchEnd> {
-    for (const SpecialPoint& p : branch.special_points) {
-      if (p.type != SpecialPointType::kGrazing || !p.converged) continue;
-      return BranchEnd{BranchStatus::kGrazing,
-                       fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the orbits "
-                                   "cross a switching surface (continue with "
-                                   "ContinueAcrossSwitches)",
-                                   p.label.empty() ? "" : " " + p.label, p.lambda)};
-    }
-    return std::nullopt;
+    const SpecialPoint* p = branch.FirstLocated(SpecialPointType::kGrazing);
+    if (p == nullptr) return std::nullopt;
+    return BranchEnd{BranchStatus::kGrazing,
+                     fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the orbits "
+                                 "cross a switching surface (continue with ContinueAcrossSwitches)",
+                                 p->label.empty() ? "" : " " + p->label, p->lambda)};
   };
 }
 
 EndTest EndAtNeimarkSacker() {
   return [](const Branch& branch) -> std::optional<BranchEnd> {
-    for (const SpecialPoint& p : branch.special_points) {
-      if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
-      return BranchEnd{BranchStatus::kStoppedByCaller,
-                       fmt::format("the Neimark–Sacker point is located at λ = {:.9g}", p.lambda)};
-    }
-    return std::nullopt;
+    const SpecialPoint* p = branch.FirstLocated(SpecialPointType::kNeimarkSacker);
+    if (p == nullptr) return std::nullopt;
+    return BranchEnd{BranchStatus::kStoppedByCaller,
+                     fmt::format("the Neimark–Sacker point is located at λ = {:.9g}", p->lambda)};
   };
 }
 

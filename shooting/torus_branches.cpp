@@ -386,12 +386,10 @@ CentreOrbits ContinueCentreOrbits(std::shared_ptr<OdeSystem> system, const Torus
     return result;
   }
   result.ok = true;
-  for (const SpecialPoint& p : branch.special_points) {
-    if (p.type != SpecialPointType::kNeimarkSacker || !p.converged) continue;
+  if (const SpecialPoint* p = branch.FirstLocated(SpecialPointType::kNeimarkSacker)) {
     result.located = true;
-    result.lambda = p.lambda;
-    result.rotation_number = std::abs(std::arg(p.critical_value)) / kTwoPi;
-    break;
+    result.lambda = p->lambda;
+    result.rotation_number = std::abs(std::arg(p->critical_value)) / kTwoPi;
   }
   result.message =
       result.located
