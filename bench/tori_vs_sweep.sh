@@ -24,12 +24,22 @@
 #           family from it upwards in the scene's 30 steps (to about 55.08 rpm), each torus's lines
 #           and Lyapunov exponents (100 iterates); downwards to the range's end;
 #   sweep   a speed-up sweep over 54.5–55.0 rpm in 0.1 rpm steps (as above).
+# CASE a60: case C(a)'s whip above its 1:3 tongue (scenes/thesis_C_a_tori_60.toml: the circles in the
+# contact chart on sections of 5 modulation periods, from a BDF transient at 60 rpm):
+#   tori    stage "tori" as committed but with centre_orbits = "to_point": the transient, its torus
+#           and the family down to the range's end (59 rpm) and up to where it shrinks onto the
+#           5-lap whip at its centre (62.988 rpm), each torus's lines and Lyapunov exponents (100
+#           iterates), and the centre orbits up to that Neimark–Sacker point;
+#   sweep   a speed-up sweep over 59.0–62.5 rpm in 0.5 rpm steps (as above); the lines compared are
+#           the carrier, carrier + 5 f1 and + 13 f1 (the contacts' strongest) and three with the
+#           second frequency (l = ±1), about 0.3 % of the carrier's magnitude in the sweep's spectra.
 # Usage, from the repository root:
 #   bench/tori_vs_sweep.sh BUILD_DIR > results/bench/tori_vs_sweep.txt
 #   bench/tori_vs_sweep.sh BUILD_DIR c > results/bench/tori_vs_sweep_C_c.txt
 #   bench/tori_vs_sweep.sh BUILD_DIR b > results/bench/tori_vs_sweep_C_b.txt
+#   bench/tori_vs_sweep.sh BUILD_DIR a60 > results/bench/tori_vs_sweep_C_a_60.txt
 set -euo pipefail
-build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR [a|b|c]}
+build=${1:?usage: bench/tori_vs_sweep.sh BUILD_DIR [a|b|c|a60]}
 case_letter=${2:-a}
 rubcont="$build/rubcont"
 work=$(mktemp -d)
@@ -62,7 +72,10 @@ case "$case_letter" in
   a) scene=scenes/thesis_C_a_tori.toml ;;
   b) scene=scenes/thesis_C_b_tori.toml range="54.4, 55.1" sweep_range="54.5 55.0 0.1" ;;
   c) scene=scenes/thesis_C_c_tori.toml range="63.9, 72.0" sweep_range="64.0 71.0 0.5" ;;
-  *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a, b or c" >&2; exit 2 ;;
+  a60) scene=scenes/thesis_C_a_tori_60.toml range="59.0, 78.0" sweep_range="59.0 62.5 0.5"
+       lines="0,0;0,-5;0,-13;-1,-1;1,-4;1,1" groups=tori/transient_down,tori/transient_up
+       centre_orbits=to_point ;;
+  *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a, b, c or a60" >&2; exit 2 ;;
 esac
 body=$(sed '/^\[analysis\]/,$d' "$scene")
 analysis=$(sed -n '/^\[analysis\]/,$p' "$scene")
@@ -79,14 +92,17 @@ if [ "$case_letter" = a ]; then
   tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
   group=tori/branch1_hopf2_ns1
 else
-  printf '%s\n%s\n' "$body" "$(sed "s/^speed_range_rpm = .*/speed_range_rpm = [$range]/" <<< "$analysis")" > "$work/tori.toml"
+  centre='s/^coordinates = "chart"/coordinates = "chart"\ncentre_orbits = "to_point"/'
+  printf '%s\n%s\n' "$body" "$(sed -e "s/^speed_range_rpm = .*/speed_range_rpm = [$range]/" \
+    -e "${centre_orbits:+$centre}" <<< "$analysis")" > "$work/tori.toml"
   read -r sweep_from sweep_to sweep_step <<< "$sweep_range"
   sweep_scene "$sweep_from" "$sweep_to" "$sweep_step"
   tori=$(cpu "$rubcont" run "$work/tori.toml" --quiet --no-figures --out "$work")
-  group=tori/transient_up
+  group=${groups:-tori/transient_up}
 fi
 sweep=$(cpu "$rubcont" sweep "$work/sweep.toml" --direction up --quiet --no-figures --out "$work/sweep.h5")
-count=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/tori/tori.h5')['$group/speed_rpm']))")
+count=$(/usr/bin/python3 -c "import h5py; f = h5py.File('$work/tori/tori.h5'); \
+  print(len({s for g in '$group'.split(',') for s in f[g + '/speed_rpm'][()]}))")
 speeds=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/sweep.h5')['sweeps/up/speed_rpm']))")
 if [ "$case_letter" = a ]; then
   echo "  orbits  modulated whip, 60 orbits                       $orbits s"
@@ -99,4 +115,4 @@ else
   echo "  sweep   $speeds speeds, $sweep_from-$sweep_to rpm, 8 s dwell                     $sweep s"
   echo "  ratio   sweep / tori                                       $(awk "BEGIN { printf \"%.2f\", $sweep / $tori }")"
 fi
-/usr/bin/python3 bench/tori_vs_sweep.py "$work/tori/tori.h5" "$work/sweep.h5" "$group"
+/usr/bin/python3 bench/tori_vs_sweep.py "$work/tori/tori.h5" "$work/sweep.h5" "$group" ${lines:+--lines "$lines"}
