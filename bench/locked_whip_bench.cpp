@@ -6,10 +6,11 @@
 // running speed (ContinuePeriodicOrbits, Floquet stability, folds and period doublings located),
 // with the period-doubled family from each located doubling; every special point and the cost of
 // each part printed. Then the same at a second speed, to show that both stable pieces lie on one
-// family. Usage: locked_whip_bench [RPM [LAPS [FROM TO [CHECK_RPM [AMPLITUDE [CASE [MEMORY]]]]]]],
-// defaults 49.4 3 49 59 58 1e-5 a 0 (AMPLITUDE: the doubled orbits' first step off the doubling,
+// family. Usage: locked_whip_bench [RPM [LAPS [FROM TO [CHECK_RPM [AMPLITUDE [CASE [MEMORY [PREDICTOR]]]]]]]],
+// defaults 49.4 3 49 59 58 1e-5 a 0 tangent (AMPLITUDE: the doubled orbits' first step off the doubling,
 // scaled, tried again 10 and 100 times closer where its start fails; CASE: a, b or c of case C;
-// MEMORY: the engine's StepOptions::failure_memory).
+// MEMORY: the engine's StepOptions::failure_memory; PREDICTOR: tangent or curved, the engine's
+// StepOptions::curved_predictor).
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -109,6 +110,11 @@ int Main(int argc, char** argv) {
   const double doubling_amplitude = argc > 6 ? std::atof(argv[6]) : 1e-5;
   const std::string which = argc > 7 ? argv[7] : "a";
   const int failure_memory = argc > 8 ? std::atoi(argv[8]) : 0;
+  const std::string predictor = argc > 9 ? argv[9] : "tangent";
+  if (predictor != "tangent" && predictor != "curved") {
+    std::fprintf(stderr, "locked_whip_bench: PREDICTOR = %s: must be tangent or curved\n", predictor.c_str());
+    return 2;
+  }
   const TwoPointParams params =
       which == "b" ? ThesisCaseCb() : which == "c" ? ThesisCaseCc() : ThesisCaseCa();
   if (which != "a" && which != "b" && which != "c") {
@@ -164,6 +170,7 @@ int Main(int argc, char** argv) {
   options.continuation.corrector.max_iterations = 15;
   options.continuation.step.initial = 0.01;
   options.continuation.step.failure_memory = failure_memory;
+  options.continuation.step.curved_predictor = predictor == "curved";
   options.continuation.bounds.max_steps = 1500;
   options.stop_round_closed_curve = true;  // the tongue's orbits: a closed curve
   double step_start = ProcessCpuSeconds();
