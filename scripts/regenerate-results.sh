@@ -21,7 +21,7 @@
 #                   whip modulated at two frequencies (stages "orbits" and "tori",
 #                   scenes/thesis_C_a_tori.toml: about 15 min of CPU, 8.5 of them the torus
 #                   a transient settles on at 49 rpm); and its whip locked at 1:3, from a
-#                   transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 14 min of CPU);
+#                   transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 22 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU) and C(a)'s from 60 rpm
