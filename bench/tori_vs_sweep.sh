@@ -31,7 +31,7 @@
 #           5-lap whip at its centre (62.988 rpm), each torus's lines and Lyapunov exponents (100
 #           iterates), and the centre orbits up to that Neimark–Sacker point;
 #   sweep   a speed-up sweep over 59.0–62.5 rpm in 0.5 rpm steps (as above); the lines compared are
-#           the carrier, carrier + 5 f1 and + 13 f1 (the contacts' strongest) and three with the
+#           the carrier, carrier + 5 f1 and + 13 f1 (the contacts' strongest) and four with the
 #           second frequency (l = ±1), about 0.3 % of the carrier's magnitude in the sweep's spectra.
 # Usage, from the repository root:
 #   bench/tori_vs_sweep.sh BUILD_DIR > results/bench/tori_vs_sweep.txt
@@ -73,7 +73,7 @@ case "$case_letter" in
   b) scene=scenes/thesis_C_b_tori.toml range="54.4, 55.1" sweep_range="54.5 55.0 0.1" ;;
   c) scene=scenes/thesis_C_c_tori.toml range="63.9, 72.0" sweep_range="64.0 71.0 0.5" ;;
   a60) scene=scenes/thesis_C_a_tori_60.toml range="59.0, 78.0" sweep_range="59.0 62.5 0.5"
-       lines="0,0;0,-5;0,-13;-1,-1;1,-4;1,1" groups=tori/transient_down,tori/transient_up
+       lines="0,0;0,-5;0,-13;-1,-1;1,-4;-1,-4;1,1" groups=tori/transient_down,tori/transient_up
        centre_orbits=to_point ;;
   *) echo "bench/tori_vs_sweep.sh: CASE = $case_letter: must be a, b, c or a60" >&2; exit 2 ;;
 esac
