@@ -25,7 +25,7 @@
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 22 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU) and C(a)'s from 60 rpm
-#                   (scenes/thesis_C_a_tori_60.toml: about 79 min of wall on one core).
+#                   (scenes/thesis_C_a_tori_60.toml: about 127 min of wall on one core).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
 #                   2 cores, then the step back down from 134 rpm, about 35 min) and prints the
