@@ -17,7 +17,8 @@ Writes, from the HDF5 file only (layout: apps/tori_stage.h):
                    bottom: the circle's Fourier tail, invariance error and radius (log).
                    Where a family shrinks onto its centre, the orbits there (1/T, top; their
                    carrier, third; stable solid, unstable dashed, over the speeds they were
-                   followed) and their Neimark–Sacker point (star, second) are drawn.
+                   followed), their folds (triangle, top) and their Neimark–Sacker point (star,
+                   second) are drawn.
 From Python: ``figure(f)`` returns the Figure.
 """
 import sys
@@ -132,6 +133,15 @@ def figure(f, fig=None):
                                   "-" if stable_run else "--", color="#6a3d9a", lw=1.5,
                                   label=("the orbits the tori shrink onto: carrier"
                                          if a == 0 else None))
+            # Where the orbits at the centre turn back (a fold: the stable whip ends there).
+            sp = centre.get("special_points")
+            if sp is not None and "type" in sp and "period" in sp:
+                folds = [(float(r), float(T)) for t, r, T in
+                         zip(sp["type"][()], sp["speed_rpm"][()], sp["period"][()])
+                         if text(t) == "fold"]
+                for k, (r, T) in enumerate(folds):
+                    ax_f.plot([r], [1.0 / T], "^", ms=7, mfc="white", mec="#6a3d9a", mew=1.3,
+                              zorder=5, label="fold of the orbits at the centre" if k == 0 else None)
             ns = float(centre.attrs.get("neimark_sacker_speed_rpm", np.nan))
             if np.isfinite(ns):
                 angle = float(centre.attrs["neimark_sacker_rotation_number"])
