@@ -62,8 +62,8 @@ void PrintFamily(const char* name, const PeriodicOrbitBranch& family) {
     Vector share = Vector::Zero(n + 3);
     double angles = 0.0;
     for (std::size_t k = 0; k + 1 < b.points.size(); ++k) {
+      if (b.points[k + 1].tangent.size() != b.points[k].tangent.size()) continue;
       const Vector d = b.points[k + 1].tangent - b.points[k].tangent;
-      if (d.size() != b.points[k].tangent.size()) continue;
       for (Index i = 0; i < starts; ++i) share(i % n) += d(i) * d(i);
       for (Index i = starts; i + 1 < d.size(); ++i) {
         share(n + std::min<Index>(i - starts, 1)) += d(i) * d(i);
