@@ -32,7 +32,8 @@
 #           iterates), and the centre orbits up to that Neimark–Sacker point;
 #   sweep   a speed-up sweep over 59.0–62.5 rpm in 0.5 rpm steps (as above); the lines compared are
 #           the carrier, carrier + 5 f1 and + 13 f1 (the contacts' strongest) and four with the
-#           second frequency (l = ±1), about 0.3 % of the carrier's magnitude in the sweep's spectra.
+#           second frequency (l = ±1): at 60 rpm 0.3–0.4 % of the carrier's magnitude in the left
+#           contact's spectrum, about 0.02 % in the right's.
 # Usage, from the repository root:
 #   bench/tori_vs_sweep.sh BUILD_DIR > results/bench/tori_vs_sweep.txt
 #   bench/tori_vs_sweep.sh BUILD_DIR c > results/bench/tori_vs_sweep_C_c.txt
