@@ -4,9 +4,11 @@
 // 2.3–3.9× the CPU for the same steps (docs/studies/sweep_integrators.md). Plain integration and
 // sampling only: no sensitivities, no events (OdeIntegrator refuses both with this method).
 //
-// The state is integrated scaled, z = x ./ scale (OdeSystem::StateScale()), so that odeint's error
-// test |e_i| ≤ atol + rtol·|z_i| (its maximum norm over i, a_dxdt = 0) is the one IntegratorOptions
-// documents. A state beyond the state bound or a right-hand side that is not finite ends the call
+// The state is integrated as it is, with odeint's error test given an absolute tolerance per
+// component, |e_i| ≤ atol·scale_i + rtol·|x_i| (WeightedErrorChecker, scale = OdeSystem::
+// StateScale(), the maximum norm over i): the test IntegratorOptions documents for the scaled state
+// x ./ scale, without scaling the state in and out at every evaluation (the sweep stepper's CPU per
+// simulated second 8–15 % lower on A(a), bench/march_bench.cpp). A state beyond the state bound or a right-hand side that is not finite ends the call
 // with a status (odeint would accept a step whose error estimate is NaN: it is never given one).
 #include <algorithm>
 #include <array>
@@ -42,6 +44,30 @@ struct RhsStop {
 // Consecutive rejected steps before giving up (ARKODE's default for ERK is 7; odeint's own 500).
 constexpr int kMaxConsecutiveFailures = 50;
 
+// odeint's error test with an absolute tolerance per component: max_i |e_i| / (atol_i + rtol |x_i|),
+// x the step's start (odeint's default_error_checker with a_x = 1, a_dxdt = 0 and one atol).
+template <class Algebra>
+class WeightedErrorChecker {
+ public:
+  using value_type = double;
+  using algebra_type = Algebra;
+  using operations_type = odeint::default_operations;
+  WeightedErrorChecker(const double* atol, double rtol) : atol_(atol), rtol_(rtol) {}
+  template <class State, class Deriv, class Err, class Time>
+  double error(algebra_type& /*algebra*/, const State& x_old, const Deriv& /*dxdt_old*/, Err& x_err,
+               Time /*dt*/) const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < x_err.size(); ++i) {
+      e = std::max(e, std::abs(x_err[i]) / (atol_[i] + rtol_ * std::abs(x_old[i])));
+    }
+    return e;
+  }
+
+ private:
+  const double* atol_;
+  double rtol_;
+};
+
 }  // namespace
 
 class OdeintBackend::Stepper {
@@ -55,19 +81,17 @@ namespace {
 template <class OdeintState>
 class DormandPrince final : public OdeintBackend::Stepper {
   using Dopri5 = odeint::runge_kutta_dopri5<OdeintState>;
-  using ErrorChecker = odeint::default_error_checker<double, typename Dopri5::algebra_type,
-                                                     odeint::default_operations>;
+  using ErrorChecker = WeightedErrorChecker<typename Dopri5::algebra_type>;
   using Controlled = odeint::controlled_runge_kutta<Dopri5, ErrorChecker>;
 
  public:
   DormandPrince(CallbackContext& context, const IntegratorOptions& options)
       : context_(context),
         options_(options),
-        controlled_(ErrorChecker(options.absolute_tolerance, options.relative_tolerance, 1.0, 0.0),
+        atol_(context.scale * options.absolute_tolerance),
+        controlled_(ErrorChecker(atol_.data(), options.relative_tolerance),
                     odeint::default_step_adjuster<double, double>(options.max_step)) {
     const Index n = context.n;
-    x_.resize(n);
-    f_.resize(n);
     switches_ = context.system->SwitchingCount();
     g_.resize(switches_);
     g_previous_.resize(switches_);
@@ -76,27 +100,24 @@ class DormandPrince final : public OdeintBackend::Stepper {
     for (OdeintState* v : {&z_, &dz_, &z_new_, &dz_new_, &output_}) Resize(*v, n);
   }
 
-  // ż = f(t, z .* scale) ./ scale. The state bound and finiteness are checked once per step, on
+  // ż = f(t, z). The state bound and finiteness are checked once per step, on
   // the step's new state (Accept), not at every stage as EvaluateRhs does: a stage that leaves the
   // bound or is not finite makes the new state so (a NaN or Inf stage derivative reaches it through
   // the stages that follow; DP5's b₂ = 0 multiplies k₂ only after k₃ … k₆ have taken it in). On A(a)
   // the per-stage checks cost 11 % of the integration (bench/march_bench.cpp). An exception of the
   // system leaves odeint's frames as it is (C++ all the way) and reaches OdeIntegrator's caller.
   void operator()(const OdeintState& z, OdeintState& dz, double t) {
-    Unscale(z, x_.data());
-    context_.system->Rhs(t, x_, f_);
+    context_.system->Rhs(t, Eigen::Map<const Vector>(z.data(), context_.n),
+                         Eigen::Map<Vector>(dz.data(), context_.n));
     ++evaluations_;
-    for (Index i = 0; i < context_.n; ++i) {
-      dz[static_cast<std::size_t>(i)] = f_(i) * context_.inverse_scale(i);
-    }
   }
 
-  // Whether a step's new state z (scaled) and its derivative are finite and z within the state
+  // Whether a step's new state z and its derivative are finite and z ./ scale within the state
   // bound; otherwise throws RhsStop with the status (kNonFinite, kStateBound).
   void Accept(const OdeintState& z, const OdeintState& dz) const {
     double size = 0.0, z_nan = 0.0, dz_nan = 0.0;  // NaN or Inf times 0 is NaN
     for (std::size_t i = 0; i < z.size(); ++i) {
-      size = std::max(size, std::abs(z[i]));
+      size = std::max(size, std::abs(z[i]) * context_.inverse_scale(static_cast<Index>(i)));
       z_nan += z[i] * 0.0;
       dz_nan += dz[i] * 0.0;
     }
@@ -111,7 +132,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
     IntegrationResult result;
     result.t_reached = request.t0;
     evaluations_ = 0;
-    for (Index i = 0; i < n; ++i) z_[static_cast<std::size_t>(i)] = request.x0[i] * context_.inverse_scale(i);
+    for (Index i = 0; i < n; ++i) z_[static_cast<std::size_t>(i)] = request.x0[i];
     double t = request.t0;
     const double t_final = request.times[request.count - 1];
     IntegrationStatistics& statistics = result.statistics;
@@ -159,7 +180,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
           while (filled < request.count - 1 && direction * (request.times[filled] - t_try) <= 0.0) {
             controlled_.stepper().calc_state(request.times[filled], output_, z_, dz_, t, z_new_,
                                              dz_new_, t_try);
-            if (request.states != nullptr) Unscale(output_, request.states + filled * n);
+            if (request.states != nullptr) Output(output_, request.states + filled * n);
             ++filled;
             steps_since_output = 0;
           }
@@ -168,9 +189,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
           if (land) {
             g_previous_.swap(g_);
             t_previous_ = t;
-            // x_ and f_ hold the new state unscaled and its derivative: try_step's last evaluation
-            // is the FSAL stage at z_new_ (now z_), and nothing has evaluated since.
-            context_.system->SwitchingFunctions(t_try, x_, g_);
+            context_.system->SwitchingFunctions(t_try, Eigen::Map<const Vector>(z_.data(), n), g_);
           }
           t = t_try;
         }
@@ -178,9 +197,9 @@ class DormandPrince final : public OdeintBackend::Stepper {
     } catch (const RhsStop& stop) {
       return Failure(stop.status, t, result, "");
     }
-    Unscale(z_, request.x_final);
+    Output(z_, request.x_final);
     if (request.states != nullptr) {
-      for (Index k = filled; k < request.count; ++k) Unscale(z_, request.states + k * n);
+      for (Index k = filled; k < request.count; ++k) Output(z_, request.states + k * n);
     }
     result.t_reached = t;
     statistics.rhs_evaluations = evaluations_;
@@ -193,17 +212,16 @@ class DormandPrince final : public OdeintBackend::Stepper {
   double InitialStep(double span) const {
     double z = 0.0, dz = 0.0;
     for (std::size_t i = 0; i < z_.size(); ++i) {
-      z = std::max(z, std::abs(z_[i]));
-      dz = std::max(dz, std::abs(dz_[i]));
+      z = std::max(z, std::abs(z_[i]) * context_.inverse_scale(static_cast<Index>(i)));
+      dz = std::max(dz, std::abs(dz_[i]) * context_.inverse_scale(static_cast<Index>(i)));
     }
     const double guess = z > 1e-5 && dz > 1e-5 ? 0.01 * z / dz : 1e-6 * std::abs(span);
     return std::min(guess, std::abs(span));
   }
 
-  // g(t, z .* scale) into g.
+  // g(t, z) into g.
   void Switches(double t, const OdeintState& z, Vector& g) {
-    Unscale(z, x_.data());
-    context_.system->SwitchingFunctions(t, x_, g);
+    context_.system->SwitchingFunctions(t, Eigen::Map<const Vector>(z.data(), context_.n), g);
   }
 
   // The step `dt`, shortened to end where a switching function is predicted to vanish (a contact
@@ -243,10 +261,12 @@ class DormandPrince final : public OdeintBackend::Stepper {
 
   // Whether no switching function can vanish in the parabola of LandOnSwitch within `span` (> 0)
   // of t: |g| > 2 (B span + C span²) for every g, B ≥ |ġ| bounding its difference quotient over
-  // `epsilon` and C ≥ |curvature| the curvature's with it. x_ and f_ are the state at t and its
+  // `epsilon` and C ≥ |curvature| the curvature's with it. z_ and dz_ are the state at t and its
   // derivative (the step's FSAL evaluation). False where the system gives no bounds.
   bool FarFromSwitches(double t, double epsilon, double h, double span) {
-    if (!context_.system->SwitchingIncrementBounds(t, x_, f_, std::abs(epsilon), bound_)) return false;
+    if (!context_.system->SwitchingIncrementBounds(t, Eigen::Map<const Vector>(z_.data(), context_.n),
+                                                   Eigen::Map<const Vector>(dz_.data(), context_.n),
+                                                   std::abs(epsilon), bound_)) return false;
     for (Index k = 0; k < switches_; ++k) {
       const double rate = bound_(k) / std::abs(epsilon);
       const double curvature = (std::abs(g_previous_(k) - g_(k)) + rate * std::abs(h)) / (h * h);
@@ -274,9 +294,7 @@ class DormandPrince final : public OdeintBackend::Stepper {
     return 2;
   }
 
-  void Unscale(const OdeintState& z, double* x) const {
-    for (Index i = 0; i < context_.n; ++i) x[i] = z[static_cast<std::size_t>(i)] * context_.scale(i);
-  }
+  void Output(const OdeintState& z, double* x) const { std::copy(z.begin(), z.end(), x); }
 
   IntegrationResult& Failure(IntegrationStatus status, double t, IntegrationResult& result,
                              std::string message) {
@@ -296,8 +314,8 @@ class DormandPrince final : public OdeintBackend::Stepper {
 
   CallbackContext& context_;
   IntegratorOptions options_;
+  Vector atol_;  // the absolute tolerance per component: atol · scale
   Controlled controlled_;
-  Vector x_, f_;  // unscaled state and derivative for the system
   OdeintState z_, dz_, z_new_, dz_new_, output_;
   Index switches_ = 0;                  // OdeSystem::SwitchingCount()
   Vector g_, g_previous_, g_ahead_;     // at t, at the previous step's start, at t + ε
