@@ -625,11 +625,13 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
     return best;
   };
   double best_rho = rho;
+  bool geometric = false;  // whether the fit is in the geometric angles θ_k (else 2πkρ)
   if (refine(rho, best_rho) < misfit) {
     misfit = fit(orbit_angles(best_rho));
     rho = best_rho - std::floor(best_rho);
   } else {
     fit(theta);
+    geometric = true;
   }
   // A fit at angles 2πkρ' with ρ' = ρ/q fits as well as the one at 2πkρ (u(θ) = w(qθ)): a circle
   // covered q times, whose invariance equation is singular (u(θ + 2π/q) is the same circle). Where
@@ -647,8 +649,18 @@ Vector InvariantCircleProblem::CircleFromOrbit(const Matrix& points, double peri
       refine(q * rho, best_rho);
       rho = best_rho - std::floor(best_rho);
       misfit = fit(orbit_angles(rho));
+      geometric = false;
       break;
     }
+  }
+  // One orientation of the angle: ρ ≤ 1/2. The principal directions' signs are arbitrary (the
+  // SVD's), so the plane's orientation, and with it ρ or 1 − ρ for the same torus traversed the
+  // other way, turned with the points' last bits: C(a) at 49 rpm gave ρ = 0.3789 or 0.6211 from
+  // two Dormand–Prince transients that differ in rounding only, and the locking and line readings
+  // with it (3/5 for 2/5, f₁ − f₂ for f₂). θ → −θ turns ρ into 1 − ρ; the same fit, mirrored.
+  if (rho > 0.5) {
+    rho = 1.0 - rho;
+    misfit = fit(geometric ? Vector(-theta) : orbit_angles(rho));
   }
   // The fitted circle must pass through the points (else they are not one winding circle).
   const double size = scaled.cwiseAbs().maxCoeff();

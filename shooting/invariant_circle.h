@@ -194,8 +194,8 @@ class InvariantCircleProblem : public Problem {
   // A first circle from points of one orbit of the map, x_{k+1} = P(x_k) (n × m, m ≥ 2K + 2),
   // lying on a circle that winds once around its centroid in the plane of its two leading
   // principal directions: each point's angle there gives θ_k, ρ is the mean angle advance per
-  // iterate (in [0, 1); the plane's orientation decides between ρ and 1 − ρ, the same torus
-  // traversed the other way), and the coefficients are fitted by least squares in θ. Then the
+  // iterate (in [0, 1/2]: of ρ and 1 − ρ, the same torus traversed either way, the angle runs the
+  // way that gives the smaller), and the coefficients are fitted by least squares in θ. Then the
   // map's own angles θ_k = 2πkρ (the parametrisation in which P turns the circle rigidly), ρ
   // refined by the least misfit round that estimate, replace them where they fit better. T and φ,
   // those of the map the points came from, are packed as given. With a chart the angles and ρ

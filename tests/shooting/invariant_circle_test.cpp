@@ -565,7 +565,8 @@ TEST_CASE("invariant circle: points on a curve that winds twice round its centre
   // u(θ) = (cos 2θ, sin 2θ, 0.3 cos θ, 0.3 sin θ) at θ_k = 2πkρ, ρ = 0.694: in the (x, y) plane the
   // points advance 2ρ − 1 = 0.388 turns per iterate, and angles 2πk·ρ/2 fit them exactly with
   // harmonics 2 and 4 (u = w(2θ)): a circle covered twice, whose invariance equation is singular
-  // (C(c) at 64 rpm). The fit must return ρ = 0.694 and the curve itself.
+  // (C(c) at 64 rpm). The fit must return the curve itself, once round, in the orientation whose
+  // rotation number is at most 1/2: ρ = 1 − 0.694 = 0.306 and u(θ) = curve(−θ).
   const double rho = 0.694;
   const int harmonics = 8;
   InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), harmonics,
@@ -580,14 +581,63 @@ TEST_CASE("invariant circle: points on a curve that winds twice round its centre
   }
   const Vector u = problem.CircleFromOrbit(points);
   // To the fit's grid in ρ (its last step 4/(100 m · 50) = 1.2e-5): a start for Newton.
-  CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-5);
+  CHECK(std::abs(problem.RotationNumber(u) - (1.0 - rho)) <= 1e-5);
   for (const double theta : {0.0, 0.37, 1.9, 4.4}) {
     CAPTURE(theta);
-    CHECK((problem.PointAt(u, theta) - curve(theta)).norm() <= 1e-3);
+    CHECK((problem.PointAt(u, theta) - curve(-theta)).norm() <= 1e-3);
   }
   CHECK(problem.HarmonicSize(u, 1) == Approx(0.3 * std::sqrt(2.0)).epsilon(1e-6));
   CHECK(problem.HarmonicSize(u, 2) == Approx(std::sqrt(2.0)).epsilon(1e-6));
   for (int k = 3; k <= harmonics; ++k) CHECK(problem.HarmonicSize(u, k) <= 1e-3);
+}
+
+TEST_CASE("invariant circle: the same circle traversed either way is fitted with its rotation "
+          "number at most 1/2",
+          "[torus]") {
+  // Points x_k = c(θ_s + 2πkρ) of c(θ) = (cos θ, sin θ, 0.2 cos 2θ, 0.1 sin 3θ) for ρ = 0.37 and
+  // for ρ = 0.63 (the first traversed the other way, θ → −θ), from nine starting angles θ_s:
+  // every fit returns ρ = 0.37 and a circle u along which the points advance by +0.37 turns per
+  // iterate. Without the rule the principal directions' signs decided (here 0.63 from six of the
+  // eighteen), and with them the points' rounding (C(a) at 49 rpm: 0.3789 or 0.6211).
+  const int harmonics = 8;
+  InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), harmonics,
+                                 OrbitKind::kForced);
+  auto curve = [](double theta) {
+    return Eigen::Vector4d(std::cos(theta), std::sin(theta), 0.2 * std::cos(2 * theta),
+                           0.1 * std::sin(3 * theta));
+  };
+  for (const double rho : {0.37, 0.63}) {
+    for (const double start : {0.0, 0.7, 1.4, 2.1, 2.8, 3.5, 4.2, 4.9, 5.6}) {
+      CAPTURE(rho, start);
+      Matrix points(4, 4 * (2 * harmonics + 1));
+      for (Index k = 0; k < points.cols(); ++k) {
+        points.col(k) = curve(start + kTwoPi * rho * static_cast<double>(k));
+      }
+      const Vector u = problem.CircleFromOrbit(points);
+      // The fit's ρ: the points' mean angle advance, or refined on its grid.
+      CHECK(std::abs(problem.RotationNumber(u) - 0.37) <= 1e-4);
+      // Each point's angle on u (the nearest of 3600), and the advance to the next point's.
+      auto angle_of = [&](const Vector& x) {
+        double best = 0.0, nearest = kInfinity;
+        for (int i = 0; i < 3600; ++i) {
+          const double theta = kTwoPi * i / 3600.0;
+          const double d = (problem.PointAt(u, theta) - x).norm();
+          if (d < nearest) {
+            nearest = d;
+            best = theta;
+          }
+        }
+        CHECK(nearest <= 0.01);
+        return best;
+      };
+      for (Index k = 0; k < 5; ++k) {
+        CAPTURE(k);
+        double advance = angle_of(points.col(k + 1)) - angle_of(points.col(k));
+        advance -= kTwoPi * std::floor(advance / kTwoPi);
+        CHECK(advance / kTwoPi == Approx(0.37).margin(0.01));
+      }
+    }
+  }
 }
 
 TEST_CASE("invariant circle: a kind the system cannot have is rejected", "[torus][failure]") {
