@@ -128,7 +128,7 @@ def intermittent_speeds(results):
                 for side in ("left", "right"):
                     count += int(sum(r == b"intermittent"
                                      for r in f[f"sweeps/{direction}/regime_{side}"][()]))
-    return f"{count} speeds of the committed sweeps (2026-11-27)\nare intermittent"
+    return f"{count} speeds of the committed sweeps (2026-11-30)\nare intermittent"
 
 
 def whip_lifetimes(results):
