@@ -437,6 +437,17 @@ OrbitSkeletonEnd SkeletonEnd(const PeriodicOrbitBranch& family, const std::vecto
     i = j + 1;
   }
   if (lo == q.size()) {
+    // Unstable there only as far as the family went: one cut short (the budget's callback, the
+    // step limit, a failure) may yet turn back stable over the doubling's speed, as A(a)'s does
+    // past its fold and Neimark–Sacker point (121.0 rpm, below the doubling at 128.35).
+    const BranchStatus status = d->branch.branch.status;
+    if (status == BranchStatus::kStoppedByCaller || status == BranchStatus::kMaxSteps ||
+        IsFailure(status)) {
+      end.route += fmt::format("; no stable doubled orbit at the doubling's speed as far as their "
+                               "family went ({}): not decided",
+                               d->branch.branch.BriefReport());
+      return end;
+    }
     end.route += fmt::format("; the doubled orbits are unstable there ({}): the run has no periodic state to move on to",
                              d->branch.branch.BriefReport());
     return end;

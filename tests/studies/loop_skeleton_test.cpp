@@ -83,5 +83,35 @@ TEST_CASE("loop L2: a doubling not followed, or beyond the jump, is itself the e
   CHECK(back.end.lambda == Approx(0.09).epsilon(0).margin(1e-6));
 }
 
+TEST_CASE("loop L2: doubled orbits unstable at the doubling's speed are read as no state to move on "
+          "to only where their family ended of itself",
+          "[loop][skeleton]") {
+  // The doubled family as followed, its orbits marked unstable: ended of itself (the λ bound) the
+  // run has no periodic state to move on to; cut short (the budget's callback) it may yet turn back
+  // stable over the doubling's speed (A(a)'s does past its fold), so the reading is "not decided".
+  MoebiusRide m;
+  for (const BranchStatus status : {BranchStatus::kReachedLambdaBound, BranchStatus::kStoppedByCaller}) {
+    std::vector<OrbitPeriodDoubling> doublings;
+    DoublingFollower unstable = [&m, status](std::size_t k) {
+      OrbitPeriodDoubling d = ContinueOrbitsFromPeriodDoubling(m.system, m.family, k, m.options);
+      for (BranchPoint& q : d.branch.branch.points) q.num_unstable = 1;
+      d.branch.branch.status = status;
+      return d;
+    };
+    const OrbitRide ride = RideFamily(m.family, -0.5, +1, 0.5, doublings, unstable);
+    CAPTURE(ToString(status));
+    INFO(ride.text);
+    REQUIRE(ride.end.found);
+    CHECK_FALSE(ride.end.doubled);
+    CHECK(ride.end.type == SpecialPointType::kPeriodDoubling);
+    if (status == BranchStatus::kReachedLambdaBound) {
+      CHECK_THAT(ride.text, Catch::Contains("unstable there") && Catch::Contains("no periodic state to move on to"));
+    } else {
+      CHECK_THAT(ride.text, Catch::Contains("as far as their family went") && Catch::Contains("not decided"));
+      CHECK_THAT(ride.text, !Catch::Contains("no periodic state to move on to"));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rubcont
