@@ -7,9 +7,10 @@
 // The state is integrated as it is, with odeint's error test given an absolute tolerance per
 // component, |e_i| ≤ atol·scale_i + rtol·|x_i| (WeightedErrorChecker, scale = OdeSystem::
 // StateScale(), the maximum norm over i): the test IntegratorOptions documents for the scaled state
-// x ./ scale, without scaling the state in and out at every evaluation (the sweep stepper's CPU per
-// simulated second 8–15 % lower on A(a), bench/march_bench.cpp). A state beyond the state bound or a right-hand side that is not finite ends the call
-// with a status (odeint would accept a step whose error estimate is NaN: it is never given one).
+// x ./ scale, without scaling the state in and out at every evaluation (on A(a) the integrator's
+// CPU per simulated second 7–11 % lower in two alternating pairs, bench/march_bench.cpp). A state
+// beyond the state bound or a right-hand side that is not finite ends the call with a status
+// (odeint would accept a step whose error estimate is NaN: it is never given one).
 #include <algorithm>
 #include <array>
 #include <cmath>
