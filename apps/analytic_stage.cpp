@@ -18,7 +18,7 @@ namespace rubcont {
 namespace {
 
 template <class... Args>
-void Progress(StageContext& context, fmt::format_string<Args...> format, Args&&... args) {
+void StageProgress(StageContext& context, fmt::format_string<Args...> format, Args&&... args) {
   context.progress(fmt::format(format, std::forward<Args>(args)...));
 }
 
@@ -81,7 +81,7 @@ void RunTwoPointAnalytic(const Scene& scene, StageContext& context) {
   const double compute_ms = 1e3 * SecondsSince(start);
   const SteadyClock::time_point write_start = SteadyClock::now();
   WriteAnalytic(context.writer, p, result, without_damper ? &*without_damper : nullptr);
-  Progress(context, "[analytic] L0 closed form, 2 modes × {} frequencies{}: computed in {:.1f} ms, "
+  StageProgress(context, "[analytic] L0 closed form, 2 modes × {} frequencies{}: computed in {:.1f} ms, "
            "written in {:.1f} ms", options.precession_points,
            without_damper ? ", with and without the centre damper" : "", compute_ms,
            1e3 * SecondsSince(write_start));
@@ -105,7 +105,7 @@ void RunJeffcottAnalytic(const Scene& scene, StageContext& context) {
   const AnalyticOptions options = AnalyticOptionsOf(scene);
   const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
   WriteJeffcottAnalytic(context.writer, scene.jeffcott, curve);
-  Progress(context, "[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
+  StageProgress(context, "[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
            options.precession_points, 1e3 * SecondsSince(start));
   const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
   fmt::print(context.out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",

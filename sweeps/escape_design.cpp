@@ -29,12 +29,6 @@ struct Site {
   bool finite = false;      // some copy was seen to stay for a while (exposure > 0)
 };
 
-double Exposure(const EscapeObservations& o) {
-  double e = o.stayed * o.duration;
-  for (int j : o.escape_stretch) e += (j - 1) * o.stretch;
-  return e;
-}
-
 // The profile-likelihood interval of the leave distribution's median (header comment). The law's
 // parameters θ = (p_c, γ, a = ln A') with κ = A'·u^γ, u = (p − p_c)/span on the state's mirrored
 // side: the region R = {θ : ℓ(θ) ≥ ℓ_max − 1.92} is scanned on a grid of (p_c, γ) — for each, ℓ is

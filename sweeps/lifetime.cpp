@@ -14,13 +14,6 @@ namespace {
 
 constexpr double kDrop = 1.920729410347062;  // χ²₁(0.95)/2: the likelihood-ratio 95 % limit
 
-// E = Σ (j − 1)·Δ + stayed·duration: the time during which every copy is known to have stayed.
-double Exposure(const EscapeObservations& o) {
-  double e = o.stayed * o.duration;
-  for (int j : o.escape_stretch) e += (j - 1) * o.stretch;
-  return e;
-}
-
 // The root of f(x) = 0 between a (f < 0) and b (f ≥ 0) by bisection.
 template <class F>
 double Bisect(F f, double a, double b, int iterations = 80) {
@@ -78,6 +71,13 @@ Maximum Maximize(nlopt::opt& opt, std::vector<double> x) {
 }
 
 }  // namespace
+
+// E = Σ (j − 1)·Δ + stayed·duration: the time during which every copy is known to have stayed.
+double Exposure(const EscapeObservations& o) {
+  double e = o.stayed * o.duration;
+  for (int j : o.escape_stretch) e += (j - 1) * o.stretch;
+  return e;
+}
 
 void Validate(const EscapeObservations& o) {
   auto fail = [](const char* field, const auto& value, const char* rule) {

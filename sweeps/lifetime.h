@@ -33,6 +33,10 @@ struct EscapeObservations {
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const EscapeObservations& observations);
 
+// The copies' time in the state, the exposure of the rate's likelihood [s]: `stayed` × duration
+// plus (j − 1)·stretch for each copy that escaped in stretch j (its escape time's lower bound).
+double Exposure(const EscapeObservations& observations);
+
 // Log-likelihood of an escape rate κ ≥ 0 (κ = +∞ allowed: 0 when every copy left in stretch 1).
 double EscapeLogLikelihood(const EscapeObservations& observations, double rate);
 

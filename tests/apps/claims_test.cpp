@@ -46,7 +46,7 @@ int64_t GonePid() {
   return child;
 }
 
-ClaimOptions StaleAfter(double seconds) {
+ClaimOptions ClaimsStaleAfter(double seconds) {
   ClaimOptions options;
   options.stale_after_s = seconds;
   return options;
@@ -55,7 +55,7 @@ ClaimOptions StaleAfter(double seconds) {
 TEST_CASE("claims: a claim names its owner, beats, keeps others out and is let go", "[claims]") {
   TempDir dir;
   const fs::path stem = dir.path / "job.claim";
-  const ClaimOptions options = StaleAfter(0.5);  // heartbeat every 0.05 s
+  const ClaimOptions options = ClaimsStaleAfter(0.5);  // heartbeat every 0.05 s
   const ClaimOwner me = ThisProcess(3, options.HeartbeatSeconds());
   {
     const ClaimAttempt mine = TryClaim(stem, me, options);
@@ -89,14 +89,14 @@ TEST_CASE("claims: only a stale claim or a dead owner's is taken over", "[claims
   elsewhere.host = "node-elsewhere";
   elsewhere.heartbeat_s = 0.1;
   WriteClaim(dir.path / "job.claim.0", elsewhere, 5.0);
-  CHECK_FALSE(TryClaim(stem, me, StaleAfter(60.0)).held);  // 5 s old: live under 60 s
+  CHECK_FALSE(TryClaim(stem, me, ClaimsStaleAfter(60.0)).held);  // 5 s old: live under 60 s
   ClaimOwner slow = elsewhere;  // beats every 30 s: stale only after 3 beats, whatever we ask
   slow.heartbeat_s = 30.0;
   WriteClaim(dir.path / "job.claim.0", slow, 5.0);
-  CHECK_FALSE(TryClaim(stem, me, StaleAfter(1.0)).held);
+  CHECK_FALSE(TryClaim(stem, me, ClaimsStaleAfter(1.0)).held);
   WriteClaim(dir.path / "job.claim.0", elsewhere, 5.0);
   {
-    const ClaimAttempt stale = TryClaim(stem, me, StaleAfter(1.0));
+    const ClaimAttempt stale = TryClaim(stem, me, ClaimsStaleAfter(1.0));
     REQUIRE(stale.held);
     CHECK_THAT(stale.taken_over_because, Contains("its heartbeat is 5 s old (stale after 1 s)"));
     CHECK_THAT(stale.taken_over_because, Contains("on node-elsewhere"));
@@ -119,7 +119,7 @@ TEST_CASE("claims: only a stale claim or a dead owner's is taken over", "[claims
   CHECK(LifeOf(me) == OwnerLife::kAlive);
   CHECK(LifeOf(elsewhere) == OwnerLife::kUnknown);
   WriteClaim(dir.path / "job.claim.0", reused, 0.0);
-  const ClaimAttempt dead = TryClaim(stem, me, StaleAfter(300.0));
+  const ClaimAttempt dead = TryClaim(stem, me, ClaimsStaleAfter(300.0));
   REQUIRE(dead.held);
   CHECK_THAT(dead.taken_over_because, Contains("is gone"));
 }
@@ -143,7 +143,7 @@ TEST_CASE("claims: of takers racing for one stale claim exactly one wins", "[cla
       takers.emplace_back([&, t] {
         ++ready;
         while (ready < kTakers) std::this_thread::yield();
-        attempts[t] = TryClaim(stem, me, StaleAfter(1.0));
+        attempts[t] = TryClaim(stem, me, ClaimsStaleAfter(1.0));
       });
     }
     for (std::thread& t : takers) t.join();
@@ -157,9 +157,9 @@ TEST_CASE("claims: of takers racing for one stale claim exactly one wins", "[cla
 }
 
 TEST_CASE("claims: --stale-after must be a positive number of seconds", "[claims]") {
-  CHECK_THROWS_WITH(StaleAfter(0.0).Validate(), Contains("--stale-after 0: must be a number of seconds"));
-  CHECK_THROWS_WITH(StaleAfter(-5.0).Validate(), Contains("--stale-after -5"));
-  CHECK_NOTHROW(StaleAfter(300.0).Validate());
+  CHECK_THROWS_WITH(ClaimsStaleAfter(0.0).Validate(), Contains("--stale-after 0: must be a number of seconds"));
+  CHECK_THROWS_WITH(ClaimsStaleAfter(-5.0).Validate(), Contains("--stale-after -5"));
+  CHECK_NOTHROW(ClaimsStaleAfter(300.0).Validate());
 }
 
 }  // namespace

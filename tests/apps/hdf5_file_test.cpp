@@ -18,23 +18,14 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "cli_support.h"
+
 namespace rubcont {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory under the system temporary directory, removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("rubcont_hdf5_test_" + std::to_string(getpid()) + "_" +
-                                        std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static inline int counter = 0;
-};
+using testing::TempDir;
 
 std::string Bytes(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

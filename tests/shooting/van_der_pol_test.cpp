@@ -77,7 +77,7 @@ CycleReference ComputeReference(double mu) {
   return {second.t_reached - first.t_reached, x(2)};
 }
 
-ShootingOptions Options(int segments, double tolerance) {
+ShootingOptions VdpShooting(int segments, double tolerance) {
   ShootingOptions options;
   options.segments = segments;
   options.integrator.relative_tolerance = tolerance;
@@ -96,7 +96,7 @@ NewtonOptions ShootingNewton() {
   return options;
 }
 
-NewtonResult Solve(ShootingProblem& problem, Vector& u, double mu) {
+NewtonResult SolveVdp(ShootingProblem& problem, Vector& u, double mu) {
   return NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, mu, F); },
                      [&](const Vector& v, Matrix& J) { problem.Jacobian(v, mu, J); }, u,
                      ShootingNewton(), problem.Scale(), problem.ResidualScale());
@@ -130,9 +130,9 @@ TEST_CASE("van der Pol μ = 10: single shooting converges but cannot resolve the
   REQUIRE(reference.log_multiplier == Approx(-311.844).epsilon(0).margin(1e-3));
   VanDerPolOscillator oscillator({mu});
 
-  ShootingProblem single(oscillator, OrbitKind::kAutonomous, Options(1, 1e-11));
+  ShootingProblem single(oscillator, OrbitKind::kAutonomous, VdpShooting(1, 1e-11));
   Vector u = single.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
-  NewtonResult newton = Solve(single, u, mu);
+  NewtonResult newton = SolveVdp(single, u, mu);
   INFO(newton.BriefReport());
   REQUIRE(newton.Converged());
   CHECK(single.Period(u, mu) == Approx(reference.period).epsilon(1e-8));
@@ -141,9 +141,9 @@ TEST_CASE("van der Pol μ = 10: single shooting converges but cannot resolve the
   const double single_log = std::log(std::abs(single.Stability(u, mu).values(0)));
   CHECK(single_log > -100.0);
 
-  ShootingProblem multiple(oscillator, OrbitKind::kAutonomous, Options(40, 1e-11));
+  ShootingProblem multiple(oscillator, OrbitKind::kAutonomous, VdpShooting(40, 1e-11));
   Vector v = multiple.InitialGuess(single.SegmentStart(u, 0), single.Period(u, mu), mu);
-  newton = Solve(multiple, v, mu);
+  newton = SolveVdp(multiple, v, mu);
   INFO(newton.BriefReport());
   REQUIRE(newton.Converged());
   // Every segment restarts BDF at order 1, and the restarts' errors add up: measured, the period
@@ -177,11 +177,11 @@ TEST_CASE("van der Pol μ = −10 (the repelling cycle): single shooting fails w
   const CycleReference reference = ComputeReference(mu);
   // The attracting cycle first; its time reversal (x(−t), −ẋ(−t)) is the μ = −10 cycle.
   VanDerPolOscillator attracting({mu});
-  ShootingProblem stable(attracting, OrbitKind::kAutonomous, Options(1, 1e-11));
+  ShootingProblem stable(attracting, OrbitKind::kAutonomous, VdpShooting(1, 1e-11));
   Vector u = stable.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
-  REQUIRE(Solve(stable, u, mu).Converged());
+  REQUIRE(SolveVdp(stable, u, mu).Converged());
   const double period = stable.Period(u, mu);
-  OdeIntegrator integrator(attracting, Options(1, 1e-11).integrator);
+  OdeIntegrator integrator(attracting, VdpShooting(1, 1e-11).integrator);
 
   VanDerPolOscillator repelling({-mu});
   for (int segments : {1, 80}) {
@@ -197,10 +197,10 @@ TEST_CASE("van der Pol μ = −10 (the repelling cycle): single shooting fails w
       starts(0, i) = samples(0, k);
       starts(1, i) = -samples(1, k);
     }
-    ShootingProblem problem(repelling, OrbitKind::kAutonomous, Options(segments, 1e-11));
+    ShootingProblem problem(repelling, OrbitKind::kAutonomous, VdpShooting(segments, 1e-11));
     Vector v = problem.Pack(starts, period);
     problem.SetPhaseReference(v, -mu);
-    const NewtonResult newton = Solve(problem, v, -mu);
+    const NewtonResult newton = SolveVdp(problem, v, -mu);
     INFO(newton.BriefReport());
     if (segments == 1) {
       // One period multiplies the error of the guess (1e-10) by e^{311.8}: cond ≈ 1e16.
@@ -228,9 +228,9 @@ TEST_CASE("van der Pol μ = 1000 (stiff relaxation): single and multiple shootin
   VanDerPolOscillator oscillator({mu});
   for (int segments : {1, 20}) {
     CAPTURE(segments);
-    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, Options(segments, 1e-12));
+    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, VdpShooting(segments, 1e-12));
     Vector u = problem.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
-    const NewtonResult newton = Solve(problem, u, mu);
+    const NewtonResult newton = SolveVdp(problem, u, mu);
     INFO(newton.BriefReport());
     REQUIRE(newton.Converged());
     CHECK(problem.Period(u, mu) == Approx(reference.period).epsilon(1e-8));
@@ -257,18 +257,18 @@ TEST_CASE("an adapted collocation mesh resolves van der Pol's relaxation jumps a
   const double mu = 10.0;
   const CycleReference reference = ComputeReference(mu);
   VanDerPolOscillator oscillator({mu});
-  ShootingOptions options = Options(4, 1e-11);
+  ShootingOptions options = VdpShooting(4, 1e-11);
   options.integrator.method = IntegrationMethod::kGaussCollocation;
   // The start: the orbit on a fine uniform mesh (a coarse one cannot integrate the guess's jumps).
   options.integrator.collocation_steps = 200;
   ShootingProblem fine(oscillator, OrbitKind::kAutonomous, options);
   Vector u = fine.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
-  REQUIRE(Solve(fine, u, mu).Converged());
+  REQUIRE(SolveVdp(fine, u, mu).Converged());
   options.integrator.collocation_steps = 40;
   options.adapt_mesh_every = 1;
   ShootingProblem problem(oscillator, OrbitKind::kAutonomous, options);
   problem.SetPhaseReference(u, mu);
-  const NewtonResult first = Solve(problem, u, mu);
+  const NewtonResult first = SolveVdp(problem, u, mu);
   INFO(first.BriefReport());
   REQUIRE(first.Converged());
   CHECK(problem.CollocationMeshes().empty());
@@ -281,7 +281,7 @@ TEST_CASE("an adapted collocation mesh resolves van der Pol's relaxation jumps a
     problem.PointAccepted(u, mu);
     REQUIRE(problem.CollocationMeshes().size() == 4);
     for (const std::vector<double>& mesh : problem.CollocationMeshes()) CHECK(static_cast<long>(mesh.size()) == steps + 1);
-    REQUIRE(Solve(problem, u, mu).Converged());
+    REQUIRE(SolveVdp(problem, u, mu).Converged());
     error = std::abs(problem.Period(u, mu) - reference.period);
   }
   INFO("period errors: uniform " << uniform_error << ", adapted " << adapted_error[0] << ", "

@@ -433,7 +433,7 @@ std::vector<double> GradedMesh(long steps, double a) {
 }
 
 // ẍ = −x: x = cos t, v = −sin t from (1, 0).
-class Harmonic : public OdeSystem {
+class HarmonicWithoutJacobian : public OdeSystem {
  public:
   Index Dimension() const override { return 2; }
   void Rhs(double, ConstVectorRef x, VectorRef f) override { f << x(1), -x(0); }
@@ -505,7 +505,7 @@ TEST_CASE("Gauss collocation on a set mesh: the uniform one reproduced, order 2s
 TEST_CASE("Gauss collocation's u^(s) on each step, the monitor and the equidistributed mesh",
           "[ode][gauss]") {
   SECTION("u^(4) of x = cos t, v = −sin t on each step is (cos, −sin) at its middle, to O(h²)") {
-    Harmonic system;
+    HarmonicWithoutJacobian system;
     OdeIntegrator integrator(system, Gauss(4, 40));
     Vector x(2);
     REQUIRE(integrator.Integrate(0.0, (Vector(2) << 1.0, 0.0).finished(), 4.0, x).Succeeded());

@@ -16,7 +16,7 @@ double PrecessionHz(const RotatingWaveProblem& problem, const RotatingWaveStart&
   return RadPerSecondToHz(problem.Precession(start.u));
 }
 
-FamilySearchOptions ThesisRange() {
+FamilySearchOptions ThesisFamilySearch() {
   FamilySearchOptions options;
   options.speed_min = RpmToRadPerSecond(20.0);
   options.speed_max = RpmToRadPerSecond(260.0);
@@ -28,7 +28,7 @@ TEST_CASE("families of case A(a): Mode 1 and Mode 2 whirl, whip at every μ_req 
           "[families]") {
   const TwoPointParams params = ThesisCaseAa();
   RotatingWaveProblem problem(TwoPointStructure(params), FrictionLawKind::kExact);
-  const auto starts = FindRotatingWaveStarts(problem, ThesisRange());
+  const auto starts = FindRotatingWaveStarts(problem, ThesisFamilySearch());
   auto count = [&](ContactMode mode, double normal_sign) {
     return std::count_if(starts.begin(), starts.end(), [&](const RotatingWaveStart& s) {
       return s.modes[0] == mode && s.modes[1] == mode && s.normals[1] == normal_sign;
@@ -101,7 +101,7 @@ TEST_CASE("families of the Jeffcott rotor: whirl below the μ crossing, whip at 
 
 TEST_CASE("family search rejects an inverted speed range", "[families]") {
   RotatingWaveProblem problem(TwoPointStructure(ThesisCaseAa()), FrictionLawKind::kExact);
-  FamilySearchOptions options = ThesisRange();
+  FamilySearchOptions options = ThesisFamilySearch();
   std::swap(options.speed_min, options.speed_max);
   CHECK_THROWS_WITH(FindRotatingWaveStarts(problem, options), Catch::Contains("speed range"));
 }
