@@ -22,7 +22,7 @@
 namespace rubcont {
 namespace {
 
-void Check(const AttractorRequest& r) {
+void CheckAttractorRequest(const AttractorRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
@@ -55,7 +55,7 @@ void Check(const AttractorRequest& r) {
 
 int AttractorCommand(const AttractorRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
-    Check(request);
+    CheckAttractorRequest(request);
     const Scene scene = AttractorSceneOf(LoadScene(request.scene_file));
     const RubStructure structure = SweepStructureOf(scene);
     WarnUnitMistakes(scene, err);

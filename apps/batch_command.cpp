@@ -57,7 +57,7 @@ std::string Where(const fs::path& file, int index) {
   return fmt::format("{}: job {}", file.string(), index + 1);
 }
 
-std::string Text(const toml::node& node) {
+std::string NodeText(const toml::node& node) {
   if (node.is_string()) return "\"" + node.value<std::string>().value() + "\"";
   std::ostringstream s;
   s << toml::node_view<const toml::node>(node);
@@ -81,7 +81,7 @@ Job JobOf(const toml::table& table, const std::string& where) {
     if (node == nullptr) return std::nullopt;
     if (!node->is_string()) {
       throw std::invalid_argument(
-          fmt::format("{}: {} = {}: must be a string", where, key, Text(*node)));
+          fmt::format("{}: {} = {}: must be a string", where, key, NodeText(*node)));
     }
     return node->value<std::string>();
   };
@@ -91,7 +91,7 @@ Job JobOf(const toml::table& table, const std::string& where) {
     const std::optional<int64_t> v = node->is_integer() ? node->value<int64_t>() : std::nullopt;
     if (!v || *v < lo || *v > hi) {
       throw std::invalid_argument(
-          fmt::format("{}: {} = {}: must be an integer in {} … {}", where, key, Text(*node), lo, hi));
+          fmt::format("{}: {} = {}: must be an integer in {} … {}", where, key, NodeText(*node), lo, hi));
     }
     return static_cast<int>(*v);
   };
@@ -122,7 +122,7 @@ Job JobOf(const toml::table& table, const std::string& where) {
     const toml::array* a = node->as_array();
     if (a == nullptr || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number()) {
       throw std::invalid_argument(
-          fmt::format("{}: range = {}: must be two numbers [lo, hi]", where, Text(*node)));
+          fmt::format("{}: range = {}: must be two numbers [lo, hi]", where, NodeText(*node)));
     }
     job.range = std::make_pair((*a)[0].value<double>().value(), (*a)[1].value<double>().value());
   }
@@ -135,7 +135,7 @@ Job JobOf(const toml::table& table, const std::string& where) {
   if (const toml::node* node = table.get("figures")) {
     if (!node->is_boolean()) {
       throw std::invalid_argument(
-          fmt::format("{}: figures = {}: must be true or false", where, Text(*node)));
+          fmt::format("{}: figures = {}: must be true or false", where, NodeText(*node)));
     }
     job.figures = node->value<bool>().value();
   }
@@ -163,7 +163,7 @@ std::vector<Job> Expand(const toml::table& table, const std::string& where) {
   if (vary == nullptr || vary->empty()) {
     throw std::invalid_argument(fmt::format(
         "{}: vary = {}: must be a table of lists, e.g. {{ direction = [\"up\", \"down\"] }}", where,
-        Text(*vary_node)));
+        NodeText(*vary_node)));
   }
   std::vector<toml::table> combinations{table};
   combinations.front().erase("vary");
@@ -172,7 +172,7 @@ std::vector<Job> Expand(const toml::table& table, const std::string& where) {
     const toml::array* values = node.as_array();
     if (values == nullptr || values->empty()) {
       throw std::invalid_argument(fmt::format("{}: vary.{} = {}: must be a non-empty list", where,
-                                              key.str(), Text(node)));
+                                              key.str(), NodeText(node)));
     }
     std::vector<toml::table> next;
     std::vector<std::vector<std::string>> next_suffixes;
@@ -182,7 +182,7 @@ std::vector<Job> Expand(const toml::table& table, const std::string& where) {
         t.insert_or_assign(key, value);
         next.push_back(std::move(t));
         std::vector<std::string> s = suffixes[c];
-        const std::string shown = value.is_string() ? value.value<std::string>().value() : Text(value);
+        const std::string shown = value.is_string() ? value.value<std::string>().value() : NodeText(value);
         s.push_back(key.str() == "scene" ? fs::path(shown).stem().string() : shown);
         next_suffixes.push_back(std::move(s));
       }
@@ -227,7 +227,7 @@ JobsFile ReadJobs(const fs::path& file, const std::optional<std::string>& out_di
   }
   if (const toml::node* node = root.get("out")) {
     if (!node->is_string()) {
-      throw std::invalid_argument(fmt::format("{}: out = {}: must be a string", file.string(), Text(*node)));
+      throw std::invalid_argument(fmt::format("{}: out = {}: must be a string", file.string(), NodeText(*node)));
     }
     jobs.out = node->value<std::string>().value();
   }

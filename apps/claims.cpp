@@ -114,7 +114,7 @@ bool ReadOwner(const fs::path& file, ClaimOwner& o) {
   }
 }
 
-[[noreturn]] void Fail(const fs::path& file, int error) {
+[[noreturn]] void FailClaim(const fs::path& file, int error) {
   throw std::runtime_error(fmt::format("cannot claim {}: {}", file.string(), std::strerror(error)));
 }
 
@@ -126,12 +126,12 @@ bool ReadOwner(const fs::path& file, ClaimOwner& o) {
 bool CreateExclusively(const fs::path& file, const std::string& record, int& fd) {
   const fs::path temporary = UniqueTemporaryName(file);
   fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) Fail(file, errno);
+  if (fd < 0) FailClaim(file, errno);
   if (::write(fd, record.data(), record.size()) != static_cast<ssize_t>(record.size())) {
     const int error = errno;
     ::close(fd);
     ::unlink(temporary.c_str());
-    Fail(file, error);
+    FailClaim(file, error);
   }
   bool linked = ::link(temporary.c_str(), file.c_str()) == 0;
   const int error = errno;
@@ -141,7 +141,7 @@ bool CreateExclusively(const fs::path& file, const std::string& record, int& fd)
     if (!linked) {
       ::close(fd);
       ::unlink(temporary.c_str());
-      Fail(file, error);
+      FailClaim(file, error);
     }
   }
   ::unlink(temporary.c_str());

@@ -22,7 +22,7 @@
 namespace rubcont {
 namespace {
 
-void Check(const EnsembleRequest& r) {
+void CheckEnsembleRequest(const EnsembleRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
@@ -35,7 +35,7 @@ void Check(const EnsembleRequest& r) {
 
 int EnsembleCommand(const EnsembleRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
-    Check(request);
+    CheckEnsembleRequest(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     WarnUnitMistakes(scene, err);

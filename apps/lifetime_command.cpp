@@ -23,7 +23,7 @@
 namespace rubcont {
 namespace {
 
-void Check(const LifetimeRequest& r) {
+void CheckLifetimeRequest(const LifetimeRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
@@ -65,7 +65,7 @@ std::string RequestText(const LifetimeRequest& r) {
 
 int LifetimeCommand(const LifetimeRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
-    Check(request);
+    CheckLifetimeRequest(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     WarnUnitMistakes(scene, err);

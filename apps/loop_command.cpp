@@ -21,7 +21,7 @@
 namespace rubcont {
 namespace {
 
-void Check(const LoopRequest& r) {
+void CheckLoopRequest(const LoopRequest& r) {
   auto fail = [](const char* option, const auto& value, const char* rule) {
     throw std::invalid_argument(fmt::format("--{} = {}: {}", option, value, rule));
   };
@@ -38,7 +38,7 @@ void Check(const LoopRequest& r) {
 
 int LoopCommand(const LoopRequest& request, std::ostream& out, std::ostream& err) {
   return Guarded(err, [&] {
-    Check(request);
+    CheckLoopRequest(request);
     const Scene scene = LoadScene(request.scene_file);
     const RubStructure structure = SweepStructureOf(scene);
     if (Ranks::World().rank() == 0) WarnUnitMistakes(scene, err);  // once under mpirun

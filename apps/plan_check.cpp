@@ -25,7 +25,7 @@ std::vector<double> Numbers(const schema::Value& value) {
   return {};
 }
 
-std::string Text(const std::vector<double>& numbers) {
+std::string NumbersText(const std::vector<double>& numbers) {
   if (numbers.size() == 1) return schema::FormatFloat(numbers[0], true);
   return fmt::format("[{}, {}]", schema::FormatFloat(numbers[0], true), schema::FormatFloat(numbers[1], true));
 }
@@ -71,7 +71,7 @@ std::vector<std::string> UnitMistakes(const Scene& scene) {
       const std::string mistake = LengthScaleMistake(x);
       if (mistake.empty()) continue;
       if (first.empty()) {
-        first = fmt::format("{} = {} m: {}", spec->key, Text(numbers), mistake);
+        first = fmt::format("{} = {} m: {}", spec->key, NumbersText(numbers), mistake);
       } else {
         ++others;
       }
@@ -112,14 +112,14 @@ std::vector<std::string> UnitMistakes(const Scene& scene) {
   for (const auto& [key, range] : ranges) {
     const std::string mistake = SurfaceSpeedMistake(largest_radius, RpmToRadPerSecond(range[1]));
     if (mistake.empty()) continue;
-    mistakes.push_back(fmt::format("{} = {} rpm: {}", key, Text({range[0], range[1]}), mistake));
+    mistakes.push_back(fmt::format("{} = {} rpm: {}", key, NumbersText({range[0], range[1]}), mistake));
     break;
   }
   const auto& range = scene.analysis.speed_range_rpm;
   const std::string mistake =
       SpeedRangeMistake(knee, RpmToRadPerSecond(range[0]), RpmToRadPerSecond(range[1]));
   if (!mistake.empty()) {
-    mistakes.push_back(fmt::format("analysis.speed_range_rpm = {} rpm: {}", Text({range[0], range[1]}), mistake));
+    mistakes.push_back(fmt::format("analysis.speed_range_rpm = {} rpm: {}", NumbersText({range[0], range[1]}), mistake));
   }
   return mistakes;
 }

@@ -140,7 +140,7 @@ void BorderedCorrector::SolveTangent(Vector& tangent) {
 }
 
 namespace {
-constexpr int kMaxHalvings = 4;  // of a Newton step whose end has no finite residual
+constexpr int kMaxResidualHalvings = 4;  // of a Newton step whose end has no finite residual
 }  // namespace
 
 CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& border,
@@ -174,9 +174,9 @@ CorrectorStatus BorderedCorrector::Correct(const Vector& x_ref, const Vector& bo
     out.iterations = iteration;
     // A Newton step that leaves the residual's domain (a shooting problem's integration failing
     // on the way: C(a)'s torus at 49 rpm, corrected by Gauss collocation from BDF's solution) is
-    // halved until the residual is finite again, at most kMaxHalvings times.
+    // halved until the residual is finite again, at most kMaxResidualHalvings times.
     bool finite = system_.Residual(out.x, F_);
-    for (int halving = 0; !finite && halving < kMaxHalvings; ++halving) {
+    for (int halving = 0; !finite && halving < kMaxResidualHalvings; ++halving) {
       delta_ *= 0.5;
       out.x -= delta_;
       finite = system_.Residual(out.x, F_);

@@ -107,7 +107,7 @@ class ModeEvaluator {
   double midpoint_amplitude_ = 0.0;
 };
 
-int Sign(double x) { return (x > 0.0) - (x < 0.0); }
+int SignOf(double x) { return (x > 0.0) - (x < 0.0); }
 
 // The root of f in the grid bracket [a, b] (f(a)·f(b) < 0) to a few ulps of the frequency, by
 // Illinois regula falsi (solvers/scalar_root.h); the closed form never fails to evaluate.
@@ -126,7 +126,7 @@ double RefineRoot(const Function& f, double a, double b, double fa, double fb) {
 // One scalar function on the grid whose sign changes are transitions.
 enum class Quantity { kMuExcess, kMuDeficit, kFriction, kNormalForce };
 
-double Evaluate(Quantity quantity, const ComplexVector2& P, int k, double mu) {
+double EvaluateQuantity(Quantity quantity, const ComplexVector2& P, int k, double mu) {
   switch (quantity) {
     case Quantity::kMuExcess: return P(k).imag() - mu * P(k).real();   // F − μN
     case Quantity::kMuDeficit: return P(k).imag() + mu * P(k).real();  // F + μN
@@ -276,19 +276,19 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
       // With μ = 0 all three μ crossings are the same root: keep it once.
       if (quantity != Quantity::kMuExcess && quantity != Quantity::kNormalForce && mu == 0.0) continue;
       auto f = [&](double hz) {
-        return Evaluate(quantity, contact_force(HzToRadPerSecond(hz)), k, mu);
+        return EvaluateQuantity(quantity, contact_force(HzToRadPerSecond(hz)), k, mu);
       };
       for (Index i = 0; i + 1 < n; ++i) {
         const double a = curve.precession_hz(i), b = curve.precession_hz(i + 1);
-        const double fa = Evaluate(quantity, forces[i], k, mu);
-        const double fb = Evaluate(quantity, forces[i + 1], k, mu);
+        const double fa = EvaluateQuantity(quantity, forces[i], k, mu);
+        const double fb = EvaluateQuantity(quantity, forces[i + 1], k, mu);
         if (!(std::isfinite(fa) && std::isfinite(fb))) continue;
-        const int sa = Sign(fa), sb = Sign(fb);
+        const int sa = SignOf(fa), sb = SignOf(fb);
         double root;
         if (sa * sb < 0) {
           root = RefineRoot(f, a, b, fa, fb);
         } else if (sa == 0 && i > 0 &&
-                   Sign(Evaluate(quantity, forces[i - 1], k, mu)) * sb < 0) {
+                   SignOf(EvaluateQuantity(quantity, forces[i - 1], k, mu)) * sb < 0) {
           root = a;  // exactly on a grid point
         } else {
           continue;
@@ -296,7 +296,7 @@ AnalyticCurve ComputeClosedFormCurve(const std::function<ComplexVector2(double p
         const ComplexVector2 P = contact_force(kTwoPi * root);
         // A sign change through a pole (|value| grows instead of vanishing) is not a root.
         const bool through_pole =
-            std::abs(Evaluate(quantity, P, k, mu)) > std::max(std::abs(fa), std::abs(fb));
+            std::abs(EvaluateQuantity(quantity, P, k, mu)) > std::max(std::abs(fa), std::abs(fb));
         const int direction = sb > 0 ? 1 : -1;  // sign of the quantity just above the root
         Transition t;
         t.contact = k;

@@ -13,28 +13,28 @@
 namespace rubcont {
 namespace {
 
-[[noreturn]] void Reject(const std::string& key, double value, const std::string& rule) {
+[[noreturn]] void RejectBeam(const std::string& key, double value, const std::string& rule) {
   std::ostringstream message;
   message << key << " = " << value << ": " << rule;
   throw std::invalid_argument(message.str());
 }
 
 void CheckFinite(const std::string& key, double value) {
-  if (!std::isfinite(value)) Reject(key, value, "must be finite");
+  if (!std::isfinite(value)) RejectBeam(key, value, "must be finite");
 }
 void CheckPositive(const std::string& key, double value, const char* unit) {
   CheckFinite(key, value);
-  if (value <= 0.0) Reject(key, value, std::string("must be positive (") + unit + ")");
+  if (value <= 0.0) RejectBeam(key, value, std::string("must be positive (") + unit + ")");
 }
 void CheckNonNegative(const std::string& key, double value, const char* unit) {
   CheckFinite(key, value);
-  if (value < 0.0) Reject(key, value, std::string("must be non-negative (") + unit + ")");
+  if (value < 0.0) RejectBeam(key, value, std::string("must be non-negative (") + unit + ")");
 }
 
 void CheckNode(const std::string& key, int node, const BeamModel& model, int shaft) {
   const int nodes = model.shafts[static_cast<std::size_t>(shaft)].Nodes();
   if (node < 0 || node >= nodes) {
-    Reject(key, node, "must name a node of shafts[" + std::to_string(shaft) + "] (0 to " +
+    RejectBeam(key, node, "must name a node of shafts[" + std::to_string(shaft) + "] (0 to " +
                           std::to_string(nodes - 1) + ")");
   }
 }
@@ -132,14 +132,14 @@ void BeamModel::Validate() const {
       CheckPositive(key + "outer_diameter", e.outer_diameter, "m");
       CheckNonNegative(key + "inner_diameter", e.inner_diameter, "m");
       if (e.inner_diameter >= e.outer_diameter) {
-        Reject(key + "inner_diameter", e.inner_diameter,
+        RejectBeam(key + "inner_diameter", e.inner_diameter,
                "must be below outer_diameter (" + std::to_string(e.outer_diameter) + " m)");
       }
       CheckPositive(key + "youngs_modulus", e.youngs_modulus, "Pa");
       CheckPositive(key + "shear_modulus", e.shear_modulus, "Pa");
       const double nu = e.Poisson();
       if (!(nu > -1.0 && nu <= 0.5)) {
-        Reject(key + "shear_modulus", e.shear_modulus,
+        RejectBeam(key + "shear_modulus", e.shear_modulus,
                "must give a Poisson ratio E/(2G) − 1 in (−1, 0.5] (it gives " +
                    std::to_string(nu) + ")");
       }
@@ -159,18 +159,18 @@ void BeamModel::Validate() const {
     const Spring& spring = springs[i];
     const std::string key = "springs[" + std::to_string(i) + "].";
     if (spring.shaft < 0 || spring.shaft >= shaft_count) {
-      Reject(key + "shaft", spring.shaft,
+      RejectBeam(key + "shaft", spring.shaft,
              "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ")");
     }
     CheckNode(key + "node", spring.node, *this, spring.shaft);
     if (spring.other_shaft >= shaft_count) {
-      Reject(key + "other_shaft", spring.other_shaft,
+      RejectBeam(key + "other_shaft", spring.other_shaft,
              "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ") or be negative (ground)");
     }
     if (spring.other_shaft >= 0) {
       CheckNode(key + "other_node", spring.other_node, *this, spring.other_shaft);
       if (spring.other_shaft == spring.shaft && spring.other_node == spring.node) {
-        Reject(key + "other_node", spring.other_node, "must differ from node on the same shaft");
+        RejectBeam(key + "other_node", spring.other_node, "must differ from node on the same shaft");
       }
     }
     CheckNonNegative(key + "stiffness", spring.stiffness, "N/m");

@@ -59,7 +59,7 @@ constexpr double kNewtonFraction = 1e-3;
 constexpr double kNewtonFloor = 1e-14;
 constexpr int kMaxNewtonIterations = 30;
 // Backtracking (SolveStages): at most this many halvings in all, none below kMinDamping.
-constexpr int kMaxHalvings = 60;
+constexpr int kMaxGaussHalvings = 60;
 constexpr double kMinDamping = 1.0 / 1024.0;
 
 }  // namespace
@@ -189,7 +189,7 @@ bool GaussBackend::SolveStages(double t, const Vector& x, double h, std::string&
   double previous_merit = kInfinity;  // ‖S⁻¹G‖₂ where the last Newton step started
   double damping = 1.0;
   int iteration = 0;
-  for (int pass = 0; pass < kMaxNewtonIterations + kMaxHalvings; ++pass) {
+  for (int pass = 0; pass < kMaxNewtonIterations + kMaxGaussHalvings; ++pass) {
     second_order_ = n % 2 == 0;
     for (Index i = 0; i < s; ++i) {
       const double ti = t + coefficients_.c(i) * h;

@@ -37,7 +37,7 @@ struct Evaluation {
   double objective = 0.0;
 };
 
-Evaluation Evaluate(const TwoPointParams& params, const std::vector<IdentificationTarget>& targets,
+Evaluation EvaluateTargets(const TwoPointParams& params, const std::vector<IdentificationTarget>& targets,
                     const std::vector<FitParameter>& parameters, const std::vector<double>& theta,
                     const RotatingWaveBranchOptions& options) {
   Evaluation e;
@@ -73,7 +73,7 @@ std::vector<double> Denormalize(const std::vector<FitParameter>& parameters, con
 double NormalizedObjective(const std::vector<double>& x, std::vector<double>& /*grad*/, void* data) {
   auto* d = static_cast<ObjectiveData*>(data);
   ++d->evaluations;
-  return Evaluate(*d->params, *d->targets, *d->parameters, Denormalize(*d->parameters, x), *d->options)
+  return EvaluateTargets(*d->params, *d->targets, *d->parameters, Denormalize(*d->parameters, x), *d->options)
       .objective;
 }
 
@@ -415,7 +415,7 @@ IdentificationResult Identify(const TwoPointParams& params,
   }
   result.local_nlopt_result = best_run->code;
   result.parameters = Denormalize(parameters, best_run->x);
-  const Evaluation best = Evaluate(params, targets, parameters, result.parameters, options.branches);
+  const Evaluation best = EvaluateTargets(params, targets, parameters, result.parameters, options.branches);
   result.objective = best.objective;
   result.predicted = best.predicted;
   result.residuals = best.residuals;
@@ -444,7 +444,7 @@ IdentificationResult Identify(const TwoPointParams& params,
       RunBatch(batches, static_cast<int>(4 * d), [&](int job) {
         const std::optional<std::vector<double>> theta = shifted(static_cast<unsigned>(job / 4), job % 4);
         if (!theta) return std::vector<double>{};
-        const Evaluation e = Evaluate(params, targets, parameters, *theta, options.branches);
+        const Evaluation e = EvaluateTargets(params, targets, parameters, *theta, options.branches);
         std::vector<double> v = e.residuals;
         v.push_back(e.objective);
         return v;

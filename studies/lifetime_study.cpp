@@ -13,14 +13,14 @@ namespace rubcont {
 namespace {
 
 template <class Value>
-[[noreturn]] void Reject(const std::string& field, const Value& value, const char* rule) {
+[[noreturn]] void RejectStudy(const std::string& field, const Value& value, const char* rule) {
   throw std::invalid_argument(fmt::format("{} = {}: {}", field, value, rule));
 }
 
 // The speeds of a schedule from `from` to `to` in steps of `step` [rpm]: at most 1000.
 void CheckSchedule(const char* field, double from, double to, double step) {
-  if (!(step > 0.0) || !std::isfinite(step)) Reject(field, step, "must be positive");
-  if (std::abs(to - from) / step > 1000.0) Reject(field, step, "gives more than 1000 speeds");
+  if (!(step > 0.0) || !std::isfinite(step)) RejectStudy(field, step, "must be positive");
+  if (std::abs(to - from) / step > 1000.0) RejectStudy(field, step, "gives more than 1000 speeds");
 }
 
 // The first speeds of `speeds` at which the sum of `probability` reaches 5 %, 50 % and 95 %.
@@ -42,20 +42,20 @@ PredictedLeave Quantiles(const std::vector<double>& speeds, std::vector<double> 
 void CheckStart(const LifetimeStudyStart& start, const LifetimeStudyOptions& options,
                 const std::vector<double>& speeds) {
   if (start.approach.status != ApproachStatus::kReached) {
-    Reject("LifetimeStudyStart.approach.status", "failed", "a start must hold an approach that reached its state");
+    RejectStudy("LifetimeStudyStart.approach.status", "failed", "a start must hold an approach that reached its state");
   }
   if (start.escapes.size() > speeds.size()) {
-    Reject("LifetimeStudyStart.escapes", start.escapes.size(), "more speeds than the study's schedule");
+    RejectStudy("LifetimeStudyStart.escapes", start.escapes.size(), "more speeds than the study's schedule");
   }
   for (std::size_t i = 0; i < start.escapes.size(); ++i) {
     const SpeedEscapes& e = start.escapes[i];
     const double speed = e.observations.parameter;
     if (!(std::abs(speed - speeds[i]) <= 1e-9 * std::abs(speeds[i]))) {
-      Reject(fmt::format("LifetimeStudyStart.escapes[{}] speed [rpm]", i), speed,
+      RejectStudy(fmt::format("LifetimeStudyStart.escapes[{}] speed [rpm]", i), speed,
              fmt::format("must be the schedule's speed {:g} rpm", speeds[i]).c_str());
     }
     if (e.arrival_time.size() != static_cast<std::size_t>(options.sampling.ensemble.copies)) {
-      Reject(fmt::format("LifetimeStudyStart.escapes[{}] copies", i), e.arrival_time.size(),
+      RejectStudy(fmt::format("LifetimeStudyStart.escapes[{}] copies", i), e.arrival_time.size(),
              fmt::format("must be the study's {} copies", options.sampling.ensemble.copies).c_str());
     }
   }
@@ -66,36 +66,36 @@ void CheckStart(const LifetimeStudyStart& start, const LifetimeStudyOptions& opt
 void Validate(const EscapeSampling& s, const char* name) {
   const std::string prefix = std::string(name) + ".";
   if (s.ensemble.copies < 1 || s.ensemble.copies > 100000) {
-    Reject(prefix + "ensemble.copies", s.ensemble.copies, "must be in 1 … 100000");
+    RejectStudy(prefix + "ensemble.copies", s.ensemble.copies, "must be in 1 … 100000");
   }
   Validate(s.ensemble);
   if (!(s.window > 0.0) || !std::isfinite(s.window)) {
-    Reject(prefix + "window", s.window, "must be positive (s)");
+    RejectStudy(prefix + "window", s.window, "must be positive (s)");
   }
   if (!(s.duration >= 2.0 * s.window) || !std::isfinite(s.duration)) {
-    Reject(prefix + "duration", s.duration, "must be at least two windows (s)");
+    RejectStudy(prefix + "duration", s.duration, "must be at least two windows (s)");
   }
 }
 
 void Validate(const LifetimeStudyOptions& o, const RubStructure& structure) {
   auto field = [](const char* name) { return std::string("LifetimeStudyOptions.") + name; };
   Validate(o.sweep);
-  if (!(o.from_rpm > 0.0) || !std::isfinite(o.from_rpm)) Reject(field("from_rpm"), o.from_rpm, "must be positive");
-  if (!(o.to_rpm > 0.0) || !std::isfinite(o.to_rpm)) Reject(field("to_rpm"), o.to_rpm, "must be positive");
+  if (!(o.from_rpm > 0.0) || !std::isfinite(o.from_rpm)) RejectStudy(field("from_rpm"), o.from_rpm, "must be positive");
+  if (!(o.to_rpm > 0.0) || !std::isfinite(o.to_rpm)) RejectStudy(field("to_rpm"), o.to_rpm, "must be positive");
   const bool up = o.sweep.direction == SweepDirection::kUp;
   if (!((up ? 1.0 : -1.0) * (o.to_rpm - o.from_rpm) > 0.0)) {
-    Reject(field("to_rpm"), o.to_rpm,
+    RejectStudy(field("to_rpm"), o.to_rpm,
            up ? "must be above from_rpm (direction up)" : "must be below from_rpm (direction down)");
   }
   CheckSchedule("LifetimeStudyOptions.step_rpm", o.from_rpm, o.to_rpm, o.step_rpm);
   Validate(o.sampling, "LifetimeStudyOptions.sampling");
   Validate(o.target, structure, "LifetimeStudyOptions.target");
   if (o.check_copies < 0 || o.check_copies > 100000) {
-    Reject(field("check_copies"), o.check_copies, "must be in 0 … 100000");
+    RejectStudy(field("check_copies"), o.check_copies, "must be in 0 … 100000");
   }
   CheckSchedule("LifetimeStudyOptions.check_step_rpm", o.from_rpm, o.to_rpm, o.check_step_rpm);
   if (!(o.check_dwell >= 2.0 * o.sampling.window) || !std::isfinite(o.check_dwell)) {
-    Reject(field("check_dwell"), o.check_dwell, "must be at least two windows (s)");
+    RejectStudy(field("check_dwell"), o.check_dwell, "must be at least two windows (s)");
   }
 }
 
@@ -110,7 +110,7 @@ SpeedEscapes ObserveEscapes(const RubStructure& structure, const RubSweepOptions
   Validate(sampling);
   Validate(target, structure);
   if (!(speed_rpm > 0.0) || !std::isfinite(speed_rpm)) {
-    Reject("ObserveEscapes: speed_rpm", speed_rpm, "must be positive");
+    RejectStudy("ObserveEscapes: speed_rpm", speed_rpm, "must be positive");
   }
   const int stretches = StretchCount(sampling.duration, sampling.window);
   const RubCopies run = RunRubCopies(
@@ -147,12 +147,12 @@ CheckSweeps RunCheckSweeps(const RubStructure& structure, const RubSweepOptions&
                            const EnsembleOptions& ensemble, const ArrivalTarget& target,
                            const EnsembleProgress& progress) {
   Validate(target, structure);
-  if (speeds_rpm.empty()) Reject("RunCheckSweeps: speeds_rpm", "[]", "must hold at least one speed");
+  if (speeds_rpm.empty()) RejectStudy("RunCheckSweeps: speeds_rpm", "[]", "must hold at least one speed");
   if (!(window > 0.0) || !std::isfinite(window)) {
-    Reject("RunCheckSweeps: window", window, "must be positive (s)");
+    RejectStudy("RunCheckSweeps: window", window, "must be positive (s)");
   }
   if (!(dwell >= 2.0 * window) || !std::isfinite(dwell)) {
-    Reject("RunCheckSweeps: dwell", dwell, "must be at least two windows (s)");
+    RejectStudy("RunCheckSweeps: dwell", dwell, "must be at least two windows (s)");
   }
   const int dwell_stretches = StretchCount(dwell, window);
   std::vector<double> stretch_speeds;

@@ -23,7 +23,7 @@ double ContactTimeShare(const SweepPoint& point, std::size_t k) {
 
 namespace {
 
-int Sign(SweepDirection d) { return d == SweepDirection::kUp ? 1 : -1; }
+int DirectionSign(SweepDirection d) { return d == SweepDirection::kUp ? 1 : -1; }
 
 // The run's schedule in one direction: the sweep's first speed to its last, step_rpm apart.
 std::vector<double> ScheduleOf(const RubSweepOptions& sweep, double step_rpm) {
@@ -69,7 +69,7 @@ int LastBefore(const std::vector<double>& schedule, double limit_rpm, int sign, 
 LoopRun Track(const RubStructure& structure, const std::vector<RotatingWaveBranch>& waves, const LoopOptions& o,
               SweepDirection direction, const LoopProgress& progress) {
   const double cpu_start = ThreadCpuSeconds();
-  const int sign = Sign(direction);
+  const int sign = DirectionSign(direction);
   RubSweepOptions sweep = direction == SweepDirection::kUp ? o.up : o.down;
   sweep.direction = direction;
   sweep.sweep.dwell = o.dwell;
@@ -750,7 +750,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
   for (std::size_t i : order) {
     LoopCorner& c = result.corners[i];
     const LoopRun& run = c.direction == "up" ? result.up : result.down;
-    const int sign = Sign(run.direction);
+    const int sign = DirectionSign(run.direction);
     const std::string what = fmt::format("{} {} {:g} → {:g} rpm ({})", c.direction, c.kind, c.seen_from_rpm, c.seen_to_rpm,
                                          c.contact);
     std::size_t from = 0, to = 0;
@@ -1059,7 +1059,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     LoopCorner& c = result.corners[r.corner];
     LoopOrbits& asked = result.orbits[static_cast<std::size_t>(c.orbits)];
     const LoopRun& run = c.direction == "up" ? result.up : result.down;
-    const int sign = Sign(run.direction);
+    const int sign = DirectionSign(run.direction);
     const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
     const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
     const double before = spent();

@@ -12,7 +12,7 @@
 namespace rubcont {
 namespace {
 
-[[noreturn]] void Reject(const std::string& field, double value, const std::string& rule) {
+[[noreturn]] void RejectPlan(const std::string& field, double value, const std::string& rule) {
   throw std::invalid_argument(fmt::format("WorkLimits.{} = {}: {}", field, value, rule));
 }
 
@@ -33,9 +33,9 @@ std::string Bytes(double bytes) {
 }  // namespace
 
 void Validate(const WorkLimits& limits) {
-  if (!(limits.max_items > 0.0)) Reject("max_items", limits.max_items, "must be positive");
-  if (!(limits.max_cpu_seconds > 0.0)) Reject("max_cpu_seconds", limits.max_cpu_seconds, "must be positive");
-  if (!(limits.max_memory_bytes > 0.0)) Reject("max_memory_bytes", limits.max_memory_bytes, "must be positive");
+  if (!(limits.max_items > 0.0)) RejectPlan("max_items", limits.max_items, "must be positive");
+  if (!(limits.max_cpu_seconds > 0.0)) RejectPlan("max_cpu_seconds", limits.max_cpu_seconds, "must be positive");
+  if (!(limits.max_memory_bytes > 0.0)) RejectPlan("max_memory_bytes", limits.max_memory_bytes, "must be positive");
 }
 
 PlannedWork MarchingWork(std::string key, std::string value, std::string what, double runs,

@@ -14,7 +14,7 @@ using testing::LambdaProblem;
 using testing::Vec;
 
 // x³ − x + λ = 0: λ = x − x³ has a local maximum 2/(3√3) at x = 1/√3 and a minimum at −1/√3.
-LambdaProblem Cubic() {
+LambdaProblem CubicProblem() {
   return LambdaProblem(
       1, [](const Vector& u, double lambda, double, Vector& F) { F(0) = u(0) * u(0) * u(0) - u(0) + lambda; },
       [](const Vector& u, double, double, Matrix& J) { J(0, 0) = 3.0 * u(0) * u(0) - 1.0; },
@@ -23,7 +23,7 @@ LambdaProblem Cubic() {
 
 TEST_CASE("Ipopt finds both folds of x^3 - x + lambda as the extrema of lambda",
           "[continuation][fold_optimization]") {
-  LambdaProblem problem = Cubic();
+  LambdaProblem problem = CubicProblem();
   const double fold_lambda = 2.0 / (3.0 * std::sqrt(3.0));
   FoldOptimizationOptions options;
   const FoldOptimizationResult top = LocateFoldByOptimization(problem, Vec({0.3}), 0.3 - 0.027, options);
@@ -41,7 +41,7 @@ TEST_CASE("Ipopt finds both folds of x^3 - x + lambda as the extrema of lambda",
 }
 
 TEST_CASE("the limited-memory Hessian reaches the same fold", "[continuation][fold_optimization]") {
-  LambdaProblem problem = Cubic();
+  LambdaProblem problem = CubicProblem();
   FoldOptimizationOptions options;
   options.hessian = FoldHessian::kLimitedMemory;
   options.tolerance = 1e-10;
@@ -113,7 +113,7 @@ TEST_CASE("infeasible constraints give a status, not a fold", "[continuation][fo
 }
 
 TEST_CASE("fold optimization options are validated by name", "[continuation][fold_optimization]") {
-  LambdaProblem problem = Cubic();
+  LambdaProblem problem = CubicProblem();
   FoldOptimizationOptions options;
   options.sense = 0;
   CHECK_THROWS_WITH(LocateFoldByOptimization(problem, Vec({0.5}), 0.3, options),

@@ -33,7 +33,7 @@ Shaft Uniform(const ShaftElement& whole, int count) {
 }
 
 // The positive whirl frequencies ν [rad/s] (Im s > 0), ascending.
-std::vector<double> Frequencies(const StructuralMatrices& m, double spin,
+std::vector<double> BeamFrequencies(const StructuralMatrices& m, double spin,
                                 const std::vector<Index>& held) {
   std::vector<double> nu;
   for (const std::complex<double>& s : WhirlEigenvalues(m, spin, held)) {
@@ -93,7 +93,7 @@ TEST_CASE("Timoshenko element: Cowper's shear coefficient and the shear paramete
 // Relative errors of the first three frequencies of a pinned–pinned shaft cut into `count` elements.
 std::vector<double> PinnedErrors(const ShaftElement& whole, int count) {
   const StructuralMatrices m = Assemble({{Uniform(whole, count)}, {}});
-  const std::vector<double> nu = Frequencies(m, 0.0, {0, 2 * count});
+  const std::vector<double> nu = BeamFrequencies(m, 0.0, {0, 2 * count});
   std::vector<double> errors;
   for (int n = 1; n <= 3; ++n) {
     errors.push_back(nu[static_cast<std::size_t>(n - 1)] / PinnedTimoshenko(whole, n) - 1);
@@ -136,7 +136,7 @@ TEST_CASE("free–free slender shaft: two rigid modes, then Euler–Bernoulli's 
   // they take 1.4e-5 off it: (β₃r)²(1 + E/κG) ≈ 3e-5).
   const ShaftElement whole = Steel(10.0, 0.0025);
   const StructuralMatrices m = Assemble({{Uniform(whole, 64)}, {}});
-  const std::vector<double> nu = Frequencies(m, 0.0, {});
+  const std::vector<double> nu = BeamFrequencies(m, 0.0, {});
   const double scale = std::sqrt(whole.youngs_modulus * whole.AreaMoment() /
                                  (whole.density * whole.Area())) /
                        (whole.length * whole.length);

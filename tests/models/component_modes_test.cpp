@@ -34,7 +34,7 @@ BeamModel RotorAndStator() {
   return model;
 }
 
-std::vector<double> Frequencies(const StructuralMatrices& m, const std::vector<Index>& held) {
+std::vector<double> HeldFrequencies(const StructuralMatrices& m, const std::vector<Index>& held) {
   std::vector<double> nu;
   for (const std::complex<double>& s : WhirlEigenvalues(m, 0.0, held)) {
     if (s.imag() > 1e-6) nu.push_back(s.imag());
@@ -61,8 +61,8 @@ TEST_CASE("Craig–Bampton with every fixed-interface mode is exact", "[componen
   const Index interior = full.Coordinates() - 4;
   const ModalReduction reduction = CraigBampton(full, pinned.contacts, interior);
   CHECK(reduction.ReducedCoordinates() == full.Coordinates());
-  const std::vector<double> exact = Frequencies(full, {});
-  const std::vector<double> reduced = Frequencies(reduction.Reduce(full), {});
+  const std::vector<double> exact = HeldFrequencies(full, {});
+  const std::vector<double> reduced = HeldFrequencies(reduction.Reduce(full), {});
   REQUIRE(reduced.size() == exact.size());
   for (std::size_t i = 0; i < exact.size(); ++i) {
     CHECK(reduced[i] == Approx(exact[i]).epsilon(1e-8));
@@ -73,7 +73,7 @@ TEST_CASE("Craig–Bampton: boundary kept physical, blocks decoupled in K, bound
           "[component_modes]") {
   const Pinned pinned;
   const StructuralMatrices full = Assemble(pinned.model);
-  const std::vector<double> exact = Frequencies(full, {});
+  const std::vector<double> exact = HeldFrequencies(full, {});
   double previous_error = 1.0;
   for (Index modes : {2, 6, 12}) {
     const ModalReduction reduction = CraigBampton(full, pinned.contacts, modes);
@@ -100,7 +100,7 @@ TEST_CASE("Craig–Bampton: boundary kept physical, blocks decoupled in K, bound
           1e-9 * scale);
     // Rayleigh–Ritz: every reduced frequency bounds the exact one of its rank from above, and the
     // lowest four converge as modes are added.
-    const std::vector<double> nu = Frequencies(reduced, {});
+    const std::vector<double> nu = HeldFrequencies(reduced, {});
     double error = 0.0;
     for (std::size_t i = 0; i < 4; ++i) {
       CHECK(nu[i] >= exact[i] * (1 - 1e-10));

@@ -57,7 +57,7 @@ std::vector<SpecialPoint> GrazingPoints(const Branch& branch) {
 }
 
 // Newton on an orbit at w (any kind), to `tolerance`.
-void Solve(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-12) {
+void SolveGrazing(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-12) {
   NewtonOptions newton;
   newton.residual_tolerance = tolerance;
   newton.step_tolerance = tolerance;
@@ -73,7 +73,7 @@ void Solve(ShootingProblem& problem, Vector& u, double w, double tolerance = 1e-
 Vector SolveOrbit(SoftImpactOscillator& system, ShootingProblem& problem, double w) {
   system.SetParameter(w);
   Vector u = problem.InitialGuess(system.FreeState(), 0.0, w);
-  Solve(problem, u, w, 1e-11);
+  SolveGrazing(problem, u, w, 1e-11);
   return u;
 }
 
@@ -282,7 +282,7 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
   ShootingProblem uniform(system, OrbitKind::kAutonomous, shooting);
   const Vector x0 = (Vector(4) << reference(0), reference(1), 1.0, 0.0).finished();
   Vector u = uniform.InitialGuess(x0, T, w);
-  Solve(uniform, u, w);
+  SolveGrazing(uniform, u, w);
   ShootingProblem* problem = &uniform;
   std::unique_ptr<ShootingProblem> on_stop;
   if (events) {
@@ -296,7 +296,7 @@ double EventMeshError(double w, const Vector& reference, long steps, bool events
     on_stop = std::make_unique<ShootingProblem>(system, OrbitKind::kAutonomous, mesh.options);
     problem = on_stop.get();
     u = problem->InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
-    Solve(*problem, u, w);
+    SolveGrazing(*problem, u, w);
     // The event rows and columns, and ∂/∂T from the discrete map's dxdt1, against differences.
     Matrix J;
     problem->Jacobian(u, w, J);
@@ -367,14 +367,14 @@ TEST_CASE("soft impact oscillator on event boundaries: the striking family conti
   const Vector free = SoftImpactOscillator(params).FreeState();
   Vector u = uniform.InitialGuess((Vector(4) << free(0), free(1), 1.0, 0.0).finished(),
                                   kTwoPi / w, w);
-  Solve(uniform, u, w);
+  SolveGrazing(uniform, u, w);
   const EventMesh mesh = WithEventBoundaries(system, OrbitKind::kAutonomous, shooting, u, w);
   INFO(mesh.message);
   REQUIRE(mesh.ok);
   REQUIRE(mesh.options.event_boundaries.size() == 2);
   ShootingProblem problem(system, OrbitKind::kAutonomous, mesh.options);
   Vector u0 = problem.InitialGuess(uniform.SegmentStart(u, 0), uniform.Period(u, w), w);
-  Solve(problem, u0, w);
+  SolveGrazing(problem, u0, w);
   for (const int side : {+1, -1}) {
     CAPTURE(side);
     ContinuationOptions options;

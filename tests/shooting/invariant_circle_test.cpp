@@ -43,14 +43,14 @@ class ClockedStuartLandau : public OdeSystem {
   double period_;
 };
 
-IntegratorOptions Tight() {
+IntegratorOptions TightCircle() {
   IntegratorOptions options;
   options.relative_tolerance = 1e-11;
   options.absolute_tolerance = 1e-11;
   return options;
 }
 
-NewtonResult Solve(InvariantCircleProblem& problem, Vector& u, double lambda) {
+NewtonResult SolveCircle(InvariantCircleProblem& problem, Vector& u, double lambda) {
   problem.SetPhaseReference(u);
   return NewtonSolve([&](const Vector& x, Vector& F) { problem.Residual(x, lambda, F); },
                      [&](const Vector& x, Matrix& J) { problem.Jacobian(x, lambda, J); }, u, {},
@@ -64,7 +64,7 @@ struct ClockedTorus {
   StuartLandauParams params{0.5, 1.0, 0.3};
   double period = kTwoPi / std::sqrt(2.0);
   std::shared_ptr<ClockedStuartLandau> system = std::make_shared<ClockedStuartLandau>(params, period);
-  InvariantCircleProblem problem{system, 3, OrbitKind::kForced, Tight()};
+  InvariantCircleProblem problem{system, 3, OrbitKind::kForced, TightCircle()};
   double Rho(double lambda) const {
     return Fraction((params.omega - params.gamma * lambda) * period / kTwoPi);
   }
@@ -86,7 +86,7 @@ TEST_CASE("invariant circle: the clocked Stuart-Landau torus, radius, rotation n
   c.col(3) << 0.01, 0.0;
   const double rho_exact = torus.Rho(params.lambda);
   Vector u = problem.Pack(c, rho_exact + 0.02);
-  const NewtonResult result = Solve(problem, u, params.lambda);
+  const NewtonResult result = SolveCircle(problem, u, params.lambda);
   INFO(result.BriefReport());
   REQUIRE(result.Converged());
   CHECK(std::abs(problem.RotationNumber(u) - rho_exact) <= 1e-10);
@@ -150,7 +150,7 @@ TEST_CASE("invariant circle: the forced van der Pol torus agrees with its long t
   auto system = std::make_shared<ForcedVanDerPolOscillator>(params);
   const double period = system->ForcingPeriod();
   // A long transient onto the torus, then 400 iterates of the stroboscopic map.
-  OdeIntegrator integrator(*system, Tight());
+  OdeIntegrator integrator(*system, TightCircle());
   Vector x(2);
   x << 2.0, 0.0;
   for (int k = 0; k < 300; ++k) REQUIRE(integrator.Integrate(k * period, x, (k + 1) * period, x).Succeeded());
@@ -162,10 +162,10 @@ TEST_CASE("invariant circle: the forced van der Pol torus agrees with its long t
   double rho[2] = {0.0, 0.0}, invariance[2] = {0.0, 0.0};
   int index = 0;
   for (int harmonics : {8, 16}) {
-    InvariantCircleProblem problem(system, harmonics, OrbitKind::kForced, Tight());
+    InvariantCircleProblem problem(system, harmonics, OrbitKind::kForced, TightCircle());
     Vector u = problem.CircleFromOrbit(orbit);
     const double from_orbit = problem.RotationNumber(u);
-    const NewtonResult result = Solve(problem, u, params.frequency);
+    const NewtonResult result = SolveCircle(problem, u, params.frequency);
     INFO(harmonics << " harmonics: " << result.BriefReport());
     REQUIRE(result.Converged());
     rho[index] = problem.RotationNumber(u);
@@ -203,7 +203,7 @@ TEST_CASE("invariant circle: continued into 1:1 locking, the circle breaks down 
   params.frequency = 1.2;
   auto system = std::make_shared<ForcedVanDerPolOscillator>(params);
   const double period = system->ForcingPeriod();
-  OdeIntegrator integrator(*system, Tight());
+  OdeIntegrator integrator(*system, TightCircle());
   Vector x(2);
   x << 2.0, 0.0;
   for (int k = 0; k < 300; ++k) REQUIRE(integrator.Integrate(0.0, x, period, x).Succeeded());
@@ -212,10 +212,10 @@ TEST_CASE("invariant circle: continued into 1:1 locking, the circle breaks down 
     orbit.col(k) = x;
     REQUIRE(integrator.Integrate(0.0, x, period, x).Succeeded());
   }
-  InvariantCircleProblem problem(system, 12, OrbitKind::kForced, Tight());
+  InvariantCircleProblem problem(system, 12, OrbitKind::kForced, TightCircle());
   problem.SetMaxFourierTail(3e-6);  // (see below)
   Vector u = problem.CircleFromOrbit(orbit);
-  REQUIRE(Solve(problem, u, params.frequency).Converged());
+  REQUIRE(SolveCircle(problem, u, params.frequency).Converged());
   ContinuationOptions options;
   options.bounds.lambda_min = 0.9;
   options.bounds.lambda_max = 1.2;
@@ -362,12 +362,12 @@ TEST_CASE("invariant circle: autonomous torus, period 2pi/Omega_0 and rotation n
   const double mu = 0.5;
   auto system = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 1.7},
                                                     std::vector<double>{0.2, -0.3}, mu, 0.5, false);
-  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightCircle());
   REQUIRE(problem.Dimension() == 4 * 7 + 2);
   const double period = kTwoPi / system->Turn(0);
   const double rho = Fraction(system->Turn(1) / system->Turn(0));  // 0.40909...
   Vector u = problem.Pack(RoughCircle(4, mu), rho + 0.01, 1.02 * period);
-  const NewtonResult result = Solve(problem, u, mu);
+  const NewtonResult result = SolveCircle(problem, u, mu);
   INFO(result.BriefReport());
   REQUIRE(result.Converged());
   // Newton stops at |F| ≤ 1e-9 (100 times the integration's tolerance): ρ and T to about that.
@@ -404,7 +404,7 @@ TEST_CASE("invariant circle: autonomous torus, period 2pi/Omega_0 and rotation n
 // (Newton stops at |F| ≤ 1e-9, 100 times the integration's tolerance).
 void SolveRelativeTorus(InvariantCircleProblem& problem, Vector& u, double mu, double rho,
                         double period, double rotation) {
-  const NewtonResult result = Solve(problem, u, mu);
+  const NewtonResult result = SolveCircle(problem, u, mu);
   INFO(result.BriefReport());
   REQUIRE(result.Converged());
   CHECK(std::abs(problem.RotationNumber(u) - rho) <= 1e-9);
@@ -419,7 +419,7 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   const double mu = 0.5;
   auto system = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 2.3, 2.75},
                                                     std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
-  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, TightCircle());
   REQUIRE(problem.Dimension() == 6 * 7 + 3);
   const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
   const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
@@ -430,9 +430,9 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   CheckChainTorus(problem, u, mu, period, 5e-9);
   // The same torus seen without the rotation as an unknown: Φ_T alone has no invariant circle near
   // this one (z₀ and z₁ turn by φ per T), and Newton says so instead of inventing one.
-  InvariantCircleProblem plain(system, 3, OrbitKind::kAutonomous, Tight());
+  InvariantCircleProblem plain(system, 3, OrbitKind::kAutonomous, TightCircle());
   Vector v = plain.Pack(RoughCircle(6, mu), rho, period);
-  CHECK(!Solve(plain, v, mu).Converged());
+  CHECK(!SolveCircle(plain, v, mu).Converged());
 }
 
 TEST_CASE("invariant circle: a circle turned half a turn against the reference is named stray, a "
@@ -444,7 +444,7 @@ TEST_CASE("invariant circle: a circle turned half a turn against the reference i
   const double mu = 0.5;
   auto system = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 2.3, 2.75},
                                                     std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
-  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, TightCircle());
   const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
   const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
   const double rho = Fraction((system->Turn(2) - system->Turn(0)) / (system->Turn(1) - system->Turn(0)));
@@ -514,7 +514,7 @@ TEST_CASE("invariant circle in a chart: the relative torus in closed form, its J
   const double mu = 0.5;
   auto system = std::make_shared<ChartedChain>(std::vector<double>{1.0, 2.3, 2.75},
                                                std::vector<double>{0.2, -0.3, 0.1}, mu, 0.5, true);
-  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, Tight(), CircleCoordinates::kChart);
+  InvariantCircleProblem problem(system, 3, OrbitKind::kRelative, TightCircle(), CircleCoordinates::kChart);
   CHECK(problem.coordinates() == CircleCoordinates::kChart);
   const double period = kTwoPi / (system->Turn(1) - system->Turn(0));
   const double rotation = std::remainder(system->Turn(0) * period, kTwoPi);
@@ -545,7 +545,7 @@ TEST_CASE("invariant circle in a chart: the relative torus in closed form, its J
   CHECK_THROWS_WITH(InvariantCircleProblem(std::make_shared<StuartLandauChain>(
                                                std::vector<double>{1.0, 2.3}, std::vector<double>{0.2, -0.3},
                                                mu, 0.5, true),
-                                           3, OrbitKind::kRelative, Tight(), CircleCoordinates::kChart),
+                                           3, OrbitKind::kRelative, TightCircle(), CircleCoordinates::kChart),
                     Catch::Contains("no state chart"));
 }
 

@@ -25,7 +25,7 @@ RubSettledSpeed Settle(const TwoPointParams& params, double rpm, double dwell = 
                        1.0);
 }
 
-ModulatedOrbitOptions Options(double tolerance) {
+ModulatedOrbitOptions ModulatedOptions(double tolerance) {
   ModulatedOrbitOptions o;
   o.shooting.integrator.relative_tolerance = o.shooting.integrator.absolute_tolerance = tolerance;
   o.shooting.integrator.max_steps = 2000000;
@@ -42,7 +42,7 @@ TEST_CASE("case A(a) at 60 rpm: the modulated whip is a relative periodic orbit 
   REQUIRE(transient.settled);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
                                                    HzToRadPerSecond(transient.precession_hz),
-                                                   transient.state, Options(1e-6));
+                                                   transient.state, ModulatedOptions(1e-6));
   INFO(orbit.message);
   REQUIRE(orbit.converged);
   // Measured: T = 4.7667 ms (the Hopf point's 2π/1519.6 = 4.135 ms at 51.68 rpm, growing with
@@ -78,7 +78,7 @@ TEST_CASE("case C(a) at 60 rpm: a modulation with two frequencies is no relative
   const RubSettledSpeed transient = Settle(params, 60.0, 8.0);
   const ModulatedOrbit orbit = SolveModulatedOrbit(TwoPointStructure(params), RpmToRadPerSecond(60.0),
                                                    HzToRadPerSecond(transient.precession_hz),
-                                                   transient.state, Options(1e-6));
+                                                   transient.state, ModulatedOptions(1e-6));
   INFO(orbit.message);
   CHECK_FALSE(orbit.converged);
   CHECK_FALSE(orbit.newton.Converged());

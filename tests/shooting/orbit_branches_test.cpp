@@ -46,7 +46,7 @@ class CycleTimesPitchfork : public OdeSystem {
   double lambda_ = -0.5;
 };
 
-PeriodicOrbitBranchOptions Options() { return MoebiusBandOptions(); }
+PeriodicOrbitBranchOptions BandOptions() { return MoebiusBandOptions(); }
 
 PeriodicOrbitBranch SymmetricFamily(CycleTimesPitchfork& system) {
   OrbitStart start;
@@ -54,7 +54,7 @@ PeriodicOrbitBranch SymmetricFamily(CycleTimesPitchfork& system) {
   start.period = kTwoPi;
   start.lambda = -0.5;
   start.valid = true;
-  return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
+  return ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, BandOptions());
 }
 
 TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 breaks the mirror "
@@ -69,7 +69,7 @@ TEST_CASE("cycle times pitchfork: the z = 0 orbits' branch point at lambda = 0 b
   while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
   CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-6));
 
-  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, Options());
+  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, BandOptions());
   INFO(change.message);
   REQUIRE(change.ok);
   CHECK(change.mirror_symmetric_orbit);
@@ -105,7 +105,7 @@ TEST_CASE("cycle times pitchfork without a declared mirror: both sides of the ne
   REQUIRE(family.branch.Count(SpecialPointType::kBranchPoint) == 1);
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kBranchPoint) ++k;
-  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, Options());
+  const OrbitBranchSwitch change = ContinueOrbitsFromBranchPoint(system, family, k, BandOptions());
   REQUIRE(change.ok);
   CHECK_FALSE(change.breaks_mirror_symmetry);
   REQUIRE(change.branches.size() == 2);
@@ -124,7 +124,7 @@ TEST_CASE("cycle times bubble: the asymmetric orbits from lambda = -1 end where 
           "the symmetric ones, at lambda = +1",
           "[shooting][branch_point]") {
   CycleTimesPitchfork system(true, true);
-  PeriodicOrbitBranchOptions options = Options();
+  PeriodicOrbitBranchOptions options = BandOptions();
   options.lambda_min = -1.5;
   options.lambda_max = 1.5;
   OrbitStart start;
@@ -164,7 +164,7 @@ TEST_CASE("ContinueOrbitsFromBranchPoint refuses a special point that is not a b
   CycleTimesPitchfork system(true);
   const PeriodicOrbitBranch family = SymmetricFamily(system);
   CHECK_THROWS_AS(ContinueOrbitsFromBranchPoint(system, family, family.branch.special_points.size(),
-                                                Options()),
+                                                BandOptions()),
                   std::invalid_argument);
 }
 
@@ -176,7 +176,7 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   CycleWithMoebiusBand system;
   const OrbitStart start = MoebiusCycleStart();
   const PeriodicOrbitBranch family =
-      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, Options());
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, BandOptions());
   INFO(family.branch.BriefReport());
   REQUIRE(family.branch.status == BranchStatus::kReachedLambdaBound);
   REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
@@ -185,7 +185,7 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-8));
   CHECK(family.branch.Count(SpecialPointType::kBranchPoint) == 0);
 
-  const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, Options());
+  const OrbitPeriodDoubling doubling = ContinueOrbitsFromPeriodDoubling(system, family, k, BandOptions());
   INFO(doubling.message);
   REQUIRE(doubling.ok);
   CHECK(doubling.multiplier == Approx(-1.0).epsilon(0).margin(1e-6));
@@ -211,10 +211,10 @@ TEST_CASE("cycle with a Moebius band: the period doubling at lambda = 0 starts t
   }
   CHECK(doubled.points.back().lambda == Approx(0.5).epsilon(0).margin(1e-9));
 
-  CHECK_THROWS_WITH(ContinueOrbitsFromPeriodDoubling(system, family, k, Options(), 0.0),
+  CHECK_THROWS_WITH(ContinueOrbitsFromPeriodDoubling(system, family, k, BandOptions(), 0.0),
                     Catch::Contains("amplitude = 0: must be positive"));
   std::size_t not_doubling = family.branch.special_points.size();
-  CHECK_THROWS_AS(ContinueOrbitsFromPeriodDoubling(system, family, not_doubling, Options()),
+  CHECK_THROWS_AS(ContinueOrbitsFromPeriodDoubling(system, family, not_doubling, BandOptions()),
                   std::invalid_argument);
 }
 
@@ -222,12 +222,12 @@ TEST_CASE("stop_at_grazing ends the doubled orbits at their first located grazin
           "[shooting][period_doubling][grazing]") {
   CycleWithMoebiusBand system;
   const PeriodicOrbitBranch family =
-      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, MoebiusCycleStart(), Options());
+      ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, MoebiusCycleStart(), BandOptions());
   REQUIRE(family.branch.Count(SpecialPointType::kPeriodDoubling) == 1);
   std::size_t k = 0;
   while (family.branch.special_points[k].type != SpecialPointType::kPeriodDoubling) ++k;
   // |w|² = a² = λ on the doubled orbits: they touch |w| = 0.3 at λ = 0.09.
-  PeriodicOrbitBranchOptions options = Options();
+  PeriodicOrbitBranchOptions options = BandOptions();
   options.test_functions = {Grazing([](ConstVectorRef x) { return x(2) * x(2) + x(3) * x(3) - 0.09; },
                                     GrazingSide::kTouchdown, "touchdown")};
   for (const bool stop : {true, false}) {
@@ -264,7 +264,7 @@ TEST_CASE("a doubled start the flow cannot take is retried closer to the orbit",
           "[shooting][period_doubling]") {
   CycleWithMoebiusBandNearby system;
   const OrbitStart start = MoebiusCycleStart();
-  PeriodicOrbitBranchOptions options = Options();
+  PeriodicOrbitBranchOptions options = BandOptions();
   options.lambda_max = 1e-3;  // the doubled orbits' a = √λ stay within 0.032 of the cycle
   const PeriodicOrbitBranch family =
       ContinuePeriodicOrbits(system, OrbitKind::kAutonomous, start, options);
@@ -342,7 +342,7 @@ TEST_CASE("an isola of limit cycles is followed round once: stop_round_closed_cu
   start.period = kTwoPi / 4.0;
   start.lambda = 0.0;
   start.valid = true;
-  PeriodicOrbitBranchOptions options = Options();  // the same shooting
+  PeriodicOrbitBranchOptions options = BandOptions();  // the same shooting
   options.lambda_min = -2.0;
   options.lambda_max = 2.0;
   options.continuation.step.max = 0.1;

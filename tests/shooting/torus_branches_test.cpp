@@ -34,7 +34,7 @@ class CycleBesideOscillator : public OdeSystem {
   double lambda_ = -0.1;
 };
 
-IntegratorOptions Tight() {
+IntegratorOptions TightTorus() {
   IntegratorOptions o;
   o.method = IntegrationMethod::kExplicitRungeKutta;
   o.explicit_order = 8;
@@ -47,7 +47,7 @@ PeriodicOrbitBranch Family(CycleBesideOscillator& system) {
   options.lambda_min = -0.1;
   options.lambda_max = 0.25;
   options.shooting.segments = 2;
-  options.shooting.integrator = Tight();
+  options.shooting.integrator = TightTorus();
   options.continuation.step.max = 0.1;
   OrbitStart start;
   start.x0 = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
@@ -64,7 +64,7 @@ TorusBranchOptions TorusOptions() {
   options.harmonics = 3;  // ρ runs over 0.37–0.395: it crosses 3/8, a rational the circle's K = 3
                           // cannot see (this system's phases do not interact: at ρ = p/q, q ≤ K,
                           // its circle equations are singular)
-  options.integrator = Tight();
+  options.integrator = TightTorus();
   options.continuation.step.max = 0.05;
   options.continuation.corrector.residual_tolerance = 1e-9;
   options.lyapunov_iterates = 40;
@@ -97,7 +97,7 @@ TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation numbe
   CHECK(tori.end == TorusEnd::kBound);
   REQUIRE(tori.branch.points.size() >= 5);
   CHECK(tori.branch.points.back().lambda == Approx(0.25));
-  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   const double period = kTwoPi / kOmega0;
   for (std::size_t i = 0; i < tori.branch.points.size(); ++i) {
     const BranchPoint& p = tori.branch.points[i];
@@ -156,7 +156,7 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
   options.lambda_max = 0.25;
   options.lyapunov_iterates = 0;
   options.continuation.direction = -1;
-  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   // The circle θ ↦ (cos θ₀, sin θ₀, r cos θ, r sin θ) off by 2 % in r, T and ρ.
   const double lambda0 = 0.2, r = 1.02 * std::sqrt(lambda0), period = kTwoPi / kOmega0;
   Matrix c = Matrix::Zero(4, 7);
@@ -195,7 +195,7 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
   options.lambda_min = -0.1;
   options.lyapunov_iterates = 0;
   options.continuation.direction = -1;
-  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, Tight());
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   // The torus at λ = 0.2: θ ↦ (1, 0, r cos θ, r sin θ), r = √λ, whose radius is r.
   const double lambda0 = 0.2, period = kTwoPi / kOmega0;
   Matrix c = Matrix::Zero(4, 7);
@@ -227,7 +227,7 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
   orbits.lambda_max = options.lambda_max;
   orbits.continuation = options.continuation;
   orbits.shooting.segments = 2;
-  orbits.shooting.integrator = Tight();
+  orbits.shooting.integrator = TightTorus();
   orbits.stop_at_neimark_sacker = true;
   const CentreOrbits centre = ContinueCentreOrbits(system, tori, orbits);
   INFO(centre.message << " / " << centre.orbits.branch.BriefReport());

@@ -68,7 +68,7 @@ void StartAt(RotatingWaveDesignProblem& problem, const Found& event) {
 }
 
 // The closed form's rising μ_req = μ crossing of Mode 1 at the left contact nearest `near_hz`.
-double MuCrossingHz(const TwoPointParams& params, double near_hz) {
+double MapMuCrossingHz(const TwoPointParams& params, double near_hz) {
   const AnalyticResult analytic = ComputeAnalytic(params, {1.0, 200.0, 4000});
   double best = 0.0;
   for (const Transition& t : analytic.mode1.transitions) {
@@ -130,7 +130,7 @@ TEST_CASE("the stick to slip curve in friction follows the closed form's mu_req 
   const Vector mu = curve.Lambda();
   const Vector hz = curve.Measure("precession_hz");
   for (Index i : {Index(0), curve.Size() / 3, 2 * curve.Size() / 3, curve.Size() - 1}) {
-    const double crossing = MuCrossingHz(WithDesignParameter(params, DesignParameter::kFriction, mu(i)), hz(i));
+    const double crossing = MapMuCrossingHz(WithDesignParameter(params, DesignParameter::kFriction, mu(i)), hz(i));
     INFO("μ = " << mu(i) << ": curve " << hz(i) << " Hz, closed form " << crossing << " Hz");
     CHECK(std::abs(hz(i) - crossing) <= 1e-8 * crossing);
   }

@@ -22,7 +22,7 @@ RotatingWaveBranchOptions SpeedRange(double min_rpm, double max_rpm) {
 }
 
 // The closed form's Mode 1 μ crossing of `direction` (+1 whirl → whip as Ω rises) nearest `near_hz`.
-double MuCrossingHz(int direction, double near_hz) {
+double LimitMuCrossingHz(int direction, double near_hz) {
   const AnalyticCurve curve = ComputeAnalyticCurve(ThesisCaseAa(), CircularMode::kMode1, {1.0, 200.0, 4000});
   double best = 0.0;
   for (const Transition& t : curve.transitions) {
@@ -46,7 +46,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
   CHECK(up.point.find("stick to slip+") != std::string::npos);
   CHECK(up.converged);
   CHECK(PatternName(branches[static_cast<std::size_t>(up.branch)].normals) == "mode1");
-  const double rising_hz = MuCrossingHz(+1, 84.5);
+  const double rising_hz = LimitMuCrossingHz(+1, 84.5);
   CHECK(std::abs(up.precession_hz - rising_hz) <= 1e-9 * rising_hz);
   // Rolling at RCI 100 (to the compliance δ/C ~ 1e-5).
   CHECK(up.speed == Approx(HzToRadPerSecond(rising_hz) / 100.0).epsilon(1e-4));
@@ -55,7 +55,7 @@ TEST_CASE("case A(a), exact law: the whirl's limits are the closed form's two μ
   INFO(down.reason);
   REQUIRE(down.found);
   CHECK(down.point.find("event") != std::string::npos);
-  const double falling_hz = MuCrossingHz(-1, 109.9);
+  const double falling_hz = LimitMuCrossingHz(-1, 109.9);
   CHECK(std::abs(down.precession_hz - falling_hz) <= 1e-9 * falling_hz);
   CHECK(down.speed == Approx(HzToRadPerSecond(falling_hz) / 100.0).epsilon(1e-4));
 
