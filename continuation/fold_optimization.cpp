@@ -22,7 +22,7 @@ constexpr double kIpoptNoBound = 1e19;  // Ipopt's "no bound"
 // The NLP in scaled variables x̂ = (û, λ̂) ∈ Rⁿ⁺¹ with n equality constraints F̂ = 0.
 class FoldNlp : public Ipopt::TNLP {
  public:
-  using Index = Ipopt::Index;  // in the class, not the file: a unity batch's next files see the file's
+  using Index = Ipopt::Index;  // class-scoped: file scope reaches a unity batch's next files
   using Number = Ipopt::Number;
 
   FoldNlp(Problem& problem, const Vector& u0, double lambda0,
