@@ -82,9 +82,9 @@ void RunTwoPointAnalytic(const Scene& scene, StageContext& context) {
   const SteadyClock::time_point write_start = SteadyClock::now();
   WriteAnalytic(context.writer, p, result, without_damper ? &*without_damper : nullptr);
   StageProgress(context, "[analytic] L0 closed form, 2 modes × {} frequencies{}: computed in {:.1f} ms, "
-           "written in {:.1f} ms", options.precession_points,
-           without_damper ? ", with and without the centre damper" : "", compute_ms,
-           1e3 * SecondsSince(write_start));
+                "written in {:.1f} ms", options.precession_points,
+                without_damper ? ", with and without the centre damper" : "", compute_ms,
+                1e3 * SecondsSince(write_start));
 
   const NaturalFrequencies& nf = result.natural_frequencies;
   fmt::print(context.out, "[analytic] L0 closed form, μ = {}, c_d = {} N·s/m, {} points over {}–{} Hz\n",
@@ -106,7 +106,7 @@ void RunJeffcottAnalytic(const Scene& scene, StageContext& context) {
   const AnalyticCurve curve = ComputeJeffcottCurve(scene.jeffcott, options);
   WriteJeffcottAnalytic(context.writer, scene.jeffcott, curve);
   StageProgress(context, "[analytic] L0 closed form (Jeffcott), {} frequencies: {:.1f} ms",
-           options.precession_points, 1e3 * SecondsSince(start));
+                options.precession_points, 1e3 * SecondsSince(start));
   const JeffcottFrequencies f = JeffcottNaturalFrequencies(scene.jeffcott);
   fmt::print(context.out, "[analytic] L0 closed form, μ = {}, {} points over {}–{} Hz\n",
              scene.jeffcott.friction, options.precession_points, options.min_precession_hz,

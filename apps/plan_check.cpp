@@ -119,7 +119,8 @@ std::vector<std::string> UnitMistakes(const Scene& scene) {
   const std::string mistake =
       SpeedRangeMistake(knee, RpmToRadPerSecond(range[0]), RpmToRadPerSecond(range[1]));
   if (!mistake.empty()) {
-    mistakes.push_back(fmt::format("analysis.speed_range_rpm = {} rpm: {}", NumbersText({range[0], range[1]}), mistake));
+    mistakes.push_back(
+        fmt::format("analysis.speed_range_rpm = {} rpm: {}", NumbersText({range[0], range[1]}), mistake));
   }
   return mistakes;
 }

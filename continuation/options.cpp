@@ -45,7 +45,7 @@ void Validate(const StepOptions& options) {
   }
   if (!(options.initial >= options.min && options.initial <= options.max)) {
     RejectOption("step.initial", options.initial,
-           fmt::format("must lie in [step.min, step.max] = [{}, {}]", options.min, options.max));
+                 fmt::format("must lie in [step.min, step.max] = [{}, {}]", options.min, options.max));
   }
   if (options.target_iterations < 1) {
     RejectOption("step.target_iterations", options.target_iterations, "must be at least 1");
@@ -59,7 +59,7 @@ void Validate(const StepOptions& options) {
   }
   if (!(options.max_angle >= options.target_angle && options.max_angle < kPi)) {
     RejectOption("step.max_angle", options.max_angle,
-           fmt::format("must lie in [step.target_angle, π) = [{}, {})", options.target_angle, kPi));
+                 fmt::format("must lie in [step.target_angle, π) = [{}, {})", options.target_angle, kPi));
   }
 }
 
@@ -68,20 +68,20 @@ void Validate(const BoundsOptions& options) {
   if (std::isnan(options.lambda_max)) RejectOption("bounds.lambda_max", options.lambda_max, "is NaN");
   if (!(options.lambda_max > options.lambda_min)) {
     RejectOption("bounds.lambda_max", options.lambda_max,
-           fmt::format("must be greater than bounds.lambda_min = {}", options.lambda_min));
+                 fmt::format("must be greater than bounds.lambda_min = {}", options.lambda_min));
   }
   const bool lower = options.state_lower.size() > 0;
   const bool upper = options.state_upper.size() > 0;
   if (lower && upper && options.state_lower.size() != options.state_upper.size()) {
     RejectOption("bounds.state_upper.size()", static_cast<double>(options.state_upper.size()),
-           fmt::format("must equal bounds.state_lower.size() = {}", options.state_lower.size()));
+                 fmt::format("must equal bounds.state_lower.size() = {}", options.state_lower.size()));
   }
   if (lower && upper) {
     for (Index i = 0; i < options.state_lower.size(); ++i) {
       if (!(options.state_upper(i) > options.state_lower(i))) {
         RejectOption(fmt::format("bounds.state_upper({})", i), options.state_upper(i),
-               fmt::format("must be greater than bounds.state_lower({}) = {}", i,
-                           options.state_lower(i)));
+                     fmt::format("must be greater than bounds.state_lower({}) = {}", i,
+                                 options.state_lower(i)));
       }
     }
   }
@@ -104,7 +104,7 @@ void Validate(const BoundsOptions& options) {
 void Validate(const DetectionOptions& options) {
   if (!(options.imaginary_tolerance >= 0.0) || !std::isfinite(options.imaginary_tolerance)) {
     RejectOption("detect.imaginary_tolerance", options.imaginary_tolerance,
-           "must be finite and non-negative");
+                 "must be finite and non-negative");
   }
 }
 
@@ -116,7 +116,7 @@ void Validate(const LocationOptions& options) {
   RequirePositive("location.step_tolerance", options.step_tolerance);
   if (options.branch_point_newton_max_unknowns < 0) {
     RejectOption("location.branch_point_newton_max_unknowns", options.branch_point_newton_max_unknowns,
-           "must be non-negative");
+                 "must be non-negative");
   }
 }
 

@@ -133,14 +133,14 @@ void BeamModel::Validate() const {
       CheckNonNegative(key + "inner_diameter", e.inner_diameter, "m");
       if (e.inner_diameter >= e.outer_diameter) {
         RejectBeam(key + "inner_diameter", e.inner_diameter,
-               "must be below outer_diameter (" + std::to_string(e.outer_diameter) + " m)");
+                   "must be below outer_diameter (" + std::to_string(e.outer_diameter) + " m)");
       }
       CheckPositive(key + "youngs_modulus", e.youngs_modulus, "Pa");
       CheckPositive(key + "shear_modulus", e.shear_modulus, "Pa");
       const double nu = e.Poisson();
       if (!(nu > -1.0 && nu <= 0.5)) {
         RejectBeam(key + "shear_modulus", e.shear_modulus,
-               "must give a Poisson ratio E/(2G) − 1 in (−1, 0.5] (it gives " +
+                   "must give a Poisson ratio E/(2G) − 1 in (−1, 0.5] (it gives " +
                    std::to_string(nu) + ")");
       }
       CheckNonNegative(key + "density", e.density, "kg/m³");
@@ -160,12 +160,12 @@ void BeamModel::Validate() const {
     const std::string key = "springs[" + std::to_string(i) + "].";
     if (spring.shaft < 0 || spring.shaft >= shaft_count) {
       RejectBeam(key + "shaft", spring.shaft,
-             "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ")");
+                 "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ")");
     }
     CheckNode(key + "node", spring.node, *this, spring.shaft);
     if (spring.other_shaft >= shaft_count) {
       RejectBeam(key + "other_shaft", spring.other_shaft,
-             "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ") or be negative (ground)");
+                 "must name a shaft (0 to " + std::to_string(shaft_count - 1) + ") or be negative (ground)");
     }
     if (spring.other_shaft >= 0) {
       CheckNode(key + "other_node", spring.other_node, *this, spring.other_shaft);

@@ -38,8 +38,8 @@ struct Evaluation {
 };
 
 Evaluation EvaluateTargets(const TwoPointParams& params, const std::vector<IdentificationTarget>& targets,
-                    const std::vector<FitParameter>& parameters, const std::vector<double>& theta,
-                    const RotatingWaveBranchOptions& options) {
+                           const std::vector<FitParameter>& parameters, const std::vector<double>& theta,
+                           const RotatingWaveBranchOptions& options) {
   Evaluation e;
   e.predicted = PredictTargets(Apply(params, parameters, theta), targets, options);
   for (std::size_t i = 0; i < targets.size(); ++i) {

@@ -52,11 +52,11 @@ void CheckStart(const LifetimeStudyStart& start, const LifetimeStudyOptions& opt
     const double speed = e.observations.parameter;
     if (!(std::abs(speed - speeds[i]) <= 1e-9 * std::abs(speeds[i]))) {
       RejectStudy(fmt::format("LifetimeStudyStart.escapes[{}] speed [rpm]", i), speed,
-             fmt::format("must be the schedule's speed {:g} rpm", speeds[i]).c_str());
+                  fmt::format("must be the schedule's speed {:g} rpm", speeds[i]).c_str());
     }
     if (e.arrival_time.size() != static_cast<std::size_t>(options.sampling.ensemble.copies)) {
       RejectStudy(fmt::format("LifetimeStudyStart.escapes[{}] copies", i), e.arrival_time.size(),
-             fmt::format("must be the study's {} copies", options.sampling.ensemble.copies).c_str());
+                  fmt::format("must be the study's {} copies", options.sampling.ensemble.copies).c_str());
     }
   }
 }
@@ -85,7 +85,7 @@ void Validate(const LifetimeStudyOptions& o, const RubStructure& structure) {
   const bool up = o.sweep.direction == SweepDirection::kUp;
   if (!((up ? 1.0 : -1.0) * (o.to_rpm - o.from_rpm) > 0.0)) {
     RejectStudy(field("to_rpm"), o.to_rpm,
-           up ? "must be above from_rpm (direction up)" : "must be below from_rpm (direction down)");
+                up ? "must be above from_rpm (direction up)" : "must be below from_rpm (direction down)");
   }
   CheckSchedule("LifetimeStudyOptions.step_rpm", o.from_rpm, o.to_rpm, o.step_rpm);
   Validate(o.sampling, "LifetimeStudyOptions.sampling");

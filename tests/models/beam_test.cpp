@@ -34,7 +34,7 @@ Shaft Uniform(const ShaftElement& whole, int count) {
 
 // The positive whirl frequencies ν [rad/s] (Im s > 0), ascending.
 std::vector<double> BeamFrequencies(const StructuralMatrices& m, double spin,
-                                const std::vector<Index>& held) {
+                                    const std::vector<Index>& held) {
   std::vector<double> nu;
   for (const std::complex<double>& s : WhirlEigenvalues(m, spin, held)) {
     if (s.imag() > 0.0) nu.push_back(s.imag());

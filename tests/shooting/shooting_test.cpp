@@ -9,6 +9,7 @@
 #include "models/units.h"
 #include "solvers/finite_difference.h"
 #include "solvers/newton.h"
+#include "tests/shooting/shooting_with.h"
 #include "tests/shooting/traced_newton.h"
 
 namespace rubcont {
@@ -19,14 +20,6 @@ NewtonResult Solve(ShootingProblem& problem, Vector& u, double lambda,
   return NewtonSolve([&](const Vector& v, Vector& F) { problem.Residual(v, lambda, F); },
                      [&](const Vector& v, Matrix& J) { problem.Jacobian(v, lambda, J); }, u,
                      options, problem.Scale(), problem.ResidualScale());
-}
-
-ShootingOptions Options(int segments, double tolerance = 1e-10) {
-  ShootingOptions options;
-  options.segments = segments;
-  options.integrator.relative_tolerance = tolerance;
-  options.integrator.absolute_tolerance = tolerance;
-  return options;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -43,7 +36,7 @@ TEST_CASE("Stuart–Landau orbit, period and multipliers in closed form, single 
   // Segments, and Gauss steps per segment (0: BDF): 100 steps of order 8 over the 7.9 period.
   for (const auto& [segments, gauss_steps] : {std::pair{1, 0L}, {5, 0L}, {1, 100L}, {5, 20L}}) {
     CAPTURE(segments, gauss_steps);
-    ShootingOptions options = Options(segments);
+    ShootingOptions options = ShootingWith(segments);
     if (gauss_steps > 0) {
       options.integrator.method = IntegrationMethod::kGaussCollocation;
       options.integrator.collocation_steps = gauss_steps;
@@ -155,7 +148,7 @@ TEST_CASE("shooting Jacobian and ∂F/∂λ agree with finite differences (auton
   for (const Case& c : cases) {
     CAPTURE(ToString(c.kind), c.segments);
     const double lambda = c.system->Parameter();
-    ShootingProblem problem(*c.system, c.kind, Options(c.segments, 1e-12));
+    ShootingProblem problem(*c.system, c.kind, ShootingWith(c.segments, 1e-12));
     Vector u = problem.InitialGuess(c.x0, c.period, lambda, c.rotation);
     // Off the trajectory, so that every block of F is nonzero.
     u.head(c.segments * c.system->Dimension()).array() += 0.01;
@@ -177,7 +170,7 @@ TEST_CASE("shooting Jacobian and ∂F/∂λ agree with finite differences (auton
 
     Vector sensitivity;
     problem.DfDlambda(u, lambda, sensitivity);
-    ShootingOptions fd_options = Options(c.segments, 1e-12);
+    ShootingOptions fd_options = ShootingWith(c.segments, 1e-12);
     fd_options.lambda_derivative = LambdaDerivative::kFiniteDifference;
     ShootingProblem fd_problem(*c.system, c.kind, fd_options);
     fd_problem.SetPhaseReference(problem.InitialGuess(c.x0, c.period, lambda, c.rotation), lambda);
@@ -192,7 +185,7 @@ TEST_CASE("integrations are cached: Residual, Jacobian, ∂F/∂λ and Stability
           "integrate twice",
           "[shooting]") {
   StuartLandauOscillator oscillator({0.5, 1.0, 0.0});
-  ShootingProblem problem(oscillator, OrbitKind::kAutonomous, Options(4));
+  ShootingProblem problem(oscillator, OrbitKind::kAutonomous, ShootingWith(4));
   const Vector u = problem.InitialGuess((Vector(2) << 0.7, 0.0).finished(), 6.0, 0.5);
   problem.ResetStatistics();
   Vector F, F_again, dF;
@@ -211,7 +204,7 @@ TEST_CASE("integrations are cached: Residual, Jacobian, ∂F/∂λ and Stability
 TEST_CASE("a cheap Jacobian without sensitivity error control, with accurate multipliers",
           "[shooting]") {
   StuartLandauOscillator oscillator({0.5, 1.0, 0.4});
-  ShootingOptions options = Options(3);
+  ShootingOptions options = ShootingWith(3);
   options.integrator.sensitivity_error_control = false;  // Newton's Jacobian
   ShootingProblem problem(oscillator, OrbitKind::kAutonomous, options);
   Vector u = problem.InitialGuess((Vector(2) << 0.6, 0.1).finished(), 8.0, 0.5);
@@ -241,7 +234,7 @@ class BlowUp : public OdeSystem {
 
 TEST_CASE("integration failures give NaN residuals and a reason, never an exception", "[shooting]") {
   BlowUp system;
-  ShootingProblem problem(system, OrbitKind::kAutonomous, Options(2));
+  ShootingProblem problem(system, OrbitKind::kAutonomous, ShootingWith(2));
   Vector u = problem.InitialGuess((Vector(2) << 0.1, 0.0).finished(), 1.0, 0.0);
   u(u.size() - 1) = 30.0;  // x reaches infinity at t = 10
   Vector F;
@@ -341,7 +334,7 @@ TEST_CASE("relative periodic orbit: period, rotation and multipliers against an 
 
   // Single shooting from a rough guess: z₁ = 1, s near the cycle, T 3 % long, φ where z₁ has
   // turned to after that time.
-  ShootingProblem single(system, OrbitKind::kRelative, Options(1, 1e-12));
+  ShootingProblem single(system, OrbitKind::kRelative, ShootingWith(1, 1e-12));
   REQUIRE(single.Dimension() == 4 + 2);
   Vector x0(4);
   x0 << 1.0, 0.0, 1.9, 0.1;
@@ -357,7 +350,7 @@ TEST_CASE("relative periodic orbit: period, rotation and multipliers against an 
   // Multiple shooting (4 segments) from the single-shooting orbit with T and φ disturbed. (From
   // the rough guess above, undamped Newton on 4 segments diverges: single shooting keeps every
   // iterate on a trajectory, multiple shooting does not.)
-  ShootingProblem multiple(system, OrbitKind::kRelative, Options(4, 1e-12));
+  ShootingProblem multiple(system, OrbitKind::kRelative, ShootingWith(4, 1e-12));
   Vector u_multiple = multiple.InitialGuess(single.SegmentStart(u, 0), 1.01 * u(4), system.mu,
                                             u(5) + 0.1);
   newton = Solve(multiple, u_multiple, system.mu);
@@ -404,7 +397,7 @@ TEST_CASE("fixed-frame shooting cannot converge on the quasi-periodic motion tha
   // RPO problem solves: there is no periodic orbit nearby (φ/2π ≈ 0.15 + an irrational part), so
   // Newton wanders. Its residual never drops below 0.1 (the RPO problem converges to 1e-13).
   ModulatedOscillator system;
-  ShootingProblem problem(system, OrbitKind::kAutonomous, Options(1));
+  ShootingProblem problem(system, OrbitKind::kAutonomous, ShootingWith(1));
   Vector x0(4);
   x0 << 1.0, 0.0, 1.9, 0.1;
   Vector u = problem.InitialGuess(x0, 6.66, system.mu);

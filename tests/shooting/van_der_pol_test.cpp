@@ -21,6 +21,7 @@
 #include "models/textbook.h"
 #include "shooting/shooting.h"
 #include "solvers/newton.h"
+#include "tests/shooting/shooting_with.h"
 
 namespace rubcont {
 namespace {
@@ -77,14 +78,6 @@ CycleReference ComputeReference(double mu) {
   return {second.t_reached - first.t_reached, x(2)};
 }
 
-ShootingOptions VdpShooting(int segments, double tolerance) {
-  ShootingOptions options;
-  options.segments = segments;
-  options.integrator.relative_tolerance = tolerance;
-  options.integrator.absolute_tolerance = tolerance;
-  return options;
-}
-
 // Newton tolerances above the integration error: the residual of a shooting problem is only as
 // smooth as its integration (step-sequence changes make it jump at the level of the global
 // error, ≈ 100·rtol here), so asking for 1e-10 against rtol 1e-11 makes Newton wander.
@@ -130,7 +123,7 @@ TEST_CASE("van der Pol μ = 10: single shooting converges but cannot resolve the
   REQUIRE(reference.log_multiplier == Approx(-311.844).epsilon(0).margin(1e-3));
   VanDerPolOscillator oscillator({mu});
 
-  ShootingProblem single(oscillator, OrbitKind::kAutonomous, VdpShooting(1, 1e-11));
+  ShootingProblem single(oscillator, OrbitKind::kAutonomous, ShootingWith(1, 1e-11));
   Vector u = single.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
   NewtonResult newton = SolveVdp(single, u, mu);
   INFO(newton.BriefReport());
@@ -141,7 +134,7 @@ TEST_CASE("van der Pol μ = 10: single shooting converges but cannot resolve the
   const double single_log = std::log(std::abs(single.Stability(u, mu).values(0)));
   CHECK(single_log > -100.0);
 
-  ShootingProblem multiple(oscillator, OrbitKind::kAutonomous, VdpShooting(40, 1e-11));
+  ShootingProblem multiple(oscillator, OrbitKind::kAutonomous, ShootingWith(40, 1e-11));
   Vector v = multiple.InitialGuess(single.SegmentStart(u, 0), single.Period(u, mu), mu);
   newton = SolveVdp(multiple, v, mu);
   INFO(newton.BriefReport());
@@ -177,11 +170,11 @@ TEST_CASE("van der Pol μ = −10 (the repelling cycle): single shooting fails w
   const CycleReference reference = ComputeReference(mu);
   // The attracting cycle first; its time reversal (x(−t), −ẋ(−t)) is the μ = −10 cycle.
   VanDerPolOscillator attracting({mu});
-  ShootingProblem stable(attracting, OrbitKind::kAutonomous, VdpShooting(1, 1e-11));
+  ShootingProblem stable(attracting, OrbitKind::kAutonomous, ShootingWith(1, 1e-11));
   Vector u = stable.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
   REQUIRE(SolveVdp(stable, u, mu).Converged());
   const double period = stable.Period(u, mu);
-  OdeIntegrator integrator(attracting, VdpShooting(1, 1e-11).integrator);
+  OdeIntegrator integrator(attracting, ShootingWith(1, 1e-11).integrator);
 
   VanDerPolOscillator repelling({-mu});
   for (int segments : {1, 80}) {
@@ -197,7 +190,7 @@ TEST_CASE("van der Pol μ = −10 (the repelling cycle): single shooting fails w
       starts(0, i) = samples(0, k);
       starts(1, i) = -samples(1, k);
     }
-    ShootingProblem problem(repelling, OrbitKind::kAutonomous, VdpShooting(segments, 1e-11));
+    ShootingProblem problem(repelling, OrbitKind::kAutonomous, ShootingWith(segments, 1e-11));
     Vector v = problem.Pack(starts, period);
     problem.SetPhaseReference(v, -mu);
     const NewtonResult newton = SolveVdp(problem, v, -mu);
@@ -228,7 +221,7 @@ TEST_CASE("van der Pol μ = 1000 (stiff relaxation): single and multiple shootin
   VanDerPolOscillator oscillator({mu});
   for (int segments : {1, 20}) {
     CAPTURE(segments);
-    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, VdpShooting(segments, 1e-12));
+    ShootingProblem problem(oscillator, OrbitKind::kAutonomous, ShootingWith(segments, 1e-12));
     Vector u = problem.InitialGuess(SlowManifoldPoint(mu), AsymptoticPeriod(mu), mu);
     const NewtonResult newton = SolveVdp(problem, u, mu);
     INFO(newton.BriefReport());
@@ -257,7 +250,7 @@ TEST_CASE("an adapted collocation mesh resolves van der Pol's relaxation jumps a
   const double mu = 10.0;
   const CycleReference reference = ComputeReference(mu);
   VanDerPolOscillator oscillator({mu});
-  ShootingOptions options = VdpShooting(4, 1e-11);
+  ShootingOptions options = ShootingWith(4, 1e-11);
   options.integrator.method = IntegrationMethod::kGaussCollocation;
   // The start: the orbit on a fine uniform mesh (a coarse one cannot integrate the guess's jumps).
   options.integrator.collocation_steps = 200;

@@ -11,6 +11,7 @@
 #include "models/analytic.h"
 #include "models/rub_model.h"
 #include "models/units.h"
+#include "tests/studies/speed_range.h"
 
 namespace rubcont {
 namespace {
@@ -19,14 +20,6 @@ TwoPointParams ExactThesisA() {
   TwoPointParams params = ThesisCaseAa();  // case A(a): disk at centre, RCI 100/100
   params.friction_law.kind = FrictionLawKind::kExact;
   return params;
-}
-
-RotatingWaveBranchOptions Range(double rpm_min, double rpm_max) {
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = rpm_min * kRadPerSecondPerRpm;
-  options.search.speed_max = rpm_max * kRadPerSecondPerRpm;
-  options.search.precession_max = kTwoPi * 200.0;
-  return options;
 }
 
 double MeasureOf(const Branch& branch, const SpecialPoint& point, const std::string& name) {
@@ -55,7 +48,7 @@ Found StickToSlip(const std::vector<RotatingWaveBranch>& branches, double hz) {
 // for the whole file: every test below starts its design problem there.
 Found ThesisAStickToSlip() {
   static const std::vector<RotatingWaveBranch> branches = ComputeRotatingWaveBranches(
-      TwoPointStructure(ExactThesisA()), FrictionLawKind::kExact, Range(20, 120));
+      TwoPointStructure(ExactThesisA()), FrictionLawKind::kExact, SpeedRange(20, 120));
   const Found event = StickToSlip(branches, 84.5);
   REQUIRE(event.point != nullptr);
   return event;
@@ -138,7 +131,7 @@ TEST_CASE("the stick to slip curve in friction follows the closed form's mu_req 
   const Index mid = curve.Size() / 3;
   const auto again = ComputeRotatingWaveBranches(
       TwoPointStructure(WithDesignParameter(params, DesignParameter::kFriction, mu(mid))),
-      FrictionLawKind::kExact, Range(20, 120));
+      FrictionLawKind::kExact, SpeedRange(20, 120));
   const Found there = StickToSlip(again, hz(mid));
   REQUIRE(there.point != nullptr);
   CHECK(std::abs(there.point->lambda - curve.Measure("lambda")(mid)) <= 1e-8 * there.point->lambda);
@@ -163,7 +156,7 @@ TEST_CASE("an event curve in stator damping matches branch sets recomputed along
   for (Index i : {Index(1), curve.Size() - 2}) {
     const auto again = ComputeRotatingWaveBranches(
         TwoPointStructure(WithDesignParameter(params, DesignParameter::kStatorDamping, c(i))),
-        FrictionLawKind::kExact, Range(20, 120));
+        FrictionLawKind::kExact, SpeedRange(20, 120));
     const Found there = StickToSlip(again, curve.Measure("precession_hz")(i));
     INFO("c = " << c(i) << " N·s/m");
     REQUIRE(there.point != nullptr);
@@ -192,7 +185,7 @@ TEST_CASE("the Hopf curve of the tanh Mode 1 whirl in friction matches branch se
   TwoPointParams params = ThesisCaseAa();
   params.friction_law.kind = FrictionLawKind::kTanh;
   const auto base = ComputeRotatingWaveBranches(TwoPointStructure(WithoutImbalance(params)),
-                                                FrictionLawKind::kTanh, Range(20, 100));
+                                                FrictionLawKind::kTanh, SpeedRange(20, 100));
   // Where the speed-up whirl loses its stability (51.685 rpm at μ = 0.5).
   const Found hopf = Mode1Hopf(base, 51.685);
   REQUIRE(hopf.point != nullptr);
@@ -219,7 +212,7 @@ TEST_CASE("the Hopf curve of the tanh Mode 1 whirl in friction matches branch se
     const double speed = curve.Measure("lambda")(curve.Size() - 1);
     const auto again = ComputeRotatingWaveBranches(
         TwoPointStructure(WithoutImbalance(WithDesignParameter(params, DesignParameter::kFriction, mu))),
-        FrictionLawKind::kTanh, Range(20, 100));
+        FrictionLawKind::kTanh, SpeedRange(20, 100));
     const Found there = Mode1Hopf(again, RadPerSecondToRpm(speed));
     INFO("μ = " << mu << ": curve " << RadPerSecondToRpm(speed) << " rpm");
     REQUIRE(there.point != nullptr);
@@ -238,7 +231,7 @@ TEST_CASE("a map's grid rows computed apart and assembled give the same map", "[
   options.eta_max = 0.6;
   options.eta_points = 4;
   options.speed_points = 101;
-  options.branches = Range(20, 120);
+  options.branches = SpeedRange(20, 120);
   options.continue_curves = false;
   const HysteresisMap whole = ComputeHysteresisMap(ExactThesisA(), options);
   std::vector<MapGridRow> rows = ComputeMapGrid(ExactThesisA(), options, {3, 1});
@@ -283,7 +276,7 @@ TEST_CASE("the friction map of case A(a): regions from the branch sets agree wit
   options.eta_max = 0.6;
   options.eta_points = 3;
   options.speed_points = 201;
-  options.branches = Range(20, 120);
+  options.branches = SpeedRange(20, 120);
   const HysteresisMap map = ComputeHysteresisMap(ExactThesisA(), options);
   INFO(map.BriefReport());
   CHECK(map.failures.empty());
@@ -332,7 +325,7 @@ TEST_CASE("the friction map of case A(a): regions from the branch sets agree wit
 
 TEST_CASE("hysteresis map options are validated by name", "[design][map][failure]") {
   HysteresisMapOptions options;
-  options.branches = Range(20, 120);
+  options.branches = SpeedRange(20, 120);
   options.parameter = DesignParameter::kFriction;
   options.eta_min = -0.1;
   options.eta_max = 0.6;
@@ -385,7 +378,7 @@ TEST_CASE("the stator damping that closes the Mode 2 whirl-whip gap, by the engi
   options.eta_max = 1500.0;
   options.eta_points = 2;
   options.speed_points = 11;
-  options.branches = Range(20, 120);
+  options.branches = SpeedRange(20, 120);
   const HysteresisMap map = ComputeHysteresisMap(ExactThesisA(), options);
   std::vector<const CurveExtremum*> mode2;
   for (const MapCurve& c : map.curves) {

@@ -7,17 +7,10 @@
 #include <catch2/catch.hpp>
 
 #include "models/units.h"
+#include "tests/studies/speed_range.h"
 
 namespace rubcont {
 namespace {
-
-RotatingWaveBranchOptions WaveRange(double rpm_min, double rpm_max) {
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = RpmToRadPerSecond(rpm_min);
-  options.search.speed_max = RpmToRadPerSecond(rpm_max);
-  options.search.precession_max = HzToRadPerSecond(200.0);
-  return options;
-}
 
 TwoPointParams Nominal() {
   TwoPointParams params = ThesisCaseAa();  // case A(a), the values the fit starts from
@@ -50,14 +43,14 @@ std::vector<IdentificationTarget> HiddenTargets() {
   TwoPointParams hidden = Nominal();
   hidden.friction = 0.42;
   hidden.support_damping = {410.0, 410.0};
-  return SyntheticTargets(hidden, WaveRange(20, 100));
+  return SyntheticTargets(hidden, SpeedRange(20, 100));
 }
 
 TEST_CASE("identification recovers hidden friction and stator damping from jump speeds",
           "[design][identification]") {
   const std::vector<IdentificationTarget> targets = HiddenTargets();
   IdentificationOptions options;
-  options.branches = WaveRange(20, 100);
+  options.branches = SpeedRange(20, 100);
   options.global_evaluations = 80;
   const IdentificationResult r = Identify(
       Nominal(), targets,
@@ -86,7 +79,7 @@ TEST_CASE("multistart recovers the hidden values, the same over threads as alone
           "[design][identification]") {
   const std::vector<IdentificationTarget> targets = HiddenTargets();
   IdentificationOptions options;
-  options.branches = WaveRange(20, 100);
+  options.branches = SpeedRange(20, 100);
   options.global = GlobalMethod::kMultiStart;
   options.global_evaluations = 40;
   options.local_starts = 3;
@@ -126,7 +119,7 @@ TEST_CASE("multistart recovers the hidden values, the same over threads as alone
 
 TEST_CASE("targets the model cannot reproduce give a status with the worst residual",
           "[design][identification][failure]") {
-  const RotatingWaveBranchOptions range = WaveRange(20, 100);
+  const RotatingWaveBranchOptions range = SpeedRange(20, 100);
   // Stick to slip at 50.7 rpm with the whip starting at 95 Hz: rolling at RCI 100 puts it at
   // 84.5 Hz, whatever μ is.
   const std::vector<IdentificationTarget> targets = {
@@ -150,7 +143,7 @@ TEST_CASE("a target whose event never occurs is reported as missing", "[design][
       {"mode1", "contact regain", TargetQuantity::kSpeedRpm, 60.0, 0.01},
   };
   IdentificationOptions options;
-  options.branches = WaveRange(20, 100);
+  options.branches = SpeedRange(20, 100);
   options.global_evaluations = 5;
   options.local_evaluations = 5;
   const IdentificationResult r =
@@ -165,7 +158,7 @@ TEST_CASE("identification inputs outside their rules are rejected by name", "[de
   const std::vector<IdentificationTarget> targets = {
       {"mode1", "stick to slip+", TargetQuantity::kSpeedRpm, 50.7, 0.01}};
   IdentificationOptions options;
-  options.branches = WaveRange(20, 100);
+  options.branches = SpeedRange(20, 100);
   CHECK_THROWS_WITH(Identify(Nominal(), targets, {{DesignParameter::kFriction, -0.1, 0.7}}, options),
                     Catch::Contains("parameters[0] (friction).lower = -0.1: must lie in the physical range"));
   CHECK_THROWS_WITH(Identify(Nominal(), targets, {{DesignParameter::kFriction, 0.7, 0.3}}, options),

@@ -9,17 +9,10 @@
 #include "models/analytic.h"
 #include "models/units.h"
 #include "sweeps/rub_sweep.h"
+#include "tests/studies/speed_range.h"
 
 namespace rubcont {
 namespace {
-
-RotatingWaveBranchOptions SpeedRange(double min_rpm, double max_rpm) {
-  RotatingWaveBranchOptions options;
-  options.search.speed_min = RpmToRadPerSecond(min_rpm);
-  options.search.speed_max = RpmToRadPerSecond(max_rpm);
-  options.search.precession_max = HzToRadPerSecond(200.0);
-  return options;
-}
 
 // The closed form's Mode 1 μ crossing of `direction` (+1 whirl → whip as Ω rises) nearest `near_hz`.
 double LimitMuCrossingHz(int direction, double near_hz) {
