@@ -124,8 +124,8 @@ TEST_CASE("rubcont loop: the L1 corners are the committed jump table's, and a ru
 TEST_CASE("rubcont loop: the default scene's loop, every jump with a cause or said to be undecided", "[loop][cli]") {
   TempDir dir;
   const std::string file = (dir.path / "loop.h5").string();
-  // 60 s of CPU: the run, L1 and L2's tries, and the whip's end said undecided (66 s of wall; 120 s
-  // took 103 s for the same assertions, 2026-11-30).
+  // 60 s of CPU: the run, L1 and L2's tries, and the whip's end said undecided (71 s of wall in the
+  // suite's run at -j2, 66 s alone; 120 s took 103 s in the suite for the same assertions, 2026-11-30).
   const auto r = RubcontNoPython("loop scenes/default.toml --schedule 4 0.75 --budget 60 --quiet --out " + file);
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);

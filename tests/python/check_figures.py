@@ -64,8 +64,8 @@ class DrawnTexts:
 
 
 # What the Agg renderer rasterizes besides text. A text's place does not depend on these pixels
-# (the layouts ask the artists' extents), so they are not drawn: a figure is checked in a fraction of
-# the time its lines, markers and meshes take to paint.
+# (the layouts ask the artists' extents), so they are not drawn: the 279 figures of the results took
+# 98 s of CPU alone against 117 s painted (2026-11-30, one run each; matplotlib's layout is the rest).
 PIXEL_METHODS = ("draw_path", "draw_markers", "draw_path_collection", "draw_quad_mesh",
                  "draw_gouraud_triangle", "draw_gouraud_triangles", "draw_image")
 
