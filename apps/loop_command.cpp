@@ -31,7 +31,7 @@ void CheckLoopRequest(const LoopRequest& r) {
   if (r.dwell && (!(*r.dwell > 0.0) || !std::isfinite(*r.dwell))) {
     fail("schedule", fmt::format("{} {}", r.step_rpm.value_or(0.0), *r.dwell), "the time per speed must be positive (s)");
   }
-  if (r.budget && (!(*r.budget > 0.0) || !std::isfinite(*r.budget))) fail("budget", *r.budget, "must be positive (CPU seconds)");
+  if (r.budget && (!(*r.budget > 0.0) || !std::isfinite(*r.budget))) fail("budget", *r.budget, "must be positive (G work units)");
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ struct LoopRequest {
   // speed_step_rpm and dwell.
   std::optional<double> step_rpm;
   std::optional<double> dwell;
-  std::optional<double> budget;         // [CPU s]; none: the study's default
+  std::optional<double> budget;         // [G work units]; none: the scene's
   std::optional<std::string> out_file;  // none: results/<scene>/loop.h5
   int threads = 0;                      // 0: one per core
   bool quiet = false;

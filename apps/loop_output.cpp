@@ -97,7 +97,7 @@ void WriteEscapes(ResultWriter& writer, const std::string& group, const LoopEsca
   writer.SetAttribute(group, "upper_bounded", d.fit.upper_bounded ? 1.0 : 0.0);
   writer.SetAttribute(group, "exponent", d.fit.exponent);
   writer.SetAttribute(group, "amplitude", d.fit.amplitude);
-  writer.SetAttribute(group, "cost_cpu_seconds", d.cost);
+  writer.SetAttribute(group, "cost_g_work_units", d.cost);
   writer.SetAttribute(group, "rounds", static_cast<double>(d.rounds));
   std::vector<double> speed, duration, stretch, rate, lower, upper;
   std::vector<int> copies, escapes, stayed, escape_stretch;
@@ -192,7 +192,8 @@ void WriteLoop(ResultWriter& writer, const Scene& scene, const RubStructure& str
   writer.SetAttribute(g, "message", result.message);
   writer.SetAttribute(g, "step_rpm", options.step_rpm);
   writer.SetAttribute(g, "dwell_s", options.dwell);
-  writer.SetAttribute(g, "budget_cpu_s", options.budget);
+  writer.SetAttribute(g, "budget_g_work_units", options.budget);
+  writer.SetAttribute(g, "g_work_units", result.work);
   writer.SetAttribute(g, "cpu_seconds", result.cpu_seconds);
   writer.SetAttribute(g, "wall_seconds", result.wall_seconds);
   writer.SetAttribute(g, "levels", Levels(scene, result));

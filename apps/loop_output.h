@@ -1,8 +1,9 @@
 // The loop study's result file and summary (`rubcont loop`, stage "loop"; studies/loop.h).
 //
 // HDF5 layout (written atomically), beside the root attributes of every result:
-//   /loop                 attrs status, message, step_rpm, dwell_s (the run's schedule), budget_cpu_s,
-//                         cpu_seconds, wall_seconds, levels (the levels that decided corners, e.g.
+//   /loop                 attrs status, message, step_rpm, dwell_s (the run's schedule),
+//                         budget_g_work_units, g_work_units (what the budget counted), cpu_seconds,
+//                         wall_seconds, levels (the levels that decided corners, e.g.
 //                         "L1, L3"; L4 for a flexible scene)
 //     corners/            one row per jump of the loop, run-up first, each direction in speed order:
 //       direction ("up" | "down"), kind (RubJumpKind), contact ("left", "right", "left, right"),

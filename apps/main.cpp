@@ -267,7 +267,9 @@ int main(int argc, char** argv) {
                    "STEP_RPM DWELL_S: the run's speed step and time per speed; default the scene's "
                    "[analysis.sweep] speed_step_rpm and dwell")
       ->expected(2);
-  loop->add_option("--budget", loop_budget, "CPU seconds for the whole loop; default 300");
+  loop->add_option("--budget", loop_budget,
+                   "G work units for the whole loop (a unit: one explicit step of one state; the same "
+                   "on every machine, about 80 s of CPU per G here); default the scene's, 4");
   loop->add_option("--threads", loop_request.threads, "threads (0: one per core)")->capture_default_str();
   loop->add_option("--out", loop_out, "HDF5 file; default results/<scene>/loop.h5");
   loop->add_flag("!--no-figures", loop_request.figures, "write the HDF5 file and the summary only");

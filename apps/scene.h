@@ -169,7 +169,7 @@ struct RubToriSettings {
 
 // [analysis.loop]: the loop study (studies/loop.h); its run's schedule is [analysis.sweep]'s.
 struct LoopSettings {
-  double budget = 300.0;           // [CPU s] for the whole loop
+  double budget = 4.0;             // [G work units] for the whole loop (studies/loop.h)
   double target_width_rpm = 4.0;   // the width asked of the whip end's median interval [rpm]
   int copies = 8;                  // copies per ensemble of the escape design
   double max_copy_seconds = 40.0;  // [s] the longest copy

@@ -906,9 +906,12 @@ void ToriKeys(std::vector<KeySpec>& s) {
 
 // [analysis.loop]: the loop study (studies/loop.h). Every key is optional.
 void LoopKeys(std::vector<KeySpec>& s) {
-  s.push_back(Float("analysis.loop.budget", "s", Rule::kPositive,
-                    "CPU seconds for the whole loop (the waves and the run first, then the jumps "
-                    "they leave open, the principal ones first); `rubcont loop --budget` overrides it.",
+  s.push_back(Float("analysis.loop.budget", "G work units", Rule::kPositive,
+                    "The work of the whole loop (the waves and the run first, then the jumps they "
+                    "leave open, the principal ones first), in G work units: one unit is one "
+                    "explicit step of one state (a BDF step 4, a Gauss step 100), the same on "
+                    "every machine and under any load; A(a)'s loop costs about 80 s of CPU per G "
+                    "on the 2-core machine here. `rubcont loop --budget` overrides it.",
                     [](Scene& x) -> double& { return x.analysis.loop.budget; }, Presence::kOptional));
   s.push_back(Float("analysis.loop.target_width_rpm", "rpm", Rule::kPositive,
                     "A jump by chance (a chaotic whip's end) is measured until the 95 % interval "

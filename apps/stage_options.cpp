@@ -187,10 +187,10 @@ std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage
   if (runs(Stage::kLoop)) {
     PlannedWork budget;
     budget.key = "analysis.loop.budget";
-    budget.value = fmt::format("{:g} s", scene.analysis.loop.budget);
+    budget.value = fmt::format("{:g} G work units", scene.analysis.loop.budget);
     budget.what = "loop";
     budget.items = 1.0;
-    budget.cpu_seconds = scene.analysis.loop.budget;
+    budget.cpu_seconds = scene.analysis.loop.budget * kCpuSecondsPerGigaWorkUnit;
     plan.push_back(budget);
   }
   const RubOrbitsSettings::Transient& orbit = scene.analysis.orbits.transient;

@@ -45,8 +45,9 @@
 #                   B(c)'s (24 min), A(b)'s (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and
 #                   B(b)'s (22 min; docs/studies/whip_end.md, "The end of the speed-up whip in every case").
 #   --loops         also re-runs the loops of the thesis scenes, the imbalanced and the flexible A(a)
-#                   (`rubcont loop --schedule 2 1.5 --budget 600`, results/<scene>/loop.{h5,txt,png}:
-#                   1–12 min of CPU each, about 1 h in all on 2 cores) and writes their table into
+#                   (`rubcont loop --schedule 2 1.5 --budget 15`, results/<scene>/loop.{h5,txt,png}:
+#                   the budget in work units, so each explains the same corners on any machine and
+#                   beside any other job; 3–25 min of CPU each) and writes their table into
 #                   results/README.md (scripts/loop_table.py); then run --sweep-tables, whose jump
 #                   tables take the whip's end from the loop beside each sweep.
 # Every run draws each swept scene's hysteresis loop (results/<scene>/hysteresis.png) from the

@@ -1,5 +1,6 @@
 #include "solvers/ode.h"
 
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
@@ -94,7 +95,31 @@ void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b) {
   a.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
   a.sensitivity_rhs_evaluations += b.sensitivity_rhs_evaluations;
   a.restarts += b.restarts;
+  a.work += b.work;
 }
+
+long long WorkPerStep(IntegrationMethod method) {
+  switch (method) {
+    case IntegrationMethod::kExplicitRungeKutta:
+    case IntegrationMethod::kDormandPrince:
+      return 1;
+    case IntegrationMethod::kBdf:
+    case IntegrationMethod::kAdams:
+    case IntegrationMethod::kDiagonallyImplicitRungeKutta:
+      return 4;
+    case IntegrationMethod::kGaussCollocation:
+      return 100;
+  }
+  return 1;
+}
+
+namespace {
+std::atomic<long long> integration_work{0};
+thread_local long long thread_integration_work = 0;
+}  // namespace
+
+long long IntegrationWorkDone() { return integration_work.load(std::memory_order_relaxed); }
+long long IntegrationWorkDoneOnThread() { return thread_integration_work; }
 
 std::string IntegrationResult::BriefReport() const {
   std::string report = fmt::format("{} at t = {:.6g}: {} steps, {} f evaluations", ToString(status),
@@ -265,6 +290,9 @@ class OdeIntegrator::Impl {
                                : gauss_  ? gauss_->Run(request)
                                : odeint_ ? odeint_->Run(request)
                                          : arkode_->Run(request);
+    result.statistics.work = result.statistics.steps * WorkPerStep(options_.method) * context_.n;
+    integration_work.fetch_add(result.statistics.work, std::memory_order_relaxed);
+    thread_integration_work += result.statistics.work;
     context_.RethrowIfAny();
     return result;
   }

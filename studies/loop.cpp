@@ -170,22 +170,26 @@ struct CopyOutcome {
   int stretch = 0;
   bool failed = false;
   double cpu_seconds = 0.0;
+  long long work = 0;  // work units
 };
+constexpr std::size_t kPackedCopy = sizeof(int) + sizeof(char) + sizeof(double) + sizeof(long long);
 std::string Pack(const CopyOutcome& c) {
-  std::string s(sizeof(int) + sizeof(char) + sizeof(double), '\0');
+  std::string s(kPackedCopy, '\0');
   const char failed = c.failed ? 1 : 0;
   std::memcpy(&s[0], &c.stretch, sizeof(int));
   std::memcpy(&s[sizeof(int)], &failed, sizeof(char));
   std::memcpy(&s[sizeof(int) + sizeof(char)], &c.cpu_seconds, sizeof(double));
+  std::memcpy(&s[sizeof(int) + sizeof(char) + sizeof(double)], &c.work, sizeof(long long));
   return s;
 }
 CopyOutcome Unpack(const std::string& s) {
-  if (s.size() != sizeof(int) + sizeof(char) + sizeof(double)) throw std::logic_error("loop: a copy's result is malformed");
+  if (s.size() != kPackedCopy) throw std::logic_error("loop: a copy's result is malformed");
   CopyOutcome c;
   char failed = 0;
   std::memcpy(&c.stretch, &s[0], sizeof(int));
   std::memcpy(&failed, &s[sizeof(int)], sizeof(char));
   std::memcpy(&c.cpu_seconds, &s[sizeof(int) + sizeof(char)], sizeof(double));
+  std::memcpy(&c.work, &s[sizeof(int) + sizeof(char) + sizeof(double)], sizeof(long long));
   c.failed = failed != 0;
   return c;
 }
@@ -195,6 +199,7 @@ CopyOutcome Unpack(const std::string& s) {
 CopyOutcome RunCopy(const RubStructure& structure, const RubSweepOptions& sweep, double window, double perturbation,
                     const Vector& x0, double omega, int stretches, std::uint64_t seed, const ArrivalTarget& target) {
   const double cpu_start = ThreadCpuSeconds();
+  const long long work_start = IntegrationWorkDoneOnThread();
   SweepOptions s = sweep.sweep;
   s.parameters.assign(static_cast<std::size_t>(stretches), omega);
   s.window = window;
@@ -221,6 +226,7 @@ CopyOutcome RunCopy(const RubStructure& structure, const RubSweepOptions& sweep,
     }
   }
   out.cpu_seconds = ThreadCpuSeconds() - cpu_start;
+  out.work = IntegrationWorkDoneOnThread() - work_start;
   return out;
 }
 
@@ -591,8 +597,9 @@ std::string LoopResult::BriefReport() const {
   }
   std::string levels;
   for (const auto& [level, n] : by_level) levels += fmt::format("{}{} {}", levels.empty() ? "" : ", ", n, level);
-  return fmt::format("loop {}: {} jumps, {} explained{}; {:.1f} s CPU{}", ToString(status), corners.size(), explained,
-                     levels.empty() ? "" : " (" + levels + ")", cpu_seconds, message.empty() ? "" : "; " + message);
+  return fmt::format("loop {}: {} jumps, {} explained{}; {:.2f} G work units, {:.1f} s CPU{}", ToString(status),
+                     corners.size(), explained, levels.empty() ? "" : " (" + levels + ")", work, cpu_seconds,
+                     message.empty() ? "" : "; " + message);
 }
 
 LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options, const JobRunner& jobs,
@@ -606,8 +613,13 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     result.decisions.push_back(std::move(line));
   };
   auto cpu = [&] { return ProcessCpuSeconds() - cpu_start; };
-  double escape_cpu = 0.0;  // of the copies run by other processes (MPI ranks)
+  // The copies run by other processes (MPI ranks) are in neither count of this one.
+  double escape_cpu = 0.0;
+  long long escape_work = 0;
   auto spent = [&] { return cpu() + escape_cpu; };
+  const long long work_start = IntegrationWorkDone();
+  // What the budget counts [G work units].
+  auto used = [&] { return 1e-9 * static_cast<double>(IntegrationWorkDone() - work_start + escape_work); };
 
   // L1: the waves of the law the sweep integrates, over both runs' speeds; and at ε/10.
   RubStructure balanced = structure;
@@ -702,7 +714,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     family.lambda_min = RpmToRadPerSecond(std::max(std::min(lo, orbit_rpm - options.step_rpm), 1e-3));
     family.lambda_max = RpmToRadPerSecond(std::max(hi, orbit_rpm + options.step_rpm));
     family.direction = sign;
-    family.on_step = [&](const Branch&) { return spent() < options.budget; };
+    family.on_step = [&](const Branch&) { return used() < options.budget; };
     return family;
   };
   // The skeleton along the family L2 found (asked.orbits, converged): RideFamily, the doubled family
@@ -724,7 +736,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
                        RadPerSecondToRpm(at), d.ok ? d.branch.branch.BriefReport() : d.message, spent() - t0));
       return d;
     };
-    const bool may_follow = options.doubled_steps > 0 && spent() < options.budget;
+    const bool may_follow = options.doubled_steps > 0 && used() < options.budget;
     const OrbitRide ride = RideFamily(asked.orbits.family.orbits, RpmToRadPerSecond(asked.orbit_rpm), sign,
                                       RpmToRadPerSecond(sign > 0 ? hi : lo), asked.orbits.family.doublings,
                                       may_follow ? DoublingFollower(follow) : DoublingFollower(), kRpmPerRadPerSecond,
@@ -796,9 +808,10 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       continue;
     }
     escalated[key] = i;
-    if (spent() >= options.budget) {
-      c.note += fmt::format("; not decided within the budget ({:g} s CPU spent before it)", spent());
-      note(fmt::format("budget: {} left undecided ({:.1f} s of {:g} s CPU spent)", what, spent(), options.budget));
+    if (used() >= options.budget) {
+      c.note += fmt::format("; not decided within the budget ({:.2f} G work units used before it)", used());
+      note(fmt::format("budget: {} left undecided ({:.2f} of {:g} G work units used, {:.1f} s CPU)", what, used(),
+                       options.budget, spent()));
       continue;
     }
     const std::size_t first_on = FirstOnState(run, contacts, from, sign, c.seen_from_rpm, options.barely_touching);
@@ -886,8 +899,8 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
           continue;
         }
       }
-      if (spent() >= options.budget) {
-        c.note += fmt::format("; not decided within the budget ({:g} s CPU spent)", spent());
+      if (used() >= options.budget) {
+        c.note += fmt::format("; not decided within the budget ({:.2f} G work units used)", used());
         continue;
       }
     }
@@ -952,11 +965,12 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.dwell = options.dwell;
     design.candidates = candidates;
     design.first = c.seen_to_rpm;
-    design.budget = options.budget - spent();
+    design.budget = options.budget - used();
+    design.cost_unit = "G";
     if (design.budget < options.min_escape_budget) {
-      c.note += fmt::format("; not decided within the budget ({:.1f} s CPU left, an escape design needs {:g} s)",
+      c.note += fmt::format("; not decided within the budget ({:.2f} G work units left, an escape design needs {:g})",
                             design.budget, options.min_escape_budget);
-      note(fmt::format("budget: {} left undecided ({:.1f} s CPU left)", what, design.budget));
+      note(fmt::format("budget: {} left undecided ({:.2f} G work units left)", what, design.budget));
       continue;
     }
     RubSweepOptions copy_sweep = run.direction == SweepDirection::kUp ? options.up : options.down;
@@ -974,6 +988,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       for (std::size_t r = 0; r < requests.size(); ++r)
         for (int k = 0; k < requests[r].copies; ++k) list.push_back(Job{r, k});
       const double local_start = ProcessCpuSeconds();
+      const long long local_work = IntegrationWorkDone();
       const std::vector<std::string> out = jobs(static_cast<int>(list.size()), [&](int n) {
         const Job& job = list[static_cast<std::size_t>(n)];
         const EscapeRequest& q = requests[job.request];
@@ -990,16 +1005,21 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
         e.duration = StretchCount(requests[r].duration, options.window) * e.stretch;
       }
       int failed = 0;
+      double copies_cpu = 0.0;
+      long long copies_work = 0;
       for (std::size_t n = 0; n < list.size(); ++n) {
         const CopyOutcome o = Unpack(out[n]);
-        batch.cost += o.cpu_seconds;
+        copies_cpu += o.cpu_seconds;
+        copies_work += o.work;
         EscapeObservations& e = batch.observations[list[n].request];
         if (o.failed) ++failed;
         else if (o.stretch > 0) e.escape_stretch.push_back(o.stretch);
         else ++e.stayed;
       }
-      // The copies run here are in this process's CPU time already; those of other ranks are not.
-      escape_cpu += std::max(0.0, batch.cost - (ProcessCpuSeconds() - local_start));
+      // The copies run here are in this process's counts already; those of other ranks are not.
+      batch.cost = 1e-9 * static_cast<double>(copies_work);
+      escape_cpu += std::max(0.0, copies_cpu - (ProcessCpuSeconds() - local_start));
+      escape_work += std::max(0LL, copies_work - (IntegrationWorkDone() - local_work));
       if (failed > 0) note(fmt::format("  {} copies failed to integrate (counted neither as escaped nor as stayed)", failed));
       for (EscapeObservations& e : batch.observations) {
         if (e.escape_stretch.empty() && e.stayed == 0) ++e.stayed;  // never: every copy failed
@@ -1063,7 +1083,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     const double lo = std::min(c.seen_from_rpm, c.seen_to_rpm) - options.step_rpm;
     const double hi = std::max(c.seen_from_rpm, c.seen_to_rpm) + options.step_rpm;
     const double before = spent();
-    if (spent() >= options.budget) {
+    if (used() >= options.budget) {
       c.note += "; L2's route to the whip's end not asked: the budget was spent deciding the corners";
       continue;
     }
@@ -1077,7 +1097,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       }
     }
     int below = -1, above = static_cast<int>(states.size());  // an orbit at `below`, none from `above` on
-    for (int tries = 0; tries < options.route_tries && above - below > 1 && spent() < options.budget; ++tries) {
+    for (int tries = 0; tries < options.route_tries && above - below > 1 && used() < options.budget; ++tries) {
       const int mid = tries == 0 ? above - 1 : (below + above) / 2;
       const std::size_t k = states[static_cast<std::size_t>(mid)];
       const double t0 = spent();
@@ -1093,7 +1113,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       (o.converged ? below : above) = mid;
     }
     if (states.empty()) note("  L2 route: no settled state with steady contacts on the whip");
-    if (below >= 0 && spent() < options.budget) {
+    if (below >= 0 && used() < options.budget) {
       // The family from the latest orbit (its start solved again from the run's state: one more
       // Newton, a few seconds).
       const std::size_t k = states[static_cast<std::size_t>(below)];
@@ -1135,6 +1155,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       result.message = fmt::format("the {} run: {}", ToString(run->direction), run->message);
     }
   }
+  result.work = used();
   result.cpu_seconds = spent();
   result.wall_seconds = SecondsSince(wall_start);
   return result;

@@ -116,10 +116,15 @@ struct LoopOptions {
   // (121.0) and up to its grazing (137.6) took 120 steps on the loop's 400 intervals (237.5 s of
   // CPU), 112 on 1600 with the curved predictor (results/thesis_A_a_whip_doubling).
   int doubled_steps = 200;
-  double budget = 300.0;  // [CPU s] > 0 for the whole loop
-  // An escape design is not started with less of the budget left [CPU s] ≥ 0: its first batch
-  // (3 ensembles of 8 copies × 2 s) costs 20–50 s in an impacting whip (A(a), B(b)).
-  double min_escape_budget = 30.0;
+  // The work the whole loop may do [G work units] > 0: its integrations' cost
+  // (IntegrationWorkDone, solvers/ode.h), the same on every machine and under any load, so that a
+  // loop explains the same corners wherever it runs (a budget in CPU seconds explained fewer on a
+  // slower machine, or beside another job). A(a)'s loop: 5.0 G in 403 s of CPU here (2026-11-30),
+  // about 80 s per G; the flexible A(a)'s (32 states) costs about 1.2 times the CPU per G.
+  double budget = 4.0;
+  // An escape design is not started with less of the budget left [G work units] ≥ 0: its first
+  // batch (3 ensembles of 8 copies × 2 s) costs 0.3–0.6 G in an impacting whip (A(a), B(b)).
+  double min_escape_budget = 0.4;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -261,6 +266,7 @@ struct LoopResult {
   // Every escalation and why, in order ("L3 for up whip_to_whirl 180 → 184 rpm: no special point
   // of the waves within 10 rpm of it"), and what the budget stopped.
   std::vector<std::string> decisions;
+  double work = 0.0;  // [G work units]: what the budget counts
   double cpu_seconds = 0.0;
   double wall_seconds = 0.0;
   std::string BriefReport() const;

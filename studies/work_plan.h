@@ -21,6 +21,10 @@ namespace rubcont {
 // the limits (WorkLimits) leave room for a hundred times over.
 inline constexpr double kCpuSecondsPerSimulatedSecond = 10.0;
 
+// CPU seconds per G work units (IntegrationWorkDone, solvers/ode.h), for the loop's budget in the
+// estimate only: A(a)'s loop did 5.0 G in 403 s of CPU on this machine (2026-11-30).
+inline constexpr double kCpuSecondsPerGigaWorkUnit = 80.0;
+
 // One item of a plan: what one key or option asks for.
 struct PlannedWork {
   std::string key;    // the scene key or command-line option that sets its size, e.g.

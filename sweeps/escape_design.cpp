@@ -276,8 +276,8 @@ std::string EscapeDesign::BriefReport() const {
   } else if (!median_open.empty()) {
     median += " (" + median_open + ")";
   }
-  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f} s; {}{}", ToString(status),
-                     observations.size(), rounds, cost, median, message.empty() ? "" : "; " + message);
+  return fmt::format("{}: {} ensembles in {} batches, cost {:.1f} {}; {}{}", ToString(status),
+                     observations.size(), rounds, cost, cost_unit, median, message.empty() ? "" : "; " + message);
 }
 
 EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& run,
@@ -285,6 +285,7 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
   Validate(o);
   EscapeDesign design;
   design.median_lower = design.median_upper = kNaN;
+  design.cost_unit = o.cost_unit;
   auto note = [&](std::string line) {
     if (progress) progress(line);
     design.log.push_back(std::move(line));
@@ -336,8 +337,7 @@ EscapeDesign RunEscapeDesign(const EscapeDesignOptions& o, const EscapeRunner& r
       line += fmt::format(" {} copies × {:.3g} s at {:g}: {} left;", batch[r].copies, e.duration, e.parameter,
                           e.escape_stretch.size());
     }
-    // The runner's cost is seconds (CPU or copy-seconds): said with its unit, as a duration.
-    line += fmt::format(" cost {:.1f} s of {:.1f} s", design.cost, o.budget);
+    line += fmt::format(" cost {:.1f} {} of {:.1f} {}", design.cost, o.cost_unit, o.budget, o.cost_unit);
     note(line);
   };
   auto spent = [&] { return design.cost >= o.budget; };

@@ -53,7 +53,8 @@ struct EscapeRequest {
 };
 
 // The outcomes of a batch of requests: one EscapeObservations per request, in order, and what
-// they cost in seconds (CPU seconds, or copy-seconds: the budget's unit; reports print it as "s").
+// they cost in the budget's unit (EscapeDesignOptions::cost_unit: copy-seconds, CPU seconds, work
+// units).
 struct EscapeBatch {
   std::vector<EscapeObservations> observations;
   double cost = 0.0;
@@ -77,6 +78,7 @@ struct EscapeDesignOptions {
   // > 0; e.g. 4 rpm for "±2 rpm").
   double target_width = 4.0;
   double budget = 200.0;  // in the runner's cost unit, > 0: no batch starts once it is spent
+  std::string cost_unit = "s";  // how reports name that unit ("s": seconds; "M": million work units)
   // Evidence before the interval counts: asymptotic intervals from a few copies near p_c exclude
   // the truth far more often than 5 % (on the tent map of tests/sweeps/escape_design_test.cpp,
   // designs that stopped at the first interval narrow enough covered the true median in 90 of 100).
@@ -157,6 +159,7 @@ struct EscapeDesign {
   double median_lower = 0.0, median_upper = 0.0;
   std::string median_open;  // "" or why the interval is open
   double cost = 0.0;          // the runner's cost, summed
+  std::string cost_unit = "s";  // EscapeDesignOptions::cost_unit
   int rounds = 0;
   std::vector<std::string> log;  // one line per batch: what was measured and why, the fit after it
   std::string BriefReport() const;

@@ -381,7 +381,8 @@ def loop(scene=None, schedule=None, budget=None, threads=0, out=None, progress=N
          force=False):
     """The hysteresis loop of the scene's rotor, explained, as ``rubcont loop`` (``/loop``; its
     table of jumps is ``/loop/corners``): `schedule` = (step_rpm, dwell_s) of the run (None: the
-    scene's [analysis.sweep]), `budget` CPU seconds (None: 300), the copies over `threads` threads
+    scene's [analysis.sweep]), `budget` in G work units (None: the scene's
+    [analysis.loop] budget, 4; studies/loop.h), the copies over `threads` threads
     (0: one per core); `out` the HDF5 file; `force` as in `run`."""
     step, dwell = schedule if schedule is not None else (None, None)
 

@@ -124,9 +124,9 @@ TEST_CASE("rubcont loop: the L1 corners are the committed jump table's, and a ru
 TEST_CASE("rubcont loop: the default scene's loop, every jump with a cause or said to be undecided", "[loop][cli]") {
   TempDir dir;
   const std::string file = (dir.path / "loop.h5").string();
-  // 60 s of CPU: the run, L1 and L2's tries, and the whip's end said undecided (71 s of wall in the
-  // suite's run at -j2, 66 s alone; 120 s took 103 s in the suite for the same assertions, 2026-11-30).
-  const auto r = RubcontNoPython("loop scenes/default.toml --schedule 4 0.75 --budget 60 --quiet --out " + file);
+  // 0.75 G work units: the run, L1, L2 at the whip's end and one try of its route, and the whip's end
+  // said undecided (0.92 G in 75 s of CPU beside another loop, 2026-11-30): the same on any machine.
+  const auto r = RubcontNoPython("loop scenes/default.toml --schedule 4 0.75 --budget 0.75 --quiet --out " + file);
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);
   const ResultReader loop(file);
@@ -144,6 +144,12 @@ TEST_CASE("rubcont loop: the default scene's loop, every jump with a cause or sa
   CHECK(loop.Exists("/loop/branches"));
   CHECK(loop.Exists("/loop/runs/up/skips/from_rpm"));
   CHECK(loop.ReadStrings("/loop/decisions").size() >= 3);
+  // The budget counts work: what it stopped is said with the units used.
+  CHECK(loop.ReadDoubleAttribute("/loop", "budget_g_work_units") == 0.75);
+  CHECK(loop.ReadDoubleAttribute("/loop", "g_work_units") >= 0.75);
+  bool said = false;
+  for (const std::string& n : note) said = said || n.find("G work units") != std::string::npos;
+  CHECK(said);
 }
 
 TEST_CASE("rubcont loop: bad input names the option, with exit code 2", "[loop][cli]") {

@@ -187,7 +187,7 @@ def test_the_loop_gives_the_table_of_jumps_with_causes():
         {"analysis": {"sweep": {"up_range_rpm": [40.0, 64.0], "down_range_rpm": [40.0, 120.0],
                                 "speed_step_rpm": 4.0, "dwell": 0.75}}})
     lines = []
-    result = rubcont.loop(window, budget=30, threads=2, progress=lines.append)
+    result = rubcont.loop(window, budget=0.4, threads=2, progress=lines.append)
     assert result.status == "success"
     corners = {key: [rubcont_text(v) for v in result[f"loop/corners/{key}"]]
                for key in ("direction", "kind", "cause", "level")}

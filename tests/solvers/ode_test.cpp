@@ -93,6 +93,32 @@ TEST_CASE("state and state-transition matrix of a linear system match the matrix
   }
 }
 
+TEST_CASE("work: steps × the method's weight × states, the same for the same integration, summed "
+          "over the process and the calling thread",
+          "[ode]") {
+  LinearSystem system;
+  for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kDormandPrince,
+                                   IntegrationMethod::kExplicitRungeKutta, IntegrationMethod::kGaussCollocation}) {
+    CAPTURE(ToString(method));
+    OdeIntegrator integrator(system, Tight(method));
+    Vector x(3);
+    const long long process_before = IntegrationWorkDone();
+    const long long thread_before = IntegrationWorkDoneOnThread();
+    const IntegrationResult first = integrator.Integrate(0.0, X0(), 3.0, x);
+    const IntegrationResult second = integrator.Integrate(0.0, X0(), 3.0, x);
+    REQUIRE(first.Succeeded());
+    REQUIRE(second.Succeeded());
+    CHECK(first.statistics.work == first.statistics.steps * WorkPerStep(method) * 3);
+    CHECK(first.statistics.work > 0);
+    CHECK(second.statistics.work == first.statistics.work);
+    CHECK(IntegrationWorkDoneOnThread() - thread_before == 2 * first.statistics.work);
+    // Other tests' threads may integrate meanwhile: the process's count grows at least as much.
+    CHECK(IntegrationWorkDone() - process_before >= 2 * first.statistics.work);
+  }
+  CHECK(WorkPerStep(IntegrationMethod::kDormandPrince) < WorkPerStep(IntegrationMethod::kBdf));
+  CHECK(WorkPerStep(IntegrationMethod::kBdf) < WorkPerStep(IntegrationMethod::kGaussCollocation));
+}
+
 TEST_CASE("tangents: Φ applied to k directions, by every method, between full-STM calls",
           "[ode]") {
   LinearSystem system;
