@@ -191,6 +191,7 @@ std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage
     budget.what = "loop";
     budget.items = 1.0;
     budget.cpu_seconds = scene.analysis.loop.budget * kCpuSecondsPerGigaWorkUnit;
+    budget.cpu_basis = fmt::format("{:g} s per G work units", kCpuSecondsPerGigaWorkUnit);
     plan.push_back(budget);
   }
   const RubOrbitsSettings::Transient& orbit = scene.analysis.orbits.transient;

@@ -30,6 +30,12 @@ std::string Bytes(double bytes) {
   return fmt::format("{:.3g} GB", bytes / 1e9);
 }
 
+// "(CPU estimated at …)" of a message about `work`.
+std::string CpuBasis(const PlannedWork& work) {
+  if (!work.cpu_basis.empty()) return "(CPU estimated at " + work.cpu_basis + ")";
+  return fmt::format("(CPU estimated at {:g} s per simulated second)", kCpuSecondsPerSimulatedSecond);
+}
+
 }  // namespace
 
 void Validate(const WorkLimits& limits) {
@@ -106,9 +112,8 @@ std::string ExcessiveWork(const std::vector<PlannedWork>& plan, const WorkLimits
       over = fmt::format("{} of memory", Bytes(limits.max_memory_bytes));
     }
     if (!over.empty()) {
-      return fmt::format("{} = {} plans {}: over the limit of {} (CPU estimated at {:g} s per "
-                         "simulated second)", work.key, work.value, Describe(work), over,
-                         kCpuSecondsPerSimulatedSecond);
+      return fmt::format("{} = {} plans {}: over the limit of {} {}", work.key, work.value, Describe(work), over,
+                         CpuBasis(work));
     }
   }
   // Items each within the limits may still add up beyond them: the largest is named.
@@ -120,11 +125,11 @@ std::string ExcessiveWork(const std::vector<PlannedWork>& plan, const WorkLimits
       largest = &work;
     }
   }
-  return fmt::format("{} = {} plans {}, and the plan {} in all: over the limit of {} (CPU estimated at "
-                     "{:g} s per simulated second)", largest->key, largest->value, Describe(*largest),
+  return fmt::format("{} = {} plans {}, and the plan {} in all: over the limit of {} {}", largest->key,
+                     largest->value, Describe(*largest),
                      cpu ? fmt::format("≈ {} of CPU", Span(cpu_seconds)) : Bytes(memory_bytes) + " of memory",
                      cpu ? Span(limits.max_cpu_seconds) + " of CPU" : Bytes(limits.max_memory_bytes) + " of memory",
-                     kCpuSecondsPerSimulatedSecond);
+                     CpuBasis(*largest));
 }
 
 }  // namespace rubcont

@@ -34,6 +34,9 @@ struct PlannedWork {
   double items = 0.0;              // speeds, grid cells or copy runs (≥ 0)
   double simulated_seconds = 0.0;  // time marched in all [s] (0: none)
   double cpu_seconds = 0.0;        // estimated CPU [s]
+  // How cpu_seconds was estimated, where not from simulated_seconds (kCpuSecondsPerSimulatedSecond),
+  // e.g. "80 s per G work units"; messages say it.
+  std::string cpu_basis;
   double memory_bytes = 0.0;       // the arrays its result keeps in memory [bytes]
 };
 

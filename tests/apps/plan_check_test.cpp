@@ -75,7 +75,9 @@ TEST_CASE("Plan check: ensemble, lifetime, attractor and loop refuse their own a
        "--copies × --duration = 16 × 100000 s at 11 speeds plans 176 copy runs"},
       {"attractor " + aa + "--from 100 --to 110 --duration 1e6 --interval 1",
        "--discard + --duration = 0.5 + 1e+06 s at 3 speeds plans 3 speeds, 3e+06 s simulated"},
-      {"loop " + aa + "--budget 1e9", "--budget = 1e+09 s plans 1 loop, ≈ 31.7 years of CPU"},
+      {"loop " + aa + "--budget 1e9",
+       "--budget = 1e+09 G work units plans 1 loop, ≈ 2.54e+03 years of CPU: over the limit of 7 days of CPU "
+       "(CPU estimated at 80 s per G work units)"},
   };
   for (const auto& c : cases) {
     INFO(c.args);
