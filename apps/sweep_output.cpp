@@ -41,6 +41,9 @@ bool SameSweeps(const std::string& stored_toml, const Scene& scene) {
     if (!IsSweepRule(key) && !AddedAtOlderBehaviour(key)) return false;
   }
   CopySweepRules(scene, stored);
+  // The loop's keys do not touch the sweeps (its budget's unit and default changed on 2026-11-30,
+  // and a sweep must not be integrated again for that).
+  stored.analysis.loop = scene.analysis.loop;
   return SceneBody(stored) == SceneBody(scene);
 }
 
