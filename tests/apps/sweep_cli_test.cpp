@@ -205,6 +205,23 @@ TEST_CASE("rubcont sweep: --resume takes a file from before a key added at its o
   CHECK_THAT(again.err, Contains("[sweep up] complete in"));  // read, not integrated again
 }
 
+TEST_CASE("rubcont sweep: --resume takes a file whose scene differs in the loop's keys only", "[sweep_cli]") {
+  // [analysis.loop] (its budget's unit and default changed on 2026-11-30) does not touch the sweeps.
+  TempDir dir;
+  const fs::path scene = ShortSweepScene(dir.path, kTwoSpeeds + "[analysis.loop]\nbudget = 2.0\n");
+  const fs::path h5 = dir.path / "sweep.h5";
+  const Outcome first =
+      testing::RubcontNoPython("sweep " + scene.string() + " --direction up --no-figures --out " + h5.string());
+  INFO(first.out << first.err);
+  REQUIRE(first.exit_code == 0);
+  ShortSweepScene(dir.path, kTwoSpeeds + "[analysis.loop]\nbudget = 9.0\n");
+  const Outcome again = testing::RubcontNoPython("sweep " + scene.string() +
+                                                 " --direction up --no-figures --resume --out " + h5.string());
+  INFO(again.out << again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("[sweep up] complete in"));  // read, not integrated again
+}
+
 TEST_CASE("rubcont sweep: the auto integrator takes Dormand-Prince where the contact bounces, and "
           "at a loose explicit tolerance would keep up a chatter that has died out",
           "[sweep_cli]") {
