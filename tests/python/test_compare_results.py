@@ -46,3 +46,9 @@ def test_a_key_the_new_scene_lost_is_a_difference(tmp_path):
 def test_other_lines_are_still_compared(tmp_path):
     changed = with_line('at_grazing = "continue"').replace("300.0", "600.0")
     assert differences(tmp_path, OLD_SCENE, changed) == ["/@scene_toml: text differs"]
+
+
+def test_the_loop_budget_default_of_before_its_unit_changed_is_today_s(tmp_path):
+    today = OLD_SCENE.replace("budget = 300.0", "budget = 4.0")
+    assert differences(tmp_path, OLD_SCENE, today) == []
+    assert differences(tmp_path, OLD_SCENE, today.replace("4.0", "5.0")) == ["/@scene_toml: text differs"]
