@@ -81,8 +81,9 @@ std::vector<PlannedWork> SweepPlanOf(const Scene& scene);
 PlannedWork CopiesWorkOf(const Scene& scene, std::string key, std::string value, std::string what,
                          double runs, double duration, double window);
 // The work `stages` plan: the sweeps for "sweep" and "loop" (the loop's run-up and run-down are
-// the sweeps' schedule), the loop's budget ([analysis.loop] budget as CPU at kCpuSecondsPerGigaWorkUnit; it counts the
-// runs too and the runs skip speeds along waves, so the sum is an upper bound), and the transients
+// the sweeps' schedule), the loop's budget ([analysis.loop] budget as CPU, at
+// kCpuSecondsPerGigaWorkUnit; it counts the runs too and the runs skip speeds along waves, so the
+// sum is an upper bound), and the transients
 // of [analysis.orbits.transient] and [analysis.tori.transient] (one run of their seconds). The
 // other stages' work is bounded by the code (continuation steps, grid points) and not counted.
 std::vector<PlannedWork> StagePlanOf(const Scene& scene, const std::vector<Stage>& stages);

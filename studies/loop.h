@@ -119,8 +119,8 @@ struct LoopOptions {
   // The work the whole loop may do [G work units] > 0: its integrations' cost
   // (IntegrationWorkDone, solvers/ode.h), the same on every machine and under any load, so that a
   // loop explains the same corners wherever it runs (a budget in CPU seconds explained fewer on a
-  // slower machine, or beside another job). A(a)'s loop: 5.0 G in 403 s of CPU here (2026-11-30),
-  // about 80 s per G; the flexible A(a)'s (32 states) costs about 1.2 times the CPU per G.
+  // slower machine, or beside another job). The committed loops took 75–94 s of CPU per G here
+  // (2026-11-30, two at a time; A(a) 9.67 G in 763 s).
   double budget = 4.0;
   // An escape design is not started with less of the budget left [G work units] ≥ 0: its first
   // batch (3 ensembles of 8 copies × 2 s) costs 0.3–0.6 G in an impacting whip (A(a), B(b)).

@@ -22,7 +22,8 @@ namespace rubcont {
 inline constexpr double kCpuSecondsPerSimulatedSecond = 10.0;
 
 // CPU seconds per G work units (IntegrationWorkDone, solvers/ode.h), for the loop's budget in the
-// estimate only: A(a)'s loop did 5.0 G in 403 s of CPU on this machine (2026-11-30).
+// estimate only: the committed loops took 75–94 s of CPU per G on this machine (2026-11-30, two
+// at a time; A(a) 9.67 G in 763 s).
 inline constexpr double kCpuSecondsPerGigaWorkUnit = 80.0;
 
 // One item of a plan: what one key or option asks for.
