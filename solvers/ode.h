@@ -170,11 +170,12 @@ void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b);
 // Runge–Kutta step of one state): 1 for the explicit methods, 4 for BDF, Adams and DIRK (a Newton
 // iteration with a dense LU now and then), 100 for Gauss collocation (its stages' LU and the STM's
 // solves); a step of an n-state system costs n times that. Measured on A(a)'s loop (16 states,
-// 2026-11-30, this 2-core machine): a Dormand–Prince step 1.3 µs of CPU, a BDF step at the orbit
-// checks' 1e-11 5 µs, a Gauss step of the orbit family with its STM about 130 µs (one probe each,
-// beside another run; the flexible A(a)'s f evaluation took 2.4 times the rigid one's). A coarse
-// model, not a clock: its point is that the same computation costs the same units on every machine
-// and under any load, where CPU seconds do not.
+// 2026-11-30, this 2-core machine): a Dormand–Prince step of the runs 1.3 µs of CPU, a BDF step of
+// L2's route and doubled family 5 µs, a Gauss step of the doubled family about 130 µs (the family's
+// CPU its BDF steps leave, over its Gauss steps), in one probe run alone; in an earlier pair run
+// side by side the flexible A(a)'s f evaluation took 2.4 times the rigid one's. A coarse model, not
+// a clock: its point is that the same computation costs the same units on every machine and under
+// any load, where CPU seconds do not.
 long long WorkPerStep(IntegrationMethod method);
 
 // The work (IntegrationStatistics::work) of every integration this process has finished, on any
