@@ -5,6 +5,9 @@ Usage: bench/against_peers.py [BUILD] [--out FILE] [--quick]
 
 Runs, one after the other on this machine, and writes FILE (default
 results/bench/against_peers.txt; written to FILE.tmp and renamed when complete):
+  0. time marching first (bench/march_bench --repeats 5 --schedule; printed as section 4): its
+     plain-C schedule, code that does not change with rubcont, against the same schedule's 16.6 s
+     on the day AUTO-07p was measured, gives this machine's speed against that day's;
   1. the Duffing scene as a whole process (`rubcont run scenes/duffing.toml`, figures off), the
      median CPU of 5, against AUTO-07p's whole process;
   2. A(a)'s modulated whip family (bench/whip_family_bench) from its Hopf point to 63 rpm and to its
@@ -17,8 +20,10 @@ results/bench/against_peers.txt; written to FILE.tmp and renamed when complete):
   5. the work-precision charts (scripts/work-precision.sh with this build).
 AUTO-07p's and the issue's figures are not re-run here: they are quoted from ../shared/peer-anchors
 (AUTO-07p built from source, measured on this machine kind on 2026-11-28, loaded), so the ratios
-against them compare runs made on different days; the ratios within this file are measured in one
-run. CPU time is user + system of the child processes (resource.getrusage), the figure to read on
+against them compare runs made on different days and machines. Each is given twice: against AUTO's
+quoted CPU, and against that CPU scaled by the plain C's (its schedule here over its 16.6 s of
+2026-11-28) — an estimate of what AUTO would take here, resting on one program's speed; the ratios
+within this file are measured in one run. CPU time is user + system of the child processes (resource.getrusage), the figure to read on
 the shared 2-core machine. --quick: the short variants only (checks the harness, ~1 min).
 """
 import os
@@ -36,6 +41,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 AUTO_DUFFING = (0.21, 0.27)
 AUTO_TO_63 = 16.4         # 36 orbits, NTST 400
 AUTO_TO_GRAZING = 85.2    # 136 orbits
+PLAIN_C_SCHEDULE = 16.6  # the plain-C schedule 44 → 184 rpm beside AUTO-07p, 2026-11-28
 AUTO_LANDMARKS = "branch points 57.00496, 72.558; period doubling 128.350; contact loss 132.531"
 
 
@@ -55,7 +61,13 @@ def load():
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
-def duffing(build, out, quick):
+def scaled(cpu, auto, machine):
+    """The ratio to AUTO's quoted CPU and, where the machine's factor is known, to it scaled."""
+    raw = f"{cpu / auto:.2f}"
+    return f"{raw} ({cpu / (auto * machine):.2f} scaled)" if machine else raw
+
+
+def duffing(build, out, quick, machine):
     cpus = []
     with tempfile.TemporaryDirectory() as tmp:
         for _ in range(2 if quick else 5):
@@ -66,7 +78,7 @@ def duffing(build, out, quick):
     out.append("## 1. Duffing scene, whole process (`rubcont run scenes/duffing.toml --no-figures -q`)")
     out.append(f"CPU s of {len(cpus)} runs: {' '.join(f'{c:.3f}' for c in cpus)}; median {median:.3f}")
     out.append(f"AUTO-07p whole process {AUTO_DUFFING[0]}–{AUTO_DUFFING[1]} s: ratio "
-               f"{median / AUTO_DUFFING[1]:.2f}–{median / AUTO_DUFFING[0]:.2f}")
+               f"{scaled(median, AUTO_DUFFING[1], machine)} – {scaled(median, AUTO_DUFFING[0], machine)}")
     folds = [line.strip() for line in summary.splitlines() if "fold" in line.lower()]
     out.extend(f"  {line}" for line in folds[:4])
 
@@ -90,7 +102,7 @@ WHIP_RUNS = [
 ]
 
 
-def whip_family(build, out, quick):
+def whip_family(build, out, quick, machine):
     out.append("## 2. A(a)'s modulated whip family (bench/whip_family_bench), AUTO-07p NTST 400")
     out.append(f"AUTO-07p: Hopf → 63 rpm {AUTO_TO_63} s (36 orbits), Hopf → contact loss "
                f"{AUTO_TO_GRAZING} s (136 orbits); {AUTO_LANDMARKS}")
@@ -107,12 +119,12 @@ def whip_family(build, out, quick):
     out.append("| run | orbits | Newton | CPU s | / AUTO | landmarks, rpm | past the grazing |")
     out.append("|---|---|---|---|---|---|---|")
     for label, orbits, newton, cpu, auto, landmarks, past in rows:
-        ratio = f"{cpu / auto:.2f}" if auto else "–"
+        ratio = scaled(cpu, auto, machine) if auto else "–"
         beyond = f"{past.group(1)} s, {past.group(2)} orbits" if past else "–"
         out.append(f"| {label} | {orbits} | {newton} | {cpu:.2f} | {ratio} | {landmarks} | {beyond} |")
 
 
-def flexible(build, out, quick):
+def flexible(build, out, quick, machine):
     out.append("## 3. The flexible A(a)'s modulated whip, CPU per orbit (first 25 orbits, 20 → 75 rpm)")
     base = open(os.path.join(ROOT, "scenes", "thesis_A_a_modulated_whip_flexible.toml")).read()
     variants = [("the stage's settings (tangent, uniform 400)", ""),
@@ -132,7 +144,9 @@ def flexible(build, out, quick):
 
 
 def marching(build, out, quick):
-    out.append("## 4. Time marching against the plain-C Dormand–Prince (bench/march_bench)")
+    """Section 4, run first; returns this machine's speed against 2026-11-28's (plain C's schedule
+    CPU over PLAIN_C_SCHEDULE), or None without the schedule (--quick)."""
+    out.append("## 4. Time marching against the plain-C Dormand–Prince (bench/march_bench; run first)")
     args = [f"{build}/bench/march_bench", "--repeats", "1" if quick else "5"]
     if quick:
         args += ["--regime", "whirl"]
@@ -140,9 +154,16 @@ def marching(build, out, quick):
         args += ["--schedule"]
     text, _ = run(args)
     out.append(text.rstrip())
+    plain = re.search(r"^  plain C\s+([\d.]+) s CPU for", text, re.M)
+    if not plain:
+        return None
+    machine = float(plain.group(1)) / PLAIN_C_SCHEDULE
+    out.append(f"this machine against 2026-11-28's: the plain-C schedule {plain.group(1)} s of CPU "
+               f"against {PLAIN_C_SCHEDULE} s, factor {machine:.2f} (AUTO's CPU scaled by it below)")
+    return machine
 
 
-def work_precision(build, out, quick):
+def work_precision(build, out, quick, machine):
     out.append("## 5. The work-precision charts (scripts/work-precision.sh)")
     if quick:
         out.append("  skipped (--quick)")
@@ -172,10 +193,16 @@ def main(argv):
     out = [f"# bench/against_peers.py {build} at {describe}, {time.strftime('%Y-%m-%d %H:%M')} UTC, "
            f"load at the start {load()}", ""]
     start = time.time()
-    for section in (duffing, whip_family, flexible, marching, work_precision):
-        section(build, out, quick)
-        out.append(f"(load {load()}, {time.time() - start:.0f} s wall so far)")
-        out.append("")
+    sections = {}
+    for name, section in (("marching", marching), ("duffing", duffing), ("whip", whip_family),
+                          ("flexible", flexible), ("work", work_precision)):
+        text = []
+        machine = section(build, text, quick) if name == "marching" else section(build, text, quick, machine)
+        text.append(f"(load {load()}, {time.time() - start:.0f} s wall so far)")
+        text.append("")
+        sections[name] = text
+    for name in ("duffing", "whip", "flexible", "marching", "work"):
+        out.extend(sections[name])
     path = os.path.join(ROOT, target)
     with open(path + ".tmp", "w") as f:
         f.write("\n".join(out) + "\n")
