@@ -23,8 +23,10 @@ AUTO-07p's and the issue's figures are not re-run here: they are quoted from ../
 against them compare runs made on different days and machines. Each is given twice: against AUTO's
 quoted CPU, and against that CPU scaled by the plain C's (its schedule here over its 16.6 s of
 2026-11-28) — an estimate of what AUTO would take here, resting on one program's speed; the ratios
-within this file are measured in one run. CPU time is user + system of the child processes (resource.getrusage), the figure to read on
-the shared 2-core machine. --quick: the short variants only (checks the harness, ~1 min).
+within this file are measured in one run. CPU time is user + system of the child processes
+(resource.getrusage), the figure to read on the shared 2-core machine. The "s wall so far" lines
+count in the order run (time marching first). --quick: the short variants only (checks the
+harness, ~1 min).
 """
 import os
 import re
