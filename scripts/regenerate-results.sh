@@ -35,8 +35,8 @@
 #                   speed by speed"); then C(b)'s and C(c)'s (results/thesis_C_{b,c}/attractor_*:
 #                   four runs, two side by side, about 25 min on 2 cores).
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
-#                   (level L4, results/thesis_A_a_flexible/: about 11 min on 2 cores), then the
-#                   flexible B(a)'s and C(a)'s sweeps (22 and 5 min of CPU).
+#                   (level L4, results/thesis_A_a_flexible/: about 16 min on 2 cores), then the
+#                   flexible B(a)'s and C(a)'s sweeps (30 and 7 min of CPU; 46 min in all, 2026-11-30).
 #   --whip-end      also re-runs where A(a)'s speed-up whip ends (`rubcont lifetime`,
 #                   results/thesis_A_a_whip_end/lifetime_*rpm.*: 16 copies × 5 s at 174 … 184 rpm
 #                   in 1 rpm steps with 4 check sweeps, about 35 min on 2 cores; then 16 × 10 s
@@ -164,9 +164,9 @@ if [[ "${1:-}" == "--attractor" ]]; then
   wait "$first"
 fi
 # Level L4 sweeps (docs/studies/flexible.md, "Level L4: does flexibility move the jumps?"): the flexible
-# A(a)'s speed-up and speed-down sweeps (11 min on one core) beside the lifetimes of its speed-up
-# whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 6 and 5 min on one core); then the
-# flexible B(a)'s and C(a)'s sweeps side by side (23 and 6 min of wall).
+# A(a)'s speed-up and speed-down sweeps (16 min on one core) beside the lifetimes of its speed-up
+# whip at 152–164 and 161–163 rpm (8 copies × 2 s per speed, 8 and 7 min on one core); then the
+# flexible B(a)'s and C(a)'s sweeps side by side (30 and 7 min of wall; 2026-11-30).
 if [[ "${1:-}" == "--flexible" ]]; then
   out=results/thesis_A_a_flexible
   mkdir -p "$out"
