@@ -380,18 +380,27 @@ void MeasureSchedule(const rubcont::Scene& scene) {
   double rubcont_cpu = 0.0, rubcont_simulated = 0.0;
   const std::string stays = "– (on the whip to 184 rpm)";
   std::string rubcont_leaves = stays;
+  // Per speed, for the ratio over the speeds both runs spend in the same regimes (before either
+  // leaves the whip: past it they integrate different motions).
+  std::vector<double> rubcont_cpu_at, rubcont_simulated_at, plain_cpu_at, plain_simulated_at;
+  std::size_t rubcont_left = o.parameters.size(), plain_left = o.parameters.size();
   {
     rubcont::SweepRun run(structure, options);
-    const double c0 = rubcont::ProcessCpuSeconds();
-    while (!run.stepper().Done() && !run.stepper().Failed()) run.stepper().Step();
-    rubcont_cpu = rubcont::CpuSecondsSince(c0);
+    while (!run.stepper().Done() && !run.stepper().Failed()) {
+      const double c0 = rubcont::ProcessCpuSeconds();
+      run.stepper().Step();
+      rubcont_cpu_at.push_back(rubcont::CpuSecondsSince(c0));
+    }
     const auto& points = run.stepper().points();
     for (std::size_t i = 0; i < points.size(); ++i) {
+      rubcont_cpu += i < rubcont_cpu_at.size() ? rubcont_cpu_at[i] : 0.0;
       rubcont_simulated += points[i].simulated_time;
+      rubcont_simulated_at.push_back(points[i].simulated_time);
       const double bp = -points[i].channels[0].peak.frequency;
       if (i > 0 && rubcont_leaves == stays && bp > 150.0 && rubcont::RadPerSecondToRpm(o.parameters[i]) > 100) {
         rubcont_leaves = fmt::format("{:g} → {:g} rpm", rubcont::RadPerSecondToRpm(o.parameters[i - 1]),
                                      rubcont::RadPerSecondToRpm(o.parameters[i]));
+        rubcont_left = i;
       }
     }
   }
@@ -412,11 +421,14 @@ void MeasureSchedule(const rubcont::Scene& scene) {
       const double c0 = rubcont::ProcessCpuSeconds();
       PlainDopri5(&model, kPlainOdeintControl, o.integrator.relative_tolerance, 0.0, x.data(),
                   times.data(), times.size(), samples.data(), &step, &statistics);
-      plain_cpu += rubcont::CpuSecondsSince(c0);
+      plain_cpu_at.push_back(rubcont::CpuSecondsSince(c0));
+      plain_cpu += plain_cpu_at.back();
       plain_simulated += times(times.size() - 1);
+      plain_simulated_at.push_back(times(times.size() - 1));
       const double rpm = rubcont::RadPerSecondToRpm(omega);
       if (plain_leaves == stays && rpm > 100 && Precession(samples, times.size(), o) > 150.0) {
         plain_leaves = fmt::format("{:g} → {:g} rpm", previous_rpm, rpm);
+        plain_left = plain_cpu_at.size() - 1;
       }
       previous_rpm = rpm;
     }
@@ -427,6 +439,20 @@ void MeasureSchedule(const rubcont::Scene& scene) {
               plain_cpu, plain_simulated, plain_cpu / plain_simulated, plain_leaves.c_str());
   std::printf("  ratio rubcont / plain, per simulated second: %.2f\n",
               (rubcont_cpu / rubcont_simulated) / (plain_cpu / plain_simulated));
+  const std::size_t common = std::min({rubcont_left, plain_left, rubcont_cpu_at.size(),
+                                       rubcont_simulated_at.size(), plain_cpu_at.size()});
+  if (common > 0) {
+    double rc = 0.0, rs = 0.0, pc = 0.0, ps = 0.0;
+    for (std::size_t i = 0; i < common; ++i) {
+      rc += rubcont_cpu_at[i];
+      rs += rubcont_simulated_at[i];
+      pc += plain_cpu_at[i];
+      ps += plain_simulated_at[i];
+    }
+    std::printf("  the speeds before either leaves the whip, 44 → %g rpm: rubcont %.2f s CPU for %.2f s, "
+                "plain C %.2f s for %.2f s: ratio %.2f\n",
+                rubcont::RadPerSecondToRpm(o.parameters[common - 1]), rc, rs, pc, ps, (rc / rs) / (pc / ps));
+  }
 }
 
 // The machine's load average over the last minute (/proc/loadavg; NaN where there is none): the
