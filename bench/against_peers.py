@@ -126,7 +126,7 @@ def whip_family(build, out, quick, machine):
         out.append(f"| {label} | {orbits} | {newton} | {cpu:.2f} | {ratio} | {landmarks} | {beyond} |")
 
 
-def flexible(build, out, quick, machine):
+def flexible(build, out, quick):
     out.append("## 3. The flexible A(a)'s modulated whip, CPU per orbit (first 25 orbits, 20 → 75 rpm)")
     base = open(os.path.join(ROOT, "scenes", "thesis_A_a_modulated_whip_flexible.toml")).read()
     variants = [("the stage's settings (tangent, uniform 400)", ""),
@@ -165,7 +165,7 @@ def marching(build, out, quick):
     return machine
 
 
-def work_precision(build, out, quick, machine):
+def work_precision(build, out, quick):
     out.append("## 5. The work-precision charts (scripts/work-precision.sh)")
     if quick:
         out.append("  skipped (--quick)")
@@ -195,16 +195,24 @@ def main(argv):
     out = [f"# bench/against_peers.py {build} at {describe}, {time.strftime('%Y-%m-%d %H:%M')} UTC, "
            f"load at the start {load()}", ""]
     start = time.time()
-    sections = {}
-    for name, section in (("marching", marching), ("duffing", duffing), ("whip", whip_family),
-                          ("flexible", flexible), ("work", work_precision)):
-        text = []
-        machine = section(build, text, quick) if name == "marching" else section(build, text, quick, machine)
+    sections = {name: [] for name in ("duffing", "whip", "flexible", "marching", "work")}  # printed order
+
+    def stamp(text):
         text.append(f"(load {load()}, {time.time() - start:.0f} s wall so far)")
         text.append("")
-        sections[name] = text
-    for name in ("duffing", "whip", "flexible", "marching", "work"):
-        out.extend(sections[name])
+
+    machine = marching(build, sections["marching"], quick)  # first: the machine's speed
+    stamp(sections["marching"])
+    duffing(build, sections["duffing"], quick, machine)
+    stamp(sections["duffing"])
+    whip_family(build, sections["whip"], quick, machine)
+    stamp(sections["whip"])
+    flexible(build, sections["flexible"], quick)
+    stamp(sections["flexible"])
+    work_precision(build, sections["work"], quick)
+    stamp(sections["work"])
+    for text in sections.values():
+        out.extend(text)
     path = os.path.join(ROOT, target)
     with open(path + ".tmp", "w") as f:
         f.write("\n".join(out) + "\n")

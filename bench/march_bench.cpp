@@ -31,6 +31,7 @@
 // Usage: march_bench [SCENE] [--repeats K] [--regime NAME] [--schedule] [--schedule-only] [--methods]
 // Default: scenes/thesis_A_a.toml, 5 repeats.
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -391,9 +392,9 @@ void MeasureSchedule(const rubcont::Scene& scene) {
       run.stepper().Step();
       rubcont_cpu_at.push_back(rubcont::CpuSecondsSince(c0));
     }
+    rubcont_cpu = std::accumulate(rubcont_cpu_at.begin(), rubcont_cpu_at.end(), 0.0);
     const auto& points = run.stepper().points();
     for (std::size_t i = 0; i < points.size(); ++i) {
-      rubcont_cpu += i < rubcont_cpu_at.size() ? rubcont_cpu_at[i] : 0.0;
       rubcont_simulated += points[i].simulated_time;
       rubcont_simulated_at.push_back(points[i].simulated_time);
       const double bp = -points[i].channels[0].peak.frequency;
