@@ -4,6 +4,8 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/eigen_decompositions.h"  // compiled once, not in each file
+
 namespace rubcont {
 
 using Index = Eigen::Index;
