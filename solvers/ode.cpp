@@ -114,12 +114,24 @@ long long WorkPerStep(IntegrationMethod method) {
 }
 
 namespace {
-std::atomic<long long> integration_work{0};
-thread_local long long thread_integration_work = 0;
+thread_local WorkAccount* current_work_account = nullptr;
 }  // namespace
 
-long long IntegrationWorkDone() { return integration_work.load(std::memory_order_relaxed); }
-long long IntegrationWorkDoneOnThread() { return thread_integration_work; }
+WorkAccount::WorkAccount() : outer_(current_work_account) {}
+
+void WorkAccount::Add(long long work) {
+  for (WorkAccount* account = this; account != nullptr; account = account->outer_) {
+    account->work_.fetch_add(work, std::memory_order_relaxed);
+  }
+}
+
+WorkScope::WorkScope(WorkAccount* account) : previous_(current_work_account) {
+  current_work_account = account;
+}
+
+WorkScope::~WorkScope() { current_work_account = previous_; }
+
+WorkAccount* CurrentWorkAccount() { return current_work_account; }
 
 std::string IntegrationResult::BriefReport() const {
   std::string report = fmt::format("{} at t = {:.6g}: {} steps, {} f evaluations", ToString(status),
@@ -291,8 +303,7 @@ class OdeIntegrator::Impl {
                                : odeint_ ? odeint_->Run(request)
                                          : arkode_->Run(request);
     result.statistics.work = result.statistics.steps * WorkPerStep(options_.method) * context_.n;
-    integration_work.fetch_add(result.statistics.work, std::memory_order_relaxed);
-    thread_integration_work += result.statistics.work;
+    if (current_work_account != nullptr) current_work_account->Add(result.statistics.work);
     context_.RethrowIfAny();
     return result;
   }

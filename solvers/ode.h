@@ -24,6 +24,7 @@
 // after the first. It is not thread-safe; use one per thread.
 #pragma once
 
+#include <atomic>
 #include <complex>
 #include <functional>
 #include <memory>
@@ -178,11 +179,40 @@ void Accumulate(IntegrationStatistics& a, const IntegrationStatistics& b);
 // any load, where CPU seconds do not.
 long long WorkPerStep(IntegrationMethod method);
 
-// The work (IntegrationStatistics::work) of every integration this process has finished, on any
-// thread, and of those the calling thread ran. Differences of them count a computation's cost in
-// work units.
-long long IntegrationWorkDone();
-long long IntegrationWorkDoneOnThread();
+// The work (IntegrationStatistics::work) of one computation's integrations: those of the thread
+// that made its WorkScope current and of the threads ParallelFor starts from there
+// (solvers/parallel.h carries the account to its workers), and of no other. Decision: the loop's
+// budget read a count of the whole process, so two loops on two threads of one process (e.g. from
+// Python) would each have counted the other's work. An account made while another is current is
+// nested in it (its work is the outer account's too) and must not outlive it.
+class WorkAccount {
+ public:
+  WorkAccount();  // nested in the calling thread's current account, if any
+  WorkAccount(const WorkAccount&) = delete;
+  WorkAccount& operator=(const WorkAccount&) = delete;
+  long long Work() const { return work_.load(std::memory_order_relaxed); }
+  // Adds to this account and to the ones it is nested in.
+  void Add(long long work);
+
+ private:
+  std::atomic<long long> work_{0};
+  WorkAccount* const outer_;
+};
+
+// Makes `account` the calling thread's current one until the scope ends (then the previous one).
+class WorkScope {
+ public:
+  explicit WorkScope(WorkAccount* account);
+  ~WorkScope();
+  WorkScope(const WorkScope&) = delete;
+  WorkScope& operator=(const WorkScope&) = delete;
+
+ private:
+  WorkAccount* const previous_;
+};
+
+// The calling thread's current account (nullptr: none).
+WorkAccount* CurrentWorkAccount();
 
 // One zero of an event function.
 struct IntegrationEvent {

@@ -7,6 +7,8 @@
 #include <thread>
 #include <vector>
 
+#include "solvers/ode.h"
+
 namespace rubcont {
 
 void ParallelFor(int n, int threads, const std::function<void(int)>& job) {
@@ -14,7 +16,9 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& job) {
   std::atomic<bool> failed{false};
   std::mutex mutex;
   std::exception_ptr error;
+  WorkAccount* const account = CurrentWorkAccount();  // the workers' integrations are the caller's
   auto work = [&]() {
+    const WorkScope counting(account);
     for (int i = next.fetch_add(1); i < n && !failed.load(); i = next.fetch_add(1)) {
       try {
         job(i);

@@ -11,7 +11,8 @@ namespace rubcont {
 
 // Calls job(i) for every i in 0 … n − 1 over min(threads, n) threads (threads ≥ 1; the calling
 // thread is one of them) and returns when all are done. The first exception a job throws is
-// rethrown here; the jobs not yet started are then skipped.
+// rethrown here; the jobs not yet started are then skipped. The integrations of every job count
+// in the caller's current WorkAccount (solvers/ode.h).
 void ParallelFor(int n, int threads, const std::function<void(int)>& job);
 
 // The threads for a "threads" option: the value itself when positive, one per core for 0.

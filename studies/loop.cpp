@@ -199,7 +199,8 @@ CopyOutcome Unpack(const std::string& s) {
 CopyOutcome RunCopy(const RubStructure& structure, const RubSweepOptions& sweep, double window, double perturbation,
                     const Vector& x0, double omega, int stretches, std::uint64_t seed, const ArrivalTarget& target) {
   const double cpu_start = ThreadCpuSeconds();
-  const long long work_start = IntegrationWorkDoneOnThread();
+  WorkAccount copy_work;  // nested in the loop's where this thread runs the loop's jobs
+  const WorkScope counting(&copy_work);
   SweepOptions s = sweep.sweep;
   s.parameters.assign(static_cast<std::size_t>(stretches), omega);
   s.window = window;
@@ -226,7 +227,7 @@ CopyOutcome RunCopy(const RubStructure& structure, const RubSweepOptions& sweep,
     }
   }
   out.cpu_seconds = ThreadCpuSeconds() - cpu_start;
-  out.work = IntegrationWorkDoneOnThread() - work_start;
+  out.work = copy_work.Work();
   return out;
 }
 
@@ -617,9 +618,10 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
   double escape_cpu = 0.0;
   long long escape_work = 0;
   auto spent = [&] { return cpu() + escape_cpu; };
-  const long long work_start = IntegrationWorkDone();
-  // What the budget counts [G work units].
-  auto used = [&] { return 1e-9 * static_cast<double>(IntegrationWorkDone() - work_start + escape_work); };
+  // What the budget counts [G work units]: this loop's integrations, not another thread's.
+  WorkAccount loop_work;
+  const WorkScope counting(&loop_work);
+  auto used = [&] { return 1e-9 * static_cast<double>(loop_work.Work() + escape_work); };
 
   // L1: the waves of the law the sweep integrates, over both runs' speeds; and at ε/10.
   RubStructure balanced = structure;
@@ -988,7 +990,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       for (std::size_t r = 0; r < requests.size(); ++r)
         for (int k = 0; k < requests[r].copies; ++k) list.push_back(Job{r, k});
       const double local_start = ProcessCpuSeconds();
-      const long long local_work = IntegrationWorkDone();
+      const long long local_work = loop_work.Work();
       const std::vector<std::string> out = jobs(static_cast<int>(list.size()), [&](int n) {
         const Job& job = list[static_cast<std::size_t>(n)];
         const EscapeRequest& q = requests[job.request];
@@ -1019,7 +1021,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       // The copies run here are in this process's counts already; those of other ranks are not.
       batch.cost = 1e-9 * static_cast<double>(copies_work);
       escape_cpu += std::max(0.0, copies_cpu - (ProcessCpuSeconds() - local_start));
-      escape_work += std::max(0LL, copies_work - (IntegrationWorkDone() - local_work));
+      escape_work += std::max(0LL, copies_work - (loop_work.Work() - local_work));
       if (failed > 0) note(fmt::format("  {} copies failed to integrate (counted neither as escaped nor as stayed)", failed));
       for (EscapeObservations& e : batch.observations) {
         if (e.escape_stretch.empty() && e.stayed == 0) ++e.stayed;  // never: every copy failed

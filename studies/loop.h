@@ -116,8 +116,8 @@ struct LoopOptions {
   // (121.0) and up to its grazing (137.6) took 120 steps on the loop's 400 intervals (237.5 s of
   // CPU), 112 on 1600 with the curved predictor (results/thesis_A_a_whip_doubling).
   int doubled_steps = 200;
-  // The work the whole loop may do [G work units] > 0: its integrations' cost
-  // (IntegrationWorkDone, solvers/ode.h), the same on every machine and under any load, so that a
+  // The work the whole loop may do [G work units] > 0: its integrations' cost (counted in a
+  // WorkAccount of its own, solvers/ode.h), the same on every machine and under any load, so that a
   // loop explains the same corners wherever it runs (a budget in CPU seconds explained fewer on a
   // slower machine, or beside another job). The committed loops took 75–94 s of CPU per G here
   // (2026-11-30, two at a time; A(a) 9.67 G in 763 s).

@@ -21,8 +21,8 @@ namespace rubcont {
 // the limits (WorkLimits) leave room for a hundred times over.
 inline constexpr double kCpuSecondsPerSimulatedSecond = 10.0;
 
-// CPU seconds per G work units (IntegrationWorkDone, solvers/ode.h), for the loop's budget in the
-// estimate only: the committed loops took 75–94 s of CPU per G on this machine (2026-11-30, two
+// CPU seconds per G work units (IntegrationStatistics::work, solvers/ode.h), for the loop's budget
+// in the estimate only: the committed loops took 75–94 s of CPU per G on this machine (2026-11-30, two
 // at a time; A(a) 9.67 G in 763 s).
 inline constexpr double kCpuSecondsPerGigaWorkUnit = 80.0;
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -15,6 +16,7 @@
 
 #include "flow_differences.h"
 #include "models/textbook.h"
+#include "solvers/parallel.h"
 
 namespace rubcont {
 namespace {
@@ -94,7 +96,7 @@ TEST_CASE("state and state-transition matrix of a linear system match the matrix
 }
 
 TEST_CASE("work: steps × the method's weight × states, the same for the same integration, summed "
-          "over the process and the calling thread",
+          "in the current work account",
           "[ode]") {
   LinearSystem system;
   for (IntegrationMethod method : {IntegrationMethod::kBdf, IntegrationMethod::kDormandPrince,
@@ -102,8 +104,8 @@ TEST_CASE("work: steps × the method's weight × states, the same for the same i
     CAPTURE(ToString(method));
     OdeIntegrator integrator(system, Tight(method));
     Vector x(3);
-    const long long process_before = IntegrationWorkDone();
-    const long long thread_before = IntegrationWorkDoneOnThread();
+    WorkAccount account;
+    const WorkScope counting(&account);
     const IntegrationResult first = integrator.Integrate(0.0, X0(), 3.0, x);
     const IntegrationResult second = integrator.Integrate(0.0, X0(), 3.0, x);
     REQUIRE(first.Succeeded());
@@ -111,12 +113,59 @@ TEST_CASE("work: steps × the method's weight × states, the same for the same i
     CHECK(first.statistics.work == first.statistics.steps * WorkPerStep(method) * 3);
     CHECK(first.statistics.work > 0);
     CHECK(second.statistics.work == first.statistics.work);
-    CHECK(IntegrationWorkDoneOnThread() - thread_before == 2 * first.statistics.work);
-    // Other tests' threads may integrate meanwhile: the process's count grows at least as much.
-    CHECK(IntegrationWorkDone() - process_before >= 2 * first.statistics.work);
+    CHECK(account.Work() == 2 * first.statistics.work);
   }
   CHECK(WorkPerStep(IntegrationMethod::kDormandPrince) < WorkPerStep(IntegrationMethod::kBdf));
   CHECK(WorkPerStep(IntegrationMethod::kBdf) < WorkPerStep(IntegrationMethod::kGaussCollocation));
+}
+
+TEST_CASE("work accounts: each counts its own thread's integrations and its ParallelFor workers', "
+          "not another thread's, and a nested one's work counts in its outer one",
+          "[ode]") {
+  LinearSystem system;
+  // Its work, or −1 where it failed (no assertions on other threads: Catch2's are not thread-safe).
+  auto integrate = [&system]() -> long long {
+    OdeIntegrator integrator(system, Tight(IntegrationMethod::kDormandPrince));
+    Vector x(3);
+    const IntegrationResult result = integrator.Integrate(0.0, X0(), 3.0, x);
+    return result.Succeeded() ? result.statistics.work : -1;
+  };
+  // Two computations on two threads of one process at once, each with its own account.
+  long long own[2] = {0, 0}, counted[2] = {0, 0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 2; ++t) {
+    threads.emplace_back([&, t] {
+      WorkAccount account;
+      const WorkScope scope(&account);
+      for (int k = 0; k <= t; ++k) own[t] += integrate();  // the second thread integrates twice
+      counted[t] = account.Work();
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  CHECK(own[0] > 0);
+  CHECK(own[1] == 2 * own[0]);
+  CHECK(counted[0] == own[0]);
+  CHECK(counted[1] == own[1]);
+  // Jobs over three threads count in the caller's account; a nested account's work counts in its
+  // outer one too; with the scope ended, the account counts no more.
+  WorkAccount outer;
+  long long one = 0;
+  {
+    const WorkScope scope(&outer);
+    std::vector<long long> jobs(6);
+    ParallelFor(6, 3, [&](int i) { jobs[static_cast<std::size_t>(i)] = integrate(); });
+    one = integrate();
+    CHECK(one > 0);
+    for (const long long work : jobs) CHECK(work == one);
+    WorkAccount inner;
+    const WorkScope nested(&inner);
+    CHECK(integrate() == one);
+    CHECK(inner.Work() == one);
+  }
+  CHECK(outer.Work() == 8 * one);
+  CHECK(CurrentWorkAccount() == nullptr);
+  CHECK(integrate() == one);
+  CHECK(outer.Work() == 8 * one);
 }
 
 TEST_CASE("tangents: Φ applied to k directions, by every method, between full-STM calls",
