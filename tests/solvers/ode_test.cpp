@@ -1,6 +1,7 @@
 #include "solvers/constants.h"
 #include "solvers/ode.h"
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -130,14 +131,23 @@ TEST_CASE("work accounts: each counts its own thread's integrations and its Para
     const IntegrationResult result = integrator.Integrate(0.0, X0(), 3.0, x);
     return result.Succeeded() ? result.statistics.work : -1;
   };
-  // Two computations on two threads of one process at once, each with its own account.
+  // Two computations on two threads of one process at once, each with its own account: both
+  // accounts are made before either thread integrates and read after both have (a count of the
+  // process would give each the sum).
   long long own[2] = {0, 0}, counted[2] = {0, 0};
+  std::atomic<int> made{0}, done{0};
+  auto wait_for_both = [](std::atomic<int>& arrived) {
+    ++arrived;
+    while (arrived.load() < 2) std::this_thread::yield();
+  };
   std::vector<std::thread> threads;
   for (int t = 0; t < 2; ++t) {
     threads.emplace_back([&, t] {
       WorkAccount account;
       const WorkScope scope(&account);
+      wait_for_both(made);
       for (int k = 0; k <= t; ++k) own[t] += integrate();  // the second thread integrates twice
+      wait_for_both(done);
       counted[t] = account.Work();
     });
   }
