@@ -31,10 +31,11 @@
 // Usage: march_bench [SCENE] [--repeats K] [--regime NAME] [--schedule] [--schedule-only] [--methods]
 // Default: scenes/thesis_A_a.toml, 5 repeats.
 #include <algorithm>
-#include <numeric>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -378,7 +379,6 @@ void MeasureSchedule(const rubcont::Scene& scene) {
               o.parameters.size(), windows * o.window, o.dwell);
 
   // rubcont.
-  double rubcont_cpu = 0.0, rubcont_simulated = 0.0;
   const std::string stays = "– (on the whip to 184 rpm)";
   std::string rubcont_leaves = stays;
   // Per speed, for the ratio over the speeds both runs spend in the same regimes (before either
@@ -392,10 +392,8 @@ void MeasureSchedule(const rubcont::Scene& scene) {
       run.stepper().Step();
       rubcont_cpu_at.push_back(rubcont::CpuSecondsSince(c0));
     }
-    rubcont_cpu = std::accumulate(rubcont_cpu_at.begin(), rubcont_cpu_at.end(), 0.0);
     const auto& points = run.stepper().points();
     for (std::size_t i = 0; i < points.size(); ++i) {
-      rubcont_simulated += points[i].simulated_time;
       rubcont_simulated_at.push_back(points[i].simulated_time);
       const double bp = -points[i].channels[0].peak.frequency;
       if (i > 0 && rubcont_leaves == stays && bp > 150.0 && rubcont::RadPerSecondToRpm(o.parameters[i]) > 100) {
@@ -407,7 +405,6 @@ void MeasureSchedule(const rubcont::Scene& scene) {
   }
   // The plain reference: the same speeds, the same start (rest plus the impulse), windows × window
   // each, sampled at the same rate.
-  double plain_cpu = 0.0, plain_simulated = 0.0;
   std::string plain_leaves = stays;
   {
     Vector x = rubcont::RubImpulseIncrement(structure, options.impulse);
@@ -423,8 +420,6 @@ void MeasureSchedule(const rubcont::Scene& scene) {
       PlainDopri5(&model, kPlainOdeintControl, o.integrator.relative_tolerance, 0.0, x.data(),
                   times.data(), times.size(), samples.data(), &step, &statistics);
       plain_cpu_at.push_back(rubcont::CpuSecondsSince(c0));
-      plain_cpu += plain_cpu_at.back();
-      plain_simulated += times(times.size() - 1);
       plain_simulated_at.push_back(times(times.size() - 1));
       const double rpm = rubcont::RadPerSecondToRpm(omega);
       if (plain_leaves == stays && rpm > 100 && Precession(samples, times.size(), o) > 150.0) {
@@ -434,6 +429,13 @@ void MeasureSchedule(const rubcont::Scene& scene) {
       previous_rpm = rpm;
     }
   }
+  // The first `count` speeds' sum (all of them for SIZE_MAX).
+  auto sum = [](const std::vector<double>& at, std::size_t count) {
+    return std::accumulate(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(std::min(count, at.size())), 0.0);
+  };
+  const std::size_t all = SIZE_MAX;
+  const double rubcont_cpu = sum(rubcont_cpu_at, all), rubcont_simulated = sum(rubcont_simulated_at, all);
+  const double plain_cpu = sum(plain_cpu_at, all), plain_simulated = sum(plain_simulated_at, all);
   std::printf("  rubcont sweep   %7.2f s CPU for %5.2f s simulated (%.3f s/s), leaves the whip at %s\n",
               rubcont_cpu, rubcont_simulated, rubcont_cpu / rubcont_simulated, rubcont_leaves.c_str());
   std::printf("  plain C         %7.2f s CPU for %5.2f s simulated (%.3f s/s), leaves the whip at %s\n",
@@ -443,13 +445,8 @@ void MeasureSchedule(const rubcont::Scene& scene) {
   const std::size_t common = std::min({rubcont_left, plain_left, rubcont_cpu_at.size(),
                                        rubcont_simulated_at.size(), plain_cpu_at.size()});
   if (common > 0) {
-    double rc = 0.0, rs = 0.0, pc = 0.0, ps = 0.0;
-    for (std::size_t i = 0; i < common; ++i) {
-      rc += rubcont_cpu_at[i];
-      rs += rubcont_simulated_at[i];
-      pc += plain_cpu_at[i];
-      ps += plain_simulated_at[i];
-    }
+    const double rc = sum(rubcont_cpu_at, common), rs = sum(rubcont_simulated_at, common);
+    const double pc = sum(plain_cpu_at, common), ps = sum(plain_simulated_at, common);
     std::printf("  the speeds before either leaves the whip, 44 → %g rpm: rubcont %.2f s CPU for %.2f s, "
                 "plain C %.2f s for %.2f s: ratio %.2f\n",
                 rubcont::RadPerSecondToRpm(o.parameters[common - 1]), rc, rs, pc, ps, (rc / rs) / (pc / ps));
