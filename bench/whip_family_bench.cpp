@@ -9,7 +9,7 @@
 //                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
 //                          [--step-tolerance D] [--failure-memory N]
 //                          [--curved-predictor] [--stop-at-grazing] [--adapt-mesh K]
-//                          [--mesh-floor F] [--verbose]
+//                          [--mesh-floor F] [--verbose] [--digest]
 // --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
@@ -20,12 +20,15 @@
 // (default 0, off); --curved-predictor: StepOptions::curved_predictor (the parabola through the
 // previous point as the corrector's first iterate); --adapt-mesh K: ShootingOptions::
 // adapt_mesh_every (the collocation steps equidistributed on every K-th orbit; default 0, uniform),
-// --mesh-floor: its adapt_mesh_floor.
+// --mesh-floor: its adapt_mesh_floor. --digest: a hash of every bit of the orbits and special
+// points (unknowns, speed, measures, tangents, multipliers), to tell two builds' runs apart or not.
 // Default: to 63 rpm (the first figure), the stage's settings.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -43,12 +46,49 @@
 namespace rubcont {
 namespace {
 
+// FNV-1a over the bytes of every number the family's points and special points hold.
+class Fnv1a {
+ public:
+  void Add(double x) {
+    unsigned char bytes[sizeof x];
+    std::memcpy(bytes, &x, sizeof x);
+    for (unsigned char b : bytes) hash_ = (hash_ ^ b) * 1099511628211ULL;
+  }
+  void Add(const Vector& v) {
+    for (Index i = 0; i < v.size(); ++i) Add(v(i));
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 14695981039346656037ULL;
+};
+
+std::uint64_t Digest(const Branch& branch) {
+  Fnv1a hash;
+  for (const BranchPoint& p : branch.points) {
+    hash.Add(p.lambda);
+    hash.Add(p.u);
+    hash.Add(p.measures);
+    hash.Add(p.tangent);
+    for (Index i = 0; i < p.spectrum.values.size(); ++i) {
+      hash.Add(p.spectrum.values(i).real());
+      hash.Add(p.spectrum.values(i).imag());
+    }
+  }
+  for (const SpecialPoint& s : branch.special_points) {
+    hash.Add(s.lambda);
+    hash.Add(s.u);
+    hash.Add(s.measures);
+  }
+  return hash.value();
+}
+
 int Main(int argc, char** argv) {
   double to_rpm = 63.0, angle = 0.3, max_angle = 0.0, growth = 2.0, max_step = 1.0,
          tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
   int intervals = 400, iterations = 5, steps = 400, failure_memory = 0, adapt_mesh = 0;
   double mesh_floor = ShootingOptions{}.adapt_mesh_floor;
-  bool verbose = false, stop_at_grazing = false, curved_predictor = false;
+  bool verbose = false, stop_at_grazing = false, curved_predictor = false, digest = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -69,6 +109,7 @@ int Main(int argc, char** argv) {
     else if (a == "--adapt-mesh") adapt_mesh = static_cast<int>(next());
     else if (a == "--mesh-floor") mesh_floor = next();
     else if (a == "--verbose") verbose = true;
+    else if (a == "--digest") digest = true;
   }
   const double cpu_waves = ProcessCpuSeconds();
   const AaWhipStarts a = ComputeAaWhipStarts();
@@ -143,6 +184,7 @@ int Main(int argc, char** argv) {
                   branch.points.size() - 1 - static_cast<std::size_t>(s.index), branch.message.c_str());
     }
   }
+  if (digest) std::printf("  digest %016llx\n", static_cast<unsigned long long>(Digest(branch)));
   if (verbose) {
     // The tangent's turn from the previous point [rad]: which of the step's limits binds.
     for (std::size_t i = 0; i < branch.points.size(); ++i) {
