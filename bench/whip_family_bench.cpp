@@ -9,7 +9,7 @@
 //                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
 //                          [--step-tolerance D] [--failure-memory N]
 //                          [--curved-predictor] [--stop-at-grazing] [--adapt-mesh K]
-//                          [--mesh-floor F] [--verbose] [--digest]
+//                          [--mesh-floor F] [--verbose] [--digest] [--no-defect-check]
 // --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
@@ -22,6 +22,9 @@
 // adapt_mesh_every (the collocation steps equidistributed on every K-th orbit; default 0, uniform),
 // --mesh-floor: its adapt_mesh_floor. --digest: a hash of every bit of the orbits and special
 // points (unknowns, speed, measures, tangents, multipliers), to tell two builds' runs apart or not.
+// The CPU of the orbits' measures is printed per measure; --no-defect-check drops the "defect"
+// measure (RubOrbitMeasures' CVODES BDF ≤ 2 at 1e-11 over every orbit: an independent check
+// AUTO-07p has no counterpart of), to set the continuation alone beside AUTO's.
 // Default: to 63 rpm (the first figure), the stage's settings.
 #include <algorithm>
 #include <cmath>
@@ -88,7 +91,8 @@ int Main(int argc, char** argv) {
          tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
   int intervals = 400, iterations = 5, steps = 400, failure_memory = 0, adapt_mesh = 0;
   double mesh_floor = ShootingOptions{}.adapt_mesh_floor;
-  bool verbose = false, stop_at_grazing = false, curved_predictor = false, digest = false;
+  bool verbose = false, stop_at_grazing = false, curved_predictor = false, digest = false,
+       defect_check = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -110,6 +114,7 @@ int Main(int argc, char** argv) {
     else if (a == "--mesh-floor") mesh_floor = next();
     else if (a == "--verbose") verbose = true;
     else if (a == "--digest") digest = true;
+    else if (a == "--no-defect-check") defect_check = false;
   }
   const double cpu_waves = ProcessCpuSeconds();
   const AaWhipStarts a = ComputeAaWhipStarts();
@@ -143,13 +148,33 @@ int Main(int argc, char** argv) {
   if (residual > 0.0) c.corrector.residual_tolerance = residual;
   if (step_tolerance > 0.0) c.corrector.step_tolerance = step_tolerance;
   options.orbits.stop_at_grazing = stop_at_grazing;
+  // The family's own measures (ContinueModulatedOrbits' default), each timed.
+  const RubHopfStart& start = starts.front();
+  std::vector<OrbitMeasure> measures =
+      RubFamilyMeasures(RubRotatingFrame(structure, start.precession, start.speed), shooting, 1);
+  if (!defect_check) {
+    measures.erase(std::remove_if(measures.begin(), measures.end(),
+                                  [](const OrbitMeasure& m) { return m.name == "defect"; }),
+                   measures.end());
+  }
+  std::vector<double> measure_cpu(measures.size(), 0.0);
+  for (std::size_t i = 0; i < measures.size(); ++i) {
+    options.orbits.measures.push_back(
+        {measures[i].name, [evaluate = measures[i].evaluate, &cpu = measure_cpu[i]](
+                               const OrbitSamples& orbit) {
+           const double cpu0 = ProcessCpuSeconds();
+           const double value = evaluate(orbit);
+           cpu += CpuSecondsSince(cpu0);
+           return value;
+         }});
+  }
   std::vector<double> cpu_at;  // CPU seconds at each accepted orbit
   options.on_step = [&](const Branch& b) {
     cpu_at.resize(b.points.size(), ProcessCpuSeconds());
     return true;
   };
   const double cpu0 = ProcessCpuSeconds();
-  const RubModulatedOrbits result = ContinueModulatedOrbits(structure, branches, starts.front(), options);
+  const RubModulatedOrbits result = ContinueModulatedOrbits(structure, branches, start, options);
   const double cpu = CpuSecondsSince(cpu0);
   const Branch& branch = result.orbits.branch;
   long newton = 0;
@@ -157,7 +182,7 @@ int Main(int argc, char** argv) {
   std::printf("whip_family_bench: Hopf %.8f rpm → %g rpm, %d intervals, angle %g, iterations %d, "
               "max angle %g, growth %g, max step %g, tolerance %g, residual %g, correction %g, "
               "failure memory %d%s, mesh %s (floor %g)\n",
-              RadPerSecondToRpm(starts.front().speed), to_rpm, intervals, angle, iterations,
+              RadPerSecondToRpm(start.speed), to_rpm, intervals, angle, iterations,
               c.step.max_angle, growth, max_step, tolerance, c.corrector.residual_tolerance,
               c.corrector.step_tolerance, failure_memory, curved_predictor ? ", curved predictor" : "",
               adapt_mesh > 0 ? fmt::format("adapted every {} orbits", adapt_mesh).c_str() : "uniform",
@@ -174,6 +199,14 @@ int Main(int argc, char** argv) {
   std::printf("  %d corrector failures, %d angle rejections, %ld residuals, %ld Jacobians\n",
               st.corrector_failures, st.angle_rejections, st.residual_evaluations,
               st.jacobian_evaluations);
+  double all_measures = 0.0;
+  std::string per_measure;
+  for (std::size_t i = 0; i < measures.size(); ++i) {
+    all_measures += measure_cpu[i];
+    if (measure_cpu[i] >= 0.005) per_measure += fmt::format(", {} {:.2f} s", measures[i].name, measure_cpu[i]);
+  }
+  std::printf("  the orbits' measures: %.2f s CPU%s%s\n", all_measures, per_measure.c_str(),
+              defect_check ? "" : " (no defect check)");
   for (const SpecialPoint& s : branch.special_points) {
     std::printf("  %-22s %.6f rpm%s %s\n", ToString(s.type), RadPerSecondToRpm(s.lambda),
                 s.converged ? "" : " (guess)", s.label.c_str());

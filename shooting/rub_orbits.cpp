@@ -261,7 +261,9 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u = Vector::Zero(4 * nc);
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
-  options.orbits.measures = RubFamilyMeasures(frame, options.orbits.shooting, 1);
+  if (options.orbits.measures.empty()) {
+    options.orbits.measures = RubFamilyMeasures(frame, options.orbits.shooting, 1);
+  }
   options.orbits.test_functions = RubGrazingTests(structure);
   RubModulatedOrbits result;
   result.hopf = start;

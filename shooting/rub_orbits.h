@@ -90,7 +90,9 @@ struct RubModulatedOrbits {
 
 // The orbits born at `start` (a point of StableBoundaryHopfPoints(branches, ...)) of the tanh-law
 // branches of `structure`, continued in speed with `options` (kind is set to kRelative, the
-// measures to RubOrbitMeasures and the test functions to RubGrazingTests). With
+// measures to RubFamilyMeasures unless options.orbits.measures holds the caller's own for the
+// family and its side branches — of its frame, RubRotatingFrame(structure, start.precession,
+// start.speed) — and the test functions to RubGrazingTests). With
 // switch_at_branch_points, the other branch through every located branch point (converged; on a
 // left–right symmetric rotor also one located only to a bracket) is followed over the same range
 // (ContinueOrbitsFromBranchPoint: of a symmetric rotor, one of two mirror images where the point
