@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
+#include <vector>
+
 
 #include <catch2/catch.hpp>
 
@@ -27,9 +30,10 @@ struct ModulatedWhip {
 };
 
 // The orbits born at case A(a)'s first Hopf point bounding a stable whirl (tanh law), 4 segments,
-// continued in [40 rpm, rpm_max] with `integrator`.
+// continued in [40 rpm, rpm_max] with `integrator` (and `measures`, when given).
 RubModulatedOrbits ContinueCaseAa(const RubStructure& structure, double rpm_max,
-                                  const IntegratorOptions& integrator, int max_steps) {
+                                  const IntegratorOptions& integrator, int max_steps,
+                                  std::vector<OrbitMeasure> measures = {}) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(40);
   options.search.speed_max = RpmToRadPerSecond(70);
@@ -46,6 +50,7 @@ RubModulatedOrbits ContinueCaseAa(const RubStructure& structure, double rpm_max,
   hopf.orbits.shooting.sensitivities_in_residual = true;
   hopf.orbits.continuation.bounds.max_steps = max_steps;
   hopf.orbits.continuation.step.target_iterations = 5;
+  hopf.orbits.measures = std::move(measures);
   return ContinueModulatedOrbits(structure, branches, starts.front(), hopf);
 }
 
@@ -209,6 +214,32 @@ TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reprod
     CHECK(b.Measure("unresolved_multiplier")(i) > 0.3);
     CHECK(b.Measure("unresolved_multiplier")(i) < 0.8);
   }
+}
+
+TEST_CASE("case A(a): the caller's own measures replace the family's default ones",
+          "[rub_orbits][shooting][relative][gauss]") {
+  const RubStructure structure = TwoPointStructure(CaseAaTanh());
+  IntegratorOptions gauss;
+  gauss.method = IntegrationMethod::kGaussCollocation;
+  gauss.collocation_steps = 50;
+  gauss.relative_tolerance = gauss.absolute_tolerance = 1e-9;
+  int evaluations = 0;
+  std::vector<OrbitMeasure> measures = {
+      {"first_state", [&evaluations](const OrbitSamples& orbit) {
+         ++evaluations;
+         return orbit.states(0, 0);
+       }}};
+  const RubModulatedOrbits whip = ContinueCaseAa(structure, 70, gauss, 2, measures);
+  const Branch& b = whip.orbits.branch;
+  REQUIRE(b.Size() >= 2);
+  CHECK(b.measure_names == std::vector<std::string>{"period", "rotation", "first_state"});
+  CHECK(evaluations == static_cast<int>(b.points.size() + b.special_points.size()));
+  for (const BranchPoint& p : b.points) CHECK(p.measures(2) == p.u(0));
+  // Without them, the default ones (RubFamilyMeasures): the BDF check among them.
+  const RubModulatedOrbits defaults = ContinueCaseAa(structure, 70, gauss, 1);
+  const auto& names = defaults.orbits.branch.measure_names;
+  CHECK(std::find(names.begin(), names.end(), "defect") != names.end());
+  CHECK(std::find(names.begin(), names.end(), "first_state") == names.end());
 }
 
 }  // namespace
