@@ -60,6 +60,15 @@ TwoPointParams CaseAaTanh() {
   return params;
 }
 
+// Gauss collocation on 50 steps per segment at 1e-9: the thesis's contact stiffness in seconds.
+IntegratorOptions GaussOn50Steps() {
+  IntegratorOptions gauss;
+  gauss.method = IntegrationMethod::kGaussCollocation;
+  gauss.collocation_steps = 50;
+  gauss.relative_tolerance = gauss.absolute_tolerance = 1e-9;
+  return gauss;
+}
+
 const ModulatedWhip& CaseAaModulatedWhip() {
   static const ModulatedWhip whip = [] {
     TwoPointParams params = CaseAaTanh();
@@ -190,10 +199,7 @@ TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reprod
           "reference orbit at 56 rpm, and its checks pass",
           "[rub_orbits][shooting][relative][gauss]") {
   const RubStructure structure = TwoPointStructure(CaseAaTanh());
-  IntegratorOptions gauss;
-  gauss.method = IntegrationMethod::kGaussCollocation;
-  gauss.collocation_steps = 50;
-  gauss.relative_tolerance = gauss.absolute_tolerance = 1e-9;
+  const IntegratorOptions gauss = GaussOn50Steps();
   const RubModulatedOrbits whip = ContinueCaseAa(structure, 56, gauss, 200);
   const Branch& b = whip.orbits.branch;
   REQUIRE(b.status == BranchStatus::kReachedLambdaBound);
@@ -219,10 +225,7 @@ TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reprod
 TEST_CASE("case A(a): the caller's own measures replace the family's default ones",
           "[rub_orbits][shooting][relative][gauss]") {
   const RubStructure structure = TwoPointStructure(CaseAaTanh());
-  IntegratorOptions gauss;
-  gauss.method = IntegrationMethod::kGaussCollocation;
-  gauss.collocation_steps = 50;
-  gauss.relative_tolerance = gauss.absolute_tolerance = 1e-9;
+  const IntegratorOptions gauss = GaussOn50Steps();
   int evaluations = 0;
   std::vector<OrbitMeasure> measures = {
       {"first_state", [&evaluations](const OrbitSamples& orbit) {
