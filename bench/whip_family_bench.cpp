@@ -208,8 +208,9 @@ int Main(int argc, char** argv) {
   std::printf("  the orbits' measures: %.2f s CPU%s%s\n", all_measures, per_measure.c_str(),
               defect_check ? "" : " (no defect check)");
   for (const SpecialPoint& s : branch.special_points) {
-    std::printf("  %-22s %.6f rpm%s %s\n", ToString(s.type), RadPerSecondToRpm(s.lambda),
-                s.converged ? "" : " (guess)", s.label.c_str());
+    std::printf("  %-22s %.6f rpm%s %s (%d trial points)\n", ToString(s.type),
+                RadPerSecondToRpm(s.lambda), s.converged ? "" : " (guess)", s.label.c_str(),
+                s.iterations);
     // The cost past a grazing: from the last orbit before it to the end of the run.
     if (s.type == SpecialPointType::kGrazing && s.index < static_cast<Index>(cpu_at.size())) {
       std::printf("    %.2f s CPU and %zu orbits from the last orbit before it to the end (%s)\n",
@@ -219,13 +220,16 @@ int Main(int argc, char** argv) {
   }
   if (digest) std::printf("  digest %016llx\n", static_cast<unsigned long long>(Digest(branch)));
   if (verbose) {
-    // The tangent's turn from the previous point [rad]: which of the step's limits binds.
+    // The tangent's turn from the previous point [rad]: which of the step's limits binds; the CPU
+    // from the previous orbit (its step, failed attempts, locations and measures).
     for (std::size_t i = 0; i < branch.points.size(); ++i) {
       const BranchPoint& p = branch.points[i];
       const double turn = i == 0 ? 0.0
           : std::acos(std::min(1.0, std::abs(p.tangent.dot(branch.points[i - 1].tangent))));
-      std::printf("    %9.4f rpm  ds %.4f  newton %d  turn %.3f  unstable %d\n",
-                  RadPerSecondToRpm(p.lambda), p.step, p.newton_iterations, turn, p.num_unstable);
+      const double since = i == 0 ? 0.0 : cpu_at[i] - cpu_at[i - 1];
+      std::printf("    %9.4f rpm  ds %.4f  newton %d  turn %.3f  unstable %d  CPU %.2f s\n",
+                  RadPerSecondToRpm(p.lambda), p.step, p.newton_iterations, turn, p.num_unstable,
+                  since);
     }
   }
   return 0;
