@@ -681,6 +681,7 @@ void ShootingProblem::SetMeasures(std::vector<OrbitMeasure> measures) {
     }
   }
   measures_ = std::move(measures);
+  samples_measures_.resize(0);
 }
 
 Vector ShootingProblem::Scale() const {
@@ -1006,6 +1007,7 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   CheckUnknowns(u, "Orbit");
   if (samples_valid_ && lambda == samples_lambda_ && u == samples_u_) return samples_;
   samples_valid_ = true;
+  samples_measures_.resize(0);
   samples_u_ = u;
   samples_lambda_ = lambda;
   samples_ = OrbitSamples();
@@ -1058,6 +1060,9 @@ std::vector<std::string> ShootingProblem::MeasureNames() const {
 Vector ShootingProblem::Measures(const Vector& u, double lambda) {
   CheckUnknowns(u, "Measures");
   const OrbitSamples& orbit = Orbit(u, lambda);
+  // The same orbit asked again (a special point where another lies: a symmetric rotor's two
+  // contacts grazing together) is not measured again (the BDF check of RubOrbitMeasures).
+  if (samples_measures_.size() != 0) return samples_measures_;
   Vector values(MeasureNames().size());
   Index k = 0;
   values(k++) = orbit.period;
@@ -1065,6 +1070,7 @@ Vector ShootingProblem::Measures(const Vector& u, double lambda) {
   for (const OrbitMeasure& measure : measures_) {
     values(k++) = orbit.valid ? measure.evaluate(orbit) : kNaN;
   }
+  samples_measures_ = values;
   return values;
 }
 

@@ -481,6 +481,7 @@ class ShootingProblem : public Problem {
   Vector samples_u_;
   double samples_lambda_ = 0.0;
   OrbitSamples samples_;
+  Vector samples_measures_;  // Measures of samples_ (empty: not yet asked since they were made)
 
   // Phase reference.
   bool has_reference_ = false;

@@ -262,21 +262,32 @@ void GaussBackend::FactorNewtonMatrix(double h) {
     const Index m = n / 2;
     const Index ms = m * s;
     reduced_matrix_.resize(ms, ms);
-    // Column by column on the raw arrays (Eigen's expressions on the s² dynamic m × m blocks cost
-    // several times their arithmetic; for m = 1, 36 % of the Duffing scene's CPU in one `perf
-    // record`): each entry 0 − h A_ik a_v,k − Σ_j h² A_ij A_jk a_q,j.
-    for (Index k = 0; k < s; ++k) {
-      for (Index c = 0; c < m; ++c) {
-        double* column = reduced_matrix_.data() + (k * m + c) * ms;
-        const double* a_v = jacobians_[static_cast<std::size_t>(k)].data() + (m + c) * n + m;
-        for (Index i = 0; i < s; ++i) {
-          double* entry = column + i * m;
-          const double factor = h * A(i, k);
-          for (Index r = 0; r < m; ++r) entry[r] = 0.0 - factor * a_v[r];
+    if (m == 1) {  // a scalar oscillator (Duffing, van der Pol): the same sums on numbers
+      for (Index i = 0; i < s; ++i) {
+        for (Index k = 0; k < s; ++k) {
+          double entry = 0.0 - (h * A(i, k)) * jacobians_[static_cast<std::size_t>(k)](1, 1);
           for (Index j = 0; j < s; ++j) {
-            const double factor_q = h * h * A(i, j) * A(j, k);
-            const double* a_q = jacobians_[static_cast<std::size_t>(j)].data() + c * n + m;
-            for (Index r = 0; r < m; ++r) entry[r] -= factor_q * a_q[r];
+            entry -= (h * h * A(i, j) * A(j, k)) * jacobians_[static_cast<std::size_t>(j)](1, 0);
+          }
+          reduced_matrix_(i, k) = entry;
+        }
+      }
+    } else {
+      // Column by column on the raw arrays (Eigen's expressions on the s² dynamic m × m blocks
+      // cost several times their arithmetic): each entry 0 − h A_ik a_v,k − Σ_j h² A_ij A_jk a_q,j.
+      for (Index k = 0; k < s; ++k) {
+        for (Index c = 0; c < m; ++c) {
+          double* column = reduced_matrix_.data() + (k * m + c) * ms;
+          const double* a_v = jacobians_[static_cast<std::size_t>(k)].data() + (m + c) * n + m;
+          for (Index i = 0; i < s; ++i) {
+            double* entry = column + i * m;
+            const double factor = h * A(i, k);
+            for (Index r = 0; r < m; ++r) entry[r] = 0.0 - factor * a_v[r];
+            for (Index j = 0; j < s; ++j) {
+              const double factor_q = h * h * A(i, j) * A(j, k);
+              const double* a_q = jacobians_[static_cast<std::size_t>(j)].data() + c * n + m;
+              for (Index r = 0; r < m; ++r) entry[r] -= factor_q * a_q[r];
+            }
           }
         }
       }

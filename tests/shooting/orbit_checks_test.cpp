@@ -1,5 +1,6 @@
 // The checks a fixed-mesh orbit carries (shooting/shooting.h): the defect under an independent
-// integrator, and the multipliers of the modes the mesh does not resolve.
+// integrator, and the multipliers of the modes the mesh does not resolve; each measured once per
+// orbit.
 #include <cmath>
 #include <memory>
 
@@ -27,6 +28,31 @@ OrbitSamples StuartLandauCycle(const StuartLandauOscillator& system, double peri
   orbit.parameter = system.Parameter();
   orbit.valid = true;
   return orbit;
+}
+
+TEST_CASE("an orbit asked for its measures again is not measured again", "[shooting][checks]") {
+  DuffingOscillator duffing(DuffingParams{});
+  ShootingProblem problem(duffing, OrbitKind::kForced);
+  int evaluations = 0;
+  problem.SetMeasures({{"first_state", [&evaluations](const OrbitSamples& orbit) {
+                          ++evaluations;
+                          return orbit.states(0, 0);
+                        }}});
+  const Vector x0 = Vector::Constant(2, 0.1);
+  const Vector u = problem.InitialGuess(x0, 0.0, 1.0);
+  const Vector first = problem.Measures(u, 1.0);
+  CHECK(problem.Measures(u, 1.0) == first);  // the same orbit: the same values, no evaluation
+  CHECK(evaluations == 1);
+  CHECK(first(1) == 0.1);
+  problem.Measures(u, 1.1);  // another speed, another orbit
+  CHECK(evaluations == 2);
+  const Vector v = problem.InitialGuess(Vector::Constant(2, 0.2), 0.0, 1.1);
+  CHECK(problem.Measures(v, 1.1)(1) == 0.2);
+  CHECK(evaluations == 3);
+  problem.SetMeasures({{"twice_first_state", [](const OrbitSamples& orbit) {
+                          return 2.0 * orbit.states(0, 0);
+                        }}});
+  CHECK(problem.Measures(v, 1.1)(1) == 0.4);  // new measures: measured again
 }
 
 TEST_CASE("the periodicity defect is small on a true orbit and large on a wrong one",
