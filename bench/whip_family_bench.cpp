@@ -203,7 +203,9 @@ int Main(int argc, char** argv) {
   std::string per_measure;
   for (std::size_t i = 0; i < measures.size(); ++i) {
     all_measures += measure_cpu[i];
-    if (measure_cpu[i] >= 0.005) per_measure += fmt::format(", {} {:.2f} s", measures[i].name, measure_cpu[i]);
+    if (measure_cpu[i] >= 0.005) {
+      per_measure += fmt::format(", {} {:.2f} s", measures[i].name, measure_cpu[i]);
+    }
   }
   std::printf("  the orbits' measures: %.2f s CPU%s%s\n", all_measures, per_measure.c_str(),
               defect_check ? "" : " (no defect check)");
@@ -226,10 +228,12 @@ int Main(int argc, char** argv) {
       const BranchPoint& p = branch.points[i];
       const double turn = i == 0 ? 0.0
           : std::acos(std::min(1.0, std::abs(p.tangent.dot(branch.points[i - 1].tangent))));
-      const double since = i == 0 ? 0.0 : cpu_at[i] - cpu_at[i - 1];
-      std::printf("    %9.4f rpm  ds %.4f  newton %d  turn %.3f  unstable %d  CPU %.2f s\n",
+      const std::string since = i > 0 && i < cpu_at.size()
+                                    ? fmt::format("{:.2f} s", cpu_at[i] - cpu_at[i - 1])
+                                    : "–";
+      std::printf("    %9.4f rpm  ds %.4f  newton %d  turn %.3f  unstable %d  CPU %s\n",
                   RadPerSecondToRpm(p.lambda), p.step, p.newton_iterations, turn, p.num_unstable,
-                  since);
+                  since.c_str());
     }
   }
   return 0;

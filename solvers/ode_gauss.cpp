@@ -319,15 +319,15 @@ void GaussBackend::SolveWithNewtonMatrix(double h, const Matrix& rhs, Matrix& ou
     SolveScalarOscillator(h, rhs, out);
     return;
   }
-  // a_q,j G_Q,j, then G_V + h (A ⊗ I) of it.
-  reduced_products_.resize(m * s, rhs.cols());
+  // a_q,j G_Q,j (Eigen's products), then G_V + h (A ⊗ I) of them and after the solve
+  // Δ_Q = G_Q + h (A ⊗ I) Δ_V, column by column on the raw arrays (the same operations in the same
+  // order as on the m-row blocks).
+  const Index columns = rhs.cols();
+  reduced_products_.resize(m * s, columns);
   for (Index j = 0; j < s; ++j) {
     reduced_products_.middleRows(j * m, m).noalias() =
         jacobians_[static_cast<std::size_t>(j)].bottomLeftCorner(m, m) * rhs.middleRows(j * n, m);
   }
-  // G_V + h (A ⊗ I) of them, and after the solve Δ_Q = G_Q + h (A ⊗ I) Δ_V, column by column on
-  // the raw arrays (the same operations in the same order as on the m-row blocks).
-  const Index columns = rhs.cols();
   reduced_rhs_.resize(m * s, columns);
   for (Index col = 0; col < columns; ++col) {
     for (Index i = 0; i < s; ++i) {

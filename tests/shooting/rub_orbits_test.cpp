@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-
 #include <catch2/catch.hpp>
 
 #include "models/rub_model.h"
