@@ -159,14 +159,17 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, const Orb
   const std::vector<std::string> untrusted =
       UntrustedOrbits(branch, trust.structure, trust.max_penetration);
   writer.WriteStrings(group + "/untrusted", untrusted);
-  const double defect = branch.Measure("defect").maxCoeff();
-  std::string line = fmt::format("    check: largest defect {:.1e} (CVODES BDF at 1e-11)", defect);
-  std::vector<std::string> notes;
-  if (!(defect <= kDefectLimit)) {
-    notes.push_back(fmt::format("an orbit's defect {:.1e} exceeds {:g}: refine the mesh or the "
-                                "tolerance", defect, kDefectLimit));
-  }
   const auto& names = branch.measure_names;
+  std::string line = "    check: no defect check (defect_check = \"off\")";
+  std::vector<std::string> notes;
+  if (std::find(names.begin(), names.end(), "defect") != names.end()) {
+    const double defect = branch.Measure("defect").maxCoeff();
+    line = fmt::format("    check: largest defect {:.1e} (CVODES BDF at 1e-11)", defect);
+    if (!(defect <= kDefectLimit)) {
+      notes.push_back(fmt::format("an orbit's defect {:.1e} exceeds {:g}: refine the mesh or the "
+                                  "tolerance", defect, kDefectLimit));
+    }
+  }
   if (std::find(names.begin(), names.end(), "unresolved_multiplier") != names.end()) {
     const double largest = branch.Measure("unresolved_multiplier").maxCoeff();
     line += fmt::format(", modes the mesh does not resolve: |multiplier| ≤ {:.3f}", largest);

@@ -94,9 +94,10 @@ struct OrbitTrust {
   double max_penetration;
 };
 
-// The largest defect and unresolved multiplier of a family of modulated orbits (RubFamilyMeasures),
-// printed, and a note when either is over its limit; the orbits that penetrate beyond the trust
-// limit (UntrustedOrbits): the column `untrusted` of the group and a note with the speeds.
+// The largest defect (or that there was no defect check: defect_check = "off") and unresolved
+// multiplier of a family of modulated orbits (RubFamilyMeasures), printed, and a note when either
+// is over its limit; the orbits that penetrate beyond the trust limit (UntrustedOrbits): the
+// column `untrusted` of the group and a note with the speeds.
 void ReportOrbitChecks(const Branch& branch, const std::string& group, const OrbitTrust& trust,
                        ResultWriter& writer, std::ostream& out);
 

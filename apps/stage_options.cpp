@@ -281,6 +281,7 @@ HopfOrbitOptions RubOrbitOptionsOf(const Scene& scene) {
   options.orbits.continuation = OrbitContinuationOptions(scene.analysis.orbits.max_steps);
   options.orbits.stop_at_grazing = scene.analysis.orbits.stop_at_grazing;
   options.orbits.continuation.step.curved_predictor = scene.analysis.orbits.curved_predictor;
+  options.orbits.defect_check = scene.analysis.orbits.defect_check;
   return options;
 }
 

@@ -49,7 +49,7 @@ ADDED_DATASETS = {"state"}
 # Scene keys added later, as the line a resolved scene prints at the default that keeps what runs
 # before the key did: the keys marked KeySpec::added_at_older_behaviour in apps/scene_schema.cpp.
 SCENE_KEYS_ADDED = {'at_grazing = "continue"', 'predictor = "tangent"', 'mesh = "uniform"',
-                    'coordinates = "state"', 'max_harmonics = 0', 'laps = 0'}
+                    'coordinates = "state"', 'max_harmonics = 0', 'laps = 0', 'defect_check = "on"'}
 # A line as an old file wrote it → the same default as written today (the loop's budget is the only
 # key "budget = ").
 SCENE_DEFAULTS_CHANGED = {"budget = 300.0": "budget = 4.0"}

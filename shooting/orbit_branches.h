@@ -83,6 +83,10 @@ struct PeriodicOrbitBranchOptions {
   // names it): where the point is all a caller wants of the family (ContinueCentreOrbits proving
   // where a torus family ends), not the family beyond it.
   bool stop_at_neimark_sacker = false;
+  // The rub families' independent check (shooting/rub_orbits.h: RubOrbitMeasures' "defect", each
+  // orbit integrated again by CVODES BDF at 1e-11; a third to a half of A(a)'s family's CPU,
+  // docs/performance.md): false leaves it out of the measures those functions set.
+  bool defect_check = true;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;
   // 0: both ways from the start (one way from an end of the range); ±1: only that way in λ.

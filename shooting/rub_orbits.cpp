@@ -78,7 +78,7 @@ OrbitMeasure ContactExtreme(std::shared_ptr<OrbitInFixedFrame> view, std::size_t
 
 }  // namespace
 
-std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
+std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame, bool defect_check) {
   auto view = std::make_shared<OrbitInFixedFrame>(frame);
   std::vector<OrbitMeasure> measures;
   measures.push_back(
@@ -91,7 +91,9 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame) {
   check.relative_tolerance = check.absolute_tolerance = 1e-11;
   check.max_order = 2;
   check.max_steps = 2000000;
-  measures.push_back(PeriodicityDefect(std::make_shared<RubRotatingFrame>(frame), check));
+  if (defect_check) {
+    measures.push_back(PeriodicityDefect(std::make_shared<RubRotatingFrame>(frame), check));
+  }
   if (frame.HasMirrorSymmetry()) {
     measures.push_back(MirrorAsymmetry(std::make_shared<RubRotatingFrame>(frame)));
   }
@@ -184,8 +186,9 @@ std::vector<RubHopfStart> StableBoundaryHopfPoints(const std::vector<RotatingWav
 }
 
 std::vector<OrbitMeasure> RubFamilyMeasures(const RubRotatingFrame& frame,
-                                            const ShootingOptions& shooting, int laps) {
-  std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame);
+                                            const ShootingOptions& shooting, int laps,
+                                            bool defect_check) {
+  std::vector<OrbitMeasure> measures = RubOrbitMeasures(frame, defect_check);
   const IntegratorOptions& integrator = shooting.integrator;
   if (integrator.method == IntegrationMethod::kGaussCollocation) {
     measures.push_back(UnresolvedMultiplier(
@@ -224,7 +227,7 @@ void FollowSideBranches(RubRotatingFrame& frame, const PeriodicOrbitBranchOption
       continue;
     }
     PeriodicOrbitBranchOptions doubled = options;
-    doubled.measures = RubFamilyMeasures(frame, options.shooting, 2);
+    doubled.measures = RubFamilyMeasures(frame, options.shooting, 2, options.defect_check);
     result.doublings.push_back(
         ContinueOrbitsFromPeriodDoubling(frame, result.orbits, k, doubled, 1e-3, on_step));
   }
@@ -262,7 +265,8 @@ RubModulatedOrbits ContinueModulatedOrbits(const RubStructure& structure,
   hopf.u.head(2 * nc) = p.u.head(2 * nc);
   options.kind = OrbitKind::kRelative;
   if (options.orbits.measures.empty()) {
-    options.orbits.measures = RubFamilyMeasures(frame, options.orbits.shooting, 1);
+    options.orbits.measures =
+        RubFamilyMeasures(frame, options.orbits.shooting, 1, options.orbits.defect_check);
   }
   options.orbits.test_functions = RubGrazingTests(structure);
   RubModulatedOrbits result;
@@ -283,7 +287,7 @@ RubTransientOrbits ContinueTransientOrbits(const RubStructure& structure, double
   if (!result.start.converged) return result;
   RubRotatingFrame frame(structure, frame_rate, omega);
   options.shooting = start.shooting;
-  options.measures = RubFamilyMeasures(frame, options.shooting, 1);
+  options.measures = RubFamilyMeasures(frame, options.shooting, 1, options.defect_check);
   options.test_functions = RubGrazingTests(structure);
   PeriodicOrbitBranchOptions family = options;
   family.stop_round_closed_curve = true;
@@ -306,7 +310,7 @@ OrbitPeriodDoubling ContinueTransientDoubling(const RubStructure& structure,
   const PeriodicOrbitBranch& family = orbits.family.orbits;
   RubRotatingFrame frame(structure, orbits.start.frame_rate, family.start_lambda);
   options.shooting = family.shooting;
-  options.measures = RubFamilyMeasures(frame, family.shooting, 2);
+  options.measures = RubFamilyMeasures(frame, family.shooting, 2, options.defect_check);
   options.test_functions = RubGrazingTests(structure);
   return ContinueOrbitsFromPeriodDoubling(frame, family, special_point, options, 1e-3,
                                           options.on_step);

@@ -39,18 +39,21 @@ namespace rubcont {
 //   min_/max_normal_force_<c>      N [N] (0 while the contact is open)
 //   max_penetration_<c>            the largest penetration δ_c = |d_c| − C_c [m] (< 0: never touches)
 //   defect                         PeriodicityDefect with CVODES BDF ≤ 2 at 1e-11, state only
+//                                  (left out with defect_check = false)
 //   unresolved_multiplier          UnresolvedMultiplier, with Gauss collocation only (added by
 //                                  ContinueModulatedOrbits, which knows the mesh)
 //   asymmetry                      MirrorAsymmetry, for a left–right symmetric structure only
 //                                  (ContactExchange): ~1e-11 on symmetric orbits
 // for each contact <c> ("left", "right" or "contact"). The frame is copied.
-std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame);
+std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame, bool defect_check = true);
 
 // The measures of a family's orbits shot with `shooting`, run `laps` times per shooting period
-// (period-doubled families: 2): RubOrbitMeasures, and with Gauss collocation the unresolved-mode
-// check (UnresolvedMultiplier), which needs the mesh's steps per period.
+// (period-doubled families: 2): RubOrbitMeasures (without the defect when defect_check is false:
+// PeriodicOrbitBranchOptions::defect_check), and with Gauss collocation the unresolved-mode check
+// (UnresolvedMultiplier), which needs the mesh's steps per period.
 std::vector<OrbitMeasure> RubFamilyMeasures(const RubRotatingFrame& frame,
-                                            const ShootingOptions& shooting, int laps);
+                                            const ShootingOptions& shooting, int laps,
+                                            bool defect_check = true);
 
 // Per point of a family (RubOrbitMeasures), why the orbit is untrusted, or "": a contact
 // penetrates more than `max_penetration` × its clearance, beyond the small overlap the contact laws

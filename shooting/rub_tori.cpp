@@ -146,7 +146,7 @@ CentreOrbits CentresOf(const RubStructure& structure, const RubRotatingFrame& fr
     return none;
   }
   orbits.shooting = shooting;
-  orbits.measures = RubFamilyMeasures(frame, shooting, 1);
+  orbits.measures = RubFamilyMeasures(frame, shooting, 1, orbits.defect_check);
   orbits.test_functions = RubGrazingTests(structure);
   orbits.stop_at_grazing = true;
   orbits.on_step = step;

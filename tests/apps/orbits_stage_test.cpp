@@ -376,6 +376,27 @@ TEST_CASE("at_grazing in [analysis.orbits]: \"stop\" ends each family at its fir
   CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);  // the scene
 }
 
+TEST_CASE("defect_check in [analysis.orbits]: \"on\" (the default) keeps the orbits' BDF check, "
+          "\"off\" leaves it out, another value is exit 2 naming the key",
+          "[orbits][cli]") {
+  const auto checks = [](const std::string& keys) {
+    const Scene scene = ParseScene(SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + keys),
+                                   "defect_check", "defect_check");
+    return RubOrbitOptionsOf(scene).orbits.defect_check;
+  };
+  CHECK(checks(""));
+  CHECK(checks("defect_check = \"on\"\n"));
+  CHECK_FALSE(checks("defect_check = \"off\"\n"));
+
+  TempDir dir;
+  const fs::path scene = dir.path / "bad.toml";
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\ndefect_check = \"no\"\n");
+  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err,
+             Contains("analysis.orbits.defect_check = \"no\": must be one of \"off\", \"on\""));
+}
+
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
           "[orbits][cli]") {
   TempDir dir;

@@ -29,10 +29,12 @@ struct ModulatedWhip {
 };
 
 // The orbits born at case A(a)'s first Hopf point bounding a stable whirl (tanh law), 4 segments,
-// continued in [40 rpm, rpm_max] with `integrator` (and `measures`, when given).
+// continued in [40 rpm, rpm_max] with `integrator` (and `measures`, when given; without the defect
+// check when asked).
 RubModulatedOrbits ContinueCaseAa(const RubStructure& structure, double rpm_max,
                                   const IntegratorOptions& integrator, int max_steps,
-                                  std::vector<OrbitMeasure> measures = {}) {
+                                  std::vector<OrbitMeasure> measures = {},
+                                  bool defect_check = true) {
   RotatingWaveBranchOptions options;
   options.search.speed_min = RpmToRadPerSecond(40);
   options.search.speed_max = RpmToRadPerSecond(70);
@@ -50,6 +52,7 @@ RubModulatedOrbits ContinueCaseAa(const RubStructure& structure, double rpm_max,
   hopf.orbits.continuation.bounds.max_steps = max_steps;
   hopf.orbits.continuation.step.target_iterations = 5;
   hopf.orbits.measures = std::move(measures);
+  hopf.orbits.defect_check = defect_check;
   return ContinueModulatedOrbits(structure, branches, starts.front(), hopf);
 }
 
@@ -242,6 +245,27 @@ TEST_CASE("case A(a): the caller's own measures replace the family's default one
   const auto& names = defaults.orbits.branch.measure_names;
   CHECK(std::find(names.begin(), names.end(), "defect") != names.end());
   CHECK(std::find(names.begin(), names.end(), "first_state") == names.end());
+}
+
+TEST_CASE("case A(a): without the defect check a family carries every other measure",
+          "[rub_orbits][shooting][relative][gauss]") {
+  const RubStructure structure = TwoPointStructure(CaseAaTanh());
+  const RubModulatedOrbits checked = ContinueCaseAa(structure, 70, GaussOn50Steps(), 1);
+  const RubModulatedOrbits unchecked = ContinueCaseAa(structure, 70, GaussOn50Steps(), 1, {}, false);
+  std::vector<std::string> names = checked.orbits.branch.measure_names;
+  const auto defect = std::find(names.begin(), names.end(), "defect");
+  REQUIRE(defect != names.end());
+  names.erase(defect);
+  CHECK(unchecked.orbits.branch.measure_names == names);
+  // The same orbits, measured alike but for the check.
+  const Branch& a = checked.orbits.branch;
+  const Branch& b = unchecked.orbits.branch;
+  REQUIRE(a.Size() == b.Size());
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    CHECK(b.points[i].u == a.points[i].u);
+    CHECK(b.points[i].measures(b.MeasureIndex("max_normal_force_left")) ==
+          a.points[i].measures(a.MeasureIndex("max_normal_force_left")));
+  }
 }
 
 }  // namespace
