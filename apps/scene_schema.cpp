@@ -808,9 +808,9 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "analysis.orbits.defect_check",
       "\"on\": every orbit of every family (and every special point) is integrated again over its "
       "period by CVODES BDF at 1e-11 and its periodicity defect stored (measure \"defect\"; the "
-      "summary notes one above 1e-5: the mesh does not resolve the orbit) — a third to a half of "
-      "the families' CPU (A(a)'s whip to its grazing, docs/performance.md); \"off\": no such "
-      "check, the continuation's own work (AUTO-07p's).",
+      "summary notes one above 1e-5: the mesh does not resolve the orbit) — 36–44 % of the CPU "
+      "of A(a)'s whip family to its grazing, 15–22 % to 63 rpm (one run each, "
+      "docs/performance.md); \"off\": no such check, the continuation's own work (AUTO-07p's).",
       {"off", "on"}, "on", [](Scene& x) -> bool& { return x.analysis.orbits.defect_check; }));
   s.back().added_at_older_behaviour = true;
 }

@@ -150,13 +150,8 @@ int Main(int argc, char** argv) {
   options.orbits.stop_at_grazing = stop_at_grazing;
   // The family's own measures (ContinueModulatedOrbits' default), each timed.
   const RubHopfStart& start = starts.front();
-  std::vector<OrbitMeasure> measures =
-      RubFamilyMeasures(RubRotatingFrame(structure, start.precession, start.speed), shooting, 1);
-  if (!defect_check) {
-    measures.erase(std::remove_if(measures.begin(), measures.end(),
-                                  [](const OrbitMeasure& m) { return m.name == "defect"; }),
-                   measures.end());
-  }
+  const std::vector<OrbitMeasure> measures = RubFamilyMeasures(
+      RubRotatingFrame(structure, start.precession, start.speed), shooting, 1, defect_check);
   std::vector<double> measure_cpu(measures.size(), 0.0);
   for (std::size_t i = 0; i < measures.size(); ++i) {
     options.orbits.measures.push_back(

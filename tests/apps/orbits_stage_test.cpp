@@ -354,47 +354,41 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   CHECK(rpm.size() <= 2 * 10 + 1);
 }
 
-TEST_CASE("at_grazing in [analysis.orbits]: \"stop\" ends each family at its first grazing, "
-          "\"continue\" (the default) goes on, another value is exit 2 naming the key",
-          "[orbits][cli]") {
-  const auto stops = [](const std::string& keys) {
-    const Scene scene = ParseScene(SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + keys),
-                                   "at_grazing", "at_grazing");
-    return RubOrbitOptionsOf(scene).orbits.stop_at_grazing;
+// An [analysis.orbits] switch `key` with the choices `off`, `on` (in the schema's order): read into
+// `field` of the family's options, `default_on` when not given, false with `off`, true with `on`;
+// any other value is exit 2 naming the key, the value and the choices, and writes nothing.
+void CheckOrbitsSwitch(const std::string& key, const std::string& off, const std::string& on,
+                       bool default_on, bool PeriodicOrbitBranchOptions::*field) {
+  const auto read = [&](const std::string& keys) {
+    const Scene scene =
+        ParseScene(SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + keys), key, key);
+    return RubOrbitOptionsOf(scene).orbits.*field;
   };
-  CHECK_FALSE(stops(""));
-  CHECK_FALSE(stops("at_grazing = \"continue\"\n"));
-  CHECK(stops("at_grazing = \"stop\"\n"));
+  CHECK(read("") == default_on);
+  CHECK_FALSE(read(key + " = \"" + off + "\"\n"));
+  CHECK(read(key + " = \"" + on + "\"\n"));
 
   TempDir dir;
   const fs::path scene = dir.path / "bad.toml";
-  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\nat_grazing = \"halt\"\n");
+  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + key + " = \"halt\"\n");
   const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
   CHECK(run.exit_code == 2);
-  CHECK_THAT(run.err,
-             Contains("analysis.orbits.at_grazing = \"halt\": must be one of \"continue\", \"stop\""));
+  CHECK_THAT(run.err, Contains("analysis.orbits." + key + " = \"halt\": must be one of \"" + off +
+                               "\", \"" + on + "\""));
   CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);  // the scene
+}
+
+TEST_CASE("at_grazing in [analysis.orbits]: \"stop\" ends each family at its first grazing, "
+          "\"continue\" (the default) goes on, another value is exit 2 naming the key",
+          "[orbits][cli]") {
+  CheckOrbitsSwitch("at_grazing", "continue", "stop", false,
+                    &PeriodicOrbitBranchOptions::stop_at_grazing);
 }
 
 TEST_CASE("defect_check in [analysis.orbits]: \"on\" (the default) keeps the orbits' BDF check, "
           "\"off\" leaves it out, another value is exit 2 naming the key",
           "[orbits][cli]") {
-  const auto checks = [](const std::string& keys) {
-    const Scene scene = ParseScene(SoftCaseAa("[analysis.orbits]\nhopf_points = 1\n" + keys),
-                                   "defect_check", "defect_check");
-    return RubOrbitOptionsOf(scene).orbits.defect_check;
-  };
-  CHECK(checks(""));
-  CHECK(checks("defect_check = \"on\"\n"));
-  CHECK_FALSE(checks("defect_check = \"off\"\n"));
-
-  TempDir dir;
-  const fs::path scene = dir.path / "bad.toml";
-  std::ofstream(scene) << SoftCaseAa("[analysis.orbits]\nhopf_points = 1\ndefect_check = \"no\"\n");
-  const Outcome run = testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
-  CHECK(run.exit_code == 2);
-  CHECK_THAT(run.err,
-             Contains("analysis.orbits.defect_check = \"no\": must be one of \"off\", \"on\""));
+  CheckOrbitsSwitch("defect_check", "off", "on", true, &PeriodicOrbitBranchOptions::defect_check);
 }
 
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
