@@ -164,7 +164,7 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, const Orb
   std::vector<std::string> notes;
   if (std::find(names.begin(), names.end(), "defect") != names.end()) {
     const double defect = branch.Measure("defect").maxCoeff();
-    line = fmt::format("    check: largest defect {:.1e} (CVODES BDF at 1e-11)", defect);
+    line = fmt::format("    check: largest defect {:.1e} (Dormand–Prince at 1e-12)", defect);
     if (!(defect <= kDefectLimit)) {
       notes.push_back(fmt::format("an orbit's defect {:.1e} exceeds {:g}: refine the mesh or the "
                                   "tolerance", defect, kDefectLimit));

@@ -131,7 +131,7 @@ struct RubOrbitsSettings {
   // (bench/whip_family_bench.cpp). "uniform" (the default): as before the key.
   bool adapt_mesh = false;
   // defect_check = "off": the orbits carry no independent check (each orbit integrated again by
-  // CVODES BDF at 1e-11: 36–44 % of A(a)'s whip family to its grazing, docs/performance.md;
+  // Dormand–Prince at 1e-12: 3 % of A(a)'s whip family to its grazing, docs/performance.md;
   // PeriodicOrbitBranchOptions::defect_check). "on" (the default): as before the key.
   bool defect_check = true;
   // [analysis.orbits.transient]: the orbits through the relative periodic orbit a settled

@@ -807,9 +807,9 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
   s.push_back(Switch(
       "analysis.orbits.defect_check",
       "\"on\": every orbit of every family (and every special point) is integrated again over its "
-      "period by CVODES BDF at 1e-11 and its periodicity defect stored (measure \"defect\"; the "
-      "summary notes one above 1e-5: the mesh does not resolve the orbit) — 36–44 % of the CPU "
-      "of A(a)'s whip family to its grazing, 15–22 % to 63 rpm (one run each, "
+      "period by an explicit Dormand–Prince 5(4) at 1e-12 and its periodicity defect stored "
+      "(measure \"defect\"; the summary notes one above 1e-5: the mesh does not resolve the "
+      "orbit) — 3 % of the CPU of A(a)'s whip family to its grazing (one run, "
       "docs/performance.md); \"off\": no such check, the continuation's own work (AUTO-07p's).",
       {"off", "on"}, "on", [](Scene& x) -> bool& { return x.analysis.orbits.defect_check; }));
   s.back().added_at_older_behaviour = true;

@@ -84,8 +84,8 @@ struct PeriodicOrbitBranchOptions {
   // where a torus family ends), not the family beyond it.
   bool stop_at_neimark_sacker = false;
   // The rub families' independent check (shooting/rub_orbits.h: RubOrbitMeasures' "defect", each
-  // orbit integrated again by CVODES BDF at 1e-11; 36–44 % of the CPU of A(a)'s whip family to
-  // its grazing, docs/performance.md): false leaves it out of the measures those functions set.
+  // orbit integrated again by Dormand–Prince 5(4) at 1e-12; 3 % of the CPU of A(a)'s whip family
+  // to its grazing, docs/performance.md): false leaves it out of the measures those functions set.
   bool defect_check = true;
   // Called after every step of either run (progress of long runs); returning false ends that run.
   StepCallback on_step;

@@ -38,8 +38,8 @@ namespace rubcont {
 //                                  relative displacement d = u_rotor − u_stator
 //   min_/max_normal_force_<c>      N [N] (0 while the contact is open)
 //   max_penetration_<c>            the largest penetration δ_c = |d_c| − C_c [m] (< 0: never touches)
-//   defect                         PeriodicityDefect with CVODES BDF ≤ 2 at 1e-11, state only
-//                                  (left out with defect_check = false)
+//   defect                         PeriodicityDefect with Dormand–Prince 5(4) at 1e-12, state
+//                                  only (left out with defect_check = false)
 //   unresolved_multiplier          UnresolvedMultiplier, with Gauss collocation only (added by
 //                                  ContinueModulatedOrbits, which knows the mesh)
 //   asymmetry                      MirrorAsymmetry, for a left–right symmetric structure only
