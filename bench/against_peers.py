@@ -113,7 +113,7 @@ def whip_family(build, out, quick, machine):
     out.append("## 2. A(a)'s modulated whip family (bench/whip_family_bench), AUTO-07p NTST 400")
     out.append(f"AUTO-07p: Hopf → 63 rpm {AUTO_TO_63} s (36 orbits), Hopf → contact loss "
                f"{AUTO_TO_GRAZING} s (136 orbits); {AUTO_LANDMARKS}")
-    out.append("The defect check: every orbit integrated again by CVODES BDF ≤ 2 at 1e-11 (its CPU "
+    out.append("The defect check: every orbit integrated again by Dormand–Prince 5(4) at 1e-12 (its CPU "
                "within the run's), which AUTO-07p does not do; the rows without it are AUTO's work.")
     rows = []
     runs = WHIP_RUNS[:3] if quick else WHIP_RUNS

@@ -23,7 +23,7 @@
 // --mesh-floor: its adapt_mesh_floor. --digest: a hash of every bit of the orbits and special
 // points (unknowns, speed, measures, tangents, multipliers), to tell two builds' runs apart or not.
 // The CPU of the orbits' measures is printed per measure; --no-defect-check drops the "defect"
-// measure (RubOrbitMeasures' CVODES BDF ≤ 2 at 1e-11 over every orbit: an independent check
+// measure (RubOrbitMeasures' Dormand–Prince at 1e-12 over every orbit: an independent check
 // AUTO-07p has no counterpart of), to set the continuation alone beside AUTO's.
 // Default: to 63 rpm (the first figure), the stage's settings.
 #include <algorithm>
