@@ -358,6 +358,25 @@ bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
 
 // A fold ends the state's existence; a period doubling, Neimark–Sacker or branch point or a
 // multiplier +1 its stability; a grazing its character (a contact opens or closes).
+EscapeCandidates EscapeCandidatesFor(const std::vector<double>& schedule, int sign, double seen_from,
+                                     double first_on, double seen_to, double reach, double step) {
+  EscapeCandidates result;
+  for (double p : schedule) {
+    if (sign * (p - seen_from) >= -reach - 1e-9 && sign * (p - first_on) >= -1e-9 &&
+        sign * (p - seen_to) <= 2.0 * step + 1e-9) {
+      result.speeds.push_back(p);
+    }
+  }
+  double nearest = kInfinity;
+  for (double p : result.speeds) {
+    if (std::abs(p - seen_to) < nearest) {
+      nearest = std::abs(p - seen_to);
+      result.first = p;
+    }
+  }
+  return result;
+}
+
 bool EndsState(const SpecialPoint& p) {
   switch (p.type) {
     case SpecialPointType::kFold:
@@ -935,17 +954,11 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
       target.contact = contacts.front();
     }
     const double first_on_rpm = RadPerSecondToRpm(run.points[first_on].parameter);
-    // The candidates: the schedule from escape_reach_rpm before the departure (not before the run
-    // was seen on the state) to two steps past the landing.
     const std::vector<double>& schedule = run.schedule_rpm;
-    std::vector<double> candidates;
-    for (double p : schedule) {
-      const double along = sign * (p - c.seen_from_rpm);
-      if (along >= -options.escape_reach_rpm - 1e-9 && sign * (p - first_on_rpm) >= -1e-9 &&
-          sign * (p - c.seen_to_rpm) <= 2.0 * options.step_rpm + 1e-9) {
-        candidates.push_back(p);
-      }
-    }
+    const EscapeCandidates escape =
+        EscapeCandidatesFor(schedule, sign, c.seen_from_rpm, first_on_rpm, c.seen_to_rpm,
+                            options.escape_reach_rpm, options.step_rpm);
+    const std::vector<double>& candidates = escape.speeds;
     if (candidates.size() < 2) {
       c.note += "; L3 not tried: the run was on the departure state for too few speeds";
       note("L3 not tried for " + what + ": too few speeds on the departure state");
@@ -966,7 +979,7 @@ LoopResult ComputeLoop(const RubStructure& structure, const LoopOptions& options
     design.schedule = schedule;
     design.dwell = options.dwell;
     design.candidates = candidates;
-    design.first = c.seen_to_rpm;
+    design.first = escape.first;
     design.budget = options.budget - used();
     design.cost_unit = "G";
     if (design.budget < options.min_escape_budget) {

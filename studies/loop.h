@@ -247,6 +247,19 @@ OrbitRide RideFamily(const PeriodicOrbitBranch& family, double orbit, int sign, 
 // Whether a special point ends the state a run is on (the kinds SkeletonEnd stops at).
 bool EndsState(const SpecialPoint& p);
 
+// The speeds an escape design tries for a corner of a run on `schedule` [rpm], `sign` its direction
+// (+1 up): the schedule's from `reach` before the departure `seen_from` (not before `first_on`, where
+// the run was first seen on the departure state) to two steps (`step`) past the landing `seen_to`;
+// and `first`, the one nearest the landing. Decision: the nearest, not the landing itself — the
+// run's points carry their speeds through rad/s, and RadPerSecondToRpm(RpmToRadPerSecond(126)) is
+// 126.00000000000001, no candidate (C(c)'s loop ended there with exit 2 on 2026-11-30).
+struct EscapeCandidates {
+  std::vector<double> speeds;
+  double first = 0.0;
+};
+EscapeCandidates EscapeCandidatesFor(const std::vector<double>& schedule, int sign, double seen_from,
+                                     double first_on, double seen_to, double reach, double step);
+
 struct LoopEscapeDesign {
   std::string direction;
   double seen_from_rpm = 0.0;

@@ -2,14 +2,17 @@
 // a Moebius band (tests/shooting/moebius_band.h): its orbits are stable up to a supercritical
 // period doubling at λ = 0, and the doubled orbits (|w|² = λ, stable) touch |w| = 0.3 at λ = 0.09.
 // A run going up from λ = −0.5 rides the cycle to the doubling, then the doubled orbits to that
-// grazing: the end of its stable state is the grazing, not the doubling.
+// grazing: the end of its stable state is the grazing, not the doubling. And the speeds the loop's
+// escape design tries (EscapeCandidatesFor).
 #include "studies/loop.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "models/units.h"
 #include "tests/shooting/moebius_band.h"
 
 namespace rubcont {
@@ -111,6 +114,28 @@ TEST_CASE("loop L2: doubled orbits unstable at the doubling's speed are read as 
       CHECK_THAT(ride.text, !Catch::Contains("no periodic state to move on to"));
     }
   }
+}
+
+// A run's speeds come back from rad/s with their last bit changed; the design's first speed must
+// be one of its candidates (EscapeDesignOptions' rule) all the same.
+TEST_CASE("the escape design starts at the schedule's speed nearest the landing, which the run "
+          "carries through rad/s",
+          "[loop]") {
+  std::vector<double> schedule;
+  for (double p = 100.0; p <= 140.0; p += 2.0) schedule.push_back(p);
+  const double landed_up = RadPerSecondToRpm(RpmToRadPerSecond(126.0));
+  REQUIRE(landed_up != 126.0);  // the case that ended C(c)'s loop
+  const EscapeCandidates up = EscapeCandidatesFor(schedule, 1, 124.0, 110.0, landed_up, 10.0, 2.0);
+  CHECK(up.speeds == std::vector<double>{114, 116, 118, 120, 122, 124, 126, 128, 130});
+  CHECK(up.first == 126.0);
+  // Downwards: from 10 rpm above the departure, not above where the run was first seen on its
+  // state, to two steps below the landing.
+  const double landed_down = RadPerSecondToRpm(RpmToRadPerSecond(118.0));
+  const EscapeCandidates down =
+      EscapeCandidatesFor(schedule, -1, 120.0, 128.0, landed_down, 10.0, 2.0);
+  CHECK(down.speeds == std::vector<double>{114, 116, 118, 120, 122, 124, 126, 128});
+  CHECK(down.first == 118.0);
+  CHECK(std::find(down.speeds.begin(), down.speeds.end(), down.first) != down.speeds.end());
 }
 
 }  // namespace
