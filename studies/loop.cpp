@@ -356,8 +356,6 @@ bool Principal(const std::vector<LoopCorner>& corners, std::size_t i) {
 
 }  // namespace
 
-// A fold ends the state's existence; a period doubling, Neimark–Sacker or branch point or a
-// multiplier +1 its stability; a grazing its character (a contact opens or closes).
 EscapeCandidates EscapeCandidatesFor(const std::vector<double>& schedule, int sign, double seen_from,
                                      double first_on, double seen_to, double reach, double step) {
   EscapeCandidates result;
@@ -377,6 +375,8 @@ EscapeCandidates EscapeCandidatesFor(const std::vector<double>& schedule, int si
   return result;
 }
 
+// A fold ends the state's existence; a period doubling, Neimark–Sacker or branch point or a
+// multiplier +1 its stability; a grazing its character (a contact opens or closes).
 bool EndsState(const SpecialPoint& p) {
   switch (p.type) {
     case SpecialPointType::kFold:

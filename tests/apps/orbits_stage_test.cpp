@@ -385,7 +385,7 @@ TEST_CASE("at_grazing in [analysis.orbits]: \"stop\" ends each family at its fir
                     &PeriodicOrbitBranchOptions::stop_at_grazing);
 }
 
-TEST_CASE("defect_check in [analysis.orbits]: \"on\" (the default) keeps the orbits' BDF check, "
+TEST_CASE("defect_check in [analysis.orbits]: \"on\" (the default) keeps the orbits' defect check, "
           "\"off\" leaves it out, another value is exit 2 naming the key",
           "[orbits][cli]") {
   CheckOrbitsSwitch("defect_check", "off", "on", true, &PeriodicOrbitBranchOptions::defect_check);

@@ -217,7 +217,7 @@ TEST_CASE("case A(a) at the thesis's contact stiffness: Gauss collocation reprod
   CHECK(moduli(1) == Approx(0.939902).epsilon(0).margin(2e-6));
   CHECK(moduli(2) == Approx(0.894430).epsilon(0).margin(2e-6));
   CHECK(b.points.back().num_unstable == 0);
-  // The independent BDF check and the unresolved contact modes (|λ|h ≈ 11 for the 85 kHz pair).
+  // The independent defect check and the unresolved contact modes (|λ|h ≈ 11 for the 85 kHz pair).
   for (Index i = 0; i <= last; ++i) {
     CHECK(b.Measure("defect")(i) < 1e-6);
     CHECK(b.Measure("unresolved_multiplier")(i) > 0.3);
@@ -241,7 +241,7 @@ TEST_CASE("case A(a): the caller's own measures replace the family's default one
   CHECK(b.measure_names == std::vector<std::string>{"period", "rotation", "first_state"});
   CHECK(evaluations == static_cast<int>(b.points.size() + b.special_points.size()));
   for (const BranchPoint& p : b.points) CHECK(p.measures(2) == p.u(0));
-  // Without them, the default ones (RubFamilyMeasures): the BDF check among them.
+  // Without them, the default ones (RubFamilyMeasures): the defect check among them.
   const RubModulatedOrbits defaults = ContinueCaseAa(structure, 70, gauss, 1);
   const auto& names = defaults.orbits.branch.measure_names;
   CHECK(std::find(names.begin(), names.end(), "defect") != names.end());
