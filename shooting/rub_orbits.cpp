@@ -88,17 +88,18 @@ std::vector<OrbitMeasure> RubOrbitMeasures(const RubRotatingFrame& frame, bool d
   // The orbit checked by an explicit Dormand–Prince 5(4) at 1e-12 (state only): what a fixed
   // collocation mesh cannot see in itself. Decision: explicit, not the CVODES BDF ≤ 2 at 1e-11 it
   // replaced (until 2026-11-30), which damps the lightly damped contact modes the Gauss orbit
-  // carries and erred by its own error: on A(a)'s whip family (bench/whip_family_bench, adapted
-  // 400 intervals, one run) BDF ≤ 2 gave 1e-8 – 6e-8 where the orbits' defect is 1e-11 – 1e-8 and
-  // 1.1e-7 – 6.4e-7 where it is 6.1e-7 – 1.9e-6 (Dormand–Prince at 1e-10, 1e-11 and 1e-12 the
-  // same to 3 digits there), and cost 18 s of the family's 50 against 0.9 s. Its own error at
-  // 1e-12 is ~3e-10 (the flexible A(a)'s orbits: 2.8e-10 against 1.2e-11 at 1e-13). The contact's
-  // stiffness does not bind its step at these tolerances (the steps are set by accuracy).
-  IntegratorOptions check;
-  check.method = IntegrationMethod::kDormandPrince;
-  check.relative_tolerance = check.absolute_tolerance = 1e-12;
-  check.max_steps = 2000000;
+  // carries and erred by its own error: on A(a)'s whip family to its grazing (bench/
+  // whip_family_bench, curved, adapted 400 intervals, one run, 58 orbits) BDF ≤ 2 gave 1.0e-8 –
+  // 3.6e-8 on the 12 orbits whose defect under Dormand–Prince at 1e-12 is 1.4e-11 – 7.0e-9, and
+  // 1.1 – 92 times less than it on 41 of the 42 whose defect is 1.5e-7 – 1.9e-5 (1.5 times more
+  // on one; Dormand–Prince at 1e-10 the same to 2 % there), and cost 18 s of the family's 50
+  // against 0.9 s. Its own error at 1e-12 is of the order of 3e-10 (the flexible A(a)'s first 13
+  // orbits: largest 2.8e-10, against 1.2e-11 at 1e-13).
   if (defect_check) {
+    IntegratorOptions check;
+    check.method = IntegrationMethod::kDormandPrince;
+    check.relative_tolerance = check.absolute_tolerance = 1e-12;
+    check.max_steps = 2000000;
     measures.push_back(PeriodicityDefect(std::make_shared<RubRotatingFrame>(frame), check));
   }
   if (frame.HasMirrorSymmetry()) {
