@@ -401,8 +401,10 @@ struct Continuation::Impl {
   // ---- detection and location in one interval -------------------------------------------------
 
   // Special points between `from` and `to` (σ from 0 to sigma_end), sorted by σ.
+  // `located_tests`: the problem's test functions whose zero in the step is already located (a
+  // grazing that ends the branch).
   std::vector<SpecialPoint> Detect(Sampler& sampler, const PointData& from, const PointData& to,
-                                   double sigma_end) {
+                                   double sigma_end, const std::vector<Index>& located_tests) {
     std::vector<std::pair<double, SpecialPoint>> found;
     if (from.singular_start) return {};
     const Index n = system.n();
@@ -474,6 +476,9 @@ struct Continuation::Impl {
     if (from.tests.size() == to.tests.size()) {
       for (Index k = 0; k < from.tests.size(); ++k) {
         if (!(from.tests(k) * to.tests(k) < 0.0)) continue;
+        if (std::find(located_tests.begin(), located_tests.end(), k) != located_tests.end()) {
+          continue;
+        }
         ArcFunction psi = [this, k](const CorrectedPoint& p, double& value) {
           value = TestsAt(p.x)(k);
           return std::isfinite(value);
@@ -1124,7 +1129,45 @@ struct Continuation::Impl {
     }
   }
 
-  enum class Cut { kNone, kLambdaBound, kEvent, kClosed };
+  enum class Cut { kNone, kLambdaBound, kEvent, kClosed, kGrazing };
+
+  // The located zeros of the kGrazing test functions that change sign between `current` and `to`
+  // (at arclength sigma_end), as (test index, σ, point): the earliest, and any other at the same
+  // point (a symmetric rotor's two contacts graze together), in order of σ. Zeros that did not
+  // converge are left to Detect, as every other test's.
+  struct LocatedTest {
+    Index test = 0;
+    double sigma = 0.0;
+    SpecialPoint point;
+  };
+  std::vector<LocatedTest> FirstGrazing(Sampler& sampler, const PointData& to, double sigma_end) {
+    std::vector<LocatedTest> located;
+    if (!options.detect.locate || current.tests.size() != to.tests.size()) return located;
+    for (Index k = 0; k < to.tests.size(); ++k) {
+      if (problem.TestFunctionType(static_cast<int>(k)) != SpecialPointType::kGrazing ||
+          !(current.tests(k) * to.tests(k) < 0.0)) {
+        continue;
+      }
+      ArcFunction psi = [this, k](const CorrectedPoint& p, double& value) {
+        value = TestsAt(p.x)(k);
+        return std::isfinite(value);
+      };
+      auto [sigma, sp] = FromArc(SpecialPointType::kGrazing, sampler, psi, current.tests(k),
+                                 to.tests(k), to, sigma_end, true);
+      if (!sp.converged) continue;
+      sp.label = test_names[static_cast<size_t>(k)];
+      located.push_back({k, sigma, std::move(sp)});
+    }
+    std::sort(located.begin(), located.end(),
+              [](const LocatedTest& a, const LocatedTest& b) { return a.sigma < b.sigma; });
+    if (!located.empty()) {
+      const SpecialPoint first = located.front().point;
+      located.erase(std::remove_if(located.begin() + 1, located.end(),
+                                   [&](const LocatedTest& t) { return !SamePoint(first, t.point); }),
+                    located.end());
+    }
+    return located;
+  }
 
   // Takes the corrected step to `candidate` (at arclength sigma_end): bounds, events, closure,
   // special points, the point itself. `left_branch` (nothing changed, the step is to be taken
@@ -1224,8 +1267,24 @@ struct Continuation::Impl {
       }
     }
 
-    // 4. Closure.
-    if (cut != Cut::kEvent && options.detect.closed_branches && branch.points.size() >= 3 &&
+    // 4. A grazing that ends the branch (bounds.end_at_grazing): the step is cut at it, like at a
+    // λ bound, so that nothing past it is located.
+    std::vector<LocatedTest> grazing;
+    if (options.bounds.end_at_grazing) {
+      grazing = FirstGrazing(sampler, next, sigma_end);
+      if (!grazing.empty()) {
+        // The located point, from the sampler's cache.
+        const bool cached = sampler.At(grazing.front().sigma, next.point);
+        RUBCONT_INVARIANT(cached, "the located grazing at σ = {} is not in the cache",
+                          grazing.front().sigma);
+        cut = Cut::kGrazing;
+        sigma_end = grazing.front().sigma;
+        FillEventsAndTests(next);
+      }
+    }
+
+    // 5. Closure.
+    if ((cut == Cut::kNone || cut == Cut::kLambdaBound) && options.detect.closed_branches && branch.points.size() >= 3 &&
         current.piece == start_piece && start_x.size() == next.point.x.size()) {
       const double h_from = start_tangent.dot(current.point.x - start_x);
       const double h_to = start_tangent.dot(next.point.x - start_x);
@@ -1248,9 +1307,11 @@ struct Continuation::Impl {
       }
     }
 
-    // 5. Stability at the new point, special points in the step, the point itself.
+    // 6. Stability at the new point, special points in the step, the point itself.
     ComputeStability(next);
-    std::vector<SpecialPoint> special = Detect(sampler, current, next, sigma_end);
+    std::vector<Index> located_tests;
+    for (const LocatedTest& t : grazing) located_tests.push_back(t.test);
+    std::vector<SpecialPoint> special = Detect(sampler, current, next, sigma_end, located_tests);
     // A special point that cannot be located may also be a step that jumped to another branch
     // (its test function jumps between the branches): taken again shorter, as for events.
     if (!shortest && options.detect.locate &&
@@ -1262,6 +1323,16 @@ struct Continuation::Impl {
     AppendPoint(next, sigma_end);
     ++branch.statistics.steps;
     for (SpecialPoint& sp : special) AddSpecialPoint(std::move(sp));
+    const std::string grazing_end =
+        grazing.empty() ? ""
+                        : fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the "
+                                      "orbits cross a switching surface (continue with "
+                                      "ContinueAcrossSwitches)",
+                                      grazing.front().point.label.empty()
+                                          ? ""
+                                          : " " + grazing.front().point.label,
+                                      grazing.front().point.lambda);
+    for (LocatedTest& t : grazing) AddSpecialPoint(std::move(t.point));
 
     if (cut == Cut::kEvent) return SwitchAtEvent(event, event_root, next);
     previous_x = std::move(current.point.x);
@@ -1271,6 +1342,7 @@ struct Continuation::Impl {
                  fmt::format("reached λ {} = {:.10g}",
                              bound == options.bounds.lambda_max ? "max" : "min", bound));
     }
+    if (cut == Cut::kGrazing) return End(BranchStatus::kGrazing, grazing_end);
     if (cut == Cut::kClosed) {
       return End(BranchStatus::kClosed,
                  fmt::format("closed: returned to the start point after arclength {:.6g}",

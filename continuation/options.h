@@ -63,6 +63,14 @@ struct BoundsOptions {
   Vector state_upper;
   double max_state_norm = kInfinity;  // bound on ‖û‖∞ (> 0)
   int max_steps = 1000;  // accepted continuation steps (≥ 1)
+  // End at the first located zero of a test function of type kGrazing (Problem::TestFunctionType),
+  // status kGrazing: the step that meets it is cut there, like at a λ bound, and only the part
+  // before it is searched for other special points. Past a grazing the orbits cross a switching
+  // surface, where the Jacobian's determinant and the multipliers jump as a contact opens at one
+  // collocation point after another: on A(a)'s modulated whip (curved predictor, 400 uniform
+  // intervals) locating those jumps after the step had crossed the grazing took 20 s of the run's
+  // 44 (bench/whip_family_bench.cpp).
+  bool end_at_grazing = false;
 };
 
 // What to look for along the branch. Detection compares consecutive points of the same piece.

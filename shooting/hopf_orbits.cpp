@@ -75,11 +75,7 @@ PeriodicOrbitBranch ContinueOrbitsFromHopf(OdeSystem& system, const SpecialPoint
   problem.SetPhaseReference(u0, lambda);
   const Vector du = problem.Pack(directions, 0.0, 0.0).cwiseQuotient(problem.Scale());
 
-  ContinuationOptions continuation = options.orbits.continuation;
-  continuation.bounds.lambda_min = options.orbits.lambda_min;
-  continuation.bounds.lambda_max = options.orbits.lambda_max;
-  continuation.detect.stability = true;
-  Continuation stepper(problem, continuation);
+  Continuation stepper(problem, OrbitContinuationOptions(options.orbits));
   PeriodicOrbitBranch result;
   result.kind = options.kind;
   result.state_dimension = n;

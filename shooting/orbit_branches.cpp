@@ -162,10 +162,7 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
     result.shooting = shooting;
     result.shooting.period_scale = problem.PeriodScale();
     result.shooting.lambda_scale = problem.LambdaScale();
-    ContinuationOptions continuation = options.continuation;
-    continuation.bounds.lambda_min = options.lambda_min;
-    continuation.bounds.lambda_max = options.lambda_max;
-    continuation.detect.stability = true;
+    ContinuationOptions continuation = OrbitContinuationOptions(options);
     continuation.direction = direction;
     Branch branch = Continue(problem, u0, start.lambda, continuation, options.on_step,
                              OrbitEndTest(options, start.lambda));
@@ -228,17 +225,6 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda) {
   return (now - start_lambda) * (before - start_lambda) <= 0.0;
 }
 
-EndTest EndAtGrazing() {
-  return [](const Branch& branch) -> std::optional<BranchEnd> {
-    const SpecialPoint* p = branch.FirstLocated(SpecialPointType::kGrazing);
-    if (p == nullptr) return std::nullopt;
-    return BranchEnd{BranchStatus::kGrazing,
-                     fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the orbits "
-                                 "cross a switching surface (continue with ContinueAcrossSwitches)",
-                                 p->label.empty() ? "" : " " + p->label, p->lambda)};
-  };
-}
-
 EndTest EndAtNeimarkSacker() {
   return [](const Branch& branch) -> std::optional<BranchEnd> {
     const SpecialPoint* p = branch.FirstLocated(SpecialPointType::kNeimarkSacker);
@@ -251,7 +237,6 @@ EndTest EndAtNeimarkSacker() {
 EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda) {
   std::vector<EndTest> tests;
   if (options.stop_round_closed_curve) tests.push_back(EndRoundClosedCurve(start_lambda));
-  if (options.stop_at_grazing) tests.push_back(EndAtGrazing());
   if (options.stop_at_neimark_sacker) tests.push_back(EndAtNeimarkSacker());
   if (tests.empty()) return {};
   return [tests](const Branch& branch) -> std::optional<BranchEnd> {
@@ -260,6 +245,15 @@ EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lam
     }
     return std::nullopt;
   };
+}
+
+ContinuationOptions OrbitContinuationOptions(const PeriodicOrbitBranchOptions& options) {
+  ContinuationOptions continuation = options.continuation;
+  continuation.bounds.lambda_min = options.lambda_min;
+  continuation.bounds.lambda_max = options.lambda_max;
+  continuation.bounds.end_at_grazing = options.stop_at_grazing;
+  continuation.detect.stability = true;
+  return continuation;
 }
 
 EndTest EndRoundClosedCurve(double start_lambda) {
@@ -470,10 +464,7 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
   problem.SetPhaseReference(twice, point.lambda);
   const Vector du = problem.Pack(direction, 0.0, 0.0).cwiseQuotient(problem.Scale());
 
-  ContinuationOptions continuation = options.continuation;
-  continuation.bounds.lambda_min = options.lambda_min;
-  continuation.bounds.lambda_max = options.lambda_max;
-  continuation.detect.stability = true;
+  const ContinuationOptions continuation = OrbitContinuationOptions(options);
   // A start too far off the orbit for the flow (a stiff contact pressed in further than the
   // integrator survives) is tried again ten and a hundred times closer: the same doubled orbits.
   std::string failed;

@@ -73,9 +73,10 @@ struct PeriodicOrbitBranchOptions {
   // family (refresh_phase_reference) an orbit met again has other segment starts: measured on
   // C(a)'s 1:3 orbits, followed round and round.
   bool stop_round_closed_curve = false;
-  // End a run at its first located grazing (a kGrazing special point that converged: an orbit
-  // tangent to a switching surface; status BranchStatus::kGrazing, the message names it), instead
-  // of continuing past it. Past A(a)'s grazing the fixed collocation mesh creeps 87 orbits in
+  // End a run at its first located grazing (a kGrazing test's zero that converged: an orbit
+  // tangent to a switching surface; status BranchStatus::kGrazing, the message names it; the step
+  // is cut there: ContinuationOptions' bounds.end_at_grazing), instead of continuing past it.
+  // Past A(a)'s grazing the fixed collocation mesh creeps 87 orbits in
   // halving steps over 0.33 rpm (640 s) to a corrector failure (issue 49; bench/
   // whip_family_bench.cpp); ContinueAcrossSwitches (shooting/switching_orbits.h) continues there.
   bool stop_at_grazing = false;
@@ -110,15 +111,16 @@ bool RoundClosedCurve(const Branch& branch, double start_lambda);
 // ContinueLockedOrbits): status kClosed once RoundClosedCurve(branch, start_lambda), the message
 // naming the folds.
 EndTest EndRoundClosedCurve(double start_lambda);
-// The end at the first converged grazing special point of the branch (PeriodicOrbitBranchOptions::
-// stop_at_grazing): status BranchStatus::kGrazing.
-EndTest EndAtGrazing();
 // The end at the first converged Neimark–Sacker point (PeriodicOrbitBranchOptions::
 // stop_at_neimark_sacker): status kStoppedByCaller.
 EndTest EndAtNeimarkSacker();
-// The ends `options` ask for (stop_round_closed_curve, stop_at_grazing, stop_at_neimark_sacker) as
-// one end test of a run started at start_lambda; empty when they ask for none.
+// The ends `options` ask for (stop_round_closed_curve, stop_at_neimark_sacker) as one end test of
+// a run started at start_lambda; empty when they ask for none. (stop_at_grazing is the engine's:
+// OrbitContinuationOptions.)
 EndTest OrbitEndTest(const PeriodicOrbitBranchOptions& options, double start_lambda);
+// The engine's options for a family of `options`: its continuation options with its λ range,
+// stability on, and bounds.end_at_grazing = stop_at_grazing.
+ContinuationOptions OrbitContinuationOptions(const PeriodicOrbitBranchOptions& options);
 
 // Throws std::invalid_argument naming the field (an empty or non-finite range).
 void Validate(const PeriodicOrbitBranchOptions& options);
@@ -219,7 +221,7 @@ OrbitReturnMap ReturnMapAt(OdeSystem& system, const PeriodicOrbitBranch& family,
 // before (twice the intervals per doubled period). A start whose correction fails (C(a)'s stiff
 // contact at 1e-3: a non-finite residual) is tried again at amplitude/10 and amplitude/100
 // (kDoublingStartAttempts in all); the message names the failed starts and `amplitude` the one
-// the family started from. The family ends where options ask (OrbitEndTest: stop_at_grazing).
+// the family started from. The family ends where options ask (stop_at_grazing).
 inline constexpr int kDoublingStartAttempts = 3;
 struct OrbitPeriodDoubling {
   std::size_t special_point = 0;  // index into the family's branch.special_points

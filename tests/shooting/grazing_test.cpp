@@ -188,7 +188,7 @@ TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points locate
 }
 
 TEST_CASE("stop_at_grazing: the family ends with status kGrazing at its first located grazing, "
-          "where without it it goes on through both",
+          "the grazing orbit its last, where without it it goes on through both",
           "[grazing][shooting][branch]") {
   const SoftImpactParams params = DampedImpact();
   SoftImpactOscillator system(params);
@@ -225,9 +225,13 @@ TEST_CASE("stop_at_grazing: the family ends with status kGrazing at its first lo
     CHECK(grazing[0].converged);
     CHECK(grazing[0].lambda == Approx(expected[0]).epsilon(0).margin(1e-8));
     CHECK_THAT(branch.message, Catch::Contains("grazing touchdown"));
-    // Ended by the step that found it: the last orbit is the first one past the grazing.
+    // The step that met it is cut there: the last orbit is the grazing orbit, and nothing past
+    // it is on the branch.
     CHECK(grazing[0].index + 2 == static_cast<Index>(branch.points.size()));
-    CHECK(branch.points.back().lambda > grazing[0].lambda);
+    CHECK(branch.points.back().lambda == grazing[0].lambda);
+    CHECK(branch.points.back().u == grazing[0].u);
+    for (const BranchPoint& p : branch.points) CHECK(p.lambda <= grazing[0].lambda);
+    for (const SpecialPoint& p : branch.special_points) CHECK(p.lambda <= grazing[0].lambda);
   }
 }
 
