@@ -18,6 +18,7 @@
 #include "apps/stage_options.h"
 #include "apps/sweep_output.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 
 namespace rubcont {
 namespace {
@@ -365,6 +366,12 @@ void SweepJumpsByLoop(std::vector<PredictedJump>& table, const std::vector<LoopC
       const LeaveDistribution leave =
           PredictLeave(fit, side, row.direction == "up" ? up_schedule_rpm : down_schedule_rpm, dwell);
       if (std::isnan(leave.median)) continue;
+      // The jump must lie where this schedule leaves the state, within the 5–95 % range of the leave
+      // speeds (up to the schedule's end where 95 % is not reached): C(c)'s run-up jumps at 100 → 104
+      // rpm in its frequency, below the range 120 … 128 its loop's crisis predicts.
+      const double beyond = row.direction == "up" ? kInfinity : -kInfinity;
+      const double last = std::isnan(leave.high) ? beyond : leave.high;
+      if (hi < std::min(leave.low, last) || lo > std::max(leave.low, last)) continue;
       row.bifurcation = fmt::format("crisis of a chaotic whip (L3, {}): this schedule leaves it at {:g} rpm, 5–95 % "
                                     "{:g} … {:g}", file_name, leave.median, leave.low, leave.high);
       row.bifurcation_speed_rpm = leave.median;

@@ -87,7 +87,8 @@ std::vector<LoopCrisis> ReadLoopCrises(const std::filesystem::path& file, const 
 // A sweep's jumps that the waves leave open, explained by a loop's crisis of the same direction, kind
 // and contact whose jump it overlaps (within `reach_rpm`): the crisis law refitted to the loop's
 // ensembles and the speed this sweep's own schedule (`schedule_rpm` per direction, `dwell` s per
-// speed) is predicted to leave at — its median, with the 5–95 % range in the bifurcation's name.
+// speed) is predicted to leave at — its median, with the 5–95 % range in the bifurcation's name. A
+// jump outside that range (up to the schedule's end where 95 % is not reached) is left open.
 void SweepJumpsByLoop(std::vector<PredictedJump>& table, const std::vector<LoopCrisis>& crises,
                       const std::vector<double>& up_schedule_rpm, const std::vector<double>& down_schedule_rpm,
                       double dwell, double reach_rpm, const std::string& file_name);

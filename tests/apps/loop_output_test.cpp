@@ -4,6 +4,7 @@
 // takes any periodic-orbit family).
 #include "apps/loop_output.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "apps/stage_options.h"
 #include "cli_support.h"
 #include "models/units.h"
+#include "solvers/constants.h"
 #include "tests/shooting/moebius_band.h"
 
 namespace rubcont {
@@ -85,6 +87,56 @@ TEST_CASE("loop options: a negative route_tries or doubled_steps is refused by n
   CHECK_THROWS_WITH(Validate(bad), Catch::Contains("LoopOptions.doubled_steps = -2"));
   bad.doubled_steps = 0;  // not followed: allowed
   CHECK_NOTHROW(Validate(bad));
+}
+
+// Ensembles that follow the crisis law κ(p) = (p − 118 rpm)/s exactly: at each speed, 16 copies
+// whose escape times are the law's exponential quantiles, counted in stretches of 0.5 s over 10 s.
+LoopCrisis CrisisAt118() {
+  LoopCrisis c{"up", ToString(RubJumpKind::kFrequencyJump), "left, right", 120.0, 122.0, {}};
+  for (double p = 120.0; p <= 128.0; p += 2.0) {
+    EscapeObservations o;
+    o.parameter = p;
+    o.duration = 10.0;
+    o.stretch = 0.5;
+    for (int i = 0; i < 16; ++i) {
+      const double t = -std::log(1.0 - (i + 0.5) / 16.0) / (p - 118.0);
+      if (t > o.duration) {
+        ++o.stayed;
+      } else {
+        o.escape_stretch.push_back(static_cast<int>(std::ceil(t / o.stretch)));
+      }
+    }
+    c.observations.push_back(o);
+  }
+  return c;
+}
+
+TEST_CASE("a sweep's jump takes the loop's crisis only where the sweep's schedule leaves the state",
+          "[loop][output]") {
+  std::vector<double> up;
+  for (double p = 90.0; p <= 140.0; p += 2.0) up.push_back(p);
+  const std::vector<double> down(up.rbegin(), up.rend());
+  auto jump = [](double from, double to) {
+    PredictedJump row;
+    row.direction = "up";
+    row.contact = "left";
+    row.jump.kind = RubJumpKind::kFrequencyJump;
+    row.jump.speed_from_rpm = from;
+    row.jump.speed_to_rpm = to;
+    row.bifurcation_speed_rpm = row.difference_rpm = kNaN;
+    return row;
+  };
+  // Both within the 20 rpm the crisis's corner reaches: the first lies far below the range where
+  // the run leaves (the law's own: 78 % of runs by 120 rpm at 1.5 s per speed, 99 % by 122; the
+  // refitted law, whose p_c the ensembles above it bound only from above, says 114 … 120), the
+  // second in it.
+  std::vector<PredictedJump> table = {jump(100.0, 104.0), jump(118.0, 120.0)};
+  SweepJumpsByLoop(table, {CrisisAt118()}, up, down, 1.5, 20.0, "loop.h5");
+  CHECK(table[0].bifurcation.empty());
+  CHECK(std::isnan(table[0].difference_rpm));
+  CHECK_THAT(table[1].bifurcation, Catch::Contains("crisis of a chaotic whip"));
+  CHECK(table[1].bifurcation_speed_rpm >= 114.0);
+  CHECK(table[1].bifurcation_speed_rpm <= 120.0);
 }
 
 }  // namespace
