@@ -164,11 +164,26 @@ void ReportOrbitChecks(const Branch& branch, const std::string& group, const Orb
   std::string line = "    check: no defect check (defect_check = \"off\")";
   std::vector<std::string> notes;
   if (std::find(names.begin(), names.end(), "defect") != names.end()) {
-    const double defect = branch.Measure("defect").maxCoeff();
-    line = fmt::format("    check: largest defect {:.1e} (Dormand–Prince at 1e-12)", defect);
-    if (!(defect <= kDefectLimit)) {
+    // A check whose integration failed measured nothing (NaN): counted, not compared.
+    const Vector all = branch.Measure("defect");
+    double defect = -kInfinity;
+    Index failed = 0;
+    for (Index i = 0; i < all.size(); ++i) {
+      if (std::isnan(all(i))) ++failed;
+      else defect = std::max(defect, all(i));
+    }
+    line = failed == all.size()
+               ? "    check: no defect measured (Dormand–Prince at 1e-12)"
+               : fmt::format("    check: largest defect {:.1e} (Dormand–Prince at 1e-12)", defect);
+    if (failed > 0 && failed < all.size()) line += fmt::format(" of {} orbits", all.size() - failed);
+    if (defect > kDefectLimit) {
       notes.push_back(fmt::format("an orbit's defect {:.1e} exceeds {:g}: refine the mesh or the "
                                   "tolerance", defect, kDefectLimit));
+    }
+    if (failed > 0) {
+      notes.push_back(fmt::format("the defect check could not integrate {} of {} orbits (NaN in "
+                                  "their defect): refine the mesh or the tolerance",
+                                  failed, all.size()));
     }
   }
   if (std::find(names.begin(), names.end(), "unresolved_multiplier") != names.end()) {

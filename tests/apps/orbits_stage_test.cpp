@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include <unistd.h>
 
 #include "apps/hdf5_file.h"
+#include "apps/orbits_stage.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
 #include "solvers/constants.h"
@@ -389,6 +391,38 @@ TEST_CASE("defect_check in [analysis.orbits]: \"on\" (the default) keeps the orb
           "\"off\" leaves it out, another value is exit 2 naming the key",
           "[orbits][cli]") {
   CheckOrbitsSwitch("defect_check", "off", "on", true, &PeriodicOrbitBranchOptions::defect_check);
+}
+
+TEST_CASE("the orbits' check counts the orbits whose defect check could not integrate, and compares "
+          "the others with the limit",
+          "[orbits]") {
+  const RubStructure structure;  // no contacts: no penetration to judge
+  auto report = [&](const std::vector<double>& defects) {
+    Branch branch;
+    branch.measure_names = {"defect"};
+    for (double d : defects) {
+      BranchPoint p;
+      p.measures = Vector::Constant(1, d);
+      branch.points.push_back(p);
+    }
+    TempDir dir;
+    ResultWriter writer(dir.path / "checks.h5");
+    writer.CreateGroup("/orbits");
+    std::ostringstream out;
+    ReportOrbitChecks(branch, "/orbits", OrbitTrust{structure, 0.1}, writer, out);
+    return out.str();
+  };
+  const std::string some = report({2e-8, kNaN, 3e-5});
+  CHECK_THAT(some, Contains("check: largest defect 3.0e-05 (Dormand–Prince at 1e-12) of 2 orbits"));
+  CHECK_THAT(some, Contains("an orbit's defect 3.0e-05 exceeds 1e-05"));
+  CHECK_THAT(some, Contains("the defect check could not integrate 1 of 3 orbits"));
+  const std::string none = report({kNaN, kNaN});
+  CHECK_THAT(none, Contains("check: no defect measured"));
+  CHECK_THAT(none, !Contains("exceeds"));
+  CHECK_THAT(none, Contains("could not integrate 2 of 2 orbits"));
+  const std::string fine = report({2e-8, 4e-7});
+  CHECK_THAT(fine, Contains("check: largest defect 4.0e-07 (Dormand–Prince at 1e-12)\n"));
+  CHECK_THAT(fine, !Contains("note:"));
 }
 
 TEST_CASE("stage orbits on a Jeffcott scene, or a bad [analysis.orbits] key, exits with code 2",
