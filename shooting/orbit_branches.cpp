@@ -321,10 +321,7 @@ OrbitBranchSwitch ContinueOrbitsFromBranchPoint(OdeSystem& system,
   }
   result.ok = true;
 
-  ContinuationOptions continuation = options.continuation;
-  continuation.bounds.lambda_min = options.lambda_min;
-  continuation.bounds.lambda_max = options.lambda_max;
-  continuation.detect.stability = true;
+  const ContinuationOptions continuation = OrbitContinuationOptions(options);
   for (int side : {+1, -1}) {
     if (side < 0 && result.breaks_mirror_symmetry) break;
     problem.ResetStatistics();

@@ -147,7 +147,8 @@ PeriodicOrbitBranch ContinuePeriodicOrbits(OdeSystem& system, OrbitKind kind,
 // The other branch through a located branch point of a periodic-orbit family: the direction from
 // the algebraic branching equation (continuation/branch_switching.h), followed with the family's
 // shooting (PeriodicOrbitBranch::shooting, the phase reference at the last orbit before the point)
-// over [options.lambda_min, options.lambda_max] with options.continuation and options.measures.
+// over [options.lambda_min, options.lambda_max] with options.continuation and options.measures,
+// to its first located grazing with stop_at_grazing (OrbitContinuationOptions).
 //
 // With a mirror symmetry κ (OdeSystem::HasMirrorSymmetry) the point is classified. Where the
 // family's orbits on both sides of the point are symmetric (asymmetry ≤ kSymmetricOrbit) the
