@@ -778,8 +778,8 @@ void RubOrbitsKeys(std::vector<KeySpec>& s) {
       "\"continue\": a family goes on past a located grazing (where a contact starts to open: the "
       "fixed Gauss mesh then creeps in shrinking steps, A(a) 87 orbits and 640 s of CPU past "
       "132.5 rpm to a corrector failure); \"stop\": each family, side branches included, ends at "
-      "its first located grazing with the status \"ended at a grazing\" (not a failure; "
-      "docs/levels/l2_orbits_tori.md).",
+      "its first located grazing with the status \"ended at a grazing\" (not a failure; the "
+      "grazing orbit is its last; docs/levels/l2_orbits_tori.md).",
       {"continue", "stop"}, "stop",
       [](Scene& x) -> bool& { return x.analysis.orbits.stop_at_grazing; }));
   s.back().added_at_older_behaviour = true;

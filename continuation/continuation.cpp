@@ -1169,10 +1169,11 @@ struct Continuation::Impl {
     return located;
   }
 
-  // Takes the corrected step to `candidate` (at arclength sigma_end): bounds, events, closure,
-  // special points, the point itself. `left_branch` (nothing changed, the step is to be taken
-  // again shorter): an event margin jumps within the step or cannot be followed along it, or a
-  // special point cannot be located, unless `shortest` (the smallest step, or the last try).
+  // Takes the corrected step to `candidate` (at arclength sigma_end): bounds, events, a grazing that
+  // ends the branch, closure, special points, the point itself. `left_branch` (nothing changed, the
+  // step is to be taken again shorter): an event margin jumps within the step or cannot be followed
+  // along it, or a special point cannot be located, unless `shortest` (the smallest step, or the
+  // last try).
   StepResult Advance(CorrectedPoint candidate, double sigma_end, bool shortest,
                      bool& left_branch) {
     // The step's end as the corrector found it: `candidate` may be cut below, this stays.
@@ -1270,22 +1271,28 @@ struct Continuation::Impl {
     // 4. A grazing that ends the branch (bounds.end_at_grazing): the step is cut at it, like at a
     // λ bound, so that nothing past it is located.
     std::vector<LocatedTest> grazing;
+    std::string grazing_end;
     if (options.bounds.end_at_grazing) {
       grazing = FirstGrazing(sampler, next, sigma_end);
       if (!grazing.empty()) {
+        const LocatedTest& first = grazing.front();
         // The located point, from the sampler's cache.
-        const bool cached = sampler.At(grazing.front().sigma, next.point);
-        RUBCONT_INVARIANT(cached, "the located grazing at σ = {} is not in the cache",
-                          grazing.front().sigma);
+        const bool cached = sampler.At(first.sigma, next.point);
+        RUBCONT_INVARIANT(cached, "the located grazing at σ = {} is not in the cache", first.sigma);
         cut = Cut::kGrazing;
-        sigma_end = grazing.front().sigma;
+        sigma_end = first.sigma;
         FillEventsAndTests(next);
+        grazing_end = fmt::format(
+            "ended at the grazing{} located at λ = {:.9g}: past it the orbits cross a switching "
+            "surface (continue with ContinueAcrossSwitches)",
+            first.point.label.empty() ? "" : " " + first.point.label, first.point.lambda);
       }
     }
 
     // 5. Closure.
-    if ((cut == Cut::kNone || cut == Cut::kLambdaBound) && options.detect.closed_branches && branch.points.size() >= 3 &&
-        current.piece == start_piece && start_x.size() == next.point.x.size()) {
+    if ((cut == Cut::kNone || cut == Cut::kLambdaBound) && options.detect.closed_branches &&
+        branch.points.size() >= 3 && current.piece == start_piece &&
+        start_x.size() == next.point.x.size()) {
       const double h_from = start_tangent.dot(current.point.x - start_x);
       const double h_to = start_tangent.dot(next.point.x - start_x);
       if (h_from < 0.0 && h_to >= 0.0 &&
@@ -1323,15 +1330,6 @@ struct Continuation::Impl {
     AppendPoint(next, sigma_end);
     ++branch.statistics.steps;
     for (SpecialPoint& sp : special) AddSpecialPoint(std::move(sp));
-    const std::string grazing_end =
-        grazing.empty() ? ""
-                        : fmt::format("ended at the grazing{} located at λ = {:.9g}: past it the "
-                                      "orbits cross a switching surface (continue with "
-                                      "ContinueAcrossSwitches)",
-                                      grazing.front().point.label.empty()
-                                          ? ""
-                                          : " " + grazing.front().point.label,
-                                      grazing.front().point.lambda);
     for (LocatedTest& t : grazing) AddSpecialPoint(std::move(t.point));
 
     if (cut == Cut::kEvent) return SwitchAtEvent(event, event_root, next);

@@ -541,6 +541,50 @@ TEST_CASE("an end test ends the branch with the caller's status and message, aft
                     Catch::Contains("status = running"));
 }
 
+// x = λ with two test functions: a grazing at λ = 1 and another zero at λ = 1.5 (where a rub orbit
+// family's determinant and multipliers jump, past its grazing).
+class LineWithGrazing : public LambdaProblem {
+ public:
+  LineWithGrazing()
+      : LambdaProblem(
+            1, [](const Vector& u, double l, double, Vector& F) { F(0) = u(0) - l; },
+            [](const Vector&, double, double, Matrix& J) { J(0, 0) = 1.0; },
+            [](const Vector&, double, double, Vector& dF) { dF(0) = -1.0; }) {}
+  std::vector<std::string> TestFunctionNames() const override { return {"lift_off", "past"}; }
+  Vector TestFunctions(const Vector& u, double) override {
+    return Vec({1.0 - u(0), u(0) - 1.5});
+  }
+  SpecialPointType TestFunctionType(int k) const override {
+    return k == 0 ? SpecialPointType::kGrazing : SpecialPointType::kTestFunction;
+  }
+};
+
+TEST_CASE("end_at_grazing: the step that meets the grazing is cut there, nothing past it located",
+          "[continuation][bounds]") {
+  LineWithGrazing problem;
+  ContinuationOptions options;
+  options.bounds.lambda_max = 3.0;
+  options.step.initial = options.step.max = 3.0;  // the first step crosses both sign changes
+  options.bounds.end_at_grazing = true;
+  const Branch ended = Continue(problem, Vec({0.0}), 0.0, options);
+  INFO(ended.BriefReport() << " — " << ended.message);
+  CHECK(ended.status == BranchStatus::kGrazing);
+  CHECK_THAT(ended.message, Catch::Contains("ended at the grazing lift_off located at λ = 1:"));
+  REQUIRE(ended.points.size() == 2u);
+  CHECK(ended.points.back().lambda == Approx(1.0).epsilon(0).margin(1e-9));
+  REQUIRE(ended.special_points.size() == 1u);
+  CHECK(ended.special_points[0].type == SpecialPointType::kGrazing);
+  CHECK(ended.special_points[0].converged);
+  CHECK(ended.special_points[0].lambda == ended.points.back().lambda);
+  // Without it the branch goes on through both.
+  options.bounds.end_at_grazing = false;
+  const Branch on = Continue(problem, Vec({0.0}), 0.0, options);
+  CHECK(on.status == BranchStatus::kReachedLambdaBound);
+  CHECK(on.Count(SpecialPointType::kGrazing) == 1);
+  CHECK(on.Count(SpecialPointType::kTestFunction) == 1);
+  CHECK(on.points.back().lambda == Approx(3.0));
+}
+
 TEST_CASE("state bounds and the step limit end the branch and say why", "[continuation][bounds]") {
   LambdaProblem problem = Cubic(true);
   SECTION("state box") {
