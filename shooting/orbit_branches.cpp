@@ -476,8 +476,8 @@ OrbitPeriodDoubling ContinueOrbitsFromPeriodDoubling(OdeSystem& system,
     }
     result.amplitude = amplitude;
     result.message = failed.empty() ? "" : failed + fmt::format("; amplitude {:g} used", amplitude);
-    // The ends options ask for (stop_at_grazing: A(a)'s doubled whip crept 290 orbits past its
-    // grazing on a fixed mesh without it).
+    // The ends options ask for (stop_at_grazing, in `continuation`: A(a)'s doubled whip crept 290
+    // orbits past its grazing on a fixed mesh without it).
     result.branch = FamilyOf(problem, doubled, point.lambda,
                              RunToEnd(stepper, on_step, OrbitEndTest(options, point.lambda)));
     break;

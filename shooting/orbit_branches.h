@@ -76,9 +76,9 @@ struct PeriodicOrbitBranchOptions {
   // End a run at its first located grazing (a kGrazing test's zero that converged: an orbit
   // tangent to a switching surface; status BranchStatus::kGrazing, the message names it; the step
   // is cut there: ContinuationOptions' bounds.end_at_grazing), instead of continuing past it.
-  // Past A(a)'s grazing the fixed collocation mesh creeps 87 orbits in
-  // halving steps over 0.33 rpm (640 s) to a corrector failure (issue 49; bench/
-  // whip_family_bench.cpp); ContinueAcrossSwitches (shooting/switching_orbits.h) continues there.
+  // Past A(a)'s grazing the fixed collocation mesh creeps 87 orbits in halving steps over 0.33 rpm
+  // (640 s) to a corrector failure (issue 49; bench/whip_family_bench.cpp);
+  // ContinueAcrossSwitches (shooting/switching_orbits.h) continues there.
   bool stop_at_grazing = false;
   // End a run at its first located Neimark–Sacker point (status kStoppedByCaller, the message
   // names it): where the point is all a caller wants of the family (ContinueCentreOrbits proving
