@@ -9,7 +9,7 @@
 //                          [--growth G] [--max-step S] [--steps N] [--tolerance T] [--residual R]
 //                          [--step-tolerance D] [--failure-memory N]
 //                          [--curved-predictor] [--stop-at-grazing] [--adapt-mesh K]
-//                          [--mesh-floor F] [--verbose] [--digest] [--no-defect-check]
+//                          [--mesh-floor F] [--samples N] [--verbose] [--digest] [--no-defect-check]
 // --max-angle: the engine's rejection angle (default its 0.35 rad, raised to --angle if below).
 // --stop-at-grazing: PeriodicOrbitBranchOptions::stop_at_grazing (the family ends at its first
 // located grazing with status kGrazing); the cost from the last orbit before each grazing to the
@@ -20,7 +20,8 @@
 // (default 0, off); --curved-predictor: StepOptions::curved_predictor (the parabola through the
 // previous point as the corrector's first iterate); --adapt-mesh K: ShootingOptions::
 // adapt_mesh_every (the collocation steps equidistributed on every K-th orbit; default 0, uniform),
-// --mesh-floor: its adapt_mesh_floor. --digest: a hash of every bit of the orbits and special
+// --mesh-floor: its adapt_mesh_floor. --samples N: ShootingOptions::samples_per_segment (the
+// samples the measures and the grazing tests read; default 64). --digest: a hash of every bit of the orbits and special
 // points (unknowns, speed, measures, tangents, multipliers), to tell two builds' runs apart or not.
 // The CPU of the orbits' measures is printed per measure; --no-defect-check drops the "defect"
 // measure (RubOrbitMeasures' Dormand–Prince at 1e-12 over every orbit: an independent check
@@ -91,6 +92,7 @@ int Main(int argc, char** argv) {
          tolerance = 1e-7, residual = 0.0, step_tolerance = 0.0;
   int intervals = 400, iterations = 5, steps = 400, failure_memory = 0, adapt_mesh = 0;
   double mesh_floor = ShootingOptions{}.adapt_mesh_floor;
+  int samples = 0;
   bool verbose = false, stop_at_grazing = false, curved_predictor = false, digest = false,
        defect_check = true;
   for (int i = 1; i < argc; ++i) {
@@ -112,6 +114,7 @@ int Main(int argc, char** argv) {
     else if (a == "--curved-predictor") curved_predictor = true;
     else if (a == "--adapt-mesh") adapt_mesh = static_cast<int>(next());
     else if (a == "--mesh-floor") mesh_floor = next();
+    else if (a == "--samples") samples = static_cast<int>(next());
     else if (a == "--verbose") verbose = true;
     else if (a == "--digest") digest = true;
     else if (a == "--no-defect-check") defect_check = false;
@@ -136,6 +139,7 @@ int Main(int argc, char** argv) {
   shooting.sensitivities_in_residual = true;
   shooting.adapt_mesh_every = adapt_mesh;
   shooting.adapt_mesh_floor = mesh_floor;
+  if (samples > 0) shooting.samples_per_segment = samples;
   ContinuationOptions& c = options.orbits.continuation;
   c.step.max = max_step;
   c.step.target_angle = angle;
