@@ -21,8 +21,9 @@
 // previous point as the corrector's first iterate); --adapt-mesh K: ShootingOptions::
 // adapt_mesh_every (the collocation steps equidistributed on every K-th orbit; default 0, uniform),
 // --mesh-floor: its adapt_mesh_floor. --samples N: ShootingOptions::samples_per_segment (the
-// samples the measures and the grazing tests read; default 64). --digest: a hash of every bit of the orbits and special
-// points (unknowns, speed, measures, tangents, multipliers), to tell two builds' runs apart or not.
+// samples the measures and the grazing tests read; default 64). --digest: a hash of every bit of
+// the orbits and special points (unknowns, speed, measures, tangents, multipliers), to tell two
+// builds' runs apart or not.
 // The CPU of the orbits' measures is printed per measure; --no-defect-check drops the "defect"
 // measure (RubOrbitMeasures' Dormand–Prince at 1e-12 over every orbit: an independent check
 // AUTO-07p has no counterpart of), to set the continuation alone beside AUTO's.
