@@ -146,7 +146,7 @@ StageSetup ForcedVanDerPolSetup(const Scene& scene) {
 
 // Above these the summary and the result say so: an orbit that is not a solution of the ODE to
 // 1e-5 (scaled) under an independent integrator (measured by Dormand–Prince at 1e-12: 4e-12 –
-// 3.3e-6 on A(a)'s family at the stage's 400 intervals, ≤ 5.9e-8 at 1600; 1.9e-5 near its period
+// 3.3e-6 on A(a)'s family at the stage's 400 intervals, ≤ 3.3e-9 at 1600; 1.9e-5 near its period
 // doubling on 400 adapted ones), or modes the mesh does not resolve whose multipliers
 // come within 1 % of the unit circle (RubOrbitMeasures, UnresolvedMultiplier).
 constexpr double kDefectLimit = 1e-5;
