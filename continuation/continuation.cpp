@@ -153,6 +153,14 @@ struct Continuation::Impl {
     return t;
   }
 
+  // The k-th test function along the arc (not evaluable where it is not finite).
+  ArcFunction TestArc(Index k) {
+    return [this, k](const CorrectedPoint& p, double& value) {
+      value = TestsAt(p.x)(k);
+      return std::isfinite(value);
+    };
+  }
+
   Spectrum StabilityAt(const Vector& x) {
     ++branch.statistics.stability_evaluations;
     return problem.Stability(system.StateOf(x), LambdaOf(x));
@@ -479,10 +487,7 @@ struct Continuation::Impl {
         if (std::find(located_tests.begin(), located_tests.end(), k) != located_tests.end()) {
           continue;
         }
-        ArcFunction psi = [this, k](const CorrectedPoint& p, double& value) {
-          value = TestsAt(p.x)(k);
-          return std::isfinite(value);
-        };
+        const ArcFunction psi = TestArc(k);
         // A test function's sign change through a pole or a jump is no special point (the knee
         // test dΩ/dω − ½R/C of rotating waves at a fold, which is reported as the fold).
         bool not_a_zero = false;
@@ -1148,11 +1153,7 @@ struct Continuation::Impl {
           !(current.tests(k) * to.tests(k) < 0.0)) {
         continue;
       }
-      ArcFunction psi = [this, k](const CorrectedPoint& p, double& value) {
-        value = TestsAt(p.x)(k);
-        return std::isfinite(value);
-      };
-      auto [sigma, sp] = FromArc(SpecialPointType::kGrazing, sampler, psi, current.tests(k),
+      auto [sigma, sp] = FromArc(SpecialPointType::kGrazing, sampler, TestArc(k), current.tests(k),
                                  to.tests(k), to, sigma_end, true);
       if (!sp.converged) continue;
       sp.label = test_names[static_cast<size_t>(k)];
@@ -1161,7 +1162,7 @@ struct Continuation::Impl {
     std::sort(located.begin(), located.end(),
               [](const LocatedTest& a, const LocatedTest& b) { return a.sigma < b.sigma; });
     if (!located.empty()) {
-      const SpecialPoint first = located.front().point;
+      const SpecialPoint& first = located.front().point;  // remove_if leaves the front in place
       located.erase(std::remove_if(located.begin() + 1, located.end(),
                                    [&](const LocatedTest& t) { return !SamePoint(first, t.point); }),
                     located.end());
