@@ -68,8 +68,9 @@ struct BoundsOptions {
   // before it is searched for other special points. Past a grazing the orbits cross a switching
   // surface, where the Jacobian's determinant and the multipliers jump as a contact opens at one
   // collocation point after another: on A(a)'s modulated whip (curved predictor, 400 uniform
-  // intervals) locating those jumps, and taking the step again shorter, took 25.7 s of the run's
-  // 43.8 s after its last orbit before the grazing; 3.6 s with the cut (bench/whip_family_bench.cpp).
+  // intervals) locating those jumps, and taking the steps again shorter, made the last two orbits
+  // (from 132.3822 rpm to the end) cost 25.7 s of the run's 43.8 s; 3.6 s with the cut
+  // (bench/whip_family_bench.cpp, one run each).
   bool end_at_grazing = false;
 };
 
