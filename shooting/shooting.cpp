@@ -647,6 +647,7 @@ void ShootingProblem::AdaptCollocationMeshes(const Vector& u, double lambda) {
   cache_valid_ = false;
   residual_ready_ = false;
   samples_valid_ = false;
+  test_samples_valid_ = false;
 }
 
 Vector ShootingProblem::CollocationTimes(double period) const {
@@ -1010,20 +1011,44 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   samples_measures_.resize(0);
   samples_u_ = u;
   samples_lambda_ = lambda;
-  samples_ = OrbitSamples();
-  OrbitSamples& orbit = samples_;
+  SampleOrbit(u, lambda, options_.samples_per_segment, samples_);
+  return samples_;
+}
+
+Index ShootingProblem::TestSamplesPerSegment() const {
+  if (options_.integrator.method != IntegrationMethod::kGaussCollocation) {
+    return options_.samples_per_segment;
+  }
+  return std::max<Index>(options_.samples_per_segment,
+                         kTestSamplesPerCollocationStep * options_.integrator.collocation_steps);
+}
+
+const OrbitSamples& ShootingProblem::TestOrbit(const Vector& u, double lambda) {
+  const Index s = TestSamplesPerSegment();
+  if (s == options_.samples_per_segment) return Orbit(u, lambda);
+  if (test_samples_valid_ && lambda == test_samples_lambda_ && u == test_samples_u_) {
+    return test_samples_;
+  }
+  test_samples_valid_ = true;
+  test_samples_u_ = u;
+  test_samples_lambda_ = lambda;
+  SampleOrbit(u, lambda, s, test_samples_);
+  return test_samples_;
+}
+
+void ShootingProblem::SampleOrbit(const Vector& u, double lambda, Index s, OrbitSamples& orbit) {
+  orbit = OrbitSamples();
   orbit.parameter = lambda;
   orbit.rotation = Rotation(u);
   system_.SetParameter(lambda);
   const double T = Period(u, lambda);
   orbit.period = T;
-  const Index s = options_.samples_per_segment;
   const Index m = segments_ * s + 1;
   orbit.times.resize(m);
   orbit.states.resize(n_, m);
   if (!u.allFinite() || !(T > 0.0) || !std::isfinite(T) || !UseMesh(u)) {
     orbit.states.setConstant(kNaN);
-    return orbit;
+    return;
   }
   Matrix segment_states;
   for (Index i = 0; i < segments_; ++i) {
@@ -1039,7 +1064,7 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
     if (!result.Succeeded()) {
       last_failure_ = result;
       orbit.states.setConstant(kNaN);
-      return orbit;
+      return;
     }
     const Index count = i + 1 == segments_ ? s + 1 : s;
     orbit.times.segment(i * s, count) = times.head(count);
@@ -1047,7 +1072,6 @@ const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   }
   if (!collocation_meshes_.empty()) orbit.collocation_steps = CollocationStepFractions();
   orbit.valid = true;
-  return orbit;
 }
 
 std::vector<std::string> ShootingProblem::MeasureNames() const {
@@ -1094,7 +1118,7 @@ Vector ShootingProblem::TestFunctions(const Vector& u, double lambda) {
   CheckUnknowns(u, "TestFunctions");
   Vector values(static_cast<Index>(tests_.size()));
   if (tests_.empty()) return values;
-  const OrbitSamples& orbit = Orbit(u, lambda);
+  const OrbitSamples& orbit = TestOrbit(u, lambda);
   for (std::size_t k = 0; k < tests_.size(); ++k) {
     values(static_cast<Index>(k)) = orbit.valid ? tests_[k].measure.evaluate(orbit) : kNaN;
   }

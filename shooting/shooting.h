@@ -136,7 +136,8 @@ struct ShootingOptions {
   // stalls short of its grazing among spurious crossings of multipliers (the contact's stiff mode,
   // unresolved on the long steps); 1 (2×) leaves 0.014 rpm of error; 0.3 (4.3×) neither.
   double adapt_mesh_floor = 0.3;
-  // Samples per segment for measures and Orbit() (≥ 2).
+  // Samples per segment for measures and Orbit() (≥ 2); the test functions read at least 4 per
+  // collocation step with Gauss collocation (ShootingProblem::TestOrbit).
   int samples_per_segment = 64;
   // Move the phase conditions' reference to every accepted continuation point (PointAccepted),
   // so that the hyperplane stays transversal to an orbit that changes along the branch (the
@@ -243,10 +244,8 @@ struct OrbitTestFunction {
 // order unless its segments end on the switches (ShootingOptions::event_boundaries;
 // tests/shooting/grazing_test.cpp measures both). The extremum is taken over the orbit's
 // samples and refined by a parabola through the extreme sample and its neighbours, so it is as
-// accurate as ShootingOptions::samples_per_segment makes it (the test measures that too). On A(a)'s
-// whip at 400 intervals the default 64 per segment (21 µs apart) do not resolve the stiff contact's
-// ripple (11.7 µs): its grazing at the stage's settings comes out at 132.632 rpm, at 132.499 with
-// 256 and 132.497 with 1024 samples per segment (bench/whip_family_bench --samples, one run each). h must
+// accurate as the samples make it (ShootingProblem::TestSamplesPerSegment; the test measures
+// that too). h must
 // be a function of the state alone and, for relative orbits, invariant under the system's
 // rotation (a contact's penetration is): the samples then wrap round the period.
 enum class GrazingSide { kLiftOff, kTouchdown };
@@ -385,8 +384,19 @@ class ShootingProblem : public Problem {
   void SetTestFunctions(std::vector<OrbitTestFunction> tests);
 
   // The orbit sampled with samples_per_segment points per segment (kept for the last (u, λ):
-  // measures and test functions at one point sample it once).
+  // the measures at one point sample it once).
   const OrbitSamples& Orbit(const Vector& u, double lambda);
+  // The samples the test functions read: with Gauss collocation at least
+  // kTestSamplesPerCollocationStep per collocation step (the orbit sampled again where that is more
+  // than samples_per_segment; kept for the last (u, λ)), otherwise Orbit's. A grazing is the
+  // extremum of a contact's penetration, and on A(a)'s whip the stiff contact's ripple (11.7 µs)
+  // is shorter than 64 samples per segment's spacing (21 µs at 400 intervals): its grazing came out
+  // at 132.632 rpm at the stage's settings, 132.499 with 256 samples and 132.497 with 1024 per
+  // segment, and the step past the extremum's true zero met the jumps of a contact opening at the
+  // collocation points (bench/whip_family_bench --samples).
+  static constexpr Index kTestSamplesPerCollocationStep = 4;
+  const OrbitSamples& TestOrbit(const Vector& u, double lambda);
+  Index TestSamplesPerSegment() const;
 
   // Full Floquet information at (u, λ): nontrivial and trivial multipliers, invariance defect.
   FloquetResult Floquet(const Vector& u, double lambda);
@@ -485,6 +495,13 @@ class ShootingProblem : public Problem {
   double samples_lambda_ = 0.0;
   OrbitSamples samples_;
   Vector samples_measures_;  // Measures of samples_ (empty: not yet asked since they were made)
+  // The samples of TestOrbit at (test_samples_u_, test_samples_lambda_), where they are not Orbit's.
+  bool test_samples_valid_ = false;
+  Vector test_samples_u_;
+  double test_samples_lambda_ = 0.0;
+  OrbitSamples test_samples_;
+  // The orbit u at λ sampled s times per segment into `orbit` (valid = false where it cannot be).
+  void SampleOrbit(const Vector& u, double lambda, Index s, OrbitSamples& orbit);
 
   // Phase reference.
   bool has_reference_ = false;

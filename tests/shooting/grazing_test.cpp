@@ -133,6 +133,30 @@ TEST_CASE("grazing test function: the sampled extremum of a free orbit equals a 
   }
 }
 
+TEST_CASE("grazing test function: with Gauss collocation it reads 4 samples per collocation step "
+          "however few the measures read",
+          "[grazing][shooting]") {
+  SoftImpactOscillator system;
+  const double w = 0.6;
+  system.SetParameter(w);
+  const double exact = system.FreeAmplitude() - system.params().gap;
+  ShootingOptions shooting = Gauss(64);
+  shooting.samples_per_segment = 16;  // 1.2e-4 of error in the parabola's extremum (above)
+  ShootingProblem problem(system, OrbitKind::kForced, shooting);
+  problem.SetTestFunctions({Touchdown(system.params().gap)});
+  CHECK(problem.TestSamplesPerSegment() == 4 * 64);
+  const Vector u = SolveOrbit(system, problem, w);
+  // The measures keep their 16 samples; the test function reads 256 (error 1.5e-9 above; Gauss of
+  // order 8 on 64 steps adds less).
+  CHECK(problem.Orbit(u, w).times.size() == 16 + 1);
+  CHECK(problem.TestFunctions(u, w)(0) == Approx(exact).epsilon(0).margin(1e-8));
+  CHECK(problem.TestOrbit(u, w).times.size() == 256 + 1);
+  // Without Gauss collocation the test functions read the measures' samples.
+  ShootingOptions cvodes = Cvodes();
+  cvodes.samples_per_segment = 16;
+  CHECK(ShootingProblem(system, OrbitKind::kForced, cvodes).TestSamplesPerSegment() == 16);
+}
+
 TEST_CASE("soft impact oscillator over w in [0.5, 2]: both grazing points located at the "
           "closed-form frequencies, the family continued through them, striking between",
           "[grazing][shooting][branch]") {
