@@ -25,6 +25,23 @@ constexpr double kCoverRatio = 0.05;
 // two passes' circle): the misfit's least is no better a start.
 constexpr int kRhoGridPasses = 2;
 
+// The extremum (sign = +1: maximum, −1: minimum) of the quadratic through a 3 × 3 stencil
+// f[a][b] at ((a − 1) hx, (b − 1) hy), whose centre is the extreme sample: its value where the
+// quadratic has an extremum of that sign within one spacing of the centre, else f[1][1].
+double QuadraticExtremum(const double f[3][3], double hx, double hy, double sign) {
+  const double b = f[1][1];
+  const double gx = (f[2][1] - f[0][1]) / (2.0 * hx), gy = (f[1][2] - f[1][0]) / (2.0 * hy);
+  const double hxx = (f[2][1] - 2.0 * b + f[0][1]) / (hx * hx);
+  const double hyy = (f[1][2] - 2.0 * b + f[1][0]) / (hy * hy);
+  const double hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / (4.0 * hx * hy);
+  const double det = hxx * hyy - hxy * hxy;
+  if (!(sign * hxx < 0.0 && det > 0.0)) return b;  // not definite of the extremum's sign
+  // δ = −H⁻¹ g.
+  const double dx = -(hyy * gx - hxy * gy) / det, dy = -(hxx * gy - hxy * gx) / det;
+  if (!(std::abs(dx) <= hx && std::abs(dy) <= hy)) return b;
+  return b + 0.5 * (gx * dx + gy * dy);
+}
+
 }  // namespace
 
 const char* ToString(CircleCoordinates coordinates) {
@@ -436,6 +453,96 @@ Vector InvariantCircleProblem::EventFunctions(const Vector& u, double /*lambda*/
                    ? std::log10(std::max(Radius(u), 1e-300)) - std::log10(min_radius_)
                    : 1.0;
   return margins;
+}
+
+void InvariantCircleProblem::SetGrazingTests(std::vector<TorusGrazing> tests) {
+  for (const TorusGrazing& test : tests) {
+    if (!test.surface) {
+      throw std::invalid_argument(
+          fmt::format("InvariantCircleProblem: grazing test '{}' has no surface", test.name));
+    }
+  }
+  grazing_ = std::move(tests);
+}
+
+Index InvariantCircleProblem::GrazingSamples() const {
+  constexpr Index kLeast = 64;
+  if (options_.method != IntegrationMethod::kGaussCollocation) return kLeast;
+  return std::max<Index>(kLeast, ShootingProblem::kTestSamplesPerCollocationStep *
+                                     static_cast<Index>(options_.collocation_steps));
+}
+
+std::vector<std::string> InvariantCircleProblem::TestFunctionNames() const {
+  std::vector<std::string> names;
+  for (const TorusGrazing& test : grazing_) names.push_back(test.name);
+  return names;
+}
+
+SpecialPointType InvariantCircleProblem::TestFunctionType(int /*k*/) const {
+  return SpecialPointType::kGrazing;
+}
+
+Vector InvariantCircleProblem::TestFunctions(const Vector& u, double lambda) {
+  const auto tests = static_cast<Index>(grazing_.size());
+  Vector values = Vector::Constant(tests, kNaN);
+  if (tests == 0) return values;
+  const double period = Period(u, lambda), rho = RotationNumber(u);
+  const Index starts = kGrazingStartsPerPoint * points_, S = GrazingSamples();
+  Vector times(S + 1);
+  for (Index m = 0; m <= S; ++m) times(m) = period * static_cast<double>(m) / static_cast<double>(S);
+  OdeIntegrator integrator(*system_, options_);
+  Matrix states;
+  // h of every test at the instants of the orbit from u(ϑ), or false where it cannot be integrated.
+  auto sample = [&](double theta, std::vector<Vector>& h) {
+    if (!integrator.Sample(0.0, PointAt(u, theta), times, states).Succeeded()) return false;
+    h.assign(static_cast<std::size_t>(tests), Vector(S + 1));
+    for (Index k = 0; k < tests; ++k) {
+      for (Index m = 0; m <= S; ++m) {
+        h[static_cast<std::size_t>(k)](m) = grazing_[static_cast<std::size_t>(k)].surface(states.col(m));
+      }
+    }
+    return true;
+  };
+  auto angle = [&](Index i) { return kTwoPi * static_cast<double>(i) / static_cast<double>(starts); };
+  std::vector<std::vector<Vector>> grid(static_cast<std::size_t>(starts));  // [start][test](instant)
+  for (Index i = 0; i < starts; ++i) {
+    if (!sample(angle(i), grid[static_cast<std::size_t>(i)])) return values;
+  }
+  const double dtheta = kTwoPi / static_cast<double>(starts), ds = 1.0 / static_cast<double>(S);
+  auto wrap = [&](Index i) { return (i + starts) % starts; };
+  for (Index k = 0; k < tests; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const double sign = grazing_[kk].side == GrazingSide::kTouchdown ? +1.0 : -1.0;
+    auto at = [&](Index i, Index m) { return grid[static_cast<std::size_t>(wrap(i))][kk](m); };
+    Index best_i = 0, best_m = 0;
+    for (Index i = 0; i < starts; ++i) {
+      for (Index m = 0; m <= S; ++m) {
+        if (sign * at(i, m) > sign * at(best_i, best_m)) {
+          best_i = i;
+          best_m = m;
+        }
+      }
+    }
+    // The 3 × 3 stencil round it, f[a][b] at start best_i + a − 1, instant best_m + b − 1; across
+    // the seam by the map's invariance: Φ_{T+τ}(u(ϑ)) = R_φ Φ_τ(u(ϑ + 2πρ)), h invariant under R_φ.
+    double f[3][3];
+    for (Index a = 0; a < 3; ++a) {
+      const Index i = best_i + a - 1;
+      for (Index b = 0; b < 3; ++b) {
+        const Index m = best_m + b - 1;
+        if (m >= 0 && m <= S) {
+          f[a][b] = at(i, m);
+          continue;
+        }
+        std::vector<Vector> seam;
+        const double shift = m < 0 ? -kTwoPi * rho : kTwoPi * rho;
+        if (!sample(angle(wrap(i)) + shift, seam)) return values;
+        f[a][b] = seam[kk](m < 0 ? S - 1 : 1);
+      }
+    }
+    values(k) = QuadraticExtremum(f, dtheta, ds, sign);
+  }
+  return values;
 }
 
 double InvariantCircleProblem::InvarianceError(const Vector& u, double lambda) {

@@ -50,6 +50,7 @@
 // nearest 0 the tangent's, whose distance from 0 states the estimate's accuracy: the verdict.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,6 +77,17 @@ const char* ToString(CircleCoordinates coordinates);
 // The name of InvariantCircleProblem's event "the radius reached its minimum" (SetMinRadius): the
 // label of the special point a family ending there carries.
 inline constexpr char kShrinksOntoCentre[] = "circle shrinks onto its centre (radius)";
+
+// A switching surface h(x) = 0 (h > 0 where the other law applies: a contact's penetration) whose
+// grazing by the torus is a special point of its family (SpecialPointType::kGrazing, labelled
+// `name`): the extremum of h over the torus — its minimum for kLiftOff, its maximum for kTouchdown
+// (GrazingSide, shooting/shooting.h) — changes sign. h must be a function of the state alone and,
+// for relative tori, invariant under the system's rotation (a contact's penetration is).
+struct TorusGrazing {
+  std::function<double(ConstVectorRef)> surface;
+  GrazingSide side = GrazingSide::kLiftOff;
+  std::string name;
+};
 
 class InvariantCircleProblem : public Problem {
  public:
@@ -156,6 +168,26 @@ class InvariantCircleProblem : public Problem {
   std::string StrayPoint(const Vector& u, double lambda) override;
   std::vector<std::string> EventNames() const override;
   Vector EventFunctions(const Vector& u, double lambda) override;
+
+  // The test functions of the grazing surfaces (empty: none): per surface the extremum of h over
+  // the torus, read on a grid of kGrazingStartsPerPoint · N orbits of one period T from the circle's
+  // points u(2πi/M), M = kGrazingStartsPerPoint · N, each at GrazingSamples() + 1 instants sT,
+  // s = 0 … 1 — the torus in the coordinates (start angle, s), which cover it once with the seam
+  // s = 1 ≡ s = 0 shifted by 2πρ. The extreme sample is refined by the quadratic through the 3 × 3
+  // samples round it (the torus's coordinates are sheared: the cross term counts); across the
+  // seam a neighbour is h(Φ_{(1 − 1/S)T}(u(ϑ − 2πρ))) (before s = 0) or h(Φ_{T/S}(u(ϑ + 2πρ)))
+  // (after s = 1), by the map's invariance, one more orbit each. Decision: the grid
+  // rather than the samples TorusLines reads (64 instants of N orbits): C(c)'s least normal force
+  // read that way was not smooth along its family (0.52 N at 71.0993 rpm, 0.81 N at 71.1066), as
+  // the orbits' grazing on 64 samples per segment was not (ShootingProblem::TestOrbit).
+  void SetGrazingTests(std::vector<TorusGrazing> tests);
+  static constexpr Index kGrazingStartsPerPoint = 4;
+  // S: ShootingProblem::kTestSamplesPerCollocationStep per step of a Gauss collocation mesh over
+  // the period, at least 64 (64 with the other integrators).
+  Index GrazingSamples() const;
+  std::vector<std::string> TestFunctionNames() const override;
+  Vector TestFunctions(const Vector& u, double lambda) override;
+  SpecialPointType TestFunctionType(int k) const override;
 
   // The moduli of Λ's eigenvalues, largest first (see above); empty when an integration failed.
   std::vector<double> CircleMultipliers(const Vector& u, double lambda);
@@ -263,6 +295,7 @@ class InvariantCircleProblem : public Problem {
   double period_scale_ = 1.0;          // |T| of the reference
   double max_tail_ = 1e-6;
   double min_radius_ = 0.0;
+  std::vector<TorusGrazing> grazing_;
   Vector cached_u_;
   double cached_lambda_ = 0.0;
   bool cached_sensitivities_ = false;

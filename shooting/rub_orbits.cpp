@@ -140,15 +140,20 @@ std::vector<std::string> UntrustedOrbits(const Branch& branch, const RubStructur
   return untrusted;
 }
 
-std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure) {
+std::function<double(ConstVectorRef)> ContactPenetration(const RubStructure& structure,
+                                                         std::size_t c) {
   auto fixed = std::make_shared<const RubFixedFrame>(structure);
+  return [fixed, c](ConstVectorRef x) {
+    Vector h(fixed->SwitchingCount());
+    fixed->SwitchingFunctions(0.0, x, h);
+    return h(static_cast<Index>(c));
+  };
+}
+
+std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure) {
   std::vector<OrbitTestFunction> tests;
   for (std::size_t c = 0; c < structure.contacts.size(); ++c) {
-    const auto penetration = [fixed, c](ConstVectorRef x) {
-      Vector h(fixed->SwitchingCount());
-      fixed->SwitchingFunctions(0.0, x, h);
-      return h(static_cast<Index>(c));
-    };
+    const auto penetration = ContactPenetration(structure, c);
     const std::string& name = structure.contacts[c].name;
     tests.push_back(Grazing(penetration, GrazingSide::kLiftOff, "lift_off_" + name));
     tests.push_back(Grazing(penetration, GrazingSide::kTouchdown, "touchdown_" + name));

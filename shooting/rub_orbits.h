@@ -66,6 +66,9 @@ std::vector<std::string> UntrustedOrbits(const Branch& branch, const RubStructur
 // in permanent contact first opens the contact for part of each period (min δ_c = 0),
 // "touchdown_<c>" where an orbit that never touches first does (max δ_c = 0).
 std::vector<OrbitTestFunction> RubGrazingTests(const RubStructure& structure);
+// Contact c's penetration δ_c(x) at a state of either frame (the grazing tests' surface).
+std::function<double(ConstVectorRef)> ContactPenetration(const RubStructure& structure,
+                                                         std::size_t c);
 
 // The Hopf points of `branches` that bound a stable piece, sorted by speed, mirror images once.
 struct RubHopfStart {

@@ -155,8 +155,27 @@ CentreOrbits CentresOf(const RubStructure& structure, const RubRotatingFrame& fr
 
 }  // namespace
 
+std::vector<TorusGrazing> RubTorusGrazing(const RubStructure& structure) {
+  std::vector<TorusGrazing> tests;
+  for (std::size_t c = 0; c < structure.contacts.size(); ++c) {
+    const auto penetration = ContactPenetration(structure, c);
+    const std::string& name = structure.contacts[c].name;
+    tests.push_back({penetration, GrazingSide::kLiftOff, "lift_off_" + name});
+    tests.push_back({penetration, GrazingSide::kTouchdown, "touchdown_" + name});
+  }
+  return tests;
+}
+
 void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>& lines,
                  TorusBranch& tori) {
+  if (tori.end == TorusEnd::kGrazing && tori.branch.status == BranchStatus::kGrazing) {
+    const SpecialPoint& grazing = tori.branch.special_points.back();
+    tori.end_note = fmt::format(
+        "the torus grazes, located: {} at {:.4f} rpm (ρ = {:.6f}), the family's last torus",
+        grazing.label, RadPerSecondToRpm(grazing.lambda),
+        grazing.measures(tori.branch.MeasureIndex("rotation_number")));
+    return;
+  }
   if (tori.end != TorusEnd::kFailed || lines.empty() || !lines.back().valid) return;
   const RubTorusLines& last = lines.back();
   for (std::size_t c = 0; c < last.contacts.size(); ++c) {
@@ -187,6 +206,7 @@ RubModulatedTori ContinueModulatedTori(
   const RubRotatingFrame frame(structure, start.precession, start.speed);
   TorusBranchOptions tori = options.tori;
   tori.integrator = JoinedIntegrator(family.shooting.integrator, family.segments);
+  tori.grazing = RubTorusGrazing(structure);
   const std::vector<SpecialPoint>& special = family.branch.special_points;
   for (std::size_t k = 0; k < special.size(); ++k) {
     if (special[k].type != SpecialPointType::kNeimarkSacker || !special[k].converged ||
@@ -227,6 +247,7 @@ RubTransientTori ContinueTransientTori(
   if (!result.start.converged) return result;
   tori.harmonics = result.start.harmonics;  // refined in K (ModulatedTorusOptions::max_harmonics)
   tori.integrator = JoinedIntegrator(tori.integrator, result.start.laps);
+  tori.grazing = RubTorusGrazing(structure);
   const RubRotatingFrame frame(structure, frame_rate, omega);
   for (const int direction : {-1, +1}) {
     tori.continuation.direction = direction;

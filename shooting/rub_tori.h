@@ -50,19 +50,27 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
 
 // A family whose continuation failed (TorusEnd::kFailed) with a contact's least normal force at
 // its last torus below this share of that contact's largest is read as ending where the contact
-// lifts off (TorusEnd::kGrazing; the Gauss map does not follow the contact opening): C(c)'s torus
-// at 71.1142 rpm, its left contact's least force 0.6 N of 495.6 N, where the corrector failed;
-// 3.6 N (0.7 %) at 71.03 rpm, where the family went on. Decision: read from the lines, as locking is
-// read from the harmonics, not located as an event.
+// lifts off (TorusEnd::kGrazing; the Gauss map does not follow the contact opening). The fallback
+// for an end the grazing tests (RubTorusGrazing) did not locate: before them C(c)'s family failed
+// at 71.1142 rpm with its left contact's least force 0.6 N of 495.6 N over TorusLines' 64 instants
+// per period, which missed the stiff contact's ripple; located, the lift-off lies at 70.9107 rpm.
 constexpr double kLiftOffForceShare = 0.01;
-// That reading, of a family and its lines (one per torus): a kFailed family whose last torus has
-// such a contact ends kGrazing, its note naming the contact, its forces and the speed.
+// The rub's reading of a family's end, with its lines (one per torus): a located grazing is named
+// in rpm; a kFailed family whose last torus has such a contact ends kGrazing, its note naming the
+// contact, its forces and the speed.
 void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>& lines,
                  TorusBranch& tori);
 
+// Each contact's grazing by a torus (InvariantCircleProblem::SetGrazingTests, on its penetration
+// δ_c as RubGrazingTests for orbits): "lift_off_<c>" where a torus in permanent contact first
+// opens the contact somewhere (min δ_c = 0), "touchdown_<c>" where one that never touches first
+// does (max δ_c = 0). The rub's torus families end at the first located one.
+std::vector<TorusGrazing> RubTorusGrazing(const RubStructure& structure);
+
 struct RubTorusOptions {
   // Range, harmonics, engine, amplitude, breakdown and locking limits, Lyapunov iterates. The
-  // integrator is the modulated family's (its Gauss mesh covering one period), set here.
+  // integrator is the modulated family's (its Gauss mesh covering one period) and the grazing
+  // tests RubTorusGrazing's, set here.
   TorusBranchOptions tori;
   int samples = 64;  // TorusLines' instants per period
   // The orbits a family shrinks onto (ContinueCentreOrbits, where it ends kShrinks): their range,

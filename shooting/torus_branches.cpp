@@ -64,7 +64,7 @@ const char* ToString(TorusEnd end) {
     case TorusEnd::kSteps: return "reached the step limit";
     case TorusEnd::kBreakdown: return "breakdown";
     case TorusEnd::kLocking: return "phase locking";
-    case TorusEnd::kGrazing: return "a contact lifts off";
+    case TorusEnd::kGrazing: return "grazing";
     case TorusEnd::kShrinks: return "the circle shrinks onto its centre";
     case TorusEnd::kFailed: return "failed";
   }
@@ -150,6 +150,7 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
                                  options.coordinates);
   problem.SetMaxFourierTail(options.max_fourier_tail);
   problem.SetMinRadius(options.min_radius);
+  problem.SetGrazingTests(options.grazing);
   // In the circle's coordinates: the centre y₀ = Ψ⁻¹(x₀), the directions D⁻¹ v.
   Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
   centre.col(0) = problem.ToCoordinates(at.starts.col(0));
@@ -182,6 +183,7 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
   }
   problem.SetMaxFourierTail(options.max_fourier_tail);
   problem.SetMinRadius(options.min_radius);
+  problem.SetGrazingTests(options.grazing);
   problem.SetPhaseReference(u0);
   TorusBranch result;
   result.kind = kind;
@@ -206,6 +208,7 @@ ContinuationOptions EngineOptions(const TorusBranchOptions& options) {
   continuation.bounds.lambda_min = options.lambda_min;
   continuation.bounds.lambda_max = options.lambda_max;
   continuation.detect.stability = false;
+  continuation.bounds.end_at_grazing = !options.grazing.empty();
   return continuation;
 }
 
@@ -238,6 +241,7 @@ void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranc
   switch (tori.status) {
     case BranchStatus::kReachedLambdaBound: result.end = TorusEnd::kBound; break;
     case BranchStatus::kMaxSteps: result.end = TorusEnd::kSteps; break;
+    case BranchStatus::kGrazing: result.end = TorusEnd::kGrazing; break;
     case BranchStatus::kSwitchRefused:
       result.end = ShrinkEvent(tori) ? TorusEnd::kShrinks
                    : excess >= kLockingExcess && distance <= 0.5 / (q * q) ? TorusEnd::kLocking
@@ -266,6 +270,9 @@ void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranc
       result.end == TorusEnd::kLocking
           ? fmt::format("phase locking near the {}:{} resonance: {}", p, q, tail)
       : result.end == TorusEnd::kBreakdown ? "breakdown: " + tail
+      : result.end == TorusEnd::kGrazing
+          ? fmt::format("the torus grazes: {} at λ = {:.9g} with ρ = {:.6f}",
+                        tori.special_points.back().label, tori.points.back().lambda, end_rho)
       : result.end == TorusEnd::kShrinks
           ? fmt::format("the circle shrinks onto its centre: its radius reached {:g} at λ = {:.9g} "
                         "with ρ = {:.6f} (a Neimark–Sacker point of the orbit at its centre next "

@@ -21,8 +21,9 @@
 //               the circle folds towards q points as the torus meets the p:q resonance, where the
 //               motion on it locks to a periodic orbit of q laps — read as phase locking (C(a):
 //               harmonic 5 grows to 2.5 times harmonic 4 as ρ falls to 0.404);
-//   kGrazing    a contact lifts off at the last torus (the rub model's reading of a failed end,
-//               shooting/rub_tori.h ReadLiftOff);
+//   kGrazing    the torus grazes a switching surface (TorusBranchOptions::grazing, located: the
+//               family's last torus), or a contact lifts off at the last torus of a failed family
+//               (the rub model's reading, shooting/rub_tori.h ReadLiftOff);
 //   kShrinks    the circle's radius falls to min_radius (InvariantCircleProblem's event): the torus
 //               shrinks onto the periodic orbit at its centre, as at a Neimark–Sacker point of
 //               that orbit; ContinueCentreOrbits finds the orbit and locates the point;
@@ -66,13 +67,19 @@ struct TorusBranchOptions {
   int lyapunov_iterates = 0;
   // The circle's coordinates (InvariantCircleProblem): the state, or the system's chart.
   CircleCoordinates coordinates = CircleCoordinates::kState;
+  // Switching surfaces whose grazing ends the family (InvariantCircleProblem::SetGrazingTests):
+  // the step that meets the first located one is cut there (BoundsOptions::end_at_grazing), the
+  // family ends kGrazing on the grazing torus. Past it the map's trajectories cross the surface,
+  // which a fixed Gauss mesh does not follow.
+  std::vector<TorusGrazing> grazing;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
 void Validate(const TorusBranchOptions& options);
 
-// kGrazing: a contact lifts off at the family's last torus (read by the rub model's tori,
-// shooting/rub_tori.h, from an end that would otherwise be kFailed).
+// kGrazing: a located grazing of TorusBranchOptions::grazing, or a contact lifting off at the
+// family's last torus (read by the rub model's tori, shooting/rub_tori.h, from an end that would
+// otherwise be kFailed).
 enum class TorusEnd { kBound, kSteps, kBreakdown, kLocking, kGrazing, kShrinks, kFailed };
 const char* ToString(TorusEnd end);
 

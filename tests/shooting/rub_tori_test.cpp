@@ -53,6 +53,20 @@ TEST_CASE("a failed torus family whose last torus has a contact lifting off ends
   bound.end = TorusEnd::kBound;
   ReadLiftOff(structure, {lines}, bound);
   CHECK(bound.end == TorusEnd::kBound);
+  // A located grazing (RubTorusGrazing's test, the engine's status) is named in rpm.
+  TorusBranch located = tori;
+  located.end = TorusEnd::kGrazing;
+  located.branch.status = BranchStatus::kGrazing;
+  located.branch.measure_names = {"rotation_number"};
+  SpecialPoint grazing;
+  grazing.type = SpecialPointType::kGrazing;
+  grazing.label = "lift_off_left";
+  grazing.lambda = RpmToRadPerSecond(70.9107);
+  grazing.measures = Vector::Constant(1, 0.310995);
+  located.branch.special_points.push_back(grazing);
+  ReadLiftOff(structure, {lines}, located);
+  CHECK(located.end == TorusEnd::kGrazing);
+  CHECK_THAT(located.end_note, Catch::Contains("lift_off_left at 70.9107 rpm (ρ = 0.310995)"));
 }
 
 // Measured on this case with these numerics (the committed scene runs the same): the modulated whip

@@ -187,6 +187,59 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
                     Catch::Contains("the circle has 10 unknowns; 3 harmonics of 4 states need 30"));
 }
 
+TEST_CASE("tori grazing a surface: the family ends on the torus that touches it, at the "
+          "closed-form lambda",
+          "[torus][grazing]") {
+  // h = x₀ + x₂ − c over the torus (z₀ and z₁ turn independently) has the maximum 1 + √λ − c and
+  // its negative the minimum −1 − √λ + c: touchdown of c = 1.4 at λ = 0.16, lift-off of
+  // −h = −(x₀ + x₂) + 1.45 at λ = 0.2025, past the first.
+  auto system = std::make_shared<CycleBesideOscillator>();
+  TorusBranchOptions options = TorusOptions();
+  options.lyapunov_iterates = 0;
+  auto surface = [](double c) { return [c](ConstVectorRef x) { return x(0) + x(2) - c; }; };
+  options.grazing = {{surface(1.4), GrazingSide::kTouchdown, "touchdown"},
+                     {[](ConstVectorRef x) { return 1.45 - x(0) - x(2); }, GrazingSide::kLiftOff,
+                      "lift_off"}};
+  InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
+  // The torus at λ = 0.05, z₀ = e^{0.2i}, z₁ = √λ e^{i(θ + 0.3)} on its circle: the extremum lies
+  // between the grid's samples.
+  const double lambda0 = 0.05, period = kTwoPi / kOmega0, r = std::sqrt(lambda0);
+  Matrix c = Matrix::Zero(4, 7);
+  c(0, 0) = std::cos(0.2);
+  c(1, 0) = std::sin(0.2);
+  c(2, 1) = c(3, 2) = r * std::cos(0.3);
+  c(3, 1) = r * std::sin(0.3);
+  c(2, 2) = -c(3, 1);
+  const Vector u0 = problem.Pack(c, (kOmega1 + kShear * lambda0) / kOmega0, period);
+
+  // The test functions on the closed-form torus, from 28 starts round the circle at 64 instants
+  // each: the stencil's quadratic measured 1.3e-5 off (the grid's raw extreme sample 1.4e-3).
+  problem.SetGrazingTests(options.grazing);
+  CHECK(problem.GrazingSamples() == 64);
+  REQUIRE(problem.TestFunctionNames() == std::vector<std::string>{"touchdown", "lift_off"});
+  CHECK(problem.TestFunctionType(1) == SpecialPointType::kGrazing);
+  const Vector tests = problem.TestFunctions(u0, lambda0);
+  CHECK(tests(0) == Approx(1.0 + std::sqrt(lambda0) - 1.4).epsilon(0).margin(2e-5));
+  CHECK(tests(1) == Approx(1.45 - 1.0 - std::sqrt(lambda0)).epsilon(0).margin(2e-5));
+
+  const TorusBranch tori = ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options);
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  CHECK(tori.end == TorusEnd::kGrazing);
+  CHECK(tori.branch.status == BranchStatus::kGrazing);
+  REQUIRE(!tori.branch.special_points.empty());
+  const SpecialPoint& end = tori.branch.special_points.back();
+  CHECK(end.type == SpecialPointType::kGrazing);
+  CHECK(end.label == "touchdown");
+  CHECK(end.lambda == Approx(0.16).epsilon(0).margin(1e-5));  // measured 3.9e-6 (3.0e-4 from the raw samples)
+  CHECK(tori.branch.points.back().lambda == Approx(end.lambda).epsilon(1e-12));
+  CHECK(tori.branch.Count(SpecialPointType::kGrazing) == 1);  // the lift-off lies past the end
+  CHECK_THAT(tori.end_note, Catch::Contains("the torus grazes: touchdown at λ = 0.16"));
+  // Without the surfaces the family goes on to the range's end.
+  options.grazing.clear();
+  CHECK(ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options).end == TorusEnd::kBound);
+}
+
 TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks onto its centre "
           "and the centre's orbits locate the point and its angle",
           "[torus]") {
