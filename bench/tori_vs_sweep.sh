@@ -15,9 +15,9 @@
 # CASE c: case C(c)'s whip on a contact pressed by nanometres (scenes/thesis_C_c_tori.toml: the
 # circles in the contact chart, from a BDF transient at 64 rpm):
 #   tori    stage "tori" with the range cut to 63.9–72 rpm: the transient, its torus and the family
-#           from it upwards to where the left contact lifts off (71.11 rpm), each torus's lines and
-#           Lyapunov exponents (100 iterates); downwards one step to the range's end;
-#   sweep   a speed-up sweep over 64–71 rpm in 0.5 rpm steps (as above), the speeds the tori cover.
+#           from it upwards to where the left contact lifts off (located at 70.91 rpm), each torus's
+#           lines and Lyapunov exponents (100 iterates); downwards one step to the range's end;
+#   sweep   a speed-up sweep over 64–70.5 rpm in 0.5 rpm steps (as above), the speeds the tori cover.
 # CASE b: case C(b)'s whip (scenes/thesis_C_b_tori.toml: the circles in the contact chart on sections
 # of 2 modulation periods, from a BDF transient at 54.5 rpm):
 #   tori    stage "tori" with the range cut to 54.4–55.1 rpm: the transient, its torus and the
@@ -72,7 +72,7 @@ EOF
 case "$case_letter" in
   a) scene=scenes/thesis_C_a_tori.toml ;;
   b) scene=scenes/thesis_C_b_tori.toml range="54.4, 55.1" sweep_range="54.5 55.0 0.1" ;;
-  c) scene=scenes/thesis_C_c_tori.toml range="63.9, 72.0" sweep_range="64.0 71.0 0.5" ;;
+  c) scene=scenes/thesis_C_c_tori.toml range="63.9, 72.0" sweep_range="64.0 70.5 0.5" ;;
   a60) scene=scenes/thesis_C_a_tori_60.toml range="59.0, 78.0" sweep_range="59.0 62.5 0.5"
        lines="0,0;0,-5;0,-13;-1,-1;1,-4;-1,-4;1,1" groups=tori/transient_down,tori/transient_up
        centre_orbits=to_point ;;
