@@ -466,10 +466,21 @@ void InvariantCircleProblem::SetGrazingTests(std::vector<TorusGrazing> tests) {
 }
 
 Index InvariantCircleProblem::GrazingSamples() const {
-  constexpr Index kLeast = 64;
-  if (options_.method != IntegrationMethod::kGaussCollocation) return kLeast;
-  return std::max<Index>(kLeast, ShootingProblem::kTestSamplesPerCollocationStep *
-                                     static_cast<Index>(options_.collocation_steps));
+  const Index least = 16 * grazing_samples_per_step_;  // 64 by default
+  if (options_.method != IntegrationMethod::kGaussCollocation) return least;
+  return std::max<Index>(least, grazing_samples_per_step_ *
+                                    static_cast<Index>(options_.collocation_steps));
+}
+
+void InvariantCircleProblem::SetGrazingGrid(int starts_per_point, int samples_per_step) {
+  if (starts_per_point < 1 || samples_per_step < 1) {
+    throw std::invalid_argument(fmt::format(
+        "InvariantCircleProblem: grazing grid {} starts per point, {} samples per step: each must "
+        "be at least 1",
+        starts_per_point, samples_per_step));
+  }
+  grazing_starts_per_point_ = starts_per_point;
+  grazing_samples_per_step_ = samples_per_step;
 }
 
 std::vector<std::string> InvariantCircleProblem::TestFunctionNames() const {
@@ -487,7 +498,7 @@ Vector InvariantCircleProblem::TestFunctions(const Vector& u, double lambda) {
   Vector values = Vector::Constant(tests, kNaN);
   if (tests == 0) return values;
   const double period = Period(u, lambda), rho = RotationNumber(u);
-  const Index starts = kGrazingStartsPerPoint * points_, S = GrazingSamples();
+  const Index starts = grazing_starts_per_point_ * points_, S = GrazingSamples();
   Vector times(S + 1);
   for (Index m = 0; m <= S; ++m) times(m) = period * static_cast<double>(m) / static_cast<double>(S);
   OdeIntegrator integrator(*system_, options_);

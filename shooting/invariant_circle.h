@@ -185,6 +185,10 @@ class InvariantCircleProblem : public Problem {
   // S: ShootingProblem::kTestSamplesPerCollocationStep per step of a Gauss collocation mesh over
   // the period, at least 64 (64 with the other integrators).
   Index GrazingSamples() const;
+  // A denser grid (starts per circle point, samples per collocation step and at least
+  // samples_per_step · 16 with other integrators; ≥ 1 each), to measure how far a located grazing
+  // moves with it (bench/torus_grazing_bench).
+  void SetGrazingGrid(int starts_per_point, int samples_per_step);
   std::vector<std::string> TestFunctionNames() const override;
   Vector TestFunctions(const Vector& u, double lambda) override;
   SpecialPointType TestFunctionType(int k) const override;
@@ -296,6 +300,8 @@ class InvariantCircleProblem : public Problem {
   double max_tail_ = 1e-6;
   double min_radius_ = 0.0;
   std::vector<TorusGrazing> grazing_;
+  Index grazing_starts_per_point_ = kGrazingStartsPerPoint;
+  Index grazing_samples_per_step_ = ShootingProblem::kTestSamplesPerCollocationStep;
   Vector cached_u_;
   double cached_lambda_ = 0.0;
   bool cached_sensitivities_ = false;
