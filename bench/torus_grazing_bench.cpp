@@ -41,10 +41,11 @@ int Main(int argc, char** argv) {
   const RubStructure structure = StructureOf(scene);
   const RubTorusOptions options = TransientTorusOptionsOf(scene);
   const int harmonics = static_cast<int>(file.ReadDoubleAttribute(group, "harmonics"));
-  const CircleCoordinates coordinates = file.ReadStringAttribute(group, "circle_coordinates") == "chart"
-                                            ? CircleCoordinates::kChart
-                                            : CircleCoordinates::kState;
-  const double frame_rate = HzToRadPerSecond(file.ReadDoubleAttribute(group, "frame_precession_hz"));
+  const CircleCoordinates coordinates =
+      file.ReadStringAttribute(group, "circle_coordinates") == "chart" ? CircleCoordinates::kChart
+                                                                       : CircleCoordinates::kState;
+  const double frame_rate =
+      HzToRadPerSecond(file.ReadDoubleAttribute(group, "frame_precession_hz"));
   const Matrix unknowns = file.ReadMatrix(group + "/unknowns");
   const std::vector<double> speeds = file.ReadDoubles(group + "/speed_rpm");
   const Index last = unknowns.rows() - 1;
@@ -75,9 +76,10 @@ int Main(int argc, char** argv) {
       {"bdf", bdf, 8, static_cast<int>(options.tori.integrator.collocation_steps * 4 / 16)}};
   for (const Variant& v : variants) {
     const double cpu0 = ProcessCpuSeconds();
-    auto frame = std::make_shared<RubRotatingFrame>(structure, frame_rate,
-                                                    RpmToRadPerSecond(speeds.back()));
-    InvariantCircleProblem problem(frame, harmonics, OrbitKind::kRelative, v.integrator, coordinates);
+    auto frame =
+        std::make_shared<RubRotatingFrame>(structure, frame_rate, RpmToRadPerSecond(speeds.back()));
+    InvariantCircleProblem problem(frame, harmonics, OrbitKind::kRelative, v.integrator,
+                                   coordinates);
     problem.SetGrazingTests(tests);
     problem.SetGrazingGrid(v.starts, v.samples);
     Vector at[2];

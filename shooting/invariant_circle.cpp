@@ -468,8 +468,8 @@ void InvariantCircleProblem::SetGrazingTests(std::vector<TorusGrazing> tests) {
 Index InvariantCircleProblem::GrazingSamples() const {
   const Index least = 16 * grazing_samples_per_step_;  // 64 by default
   if (options_.method != IntegrationMethod::kGaussCollocation) return least;
-  return std::max<Index>(least, grazing_samples_per_step_ *
-                                    static_cast<Index>(options_.collocation_steps));
+  return std::max<Index>(
+      least, grazing_samples_per_step_ * static_cast<Index>(options_.collocation_steps));
 }
 
 void InvariantCircleProblem::SetGrazingGrid(int starts_per_point, int samples_per_step) {
@@ -500,7 +500,9 @@ Vector InvariantCircleProblem::TestFunctions(const Vector& u, double lambda) {
   const double period = Period(u, lambda), rho = RotationNumber(u);
   const Index starts = grazing_starts_per_point_ * points_, S = GrazingSamples();
   Vector times(S + 1);
-  for (Index m = 0; m <= S; ++m) times(m) = period * static_cast<double>(m) / static_cast<double>(S);
+  for (Index m = 0; m <= S; ++m) {
+    times(m) = period * static_cast<double>(m) / static_cast<double>(S);
+  }
   OdeIntegrator integrator(*system_, options_);
   Matrix states;
   // h of every test at the instants of the orbit from u(ϑ), or false where it cannot be integrated.
@@ -509,13 +511,17 @@ Vector InvariantCircleProblem::TestFunctions(const Vector& u, double lambda) {
     h.assign(static_cast<std::size_t>(tests), Vector(S + 1));
     for (Index k = 0; k < tests; ++k) {
       for (Index m = 0; m <= S; ++m) {
-        h[static_cast<std::size_t>(k)](m) = grazing_[static_cast<std::size_t>(k)].surface(states.col(m));
+        h[static_cast<std::size_t>(k)](m) =
+            grazing_[static_cast<std::size_t>(k)].surface(states.col(m));
       }
     }
     return true;
   };
-  auto angle = [&](Index i) { return kTwoPi * static_cast<double>(i) / static_cast<double>(starts); };
-  std::vector<std::vector<Vector>> grid(static_cast<std::size_t>(starts));  // [start][test](instant)
+  auto angle = [&](Index i) {
+    return kTwoPi * static_cast<double>(i) / static_cast<double>(starts);
+  };
+  // grid[start][test](instant)
+  std::vector<std::vector<Vector>> grid(static_cast<std::size_t>(starts));
   for (Index i = 0; i < starts; ++i) {
     if (!sample(angle(i), grid[static_cast<std::size_t>(i)])) return values;
   }
