@@ -23,7 +23,7 @@
 #                   a transient settles on at 49 rpm); and its whip locked at 1:3, from a
 #                   transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
-#                   (scenes/thesis_C_c_tori.toml: about 22 min of CPU), C(b)'s
+#                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU) and C(a)'s from 60 rpm
 #                   (scenes/thesis_C_a_tori_60.toml: about 127 min of wall on one core).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
