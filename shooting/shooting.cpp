@@ -646,8 +646,8 @@ void ShootingProblem::AdaptCollocationMeshes(const Vector& u, double lambda) {
   // Another discrete map: nothing computed on the old meshes holds.
   cache_valid_ = false;
   residual_ready_ = false;
-  samples_valid_ = false;
-  test_samples_valid_ = false;
+  samples_.valid = false;
+  test_samples_.valid = false;
 }
 
 Vector ShootingProblem::CollocationTimes(double period) const {
@@ -1006,13 +1006,9 @@ Spectrum ShootingProblem::Stability(const Vector& u, double lambda) {
 
 const OrbitSamples& ShootingProblem::Orbit(const Vector& u, double lambda) {
   CheckUnknowns(u, "Orbit");
-  if (samples_valid_ && lambda == samples_lambda_ && u == samples_u_) return samples_;
-  samples_valid_ = true;
-  samples_measures_.resize(0);
-  samples_u_ = u;
-  samples_lambda_ = lambda;
-  SampleOrbit(u, lambda, options_.samples_per_segment, samples_);
-  return samples_;
+  const bool held = samples_.valid && lambda == samples_.lambda && u == samples_.u;
+  if (!held) samples_measures_.resize(0);
+  return Sampled(samples_, u, lambda, options_.samples_per_segment);
 }
 
 Index ShootingProblem::TestSamplesPerSegment() const {
@@ -1026,17 +1022,16 @@ Index ShootingProblem::TestSamplesPerSegment() const {
 const OrbitSamples& ShootingProblem::TestOrbit(const Vector& u, double lambda) {
   const Index s = TestSamplesPerSegment();
   if (s == options_.samples_per_segment) return Orbit(u, lambda);
-  if (test_samples_valid_ && lambda == test_samples_lambda_ && u == test_samples_u_) {
-    return test_samples_;
-  }
-  test_samples_valid_ = true;
-  test_samples_u_ = u;
-  test_samples_lambda_ = lambda;
-  SampleOrbit(u, lambda, s, test_samples_);
-  return test_samples_;
+  return Sampled(test_samples_, u, lambda, s);
 }
 
-void ShootingProblem::SampleOrbit(const Vector& u, double lambda, Index s, OrbitSamples& orbit) {
+const OrbitSamples& ShootingProblem::Sampled(SampleCache& cache, const Vector& u, double lambda,
+                                             Index s) {
+  if (cache.valid && lambda == cache.lambda && u == cache.u) return cache.orbit;
+  cache.valid = true;
+  cache.u = u;
+  cache.lambda = lambda;
+  OrbitSamples& orbit = cache.orbit;
   orbit = OrbitSamples();
   orbit.parameter = lambda;
   orbit.rotation = Rotation(u);
@@ -1048,7 +1043,7 @@ void ShootingProblem::SampleOrbit(const Vector& u, double lambda, Index s, Orbit
   orbit.states.resize(n_, m);
   if (!u.allFinite() || !(T > 0.0) || !std::isfinite(T) || !UseMesh(u)) {
     orbit.states.setConstant(kNaN);
-    return;
+    return orbit;
   }
   Matrix segment_states;
   for (Index i = 0; i < segments_; ++i) {
@@ -1064,7 +1059,7 @@ void ShootingProblem::SampleOrbit(const Vector& u, double lambda, Index s, Orbit
     if (!result.Succeeded()) {
       last_failure_ = result;
       orbit.states.setConstant(kNaN);
-      return;
+      return orbit;
     }
     const Index count = i + 1 == segments_ ? s + 1 : s;
     orbit.times.segment(i * s, count) = times.head(count);
@@ -1072,6 +1067,7 @@ void ShootingProblem::SampleOrbit(const Vector& u, double lambda, Index s, Orbit
   }
   if (!collocation_meshes_.empty()) orbit.collocation_steps = CollocationStepFractions();
   orbit.valid = true;
+  return orbit;
 }
 
 std::vector<std::string> ShootingProblem::MeasureNames() const {

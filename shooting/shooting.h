@@ -245,9 +245,8 @@ struct OrbitTestFunction {
 // tests/shooting/grazing_test.cpp measures both). The extremum is taken over the orbit's
 // samples and refined by a parabola through the extreme sample and its neighbours, so it is as
 // accurate as the samples make it (ShootingProblem::TestSamplesPerSegment; the test measures
-// that too). h must
-// be a function of the state alone and, for relative orbits, invariant under the system's
-// rotation (a contact's penetration is): the samples then wrap round the period.
+// that too). h must be a function of the state alone and, for relative orbits, invariant under
+// the system's rotation (a contact's penetration is): the samples then wrap round the period.
 enum class GrazingSide { kLiftOff, kTouchdown };
 OrbitTestFunction Grazing(std::function<double(ConstVectorRef)> surface, GrazingSide side,
                           std::string name);
@@ -489,19 +488,19 @@ class ShootingProblem : public Problem {
   double lambda_scale_ = 1.0;
   std::vector<OrbitMeasure> measures_;
   std::vector<OrbitTestFunction> tests_;
-  // The samples of Orbit at (samples_u_, samples_lambda_).
-  bool samples_valid_ = false;
-  Vector samples_u_;
-  double samples_lambda_ = 0.0;
-  OrbitSamples samples_;
-  Vector samples_measures_;  // Measures of samples_ (empty: not yet asked since they were made)
-  // The samples of TestOrbit at (test_samples_u_, test_samples_lambda_), where they are not Orbit's.
-  bool test_samples_valid_ = false;
-  Vector test_samples_u_;
-  double test_samples_lambda_ = 0.0;
-  OrbitSamples test_samples_;
-  // The orbit u at λ sampled s times per segment into `orbit` (valid = false where it cannot be).
-  void SampleOrbit(const Vector& u, double lambda, Index s, OrbitSamples& orbit);
+  // An orbit's samples, kept for the last (u, λ) they were made at.
+  struct SampleCache {
+    bool valid = false;
+    Vector u;
+    double lambda = 0.0;
+    OrbitSamples orbit;
+  };
+  SampleCache samples_;       // Orbit's
+  Vector samples_measures_;   // Measures of samples_ (empty: not yet asked since they were made)
+  SampleCache test_samples_;  // TestOrbit's, where they are not Orbit's
+  // The orbit u at λ sampled s times per segment, from `cache` when it holds (u, λ); made and kept
+  // there otherwise (orbit.valid = false where it cannot be sampled).
+  const OrbitSamples& Sampled(SampleCache& cache, const Vector& u, double lambda, Index s);
 
   // Phase reference.
   bool has_reference_ = false;

@@ -71,6 +71,18 @@ TorusBranchOptions TorusOptions() {
   return options;
 }
 
+// The coefficients (K = 3) of the circle θ ↦ (z₀, z₁) = (e^{iα}, r e^{i(θ + β)}) on the torus
+// |z₀| = 1, |z₁| = r: in the closed form r = √λ.
+Matrix CircleCoefficients(double r, double alpha = 0.0, double beta = 0.0) {
+  Matrix c = Matrix::Zero(4, 7);
+  c(0, 0) = std::cos(alpha);
+  c(1, 0) = std::sin(alpha);
+  c(2, 1) = c(3, 2) = r * std::cos(beta);
+  c(3, 1) = r * std::sin(beta);
+  c(2, 2) = -c(3, 1);
+  return c;
+}
+
 std::size_t FirstOf(const Branch& branch, SpecialPointType type) {
   for (std::size_t k = 0; k < branch.special_points.size(); ++k) {
     if (branch.special_points[k].type == type) return k;
@@ -159,11 +171,8 @@ TEST_CASE("tori from a given circle: a guess 2 % off at lambda = 0.2 corrected a
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   // The circle θ ↦ (cos θ₀, sin θ₀, r cos θ, r sin θ) off by 2 % in r, T and ρ.
   const double lambda0 = 0.2, r = 1.02 * std::sqrt(lambda0), period = kTwoPi / kOmega0;
-  Matrix c = Matrix::Zero(4, 7);
-  c(0, 0) = 1.0;
-  c(2, 1) = r;
-  c(3, 2) = r;
-  const Vector u0 = problem.Pack(c, 1.02 * (kOmega1 + kShear * lambda0) / kOmega0, 1.02 * period);
+  const Vector u0 = problem.Pack(CircleCoefficients(r),
+                                 1.02 * (kOmega1 + kShear * lambda0) / kOmega0, 1.02 * period);
   const TorusBranch tori = ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options);
   INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
   REQUIRE(tori.ok);
@@ -196,21 +205,15 @@ TEST_CASE("tori grazing a surface: the family ends on the torus that touches it,
   auto system = std::make_shared<CycleBesideOscillator>();
   TorusBranchOptions options = TorusOptions();
   options.lyapunov_iterates = 0;
-  auto surface = [](double c) { return [c](ConstVectorRef x) { return x(0) + x(2) - c; }; };
   options.grazing = {
-      {surface(1.4), GrazingSide::kTouchdown, "touchdown"},
+      {[](ConstVectorRef x) { return x(0) + x(2) - 1.4; }, GrazingSide::kTouchdown, "touchdown"},
       {[](ConstVectorRef x) { return 1.45 - x(0) - x(2); }, GrazingSide::kLiftOff, "lift_off"}};
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   // The torus at λ = 0.05, z₀ = e^{0.2i}, z₁ = √λ e^{i(θ + 0.3)} on its circle: the extremum lies
   // between the grid's samples.
   const double lambda0 = 0.05, period = kTwoPi / kOmega0, r = std::sqrt(lambda0);
-  Matrix c = Matrix::Zero(4, 7);
-  c(0, 0) = std::cos(0.2);
-  c(1, 0) = std::sin(0.2);
-  c(2, 1) = c(3, 2) = r * std::cos(0.3);
-  c(3, 1) = r * std::sin(0.3);
-  c(2, 2) = -c(3, 1);
-  const Vector u0 = problem.Pack(c, (kOmega1 + kShear * lambda0) / kOmega0, period);
+  const Vector u0 =
+      problem.Pack(CircleCoefficients(r, 0.2, 0.3), (kOmega1 + kShear * lambda0) / kOmega0, period);
 
   // The test functions on the closed-form torus, from 28 starts round the circle at 64 instants
   // each: the stencil's quadratic measured 1.3e-5 off (the grid's raw extreme sample 1.4e-3).
@@ -258,10 +261,8 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
   InvariantCircleProblem problem(system, 3, OrbitKind::kAutonomous, TightTorus());
   // The torus at λ = 0.2: θ ↦ (1, 0, r cos θ, r sin θ), r = √λ, whose radius is r.
   const double lambda0 = 0.2, period = kTwoPi / kOmega0;
-  Matrix c = Matrix::Zero(4, 7);
-  c(0, 0) = 1.0;
-  c(2, 1) = c(3, 2) = std::sqrt(lambda0);
-  const Vector u0 = problem.Pack(c, (kOmega1 + kShear * lambda0) / kOmega0, period);
+  const Vector u0 = problem.Pack(CircleCoefficients(std::sqrt(lambda0)),
+                                 (kOmega1 + kShear * lambda0) / kOmega0, period);
   CHECK(problem.Radius(u0) == Approx(std::sqrt(lambda0)).epsilon(1e-12));
   const TorusBranch tori = ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, options);
   INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
