@@ -3,19 +3,21 @@
 // speed from rest and a 1 N·s impulse, the torus it lies on solved by BDF, and the family through
 // it continued both ways in running speed — with every torus printed and the cost of each part.
 // Usage: transient_tori_bench [RPM [STEPS [HARMONICS [COLLOCATION_STEPS [CASE [COORDINATES
-//                              [START_COLLOCATION [MAX_HARMONICS [HALVINGS]]]]]]]]]
+//                              [START_COLLOCATION [MAX_HARMONICS [HALVINGS [IMAGES]]]]]]]]]]
 // COLLOCATION_STEPS > 0: the continuation by Gauss collocation of that many steps per modulation
 // period; 0: by the start's BDF (sensitivities outside the error test). CASE: a, b or c (case
 // C(a), C(b), C(c)); COORDINATES: state or chart (the circle's, shooting/invariant_circle.h).
 // START_COLLOCATION: the start's Gauss intervals per modulation period (the scene's
 // [analysis.orbits] collocation_intervals with a chart); MAX_HARMONICS: the start refined in K up
-// to it; HALVINGS: the start's Newton steps halved up to that many times where they fail.
+// to it; HALVINGS: the start's Newton steps halved up to that many times where they fail;
+// IMAGES: the finer circles' starts, the coarser mapped that many times, tried in turn ("3,10").
 // Defaults 49, 12, 16, 400, a, state, the options' own.
-// STEPS = 0: the start only, and its circle's residual under other maps (BDF at tighter
-// tolerances, Gauss on finer meshes): how accurate the start's own map is.
+// STEPS = 0: the start only, its harmonics' sizes and its circle's residual under other maps
+// (BDF at tighter tolerances, Gauss on finer meshes): how accurate the start's own map is.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <string>
 
 #include "models/units.h"
@@ -52,6 +54,13 @@ int Main(int argc, char** argv) {
   if (argc > 7) start.collocation_intervals = std::atoi(argv[7]);
   if (argc > 8) start.max_harmonics = std::atoi(argv[8]);
   if (argc > 9) start.newton.max_step_halvings = std::atoi(argv[9]);
+  if (argc > 10) {  // e.g. "3,10"
+    start.refinement_images.clear();
+    std::istringstream counts(argv[10]);
+    for (std::string count; std::getline(counts, count, ',');) {
+      start.refinement_images.push_back(std::atoi(count.c_str()));
+    }
+  }
   if (steps == 0) {
     const ModulatedTorus torus =
         SolveModulatedTorus(structure, omega, precession, transient.state,
@@ -69,6 +78,14 @@ int Main(int argc, char** argv) {
       std::printf("  its residual under %-34s %.4e (scaled, max)\n", (name + ":").c_str(),
                   F.cwiseQuotient(problem.ResidualScale()).lpNorm<Eigen::Infinity>());
     };
+    {
+      const InvariantCircleProblem problem(frame, torus.harmonics, OrbitKind::kRelative, {},
+                                           coordinates);
+      std::printf("  its harmonics' sizes (scaled), k = 1 … %d:", torus.harmonics);
+      for (int k = 1; k <= torus.harmonics; ++k)
+        std::printf(" %.2e", problem.HarmonicSize(torus.u, k));
+      std::printf("\n");
+    }
     IntegratorOptions bdf = start.integrator;
     residual(bdf, "BDF <= 2 at 1e-7 (the start's map)");
     bdf.relative_tolerance = bdf.absolute_tolerance = 1e-9;

@@ -820,12 +820,20 @@ Matrix InvariantCircleProblem::FitCoefficients(const Matrix& states, const Matri
 Vector InvariantCircleProblem::CircleAtRotationNumber(const Matrix& states, double rho,
                                                       double period, double rotation) const {
   const Index m = states.cols();
-  if (states.rows() != n_ || m < points_ + 1) {
+  return CircleAtAngles(states,
+                        Vector::LinSpaced(m, 0.0, kTwoPi * rho * static_cast<double>(m - 1)), rho,
+                        period, rotation);
+}
+
+Vector InvariantCircleProblem::CircleAtAngles(const Matrix& states, const Vector& angles,
+                                              double rho, double period, double rotation) const {
+  const Index m = states.cols();
+  if (states.rows() != n_ || m < points_ + 1 || angles.size() != m) {
     throw std::invalid_argument(fmt::format(
-        "CircleAtRotationNumber: {} × {} points; need {} rows and at least {} columns",
-        states.rows(), m, n_, points_ + 1));
+        "InvariantCircleProblem: {} × {} points at {} angles; need {} rows, at least {} columns "
+        "and an angle per column",
+        states.rows(), m, angles.size(), n_, points_ + 1));
   }
-  const Vector angles = Vector::LinSpaced(m, 0.0, kTwoPi * rho * static_cast<double>(m - 1));
   return Pack(FitCoefficients(states, BasisMatrix(angles)), rho, period, rotation);
 }
 

@@ -244,6 +244,10 @@ class InvariantCircleProblem : public Problem {
   // over 132 points (0.4 rad), and Newton diverged from that circle. Throws as CircleFromOrbit.
   Vector CircleAtRotationNumber(const Matrix& points, double rho, double period = 0.0,
                                 double rotation = 0.0) const;
+  // The circle through states at given angles (points n × m, m ≥ 2K + 2; angles m), ρ, T and φ
+  // packed as given: the coefficients fitted by least squares (in the chart with one).
+  Vector CircleAtAngles(const Matrix& points, const Vector& angles, double rho, double period = 0.0,
+                        double rotation = 0.0) const;
 
  private:
   struct Integrated {

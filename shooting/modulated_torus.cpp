@@ -5,8 +5,11 @@
 #include <complex>
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
@@ -78,6 +81,32 @@ Matrix MapOrbit(const OdeSystem& frame, const Matrix& samples, Index stride, Ind
   return points;
 }
 
+// The graph transform of a solved circle (`circle`'s unknowns u): `count` points u(2πk / count)
+// each mapped `images` times by P = R_{−φ} Φ_T under `integrator`; the k-th at angle
+// 2πk / count + 2π·images·ρ on the image. Empty, with `failure` set, where an integration fails.
+Matrix CircleImages(OdeSystem& frame, const IntegratorOptions& integrator,
+                    const InvariantCircleProblem& circle, const Vector& u, Index count, int images,
+                    double period, double phi, std::string& failure) {
+  OdeIntegrator map(frame, integrator);
+  Matrix points(frame.Dimension(), count);
+  for (Index k = 0; k < count; ++k) {
+    Vector x = circle.PointAt(u, kTwoPi * static_cast<double>(k) / static_cast<double>(count));
+    Vector end(x.size());
+    for (int i = 0; i < images; ++i) {
+      const IntegrationResult mapped = map.Integrate(0.0, x, period, end);
+      if (!mapped.Succeeded()) {
+        failure = fmt::format("the coarse circle's point {} of {}, image {}: {}", k, count, i + 1,
+                              mapped.BriefReport());
+        return {};
+      }
+      frame.Rotate(-phi, end);
+      x = end;
+    }
+    points.col(k) = x;
+  }
+  return points;
+}
+
 }  // namespace
 
 void Validate(const ModulatedTorusOptions& options) {
@@ -109,6 +138,13 @@ void Validate(const ModulatedTorusOptions& options) {
   if (options.max_harmonics < 0 || options.max_harmonics > 500) {
     throw std::invalid_argument(fmt::format(
         "ModulatedTorusOptions.max_harmonics = {}: must be in 0 … 500", options.max_harmonics));
+  }
+  if (options.refinement_images.empty() ||
+      std::any_of(options.refinement_images.begin(), options.refinement_images.end(),
+                  [](int images) { return images < 1 || images > 100; })) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.refinement_images = {{{}}}: must be one or more counts in 1 … 100",
+        fmt::join(options.refinement_images, ", ")));
   }
   if (!(options.converged_tail > 0.0 && options.converged_tail < 1.0)) {
     throw std::invalid_argument(fmt::format(
@@ -233,35 +269,47 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
         frame, 2 * circle->harmonics(), OrbitKind::kRelative, MapIntegrator(options, torus.laps),
         options.coordinates);
     const Vector coarse = torus.u;
-    // The transient's orbit of the solved map P = R_{−φ} Φ_T: 4(2K′ + 1) points at the solved ρ.
-    // (Not the first fit's points: they are the search's T and φ̄ apart, and its ρ is a fit's.
-    // Over more points their angles drift apart: C(a) at 49 rpm, 260 points fitted as the first
-    // circle are no circle.)
     const double solved_period = circle->Period(coarse, omega), phi = circle->Rotation(coarse);
+    const double rho = circle->RotationNumber(coarse);
     const Index count = 4 * (2 * finer->harmonics() + 1);
-    Matrix samples;
-    const IntegrationResult sampled =
-        SampleFlow(*frame, options.integrator, search.state, count, solved_period, samples);
-    if (!sampled.Succeeded()) {
-      refinement = fmt::format("; not refined to K = {}: its points: {}", finer->harmonics(),
-                               sampled.BriefReport());
-      break;
-    }
-    torus.u = finer->CircleAtRotationNumber(MapOrbit(*frame, samples, 1, count, phi),
-                                            circle->RotationNumber(coarse), solved_period, phi);
     // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
     // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
     NewtonOptions damped = options.newton;
     damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
-    const NewtonResult newton = solve(*finer, damped);
-    if (!newton.Converged()) {
+    NewtonResult newton;
+    std::vector<std::string> failures;
+    int images_used = 0;
+    for (const int images : options.refinement_images) {
+      std::string failure;
+      const Matrix points = CircleImages(*frame, MapIntegrator(options, torus.laps), *circle,
+                                         coarse, count, images, solved_period, phi, failure);
+      if (failure.empty()) {
+        const Vector angles =
+            Vector::LinSpaced(count, 0.0,
+                              kTwoPi * static_cast<double>(count - 1) / static_cast<double>(count))
+                .array() +
+            kTwoPi * rho * images;
+        torus.u = finer->CircleAtAngles(points, angles, rho, solved_period, phi);
+        newton = solve(*finer, damped);
+        if (newton.Converged()) {
+          images_used = images;
+          break;
+        }
+        failure = newton.BriefReport();
+      }
+      failures.push_back(
+          fmt::format("from {} image{}: {}", images, images > 1 ? "s" : "", failure));
+    }
+    if (images_used == 0) {
       torus.u = coarse;
-      refinement = fmt::format("; not refined to K = {}: {}", finer->harmonics(), newton.BriefReport());
+      refinement =
+          fmt::format("; not refined to K = {}: {}", finer->harmonics(), fmt::join(failures, "; "));
       break;
     }
     torus.newton = newton;
     circle = std::move(finer);
     record(*circle);
+    torus.by_harmonics.back().images = images_used;
   }
   InvariantCircleProblem& problem = *circle;
   torus.harmonics = problem.harmonics();
@@ -281,8 +329,10 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   if (torus.by_harmonics.size() > 1) {
     in_k = "; in K:";
     for (const ModulatedTorus::AtHarmonics& k : torus.by_harmonics) {
-      in_k += fmt::format(" K = {} ρ {:.8f} (tail {:.2g}, invariance error {:.2g}){}", k.harmonics,
-                          k.rotation_number, k.fourier_tail, k.invariance_error,
+      in_k += fmt::format(" K = {} ρ {:.8f} (tail {:.2g}, invariance error {:.2g}{}){}",
+                          k.harmonics, k.rotation_number, k.fourier_tail, k.invariance_error,
+                          k.images > 0 ? fmt::format(", from {} image{}", k.images, k.images > 1 ? "s" : "")
+                                       : std::string(),
                           &k == &torus.by_harmonics.back() ? "" : ",");
     }
   }

@@ -32,6 +32,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "models/rub_model.h"
 #include "shooting/invariant_circle.h"
@@ -79,17 +80,24 @@ struct ModulatedTorusOptions {
   // chart (the gap |d| − C a coordinate of its own), for contacts pressed by nanometres.
   CircleCoordinates coordinates = CircleCoordinates::kState;
   // Convergence in K: once the circle with `harmonics` converged, K is doubled while the Fourier
-  // tail exceeds `converged_tail` and 2K ≤ max_harmonics: the finer circle fitted to 4(2K + 1)
-  // points of the transient's orbit under the solved map (its T and φ) at the solved ρ
-  // (CircleAtRotationNumber), then Newton with its steps halved where they fail (up to 8 times);
-  // each K's ρ, tail and invariance error are reported (ModulatedTorus::by_harmonics), and where
-  // the finer Newton fails, the coarser circle stays with the reason. 0: harmonics only. Measured
-  // (chart, Gauss 800): a fit of 33 points with a fitted ρ started at |F| 5.7e-2 and diverged
-  // (C(c), 64 rpm); at the solved ρ C(a)'s at 49 rpm started at 6.5e-4 but stalled at 4.4e-5
-  // (ρ 0.378 is 0.003 from 3/8, harmonic 8 inside K = 16), C(c)'s at 7.9e-3 and met a singular
-  // Jacobian (ρ 0.695 is 0.0024 from 9/13).
+  // tail exceeds `converged_tail` and 2K ≤ max_harmonics. The finer circle's start is the solved
+  // circle's graph transform: 4(2K′ + 1) of its points each mapped n times by the solved map (its
+  // T and φ, Newton's own integrator), fitted at their angles advanced by 2πnρ; then Newton with
+  // its steps halved where they fail (up to 8 times), for each n of `refinement_images` in turn
+  // until one converges. Each K's ρ, tail, invariance error and n are reported
+  // (ModulatedTorus::by_harmonics); where no start converges, the coarser circle stays with the
+  // reasons. 0: harmonics only. Decision, measured (bench/transient_tori_bench, one run each;
+  // results/bench/torus_in_k.txt): from the circle padded with zero harmonics, or mapped once or
+  // ten times, C(a) at 49 rpm (state, Gauss 800) stalls at K = 16 (|F| 7.5e-5 … 7.8e-5 over 30
+  // iterations), mapped 3 times it reaches K = 128; C(c) at 64 rpm (chart) from 3 images meets a
+  // singular Jacobian at K = 32, from 10 it reaches K = 64. The images pull the start towards the
+  // torus by its normal contraction; which count lands in a root's basin of the truncated
+  // equations (near a resonance several roots, ρ 1e-4 apart at K = 16) is not known beforehand.
+  // The earlier start, a circle fitted to the transient's orbit under the solved map, reached
+  // neither C(a)'s K = 32 (a non-finite residual) nor C(c)'s K = 16 (a singular Jacobian).
   int max_harmonics = 0;
   double converged_tail = 1e-4;  // (0, 1)
+  std::vector<int> refinement_images = {3, 10};  // each in 1 … 100, tried in turn
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -128,6 +136,7 @@ struct ModulatedTorus {
     double fourier_tail = kNaN;
     double invariance_error = kNaN;
     int newton_iterations = 0;
+    int images = 0;  // the start's images under the map (0: the first circle, from the transient)
   };
   std::vector<AtHarmonics> by_harmonics;
   int harmonics = 0;  // K of u
