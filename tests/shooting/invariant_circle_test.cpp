@@ -559,6 +559,37 @@ class FourStatesAtRest : public OdeSystem {
   double ForcingPeriod() const override { return 1.0; }
 };
 
+TEST_CASE("invariant circle: a circle through points at given angles (a circle's images under a "
+          "map) is the trigonometric polynomial through them",
+          "[torus]") {
+  // The refinement in K's start (shooting/modulated_torus.h): points of a coarser circle mapped n
+  // times lie at θ_k + 2πnρ. Here the points of a polynomial of 2 harmonics at uneven angles: the
+  // fit returns its coefficients, and ρ as given.
+  InvariantCircleProblem problem(std::make_shared<FourStatesAtRest>(), 2, OrbitKind::kForced);
+  Matrix coefficients(4, 5);
+  coefficients << 0.1, 1.0, 0.0, 0.2, -0.1,  //
+      -0.3, 0.0, 1.0, 0.05, 0.0,             //
+      0.0, 0.3, -0.2, 0.0, 0.4,              //
+      2.0, 0.0, 0.0, -0.6, 0.1;
+  const Index m = 13;
+  Vector angles(m);
+  Matrix points(4, m);
+  for (Index k = 0; k < m; ++k) {
+    angles(k) = kTwoPi * static_cast<double>(k) / m + 2.0 * kTwoPi * 0.37 + 0.2 * std::sin(1.7 * k);
+    Vector basis(5);
+    basis << 1.0, std::cos(angles(k)), std::sin(angles(k)), std::cos(2 * angles(k)),
+        std::sin(2 * angles(k));
+    points.col(k) = coefficients * basis;
+  }
+  const Vector u = problem.CircleAtAngles(points, angles, 0.37);
+  CHECK((problem.Coefficients(u) - coefficients).cwiseAbs().maxCoeff() <= 1e-12);
+  CHECK(problem.RotationNumber(u) == 0.37);
+  CHECK_THROWS_WITH(problem.CircleAtAngles(points, angles.head(m - 1), 0.37),
+                    Catch::Contains("4 × 13 points at 12 angles"));
+  CHECK_THROWS_WITH(problem.CircleAtAngles(points.leftCols(5), angles.head(5), 0.37),
+                    Catch::Contains("at least 6 columns"));
+}
+
 TEST_CASE("invariant circle: points on a curve that winds twice round its centre in its principal "
           "plane are fitted once round, not as a circle covered twice",
           "[torus]") {
