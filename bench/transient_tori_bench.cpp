@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -124,11 +125,19 @@ int Main(int argc, char** argv) {
   double step_start = tori_start;
   const auto frame =
       std::make_shared<RubRotatingFrame>(structure, precession, omega);
-  InvariantCircleProblem circle(frame, harmonics, OrbitKind::kRelative, {}, coordinates);
+  // The families' K: the start's, refined up to MAX_HARMONICS.
+  std::unique_ptr<InvariantCircleProblem> family_circle;
   const RubTransientTori tori = ContinueTransientTori(
       structure, omega, precession, transient.state, start, options,
       [&](std::size_t family, const Branch& branch) {
         const BranchPoint& p = branch.points.back();
+        const Index points = (p.u.size() - 3) / frame->Dimension();  // 2K + 1 (then ρ, T, φ)
+        if (!family_circle || family_circle->Dimension() != p.u.size()) {
+          family_circle = std::make_unique<InvariantCircleProblem>(
+              frame, static_cast<int>(points - 1) / 2, OrbitKind::kRelative, IntegratorOptions{},
+              coordinates);
+        }
+        InvariantCircleProblem& circle = *family_circle;
         const double rho = circle.RotationNumber(p.u);
         const double period = circle.Period(p.u, p.lambda);
         // The harmonics of the resonances met: 5:13, 3:8 and 2:5.
@@ -136,7 +145,7 @@ int Main(int argc, char** argv) {
                     "|c8| %.2e, |c13| %.2e (%.1f s CPU)\n",
                     family == 0 ? "down" : "up  ", RadPerSecondToRpm(p.lambda), rho, 1.0 / period,
                     rho / period, p.measures(1), circle.HarmonicSize(p.u, 5),
-                    circle.HarmonicSize(p.u, 8), circle.HarmonicSize(p.u, std::min(13, harmonics)),
+                    circle.HarmonicSize(p.u, 8), circle.HarmonicSize(p.u, std::min(13, circle.harmonics())),
                     CpuSecondsSince(step_start));
         std::fflush(stdout);
         step_start = ProcessCpuSeconds();
