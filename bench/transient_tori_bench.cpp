@@ -145,7 +145,8 @@ int Main(int argc, char** argv) {
                     "|c8| %.2e, |c13| %.2e (%.1f s CPU)\n",
                     family == 0 ? "down" : "up  ", RadPerSecondToRpm(p.lambda), rho, 1.0 / period,
                     rho / period, p.measures(1), circle.HarmonicSize(p.u, 5),
-                    circle.HarmonicSize(p.u, 8), circle.HarmonicSize(p.u, std::min(13, circle.harmonics())),
+                    circle.HarmonicSize(p.u, 8),
+                    circle.HarmonicSize(p.u, std::min(13, circle.harmonics())),
                     CpuSecondsSince(step_start));
         std::fflush(stdout);
         step_start = ProcessCpuSeconds();

@@ -331,8 +331,9 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     for (const ModulatedTorus::AtHarmonics& k : torus.by_harmonics) {
       in_k += fmt::format(" K = {} ρ {:.8f} (tail {:.2g}, invariance error {:.2g}{}){}",
                           k.harmonics, k.rotation_number, k.fourier_tail, k.invariance_error,
-                          k.images > 0 ? fmt::format(", from {} image{}", k.images, k.images > 1 ? "s" : "")
-                                       : std::string(),
+                          k.images == 0   ? std::string()
+                          : k.images == 1 ? std::string(", from 1 image")
+                                          : fmt::format(", from {} images", k.images),
                           &k == &torus.by_harmonics.back() ? "" : ",");
     }
   }
