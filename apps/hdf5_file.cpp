@@ -485,6 +485,19 @@ double ResultReader::ReadDoubleAttribute(const std::string& object, const std::s
   });
 }
 
+std::vector<double> ResultReader::ReadDoublesAttribute(const std::string& object,
+                                                       const std::string& name) const {
+  return Guard(file_, object + "@" + name, [&] {
+    std::vector<double> values;
+    WithObject(impl_->file, object, [&](H5::H5Object& target) {
+      const H5::Attribute attribute = target.openAttribute(name);
+      values.resize(static_cast<std::size_t>(attribute.getSpace().getSimpleExtentNpoints()));
+      if (!values.empty()) attribute.read(H5::PredType::NATIVE_DOUBLE, values.data());
+    });
+    return values;
+  });
+}
+
 std::string ResultReader::ReadStringAttribute(const std::string& object, const std::string& name) const {
   return Guard(file_, object + "@" + name, [&] {
     std::string value;

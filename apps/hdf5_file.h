@@ -103,6 +103,8 @@ class ResultReader {
   std::vector<std::string> ReadStrings(const std::string& path) const;
   bool HasAttribute(const std::string& object, const std::string& name) const;
   double ReadDoubleAttribute(const std::string& object, const std::string& name) const;
+  std::vector<double> ReadDoublesAttribute(const std::string& object,
+                                           const std::string& name) const;  // 1-D
   std::string ReadStringAttribute(const std::string& object, const std::string& name) const;
 
  private:

@@ -271,6 +271,19 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     w.SetAttribute(group, "start_carrier_hz", torus.carrier_hz);
     w.SetAttribute(group, "start_fourier_tail", torus.fourier_tail);
     w.SetAttribute(group, "start_invariance_error", torus.invariance_error);
+    std::vector<double> in_k[5];  // K, ρ, tail, invariance error, images: each K solved
+    for (const ModulatedTorus::AtHarmonics& k : torus.by_harmonics) {
+      in_k[0].push_back(k.harmonics);
+      in_k[1].push_back(k.rotation_number);
+      in_k[2].push_back(k.fourier_tail);
+      in_k[3].push_back(k.invariance_error);
+      in_k[4].push_back(k.images);
+    }
+    w.SetAttribute(group, "start_in_k_harmonics", in_k[0]);
+    w.SetAttribute(group, "start_in_k_rotation_numbers", in_k[1]);
+    w.SetAttribute(group, "start_in_k_fourier_tails", in_k[2]);
+    w.SetAttribute(group, "start_in_k_invariance_errors", in_k[3]);
+    w.SetAttribute(group, "start_in_k_images", in_k[4]);
     w.SetAttribute(group, "start_message", torus.message);
     fmt::print(out, "  {}: {} ({:.1f} s)\n    {}\n", name, tori.branch.BriefReport(),
                SecondsSince(t0), tori.end_note);

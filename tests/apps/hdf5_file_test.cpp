@@ -60,6 +60,7 @@ TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
     writer.SetAttribute("/a/matrix", "unit", "N");
     writer.SetAttribute("/a/matrix", "unit", "N·s/m");  // overwrite
     writer.SetAttribute("/a", "no_folds", std::vector<double>{});  // a list may be empty
+    writer.SetAttribute("/a", "folds", std::vector<double>{49.2, -1e-300});
     writer.Commit();
   }
   const ResultReader reader(file);
@@ -81,6 +82,9 @@ TEST_CASE("HDF5 round trip of every supported type", "[hdf5]") {
   CHECK(reader.HasAttribute("/a", "friction"));
   CHECK_FALSE(reader.HasAttribute("/a", "nothing"));
   CHECK(reader.HasAttribute("/a", "no_folds"));
+  CHECK(reader.ReadDoublesAttribute("/a", "no_folds").empty());
+  CHECK(reader.ReadDoublesAttribute("/a", "folds") == std::vector<double>{49.2, -1e-300});
+  CHECK(reader.ReadDoublesAttribute("/a", "friction") == std::vector<double>{0.5});
   CHECK(reader.Exists("/c/d"));
   CHECK_FALSE(reader.Exists("/c/e"));
   CHECK_FALSE(reader.Exists("/x/y/z"));

@@ -139,6 +139,13 @@ TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a
     // precession 79.2793 Hz by Dormand–Prince over its last 0.5 s).
     CHECK(file.ReadDoubleAttribute(group, "start_laps") == 1.0);
     const double rho0 = file.ReadDoubleAttribute(group, "start_rotation_number");
+    // Not refined in K (max_harmonics = 0): one entry, the first circle's.
+    CHECK(file.ReadDoublesAttribute(group, "start_in_k_harmonics") == std::vector<double>{8.0});
+    CHECK(file.ReadDoublesAttribute(group, "start_in_k_rotation_numbers") ==
+          std::vector<double>{rho0});
+    CHECK(file.ReadDoublesAttribute(group, "start_in_k_fourier_tails") ==
+          std::vector<double>{file.ReadDoubleAttribute(group, "start_fourier_tail")});
+    CHECK(file.ReadDoublesAttribute(group, "start_in_k_images") == std::vector<double>{0.0});
     CHECK(rho0 > 3.0 / 8.0);
     CHECK(rho0 < 2.0 / 5.0);
     CHECK(file.ReadDoubleAttribute(group, "start_first_hz") ==
