@@ -581,6 +581,29 @@ double InvariantCircleProblem::InvarianceError(const Vector& u, double lambda) {
   return error;
 }
 
+Matrix InvariantCircleProblem::Images(const Vector& u, double lambda, const Vector& angles,
+                                      int images, std::string& failure) {
+  const double period = Period(u, lambda), phi = Rotation(u);
+  OdeIntegrator integrator(*system_, options_);
+  Matrix points(n_, angles.size());
+  Vector end(n_);
+  for (Index k = 0; k < angles.size(); ++k) {
+    Vector x = PointAt(u, angles(k));
+    for (int i = 0; i < images; ++i) {
+      const IntegrationResult mapped = integrator.Integrate(0.0, x, period, end);
+      if (!mapped.Succeeded()) {
+        failure = fmt::format("the circle's point {} of {}, image {}: {}", k, angles.size(), i + 1,
+                              mapped.BriefReport());
+        return {};
+      }
+      if (kind_ == OrbitKind::kRelative) system_->Rotate(-phi, end);  // P = R_{−φ} Φ_T
+      x = end;
+    }
+    points.col(k) = x;
+  }
+  return points;
+}
+
 std::vector<double> InvariantCircleProblem::CircleMultipliers(const Vector& u, double lambda) {
   const Integrated& data = Integrate(u, lambda, true);
   if (!data.ok) return {};

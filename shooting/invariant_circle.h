@@ -226,6 +226,11 @@ class InvariantCircleProblem : public Problem {
 
   // The defect max_j |P(u(ϑ_j)) − u(ϑ_j + 2πρ)| ./ scale at ϑ_j = θ_j + π/N.
   double InvarianceError(const Vector& u, double lambda);
+  // The circle's graph transform: its points u(ϑ_k) at `angles`, each mapped `images` times by the
+  // problem's map P (n × angles, states); the k-th lies on the image circle at ϑ_k + 2π·images·ρ.
+  // Empty, with `failure` saying where, when an integration fails.
+  Matrix Images(const Vector& u, double lambda, const Vector& angles, int images,
+                std::string& failure);
 
   // A first circle from points of one orbit of the map, x_{k+1} = P(x_k) (n × m, m ≥ 2K + 2),
   // lying on a circle that winds once around its centroid in the plane of its two leading

@@ -81,32 +81,6 @@ Matrix MapOrbit(const OdeSystem& frame, const Matrix& samples, Index stride, Ind
   return points;
 }
 
-// The graph transform of a solved circle (`circle`'s unknowns u): `count` points u(2πk / count)
-// each mapped `images` times by P = R_{−φ} Φ_T under `integrator`; the k-th at angle
-// 2πk / count + 2π·images·ρ on the image. Empty, with `failure` set, where an integration fails.
-Matrix CircleImages(OdeSystem& frame, const IntegratorOptions& integrator,
-                    const InvariantCircleProblem& circle, const Vector& u, Index count, int images,
-                    double period, double phi, std::string& failure) {
-  OdeIntegrator map(frame, integrator);
-  Matrix points(frame.Dimension(), count);
-  for (Index k = 0; k < count; ++k) {
-    Vector x = circle.PointAt(u, kTwoPi * static_cast<double>(k) / static_cast<double>(count));
-    Vector end(x.size());
-    for (int i = 0; i < images; ++i) {
-      const IntegrationResult mapped = map.Integrate(0.0, x, period, end);
-      if (!mapped.Succeeded()) {
-        failure = fmt::format("the coarse circle's point {} of {}, image {}: {}", k, count, i + 1,
-                              mapped.BriefReport());
-        return {};
-      }
-      frame.Rotate(-phi, end);
-      x = end;
-    }
-    points.col(k) = x;
-  }
-  return points;
-}
-
 }  // namespace
 
 void Validate(const ModulatedTorusOptions& options) {
@@ -272,6 +246,8 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     const double solved_period = circle->Period(coarse, omega), phi = circle->Rotation(coarse);
     const double rho = circle->RotationNumber(coarse);
     const Index count = 4 * (2 * finer->harmonics() + 1);
+    const Vector nodes = Vector::LinSpaced(
+        count, 0.0, kTwoPi * static_cast<double>(count - 1) / static_cast<double>(count));
     // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
     // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
     NewtonOptions damped = options.newton;
@@ -281,14 +257,9 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     int images_used = 0;
     for (const int images : options.refinement_images) {
       std::string failure;
-      const Matrix points = CircleImages(*frame, MapIntegrator(options, torus.laps), *circle,
-                                         coarse, count, images, solved_period, phi, failure);
+      const Matrix points = circle->Images(coarse, omega, nodes, images, failure);
       if (failure.empty()) {
-        const Vector angles =
-            Vector::LinSpaced(count, 0.0,
-                              kTwoPi * static_cast<double>(count - 1) / static_cast<double>(count))
-                .array() +
-            kTwoPi * rho * images;
+        const Vector angles = nodes.array() + kTwoPi * rho * images;
         torus.u = finer->CircleAtAngles(points, angles, rho, solved_period, phi);
         newton = solve(*finer, damped);
         if (newton.Converged()) {

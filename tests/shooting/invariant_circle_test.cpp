@@ -428,6 +428,17 @@ TEST_CASE("invariant circle: relative torus, period, rotation and rotation numbe
   SolveRelativeTorus(problem, u, mu, rho, period, rotation);
   // Radii to the integration's global error over T ≈ 6 at tolerance 1e-11 (measured 1.1e-9).
   CheckChainTorus(problem, u, mu, period, 5e-9);
+  // Its images under the map lie on it, 2π·nρ further along: P³(u(ϑ)) = u(ϑ + 6πρ).
+  const Vector angles = (Vector(3) << 0.1, 2.0, 4.5).finished();
+  std::string failure;
+  const Matrix images = problem.Images(u, mu, angles, 3, failure);
+  REQUIRE(failure.empty());
+  REQUIRE(images.cols() == 3);
+  for (Index k = 0; k < 3; ++k) {
+    CAPTURE(k);
+    CHECK((images.col(k) - problem.PointAt(u, angles(k) + 3.0 * kTwoPi * rho)).norm() <= 1e-8);
+    CHECK((images.col(k) - problem.PointAt(u, angles(k))).norm() >= 0.1);  // moved along it
+  }
   // The same torus seen without the rotation as an unknown: Φ_T alone has no invariant circle near
   // this one (z₀ and z₁ turn by φ per T), and Newton says so instead of inventing one.
   InvariantCircleProblem plain(system, 3, OrbitKind::kAutonomous, TightCircle());
