@@ -966,8 +966,8 @@ void ToriTransientKeys(std::vector<KeySpec>& s) {
       "analysis.tori.transient.max_harmonics", ValueType::kInteger, "-", Rule::kCountOrNone,
       Presence::kOptional,
       "Convergence in K: the transient's torus, solved with `harmonics`, is solved again with "
-      "twice as many (from the solved circle's points mapped ten times by the torus's map, "
-      "Newton damped) while its "
+      "twice as many (from the solved circle's points mapped three times by the torus's map, "
+      "ten where Newton fails from there; Newton damped) while its "
       "Fourier tail exceeds 1e-4 and 2K stays within this; each K's ρ, tail and invariance "
       "error in the summary. 0: `harmonics` only. Its families continue with the finest K "
       "solved.",
