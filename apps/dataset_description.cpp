@@ -117,6 +117,8 @@ std::vector<Rule> MakeRules() {
       Dimensionless(), "^/branches/periodic_orbits/");
   // A torus's circle radius, in scaled state units (InvariantCircleProblem::Radius).
   add("radius", Dimensionless(), "^/tori/");
+  // The K each torus's circle was solved with (a count).
+  add("harmonics", Dimensionless(), "^/tori/");
   return rules;
 }
 

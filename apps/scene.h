@@ -149,6 +149,7 @@ struct RubOrbitsSettings {
 // the modulated orbits of [analysis.orbits] (shooting/rub_tori.h).
 struct RubToriSettings {
   int harmonics = 8;               // K of the invariant circle (2K + 1 points)
+  int max_harmonics = 0;           // refined in K along the families up to this (0: harmonics)
   double amplitude = 1e-3;         // first circle's size (scaled state units), 0 < x < 1
   double max_fourier_tail = 1e-2;  // the breakdown / locking event, 0 < x < 1
   int max_steps = 40;              // continuation steps from each Neimark–Sacker point

@@ -857,6 +857,17 @@ void ToriKeys(std::vector<KeySpec>& s) {
       "K: Fourier harmonics of each torus's invariant circle (2K + 1 points, each integrated over "
       "one modulation period with [analysis.orbits]' integrator and mesh).",
       [](Scene& x) -> int& { return x.analysis.tori.harmonics; }));
+  s.push_back(Make<int, std::int64_t>(
+      "analysis.tori.max_harmonics", ValueType::kInteger, "-", Rule::kCountOrNone,
+      Presence::kOptional,
+      "Convergence in K along each family: while 2K stays within this, a circle whose Fourier "
+      "tail reaches 1e-4 is solved again with 2K harmonics (from its points mapped three times "
+      "by the torus's map, ten where Newton fails from there) and the family goes on at 2K from "
+      "it; at the finest K the tail's bound is max_fourier_tail again (breakdown, locking). 0: "
+      "`harmonics` throughout. The circles are written at the finest K, each torus's own K in "
+      "the column `harmonics` (shooting/torus_branches.h).",
+      [](Scene& x) -> int& { return x.analysis.tori.max_harmonics; }));
+  s.back().added_at_older_behaviour = true;
   s.push_back(Float("analysis.tori.amplitude", "-", Rule::kOpenUnit,
                     "Size of the first circle off the modulated orbit at its Neimark–Sacker point "
                     "(scaled state units).",
@@ -969,8 +980,8 @@ void ToriTransientKeys(std::vector<KeySpec>& s) {
       "twice as many (from the solved circle's points mapped three times by the torus's map, "
       "ten where Newton fails from there; Newton damped) while its "
       "Fourier tail exceeds 1e-4 and 2K stays within this; each K's ρ, tail and invariance "
-      "error in the summary. 0: `harmonics` only. Its families continue with the finest K "
-      "solved.",
+      "error in the summary. 0: `harmonics` only. Its families start with the finest K solved "
+      "and are refined on along the way as analysis.tori.max_harmonics says, up to this.",
       [](Scene& x) -> int& { return x.analysis.tori.transient.max_harmonics; }));
   s.back().added_at_older_behaviour = true;
   s.push_back(Make<int, std::int64_t>(

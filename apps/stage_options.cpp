@@ -314,6 +314,7 @@ RubTorusOptions TorusOptionsOf(const Scene& scene) {
   options.tori.lambda_min = orbits.lambda_min;
   options.tori.lambda_max = orbits.lambda_max;
   options.tori.harmonics = t.harmonics;
+  options.tori.max_harmonics = t.max_harmonics;
   options.tori.amplitude = t.amplitude;
   options.tori.max_fourier_tail = t.max_fourier_tail;
   options.tori.lyapunov_iterates = t.lyapunov_iterates;
@@ -347,6 +348,7 @@ RubTorusOptions TransientTorusOptionsOf(const Scene& scene) {
   const RubToriSettings::Transient& t = scene.analysis.tori.transient;
   RubTorusOptions options = TorusOptionsOf(scene);
   options.tori.max_fourier_tail = t.max_fourier_tail;
+  options.tori.max_harmonics = t.max_harmonics;
   options.tori.continuation.bounds.max_steps = t.max_steps;
   if (scene.analysis.orbits.integrator == OrbitIntegrator::kBdf) {
     options.tori.integrator = TransientTorusStartOf(scene).integrator;

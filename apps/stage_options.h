@@ -140,7 +140,8 @@ RubTorusOptions TorusOptionsOf(const Scene& scene);
 // [analysis.tori.transient]: its torus's start (SettledTransientStart of its harmonics, refined in
 // K up to max_harmonics; with coordinates = "chart" in the contact chart, the map by the orbits'
 // Gauss mesh when they use Gauss: CVODES BDF stalled there, Gauss converged), and its
-// families' options: those above with the section's Fourier tail and steps, and the map by the
+// families' options: those above with the section's Fourier tail, steps and max_harmonics (the
+// families refined in K as the start is), and the map by the
 // start's CVODES BDF at the orbits' tolerance when the orbits use BDF (with the sensitivities under
 // error control a torus's map took 70 times the steps, ModulatedTorusOptions::integrator), else by
 // the orbits' Gauss mesh over a whole period.

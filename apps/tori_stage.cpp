@@ -93,6 +93,26 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
     unknowns.row(static_cast<Index>(i)) = b.points[i].u.transpose();
   }
   writer.WriteMatrix(group + "/unknowns", unknowns);
+  std::vector<double> harmonics;
+  for (std::size_t i = 0; i < b.points.size(); ++i) harmonics.push_back(tori.SolvedHarmonics(i));
+  writer.WriteDoubles(group + "/harmonics", harmonics);
+  std::vector<double> refinement[8];
+  for (const TorusBranch::Refinement& r : tori.refinements) {
+    refinement[0].push_back(RadPerSecondToRpm(r.lambda));
+    refinement[1].push_back(r.from);
+    refinement[2].push_back(r.to);
+    refinement[3].push_back(r.images);
+    refinement[4].push_back(r.rotation_number_from);
+    refinement[5].push_back(r.rotation_number_to);
+    refinement[6].push_back(r.fourier_tail_from);
+    refinement[7].push_back(r.fourier_tail_to);
+  }
+  const char* names[8] = {"speeds_rpm",       "from_harmonics",     "to_harmonics",
+                          "images",           "rotation_numbers_from", "rotation_numbers_to",
+                          "fourier_tails_from", "fourier_tails_to"};
+  for (int k = 0; k < 8; ++k) {
+    writer.SetAttribute(group, std::string("refinement_") + names[k], refinement[k]);
+  }
 }
 
 // One line per torus: speed, ρ, the two frequencies, each contact's strongest line, stability.
@@ -113,9 +133,18 @@ void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
                               tori.stability[i].Verdict(),
                               tori.stability[i].LargestNontrivial(), tori.stability[i].tolerance);
     }
-    fmt::print(out, "      {:9.4f} rpm  ρ {:.6f}  f1 {:.3f} Hz  f2 {:.3f} Hz  carrier {:.4f} Hz{}{}\n",
+    fmt::print(out, "      {:9.4f} rpm  ρ {:.6f}  f1 {:.3f} Hz  f2 {:.3f} Hz  carrier {:.4f} Hz{}{}{}\n",
                RadPerSecondToRpm(b.points[i].lambda), b.points[i].measures(0), l.first_hz,
-               l.second_hz, l.carrier_hz, contacts, stability);
+               l.second_hz, l.carrier_hz,
+               tori.refinements.empty() ? std::string()
+                                        : fmt::format("  K {}", tori.SolvedHarmonics(i)),
+               contacts, stability);
+  }
+  for (const TorusBranch::Refinement& r : tori.refinements) {
+    fmt::print(out, "      K {} → {} at {:.4f} rpm: ρ {:.8f} → {:.8f}, Fourier tail {:.2g} → {:.2g} "
+                    "(from {} images)\n",
+               r.from, r.to, RadPerSecondToRpm(r.lambda), r.rotation_number_from,
+               r.rotation_number_to, r.fourier_tail_from, r.fourier_tail_to, r.images);
   }
 }
 

@@ -32,7 +32,14 @@
 //                                  [s], φ [rad]: InvariantCircleProblem::Pack), so that a torus
 //                                  can be reopened; the frame turns at its family's
 //                                  hopf_precession_hz; special_points/ (apps/branch_output.h
-//                                  layout: the family's folds in speed and its end event).
+//                                  layout: the family's folds in speed and its end event);
+//                                  harmonics per torus (the K it was solved with: with
+//                                  max_harmonics the family refines in K, its coarser circles
+//                                  written in the finest K's layout, padded with zero
+//                                  harmonics) and 1-D attrs refinement_speeds_rpm, _from_harmonics,
+//                                  _to_harmonics, _images, _rotation_numbers_from, _to,
+//                                  _fourier_tails_from, _to (one entry per doubling of K: both
+//                                  circles are tori of the family, at that speed).
 //   /tori/transient_down, _up    with [analysis.tori.transient]: the tori through the torus a
 //                                  transient settles on, continued towards lower / higher speed
 //                                  (as the families above without birth_*; parent "transient"),

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "solvers/constants.h"
 #include "solvers/finite_difference.h"
@@ -441,7 +442,7 @@ void InvariantCircleProblem::SetMinRadius(double radius) {
 }
 
 std::vector<std::string> InvariantCircleProblem::EventNames() const {
-  return {"circle breaks down (Fourier tail)", std::string(kShrinksOntoCentre)};
+  return {std::string(kFourierTailReached), std::string(kShrinksOntoCentre)};
 }
 
 Vector InvariantCircleProblem::EventFunctions(const Vector& u, double /*lambda*/) {
@@ -858,6 +859,55 @@ Vector InvariantCircleProblem::CircleAtAngles(const Matrix& states, const Vector
         states.rows(), m, angles.size(), n_, points_ + 1));
   }
   return Pack(FitCoefficients(states, BasisMatrix(angles)), rho, period, rotation);
+}
+
+Vector CircleWithHarmonics(const Vector& u, Index states, int from, int to) {
+  const Index coefficients = states * (2 * from + 1), target = states * (2 * to + 1);
+  if (from < 1 || to < 1 || u.size() < coefficients || u.size() > coefficients + 3) {
+    throw std::invalid_argument(fmt::format(
+        "CircleWithHarmonics: a circle of {} unknowns is not one of {} states and {} harmonics",
+        u.size(), states, from));
+  }
+  const Index extras = u.size() - coefficients, kept = std::min(coefficients, target);
+  Vector v = Vector::Zero(target + extras);
+  v.head(kept) = u.head(kept);
+  v.tail(extras) = u.tail(extras);
+  return v;
+}
+
+CircleRefinement RefineCircle(InvariantCircleProblem& coarse, const Vector& u, double lambda,
+                              InvariantCircleProblem& finer, const std::vector<int>& images,
+                              const NewtonOptions& newton) {
+  CircleRefinement result;
+  result.u = CircleWithHarmonics(u, coarse.states(), coarse.harmonics(), finer.harmonics());
+  const double period = coarse.Period(u, lambda), phi = coarse.Rotation(u);
+  const double rho = coarse.RotationNumber(u);
+  const Index count = 4 * (2 * finer.harmonics() + 1);
+  const Vector nodes = Vector::LinSpaced(
+      count, 0.0, kTwoPi * static_cast<double>(count - 1) / static_cast<double>(count));
+  std::vector<std::string> failures;
+  for (const int n : images) {
+    std::string failure;
+    const Matrix points = coarse.Images(u, lambda, nodes, n, failure);
+    if (failure.empty()) {
+      Vector start = finer.CircleAtAngles(points, nodes.array() + kTwoPi * rho * n, rho, period, phi);
+      finer.SetPhaseReference(start);
+      result.newton = NewtonSolve(
+          [&](const Vector& v, Vector& F) { finer.Residual(v, lambda, F); },
+          [&](const Vector& v, Matrix& J) { finer.Jacobian(v, lambda, J); }, start, newton,
+          finer.Scale(), finer.ResidualScale());
+      if (result.newton.Converged()) {
+        result.converged = true;
+        result.u = std::move(start);
+        result.images = n;
+        break;
+      }
+      failure = result.newton.BriefReport();
+    }
+    failures.push_back(fmt::format("from {} image{}: {}", n, n > 1 ? "s" : "", failure));
+  }
+  result.failures = fmt::format("{}", fmt::join(failures, "; "));
+  return result;
 }
 
 }  // namespace rubcont

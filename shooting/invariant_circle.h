@@ -57,6 +57,7 @@
 
 #include "continuation/problem.h"
 #include "shooting/shooting.h"
+#include "solvers/newton.h"
 #include "solvers/ode.h"
 
 namespace rubcont {
@@ -74,6 +75,9 @@ namespace rubcont {
 enum class CircleCoordinates { kState, kChart };
 const char* ToString(CircleCoordinates coordinates);
 
+// The name of InvariantCircleProblem's event "the Fourier tail reached its maximum"
+// (SetMaxFourierTail): the label of the special point a family ending there carries.
+inline constexpr char kFourierTailReached[] = "circle breaks down (Fourier tail)";
 // The name of InvariantCircleProblem's event "the radius reached its minimum" (SetMinRadius): the
 // label of the special point a family ending there carries.
 inline constexpr char kShrinksOntoCentre[] = "circle shrinks onto its centre (radius)";
@@ -316,5 +320,33 @@ class InvariantCircleProblem : public Problem {
   bool cached_sensitivities_ = false;
   Integrated cached_;
 };
+
+// A circle's unknowns u (InvariantCircleProblem::Pack layout for `states` states and `from`
+// harmonics) in the layout of `to` harmonics: the same trigonometric polynomial, its coefficients
+// padded with zero harmonics (to ≥ from) or cut after harmonic `to` (exact where the harmonics
+// above are zero: a circle padded before); ρ, T and φ as they were. Also the û part of a tangent
+// (scaled: the coefficients' scale does not depend on k). Throws std::invalid_argument when u's
+// size does not fit `from`.
+Vector CircleWithHarmonics(const Vector& u, Index states, int from, int to);
+
+// A solved circle refined in K: the circle u of `coarse` at λ, solved again with `finer`'s
+// harmonics (same system, kind and coordinates, more harmonics). The start is the solved circle's
+// graph transform: 4(2K′ + 1) of its points, each mapped n times by `coarse`'s map (its T and φ),
+// fitted at their angles advanced by 2πnρ (InvariantCircleProblem::Images, CircleAtAngles); then
+// Newton at λ, with the phase conditions referred to that start — for each n of `images` in turn
+// until one converges. The images pull the start towards the torus by its normal contraction,
+// where the coarse circle padded with zero harmonics stalls (shooting/modulated_torus.h: C(a) at
+// 49 rpm, K = 16). Used for the transient's torus (ModulatedTorusOptions::max_harmonics) and
+// along torus families (TorusBranchOptions::max_harmonics).
+struct CircleRefinement {
+  bool converged = false;
+  Vector u;             // finer's layout: the solved circle; else the coarse one padded
+  NewtonResult newton;  // of the count that converged (else of the last tried)
+  int images = 0;       // the count that converged (0: none)
+  std::string failures;  // "from n images: why; …" for the counts that did not converge
+};
+CircleRefinement RefineCircle(InvariantCircleProblem& coarse, const Vector& u, double lambda,
+                              InvariantCircleProblem& finer, const std::vector<int>& images,
+                              const NewtonOptions& newton);
 
 }  // namespace rubcont

@@ -242,45 +242,21 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     auto finer = std::make_unique<InvariantCircleProblem>(
         frame, 2 * circle->harmonics(), OrbitKind::kRelative, MapIntegrator(options, torus.laps),
         options.coordinates);
-    const Vector coarse = torus.u;
-    const double solved_period = circle->Period(coarse, omega), phi = circle->Rotation(coarse);
-    const double rho = circle->RotationNumber(coarse);
-    const Index count = 4 * (2 * finer->harmonics() + 1);
-    const Vector nodes = Vector::LinSpaced(
-        count, 0.0, kTwoPi * static_cast<double>(count - 1) / static_cast<double>(count));
     // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
     // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
     NewtonOptions damped = options.newton;
     damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
-    NewtonResult newton;
-    std::vector<std::string> failures;
-    int images_used = 0;
-    for (const int images : options.refinement_images) {
-      std::string failure;
-      const Matrix points = circle->Images(coarse, omega, nodes, images, failure);
-      if (failure.empty()) {
-        const Vector angles = nodes.array() + kTwoPi * rho * images;
-        torus.u = finer->CircleAtAngles(points, angles, rho, solved_period, phi);
-        newton = solve(*finer, damped);
-        if (newton.Converged()) {
-          images_used = images;
-          break;
-        }
-        failure = newton.BriefReport();
-      }
-      failures.push_back(
-          fmt::format("from {} image{}: {}", images, images > 1 ? "s" : "", failure));
-    }
-    if (images_used == 0) {
-      torus.u = coarse;
-      refinement =
-          fmt::format("; not refined to K = {}: {}", finer->harmonics(), fmt::join(failures, "; "));
+    const CircleRefinement refined =
+        RefineCircle(*circle, torus.u, omega, *finer, options.refinement_images, damped);
+    if (!refined.converged) {
+      refinement = fmt::format("; not refined to K = {}: {}", finer->harmonics(), refined.failures);
       break;
     }
-    torus.newton = newton;
+    torus.u = refined.u;
+    torus.newton = refined.newton;
     circle = std::move(finer);
     record(*circle);
-    torus.by_harmonics.back().images = images_used;
+    torus.by_harmonics.back().images = refined.images;
   }
   InvariantCircleProblem& problem = *circle;
   torus.harmonics = problem.harmonics();

@@ -128,8 +128,9 @@ namespace {
 std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBranch& tori,
                                    const TorusBranchOptions& options, int samples) {
   std::vector<RubTorusLines> lines;
-  for (const BranchPoint& p : tori.branch.points) {
-    lines.push_back(TorusLines(frame, tori.harmonics, p.u, p.lambda, options.integrator, samples,
+  for (std::size_t i = 0; i < tori.branch.points.size(); ++i) {
+    lines.push_back(TorusLines(frame, tori.SolvedHarmonics(i), tori.SolvedCircle(i),
+                               tori.branch.points[i].lambda, options.integrator, samples,
                                options.coordinates));
   }
   return lines;
@@ -253,13 +254,14 @@ RubTransientTori ContinueTransientTori(
     tori.continuation.direction = direction;
     // Upwards from the downward family's first torus: the start corrected by `tori.integrator`
     // once (30–60 s on C(a) at 49 rpm), not twice.
+    // (Its circle at the start's K: the downward family may have refined it further on.)
     const bool corrected = !result.tori.empty() && result.tori[0].ok &&
                            !result.tori[0].branch.points.empty();
-    const BranchPoint* first = corrected ? &result.tori[0].branch.points.front() : nullptr;
-    result.tori.push_back(ContinueTori(std::make_shared<RubRotatingFrame>(frame),
-                                       OrbitKind::kRelative, first ? first->u : result.start.u,
-                                       first ? first->lambda : omega, tori,
-                                       FamilyStep(on_torus_step, result.tori.size())));
+    result.tori.push_back(ContinueTori(
+        std::make_shared<RubRotatingFrame>(frame), OrbitKind::kRelative,
+        corrected ? result.tori[0].SolvedCircle(0) : result.start.u,
+        corrected ? result.tori[0].branch.points.front().lambda : omega, tori,
+        FamilyStep(on_torus_step, result.tori.size())));
     result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
     ReadLiftOff(structure, result.lines.back(), result.tori.back());
     ShootingOptions shooting = options.centre_orbits.shooting;

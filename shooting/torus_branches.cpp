@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "shooting/shooting.h"
 #include "solvers/constants.h"
@@ -23,9 +26,25 @@ constexpr double kLockingExcess = 2.0;
 
 // The engine's options for a torus family: the range, no Jacobian spectrum.
 ContinuationOptions EngineOptions(const TorusBranchOptions& options);
+// The circle problem of a family's circles with K harmonics: its events (the tail's at TailBound)
+// and grazing tests set.
+std::unique_ptr<InvariantCircleProblem> CircleProblem(std::shared_ptr<OdeSystem> system,
+                                                      OrbitKind kind, int harmonics,
+                                                      const TorusBranchOptions& options);
+// The family from a started stepper on `problem` to its end; with max_harmonics, refined in K at
+// its tail events and continued (TorusBranchOptions::max_harmonics). Fills result.branch,
+// point_harmonics and refinements; returns the problem of the finest K.
+struct Family {
+  std::unique_ptr<InvariantCircleProblem> problem;
+  // Why a tail event at K < max_harmonics was not followed by a refinement ("" where none was).
+  std::string unrefined;
+};
+Family RunFamily(std::shared_ptr<OdeSystem> system, std::unique_ptr<InvariantCircleProblem> problem,
+                 Continuation& stepper, const TorusBranchOptions& options,
+                 const StepCallback& on_step, TorusBranch& result);
 // The family's end (TorusEnd, end_note, p:q) read from its last circle (u0 when it has none), and
 // the Lyapunov stability of every torus when asked for.
-void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranchOptions& options,
+void ReadEnd(Family& family, const Vector& u0, const TorusBranchOptions& options,
              TorusBranch& result);
 
 }  // namespace
@@ -54,6 +73,20 @@ void Validate(const TorusBranchOptions& options) {
   if (options.lyapunov_iterates < 0) {
     fail("lyapunov_iterates", options.lyapunov_iterates, "must be ≥ 0");
   }
+  if (options.max_harmonics < 0 || options.max_harmonics > 1000) {
+    fail("max_harmonics", options.max_harmonics, "must be in 0 … 1000");
+  }
+  if (!(options.converged_tail > 0.0 && options.converged_tail <= options.max_fourier_tail)) {
+    fail("converged_tail", options.converged_tail,
+         fmt::format("must be in (0, max_fourier_tail = {:g}]", options.max_fourier_tail));
+  }
+  if (options.refinement_images.empty() ||
+      std::any_of(options.refinement_images.begin(), options.refinement_images.end(),
+                  [](int images) { return images < 1 || images > 100; })) {
+    throw std::invalid_argument(fmt::format(
+        "TorusBranchOptions: refinement_images = {{{}}}: must be one or more counts in 1 … 100",
+        fmt::join(options.refinement_images, ", ")));
+  }
   Validate(options.integrator);
   Validate(options.continuation);
 }
@@ -69,6 +102,14 @@ const char* ToString(TorusEnd end) {
     case TorusEnd::kFailed: return "failed";
   }
   return "?";
+}
+
+int TorusBranch::SolvedHarmonics(std::size_t i) const {
+  return i < point_harmonics.size() ? point_harmonics[i] : harmonics;
+}
+
+Vector TorusBranch::SolvedCircle(std::size_t i) const {
+  return CircleWithHarmonics(branch.points.at(i).u, state_dimension, harmonics, SolvedHarmonics(i));
 }
 
 TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
@@ -146,11 +187,9 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
   const Eigen::VectorXcd v = eigen.eigenvectors().col(critical);
   const double size = std::sqrt(v.real().cwiseQuotient(scale).squaredNorm() +
                                 v.imag().cwiseQuotient(scale).squaredNorm());
-  InvariantCircleProblem problem(system, options.harmonics, family.kind, options.integrator,
-                                 options.coordinates);
-  problem.SetMaxFourierTail(options.max_fourier_tail);
-  problem.SetMinRadius(options.min_radius);
-  problem.SetGrazingTests(options.grazing);
+  std::unique_ptr<InvariantCircleProblem> circle =
+      CircleProblem(system, family.kind, options.harmonics, options);
+  InvariantCircleProblem& problem = *circle;
   // In the circle's coordinates: the centre y₀ = Ψ⁻¹(x₀), the directions D⁻¹ v.
   Matrix centre = Matrix::Zero(n, 2 * options.harmonics + 1), ellipse = centre;
   centre.col(0) = problem.ToCoordinates(at.starts.col(0));
@@ -164,9 +203,9 @@ TorusBranch ContinueToriFromNeimarkSacker(std::shared_ptr<OdeSystem> system,
 
   Continuation stepper(problem, EngineOptions(options));
   stepper.StartWithTangent(u0, point.lambda, du, 0.0);
-  result.branch = RunToEnd(stepper, on_step);
+  Family tori = RunFamily(system, std::move(circle), stepper, options, on_step, result);
   result.ok = true;
-  ReadEnd(problem, u0, options, result);
+  ReadEnd(tori, u0, options, result);
   return result;
 }
 
@@ -174,16 +213,14 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
                          double lambda0, const TorusBranchOptions& options,
                          const StepCallback& on_step) {
   Validate(options);
-  InvariantCircleProblem problem(system, options.harmonics, kind, options.integrator,
-                                 options.coordinates);
+  std::unique_ptr<InvariantCircleProblem> circle =
+      CircleProblem(system, kind, options.harmonics, options);
+  InvariantCircleProblem& problem = *circle;
   if (u0.size() != problem.Dimension()) {
     throw std::invalid_argument(fmt::format(
         "ContinueTori: the circle has {} unknowns; {} harmonics of {} states need {}", u0.size(),
         options.harmonics, problem.states(), problem.Dimension()));
   }
-  problem.SetMaxFourierTail(options.max_fourier_tail);
-  problem.SetMinRadius(options.min_radius);
-  problem.SetGrazingTests(options.grazing);
   problem.SetPhaseReference(u0);
   TorusBranch result;
   result.kind = kind;
@@ -195,9 +232,9 @@ TorusBranch ContinueTori(std::shared_ptr<OdeSystem> system, OrbitKind kind, cons
     result.message = "the start did not converge: " + stepper.branch().message;
     return result;
   }
-  result.branch = RunToEnd(stepper, on_step);
+  Family tori = RunFamily(system, std::move(circle), stepper, options, on_step, result);
   result.ok = true;
-  ReadEnd(problem, u0, options, result);
+  ReadEnd(tori, u0, options, result);
   return result;
 }
 
@@ -212,6 +249,153 @@ ContinuationOptions EngineOptions(const TorusBranchOptions& options) {
   return continuation;
 }
 
+// The tail event's level for circles of K harmonics: converged_tail while K can still double,
+// else max_fourier_tail.
+bool CanDouble(const TorusBranchOptions& options, int harmonics) {
+  return options.max_harmonics > 0 && 2 * harmonics <= options.max_harmonics;
+}
+double TailBound(const TorusBranchOptions& options, int harmonics) {
+  return CanDouble(options, harmonics) ? options.converged_tail : options.max_fourier_tail;
+}
+
+std::unique_ptr<InvariantCircleProblem> CircleProblem(std::shared_ptr<OdeSystem> system,
+                                                      OrbitKind kind, int harmonics,
+                                                      const TorusBranchOptions& options) {
+  auto problem = std::make_unique<InvariantCircleProblem>(system, harmonics, kind,
+                                                          options.integrator, options.coordinates);
+  problem->SetMaxFourierTail(TailBound(options, harmonics));
+  problem->SetMinRadius(options.min_radius);
+  problem->SetGrazingTests(options.grazing);
+  return problem;
+}
+
+// Whether the family ended at the located tail event.
+bool EndedAtTail(const Branch& tori) {
+  return tori.status == BranchStatus::kSwitchRefused && !tori.special_points.empty() &&
+         tori.special_points.back().type == SpecialPointType::kEvent &&
+         tori.special_points.back().label == kFourierTailReached;
+}
+
+// `segment`, continued from the last point of `branch` after its refinement to `harmonics`,
+// appended: the points and special points before written in its layout (coarse's, padded: the
+// same circles), the tail event the refinement answered dropped, arclengths and indices carried
+// on, the statistics summed, the status and message the segment's.
+void AppendSegment(Branch& branch, const InvariantCircleProblem& coarse, int harmonics,
+                   Branch segment) {
+  const Index dimension = coarse.Dimension();
+  auto padded = [&](const Vector& u) {
+    return CircleWithHarmonics(u, coarse.states(), coarse.harmonics(), harmonics);
+  };
+  auto pad = [&](Vector& u, Vector& tangent) {
+    if (u.size() == dimension) u = padded(u);
+    if (tangent.size() == dimension + 1) {
+      const double lambda = tangent(dimension);
+      const Vector head = padded(tangent.head(dimension));
+      tangent.resize(head.size() + 1);
+      tangent << head, lambda;
+    }
+  };
+  for (BranchPoint& p : branch.points) pad(p.u, p.tangent);
+  if (EndedAtTail(branch)) branch.special_points.pop_back();
+  for (SpecialPoint& p : branch.special_points) pad(p.u, p.tangent);
+  const Index offset = static_cast<Index>(branch.points.size());
+  const double arclength = branch.points.empty() ? 0.0 : branch.points.back().arclength;
+  for (BranchPoint& p : segment.points) {
+    p.arclength += arclength;
+    branch.points.push_back(std::move(p));
+  }
+  for (SpecialPoint& p : segment.special_points) {
+    p.index += offset;
+    branch.special_points.push_back(std::move(p));
+  }
+  BranchStatistics& s = branch.statistics;
+  const BranchStatistics& t = segment.statistics;
+  s.steps += t.steps;
+  s.corrector_failures += t.corrector_failures;
+  s.angle_rejections += t.angle_rejections;
+  s.residual_evaluations += t.residual_evaluations;
+  s.jacobian_evaluations += t.jacobian_evaluations;
+  s.stability_evaluations += t.stability_evaluations;
+  s.switches += t.switches;
+  s.jump_rejections += t.jump_rejections;
+  s.stray_rejections += t.stray_rejections;
+  branch.status = segment.status;
+  branch.message = std::move(segment.message);
+}
+
+Family RunFamily(std::shared_ptr<OdeSystem> system, std::unique_ptr<InvariantCircleProblem> problem,
+                 Continuation& stepper, const TorusBranchOptions& options,
+                 const StepCallback& on_step, TorusBranch& result) {
+  constexpr Index kTail = 1;  // Measures' "fourier_tail"
+  // A segment whose start's tail already exceeds its K's bound is refined before it is continued
+  // (the event would never fire from above).
+  auto run = [&](Continuation& c, int harmonics) {
+    const std::vector<BranchPoint>& points = c.branch().points;
+    const bool refine_first = !points.empty() && CanDouble(options, harmonics) &&
+                              points.front().measures(kTail) >= options.converged_tail;
+    return refine_first || c.branch().status != BranchStatus::kRunning ? c.TakeBranch()
+                                                                       : RunToEnd(c, on_step);
+  };
+  Family family;
+  Branch branch = run(stepper, problem->harmonics());
+  result.point_harmonics.assign(branch.points.size(), problem->harmonics());
+  int steps = branch.statistics.steps;
+  const int max_steps = options.continuation.bounds.max_steps;
+  while (!branch.points.empty() && CanDouble(options, problem->harmonics())) {
+    const int k = problem->harmonics();
+    const BranchPoint last = branch.points.back();
+    if (!EndedAtTail(branch) && !(last.measures(kTail) >= options.converged_tail)) break;
+    if (steps >= max_steps) {
+      family.unrefined = fmt::format("not refined to K = {}: the step limit ({}) was reached", 2 * k,
+                                     max_steps);
+      break;
+    }
+    std::unique_ptr<InvariantCircleProblem> finer = CircleProblem(system, problem->kind(), 2 * k, options);
+    NewtonOptions newton;
+    newton.residual_tolerance = options.continuation.corrector.residual_tolerance;
+    newton.step_tolerance = options.continuation.corrector.step_tolerance;
+    newton.max_iterations = 30;
+    newton.max_step_halvings = 8;
+    const CircleRefinement refined =
+        RefineCircle(*problem, last.u, last.lambda, *finer, options.refinement_images, newton);
+    if (!refined.converged) {
+      family.unrefined = fmt::format("not refined to K = {}: {}", 2 * k, refined.failures);
+      break;
+    }
+    finer->SetPhaseReference(refined.u);
+    ContinuationOptions engine = EngineOptions(options);
+    engine.bounds.max_steps = max_steps - steps;
+    Continuation next(*finer, engine);
+    const Index dimension = problem->Dimension();
+    const StepResult started =
+        last.tangent.size() == dimension + 1
+            ? next.StartWithTangent(
+                  refined.u, last.lambda,
+                  CircleWithHarmonics(last.tangent.head(dimension), problem->states(), k, 2 * k),
+                  last.tangent(dimension))
+            : next.Start(refined.u, last.lambda);
+    if (started == StepResult::kFailed) {
+      family.unrefined = fmt::format("not continued at K = {}: its refined circle did not start: {}",
+                                     2 * k, next.branch().message);
+      break;
+    }
+    result.refinements.push_back({last.lambda, k, 2 * k, refined.images,
+                                  problem->RotationNumber(last.u),
+                                  finer->RotationNumber(next.branch().points.front().u),
+                                  last.measures(kTail),
+                                  next.branch().points.front().measures(kTail)});
+    Branch segment = run(next, 2 * k);
+    steps += segment.statistics.steps;
+    result.point_harmonics.insert(result.point_harmonics.end(), segment.points.size(), 2 * k);
+    AppendSegment(branch, *problem, 2 * k, std::move(segment));
+    problem = std::move(finer);
+  }
+  result.branch = std::move(branch);
+  result.harmonics = problem->harmonics();
+  family.problem = std::move(problem);
+  return family;
+}
+
 // The located event "circle shrinks onto its centre" a family ended at, or null.
 const SpecialPoint* ShrinkEvent(const Branch& tori) {
   if (tori.status != BranchStatus::kSwitchRefused || tori.special_points.empty()) return nullptr;
@@ -219,25 +403,32 @@ const SpecialPoint* ShrinkEvent(const Branch& tori) {
   return last.type == SpecialPointType::kEvent && last.label == kShrinksOntoCentre ? &last : nullptr;
 }
 
-void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranchOptions& options,
+void ReadEnd(Family& family, const Vector& u0, const TorusBranchOptions& options,
              TorusBranch& result) {
+  InvariantCircleProblem& problem = *family.problem;
   // How it ended: a harmonic standing out of the circle's decaying spectrum names the resonance.
   const Branch& tori = result.branch;
   const Vector end_u = tori.points.empty() ? u0 : tori.points.back().u;
   const double end_rho = problem.RotationNumber(end_u);
   auto harmonic = [&](int k) { return problem.HarmonicSize(end_u, k); };
-  int q = 0;
+  int standing = 0;  // the harmonic standing out most (0: K = 1, none can)
   double excess = 0.0;
-  for (int k = 2; k <= options.harmonics; ++k) {
+  for (int k = 2; k <= problem.harmonics(); ++k) {
     const double ratio = harmonic(k) / std::max(harmonic(k - 1), 1e-300);
     if (ratio > excess) {
       excess = ratio;
-      q = k;
+      standing = k;
     }
   }
-  // (K = 1: no harmonic to stand out, q = 0.)
-  const int p = static_cast<int>(std::lround(q * end_rho));
-  const double distance = q > 0 ? std::abs(end_rho - static_cast<double>(p) / q) : 1.0;
+  // The resonance p:q in lowest terms: a multiple of q can stand out instead of q itself (C(a)'s
+  // family refined to K = 32 ends with harmonic 30 standing out at ρ = 0.400342: 12:30, i.e. 2:5).
+  int p = static_cast<int>(std::lround(standing * end_rho)), q = standing;
+  if (q > 0) {
+    const int common = std::gcd(p, q);
+    p /= common;
+    q /= common;
+  }
+  const double distance = q >= 2 ? std::abs(end_rho - static_cast<double>(p) / q) : 1.0;
   switch (tori.status) {
     case BranchStatus::kReachedLambdaBound: result.end = TorusEnd::kBound; break;
     case BranchStatus::kMaxSteps: result.end = TorusEnd::kSteps; break;
@@ -249,25 +440,32 @@ void ReadEnd(InvariantCircleProblem& problem, const Vector& u0, const TorusBranc
       break;
     default: result.end = TorusEnd::kFailed; break;
   }
+  if (!family.unrefined.empty()) result.end = TorusEnd::kFailed;
+  const double bound = TailBound(options, problem.harmonics());
   const std::string spectrum =
-      q == 0 ? std::string()
+      standing == 0 ? std::string()
       : excess >= kLockingExcess
           ? fmt::format("; harmonic {} stands out ({:.2g} × harmonic {}, {:.2g} of the first), "
                         "ρ − {}/{} = {:+.2e}",
-                        q, excess, q - 1, harmonic(q) / std::max(harmonic(1), 1e-300), p, q,
+                        standing, excess, standing - 1,
+                        harmonic(standing) / std::max(harmonic(1), 1e-300), p, q,
                         end_rho - static_cast<double>(p) / q)
           : fmt::format("; no harmonic stands out (the largest step up, harmonic {} over {}, is "
                         "{:.2g})",
-                        q, q - 1, excess);
-  const std::string tail = fmt::format("the Fourier tail reached {:g} at ρ = {:.6f}{}",
-                                       options.max_fourier_tail, end_rho, spectrum);
+                        standing, standing - 1, excess);
+  const std::string tail = fmt::format("the Fourier tail reached {:g} at ρ = {:.6f}{}", bound,
+                                       end_rho, spectrum);
   if (result.end == TorusEnd::kLocking) {
     result.locking_p = p;
     result.locking_q = q;
   }
   const SpecialPoint* shrink = ShrinkEvent(tori);
   result.end_note =
-      result.end == TorusEnd::kLocking
+      !family.unrefined.empty()
+          ? fmt::format("the Fourier tail reached {:g} at K = {}, λ = {:.9g}, ρ = {:.6f}, and was {}",
+                        bound, problem.harmonics(), tori.points.back().lambda, end_rho,
+                        family.unrefined)
+      : result.end == TorusEnd::kLocking
           ? fmt::format("phase locking near the {}:{} resonance: {}", p, q, tail)
       : result.end == TorusEnd::kBreakdown ? "breakdown: " + tail
       : result.end == TorusEnd::kGrazing

@@ -16,11 +16,13 @@
 //   kBreakdown  the circle loses smoothness: its Fourier tail (the last harmonic against the largest)
 //               reaches max_fourier_tail (InvariantCircleProblem's event) — past it the collocation
 //               equations still have solutions, which are no invariant circles;
-//   kLocking    the same event where one harmonic q ≥ 2 of the circle stands out of its decaying
-//               spectrum (at least twice harmonic q − 1) and |ρ − p/q| ≤ 1/(2q²), p = round(qρ):
-//               the circle folds towards q points as the torus meets the p:q resonance, where the
-//               motion on it locks to a periodic orbit of q laps — read as phase locking (C(a):
-//               harmonic 5 grows to 2.5 times harmonic 4 as ρ falls to 0.404);
+//   kLocking    the same event where one harmonic h of the circle stands out of its decaying
+//               spectrum (at least twice harmonic h − 1) and |ρ − p/q| ≤ 1/(2q²), p/q = round(hρ)/h
+//               in lowest terms, q ≥ 2 (a multiple of q can stand out: C(a) refined to K = 32
+//               ends with harmonic 30 standing out, 12/30 = 2/5): the circle folds towards q
+//               points as the torus meets the p:q resonance, where the motion on it locks to a
+//               periodic orbit of q laps — read as phase locking (C(a) at K = 8: harmonic 5
+//               grows to 2.5 times harmonic 4 as ρ falls to 0.404);
 //   kGrazing    the torus grazes a switching surface (TorusBranchOptions::grazing, located: the
 //               family's last torus), or a contact lifts off at the last torus of a failed family
 //               (the rub model's reading, shooting/rub_tori.h ReadLiftOff);
@@ -72,6 +74,21 @@ struct TorusBranchOptions {
   // family ends kGrazing on the grazing torus. Past it the map's trajectories cross the surface,
   // which a fixed Gauss mesh does not follow.
   std::vector<TorusGrazing> grazing;
+  // Convergence in K along the family (0: K = harmonics throughout). While 2K ≤ max_harmonics the
+  // tail event is set at `converged_tail` instead of max_fourier_tail: where the circle's tail
+  // reaches it (or the corrected start's tail exceeds it), the circle is solved again with 2K
+  // harmonics (RefineCircle: its images under the map, `refinement_images` tried in turn; Newton
+  // at the corrector's tolerances, up to 30 iterations, failing steps halved up to 8 times) and
+  // the family goes on at 2K from the refined circle along the same tangent. At K = max_harmonics
+  // the event is max_fourier_tail's again, so breakdown and locking are read at the finest K; K is
+  // not lowered where the tail falls again. Decision: doubling at a located event, as the start
+  // does (ModulatedTorusOptions::max_harmonics), rather than re-meshing at every step as AUTO does
+  // for orbits — each K's circle is a solution of its own equations, and the family's circles
+  // are all written in the finest K's layout (the coarser padded with zero harmonics: the same
+  // curves), with the K each was solved at (TorusBranch::point_harmonics).
+  int max_harmonics = 0;  // 0 … 1000 (below 2 · harmonics: K fixed)
+  double converged_tail = 1e-4;  // (0, max_fourier_tail]
+  std::vector<int> refinement_images = {3, 10};  // each in 1 … 100
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.
@@ -102,6 +119,27 @@ struct TorusBranch {
   std::string end_note;  // one sentence: where and why the family ended, with ρ and p/q
   int locking_p = 0;     // kLocking: the resonance p:q
   int locking_q = 0;
+  // Per point of `branch`: the K its circle was solved with (TorusBranchOptions::max_harmonics;
+  // `harmonics` is the finest, the layout of every point's u).
+  std::vector<int> point_harmonics;
+  // Where K doubled along the family: the circle at λ solved again with `to` harmonics. Both
+  // circles are points of the branch, at the same λ.
+  struct Refinement {
+    double lambda = kNaN;
+    int from = 0;
+    int to = 0;
+    int images = 0;  // the start's images under the map (RefineCircle)
+    double rotation_number_from = kNaN;
+    double rotation_number_to = kNaN;
+    double fourier_tail_from = kNaN;
+    double fourier_tail_to = kNaN;
+  };
+  std::vector<Refinement> refinements;
+
+  // The K point i was solved with (point_harmonics[i]; `harmonics` where that is empty), and its
+  // circle in that K's layout (CircleWithHarmonics: the padded harmonics cut off).
+  int SolvedHarmonics(std::size_t i) const;
+  Vector SolvedCircle(std::size_t i) const;
 };
 
 // The tori born at the Neimark–Sacker point `special_point` of `family` (autonomous or relative

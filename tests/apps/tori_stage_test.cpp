@@ -101,6 +101,10 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
   CHECK(unknowns.cols() == 16 * 9 + 3);
   CHECK(unknowns(0, 16 * 9) == Approx(rho[0]).epsilon(1e-14));
   CHECK(1.0 / unknowns(0, 16 * 9 + 1) == Approx(f1[0]).epsilon(1e-12));
+  // Each torus's K, and no refinement in K (max_harmonics 0).
+  CHECK(file.ReadDoubles(group + "/harmonics") == std::vector<double>{4.0, 4.0});
+  CHECK(file.ReadDoublesAttribute(group, "refinement_speeds_rpm").empty());
+  CHECK(file.ReadDoublesAttribute(group, "refinement_to_harmonics").empty());
   CHECK(file.ReadDoubleAttribute("/tori/orbits/branch1_hopf2", "hopf_precession_hz") ==
         Approx(79.2834).epsilon(0).margin(1e-4));
 }

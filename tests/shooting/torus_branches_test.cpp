@@ -9,6 +9,7 @@
 #include "solvers/constants.h"
 
 #include <cmath>
+#include <complex>
 
 #include <catch2/catch.hpp>
 
@@ -322,6 +323,181 @@ TEST_CASE("tori continued down to their Neimark-Sacker point: the circle shrinks
   bad.min_radius = 1e-3;
   CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kAutonomous, u0, lambda0, bad),
                     Catch::Contains("min_radius = 0.001: must be in [0, amplitude / √2"));
+}
+
+// A torus whose circle's harmonics decay as c^k, in closed form: the limit cycle
+// ż = (1 − |z|²)z + iωz (the unit circle) seen through x = z / (1 − cz) (|c| < 1), so that
+// ẋ = (1 + cx)² ż at z = x / (1 + cx), with a clock of period 2π (kForced). The stroboscopic map
+// turns z by 2πω, and the invariant circle is x(θ) = e^{iθ} / (1 − c e^{iθ}) = Σ_{k ≥ 0} c^k
+// e^{i(k + 1)θ}, ρ = ω: harmonic m has the size √2 c^{m − 1}, so the Fourier tail of K harmonics
+// is c^{K − 1}, and a family in c outgrows every K.
+class DistortedCycle : public OdeSystem {
+ public:
+  static constexpr double kOmega = 0.3819660112501051;  // 2 − the golden ratio
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const std::complex<double> w(x(0), x(1)), stretch = 1.0 + c_ * w, z = w / stretch;
+    const std::complex<double> dz = (1.0 - std::norm(z)) * z + std::complex<double>(0.0, kOmega) * z;
+    const std::complex<double> dx = stretch * stretch * dz;
+    f << dx.real(), dx.imag();
+  }
+  double Parameter() const override { return c_; }
+  void SetParameter(double c) override { c_ = c; }
+  double ForcingPeriod() const override { return kTwoPi; }
+  // The point's distance from the torus: |z| − 1.
+  double OffTorus(const Vector& x) const {
+    const std::complex<double> w(x(0), x(1));
+    return std::abs(w / (1.0 + c_ * w)) - 1.0;
+  }
+
+ private:
+  double c_ = 0.01;
+};
+
+TEST_CASE("tori refined in K along the family: where the tail reaches 1e-4 the circle is solved "
+          "again with 2K harmonics, at the closed-form speeds, and every circle lies on the torus",
+          "[torus]") {
+  auto system = std::make_shared<DistortedCycle>();
+  TorusBranchOptions options;
+  options.lambda_min = 0.005;
+  options.lambda_max = 0.6;
+  options.harmonics = 4;
+  options.max_harmonics = 16;
+  options.converged_tail = 1e-4;
+  options.max_fourier_tail = 1e-2;
+  options.integrator = TightTorus();
+  options.min_radius = 0.0;
+  options.continuation.step.max = 0.05;
+  options.continuation.corrector.residual_tolerance = 1e-9;
+  const double c0 = 0.01;
+  InvariantCircleProblem coarse(system, 4, OrbitKind::kForced, TightTorus());
+  Matrix coefficients = Matrix::Zero(2, 9);
+  for (int m = 1; m <= 4; ++m) {
+    coefficients(0, 2 * m - 1) = coefficients(1, 2 * m) = std::pow(c0, m - 1);
+  }
+  const Vector u0 = coarse.Pack(coefficients, DistortedCycle::kOmega);
+  const TorusBranch tori = ContinueTori(system, OrbitKind::kForced, u0, c0, options);
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  CHECK(tori.end == TorusEnd::kBound);
+  CHECK(tori.harmonics == 16);
+  const Branch& b = tori.branch;
+  CHECK(b.points.back().lambda == Approx(0.6));
+  // K doubled where c^{K − 1} = 1e-4: c = 0.0464 (4 → 8) and 0.2683 (8 → 16); at K = 16 the bound
+  // is max_fourier_tail's, which c^15 reaches past the range (c = 0.736).
+  REQUIRE(tori.refinements.size() == 2);
+  for (std::size_t r = 0; r < 2; ++r) {
+    const TorusBranch::Refinement& refined = tori.refinements[r];
+    INFO("refinement " << r << " at c = " << refined.lambda);
+    CHECK(refined.from == 4 << r);
+    CHECK(refined.to == 8 << r);
+    CHECK(refined.images == 3);
+    CHECK(refined.lambda == Approx(std::pow(1e-4, 1.0 / (refined.from - 1))).epsilon(0.02));
+    CHECK(refined.fourier_tail_from == Approx(1e-4).epsilon(1e-3));
+    CHECK(refined.fourier_tail_to < 1e-8);
+  }
+  // Per point its K, rising 4, 8, 16 (at each refinement's c both circles); below K = 16 every
+  // tail within the bound. Every circle, written at K = 16 (the coarser padded), lies on the torus
+  // to within its truncation: |z| − 1 at most twice the point's tail (measured 0.03–1.4 times it;
+  // the K = 4 circle at c = 0.6 would be off by 0.3), ρ = ω (measured 3.3e-8 off at c = 0.6).
+  REQUIRE(tori.point_harmonics.size() == b.points.size());
+  InvariantCircleProblem finest(system, 16, OrbitKind::kForced, TightTorus());
+  const Index tail = b.MeasureIndex("fourier_tail");
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    const BranchPoint& p = b.points[i];
+    const int k = tori.point_harmonics[i];
+    INFO("c = " << p.lambda << ", K = " << k);
+    if (i > 0) CHECK(k >= tori.point_harmonics[i - 1]);
+    CHECK(k == (p.lambda < tori.refinements[0].lambda   ? 4
+                : p.lambda > tori.refinements[1].lambda ? 16
+                : p.lambda > tori.refinements[0].lambda && p.lambda < tori.refinements[1].lambda
+                    ? 8
+                    : k));
+    if (k < 16) CHECK(p.measures(tail) <= 1e-4 * (1.0 + 1e-6));
+    REQUIRE(p.u.size() == finest.Dimension());
+    system->SetParameter(p.lambda);
+    const Vector solved = tori.SolvedCircle(i);
+    InvariantCircleProblem own(system, k, OrbitKind::kForced, TightTorus());
+    REQUIRE(solved.size() == own.Dimension());
+    for (int j = 0; j < 50; ++j) {
+      const double theta = kTwoPi * j / 50.0;
+      const Vector x = finest.PointAt(p.u, theta);
+      CHECK(std::abs(system->OffTorus(x)) <= 2.0 * p.measures(tail));
+      CHECK((own.PointAt(solved, theta) - x).norm() < 1e-14);
+    }
+    CHECK(finest.RotationNumber(p.u) == Approx(DistortedCycle::kOmega).epsilon(0).margin(1e-7));
+  }
+  // At K = 4 throughout the family breaks down where its tail, about c³, reaches 1e-2.
+  options.max_harmonics = 0;
+  const TorusBranch fixed = ContinueTori(system, OrbitKind::kForced, u0, c0, options);
+  CHECK(fixed.end == TorusEnd::kBreakdown);
+  CHECK(fixed.refinements.empty());
+  CHECK(fixed.branch.points.back().measures(tail) == Approx(1e-2).epsilon(1e-3));
+  CHECK(fixed.branch.points.back().lambda == Approx(std::cbrt(1e-2)).epsilon(0.05));  // 0.2096
+  options.refinement_images = {3, 0};
+  CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kForced, u0, c0, options),
+                    Catch::Contains("refinement_images = {3, 0}: must be one or more counts"));
+  options.refinement_images = {3};
+  options.converged_tail = 0.1;
+  CHECK_THROWS_WITH(ContinueTori(system, OrbitKind::kForced, u0, c0, options),
+                    Catch::Contains("converged_tail = 0.1: must be in (0, max_fourier_tail = 0.01]"));
+}
+
+// The limit cycle of DistortedCycle seen through x = z + c z¹⁰ instead (invertible near |z| = 1
+// for c < 0.1; z from x by the fixed point z ← x − c z¹⁰), turned per period by ρ = ω near 2/5:
+// its circle x(θ) = e^{iθ} + c e^{10iθ} has harmonics 1 and 10 only, so with K = 10 the tail is c
+// and harmonic 10 stands out of harmonic 9 (zero) — a multiple of 5.
+class TenfoldCycle : public OdeSystem {
+ public:
+  static constexpr double kOmega = 0.4003;
+  Index Dimension() const override { return 2; }
+  void Rhs(double, ConstVectorRef x, VectorRef f) override {
+    const std::complex<double> w(x(0), x(1));
+    std::complex<double> z = w;
+    for (int i = 0; i < 60; ++i) z = w - c_ * std::pow(z, 10);
+    const std::complex<double> dz = (1.0 - std::norm(z)) * z + std::complex<double>(0.0, kOmega) * z;
+    const std::complex<double> dx = (1.0 + 10.0 * c_ * std::pow(z, 9)) * dz;
+    f << dx.real(), dx.imag();
+  }
+  double Parameter() const override { return c_; }
+  void SetParameter(double c) override { c_ = c; }
+  double ForcingPeriod() const override { return kTwoPi; }
+
+ private:
+  double c_ = 1e-3;
+};
+
+TEST_CASE("tori ending at a resonance: the harmonic that stands out, a multiple of q, reads as "
+          "p:q in lowest terms",
+          "[torus]") {
+  auto system = std::make_shared<TenfoldCycle>();
+  TorusBranchOptions options;
+  options.lambda_min = 1e-4;
+  options.lambda_max = 0.05;
+  options.harmonics = 10;
+  options.max_fourier_tail = 0.01;
+  options.integrator = TightTorus();
+  options.min_radius = 0.0;
+  options.continuation.step.initial = 0.002;
+  options.continuation.step.max = 0.005;
+  options.continuation.corrector.residual_tolerance = 1e-9;
+  const double c0 = 1e-3;
+  InvariantCircleProblem problem(system, 10, OrbitKind::kForced, TightTorus());
+  Matrix coefficients = Matrix::Zero(2, 21);
+  coefficients(0, 1) = coefficients(1, 2) = 1.0;
+  coefficients(0, 19) = coefficients(1, 20) = c0;
+  const TorusBranch tori =
+      ContinueTori(system, OrbitKind::kForced, problem.Pack(coefficients, TenfoldCycle::kOmega), c0,
+                   options);
+  INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
+  REQUIRE(tori.ok);
+  REQUIRE(tori.end == TorusEnd::kLocking);
+  CHECK(tori.branch.points.back().lambda == Approx(0.01).epsilon(1e-3));  // tail c = 0.01
+  CHECK(tori.locking_p == 2);
+  CHECK(tori.locking_q == 5);
+  CHECK_THAT(tori.end_note, Catch::Contains("phase locking near the 2:5 resonance"));
+  CHECK_THAT(tori.end_note, Catch::Contains("harmonic 10 stands out"));
+  CHECK_THAT(tori.end_note, Catch::Contains("ρ − 2/5 = +3.00e-04"));
 }
 
 }  // namespace
