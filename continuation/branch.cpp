@@ -209,18 +209,22 @@ Branch JoinAtStart(const Branch& backward, const Branch& forward) {
     return b.message.empty() ? std::string(ToString(b.status)) : b.message;
   };
   joined.message = fmt::format("backward: {}; forward: {}", ended(backward), ended(forward));
-  const BranchStatistics& a = backward.statistics;
-  const BranchStatistics& b = forward.statistics;
-  joined.statistics = {a.steps + b.steps,
-                       a.corrector_failures + b.corrector_failures,
-                       a.angle_rejections + b.angle_rejections,
-                       a.residual_evaluations + b.residual_evaluations,
-                       a.jacobian_evaluations + b.jacobian_evaluations,
-                       a.stability_evaluations + b.stability_evaluations,
-                       a.switches + b.switches,
-                       a.jump_rejections + b.jump_rejections,
-                       a.stray_rejections + b.stray_rejections};
+  joined.statistics = backward.statistics;
+  joined.statistics += forward.statistics;
   return joined;
+}
+
+BranchStatistics& operator+=(BranchStatistics& into, const BranchStatistics& other) {
+  into.steps += other.steps;
+  into.corrector_failures += other.corrector_failures;
+  into.angle_rejections += other.angle_rejections;
+  into.residual_evaluations += other.residual_evaluations;
+  into.jacobian_evaluations += other.jacobian_evaluations;
+  into.stability_evaluations += other.stability_evaluations;
+  into.switches += other.switches;
+  into.jump_rejections += other.jump_rejections;
+  into.stray_rejections += other.stray_rejections;
+  return into;
 }
 
 }  // namespace rubcont

@@ -106,6 +106,9 @@ struct BranchStatistics {
                                   // point no continuation of the branch (Problem::StrayPoint)
 };
 
+// The counts of two runs together (JoinAtStart; a torus family continued after a refinement in K).
+BranchStatistics& operator+=(BranchStatistics& into, const BranchStatistics& other);
+
 struct Branch {
   std::vector<BranchPoint> points;
   std::vector<SpecialPoint> special_points;

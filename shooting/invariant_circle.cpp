@@ -875,6 +875,15 @@ Vector CircleWithHarmonics(const Vector& u, Index states, int from, int to) {
   return v;
 }
 
+void ValidateRefinementImages(const std::string& prefix, const std::vector<int>& images) {
+  if (images.empty() ||
+      std::any_of(images.begin(), images.end(), [](int n) { return n < 1 || n > 100; })) {
+    throw std::invalid_argument(
+        fmt::format("{}refinement_images = {{{}}}: must be one or more counts in 1 … 100", prefix,
+                    fmt::join(images, ", ")));
+  }
+}
+
 CircleRefinement RefineCircle(InvariantCircleProblem& coarse, const Vector& u, double lambda,
                               InvariantCircleProblem& finer, const std::vector<int>& images,
                               const NewtonOptions& newton) {

@@ -345,6 +345,9 @@ struct CircleRefinement {
   int images = 0;       // the count that converged (0: none)
   std::string failures;  // "from n images: why; …" for the counts that did not converge
 };
+// Throws std::invalid_argument, its message starting with `prefix` (the options' name and
+// separator: "TorusBranchOptions: "), unless `images` holds one or more counts in 1 … 100.
+void ValidateRefinementImages(const std::string& prefix, const std::vector<int>& images);
 CircleRefinement RefineCircle(InvariantCircleProblem& coarse, const Vector& u, double lambda,
                               InvariantCircleProblem& finer, const std::vector<int>& images,
                               const NewtonOptions& newton);

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
@@ -113,13 +112,7 @@ void Validate(const ModulatedTorusOptions& options) {
     throw std::invalid_argument(fmt::format(
         "ModulatedTorusOptions.max_harmonics = {}: must be in 0 … 500", options.max_harmonics));
   }
-  if (options.refinement_images.empty() ||
-      std::any_of(options.refinement_images.begin(), options.refinement_images.end(),
-                  [](int images) { return images < 1 || images > 100; })) {
-    throw std::invalid_argument(fmt::format(
-        "ModulatedTorusOptions.refinement_images = {{{}}}: must be one or more counts in 1 … 100",
-        fmt::join(options.refinement_images, ", ")));
-  }
+  ValidateRefinementImages("ModulatedTorusOptions.", options.refinement_images);
   if (!(options.converged_tail > 0.0 && options.converged_tail < 1.0)) {
     throw std::invalid_argument(fmt::format(
         "ModulatedTorusOptions.converged_tail = {}: must be in (0, 1)", options.converged_tail));

@@ -10,7 +10,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "shooting/shooting.h"
 #include "solvers/constants.h"
@@ -80,13 +79,7 @@ void Validate(const TorusBranchOptions& options) {
     fail("converged_tail", options.converged_tail,
          fmt::format("must be in (0, max_fourier_tail = {:g}]", options.max_fourier_tail));
   }
-  if (options.refinement_images.empty() ||
-      std::any_of(options.refinement_images.begin(), options.refinement_images.end(),
-                  [](int images) { return images < 1 || images > 100; })) {
-    throw std::invalid_argument(fmt::format(
-        "TorusBranchOptions: refinement_images = {{{}}}: must be one or more counts in 1 … 100",
-        fmt::join(options.refinement_images, ", ")));
-  }
+  ValidateRefinementImages("TorusBranchOptions: ", options.refinement_images);
   Validate(options.integrator);
   Validate(options.continuation);
 }
@@ -308,17 +301,7 @@ void AppendSegment(Branch& branch, const InvariantCircleProblem& coarse, int har
     p.index += offset;
     branch.special_points.push_back(std::move(p));
   }
-  BranchStatistics& s = branch.statistics;
-  const BranchStatistics& t = segment.statistics;
-  s.steps += t.steps;
-  s.corrector_failures += t.corrector_failures;
-  s.angle_rejections += t.angle_rejections;
-  s.residual_evaluations += t.residual_evaluations;
-  s.jacobian_evaluations += t.jacobian_evaluations;
-  s.stability_evaluations += t.stability_evaluations;
-  s.switches += t.switches;
-  s.jump_rejections += t.jump_rejections;
-  s.stray_rejections += t.stray_rejections;
+  branch.statistics += segment.statistics;
   branch.status = segment.status;
   branch.message = std::move(segment.message);
 }
