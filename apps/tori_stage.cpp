@@ -40,6 +40,7 @@ void WriteTorusFamily(ResultWriter& writer, const std::string& group, const std:
   writer.SetAttribute(group, "circle_coordinates", ToString(tori.coordinates));
   writer.SetAttribute(group, "end", ToString(tori.end));
   writer.SetAttribute(group, "end_note", tori.end_note);
+  writer.SetAttribute(group, "convergence_note", tori.convergence_note);
   writer.SetAttribute(group, "status", ToString(b.status));
   writer.SetAttribute(group, "message", b.message);
   writer.SetAttribute(group, "summary", b.BriefReport());
@@ -136,8 +137,10 @@ void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
     fmt::print(out, "      {:9.4f} rpm  ρ {:.6f}  f1 {:.3f} Hz  f2 {:.3f} Hz  carrier {:.4f} Hz{}{}{}\n",
                RadPerSecondToRpm(b.points[i].lambda), b.points[i].measures(0), l.first_hz,
                l.second_hz, l.carrier_hz,
-               tori.refinements.empty() ? std::string()
-                                        : fmt::format("  K {}", tori.SolvedHarmonics(i)),
+               tori.convergence_note.empty()
+                   ? std::string()
+                   : fmt::format("  K {} tail {:.2g}", tori.SolvedHarmonics(i),
+                                 b.points[i].measures(b.MeasureIndex("fourier_tail"))),
                contacts, stability);
   }
   for (const TorusBranch::Refinement& r : tori.refinements) {
@@ -146,6 +149,7 @@ void PrintTori(const TorusBranch& tori, const std::vector<RubTorusLines>& lines,
                r.from, r.to, RadPerSecondToRpm(r.lambda), r.rotation_number_from,
                r.rotation_number_to, r.fourier_tail_from, r.fourier_tail_to, r.images);
   }
+  if (!tori.convergence_note.empty()) fmt::print(out, "      {}\n", tori.convergence_note);
 }
 
 // A torus family's step as progress: its size, speed, ρ and radius; the orbits continued from

@@ -16,7 +16,8 @@
 //                                  RubFixedFrame::ToChart), end ("phase locking", "breakdown",
 //                                  "reached the range's end", "reached the step limit", "a
 //                                  contact lifts off", "failed"), end_note,
-//                                  status, message, summary; per torus speed_rpm, rotation_number,
+//                                  convergence_note (with max_harmonics: the tori not converged
+//                                  in K, "" without), status, message, summary; per torus speed_rpm, rotation_number,
 //                                  fourier_tail, invariance_error, period, rotation, carrier_hz,
 //                                  first_hz (1/T), second_hz (ρ/T), per contact <c> line_hz_<c>,
 //                                  line_l_<c>, line_k_<c> (its f_carrier − (k + lρ)/T),

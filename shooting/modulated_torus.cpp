@@ -108,9 +108,11 @@ void Validate(const ModulatedTorusOptions& options) {
         "ModulatedTorusOptions.collocation_intervals = {}: must be ≥ 0 (0: the map by integrator)",
         options.collocation_intervals));
   }
-  if (options.max_harmonics < 0 || options.max_harmonics > 500) {
+  // The families' rule (TorusBranchOptions::max_harmonics) and the scene's: the transient's families
+  // are refined up to the same K.
+  if (options.max_harmonics < 0 || options.max_harmonics > 1000) {
     throw std::invalid_argument(fmt::format(
-        "ModulatedTorusOptions.max_harmonics = {}: must be in 0 … 500", options.max_harmonics));
+        "ModulatedTorusOptions.max_harmonics = {}: must be in 0 … 1000", options.max_harmonics));
   }
   ValidateRefinementImages("ModulatedTorusOptions.", options.refinement_images);
   if (!(options.converged_tail > 0.0 && options.converged_tail < 1.0)) {

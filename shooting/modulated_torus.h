@@ -95,7 +95,7 @@ struct ModulatedTorusOptions {
   // equations (near a resonance several roots, ρ 1e-4 apart at K = 16) is not known beforehand.
   // The earlier start, a circle fitted to the transient's orbit under the solved map, reached
   // neither C(a)'s K = 32 (a non-finite residual) nor C(c)'s K = 16 (a singular Jacobian).
-  int max_harmonics = 0;
+  int max_harmonics = 0;          // 0 … 1000
   double converged_tail = 1e-4;  // (0, 1)
   std::vector<int> refinement_images = {3, 10};  // each in 1 … 100, tried in turn
 };

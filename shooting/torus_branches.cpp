@@ -386,6 +386,31 @@ const SpecialPoint* ShrinkEvent(const Branch& tori) {
   return last.type == SpecialPointType::kEvent && last.label == kShrinksOntoCentre ? &last : nullptr;
 }
 
+// Counts the tori not converged in K (TorusBranch::unconverged_in_k) and says which.
+std::string ConvergenceInK(const TorusBranchOptions& options, TorusBranch& result) {
+  const Branch& tori = result.branch;
+  const Index tail = tori.MeasureIndex("fourier_tail");
+  std::size_t first = 0, last = 0;
+  double least = kInfinity, most = 0.0;
+  result.unconverged_in_k = 0;
+  for (std::size_t i = 0; i < tori.points.size(); ++i) {
+    const double t = tori.points[i].measures(tail);
+    if (result.SolvedHarmonics(i) < result.harmonics || !(t > options.converged_tail)) continue;
+    if (result.unconverged_in_k++ == 0) first = i;
+    last = i;
+    least = std::min(least, t);
+    most = std::max(most, t);
+  }
+  if (result.unconverged_in_k == 0) {
+    return fmt::format("every torus converged in K (Fourier tail ≤ {:g})", options.converged_tail);
+  }
+  return fmt::format("{} of the {} tori, at K = {} (the finest) from λ = {:.9g} to {:.9g}, are not "
+                     "converged in K: Fourier tails {:.2g} to {:.2g}, above {:g}",
+                     result.unconverged_in_k, tori.points.size(), result.harmonics,
+                     tori.points[first].lambda, tori.points[last].lambda, least, most,
+                     options.converged_tail);
+}
+
 void ReadEnd(Family& family, const Vector& u0, const TorusBranchOptions& options,
              TorusBranch& result) {
   InvariantCircleProblem& problem = *family.problem;
@@ -461,6 +486,7 @@ void ReadEnd(Family& family, const Vector& u0, const TorusBranchOptions& options
                         options.min_radius, shrink->lambda, problem.RotationNumber(shrink->u))
                                            : fmt::format("{} at ρ = {:.6f}{}: {}", ToString(result.end),
                                                          end_rho, spectrum, tori.message);
+  if (options.max_harmonics > 0) result.convergence_note = ConvergenceInK(options, result);
 
   if (options.lyapunov_iterates > 0) {
     for (const BranchPoint& torus : tori.points) {

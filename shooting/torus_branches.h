@@ -135,6 +135,12 @@ struct TorusBranch {
     double fourier_tail_to = kNaN;
   };
   std::vector<Refinement> refinements;
+  // With max_harmonics: how many tori are not converged in K — those at the finest K whose Fourier
+  // tail exceeds converged_tail (a coarser circle is refined where its tail reaches that bound; at
+  // the finest K the family goes on to max_fourier_tail) — and one sentence saying which ("" with
+  // max_harmonics 0).
+  std::size_t unconverged_in_k = 0;
+  std::string convergence_note;
 
   // The K point i was solved with (point_harmonics[i]; `harmonics` where that is empty), and its
   // circle in that K's layout (CircleWithHarmonics: the padded harmonics cut off).

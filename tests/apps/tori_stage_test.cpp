@@ -105,6 +105,7 @@ TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the 
   CHECK(file.ReadDoubles(group + "/harmonics") == std::vector<double>{4.0, 4.0});
   CHECK(file.ReadDoublesAttribute(group, "refinement_speeds_rpm").empty());
   CHECK(file.ReadDoublesAttribute(group, "refinement_to_harmonics").empty());
+  CHECK(file.ReadStringAttribute(group, "convergence_note").empty());
   CHECK(file.ReadDoubleAttribute("/tori/orbits/branch1_hopf2", "hopf_precession_hz") ==
         Approx(79.2834).epsilon(0).margin(1e-4));
 }

@@ -342,6 +342,10 @@ TEST_CASE("modulated torus inputs outside their rules are rejected by name", "[m
   o.approach = -1.0;
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("approach = -1"));
   o = {};
+  o.max_harmonics = 1001;  // the scene's rule: 0 … 1000
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o),
+                    Contains("max_harmonics = 1001: must be in 0 … 1000"));
+  o = {};
   o.refinement_images = {3, 0};
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o),
                     Contains("refinement_images = {3, 0}: must be one or more counts in 1 … 100"));

@@ -427,11 +427,29 @@ TEST_CASE("tori refined in K along the family: where the tail reaches 1e-4 the c
     }
     CHECK(finest.RotationNumber(p.u) == Approx(DistortedCycle::kOmega).epsilon(0).margin(1e-7));
   }
+  // Not converged in K: the K = 16 tori past c^15 = 1e-4 (c = 0.5412) to the range's end, none
+  // before; within 3 % of that c the tail is c^15 only to within the refinements' 2 % in c.
+  const double edge = std::pow(1e-4, 1.0 / 15.0);
+  std::size_t past = 0, near = 0;
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    if (tori.point_harmonics[i] < 16) continue;
+    const double c = b.points[i].lambda;
+    if (c > 1.03 * edge) ++past;
+    else if (c > 0.97 * edge) ++near;
+  }
+  CHECK(past >= 2);
+  CHECK(tori.unconverged_in_k >= past);
+  CHECK(tori.unconverged_in_k <= past + near);
+  CHECK_THAT(tori.convergence_note,
+             Catch::Contains(std::to_string(tori.unconverged_in_k) + " of the " +
+                             std::to_string(b.points.size()) + " tori, at K = 16 (the finest)"));
   // At K = 4 throughout the family breaks down where its tail, about c³, reaches 1e-2.
   options.max_harmonics = 0;
   const TorusBranch fixed = ContinueTori(system, OrbitKind::kForced, u0, c0, options);
   CHECK(fixed.end == TorusEnd::kBreakdown);
   CHECK(fixed.refinements.empty());
+  CHECK(fixed.unconverged_in_k == 0);
+  CHECK(fixed.convergence_note.empty());
   CHECK(fixed.branch.points.back().measures(tail) == Approx(1e-2).epsilon(1e-3));
   CHECK(fixed.branch.points.back().lambda == Approx(std::cbrt(1e-2)).epsilon(0.05));  // 0.2096
   options.refinement_images = {3, 0};
