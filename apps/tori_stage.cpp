@@ -182,6 +182,7 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
   std::vector<double> folds;
   for (const double f : locked.folds) folds.push_back(RadPerSecondToRpm(f));
   writer.SetAttribute(group, "fold_speeds_rpm", folds);
+  writer.SetAttribute(group, "tori_inside", static_cast<double>(locked.tori_inside));
   writer.SetAttribute(group, "note", locked.message);
   const Branch& b = locked.orbits.branch;
   fmt::print(out, "    locked {}:{} orbits ({} laps, {} segments; {}): {}\n", locked.p, locked.q,
@@ -190,6 +191,11 @@ void WriteLockedOrbits(ResultWriter& writer, const std::string& torus_group,
     fmt::print(out, "      the torus is locked from {:.5f} to {:.5f} rpm (the folds: a stable and a "
                     "saddle {}-lap orbit between them)\n",
                folds[0], folds[1], locked.q);
+    if (locked.tori_inside > 0) {
+      fmt::print(out, "      {} of the family's tori lie inside it with ρ ≠ {}/{}: no invariant "
+                      "circles (roots of the truncated equations past the tongue's edge)\n",
+                 locked.tori_inside, locked.p, locked.q);
+    }
   } else {
     fmt::print(out, "      folds at {} rpm\n", fmt::join(folds, ", "));
   }

@@ -58,7 +58,9 @@
 //   /tori/<...>_ns<j>_locked       where that family ends in phase locking at p:q: the q-lap
 //                                  relative periodic orbits of the resonance (apps/orbit_output.h
 //                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the
-//                                  tongue's edges), note (where they were found).
+//                                  tongue's edges), tori_inside (the family's tori between
+//                                  them: no invariant circles, LockedOrbits::tori_inside), note
+//                                  (where they were found).
 //   /tori/<family>_centre          where a family (either kind) ends shrinking onto its centre:
 //                                  the relative periodic orbits through the last circle's centre
 //                                  (ContinueCentreOrbits; apps/orbit_output.h layout with the

@@ -551,6 +551,12 @@ LockedOrbits ContinueLockedOrbits(std::shared_ptr<OdeSystem> system,
       result.ok = true;
       result.orbits = FamilyOf(problem, shooting, lambda, std::move(branch));
       result.folds = DistinctFolds(result.orbits.branch);
+      if (result.folds.size() == 2) {
+        result.tori_inside = static_cast<std::size_t>(
+            std::count_if(points.begin(), points.end(), [&](const BranchPoint& torus) {
+              return torus.lambda > result.folds[0] && torus.lambda < result.folds[1];
+            }));
+      }
       result.message = fmt::format("found at λ = {:.9g} from the circle's point θ = {:.4f}", lambda,
                                    theta);
       return result;

@@ -190,6 +190,10 @@ struct LockedOrbits {
   PeriodicOrbitBranch orbits;
   // The located folds' parameters, ascending, each once: the locking interval when there are two.
   std::vector<double> folds;
+  // The family's tori inside that interval. A circle's rotation number is p/q wherever it
+  // carries the q-lap orbits (Arnold's tongue, whose edges are the folds), so a torus there with
+  // ρ ≠ p/q is no invariant circle: a root of the truncated equations past the tongue's edge.
+  std::size_t tori_inside = 0;
 };
 
 // Throws std::invalid_argument when `tori` did not end in kLocking or has no points.

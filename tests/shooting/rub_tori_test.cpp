@@ -155,6 +155,7 @@ TEST_CASE("case C(a): the torus born at the modulated whip's Neimark-Sacker poin
   CHECK(RadPerSecondToRpm(locked.folds[0]) == Approx(48.851).epsilon(0).margin(0.002));
   CHECK(RadPerSecondToRpm(locked.folds[1]) == Approx(48.876).epsilon(0).margin(0.002));
   CHECK(points.back().lambda < locked.folds[0]);
+  CHECK(locked.tori_inside == 0);
   CHECK(locked.folds[0] - points.back().lambda < RpmToRadPerSecond(0.02));  // measured 0.015 rpm
   bool stable = false;
   for (const BranchPoint& p : locked.orbits.branch.points) {
