@@ -335,11 +335,14 @@ ModulatedTorusOptions TransientTorusStartOf(const Scene& scene) {
   ModulatedTorusOptions start = SettledTransientStart(t.transient.harmonics);
   start.max_harmonics = t.transient.max_harmonics;
   start.laps = t.transient.laps;
+  const bool gauss = scene.analysis.orbits.integrator == OrbitIntegrator::kGauss;
   if (t.contact_chart) {
     start.coordinates = CircleCoordinates::kChart;
-    if (scene.analysis.orbits.integrator == OrbitIntegrator::kGauss) {
-      start.collocation_intervals = scene.analysis.orbits.collocation_intervals;
-    }
+    if (gauss) start.collocation_intervals = scene.analysis.orbits.collocation_intervals;
+  } else if (gauss) {
+    // The state's first circle by CVODES BDF, then reported and refined in K under the families'
+    // map (ModulatedTorusOptions::final_collocation_intervals).
+    start.final_collocation_intervals = scene.analysis.orbits.collocation_intervals;
   }
   return start;
 }

@@ -305,6 +305,9 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     WriteTransientAttributes(w, group, t.speed_rpm, t.seconds, transient);
     w.SetAttribute(group, "start_laps", static_cast<double>(torus.laps));
     w.SetAttribute(group, "start_rotation_number", torus.rotation_number);
+    if (std::isfinite(torus.first_map_rotation_number)) {
+      w.SetAttribute(group, "start_first_map_rotation_number", torus.first_map_rotation_number);
+    }
     w.SetAttribute(group, "start_first_hz", torus.first_hz);
     w.SetAttribute(group, "start_second_hz", torus.second_hz);
     w.SetAttribute(group, "start_carrier_hz", torus.carrier_hz);

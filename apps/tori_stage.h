@@ -51,10 +51,14 @@
 //                                  start_first_hz, start_second_hz, start_carrier_hz,
 //                                  start_fourier_tail, start_invariance_error, start_message (the
 //                                  torus solved on the transient's points, before the families'
-//                                  first correction by the orbits' integrator);
+//                                  first correction by the orbits' integrator; in the state with
+//                                  Gauss orbits, solved by BDF and again under the orbits' Gauss
+//                                  mesh, whose numbers these are, the BDF circle's ρ in
+//                                  start_first_map_rotation_number);
 //                                  start_in_k_harmonics, _rotation_numbers, _fourier_tails,
-//                                  _invariance_errors, _images (1-D, one entry per K solved:
-//                                  max_harmonics' refinement; images 0 for the first circle).
+//                                  _invariance_errors, _images (1-D, one entry per K solved
+//                                  under the final map: max_harmonics' refinement; images 0 for
+//                                  the first circle).
 //   /tori/<...>_ns<j>_locked       where that family ends in phase locking at p:q: the q-lap
 //                                  relative periodic orbits of the resonance (apps/orbit_output.h
 //                                  layout), attrs resonance_p, resonance_q, fold_speeds_rpm (the

@@ -50,14 +50,14 @@ SectionCuts SectionHint(const RubStructure& structure, const Matrix& points) {
   return {};
 }
 
-// The map's integrator for sections of `laps` modulation periods: collocation_intervals × laps
-// Gauss steps, or options.integrator.
-IntegratorOptions MapIntegrator(const ModulatedTorusOptions& options, int laps) {
-  if (options.collocation_intervals == 0) return options.integrator;
-  IntegratorOptions gauss = options.integrator;
+// The map's integrator for sections of `laps` modulation periods: intervals × laps Gauss steps,
+// or `integrator` where intervals = 0.
+IntegratorOptions MapIntegrator(const IntegratorOptions& integrator, int intervals, int laps) {
+  if (intervals == 0) return integrator;
+  IntegratorOptions gauss = integrator;
   gauss.method = IntegrationMethod::kGaussCollocation;
   gauss.collocation_stages = 4;
-  gauss.collocation_steps = options.collocation_intervals;
+  gauss.collocation_steps = intervals;
   return JoinedIntegrator(gauss, laps);
 }
 
@@ -107,6 +107,11 @@ void Validate(const ModulatedTorusOptions& options) {
     throw std::invalid_argument(fmt::format(
         "ModulatedTorusOptions.collocation_intervals = {}: must be ≥ 0 (0: the map by integrator)",
         options.collocation_intervals));
+  }
+  if (options.final_collocation_intervals < 0) {
+    throw std::invalid_argument(fmt::format(
+        "ModulatedTorusOptions.final_collocation_intervals = {}: must be ≥ 0 (0: the first map "
+        "throughout)", options.final_collocation_intervals));
   }
   // The families' rule (TorusBranchOptions::max_harmonics) and the scene's: the transient's families
   // are refined up to the same K.
@@ -169,9 +174,9 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   const int iterates = options.iterates > 0 ? options.iterates : 4 * (2 * options.harmonics + 1);
   std::unique_ptr<InvariantCircleProblem> circle;
   auto first_circle = [&](int laps, Matrix& points) -> std::string {
-    circle = std::make_unique<InvariantCircleProblem>(frame, options.harmonics, OrbitKind::kRelative,
-                                                      MapIntegrator(options, laps),
-                                                      options.coordinates);
+    circle = std::make_unique<InvariantCircleProblem>(
+        frame, options.harmonics, OrbitKind::kRelative,
+        MapIntegrator(options.integrator, options.collocation_intervals, laps), options.coordinates);
     const Index stride = static_cast<Index>(laps) * kSamplesPerPeriod;
     const Index samples_count = static_cast<Index>(iterates) * stride + 1;
     Matrix samples;
@@ -229,18 +234,39 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
                             circle->RotationNumber(torus.u), options.harmonics,
                             torus.newton.BriefReport()));
   }
+  // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
+  // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
+  NewtonOptions damped = options.newton;
+  damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
+  // The map the torus is reported and refined under (ModulatedTorusOptions::final_collocation_intervals).
+  const bool switch_map = options.collocation_intervals == 0 && options.final_collocation_intervals > 0;
+  const int intervals = switch_map ? options.final_collocation_intervals : options.collocation_intervals;
+  std::string first_map;
+  if (switch_map) {
+    torus.first_map_rotation_number = circle->RotationNumber(torus.u);
+    auto final_map = std::make_unique<InvariantCircleProblem>(
+        frame, circle->harmonics(), OrbitKind::kRelative,
+        MapIntegrator(options.integrator, intervals, torus.laps), options.coordinates);
+    torus.newton = solve(*final_map, damped);
+    if (!torus.newton.Converged()) {
+      return done(fmt::format("Newton under Gauss collocation on {} intervals per period from the "
+                              "first map's circle (ρ {:.8f}, K = {}): {}", intervals,
+                              torus.first_map_rotation_number, circle->harmonics(),
+                              torus.newton.BriefReport()));
+    }
+    circle = std::move(final_map);
+    first_map = fmt::format("first solved under the transient's map, ρ {:.8f}, then under Gauss "
+                            "collocation on {} intervals per period; ",
+                            torus.first_map_rotation_number, intervals);
+  }
   record(*circle);
   // Convergence in K: doubled from the solved circle while its tail says the series is short.
   std::string refinement;
   while (torus.by_harmonics.back().fourier_tail > options.converged_tail &&
          2 * circle->harmonics() <= options.max_harmonics) {
     auto finer = std::make_unique<InvariantCircleProblem>(
-        frame, 2 * circle->harmonics(), OrbitKind::kRelative, MapIntegrator(options, torus.laps),
-        options.coordinates);
-    // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
-    // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
-    NewtonOptions damped = options.newton;
-    damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
+        frame, 2 * circle->harmonics(), OrbitKind::kRelative,
+        MapIntegrator(options.integrator, intervals, torus.laps), options.coordinates);
     const CircleRefinement refined =
         RefineCircle(*circle, torus.u, omega, *finer, options.refinement_images, damped);
     if (!refined.converged) {
@@ -281,11 +307,12 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   }
   return done(fmt::format(
       "{}T = {:.9g} s, φ = {:+.6g} rad, ρ = {:.8f}: carrier {:.6f} Hz, modulation {:.6f} and {:.6f} "
-      "Hz; K = {}, Fourier tail {:.2g}, invariance error {:.2g}{}{}; {}{}",
+      "Hz; K = {}, Fourier tail {:.2g}, invariance error {:.2g}{}{}; {}{}{}",
       torus.laps > 1 ? fmt::format("on the section of {} modulation periods: ", torus.laps) : "",
       torus.period, torus.rotation,
       torus.rotation_number, torus.carrier_hz, torus.first_hz, torus.second_hz, torus.harmonics,
-      torus.fourier_tail, torus.invariance_error, in_k, refinement, torus.newton.BriefReport(),
+      torus.fourier_tail, torus.invariance_error, in_k, refinement, first_map,
+      torus.newton.BriefReport(),
       torus.stability.valid
           ? fmt::format("; {} (largest non-trivial exponent {:.3g} per period, tolerance {:.2g})",
                         torus.stability.Verdict(),

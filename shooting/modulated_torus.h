@@ -76,6 +76,15 @@ struct ModulatedTorusOptions {
   // on the first step from the circle's points with 400 intervals (20 µs) and failed at 2 of 33
   // with 1000, where BDF takes steps of ~0.6 µs (12 000 per period at 49 rpm).
   int collocation_intervals = 0;
+  // The map the torus is reported and refined in K under, when the first circle's is `integrator`
+  // (collocation_intervals = 0): > 0, the first circle, once solved, is solved again at the same K
+  // with Gauss–Legendre collocation of order 8 on this many intervals per modulation period (the
+  // map its families continue with), and every K after it under that map; 0: the first map
+  // throughout. Decision, measured (one run each): C(a) at 49 rpm refined to K = 32 under BDF ≤ 2
+  // at 1e-7 gave ρ 0.378634 (tail 4e-4), under Gauss on 800 intervals 0.376398, and K = 128
+  // 0.375872 (results/bench/torus_in_k.txt): the BDF map's error, not K's, held ρ 2.7e-3 off, and
+  // the family's Gauss corrector then failed at the transient's speed.
+  int final_collocation_intervals = 0;
   // The circle's coordinates (shooting/invariant_circle.h): the state, or the rub model's contact
   // chart (the gap |d| − C a coordinate of its own), for contacts pressed by nanometres.
   CircleCoordinates coordinates = CircleCoordinates::kState;
@@ -129,6 +138,9 @@ struct ModulatedTorus {
   double second_hz = kNaN;        // f₂ = ρ/T
   double fourier_tail = kNaN;
   double invariance_error = kNaN;
+  // Where the first circle was solved again under the final map
+  // (ModulatedTorusOptions::final_collocation_intervals): its ρ under the first map (else NaN).
+  double first_map_rotation_number = kNaN;
   // The circle at each K solved (ModulatedTorusOptions::max_harmonics), ascending; the last is u's.
   struct AtHarmonics {
     int harmonics = 0;

@@ -144,6 +144,13 @@ TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a
     // precession 79.2793 Hz by Dormand–Prince over its last 0.5 s).
     CHECK(file.ReadDoubleAttribute(group, "start_laps") == 1.0);
     const double rho0 = file.ReadDoubleAttribute(group, "start_rotation_number");
+    // Solved by BDF on the transient's points, then again under the orbits' Gauss mesh, the
+    // families' map (ModulatedTorusOptions::final_collocation_intervals): the same torus, ρ
+    // moved by the maps' difference.
+    CHECK_THAT(file.ReadStringAttribute(group, "start_message"),
+               Contains("then under Gauss collocation on 400 intervals per period"));
+    REQUIRE(file.HasAttribute(group, "start_first_map_rotation_number"));
+    CHECK(std::abs(file.ReadDoubleAttribute(group, "start_first_map_rotation_number") - rho0) < 5e-3);
     // Not refined in K (max_harmonics = 0): one entry, the first circle's.
     CHECK(file.ReadDoublesAttribute(group, "start_in_k_harmonics") == std::vector<double>{8.0});
     CHECK(file.ReadDoublesAttribute(group, "start_in_k_rotation_numbers") ==

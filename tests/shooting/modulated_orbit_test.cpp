@@ -339,6 +339,10 @@ TEST_CASE("modulated torus inputs outside their rules are rejected by name", "[m
   o.collocation_intervals = -1;
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("collocation_intervals = -1"));
   o = {};
+  o.final_collocation_intervals = -1;
+  CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o),
+                    Contains("final_collocation_intervals = -1: must be ≥ 0"));
+  o = {};
   o.approach = -1.0;
   CHECK_THROWS_WITH(SolveModulatedTorus(s, 6.0, 500.0, x, o), Contains("approach = -1"));
   o = {};
