@@ -19,8 +19,8 @@
 #                   about 20 min on 2 cores; and on the flexible shafts
 #                   (thesis_A_a_modulated_whip_flexible.toml: 19 min of CPU); and case C(a)'s
 #                   whip modulated at two frequencies (stages "orbits" and "tori",
-#                   scenes/thesis_C_a_tori.toml: about 15 min of CPU, 8.5 of them the torus
-#                   a transient settles on at 49 rpm); and its whip locked at 1:3, from a
+#                   scenes/thesis_C_a_tori.toml at K up to 32: about 31 min of CPU, 13.5 of
+#                   them the torus a transient settles on at 49 rpm); and its whip locked at 1:3, from a
 #                   transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s

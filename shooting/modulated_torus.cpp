@@ -234,13 +234,17 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
                             circle->RotationNumber(torus.u), options.harmonics,
                             torus.newton.BriefReport()));
   }
-  // Damped: from the coarser circle a full step can leave the contact's manifold where the map's
-  // integration fails (C(c) at 64 rpm, K = 16: a non-finite residual after the first step).
+  // Damped: from another circle (coarser, or another map's) a full step can leave the contact's
+  // manifold where the map's integration fails (C(c) at 64 rpm, K = 16: a non-finite residual
+  // after the first step).
   NewtonOptions damped = options.newton;
   damped.max_step_halvings = std::max(damped.max_step_halvings, 8);
-  // The map the torus is reported and refined under (ModulatedTorusOptions::final_collocation_intervals).
-  const bool switch_map = options.collocation_intervals == 0 && options.final_collocation_intervals > 0;
-  const int intervals = switch_map ? options.final_collocation_intervals : options.collocation_intervals;
+  // The map the torus is reported and refined under
+  // (ModulatedTorusOptions::final_collocation_intervals).
+  const bool switch_map =
+      options.collocation_intervals == 0 && options.final_collocation_intervals > 0;
+  const int intervals =
+      switch_map ? options.final_collocation_intervals : options.collocation_intervals;
   std::string first_map;
   if (switch_map) {
     torus.first_map_rotation_number = circle->RotationNumber(torus.u);

@@ -7,7 +7,7 @@ Writes, from the HDF5 file only (layout: apps/tori_stage.h):
                    unstable dashed, its Neimark–Sacker points starred) and each torus family's
                    f1 = 1/T and f2 = rho/T (filled markers: stable by its Lyapunov exponents,
                    open: unstable, grey: undecided within the estimate's error or not computed);
-                   second: the tori's rotation number rho, with the rationals p/q (q <= 2K + 1)
+                   second: the tori's rotation number rho, with the rationals p/q (q <= 2K + 1, 17)
                    near it drawn, the end of each family labelled (phase locking / breakdown),
                    and where a family locks, its q-lap orbits at p/q (stable solid, unstable
                    dashed) between their folds, the tongue's edges (also on the top panel:
@@ -95,7 +95,8 @@ def figure(f, fig=None):
         harmonics = int(g.attrs.get("harmonics", 8))
         low, high = float(np.min(rho)), float(np.max(rho))
         pad = 0.15 * max(high - low, 0.01)
-        for q in range(1, 2 * harmonics + 2):
+        # Orders above 17 (K = 8's 2K + 1) fill the panel where K is refined (K = 32: q ≤ 65).
+        for q in range(1, min(2 * harmonics + 1, 17) + 1):
             for p in range(0, q + 1):
                 if np.gcd(p, q) != 1:
                     continue
