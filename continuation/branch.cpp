@@ -91,6 +91,7 @@ std::string Branch::BriefReport() const {
     report += fmt::format(", {} stray point{} refused", statistics.stray_rejections,
                           statistics.stray_rejections == 1 ? "" : "s");
   }
+  if (!start_note.empty()) report += ", " + start_note;
   report += fmt::format(", ended: {}", message.empty() ? ToString(status) : message);
   return report;
 }
@@ -182,6 +183,7 @@ Branch JoinAtStart(const Branch& backward, const Branch& forward) {
   Branch joined;
   joined.measure_names = forward.measure_names;
   joined.options = forward.options;
+  joined.start_note = forward.start_note.empty() ? backward.start_note : forward.start_note;
   const Index nb = backward.Size();
   for (Index i = nb - 1; i >= 0; --i) {
     BranchPoint p = backward.points[i];

@@ -116,6 +116,9 @@ struct Branch {
   ContinuationOptions options;             // the options used
   BranchStatus status = BranchStatus::kRunning;
   std::string message;                     // why it ended, one sentence with numbers
+  // Where the start could not be corrected at its λ and was corrected along DF's null vector
+  // instead (Continuation::Start at a fold): from which λ to which, and why; else empty.
+  std::string start_note;
   BranchStatistics statistics;
 
   // One line, e.g. "branch: 143 points, λ ∈ [20, 260], 2 folds, 1 Hopf, ended: reached λ max".

@@ -395,6 +395,11 @@ struct Continuation::Impl {
                              LambdaOf(x0), ToString(status),
                              first_failure.empty() ? "" : " (at fixed λ: " + first_failure + ")"));
     }
+    if (!first_failure.empty()) {
+      branch.start_note = fmt::format(
+          "the start corrected along the null vector from λ = {:.10g} to {:.10g} (at fixed λ: {})",
+          LambdaOf(x0), LambdaOf(data.point.x), first_failure);
+    }
     Vector tangent = data.point.tangent;
     const double along = orient_by_lambda ? tangent(system.n()) : tangent.dot(border);
     if (along * direction < 0.0) tangent = -tangent;

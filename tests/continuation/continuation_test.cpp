@@ -432,6 +432,7 @@ TEST_CASE("the stepper can take one step at a time", "[continuation][stepper]") 
   const double x0 = continuation.branch().points[0].u(0);
   CHECK(std::abs(x0 * x0 * x0 - x0 - 1.0) <= 1e-12);
   CHECK(continuation.branch().points[0].lambda == -1.0);
+  CHECK(continuation.branch().start_note.empty());
   REQUIRE(continuation.Step() == StepResult::kContinue);
   REQUIRE(continuation.branch().points.size() == 2);
   const BranchPoint& p = continuation.branch().points[1];
@@ -466,6 +467,10 @@ TEST_CASE("a start exactly at a fold: along a given tangent, or by the null-vect
     CHECK(branch.status == BranchStatus::kReachedLambdaBound);
     CHECK(branch.points.front().residual_norm <= 1e-12);
     CHECK(std::abs(branch.points.back().u(0)) == Approx(1.0).epsilon(0).margin(1e-9));
+    // Said, with where the start went (here it stays at the fold, λ = 0).
+    CHECK_THAT(branch.start_note,
+               Catch::Contains("the start corrected along the null vector from λ = 0"));
+    CHECK_THAT(branch.BriefReport(), Catch::Contains(branch.start_note));
   }
 }
 
