@@ -152,7 +152,8 @@ def figure(f, fig=None):
                             label="Neimark–Sacker point of the orbits at the centre")
                 ax_rho.legend(fontsize=7, loc="best")
         end = text(g.attrs.get("end", ""))
-        ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(-60, -4),
+        # Stacked by family: a transient's two families can end within a hair of each other.
+        ax_rho.annotate(end, (rpm[-1], rho[-1]), fontsize=8, xytext=(-60, -4 + 10 * (j % 3)),
                         textcoords="offset points", color=color)
         carrier = g["carrier_hz"][()]
         ax_lines.plot(rpm, carrier, "-", color="#555555", lw=1.2,
