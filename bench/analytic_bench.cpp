@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "models/analytic.h"
 
 namespace {
@@ -32,7 +33,7 @@ void Report(const char* what, const std::vector<double>& ms, int points) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 101;
   // thesis A(a): disk at centre, RCI 100/100, c_d = 52 N·s/m
   const rubcont::TwoPointParams p = rubcont::ThesisCaseAa();
@@ -57,4 +58,8 @@ int main(int argc, char** argv) {
          }),
          options.precession_points);
   return sink == 0 ? 1 : 0;  // keeps the work from being optimized away
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("analytic_bench", [&] { return Run(argc, argv); });
 }

@@ -22,6 +22,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/rub_model.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
@@ -135,4 +136,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("branches_bench", [&] { return rubcont::Main(argc, argv); });
+}

@@ -22,6 +22,7 @@
 
 #include <Eigen/LU>
 
+#include "bench/bench_main.h"
 #include "continuation/continuation.h"
 #include "continuation/fold.h"
 #include "models/rub_model.h"
@@ -216,7 +217,7 @@ void Print(const Row& row) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   using namespace rubcont;
   const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 21;
   std::printf("continuation engine benchmark, %d repetitions per measurement\n", repetitions);
@@ -310,4 +311,8 @@ int main(int argc, char** argv) {
 
   for (const Row& row : rows) Print(row);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("continuation_bench", [&] { return Run(argc, argv); });
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "continuation/fold_optimization.h"
 #include "models/rub_model.h"
 #include "models/units.h"
@@ -117,10 +118,14 @@ void Identification() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "all";
   if (what == "all" || what == "folds") FoldsByIpopt();
   if (what == "all" || what == "maps") Maps();
   if (what == "all" || what == "fit") Identification();
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("design_bench", [&] { return Run(argc, argv); });
 }

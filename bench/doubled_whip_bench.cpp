@@ -30,6 +30,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "bench/bench_main.h"
 #include "models/rub_model.h"
 #include "models/units.h"
 #include "shooting/rub_orbits.h"
@@ -304,4 +305,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("doubled_whip_bench", [&] { return rubcont::Main(argc, argv); });
+}

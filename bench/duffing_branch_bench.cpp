@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "continuation/continuation.h"
 #include "models/textbook.h"
 #include "shooting/shooting.h"
@@ -303,4 +304,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("duffing_branch_bench", [&] { return rubcont::Main(argc, argv); });
+}

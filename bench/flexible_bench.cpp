@@ -15,6 +15,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "solvers/stopwatch.h"
 #include "waves/rotating_wave_branches.h"
 
@@ -52,7 +53,7 @@ double SweepCpuSeconds(Scene scene, std::string& last) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   using namespace rubcont;
   const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   std::printf("flexible_bench: %d repetitions, interleaved; medians of the per-repetition ratios\n",
@@ -84,4 +85,8 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("flexible_bench", [&] { return Run(argc, argv); });
 }

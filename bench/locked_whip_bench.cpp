@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "shooting/modulated_torus.h"
@@ -231,4 +232,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("locked_whip_bench", [&] { return rubcont::Main(argc, argv); });
+}

@@ -25,6 +25,7 @@
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "solvers/constants.h"
 #include "solvers/parallel.h"
@@ -64,7 +65,7 @@ std::vector<EscapeObservations> ReadEnsembles(const std::string& file, double& c
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   if (argc < 5) {
     std::fprintf(stderr, "usage: loop_bench SCENE STEP_RPM DWELL_S BUDGET_CPU_S [RUN_UPS [LIFETIME.h5]]\n");
     return 2;
@@ -162,4 +163,8 @@ int main(int argc, char** argv) {
                ProcessCpuSeconds() - run_cpu);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("loop_bench", [&] { return Run(argc, argv); });
 }

@@ -43,6 +43,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "plain_rub_dopri5.h"
 #include "solvers/constants.h"
@@ -466,7 +467,7 @@ double LoadAverage() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   std::string scene_file = "scenes/thesis_A_a.toml";
   std::string only;
   int repeats = 5;
@@ -496,4 +497,8 @@ int main(int argc, char** argv) {
   if (schedule) MeasureSchedule(scene);
   std::printf("\nload average (1 min) at the end: %.2f\n", LoadAverage());
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("march_bench", [&] { return Run(argc, argv); });
 }

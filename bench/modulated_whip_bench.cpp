@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "bench/bench_main.h"
 #include "models/rub_model.h"
 #include "models/units.h"
 #include "shooting/rub_orbits.h"
@@ -88,4 +89,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("modulated_whip_bench", [&] { return rubcont::Main(argc, argv); });
+}

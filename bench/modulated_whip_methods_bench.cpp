@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "models/rub_model.h"
 #include "models/units.h"
 #include "shooting/rub_orbits.h"
@@ -174,4 +175,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("modulated_whip_methods_bench", [&] { return rubcont::Main(argc, argv); });
+}

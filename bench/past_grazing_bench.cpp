@@ -25,6 +25,7 @@
 #include <string>
 
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "shooting/orbit_branches.h"
@@ -188,4 +189,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("past_grazing_bench", [&] { return rubcont::Main(argc, argv); });
+}

@@ -50,6 +50,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/analytic.h"
 #include "models/units.h"
 #include "solvers/stopwatch.h"
@@ -344,4 +345,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("random_scene_campaign", [&] { return rubcont::Main(argc, argv); });
+}

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "models/textbook.h"
 #include "shooting/shooting.h"
 #include "solvers/constants.h"
@@ -472,4 +473,6 @@ void StiffTables(bool quick) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("shooting_bench", [&] { return rubcont::Main(argc, argv); });
+}

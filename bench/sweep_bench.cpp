@@ -23,6 +23,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "sweeps/rub_runs.h"
 #include "sweeps/rub_sweep.h"
@@ -62,7 +63,7 @@ struct Totals {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   std::string scene_file = "scenes/thesis_A_a.toml";
   std::string direction = "both";
   double from = -1, to = -1, step = -1, dwell = -1, rtol = -1;
@@ -185,4 +186,8 @@ int main(int argc, char** argv) {
               scene.analysis.speed_range_rpm[0], scene.analysis.speed_range_rpm[1], 1e3 * continuation);
   std::printf("ratio sweep / continuation: %.0f\n", wall / continuation);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("sweep_bench", [&] { return Run(argc, argv); });
 }

@@ -31,6 +31,7 @@
 
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "solvers/constants.h"
 #include "solvers/stopwatch.h"
@@ -216,7 +217,7 @@ double Worst(const double (&a)[2], const double (&b)[2]) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   std::string scene_file = "scenes/thesis_A_a.toml";
   std::string only;
   double length = 0.5;
@@ -307,4 +308,8 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("sweep_integrators_bench", [&] { return Run(argc, argv); });
 }

@@ -14,7 +14,6 @@
 //   build-dev/bench/torus_grazing_bench scenes/thesis_C_c_tori.toml
 //     results/thesis_C_c_tori/thesis_C_c_tori.h5 tori/transient_up   (one line)
 #include <cstdio>
-#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +21,7 @@
 #include "apps/hdf5_file.h"
 #include "apps/scene.h"
 #include "apps/stage_options.h"
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "shooting/invariant_circle.h"
 #include "shooting/rub_tori.h"
@@ -105,10 +105,5 @@ int Main(int argc, char** argv) {
 }  // namespace rubcont
 
 int main(int argc, char** argv) {
-  try {
-    return rubcont::Main(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "torus_grazing_bench: %s\n", e.what());
-    return 1;
-  }
+  return rubcont::RunBenchmark("torus_grazing_bench", [&] { return rubcont::Main(argc, argv); });
 }

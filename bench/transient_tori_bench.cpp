@@ -21,6 +21,7 @@
 #include <sstream>
 #include <string>
 
+#include "bench/bench_main.h"
 #include "models/units.h"
 #include "shooting/rub_tori.h"
 #include "solvers/stopwatch.h"
@@ -167,4 +168,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("transient_tori_bench", [&] { return rubcont::Main(argc, argv); });
+}

@@ -39,6 +39,7 @@
 
 #include <fmt/core.h>
 
+#include "bench/bench_main.h"
 #include "models/rub_model.h"
 #include "models/units.h"
 #include "shooting/rub_orbits.h"
@@ -242,4 +243,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace rubcont
 
-int main(int argc, char** argv) { return rubcont::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return rubcont::RunBenchmark("whip_family_bench", [&] { return rubcont::Main(argc, argv); });
+}
