@@ -176,5 +176,6 @@ int Main(int argc, char** argv) {
 }  // namespace rubcont
 
 int main(int argc, char** argv) {
-  return rubcont::RunBenchmark("modulated_whip_methods_bench", [&] { return rubcont::Main(argc, argv); });
+  return rubcont::RunBenchmark("modulated_whip_methods_bench",
+                               [&] { return rubcont::Main(argc, argv); });
 }

@@ -28,7 +28,8 @@ cut_scene() {
     -e "s/^max_steps = .*/max_steps = $4/" "$scene" > "$work/$1.toml"
 }
 
-echo "# bench/tori_ends.sh $build, $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, $(git describe --always --dirty)"
+echo "# bench/tori_ends.sh $build, $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores," \
+  "$(git describe --always --dirty)"
 cut_scene down 54.5 "53.0, 54.55" 70
 cut_scene up 54.7 "54.69, 57.0" 45
 # The two runs side by side (one core each), each timed on its own.
@@ -39,7 +40,8 @@ done
 wait
 for way in down up; do
   echo
-  echo "## $way: $(grep -E '^(speed_rpm|speed_range_rpm|max_steps) ' "$work/$way.toml" | tr '\n' ' ')"
+  keys=$(grep -E '^(speed_rpm|speed_range_rpm|max_steps) ' "$work/$way.toml" | tr '\n' ' ')
+  echo "## $way: $keys"
   echo "CPU seconds (user + system): $(tail -1 "$work/$way.time" | awk '{ print $1 + $2 }')"
   sed -n '/^\[tori\]/,$p' "$work/$way.summary" | grep -v '^wrote '
   /usr/bin/python3 bench/tori_tails.py "$work/$way/$way.h5"

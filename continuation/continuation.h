@@ -106,9 +106,9 @@ class Continuation {
   // Corrects (u0, λ0) by Newton at fixed λ0 (falling back to a border along the SVD null vector if
   // that fails, as where F_u is singular; the point may then move off λ0, which
   // Branch::start_note and BriefReport say), takes the tangent with sign(τ_λ) =
-  // options.direction, and stores the first point. Throws std::invalid_argument for a wrong size of u0, a λ0 outside the bounds, or
-  // a state box of the wrong size. Returns kFailed (status kStartFailed) when the point cannot be
-  // corrected or violates an event margin.
+  // options.direction, and stores the first point. Throws std::invalid_argument for a wrong size
+  // of u0, a λ0 outside the bounds, or a state box of the wrong size. Returns kFailed (status
+  // kStartFailed) when the point cannot be corrected or violates an event margin.
   StepResult Start(const Vector& u0, double lambda0);
 
   // As Start, but corrects on the hyperplane through (u0, λ0) normal to the direction (du, dλ)

@@ -20,8 +20,8 @@
 #                   (thesis_A_a_modulated_whip_flexible.toml: 19 min of CPU); and case C(a)'s
 #                   whip modulated at two frequencies (stages "orbits" and "tori",
 #                   scenes/thesis_C_a_tori.toml at K up to 32: about 31 min of CPU, 13.5 of
-#                   them the torus a transient settles on at 49 rpm); and its whip locked at 1:3, from a
-#                   transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
+#                   them the torus a transient settles on at 49 rpm); and its whip locked at
+#                   1:3, from a transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU) and C(a)'s from 60 rpm
