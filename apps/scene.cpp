@@ -700,6 +700,10 @@ class Loader {
                  "leaves the stage \"tori\" nothing to compute: give [analysis.tori.transient]");
     if (t.transient.enabled)
       CheckTransient(scene, "analysis.tori.transient", t.transient.speed_rpm, t.transient.seconds);
+    // The tori of [analysis.orbits.transient]'s family (CheckOrbits says it where "orbits" runs).
+    const RubOrbitsSettings::Transient& o = scene.analysis.orbits.transient;
+    if (t.from_neimark_sacker && o.enabled && !RunsStage(scene, Stage::kOrbits))
+      CheckTransient(scene, "analysis.orbits.transient", o.speed_rpm, o.seconds);
   }
 
   void CheckSweep(const Scene& scene) {

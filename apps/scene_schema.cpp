@@ -823,7 +823,8 @@ void RubOrbitsTransientKeys(std::vector<KeySpec>& s) {
       "([analysis.sweep]: integrator, windows, impulse) run from rest and the impulse "
       "for `seconds`; the relative periodic orbit it settles on (of `laps` modulation "
       "periods) is solved there and its family continued towards lower and higher "
-      "speed over speed_range_rpm with [analysis.orbits]' shooting; inside "
+      "speed over speed_range_rpm with [analysis.orbits]' shooting (by the stage \"orbits\", "
+      "and by the stage \"tori\" for the tori from its Neimark–Sacker points); inside "
       "analysis.speed_range_rpm.",
       [](Scene& x) -> double& { return x.analysis.orbits.transient.speed_rpm; },
       Presence::kRequiredInSection));
@@ -896,8 +897,10 @@ void ToriKeys(std::vector<KeySpec>& s) {
   s.push_back(Switch(
       "analysis.tori.neimark_sacker",
       "\"follow\": the tori born at the Neimark–Sacker points of the modulated orbits of "
-      "[analysis.orbits]; \"skip\": no modulated orbits and none of those tori — only the tori "
-      "of [analysis.tori.transient], which must then be given.",
+      "[analysis.orbits] — the Hopf points' families, and the family through the orbit of "
+      "[analysis.orbits.transient] where that is given (C(b)'s whip at 53 rpm, "
+      "scenes/thesis_C_b_tori_53.toml); \"skip\": no modulated orbits and none of those tori — "
+      "only the tori of [analysis.tori.transient], which must then be given.",
       {"follow", "skip"}, "follow",
       [](Scene& x) -> bool& { return x.analysis.tori.from_neimark_sacker; }));
   s.push_back(Switch(

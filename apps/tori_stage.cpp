@@ -246,6 +246,19 @@ void WriteCentreOrbits(ResultWriter& writer, const std::string& torus_group, con
   if (IsFailure(b.status)) failures.push_back(fmt::format("[tori] {}: {}", name, b.message));
 }
 
+// `options` saying the work after each family (its tori's lines and exponents) as progress, the
+// family of index j named name_of(j) as the step progress names it; t0 when the work began.
+RubTorusOptions WithWorkProgress(RubTorusOptions options, StageContext& context,
+                                 std::function<std::string(std::size_t)> name_of,
+                                 SteadyClock::time_point t0) {
+  options.on_work = [&context, name_of = std::move(name_of), t0](std::size_t j, const char* what,
+                                                                 std::size_t i, std::size_t n) {
+    context.progress(fmt::format("[tori] {}: {} of torus {}/{}, {:.0f} s", name_of(j), what,
+                                 i + 1, n, SecondsSince(t0)));
+  };
+  return options;
+}
+
 // The tori through the torus a transient settles on ([analysis.tori.transient]): the transient,
 // its torus, both families written as /tori/transient_down and /tori/transient_up.
 void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
@@ -261,14 +274,17 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
     return;
   }
   const ModulatedTorusOptions start = TransientTorusStartOf(scene);
+  const auto family_name = [](std::size_t j) -> std::string {
+    return j == 0 ? "transient_down" : "transient_up";
+  };
   context.progress(fmt::format("[tori] transient at {:g} rpm: its torus ({} harmonics)", t.speed_rpm,
                                t.harmonics));
   const RubTransientTori result = ContinueTransientTori(
       plan.structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, start,
-      TransientTorusOptionsOf(scene),
+      WithWorkProgress(TransientTorusOptionsOf(scene), context, family_name, t0),
       [&](std::size_t j, const Branch& b) {
-        context.progress(fmt::format("[tori] transient_{}: {}, {:.0f} s", j == 0 ? "down" : "up",
-                                     StepProgress(b), SecondsSince(t0)));
+        context.progress(fmt::format("[tori] {}: {}, {:.0f} s", family_name(j), StepProgress(b),
+                                     SecondsSince(t0)));
         return true;
       });
   const ModulatedTorus& torus = result.start;
@@ -337,6 +353,90 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
   }
 }
 
+// The family `name` of result.orbits (as /tori/orbits/<name>) and the tori from its
+// Neimark–Sacker points (as /tori/<name>_ns<j>), printed; t0 when the family's work began.
+void WriteNeimarkSackerTori(const std::string& name, const RubModulatedTori& result,
+                            const RubStructure& structure, const OrbitTrust& trust,
+                            SteadyClock::time_point t0, StageContext& context) {
+  ResultWriter& writer = context.writer;
+  std::ostream& out = context.out;
+  const PeriodicOrbitBranch& family = result.orbits.orbits;
+  WritePeriodicOrbitBranch(writer, name, family, {"speed_rpm", kRpmPerRadPerSecond},
+                           "/tori/orbits");
+  fmt::print(out, "  {}: {}\n", name, family.branch.BriefReport());
+  if (IsFailure(family.branch.status)) {
+    context.failures.push_back(fmt::format("[tori] {}: {}", name, family.branch.message));
+  }
+  if (result.tori.empty()) {
+    fmt::print(out, "    no Neimark–Sacker point bounds a stable piece of it: no tori\n");
+  }
+  for (std::size_t j = 0; j < result.tori.size(); ++j) {
+    const TorusBranch& tori = result.tori[j];
+    const std::string torus_name = fmt::format("{}_ns{}", name, j + 1);
+    if (!tori.ok) {
+      fmt::print(out, "  {}: no start: {}\n", torus_name, tori.message);
+      context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.message));
+      continue;
+    }
+    WriteTorusFamily(writer, "/tori/" + torus_name, name, tori, result.lines[j], structure);
+    fmt::print(out, "  {}: born at {:.4f} rpm (ρ₀ = {:.6f}, |μ| = {:.6f}): {} ({:.1f} s)\n    {}\n",
+               torus_name, RadPerSecondToRpm(tori.birth_lambda), tori.birth_rotation_number,
+               tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
+    PrintTori(tori, result.lines[j], structure, out);
+    WriteLockedOrbits(writer, "/tori/" + torus_name, result.locked[j], out, context.failures);
+    WriteCentreOrbits(writer, "/tori/" + torus_name, tori, result.centres[j], trust, out,
+                      context.failures);
+    if (tori.end == TorusEnd::kFailed) {
+      context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
+    }
+  }
+}
+
+// The family through the orbit a transient settles on ([analysis.orbits.transient]) as
+// /tori/orbits/orbit_transient and the tori from its Neimark–Sacker points as
+// /tori/orbit_transient_ns<j>: the whips no Hopf point's family reaches (C(b)'s at 53–56 rpm).
+void RunTransientOrbitTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
+  const RubOrbitsSettings::Transient& t = scene.analysis.orbits.transient;
+  const OrbitTrust trust{plan.structure, scene.analysis.sweep.max_penetration};
+  const SteadyClock::time_point t0 = SteadyClock::now();
+  const std::string name = "orbit_transient";
+  context.progress(
+      fmt::format("[tori] {} at {:g} rpm: {:g} s from rest", name, t.speed_rpm, t.seconds));
+  const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
+  if (!ReportTransient("[tori]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds, transient,
+                       SecondsSince(t0), context)) {
+    return;
+  }
+  PeriodicOrbitBranchOptions options = plan.options.orbits;
+  options.on_step = [&](const Branch& b) {
+    context.progress(fmt::format("[tori] {}: {} orbits, {:.4f} rpm, {:.0f} s", name, b.Size(),
+                                 RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
+    return true;
+  };
+  const RubTransientOrbits orbits = ContinueTransientOrbits(
+      plan.structure, RpmToRadPerSecond(t.speed_rpm), HzToRadPerSecond(transient.precession_hz),
+      transient.state, TransientOrbitStartOf(scene), options, t.max_steps);
+  fmt::print(context.out, "  its orbit ({} modulation period{}): {}\n", t.laps,
+             t.laps == 1 ? "" : "s", orbits.start.message);
+  if (!orbits.start.converged) {
+    context.failures.push_back(fmt::format("[tori] the orbit of the transient at {:g} rpm: {}",
+                                           t.speed_rpm, orbits.start.message));
+    return;
+  }
+  const auto torus_name = [&name](std::size_t j) { return fmt::format("{}_ns{}", name, j + 1); };
+  const RubModulatedTori result = ContinueTransientOrbitTori(
+      plan.structure, orbits, WithWorkProgress(TorusOptionsOf(scene), context, torus_name, t0),
+      [&](std::size_t j, const Branch& b) {
+        context.progress(fmt::format("[tori] {}: {}, {:.0f} s", torus_name(j), StepProgress(b),
+                                     SecondsSince(t0)));
+        return true;
+      });
+  WriteNeimarkSackerTori(name, result, plan.structure, trust, t0, context);
+  const std::string group = "/tori/orbits/" + name;
+  WriteTransientAttributes(context.writer, group, t.speed_rpm, t.seconds, transient);
+  context.writer.SetAttribute(group, "laps", static_cast<double>(t.laps));
+}
+
 }  // namespace
 
 void RunRubTori(const Scene& scene, StageContext& context) {
@@ -362,11 +462,17 @@ void RunRubTori(const Scene& scene, StageContext& context) {
       settings.transient.enabled
           ? fmt::format("through the torus a transient settles on at {:g} rpm", settings.transient.speed_rpm)
           : "";
-  const std::string neimark_sacker =
-      settings.from_neimark_sacker
-          ? fmt::format("from the Neimark–Sacker points of the modulated orbits born at {} of the {} "
-                        "Hopf points bounding a stable rotating wave", plan.followed, plan.starts.size())
-          : "";
+  const RubOrbitsSettings::Transient& orbit_transient = scene.analysis.orbits.transient;
+  std::string neimark_sacker;
+  if (settings.from_neimark_sacker) {
+    neimark_sacker = fmt::format("from the Neimark–Sacker points of the modulated orbits born at "
+                                 "{} of the {} Hopf points bounding a stable rotating wave",
+                                 plan.followed, plan.starts.size());
+  }
+  if (settings.from_neimark_sacker && orbit_transient.enabled) {
+    neimark_sacker += fmt::format(" and of the family through the orbit a transient settles on at "
+                                  "{:g} rpm", orbit_transient.speed_rpm);
+  }
   fmt::print(out, "[tori] L2 relative 2-tori ({}) {}{}{} ({:.3f} s)\n", numerics, neimark_sacker,
              neimark_sacker.empty() || transient.empty() ? "" : "; ", transient, SecondsSince(begin));
   if (!plan.note.empty()) {
@@ -385,47 +491,23 @@ void RunRubTori(const Scene& scene, StageContext& context) {
                                    RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
       return true;
     };
+    const auto torus_name = [&name](std::size_t j) { return fmt::format("{}_ns{}", name, j + 1); };
     const RubModulatedTori result = ContinueModulatedTori(
-        plan.structure, plan.waves, start, plan.options, options,
-        [&](std::size_t j, const Branch& b) {
-          context.progress(fmt::format("[tori] {}_ns{}: {}, {:.0f} s", name, j + 1,
-                                       StepProgress(b), SecondsSince(t0)));
+        plan.structure, plan.waves, start, plan.options,
+        WithWorkProgress(options, context, torus_name, t0), [&](std::size_t j, const Branch& b) {
+          context.progress(fmt::format("[tori] {}: {}, {:.0f} s", torus_name(j), StepProgress(b),
+                                       SecondsSince(t0)));
           return true;
         });
-    const PeriodicOrbitBranch& family = result.orbits.orbits;
-    WritePeriodicOrbitBranch(writer, name, family, {"speed_rpm", kRpmPerRadPerSecond}, "/tori/orbits");
     const std::string family_group = "/tori/orbits/" + name;
+    WriteNeimarkSackerTori(name, result, plan.structure, trust, t0, context);
     writer.SetAttribute(family_group, "hopf_branch", start.branch);
     writer.SetAttribute(family_group, "hopf_speed_rpm", RadPerSecondToRpm(start.speed));
     writer.SetAttribute(family_group, "hopf_precession_hz", RadPerSecondToHz(start.precession));
     writer.SetAttribute(family_group, "hopf_modulation_hz", RadPerSecondToHz(start.modulation));
-    fmt::print(out, "  {}: {}\n", name, family.branch.BriefReport());
-    if (IsFailure(family.branch.status)) {
-      context.failures.push_back(fmt::format("[tori] {}: {}", name, family.branch.message));
-    }
-    if (result.tori.empty()) {
-      fmt::print(out, "    no Neimark–Sacker point bounds a stable piece of it: no tori\n");
-    }
-    for (std::size_t j = 0; j < result.tori.size(); ++j) {
-      const TorusBranch& tori = result.tori[j];
-      const std::string torus_name = fmt::format("{}_ns{}", name, j + 1);
-      if (!tori.ok) {
-        fmt::print(out, "  {}: no start: {}\n", torus_name, tori.message);
-        context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.message));
-        continue;
-      }
-      WriteTorusFamily(writer, "/tori/" + torus_name, name, tori, result.lines[j], plan.structure);
-      fmt::print(out, "  {}: born at {:.4f} rpm (ρ₀ = {:.6f}, |μ| = {:.6f}): {} ({:.1f} s)\n    {}\n",
-                 torus_name, RadPerSecondToRpm(tori.birth_lambda), tori.birth_rotation_number,
-                 tori.birth_modulus, tori.branch.BriefReport(), SecondsSince(t0), tori.end_note);
-      PrintTori(tori, result.lines[j], plan.structure, out);
-      WriteLockedOrbits(writer, "/tori/" + torus_name, result.locked[j], out, context.failures);
-      WriteCentreOrbits(writer, "/tori/" + torus_name, tori, result.centres[j], trust, out,
-                        context.failures);
-      if (tori.end == TorusEnd::kFailed) {
-        context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.end_note));
-      }
-    }
+  }
+  if (settings.from_neimark_sacker && orbit_transient.enabled) {
+    RunTransientOrbitTori(scene, plan, context);
   }
   if (settings.transient.enabled) RunTransientTori(scene, plan, context);
 }

@@ -1,7 +1,8 @@
 // The "tori" stage of `rubcont run` for model two_point (level L2): the modulated orbits of
 // [analysis.orbits] (without side branches), and from each of their Neimark–Sacker points that
 // bounds a stable piece the relative 2-tori born there, continued in speed (shooting/rub_tori.h;
-// [analysis.tori] neimark_sacker = "skip": none), and with [analysis.tori.transient] the tori
+// [analysis.tori] neimark_sacker = "skip": none) — the same from the family through the orbit of
+// [analysis.orbits.transient] where it is given — and with [analysis.tori.transient] the tori
 // through the torus a transient settles on,
 // summarized on `out` and written as
 //   /tori                          attrs level, parameter_name ("speed_rpm"), numerics (the
@@ -41,6 +42,13 @@
 //                                  _to_harmonics, _images, _rotation_numbers_from, _to,
 //                                  _fourier_tails_from, _to (one entry per doubling of K: both
 //                                  circles are tori of the family, at that speed).
+//   /tori/orbits/orbit_transient, /tori/orbit_transient_ns<j>
+//                                  with [analysis.orbits.transient] (and neimark_sacker =
+//                                  "follow"): the family through the transient's orbit (attrs
+//                                  transient_speed_rpm, transient_seconds, transient_settled,
+//                                  frame_precession_hz, laps) and the tori from its followed
+//                                  Neimark–Sacker points, as the two above (parent
+//                                  "orbit_transient")
 //   /tori/transient_down, _up    with [analysis.tori.transient]: the tori through the torus a
 //                                  transient settles on, continued towards lower / higher speed
 //                                  (as the families above without birth_*; parent "transient"),

@@ -24,7 +24,9 @@
 #                   1:3, from a transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s
-#                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU) and C(a)'s from 60 rpm
+#                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU), the tori from the
+#                   Neimark–Sacker point of C(b)'s whip at 53 rpm (scenes/thesis_C_b_tori_53.toml:
+#                   about 20 min of CPU) and C(a)'s from 60 rpm
 #                   (scenes/thesis_C_a_tori_60.toml: about 127 min of wall on one core).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
@@ -33,7 +35,8 @@
 #                   is at 49–124 rpm (results/thesis_C_a/attractor_*rpm.*: five runs, two side
 #                   by side, about 30 min on 2 cores; docs/studies/attractors.md, "C(a)'s speed-up whip,
 #                   speed by speed"); then C(b)'s and C(c)'s (results/thesis_C_{b,c}/attractor_*:
-#                   four runs, two side by side, about 25 min on 2 cores).
+#                   four runs, two side by side, about 25 min on 2 cores, then C(b)'s at 53–54.6
+#                   rpm both ways, two runs side by side, about 11 min).
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
 #                   (level L4, results/thesis_A_a_flexible/: about 16 min on 2 cores), then the
 #                   flexible B(a)'s and C(a)'s sweeps (30 and 7 min of CPU; 46 min in all, 2026-11-30).
@@ -161,6 +164,13 @@ if [[ "${1:-}" == "--attractor" ]]; then
   wait "$first"
   attractor_case b 52 60 1 4 2 & first=$!
   attractor_case c 48 70 2 4 2
+  wait "$first"
+  # C(b) where the rotor takes its torus and leaves it (53–54.6 rpm, 0.1 rpm steps): up from the
+  # whip the speed-up sweep reaches, and down from the torus (attractors.md, C(b)'s torus).
+  attractor_case b 53 54.6 0.1 4 2 & first=$!
+  down=results/thesis_C_b/attractor_54.6_53rpm_down
+  build/rubcont attractor scenes/thesis_C_b.toml --from 54.6 --to 53 --step 0.1 --direction down \
+    --approach up --duration 4 --discard 2 --tolerance 1e-7 --quiet --out "$down.h5" > "$down.txt"
   wait "$first"
 fi
 # Level L4 sweeps (docs/studies/flexible.md, "Level L4: does flexibility move the jumps?"): the flexible

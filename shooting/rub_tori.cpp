@@ -124,13 +124,26 @@ RubTorusLines TorusLines(const RubRotatingFrame& frame, int harmonics, const Vec
 
 namespace {
 
-// The lines of every torus of `tori` (TorusLines at each point).
+// `tori` with on_exponents reporting to options.on_work for the family numbered `family`.
+TorusBranchOptions ForFamily(TorusBranchOptions tori, const RubTorusOptions& options,
+                             std::size_t family) {
+  if (options.on_work) {
+    tori.on_exponents = [&options, family](std::size_t i, std::size_t n) {
+      options.on_work(family, "exponents", i, n);
+    };
+  }
+  return tori;
+}
+
+// The lines of every torus of the family numbered `family`, `tori` (TorusLines at each point).
 std::vector<RubTorusLines> LinesOf(const RubRotatingFrame& frame, const TorusBranch& tori,
-                                   const TorusBranchOptions& options, int samples) {
+                                   const TorusBranchOptions& options, const RubTorusOptions& rub,
+                                   std::size_t family) {
   std::vector<RubTorusLines> lines;
   for (std::size_t i = 0; i < tori.branch.points.size(); ++i) {
+    if (rub.on_work) rub.on_work(family, "lines", i, tori.branch.points.size());
     lines.push_back(TorusLines(frame, tori.SolvedHarmonics(i), tori.SolvedCircle(i),
-                               tori.branch.points[i].lambda, options.integrator, samples,
+                               tori.branch.points[i].lambda, options.integrator, rub.samples,
                                options.coordinates));
   }
   return lines;
@@ -193,18 +206,16 @@ void ReadLiftOff(const RubStructure& structure, const std::vector<RubTorusLines>
   }
 }
 
-RubModulatedTori ContinueModulatedTori(
-    const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
-    const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
-    const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
-  Validate(options.tori);
-  CheckSamples(options);
-  RubModulatedTori result;
-  result.orbits = ContinueModulatedOrbits(structure, branches, start, orbits, false);
+namespace {
+
+// The tori from each located Neimark–Sacker point of result.orbits.orbits (computed in `frame`)
+// that bounds a stable piece of it, with their lines, locked orbits and centre orbits.
+void FollowNeimarkSackerTori(const RubStructure& structure, const RubRotatingFrame& frame,
+                             const RubTorusOptions& options,
+                             const std::function<bool(std::size_t, const Branch&)>& on_torus_step,
+                             RubModulatedTori& result) {
   const PeriodicOrbitBranch& family = result.orbits.orbits;
-  // The frame the family was computed in (ContinueModulatedOrbits), and its map's integrator:
-  // the family's segments' mesh over one whole period.
-  const RubRotatingFrame frame(structure, start.precession, start.speed);
+  // The map's integrator: the family's segments' mesh over one whole period.
   TorusBranchOptions tori = options.tori;
   tori.integrator = JoinedIntegrator(family.shooting.integrator, family.segments);
   tori.grazing = RubTorusGrazing(structure);
@@ -214,10 +225,12 @@ RubModulatedTori ContinueModulatedTori(
         !BoundsStablePiece(family.branch, special[k])) {
       continue;
     }
-    const StepCallback step = FamilyStep(on_torus_step, result.tori.size());
+    const std::size_t index = result.tori.size();
+    const StepCallback step = FamilyStep(on_torus_step, index);
     result.tori.push_back(ContinueToriFromNeimarkSacker(std::make_shared<RubRotatingFrame>(frame),
-                                                        family, k, tori, step));
-    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
+                                                        family, k, ForFamily(tori, options, index),
+                                                        step));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options, index));
     ReadLiftOff(structure, result.lines.back(), result.tori.back());
     const TorusBranch& ended = result.tori.back();
     LockedOrbits locked;
@@ -231,6 +244,36 @@ RubModulatedTori ContinueModulatedTori(
     result.centres.push_back(
         CentresOf(structure, frame, ended, family.shooting, options.centre_orbits, step));
   }
+}
+
+}  // namespace
+
+RubModulatedTori ContinueModulatedTori(
+    const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
+    const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
+  Validate(options.tori);
+  CheckSamples(options);
+  RubModulatedTori result;
+  result.orbits = ContinueModulatedOrbits(structure, branches, start, orbits, false);
+  // The frame the family was computed in (ContinueModulatedOrbits).
+  FollowNeimarkSackerTori(structure, RubRotatingFrame(structure, start.precession, start.speed),
+                          options, on_torus_step, result);
+  return result;
+}
+
+RubModulatedTori ContinueTransientOrbitTori(
+    const RubStructure& structure, const RubTransientOrbits& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step) {
+  Validate(options.tori);
+  CheckSamples(options);
+  RubModulatedTori result;
+  result.orbits = orbits.family;
+  if (!orbits.start.converged) return result;
+  // The frame ContinueTransientOrbits computed the family in.
+  const RubRotatingFrame frame(structure, orbits.start.frame_rate,
+                               orbits.family.orbits.start_lambda);
+  FollowNeimarkSackerTori(structure, frame, options, on_torus_step, result);
   return result;
 }
 
@@ -257,18 +300,18 @@ RubTransientTori ContinueTransientTori(
     // (Its circle at the start's K: the downward family may have refined it further on.)
     const bool corrected = !result.tori.empty() && result.tori[0].ok &&
                            !result.tori[0].branch.points.empty();
+    const std::size_t index = result.tori.size();
     result.tori.push_back(ContinueTori(
         std::make_shared<RubRotatingFrame>(frame), OrbitKind::kRelative,
         corrected ? result.tori[0].SolvedCircle(0) : result.start.u,
-        corrected ? result.tori[0].branch.points.front().lambda : omega, tori,
-        FamilyStep(on_torus_step, result.tori.size())));
-    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options.samples));
+        corrected ? result.tori[0].branch.points.front().lambda : omega,
+        ForFamily(tori, options, index), FamilyStep(on_torus_step, index)));
+    result.lines.push_back(LinesOf(frame, result.tori.back(), tori, options, index));
     ReadLiftOff(structure, result.lines.back(), result.tori.back());
     ShootingOptions shooting = options.centre_orbits.shooting;
     shooting.segments *= result.start.laps;
     result.centres.push_back(CentresOf(structure, frame, result.tori.back(), shooting,
-                                       options.centre_orbits,
-                                       FamilyStep(on_torus_step, result.tori.size() - 1)));
+                                       options.centre_orbits, FamilyStep(on_torus_step, index)));
   }
   return result;
 }

@@ -73,6 +73,10 @@ struct RubTorusOptions {
   // tests RubTorusGrazing's, set here.
   TorusBranchOptions tori;
   int samples = 64;  // TorusLines' instants per period
+  // Called before each torus's lines and exponents (the work after its family is continued) with
+  // the family's index (as on_torus_step's), "lines" or "exponents", the torus's index and the
+  // family's size; tori.on_exponents is set from it.
+  std::function<void(std::size_t, const char*, std::size_t, std::size_t)> on_work;
   // The orbits a family shrinks onto (ContinueCentreOrbits, where it ends kShrinks): their range,
   // engine, stop_at_neimark_sacker and on_step as given; their shooting is this one's of one
   // modulation period, its segments times the section's laps, for a transient family, and the
@@ -104,6 +108,15 @@ struct RubModulatedTori {
 RubModulatedTori ContinueModulatedTori(
     const RubStructure& structure, const std::vector<RotatingWaveBranch>& branches,
     const RubHopfStart& start, const HopfOrbitOptions& orbits, const RubTorusOptions& options,
+    const std::function<bool(std::size_t, const Branch&)>& on_torus_step = {});
+
+// The tori from the Neimark–Sacker points of the family through a transient's orbit
+// (ContinueTransientOrbits: result.orbits is `orbits.family`), as ContinueModulatedTori's from a
+// Hopf point's family: where a whip no Hopf point's family reaches loses stability to a torus
+// (C(b)'s, stable at 53 rpm, at 53.95 rpm). No tori where the start did not converge.
+// Throws std::invalid_argument for invalid torus options.
+RubModulatedTori ContinueTransientOrbitTori(
+    const RubStructure& structure, const RubTransientOrbits& orbits, const RubTorusOptions& options,
     const std::function<bool(std::size_t, const Branch&)>& on_torus_step = {});
 
 // The tori through the torus a settled transient lies on: SolveModulatedTorus at running speed ω

@@ -490,6 +490,7 @@ void ReadEnd(Family& family, const Vector& u0, const TorusBranchOptions& options
 
   if (options.lyapunov_iterates > 0) {
     for (const BranchPoint& torus : tori.points) {
+      if (options.on_exponents) options.on_exponents(result.stability.size(), tori.points.size());
       result.stability.push_back(
           problem.LyapunovStability(torus.u, torus.lambda, options.lyapunov_iterates));
     }

@@ -36,6 +36,8 @@
 // p/q and |ρ − p/q|, so the reader can judge.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -67,6 +69,9 @@ struct TorusBranchOptions {
   // Lyapunov exponents of every stored torus from this many iterates of the map
   // (InvariantCircleProblem::LyapunovStability); 0: no stability.
   int lyapunov_iterates = 0;
+  // Called before each torus's exponents with its index and the family's size: they come after
+  // the family, a long stretch otherwise silent.
+  std::function<void(std::size_t, std::size_t)> on_exponents;
   // The circle's coordinates (InvariantCircleProblem): the state, or the system's chart.
   CircleCoordinates coordinates = CircleCoordinates::kState;
   // Switching surfaces whose grazing ends the family (InvariantCircleProblem::SetGrazingTests):

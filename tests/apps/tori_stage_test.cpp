@@ -197,6 +197,46 @@ TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a
   }
 }
 
+TEST_CASE("rubcont run, [analysis.orbits.transient] on C(b)'s tori: the tori born at the "
+          "Neimark-Sacker point of the family through the transient's orbit",
+          "[tori][cli]") {
+  // C(b)'s whip at 53 rpm (stable) loses stability at 53.953 rpm (arg mu / 2 pi = 0.2402; 1600
+  // intervals, scenes/thesis_C_b_tori_53.toml): no Hopf point's family reaches it. Here on 400
+  // intervals, K = 8 in the chart and two tori.
+  TempDir dir;
+  std::string text = Slurp("scenes/thesis_C_b_tori.toml");
+  text = text.substr(0, text.find("[analysis]"));
+  text += "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [53.0, 54.1]\n"
+          "[analysis.sweep]\nintegrator = \"bdf\"\n"
+          "[analysis.orbits]\nhopf_points = 0\n"
+          "[analysis.orbits.transient]\nspeed_rpm = 53.0\nmax_steps = 20\n"
+          "[analysis.tori]\ncoordinates = \"chart\"\nmax_steps = 2\nlyapunov_iterates = 8\n"
+          "samples = 8\n";
+  const Outcome run = RunQuiet(dir, "cb_orbit_tori", text);
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("orbit_transient_ns1: born at 53.95"));
+  const ResultReader file(dir.path / "cb_orbit_tori" / "cb_orbit_tori.h5");
+  REQUIRE(file.Exists("/tori/orbits/orbit_transient"));
+  CHECK(file.ReadDoubleAttribute("/tori/orbits/orbit_transient", "transient_speed_rpm") == 53.0);
+  const std::string group = "/tori/orbit_transient_ns1";
+  REQUIRE(file.Exists(group));
+  CHECK(file.ReadStringAttribute(group, "parent") == "orbit_transient");
+  const double birth = file.ReadDoubleAttribute(group, "birth_speed_rpm");
+  CHECK(birth == Approx(53.953).epsilon(0).margin(0.01));
+  const double rho0 = file.ReadDoubleAttribute(group, "birth_rotation_number");
+  CHECK(rho0 == Approx(0.2403).epsilon(0).margin(0.002));
+  const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+  const auto rho = file.ReadDoubles(group + "/rotation_number");
+  REQUIRE(rpm.size() == 3);
+  // Born small: the tori's rotation numbers stay near the multiplier's angle, their speeds near
+  // the point.
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    CHECK(rpm[i] == Approx(53.953).epsilon(0).margin(0.1));
+    CHECK(rho[i] == Approx(rho0).epsilon(0).margin(0.005));
+  }
+}
+
 TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits with code 2",
           "[tori][cli]") {
   TempDir dir;
@@ -230,6 +270,17 @@ TEST_CASE("stage tori on a textbook scene, or a bad [analysis.tori] key, exits w
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.seconds = 0.1: must be at least "
                                    "(settle_windows + 1)·settle_window of [analysis.sweep] = 0.75 s"));
   CHECK_THAT(outside.err, Contains("analysis.tori.transient.laps = 65: must be at most 64"));
+  // The orbits' transient, whose family's Neimark-Sacker points the stage follows, under the
+  // same rules where the stage "orbits" does not run.
+  const std::string both = "stages = [\"orbits\", \"tori\"]";
+  REQUIRE(text.find(both) != std::string::npos);
+  text.replace(text.find(both), both.size(), "stages = [\"tori\"]");
+  std::ofstream(scene) << text << "[analysis.orbits.transient]\nspeed_rpm = 60.0\n";
+  const Outcome orbits =
+      testing::RubcontNoPython("run " + scene.string() + " --out " + dir.path.string());
+  CHECK(orbits.exit_code == 2);
+  CHECK_THAT(orbits.err, Contains("analysis.orbits.transient.speed_rpm = 60.0: must lie in "
+                                  "analysis.speed_range_rpm = [20.0, 52.0]"));
 }
 
 TEST_CASE("centre_orbits in [analysis.tori]: \"follow\" (the default) continues the orbits a "

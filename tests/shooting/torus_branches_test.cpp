@@ -10,6 +10,8 @@
 
 #include <cmath>
 #include <complex>
+#include <utility>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -102,9 +104,17 @@ TEST_CASE("tori from a Neimark-Sacker point: radius sqrt(lambda), rotation numbe
   const std::size_t k = FirstOf(family.branch, SpecialPointType::kNeimarkSacker);
   CHECK(family.branch.special_points[k].lambda == Approx(0.0).epsilon(0).margin(1e-7));
 
-  const TorusBranch tori = ContinueToriFromNeimarkSacker(system, family, k, TorusOptions());
+  TorusBranchOptions options = TorusOptions();
+  std::vector<std::pair<std::size_t, std::size_t>> said;  // on_exponents' (torus, family size)
+  options.on_exponents = [&said](std::size_t i, std::size_t n) { said.emplace_back(i, n); };
+  const TorusBranch tori = ContinueToriFromNeimarkSacker(system, family, k, options);
   INFO(tori.message << " / " << tori.branch.BriefReport() << " / " << tori.end_note);
   REQUIRE(tori.ok);
+  // Each torus's exponents announced once, in order, with the family's size.
+  REQUIRE(said.size() == tori.branch.points.size());
+  for (std::size_t i = 0; i < said.size(); ++i) {
+    CHECK(said[i] == std::make_pair(i, tori.branch.points.size()));
+  }
   CHECK(tori.birth_rotation_number == Approx(kOmega1 / kOmega0).epsilon(1e-6));
   CHECK(tori.birth_modulus == Approx(1.0).epsilon(0).margin(1e-6));
   CHECK(tori.end == TorusEnd::kBound);
