@@ -215,6 +215,9 @@ TEST_CASE("rubcont run, [analysis.orbits.transient] on C(b)'s tori: the tori bor
   const Outcome run = RunQuiet(dir, "cb_orbit_tori", text);
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("from the Neimark–Sacker points of the modulated orbits born at 0 "
+                               "of the 0 Hopf points bounding a stable rotating wave and of the "
+                               "family through the orbit a transient settles on at 53 rpm"));
   CHECK_THAT(run.out, Contains("orbit_transient_ns1: born at 53.95"));
   const ResultReader file(dir.path / "cb_orbit_tori" / "cb_orbit_tori.h5");
   REQUIRE(file.Exists("/tori/orbits/orbit_transient"));
