@@ -332,35 +332,14 @@ void RunTransientOrbits(const Scene& scene, const RubOrbitsPlan& plan, const Orb
   const RubOrbitsSettings::Transient& t = scene.analysis.orbits.transient;
   std::ostream& out = context.out;
   const SteadyClock::time_point t0 = SteadyClock::now();
-  context.progress(
-      fmt::format("[orbits] transient at {:g} rpm: {:g} s from rest", t.speed_rpm, t.seconds));
-  const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
-  if (!ReportTransient("[orbits]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds,
-                       transient, SecondsSince(t0), context)) {
-    return;
-  }
-  const ModulatedOrbitOptions start = TransientOrbitStartOf(scene);
-  PeriodicOrbitBranchOptions options = plan.options.orbits;  // the side branches' max_steps
-  options.on_step = [&](const Branch& b) {
-    context.progress(fmt::format("[orbits] transient: {} orbits, {:.4f} rpm, {:.0f} s", b.Size(),
-                                 RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
-    return true;
-  };
-  context.progress(fmt::format("[orbits] transient at {:g} rpm: its orbit ({} lap{})", t.speed_rpm,
-                               t.laps, t.laps == 1 ? "" : "s"));
-  const RubTransientOrbits result = ContinueTransientOrbits(
-      plan.structure, RpmToRadPerSecond(t.speed_rpm), HzToRadPerSecond(transient.precession_hz),
-      transient.state, start, options, t.max_steps, scene.analysis.orbits.follow_branch_points);
-  const ModulatedOrbit& orbit = result.start;
-  fmt::print(out, "  its orbit ({} modulation period{}): {}\n", t.laps, t.laps == 1 ? "" : "s",
-             orbit.message);
-  if (!orbit.converged) {
-    context.failures.push_back(fmt::format("[orbits] the orbit of the transient at {:g} rpm: {}",
-                                           t.speed_rpm, orbit.message));
-    return;
-  }
-  const PeriodicOrbitBranch& family = result.family.orbits;
   const std::string name = "transient";
+  const std::optional<SceneTransientOrbits> solved = SolveSceneTransientOrbits(
+      scene, plan, "[orbits]", name, scene.analysis.orbits.follow_branch_points, t0, context);
+  if (!solved) return;
+  const RubSettledSpeed& transient = solved->transient;
+  const RubTransientOrbits& result = solved->orbits;
+  const ModulatedOrbit& orbit = result.start;
+  const PeriodicOrbitBranch& family = result.family.orbits;
   WritePeriodicOrbitBranch(context.writer, name, family, {"speed_rpm", kRpmPerRadPerSecond},
                            "/orbits");
   const std::string group = "/orbits/" + name;
@@ -466,6 +445,42 @@ std::string RubOrbitsNumerics(const Scene& scene) {
   }
   return fmt::format("{}, CVODES BDF at tolerance {:g} with sensitivities", segments,
                      settings.tolerance);
+}
+
+std::optional<SceneTransientOrbits> SolveSceneTransientOrbits(
+    const Scene& scene, const RubOrbitsPlan& plan, const std::string& prefix,
+    const std::string& name, bool side_branches, SteadyClock::time_point t0,
+    StageContext& context) {
+  const RubOrbitsSettings::Transient& t = scene.analysis.orbits.transient;
+  context.progress(
+      fmt::format("{} {} at {:g} rpm: {:g} s from rest", prefix, name, t.speed_rpm, t.seconds));
+  SceneTransientOrbits solved;
+  solved.transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
+  const RubSettledSpeed& transient = solved.transient;
+  if (!ReportTransient(prefix, "orbit", scene, plan.structure, t.speed_rpm, t.seconds, transient,
+                       SecondsSince(t0), context)) {
+    return std::nullopt;
+  }
+  PeriodicOrbitBranchOptions options = plan.options.orbits;  // the side branches' max_steps
+  options.on_step = [&](const Branch& b) {
+    context.progress(fmt::format("{} {}: {} orbits, {:.4f} rpm, {:.0f} s", prefix, name, b.Size(),
+                                 RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
+    return true;
+  };
+  context.progress(fmt::format("{} {} at {:g} rpm: its orbit ({} lap{})", prefix, name,
+                               t.speed_rpm, t.laps, t.laps == 1 ? "" : "s"));
+  solved.orbits = ContinueTransientOrbits(
+      plan.structure, RpmToRadPerSecond(t.speed_rpm), HzToRadPerSecond(transient.precession_hz),
+      transient.state, TransientOrbitStartOf(scene), options, t.max_steps, side_branches);
+  const ModulatedOrbit& orbit = solved.orbits.start;
+  fmt::print(context.out, "  its orbit ({} modulation period{}): {}\n", t.laps,
+             t.laps == 1 ? "" : "s", orbit.message);
+  if (!orbit.converged) {
+    context.failures.push_back(fmt::format("{} the orbit of the transient at {:g} rpm: {}", prefix,
+                                           t.speed_rpm, orbit.message));
+    return std::nullopt;
+  }
+  return solved;
 }
 
 RubSettledSpeed SceneTransient(const Scene& scene, const RubStructure& structure, double speed_rpm,

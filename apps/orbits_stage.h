@@ -40,12 +40,14 @@
 //                                    /orbits/transient_pd<k> as above.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "apps/models.h"
 #include "shooting/rub_orbits.h"
+#include "solvers/stopwatch.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -81,6 +83,20 @@ bool ReportTransient(const std::string& prefix, const std::string& what, const S
                      const RubStructure& structure, double speed_rpm, double seconds,
                      const RubSettledSpeed& transient, double elapsed_seconds,
                      StageContext& context);
+
+// The family through the orbit [analysis.orbits.transient]'s transient settles on, for the stages
+// "orbits" and "tori": the transient (SceneTransient, ReportTransient), its orbit solved and
+// continued over the range (ContinueTransientOrbits with the plan's options; the side branches
+// where `side_branches`), the orbit's line printed, and the steps on the progress line as
+// "<prefix> <name>: …"; t0 when the work began. Empty, with a failure in the context, where the
+// transient shows no backward precession or its orbit does not converge.
+struct SceneTransientOrbits {
+  RubSettledSpeed transient;
+  RubTransientOrbits orbits;
+};
+std::optional<SceneTransientOrbits> SolveSceneTransientOrbits(
+    const Scene& scene, const RubOrbitsPlan& plan, const std::string& prefix,
+    const std::string& name, bool side_branches, SteadyClock::time_point t0, StageContext& context);
 
 // The attributes both stages give a family from a transient: transient_speed_rpm,
 // transient_seconds, transient_settled (1 / 0) and frame_precession_hz (the frame's rate).

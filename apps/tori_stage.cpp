@@ -400,32 +400,13 @@ void RunTransientOrbitTori(const Scene& scene, const RubOrbitsPlan& plan, StageC
   const OrbitTrust trust{plan.structure, scene.analysis.sweep.max_penetration};
   const SteadyClock::time_point t0 = SteadyClock::now();
   const std::string name = "orbit_transient";
-  context.progress(
-      fmt::format("[tori] {} at {:g} rpm: {:g} s from rest", name, t.speed_rpm, t.seconds));
-  const RubSettledSpeed transient = SceneTransient(scene, plan.structure, t.speed_rpm, t.seconds);
-  if (!ReportTransient("[tori]", "orbit", scene, plan.structure, t.speed_rpm, t.seconds, transient,
-                       SecondsSince(t0), context)) {
-    return;
-  }
-  PeriodicOrbitBranchOptions options = plan.options.orbits;
-  options.on_step = [&](const Branch& b) {
-    context.progress(fmt::format("[tori] {}: {} orbits, {:.4f} rpm, {:.0f} s", name, b.Size(),
-                                 RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
-    return true;
-  };
-  const RubTransientOrbits orbits = ContinueTransientOrbits(
-      plan.structure, RpmToRadPerSecond(t.speed_rpm), HzToRadPerSecond(transient.precession_hz),
-      transient.state, TransientOrbitStartOf(scene), options, t.max_steps);
-  fmt::print(context.out, "  its orbit ({} modulation period{}): {}\n", t.laps,
-             t.laps == 1 ? "" : "s", orbits.start.message);
-  if (!orbits.start.converged) {
-    context.failures.push_back(fmt::format("[tori] the orbit of the transient at {:g} rpm: {}",
-                                           t.speed_rpm, orbits.start.message));
-    return;
-  }
+  const std::optional<SceneTransientOrbits> solved =
+      SolveSceneTransientOrbits(scene, plan, "[tori]", name, false, t0, context);
+  if (!solved) return;
   const auto torus_name = [&name](std::size_t j) { return fmt::format("{}_ns{}", name, j + 1); };
   const RubModulatedTori result = ContinueTransientOrbitTori(
-      plan.structure, orbits, WithWorkProgress(TorusOptionsOf(scene), context, torus_name, t0),
+      plan.structure, solved->orbits,
+      WithWorkProgress(TorusOptionsOf(scene), context, torus_name, t0),
       [&](std::size_t j, const Branch& b) {
         context.progress(fmt::format("[tori] {}: {}, {:.0f} s", torus_name(j), StepProgress(b),
                                      SecondsSince(t0)));
@@ -433,7 +414,7 @@ void RunTransientOrbitTori(const Scene& scene, const RubOrbitsPlan& plan, StageC
       });
   WriteNeimarkSackerTori(name, result, plan.structure, trust, t0, context);
   const std::string group = "/tori/orbits/" + name;
-  WriteTransientAttributes(context.writer, group, t.speed_rpm, t.seconds, transient);
+  WriteTransientAttributes(context.writer, group, t.speed_rpm, t.seconds, solved->transient);
   context.writer.SetAttribute(group, "laps", static_cast<double>(t.laps));
 }
 
