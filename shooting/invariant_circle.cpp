@@ -259,7 +259,11 @@ const InvariantCircleProblem::Integrated& InvariantCircleProblem::Integrate(cons
         sensitivities ? integrator.Integrate(0.0, start, period, end,
                                              &cached_.stms[static_cast<size_t>(j)], &dxdp, &dxdt)
                       : integrator.Integrate(0.0, start, period, end);
-    if (!result.Succeeded()) return cached_;  // ok stays false
+    if (!result.Succeeded()) {  // ok stays false
+      cached_.failure = fmt::format("the map of the circle's point {} of {} (θ = {:.4f}) failed: {}",
+                                    j, points_, Node(j), result.BriefReport());
+      return cached_;
+    }
     cached_.ends.col(j) = end;
     if (sensitivities) {
       cached_.dpdp.col(j) = dxdp;

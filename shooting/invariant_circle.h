@@ -230,6 +230,10 @@ class InvariantCircleProblem : public Problem {
 
   // The defect max_j |P(u(ϑ_j)) − u(ϑ_j + 2πρ)| ./ scale at ϑ_j = θ_j + π/N.
   double InvarianceError(const Vector& u, double lambda);
+  // Where the last map of the circle's points failed ("" when it succeeded): the point and the
+  // integrator's report. A failed map makes the residual non-finite, which Newton's report names
+  // without its cause.
+  const std::string& MapFailure() const { return cached_.failure; }
   // The circle's graph transform: its points u(ϑ_k) at `angles`, each mapped `images` times by the
   // problem's map P (n × angles, states); the k-th lies on the image circle at ϑ_k + 2π·images·ρ.
   // Empty, with `failure` saying where, when an integration fails.
@@ -267,6 +271,7 @@ class InvariantCircleProblem : public Problem {
     // n × N: ∂P/∂T, the integrator's own (OdeIntegrator::Integrate's dxdt1: for Gauss collocation
     // its map's, not f at the end); with sensitivities.
     Matrix dpdt;
+    std::string failure;          // where an integration failed (ok false), else ""
   };
   // The collocation point θ_j = 2πj/N.
   double Node(Index j) const;

@@ -61,6 +61,11 @@ IntegratorOptions MapIntegrator(const IntegratorOptions& integrator, int interva
   return JoinedIntegrator(gauss, laps);
 }
 
+// "; " and where the circle's map failed, when it did (the cause of a non-finite residual).
+std::string MapFailureNote(const InvariantCircleProblem& circle) {
+  return circle.MapFailure().empty() ? std::string() : "; " + circle.MapFailure();
+}
+
 // The flow from `state` sampled `count` times, `step` apart from t = 0.
 IntegrationResult SampleFlow(OdeSystem& system, const IntegratorOptions& options,
                              const Vector& state, Index count, double step, Matrix& samples) {
@@ -230,9 +235,9 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
   torus.newton = solve(*circle, options.newton);
   if (!torus.newton.Converged()) {
     return done(fmt::format("Newton from the transient's circle ({} × T ≈ {:.6g} s, φ ≈ {:.4g}, "
-                            "ρ ≈ {:.4f}, K = {}): {}", torus.laps, period, torus.search_rotation,
+                            "ρ ≈ {:.4f}, K = {}): {}{}", torus.laps, period, torus.search_rotation,
                             circle->RotationNumber(torus.u), options.harmonics,
-                            torus.newton.BriefReport()));
+                            torus.newton.BriefReport(), MapFailureNote(*circle)));
   }
   // Damped: from another circle (coarser, or another map's) a full step can leave the contact's
   // manifold where the map's integration fails (C(c) at 64 rpm, K = 16: a non-finite residual
@@ -254,9 +259,9 @@ ModulatedTorus SolveModulatedTorus(const RubStructure& structure, double omega, 
     torus.newton = solve(*final_map, damped);
     if (!torus.newton.Converged()) {
       return done(fmt::format("Newton under Gauss collocation on {} intervals per period from the "
-                              "first map's circle (ρ {:.8f}, K = {}): {}", intervals,
+                              "first map's circle (ρ {:.8f}, K = {}): {}{}", intervals,
                               torus.first_map_rotation_number, circle->harmonics(),
-                              torus.newton.BriefReport()));
+                              torus.newton.BriefReport(), MapFailureNote(*final_map)));
     }
     circle = std::move(final_map);
     first_map = fmt::format("first solved under the transient's map, ρ {:.8f}, then under Gauss "

@@ -682,6 +682,31 @@ TEST_CASE("invariant circle: the same circle traversed either way is fitted with
   }
 }
 
+TEST_CASE("invariant circle: a map that fails names its point and the integrator's report",
+          "[torus][failure]") {
+  // The clocked torus's circle under an integrator allowed 3 steps per period: each point's map
+  // fails, the residual is non-finite, and MapFailure says where and why; under the tests' own
+  // integrator the maps succeed and it says nothing.
+  ClockedTorus torus;
+  const double r = std::sqrt(torus.params.lambda);
+  Matrix c = Matrix::Zero(2, 7);
+  c.col(1) << r, 0.0;
+  c.col(2) << 0.0, r;
+  IntegratorOptions starved = TightCircle();
+  starved.max_steps = 3;
+  InvariantCircleProblem problem(torus.system, 3, OrbitKind::kForced, starved);
+  const Vector u = problem.Pack(c, torus.Rho(torus.params.lambda));
+  Vector F;
+  problem.Residual(u, torus.params.lambda, F);
+  CHECK_FALSE(F.allFinite());
+  CHECK_THAT(problem.MapFailure(),
+             Catch::StartsWith("the map of the circle's point 0 of 7 (θ = 0.0000) failed: "
+                               "too much work"));
+  torus.problem.Residual(u, torus.params.lambda, F);
+  CHECK(F.allFinite());
+  CHECK(torus.problem.MapFailure().empty());
+}
+
 TEST_CASE("invariant circle: a kind the system cannot have is rejected", "[torus][failure]") {
   auto plain = std::make_shared<StuartLandauChain>(std::vector<double>{1.0, 1.7},
                                                    std::vector<double>{0.0, 0.0}, 0.5, 0.0, false);
