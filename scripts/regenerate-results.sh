@@ -26,7 +26,8 @@
 #                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU), the tori from the
 #                   Neimark–Sacker point of C(b)'s whip at 53 rpm (scenes/thesis_C_b_tori_53.toml:
-#                   about 20 min of CPU) and C(a)'s from 60 rpm
+#                   about 20 min of CPU), C(b)'s period-1 whip from a transient at 64 rpm
+#                   (scenes/thesis_C_b_whip_64.toml: about 2 min of CPU) and C(a)'s from 60 rpm
 #                   (scenes/thesis_C_a_tori_60.toml: about 127 min of wall on one core).
 #   --attractor     also re-runs what A(a)'s speed-up whip is, 52 → 184 rpm (`rubcont attractor`,
 #                   results/thesis_A_a/attractor_*rpm.*: three runs side by side, about 15 min on
