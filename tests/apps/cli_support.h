@@ -64,6 +64,21 @@ inline Outcome Rubcont(const std::string& args, const std::string& env = "") {
 // The same without figures.
 inline Outcome RubcontNoPython(const std::string& args) { return Rubcont(args, kNoPython); }
 
+// A committed scene's model (its text up to [analysis]) followed by `analysis`: the structure of a
+// thesis scene with the tests' own, cheaper analysis.
+inline std::string SceneWithAnalysis(const fs::path& scene, const std::string& analysis) {
+  const std::string text = Slurp(scene);
+  return text.substr(0, text.find("[analysis]")) + analysis;
+}
+
+// `rubcont run` of `text`, written as `name`.toml in `dir`, quietly and without figures; the
+// results land in dir/name/.
+inline Outcome RunQuiet(const TempDir& dir, const std::string& name, const std::string& text) {
+  const fs::path scene = dir.path / (name + ".toml");
+  std::ofstream(scene) << text;
+  return RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+}
+
 // Case A(a) in `dir` with a speed-up schedule 40, 44, 48 rpm (the whirl: it rolls from the impulse
 // on), 0.75 s per speed.
 inline fs::path WhirlScene(const fs::path& dir) {

@@ -305,15 +305,13 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   // 49.7; bench/locked_whip_bench follows the same family between folds at 49.24472 and 58.65088
   // rpm, with its first period doubling at 49.47091 rpm (measured).
   TempDir dir;
-  std::string text = Slurp("scenes/thesis_C_a_tori.toml");
-  text = text.substr(0, text.find("[analysis]"));
-  text += "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [49.35, 49.5]\n"
+  const Outcome run = testing::RunQuiet(
+      dir, "ca_locked",
+      testing::SceneWithAnalysis(
+          "scenes/thesis_C_a_tori.toml",
+          "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [49.35, 49.5]\n"
           "[analysis.orbits]\nhopf_points = 0\nmax_steps = 3\n"
-          "[analysis.orbits.transient]\nspeed_rpm = 49.4\nlaps = 3\nmax_steps = 10\n";
-  const fs::path scene = dir.path / "ca_locked.toml";
-  std::ofstream(scene) << text;
-  const Outcome run =
-      testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
+          "[analysis.orbits.transient]\nspeed_rpm = 49.4\nlaps = 3\nmax_steps = 10\n"));
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("from 0 of the"));
@@ -354,6 +352,57 @@ TEST_CASE("orbits from a transient, C(a) at 49.4 rpm: [analysis.orbits.transient
   // Side branches take [analysis.orbits] max_steps (3), the family the transient's (10).
   CHECK(file.ReadDoubles("/orbits/transient_pd1/speed_rpm").size() <= 4);
   CHECK(rpm.size() <= 2 * 10 + 1);
+}
+
+TEST_CASE("orbits from a transient, C(b) at 64 rpm: the whip L3 reads as period 3 in the section "
+          "is an orbit of one modulation period, stable down to a Neimark-Sacker point next to "
+          "its fold", "[orbits][cli][rub_orbits]") {
+  // scenes/thesis_C_b_whip_64.toml on 1600 intervals (measured): T = 9.3552946 ms, a fold at
+  // 58.0544 rpm and Neimark-Sacker points at 58.0590 and 58.1349 rpm, stable from the latter;
+  // L3's third and fourth exponents at 64 rpm -7.20 +- 0.42 and -7.19 +- 0.18 1/s. Here on 800.
+  TempDir dir;
+  const Outcome run = testing::RunQuiet(
+      dir, "cb_whip",
+      testing::SceneWithAnalysis(
+          "scenes/thesis_C_b_whip_64.toml",
+          "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [57.95, 64.2]\n"
+          "[analysis.sweep]\nexplicit_tolerance = 1e-9\n"
+          "[analysis.orbits]\nhopf_points = 0\ncollocation_intervals = 800\n"
+          "predictor = \"curved\"\nbranch_points = \"mark\"\nat_grazing = \"stop\"\n"
+          "[analysis.orbits.transient]\nspeed_rpm = 64.0\nmax_steps = 60\n"));
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("its orbit (1 modulation period): T = "));
+  const ResultReader file(dir.path / "cb_whip" / "cb_whip.h5");
+  const std::string group = "/orbits/transient";
+  REQUIRE(file.Exists(group));
+  CHECK(1.0 / file.ReadDoubleAttribute(group, "start_period") ==
+        Approx(106.89).epsilon(0).margin(0.05));
+  const auto types = file.ReadStrings(group + "/special_points/type");
+  const auto at = file.ReadDoubles(group + "/special_points/speed_rpm");
+  double fold = 0.0, upper_ns = 0.0;
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    if (types[i] == "fold") fold = at[i];
+    if (types[i] == "Neimark-Sacker") upper_ns = std::max(upper_ns, at[i]);
+  }
+  CHECK(fold == Approx(58.0544).epsilon(0).margin(5e-3));
+  CHECK(upper_ns == Approx(58.1349).epsilon(0).margin(5e-3));
+  // Stable only above the upper point, on the side through the transient's orbit; there the
+  // multipliers give L3's exponents at 64 rpm.
+  const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+  const auto stable = file.ReadInts(group + "/stable");
+  const auto largest = file.ReadDoubles(group + "/max_multiplier_modulus");
+  const auto period = file.ReadDoubles(group + "/period");
+  bool stable_at_64 = false;
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    INFO(rpm[i] << " rpm");
+    if (stable[i] == 1) CHECK(rpm[i] > upper_ns);
+    if (rpm[i] == 64.0) {
+      stable_at_64 = stable[i] == 1;
+      CHECK(std::log(largest[i]) / period[i] == Approx(-7.2).epsilon(0).margin(0.45));
+    }
+  }
+  CHECK(stable_at_64);
 }
 
 // An [analysis.orbits] switch `key` with the choices `off`, `on` (in the schema's order): read into

@@ -24,16 +24,12 @@ namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 using testing::Outcome;
+using testing::RunQuiet;
+using testing::SceneWithAnalysis;
 using testing::Slurp;
 using testing::TempDir;
 
 // `text` written as <dir>/<name>.toml and run by `rubcont run --quiet` into dir.
-Outcome RunQuiet(const TempDir& dir, const std::string& name, const std::string& text) {
-  const fs::path scene = dir.path / (name + ".toml");
-  std::ofstream(scene) << text;
-  return testing::RubcontNoPython("run " + scene.string() + " --quiet --out " + dir.path.string());
-}
-
 TEST_CASE("rubcont run scenes/thesis_C_a_tori.toml, short: the tori born at the modulated whip's "
           "Neimark-Sacker point, their frequencies and stability in /tori",
           "[tori][cli]") {
@@ -114,12 +110,12 @@ TEST_CASE("rubcont run, [analysis.tori.transient] at 49 rpm on C(a): the torus a
           "settles on past the 2:5 tongue, continued both ways, in /tori/transient_down and _up",
           "[tori][cli]") {
   TempDir dir;
-  std::string text = Slurp("scenes/thesis_C_a_tori.toml");
-  text = text.substr(0, text.find("[analysis]"));
   // No modulated orbits: only the transient's tori (K = 8; K = 4 fits no circle to its points).
-  text += "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [20.0, 52.0]\n"
-          "[analysis.tori]\nneimark_sacker = \"skip\"\nlyapunov_iterates = 1\nsamples = 4\n"
-          "[analysis.tori.transient]\nspeed_rpm = 49.0\nharmonics = 8\nmax_steps = 1\n";
+  const std::string text = SceneWithAnalysis(
+      "scenes/thesis_C_a_tori.toml",
+      "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [20.0, 52.0]\n"
+      "[analysis.tori]\nneimark_sacker = \"skip\"\nlyapunov_iterates = 1\nsamples = 4\n"
+      "[analysis.tori.transient]\nspeed_rpm = 49.0\nharmonics = 8\nmax_steps = 1\n");
   const Outcome run = RunQuiet(dir, "ca_transient", text);
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
@@ -204,14 +200,14 @@ TEST_CASE("rubcont run, [analysis.orbits.transient] on C(b)'s tori: the tori bor
   // intervals, scenes/thesis_C_b_tori_53.toml): no Hopf point's family reaches it. Here on 400
   // intervals, K = 8 in the chart and two tori.
   TempDir dir;
-  std::string text = Slurp("scenes/thesis_C_b_tori.toml");
-  text = text.substr(0, text.find("[analysis]"));
-  text += "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [53.0, 54.1]\n"
-          "[analysis.sweep]\nintegrator = \"bdf\"\n"
-          "[analysis.orbits]\nhopf_points = 0\n"
-          "[analysis.orbits.transient]\nspeed_rpm = 53.0\nmax_steps = 20\n"
-          "[analysis.tori]\ncoordinates = \"chart\"\nmax_steps = 2\nlyapunov_iterates = 8\n"
-          "samples = 8\n";
+  const std::string text = SceneWithAnalysis(
+      "scenes/thesis_C_b_tori.toml",
+      "[analysis]\nstages = [\"tori\"]\nspeed_range_rpm = [53.0, 54.1]\n"
+      "[analysis.sweep]\nintegrator = \"bdf\"\n"
+      "[analysis.orbits]\nhopf_points = 0\n"
+      "[analysis.orbits.transient]\nspeed_rpm = 53.0\nmax_steps = 20\n"
+      "[analysis.tori]\ncoordinates = \"chart\"\nmax_steps = 2\nlyapunov_iterates = 8\n"
+      "samples = 8\n");
   const Outcome run = RunQuiet(dir, "cb_orbit_tori", text);
   INFO(run.out << run.err);
   REQUIRE(run.exit_code == 0);
