@@ -37,7 +37,8 @@
 #                   by side, about 30 min on 2 cores; docs/studies/attractors.md, "C(a)'s speed-up whip,
 #                   speed by speed"); then C(b)'s and C(c)'s (results/thesis_C_{b,c}/attractor_*:
 #                   four runs, two side by side, about 25 min on 2 cores, then C(b)'s at 53–54.6
-#                   rpm both ways, two runs side by side, about 11 min).
+#                   rpm both ways, two runs side by side, about 11 min, and down from 60 to 57.6
+#                   rpm, about 4 min).
 #   --flexible      also re-runs the flexible A(a)'s sweeps and the lifetimes of its speed-up whip
 #                   (level L4, results/thesis_A_a_flexible/: about 16 min on 2 cores), then the
 #                   flexible B(a)'s and C(a)'s sweeps (30 and 7 min of CPU; 46 min in all, 2026-11-30).
@@ -173,6 +174,10 @@ if [[ "${1:-}" == "--attractor" ]]; then
   build/rubcont attractor scenes/thesis_C_b.toml --from 54.6 --to 53 --step 0.1 --direction down \
     --approach up --duration 4 --discard 2 --tolerance 1e-7 --quiet --out "$down.h5" > "$down.txt"
   wait "$first"
+  # Down from C(b)'s one-period whip past its Neimark–Sacker point and fold (58.13, 58.05 rpm).
+  down=results/thesis_C_b/attractor_60_57.6rpm_down
+  build/rubcont attractor scenes/thesis_C_b.toml --from 60 --to 57.6 --step 0.2 --direction down \
+    --duration 2 --discard 1 --tolerance 1e-7 --quiet --out "$down.h5" > "$down.txt"
 fi
 # Level L4 sweeps (docs/studies/flexible.md, "Level L4: does flexibility move the jumps?"): the flexible
 # A(a)'s speed-up and speed-down sweeps (16 min on one core) beside the lifetimes of its speed-up
