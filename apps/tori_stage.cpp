@@ -259,6 +259,24 @@ RubTorusOptions WithWorkProgress(RubTorusOptions options, StageContext& context,
   return options;
 }
 
+// The tori's continuation steps as progress, "[tori] <name_of(j)>: <the step>, <s> s" for the
+// family of index j; t0 when the work began.
+std::function<bool(std::size_t, const Branch&)> TorusStepProgress(
+    StageContext& context, std::function<std::string(std::size_t)> name_of,
+    SteadyClock::time_point t0) {
+  return [&context, name_of = std::move(name_of), t0](std::size_t j, const Branch& b) {
+    context.progress(fmt::format("[tori] {}: {}, {:.0f} s", name_of(j), StepProgress(b),
+                                 SecondsSince(t0)));
+    return true;
+  };
+}
+
+// The name of the j-th torus family from the Neimark–Sacker points of the orbit family `family`:
+// "<family>_ns<j + 1>" (/tori/<that>).
+std::string NeimarkSackerToriName(const std::string& family, std::size_t j) {
+  return fmt::format("{}_ns{}", family, j + 1);
+}
+
 // The tori through the torus a transient settles on ([analysis.tori.transient]): the transient,
 // its torus, both families written as /tori/transient_down and /tori/transient_up.
 void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContext& context) {
@@ -282,11 +300,7 @@ void RunTransientTori(const Scene& scene, const RubOrbitsPlan& plan, StageContex
   const RubTransientTori result = ContinueTransientTori(
       plan.structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, start,
       WithWorkProgress(TransientTorusOptionsOf(scene), context, family_name, t0),
-      [&](std::size_t j, const Branch& b) {
-        context.progress(fmt::format("[tori] {}: {}, {:.0f} s", family_name(j), StepProgress(b),
-                                     SecondsSince(t0)));
-        return true;
-      });
+      TorusStepProgress(context, family_name, t0));
   const ModulatedTorus& torus = result.start;
   fmt::print(out, "  its torus ({} harmonics, {} modulation period{} per section, circles in the {}; "
                   "{:.1f} s): {}\n",
@@ -372,7 +386,7 @@ void WriteNeimarkSackerTori(const std::string& name, const RubModulatedTori& res
   }
   for (std::size_t j = 0; j < result.tori.size(); ++j) {
     const TorusBranch& tori = result.tori[j];
-    const std::string torus_name = fmt::format("{}_ns{}", name, j + 1);
+    const std::string torus_name = NeimarkSackerToriName(name, j);
     if (!tori.ok) {
       fmt::print(out, "  {}: no start: {}\n", torus_name, tori.message);
       context.failures.push_back(fmt::format("[tori] {}: {}", torus_name, tori.message));
@@ -403,15 +417,11 @@ void RunTransientOrbitTori(const Scene& scene, const RubOrbitsPlan& plan, StageC
   const std::optional<SceneTransientOrbits> solved =
       SolveSceneTransientOrbits(scene, plan, "[tori]", name, false, t0, context);
   if (!solved) return;
-  const auto torus_name = [&name](std::size_t j) { return fmt::format("{}_ns{}", name, j + 1); };
+  const auto torus_name = [&name](std::size_t j) { return NeimarkSackerToriName(name, j); };
   const RubModulatedTori result = ContinueTransientOrbitTori(
       plan.structure, solved->orbits,
       WithWorkProgress(TorusOptionsOf(scene), context, torus_name, t0),
-      [&](std::size_t j, const Branch& b) {
-        context.progress(fmt::format("[tori] {}: {}, {:.0f} s", torus_name(j), StepProgress(b),
-                                     SecondsSince(t0)));
-        return true;
-      });
+      TorusStepProgress(context, torus_name, t0));
   WriteNeimarkSackerTori(name, result, plan.structure, trust, t0, context);
   const std::string group = "/tori/orbits/" + name;
   WriteTransientAttributes(context.writer, group, t.speed_rpm, t.seconds, solved->transient);
@@ -472,14 +482,11 @@ void RunRubTori(const Scene& scene, StageContext& context) {
                                    RadPerSecondToRpm(b.points.back().lambda), SecondsSince(t0)));
       return true;
     };
-    const auto torus_name = [&name](std::size_t j) { return fmt::format("{}_ns{}", name, j + 1); };
+    const auto torus_name = [&name](std::size_t j) { return NeimarkSackerToriName(name, j); };
     const RubModulatedTori result = ContinueModulatedTori(
         plan.structure, plan.waves, start, plan.options,
-        WithWorkProgress(options, context, torus_name, t0), [&](std::size_t j, const Branch& b) {
-          context.progress(fmt::format("[tori] {}: {}, {:.0f} s", torus_name(j), StepProgress(b),
-                                       SecondsSince(t0)));
-          return true;
-        });
+        WithWorkProgress(options, context, torus_name, t0),
+        TorusStepProgress(context, torus_name, t0));
     const std::string family_group = "/tori/orbits/" + name;
     WriteNeimarkSackerTori(name, result, plan.structure, trust, t0, context);
     writer.SetAttribute(family_group, "hopf_branch", start.branch);
