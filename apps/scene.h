@@ -140,6 +140,7 @@ struct RubOrbitsSettings {
     bool enabled = false;     // the section is given
     double speed_rpm = 49.4;  // required in the section, inside speed_range_rpm
     double seconds = 8.0;     // the transient from rest and the impulse [s]
+    double search_seconds = 1.0;  // run on before the orbit is shot [s]
     int laps = 1;             // modulation periods per orbit, 1 … 64 (> 1: a locked whip)
     int max_steps = 40;       // continuation steps each way
   } transient;

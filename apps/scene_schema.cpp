@@ -835,6 +835,14 @@ void RubOrbitsTransientKeys(std::vector<KeySpec>& s) {
       "(settle_windows + 1)·settle_window of [analysis.sweep] (C(a) at 49.4 rpm: 8 s).",
       [](Scene& x) -> double& { return x.analysis.orbits.transient.seconds; },
       Presence::kOptional));
+  s.push_back(Float(
+      "analysis.orbits.transient.search_seconds", "s", Rule::kPositive,
+      "How long the settled transient runs on, with the sweep's integrator, before its orbit is "
+      "shot: the state at the end is Newton's first guess, the stretch's dominant line of the slip "
+      "velocity its modulation period. A whip that settles by the windows' measure while still "
+      "drawing in needs longer (C(a) at 75 rpm, the orbit locked at 3:7: 4 s).",
+      [](Scene& x) -> double& { return x.analysis.orbits.transient.search_seconds; },
+      Presence::kOptional));
   s.push_back(Make<int, std::int64_t>(
       "analysis.orbits.transient.laps", ValueType::kInteger, "-", Rule::kCount,
       Presence::kOptional,

@@ -156,6 +156,10 @@ LoopOptions LoopOptionsOf(const Scene& scene) {
   // L2 asks [analysis.orbits]' shooting and mesh (a flexible structure's too: its orbits are the
   // stage's, apps/orbits_stage.cpp); not with an imbalance, which the co-rotating frame excludes.
   o.orbit_start = TransientOrbitStartOf(scene);
+  // Decision: the loop's L2 tries keep the shooting's integrator for their search (BDF ≤ 2), as the
+  // committed loops were made; whether the sweep's moves their tries is not measured (the 12 loops
+  // again: about 95 min of CPU).
+  o.orbit_start.search_integrator.reset();
   // A departure that is no orbit (a chaotic whip) fails Newton whatever the iterations, and the
   // stage's 20 cost B(b) at 172 rpm 37 s of CPU (19 iterations to a non-finite residual): 10.
   o.orbit_start.newton.max_iterations = 10;
@@ -292,7 +296,9 @@ ModulatedOrbitOptions TransientOrbitStartOf(const Scene& scene) {
   start.shooting = orbits.shooting;
   start.shooting.segments *= laps;
   start.laps = laps;
-  start.search_duration = 1.0;
+  // The search continues the transient with the transient's own integrator (the sweep's).
+  start.search_integrator = SweepOptionsOf(scene, SweepDirection::kUp).integrator;
+  start.search_duration = scene.analysis.orbits.transient.search_seconds;
   start.newton.residual_tolerance = orbits.continuation.corrector.residual_tolerance;
   start.newton.step_tolerance = orbits.continuation.corrector.step_tolerance;
   start.newton.max_iterations = 20;

@@ -77,6 +77,7 @@ void Validate(const ModulatedOrbitOptions& options) {
   Validate(options.shooting);
   Validate(options.newton);
   ValidateModulationSearch("ModulatedOrbitOptions", options.search_duration, options.search_rate);
+  if (options.search_integrator) Validate(*options.search_integrator);
   if (options.harmonics < 0) {
     throw std::invalid_argument(
         fmt::format("ModulatedOrbitOptions.harmonics = {}: must be ≥ 0", options.harmonics));
@@ -107,7 +108,9 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   orbit.frame_rate = frame_rate;
   orbit.laps = options.laps;
   RubRotatingFrame frame(structure, frame_rate, omega);
-  const ModulationSearch search = SearchModulation(frame, fixed_state, options.shooting.integrator,
+  const IntegratorOptions search_integrator =
+      Adaptive(options.search_integrator.value_or(options.shooting.integrator));
+  const ModulationSearch search = SearchModulation(frame, fixed_state, search_integrator,
                                                    options.search_duration, options.search_rate);
   if (!search.found) {
     orbit.message = search.message;
@@ -115,7 +118,7 @@ ModulatedOrbit SolveModulatedOrbit(const RubStructure& structure, double omega, 
   }
   const double period = options.laps * search.period;
   const Vector& x0 = search.state;
-  OdeIntegrator integrator(frame, Adaptive(options.shooting.integrator));
+  OdeIntegrator integrator(frame, search_integrator);
   Vector x_period(x0.size());
   const IntegrationResult turn = integrator.Integrate(0.0, x0, period, x_period);
   if (!turn.Succeeded()) {

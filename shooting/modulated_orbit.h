@@ -32,6 +32,7 @@
 #pragma once
 
 #include <complex>
+#include <optional>
 #include <string>
 
 #include "models/rub_model.h"
@@ -43,8 +44,8 @@
 namespace rubcont {
 
 struct ModulatedOrbitOptions {
-  // Segments and integrator (the kind is kRelative). The integrator also runs the search for the
-  // period guess (CVODES BDF ≤ 2 at its tolerances when it is Gauss collocation).
+  // Segments and integrator (the kind is kRelative); the search's too unless search_integrator
+  // is set.
   ShootingOptions shooting;
   // Tolerances above the integration error: the residual is only as smooth as the integration
   // (about 100·rtol; tests/shooting/van_der_pol_test.cpp).
@@ -53,6 +54,13 @@ struct ModulatedOrbitOptions {
   double search_rate = 20000.0;    // its samples per second [1/s], ≥ 16/search_duration
   int harmonics = 3;              // Fourier components |k| ≤ harmonics examined (≥ 0)
   int laps = 1;                   // modulation periods per orbit, 1 … 64 (above: locked orbits)
+  // The integrator of the search and of the turn that measures φ: the transient's, where the
+  // caller settled the state with one (the orbits stage: the sweep's). Unset: the shooting's, with
+  // CVODES BDF ≤ 2 at its tolerances in place of Gauss collocation, which may not keep a locked
+  // whip: C(a) at 75 rpm (the 3:7 orbit, a 4 s search) under BDF ≤ 2 at 1e-7 guessed 7T =
+  // 0.0563839 s against the orbit's 0.0562348 and Newton failed; under Dormand–Prince at 1e-9,
+  // the orbit in 4 iterations (docs/studies/attractors.md).
+  std::optional<IntegratorOptions> search_integrator;
 };
 
 // Throws std::invalid_argument naming the field, its value and the rule.

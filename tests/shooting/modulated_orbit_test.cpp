@@ -286,6 +286,47 @@ TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of th
                       [](const BranchPoint& p) { return p.StableFlag() == 1; }) >= 3);
 }
 
+TEST_CASE("case C(a) at 75 rpm: the whip locked at 3:7 is a stable orbit of seven modulation "
+          "periods, its period the time-marched section's",
+          "[modulated_orbit][torus]") {
+  // The reference is time marching's (bench/section_return_bench at 75 rpm, Dormand–Prince at
+  // 1e-9, results/bench/section_return.txt): the section of one modulation period, line
+  // 124.4780 Hz, comes back after 7 periods to 3e-9 (scaled): a stable orbit of 7 periods.
+  // The search continues the transient under Dormand–Prince (search_integrator): under the
+  // shooting's default, BDF ≤ 2 at 1e-7, the stage's guess of 7T here came out 0.27 % long and
+  // Newton failed.
+  const TwoPointParams params = ThesisCaseCa();
+  const RubStructure structure = TwoPointStructure(params);
+  const double omega = RpmToRadPerSecond(75.0);
+  const RubSettledSpeed transient = Settle(params, 75.0, 8.0);
+  REQUIRE(transient.settled);
+  ModulatedOrbitOptions options;
+  options.laps = 7;
+  options.search_duration = 4.0;
+  IntegratorOptions dormand_prince;
+  dormand_prince.method = IntegrationMethod::kDormandPrince;
+  dormand_prince.relative_tolerance = dormand_prince.absolute_tolerance = 1e-9;
+  dormand_prince.max_steps = 100000000;
+  options.search_integrator = dormand_prince;
+  options.shooting.segments = 7;
+  options.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.shooting.integrator.collocation_stages = 4;
+  options.shooting.integrator.collocation_steps = 800;
+  options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
+  const ModulatedOrbit orbit = SolveModulatedOrbit(
+      structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, options);
+  INFO(orbit.message);
+  REQUIRE(orbit.converged);
+  CHECK_THAT(orbit.message, Contains("(7 modulation periods)"));
+  CHECK(7.0 / orbit.period == Approx(124.4780).epsilon(0).margin(0.001));
+  RubRotatingFrame frame(structure, orbit.frame_rate, omega);
+  ShootingProblem problem(frame, OrbitKind::kRelative, options.shooting);
+  const Spectrum spectrum = problem.Stability(orbit.u, omega);
+  REQUIRE(spectrum.valid);
+  CHECK(std::abs(spectrum.values(0)) < 0.9);  // measured 0.7654
+  CHECK(std::abs(spectrum.values(0)) > 0.5);
+}
+
 TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[modulated_orbit]") {
   const RubStructure s = TwoPointStructure(ThesisCaseAa());
   const Vector x = Vector::Zero(s.States());
@@ -298,6 +339,10 @@ TEST_CASE("modulated orbit inputs outside their rules are rejected by name", "[m
   o = {};
   o.harmonics = -1;
   CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, x, o), Contains("harmonics = -1"));
+  o = {};
+  o.search_integrator = IntegratorOptions{};
+  o.search_integrator->relative_tolerance = -1.0;
+  CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, x, o), Contains("relative_tolerance = -1"));
   o = {};
   o.laps = 0;
   CHECK_THROWS_WITH(SolveModulatedOrbit(s, 6.0, 500.0, x, o), Contains("laps = 0: must be in 1 … 64"));
