@@ -10,10 +10,14 @@
 // the points' mean turn per period round their centroid is p/q (or 1 − p/q: the plane's
 // orientation is the SVD's). A whip integrated too coarsely can wander instead: C(a) at 74 rpm
 // under BDF ≤ 2 at 1e-7 (docs/studies/attractors.md).
-// Usage: section_return_bench [RPM [PERIODS [CASE [INTEGRATOR [TOLERANCE]]]]]
+// Usage: section_return_bench [RPM [PERIODS [CASE [INTEGRATOR [TOLERANCE [SETTLE]]]]]]
 // CASE: a, b or c (case C(a), C(b), C(c)); INTEGRATOR: dopri (Dormand–Prince), bdf (CVODES BDF
 // ≤ 5) or bdf2 (≤ 2, the torus start's, shooting/modulated_torus.h); TOLERANCE: rtol = atol
-// (scaled states). Defaults 74, 1000, a, dopri, 1e-9.
+// (scaled states); SETTLE: long (LongSettleOptions' BDF ≤ 2 at 1e-6, then the 4 s of approach) or
+// rest (the orbits stage's transient with a scene's defaults and explicit_tolerance = 1e-9: 8 s at
+// most from rest and a 1 N·s impulse under Dormand–Prince at 1e-9, settled by 0.25 s windows,
+// then the approach). At C(a) 74 rpm the two reach different whips (docs/studies/attractors.md).
+// Defaults 74, 1000, a, dopri, 1e-9, long.
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -42,12 +46,37 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
+// The orbits stage's transient (apps/stage_options.cpp, TransientSweepOptionsOf) with [analysis.sweep]'s
+// defaults and explicit_tolerance = 1e-9.
+SweepOptions FromRestOptions(double omega) {
+  SweepOptions options;
+  options.parameters = {omega};
+  options.dwell = 8.0;
+  options.window = 0.25;
+  options.settle_windows = 2;
+  options.spectrum_tolerance = 0.05;
+  options.frequency_tolerance = 0.25;
+  options.analysis_length = 0.5;
+  options.sample_rate = 4096.0;
+  options.band = 600.0;
+  options.peak_side = PeakSide::kNegative;
+  options.integrator.method = IntegrationMethod::kDormandPrince;
+  options.integrator.relative_tolerance = options.integrator.absolute_tolerance = 1e-9;
+  options.integrator.max_steps = 100000000;
+  return options;
+}
+
 int Main(int argc, char** argv) {
   const double rpm = argc > 1 ? std::atof(argv[1]) : 74.0;
   const int periods = argc > 2 ? std::atoi(argv[2]) : 1000;
   const char case_letter = argc > 3 ? argv[3][0] : 'a';
   const std::string method = argc > 4 ? argv[4] : "dopri";
   const double tolerance = argc > 5 ? std::atof(argv[5]) : 1e-9;
+  const std::string settle = argc > 6 ? argv[6] : "long";
+  if (settle != "long" && settle != "rest") {
+    std::fprintf(stderr, "section_return_bench: SETTLE = %s: must be long or rest\n", settle.c_str());
+    return 2;
+  }
   if (periods < 2 * kMaxLaps) {
     std::fprintf(stderr, "section_return_bench: PERIODS = %d: must be at least %d\n", periods,
                  2 * kMaxLaps);
@@ -71,7 +100,8 @@ int Main(int argc, char** argv) {
   const double omega = RpmToRadPerSecond(rpm);
   const double cpu_start = ProcessCpuSeconds();
 
-  const RubSettledSpeed transient = SettleAtSpeed(structure, LongSettleOptions(omega), 1.0);
+  const RubSettledSpeed transient =
+      SettleAtSpeed(structure, settle == "rest" ? FromRestOptions(omega) : LongSettleOptions(omega), 1.0);
   Vector approached = transient.state;
   {
     RubFixedFrame fixed(structure, omega);
@@ -121,9 +151,9 @@ int Main(int argc, char** argv) {
   }
   std::sort(returns.begin(), returns.end(),
             [](const Return& a, const Return& b) { return a.median < b.median; });
-  std::printf("C(%c) at %.3f rpm, %s at %.0e: T = %.9f s (1/T = %.4f Hz), %d periods (%.1f s); "
+  std::printf("C(%c) at %.3f rpm, settled %s, %s at %.0e: T = %.9f s (1/T = %.4f Hz), %d periods (%.1f s); "
               "%.1f s CPU\n",
-              case_letter, rpm, method.c_str(), tolerance, period, 1.0 / period, periods,
+              case_letter, rpm, settle == "rest" ? "from rest" : "long", method.c_str(), tolerance, period, 1.0 / period, periods,
               periods * period, CpuSecondsSince(cpu_start));
   // The points' turn round their centroid in their principal plane, per period: features that
   // the axis's turn leaves alone (the first complex coordinate's modulus, the others relative to

@@ -211,6 +211,20 @@ TEST_CASE(
   CHECK(F.cwiseQuotient(circle.ResidualScale()).lpNorm<Eigen::Infinity>() < 1e-4);
 }
 
+// A whip locked at p:laps shot on Gauss collocation of order 8: `segments` segments over the
+// orbit, `steps` steps each; the search `search_seconds` long; Newton to 1e-8.
+ModulatedOrbitOptions LockedOrbitOptions(int laps, int segments, long steps, double search_seconds) {
+  ModulatedOrbitOptions options;
+  options.laps = laps;
+  options.search_duration = search_seconds;
+  options.shooting.segments = segments;
+  options.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
+  options.shooting.integrator.collocation_stages = 4;
+  options.shooting.integrator.collocation_steps = steps;
+  options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
+  return options;
+}
+
 TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of three modulation "
           "periods, stable from the tongue's edge (a fold) to a period doubling",
           "[modulated_orbit][torus]") {
@@ -224,14 +238,7 @@ TEST_CASE("case C(a) at 49.4 rpm: the whip locked at 1:3 is a stable orbit of th
   const double omega = RpmToRadPerSecond(49.4);
   const RubSettledSpeed transient = Settle(params, 49.4, 8.0);
   REQUIRE(transient.settled);
-  ModulatedOrbitOptions options;
-  options.laps = 3;
-  options.search_duration = 1.0;
-  options.shooting.segments = 6;
-  options.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
-  options.shooting.integrator.collocation_stages = 4;
-  options.shooting.integrator.collocation_steps = 200;
-  options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
+  const ModulatedOrbitOptions options = LockedOrbitOptions(3, 6, 200, 1.0);
   const ModulatedOrbit orbit = SolveModulatedOrbit(structure, omega, HzToRadPerSecond(transient.precession_hz),
                                                    transient.state, options);
   INFO(orbit.message);
@@ -300,19 +307,12 @@ TEST_CASE("case C(a) at 75 rpm: the whip locked at 3:7 is a stable orbit of seve
   const double omega = RpmToRadPerSecond(75.0);
   const RubSettledSpeed transient = Settle(params, 75.0, 8.0);
   REQUIRE(transient.settled);
-  ModulatedOrbitOptions options;
-  options.laps = 7;
-  options.search_duration = 4.0;
+  ModulatedOrbitOptions options = LockedOrbitOptions(7, 7, 800, 4.0);
   IntegratorOptions dormand_prince;
   dormand_prince.method = IntegrationMethod::kDormandPrince;
   dormand_prince.relative_tolerance = dormand_prince.absolute_tolerance = 1e-9;
   dormand_prince.max_steps = 100000000;
   options.search_integrator = dormand_prince;
-  options.shooting.segments = 7;
-  options.shooting.integrator.method = IntegrationMethod::kGaussCollocation;
-  options.shooting.integrator.collocation_stages = 4;
-  options.shooting.integrator.collocation_steps = 800;
-  options.newton.residual_tolerance = options.newton.step_tolerance = 1e-8;
   const ModulatedOrbit orbit = SolveModulatedOrbit(
       structure, omega, HzToRadPerSecond(transient.precession_hz), transient.state, options);
   INFO(orbit.message);
