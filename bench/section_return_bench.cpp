@@ -46,8 +46,8 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
-// The orbits stage's transient (apps/stage_options.cpp, TransientSweepOptionsOf) with [analysis.sweep]'s
-// defaults and explicit_tolerance = 1e-9.
+// The orbits stage's transient (apps/stage_options.cpp, TransientSweepOptionsOf) with
+// [analysis.sweep]'s defaults and explicit_tolerance = 1e-9.
 SweepOptions FromRestOptions(double omega) {
   SweepOptions options;
   options.parameters = {omega};
@@ -74,7 +74,8 @@ int Main(int argc, char** argv) {
   const double tolerance = argc > 5 ? std::atof(argv[5]) : 1e-9;
   const std::string settle = argc > 6 ? argv[6] : "long";
   if (settle != "long" && settle != "rest") {
-    std::fprintf(stderr, "section_return_bench: SETTLE = %s: must be long or rest\n", settle.c_str());
+    std::fprintf(stderr, "section_return_bench: SETTLE = %s: must be long or rest\n",
+                 settle.c_str());
     return 2;
   }
   if (periods < 2 * kMaxLaps) {
@@ -100,8 +101,8 @@ int Main(int argc, char** argv) {
   const double omega = RpmToRadPerSecond(rpm);
   const double cpu_start = ProcessCpuSeconds();
 
-  const RubSettledSpeed transient =
-      SettleAtSpeed(structure, settle == "rest" ? FromRestOptions(omega) : LongSettleOptions(omega), 1.0);
+  const RubSettledSpeed transient = SettleAtSpeed(
+      structure, settle == "rest" ? FromRestOptions(omega) : LongSettleOptions(omega), 1.0);
   Vector approached = transient.state;
   {
     RubFixedFrame fixed(structure, omega);
@@ -151,10 +152,10 @@ int Main(int argc, char** argv) {
   }
   std::sort(returns.begin(), returns.end(),
             [](const Return& a, const Return& b) { return a.median < b.median; });
-  std::printf("C(%c) at %.3f rpm, settled %s, %s at %.0e: T = %.9f s (1/T = %.4f Hz), %d periods (%.1f s); "
-              "%.1f s CPU\n",
-              case_letter, rpm, settle == "rest" ? "from rest" : "long", method.c_str(), tolerance, period, 1.0 / period, periods,
-              periods * period, CpuSecondsSince(cpu_start));
+  std::printf("C(%c) at %.3f rpm, settled %s, %s at %.0e: T = %.9f s (1/T = %.4f Hz), %d periods "
+              "(%.1f s); %.1f s CPU\n",
+              case_letter, rpm, settle == "rest" ? "from rest" : "long", method.c_str(), tolerance,
+              period, 1.0 / period, periods, periods * period, CpuSecondsSince(cpu_start));
   // The points' turn round their centroid in their principal plane, per period: features that
   // the axis's turn leaves alone (the first complex coordinate's modulus, the others relative to
   // its direction), each by its spread; the mean turn, in (0, 1), is p/q on a p:q locked orbit.
