@@ -31,6 +31,7 @@
 #include "models/units.h"
 #include "shooting/modulated_orbit.h"
 #include "solvers/stopwatch.h"
+#include "sweeps/attractor.h"
 #include "sweeps/rub_sweep.h"
 
 namespace rubcont {
@@ -185,55 +186,14 @@ int Main(int argc, char** argv) {
     turn += step / kTwoPi - std::floor(step / kTwoPi);
   }
   std::printf("  the points' mean turn per period round their centroid: %.6f\n", turn / periods);
-  // The section's dimension, from how the median nearest-neighbour distance among the points
-  // (features above) grows when every other one is dropped: by 2 on curves (a torus's section),
-  // by √2 on a surface; D = ln 2 / ln(ratio). Its pieces: the points linked where nearer than 3
-  // times the half set's distance (a torus round an orbit of m periods cuts the section in m
-  // closed curves). On an orbit of q periods the neighbour is q periods away at the return's
-  // distance, and D reads the points' slide along the orbit by the search's error in T (C(a)'s
-  // 5-lap orbit at 66 rpm: 1.00, 5 pieces). Where the ratio is near 1 (the neighbour an even
-  // number of periods away, near a resonance) D says nothing.
-  const Index n = features.rows();
-  // The nearest neighbours' distances and how many periods apart they lie.
-  auto nearest = [&](Index stride, std::vector<double>* apart = nullptr) {
-    std::vector<double> distances;
-    for (Index i = 0; i < n; i += stride) {
-      double least = kInfinity;
-      Index at = i;
-      for (Index j = 0; j < n; j += stride) {
-        const double d = (features.row(i) - features.row(j)).norm();
-        if (j != i && d < least) least = d, at = j;
-      }
-      distances.push_back(least);
-      if (apart != nullptr) apart->push_back(static_cast<double>(std::abs(at - i)));
-    }
-    return distances;
-  };
-  std::vector<double> apart;
-  const double nearest_all = Median(nearest(1, &apart)), nearest_half = Median(nearest(2));
-  std::vector<Index> piece(static_cast<std::size_t>(n), -1);
-  Index pieces = 0;
-  for (Index seed = 0; seed < n; ++seed) {
-    if (piece[static_cast<std::size_t>(seed)] >= 0) continue;
-    std::vector<Index> stack = {seed};
-    piece[static_cast<std::size_t>(seed)] = pieces;
-    while (!stack.empty()) {
-      const Index i = stack.back();
-      stack.pop_back();
-      for (Index j = 0; j < n; ++j) {
-        if (piece[static_cast<std::size_t>(j)] < 0 &&
-            (features.row(i) - features.row(j)).norm() < 3.0 * nearest_half) {
-          piece[static_cast<std::size_t>(j)] = pieces;
-          stack.push_back(j);
-        }
-      }
-    }
-    ++pieces;
-  }
-  std::printf("  the section's nearest-neighbour distance %.2e (every other point: %.2e), "
-              "dimension %.2f, %td pieces; the nearest neighbour %.0f periods away (median)\n",
-              nearest_all, nearest_half, std::log(2.0) / std::log(nearest_half / nearest_all),
-              pieces, Median(apart));
+  // The section's dimension and pieces (sweeps/attractor.h): a torus's section is curves
+  // (dimension 1); on an orbit of q periods the nearest neighbour lies q periods away at the
+  // return's distance (C(a)'s 5-lap orbit at 66 rpm: dimension 1.00, 5 pieces).
+  const SectionDimension section = MeasureSectionDimension(features.transpose());
+  std::printf("  the section's dimension %.2f (r4 %.2e, r16 %.2e), %d pieces; the nearest "
+              "neighbour %.2e away, %.0f periods later (medians)\n",
+              section.dimension, section.fourth, section.sixteenth, section.pieces,
+              section.nearest, section.apart);
   std::printf("  nearest returns (median scaled distance; first half, second half):");
   for (std::size_t i = 0; i < 5; ++i) {
     std::printf(" q = %d: %.2e (%.2e, %.2e)%s", returns[i].laps, returns[i].median,

@@ -5,6 +5,7 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/QR>
 #include <fmt/core.h>
@@ -142,6 +143,56 @@ int SectionPeriod(const std::vector<double>& values, double tolerance, int max_p
     if (periodic) return p;
   }
   return 0;
+}
+
+SectionDimension MeasureSectionDimension(const Matrix& points) {
+  const Index m = points.cols();
+  if (m < 17) {
+    throw std::invalid_argument(
+        fmt::format("MeasureSectionDimension: {} points: need at least 17", m));
+  }
+  auto distance = [&](Index i, Index j) { return (points.col(i) - points.col(j)).norm(); };
+  auto median = [](std::vector<double> values) {
+    const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), middle, values.end());
+    return *middle;
+  };
+  std::vector<double> nearest, apart, fourth, sixteenth;
+  std::vector<std::pair<double, Index>> others(static_cast<std::size_t>(m - 1));
+  for (Index i = 0; i < m; ++i) {
+    for (Index j = 0, o = 0; j < m; ++j) {
+      if (j != i) others[static_cast<std::size_t>(o++)] = {distance(i, j), j};
+    }
+    std::partial_sort(others.begin(), others.begin() + 16, others.end());
+    nearest.push_back(others[0].first);
+    apart.push_back(static_cast<double>(std::abs(others[0].second - i)));
+    fourth.push_back(others[3].first);
+    sixteenth.push_back(others[15].first);
+  }
+  SectionDimension result;
+  result.nearest = median(nearest);
+  result.apart = median(apart);
+  result.fourth = median(fourth);
+  result.sixteenth = median(sixteenth);
+  result.dimension = std::log(4.0) / std::log(result.sixteenth / result.fourth);
+  std::vector<int> piece(static_cast<std::size_t>(m), -1);
+  for (Index seed = 0; seed < m; ++seed) {
+    if (piece[static_cast<std::size_t>(seed)] >= 0) continue;
+    std::vector<Index> stack = {seed};
+    piece[static_cast<std::size_t>(seed)] = result.pieces;
+    while (!stack.empty()) {
+      const Index i = stack.back();
+      stack.pop_back();
+      for (Index j = 0; j < m; ++j) {
+        if (piece[static_cast<std::size_t>(j)] < 0 && distance(i, j) < 3.0 * result.fourth) {
+          piece[static_cast<std::size_t>(j)] = result.pieces;
+          stack.push_back(j);
+        }
+      }
+    }
+    ++result.pieces;
+  }
+  return result;
 }
 
 AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,

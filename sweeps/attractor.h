@@ -114,6 +114,27 @@ using AttractorProgress = std::function<void(double done, double total)>;
 // period-doubled one 2; a torus or chaos none.
 int SectionPeriod(const std::vector<double>& values, double tolerance, int max_period);
 
+// How a section's points (columns, in comparable units: scale them first) fill space, from
+// their near neighbours: the distance r_k to a point's k-th nearest grows as k^(1/d) on a set of
+// dimension d, so the dimension is ln 4 / ln(r₁₆ / r₄), medians over the points (a correlation
+// dimension at the scale of the points' spacing: a torus's section is curves, 1; chaos a cloud,
+// > 1; measured on lattice-like and random sets alike — dropping every other point instead
+// failed on an irrational rotation, whose nearest neighbour then often stays). On an orbit of q
+// sections the nearest neighbour is q sections later and the points slide along the orbit by the
+// period's error, so the dimension reads 1 there too: `apart` (q) and the small `nearest` tell
+// the orbit. Pieces: the points linked where nearer than 3 r₄ (a torus round an orbit of q
+// sections cuts the section in q closed curves). O(m²) for m points.
+struct SectionDimension {
+  double nearest = 0.0;    // median distance to the nearest other point
+  double apart = 0.0;      // median of how many points (sections) apart the nearest lies
+  double fourth = 0.0;     // median r₄
+  double sixteenth = 0.0;  // median r₁₆
+  double dimension = 0.0;  // ln 4 / ln(sixteenth / fourth)
+  int pieces = 0;
+};
+// Throws std::invalid_argument for fewer than 17 points.
+SectionDimension MeasureSectionDimension(const Matrix& points);
+
 // Integrates `system` from x0 at its current parameter. `section` may be null. Throws
 // std::invalid_argument for invalid options, section or sizes; integration failures are a status.
 AttractorResult MeasureAttractor(OdeSystem& system, const Vector& x0, const AttractorOptions& options,

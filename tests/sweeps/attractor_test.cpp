@@ -184,6 +184,44 @@ TEST_CASE("attractor: the section's period, after the first half's transient", "
   CHECK(SectionPeriod(std::vector<double>(32, 7.0), 0.0, 8) == 1);
 }
 
+TEST_CASE("attractor: the section's dimension tells a curve, a surface and an orbit of q sections",
+          "[attractor]") {
+  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+  // A torus's section: a closed curve in space visited by an irrational rotation.
+  Matrix curve(3, 1000);
+  for (Index k = 0; k < curve.cols(); ++k) {
+    const double theta = kTwoPi * golden * static_cast<double>(k);
+    curve.col(k) << std::cos(theta), std::sin(theta), 0.3 * std::sin(2.0 * theta);
+  }
+  const SectionDimension on_curve = MeasureSectionDimension(curve);
+  CHECK(on_curve.dimension == Approx(1.0).margin(0.1));
+  CHECK(on_curve.pieces == 1);
+  // A surface: a 3-torus's section, two incommensurate rotations.
+  Matrix surface(4, 2000);
+  for (Index k = 0; k < surface.cols(); ++k) {
+    const double a = kTwoPi * std::sqrt(2.0) * static_cast<double>(k);
+    const double b = kTwoPi * std::sqrt(3.0) * static_cast<double>(k);
+    surface.col(k) << std::cos(a), std::sin(a), std::cos(b), std::sin(b);
+  }
+  const SectionDimension on_surface = MeasureSectionDimension(surface);
+  CHECK(on_surface.dimension == Approx(2.0).margin(0.3));
+  CHECK(on_surface.pieces == 1);
+  // An orbit of 7 sections locked at 3:7, sampled with a period 1e-6 of a turn off per section:
+  // the points slide along it, 7 sections apart, 7 pieces.
+  Matrix orbit(2, 700);
+  for (Index k = 0; k < orbit.cols(); ++k) {
+    const double theta = kTwoPi * (3.0 / 7.0 + 1e-6) * static_cast<double>(k);
+    orbit.col(k) << std::cos(theta), std::sin(theta);
+  }
+  const SectionDimension on_orbit = MeasureSectionDimension(orbit);
+  CHECK(on_orbit.apart == 7.0);
+  CHECK(on_orbit.pieces == 7);
+  CHECK(on_orbit.nearest == Approx(7.0 * kTwoPi * 1e-6).epsilon(1e-3));
+  CHECK(on_orbit.dimension == Approx(1.0).margin(1e-3));
+  CHECK_THROWS_WITH(MeasureSectionDimension(Matrix::Zero(2, 16)),
+                    Catch::Contains("16 points: need at least 17"));
+}
+
 TEST_CASE("attractor: invalid options name the field, a failing integration is a status",
           "[attractor]") {
   LorenzSystem system;
