@@ -188,12 +188,17 @@ int Main(int argc, char** argv) {
   std::printf("  the points' mean turn per period round their centroid: %.6f\n", turn / periods);
   // The section's dimension and pieces (sweeps/attractor.h): a torus's section is curves
   // (dimension 1); on an orbit of q periods the nearest neighbour lies q periods away at the
-  // return's distance (C(a)'s 5-lap orbit at 66 rpm: dimension 1.00, 5 pieces).
+  // return's distance (C(a)'s 5-lap orbit at 66 rpm: dimension 1.00, 5 pieces). The record's
+  // halves each: a whip still drawing in onto its torus reads more in the first.
   const SectionDimension section = MeasureSectionDimension(features.transpose());
-  std::printf("  the section's dimension %.2f (r4 %.2e, r16 %.2e), %d pieces; the nearest "
-              "neighbour %.2e away, %.0f periods later (medians)\n",
-              section.dimension, section.fourth, section.sixteenth, section.pieces,
-              section.nearest, section.apart);
+  const Index middle = features.rows() / 2;
+  const double first_half = MeasureSectionDimension(features.topRows(middle).transpose()).dimension;
+  const double second_half =
+      MeasureSectionDimension(features.bottomRows(features.rows() - middle).transpose()).dimension;
+  std::printf("  the section's dimension %.2f (halves %.2f, %.2f; r4 %.2e, r16 %.2e), %d pieces; "
+              "the nearest neighbour %.2e away, %.0f periods later (medians)\n",
+              section.dimension, first_half, second_half, section.fourth, section.sixteenth,
+              section.pieces, section.nearest, section.apart);
   std::printf("  nearest returns (median scaled distance; first half, second half):");
   for (std::size_t i = 0; i < 5; ++i) {
     std::printf(" q = %d: %.2e (%.2e, %.2e)%s", returns[i].laps, returns[i].median,
