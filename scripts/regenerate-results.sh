@@ -22,7 +22,8 @@
 #                   scenes/thesis_C_a_tori.toml at K up to 32: about 31 min of CPU, 13.5 of
 #                   them the torus a transient settles on at 49 rpm); and its whip locked at
 #                   1:3, from a transient at 49.4 rpm (scenes/thesis_C_a_locked.toml: about 9 min of CPU),
-#                   and at 3:7, from one at 75 rpm (scenes/thesis_C_a_locked_75.toml: about 6 min);
+#                   and at 3:7, from one at 75 rpm (scenes/thesis_C_a_locked_75.toml: about 6 min),
+#                   and at 19:45, from one at 74 rpm (scenes/thesis_C_a_locked_74.toml: about 12 min);
 #                   and C(c)'s two-frequency whip as tori in the contact chart
 #                   (scenes/thesis_C_c_tori.toml: about 27 min of CPU), C(b)'s
 #                   (scenes/thesis_C_b_tori.toml: about 82 min of CPU), the tori from the

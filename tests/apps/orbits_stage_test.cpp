@@ -405,6 +405,49 @@ TEST_CASE("orbits from a transient, C(b) at 64 rpm: the whip L3 reads as period 
   CHECK(stable_at_64);
 }
 
+TEST_CASE("orbits from a transient, C(a) at 74 rpm: the whip a transient from rest reaches "
+          "inside the 3:7 tongue is locked at 19:45, a stable orbit of 45 modulation periods",
+          "[orbits][cli][rub_orbits]") {
+  // The reference is time marching's (bench/section_return_bench 74 2000 a dopri 1e-9 rest,
+  // results/bench/section_return.txt): settled from rest as this stage settles, the section of
+  // one modulation period (line 124.2208 Hz) comes back after 45 periods to 8.2e-6, turning by
+  // 19/45 per period. scenes/thesis_C_a_locked_74.toml on 1600 intervals: stable from a period
+  // doubling at 73.9307 rpm to a fold at 74.0708 rpm, largest multiplier 0.304 at 74 rpm. Here
+  // on 800 (400 fails in the guess's first integration), one step each way (measured 0.470,
+  // 0.305 and 0.230 at 73.982, 74 and 74.017 rpm).
+  TempDir dir;
+  const Outcome run = testing::RunQuiet(
+      dir, "ca_19_45",
+      testing::SceneWithAnalysis(
+          "scenes/thesis_C_a_locked_74.toml",
+          "[analysis]\nstages = [\"orbits\"]\nspeed_range_rpm = [70.0, 79.0]\n"
+          "[analysis.sweep]\nexplicit_tolerance = 1e-9\n"
+          "[analysis.orbits]\nhopf_points = 0\ncollocation_intervals = 800\n"
+          "predictor = \"curved\"\nbranch_points = \"mark\"\n"
+          "[analysis.orbits.transient]\nspeed_rpm = 74.0\nlaps = 45\nsearch_seconds = 4.0\n"
+          "max_steps = 1\n"));
+  INFO(run.out << run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("its orbit (45 modulation periods): T = "));
+  const ResultReader file(dir.path / "ca_19_45" / "ca_19_45.h5");
+  const std::string group = "/orbits/transient";
+  REQUIRE(file.Exists(group));
+  CHECK(45.0 / file.ReadDoubleAttribute(group, "start_period") ==
+        Approx(124.2208).epsilon(0).margin(0.001));
+  const auto rpm = file.ReadDoubles(group + "/speed_rpm");
+  const auto stable = file.ReadInts(group + "/stable");
+  const auto largest = file.ReadDoubles(group + "/max_multiplier_modulus");
+  REQUIRE(rpm.size() == 3);
+  for (std::size_t i = 0; i < rpm.size(); ++i) {
+    INFO(rpm[i] << " rpm");
+    CHECK(stable[i] == 1);
+    if (rpm[i] == 74.0) {
+      CHECK(largest[i] > 0.2);
+      CHECK(largest[i] < 0.4);
+    }
+  }
+}
+
 // An [analysis.orbits] switch `key` with the choices `off`, `on` (in the schema's order): read into
 // `field` of the family's options, `default_on` when not given, false with `off`, true with `on`;
 // any other value is exit 2 naming the key, the value and the choices, and writes nothing.
