@@ -123,7 +123,8 @@ int SectionPeriod(const std::vector<double>& values, double tolerance, int max_p
 // sections the nearest neighbour is q sections later and the points slide along the orbit by the
 // period's error, so the dimension reads 1 there too: `apart` (q) and the small `nearest` tell
 // the orbit. Pieces: the points linked where nearer than 3 r₄ (a torus round an orbit of q
-// sections cuts the section in q closed curves). O(m²) for m points.
+// sections cuts the section in q closed curves). O(m²) for m points. Points that do not spread
+// (r₁₆ = r₄) give an infinite or NaN dimension.
 struct SectionDimension {
   double nearest = 0.0;    // median distance to the nearest other point
   double apart = 0.0;      // median of how many points (sections) apart the nearest lies
