@@ -122,7 +122,8 @@ int SectionPeriod(const std::vector<double>& values, double tolerance, int max_p
 // failed on an irrational rotation, whose nearest neighbour then often stays). On an orbit of q
 // sections the nearest neighbour is q sections later and the points slide along the orbit by the
 // period's error, so the dimension reads 1 there too: `apart` (q) and the small `nearest` tell
-// the orbit. Pieces: the points linked where nearer than 3 r₄ (a torus round an orbit of q
+// the orbit (where the slide is below the integration's noise, the points are a cloud of that
+// size: C(a)'s 3:7 orbit at 74.5 rpm read 2.02 with `nearest` 2e-10). Pieces: the points linked where nearer than 3 r₄ (a torus round an orbit of q
 // sections cuts the section in q closed curves). O(m²) for m points. Points that do not spread
 // (r₁₆ = r₄) give an infinite or NaN dimension.
 struct SectionDimension {
