@@ -6,7 +6,7 @@
 #   quick   <scene>.h5 and summary.txt      (`rubcont run`; under a second per scene)
 #   sweep   sweep.h5 and sweep_summary.txt  (`rubcont sweep`; 2–16 min per scene)
 #   orbits  <scene>.h5 and summary.txt      (`rubcont run` with the rub's orbits; about 20 min)
-#   loop    loop.h5 and loop.txt            (`rubcont loop` with its `options loop` line; 1–12 min)
+#   loop    loop.h5 and loop.txt            (`rubcont loop` with its options in result_scenes.txt; 1–12 min)
 # Numbers must agree within |a − b| ≤ 1e-12 + 1e-9·|b| (the runs are deterministic; the margin is
 # for another CPU's last digits), strings exactly — the stored scene text (`scene_toml`) included,
 # except a key added since at the default that keeps the older behaviour (SCENE_KEYS_ADDED) —
@@ -30,8 +30,7 @@ if [[ ${#scenes[@]} -eq 0 ]]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# The committed loops' schedule and budget: the `options loop` line of scripts/result_scenes.txt.
-read -ra loop_options < <(awk '$1 == "options" && $2 == "loop" { $1 = $2 = ""; print }' scripts/result_scenes.txt)
+source scripts/result_scenes.sh  # loop_options_of SCENE: a committed loop's schedule and budget
 without_paths() { grep -v '^wrote ' "$1" > "$2" || true; }
 
 failed=0
@@ -44,6 +43,7 @@ for scene in "${scenes[@]}"; do
       files=(sweep.h5) summary=sweep_summary.txt ;;
     loop)
       mkdir -p "$tmp/$scene"
+      read -ra loop_options < <(loop_options_of "$scene")
       "$build/rubcont" loop "scenes/$scene.toml" "${loop_options[@]}" --quiet --no-figures \
         --out "$tmp/$scene/loop.h5" > "$tmp/$scene.summary" || true
       files=(loop.h5) summary=loop.txt ;;

@@ -52,7 +52,8 @@
 #                   B(c)'s (24 min), A(b)'s (35 min), C(b)'s (70 min of CPU), C(c)'s (17 min) and
 #                   B(b)'s (22 min; docs/studies/whip_end.md, "The end of the speed-up whip in every case").
 #   --loops         also re-runs the loops of the thesis scenes, the imbalanced and the flexible A(a)
-#                   (`rubcont loop --schedule 2 1.5 --budget 15`, results/<scene>/loop.{h5,txt,png}:
+#                   (`rubcont loop --schedule 2 1.5 --budget 15`, C(b) and C(c) 40: their lines in
+#                   scripts/result_scenes.txt; results/<scene>/loop.{h5,txt,png}:
 #                   the budget in work units, so each explains the same corners on any machine and
 #                   beside any other job; 3–25 min of CPU each) and writes their table into
 #                   results/README.md (scripts/loop_table.py); then run --sweep-tables, whose jump
@@ -70,7 +71,7 @@ cmake --build build --parallel "$(nproc)"
 # form (its file has no /analytic), and `rubcont run` below draws them again with it.
 # The scenes: scripts/result_scenes.txt (scripts/check_results.sh checks the same list).
 scenes_of() { awk -v k="$1" '$1 == k { print $2 }' scripts/result_scenes.txt; }
-options_of() { awk -v k="$1" '$1 == "options" && $2 == k { $1 = $2 = ""; print }' scripts/result_scenes.txt; }
+source scripts/result_scenes.sh  # loop_options_of SCENE: a committed loop's schedule and budget
 mapfile -t sweep_scenes < <(scenes_of sweep)
 case "${1:-}" in
   --sweeps) resume=() ;;
@@ -225,10 +226,11 @@ if [[ "${1:-}" == "--whip-end" ]]; then
   lifetime thesis_C_c 202 214 2 5 2 --until-above 150 --until-contacts right
 fi
 # The loops, one after the other (each runs its run-up and run-down side by side, then its
-# ensembles over both cores), with the options of the `options loop` line of result_scenes.txt.
+# ensembles over both cores), with the options of the `options loop` line of result_scenes.txt or
+# those of the scene's own line.
 if [[ "${1:-}" == "--loops" ]]; then
-  read -ra loop_options < <(options_of loop)
   for scene in $(scenes_of loop); do
+    read -ra loop_options < <(loop_options_of "$scene")
     build/rubcont loop "scenes/$scene.toml" "${loop_options[@]}" --quiet \
       --out "results/$scene/loop.h5" > "results/$scene/loop.txt"
     echo "results/$scene: loop.h5 loop.txt loop.png"

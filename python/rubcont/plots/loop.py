@@ -60,15 +60,17 @@ def has_families(loop):
     return "orbits" in loop and any("speed_rpm" in loop["orbits"][n] for n in loop["orbits"])
 
 
-def orbit_families(ax, loop, quantity="precession_hz", marks=True):
+def orbit_families(ax, loop, quantity="precession_hz", marks=True, span=None):
     """L2's families: period T and the doubled ones, `quantity` against speed, stable solid, unstable
-    dashed; with `marks` the points that end a state marked and named. Returns the largest value drawn
-    (0 without families)."""
+    dashed; with `marks` the points that end a state marked and named — each once (a family that
+    comes back along itself passes its points again) and, where they lie within 3 % of `span` (the
+    speed axis's width) of each other, in one label listing them (C(b)'s doubled whip: five points
+    within 0.06 rpm). Returns the largest value drawn (0 without families)."""
     top = 0.0
     if "orbits" not in loop:
         return top
     drawn = set()
-    placed = 0
+    named = []  # (speed, value, text, color) of every point named
     for name in sorted(loop["orbits"], key=lambda n: (len(n), n)):
         g = loop["orbits"][name]
         if "speed_rpm" not in g or "precession_hz" not in g:
@@ -92,24 +94,40 @@ def orbit_families(ax, loop, quantity="precession_hz", marks=True):
             if kind not in ENDS_STATE:
                 continue
             xs, ys = sp["speed_rpm"][k], sp[quantity][k]
+            text = f"{ENDS_STATE[kind]} {xs:.2f}"
+            if any(t == text and c == color for _, _, t, c in named):
+                continue
             ax.plot([xs], [ys], "D", color=color, mec="k", ms=5)
-            # Alternately above and below: a fold and a Neimark–Sacker point 0.07 rpm apart (A(a)).
-            ax.annotate(f"{ENDS_STATE[kind]} {xs:.2f}", (xs, ys), textcoords="offset points",
-                        xytext=(0, 8 if placed % 2 == 0 else -14), ha="center", fontsize=7, color=color)
-            placed += 1
+            named.append((xs, ys, text, color))
+    # A family's neighbouring points share one label above the highest of them, three names a line,
+    # in speed order.
+    width = span if span else max((x for x, _, _, _ in named), default=1.0) - min(
+        (x for x, _, _, _ in named), default=0.0) or 1.0
+    named.sort(key=lambda m: (m[3], m[0]))
+    group = []
+    for i, mark in enumerate(named):
+        group.append(mark)
+        last = i + 1 == len(named)
+        if last or named[i + 1][3] != mark[3] or named[i + 1][0] - mark[0] > 0.03 * width:
+            names = [m[2] for m in group]
+            text = "\n".join(", ".join(names[j:j + 3]) for j in range(0, len(names), 3))
+            ax.annotate(text, (np.mean([m[0] for m in group]), max(m[1] for m in group)),
+                        textcoords="offset points", xytext=(0, 8), ha="center", va="bottom",
+                        fontsize=7, color=mark[3])
+            group = []
     return top
 
 
 def families_page(ax, loop, xlim):
     """Below a page: L2's families against speed by their modulation frequency (the doubled orbits at
     half the period-1 one's), with their special points."""
-    top = orbit_families(ax, loop, "modulation_hz")
+    top = orbit_families(ax, loop, "modulation_hz", span=xlim[1] - xlim[0])
     ax.set_xlim(*xlim)
-    ax.set_ylim(0.0, 1.25 * max(top, 1.0))
+    ax.set_ylim(0.0, 1.5 * max(top, 1.0))
     ax.set_xlabel("running speed [rpm]")
     ax.set_ylabel("modulation of L2's orbits [Hz]")
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="upper right", fontsize=8)
 
 
 def interval_text(lo, hi):
