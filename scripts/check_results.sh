@@ -25,12 +25,12 @@ case "$kind" in
   *) echo "check_results.sh: kind = '$kind': must be quick, sweep, orbits or loop" >&2; exit 2 ;;
 esac
 scenes=("$@")
+source scripts/result_scenes.sh  # scenes_of KIND; loop_options_of SCENE: a loop's schedule and budget
 if [[ ${#scenes[@]} -eq 0 ]]; then
-  mapfile -t scenes < <(awk -v k="$kind" '$1 == k { print $2 }' scripts/result_scenes.txt)
+  mapfile -t scenes < <(scenes_of "$kind")
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-source scripts/result_scenes.sh  # loop_options_of SCENE: a committed loop's schedule and budget
 without_paths() { grep -v '^wrote ' "$1" > "$2" || true; }
 
 failed=0

@@ -70,8 +70,7 @@ cmake --build build --parallel "$(nproc)"
 # The sweeps first: `rubcont sweep` also draws the branches next to its file without the closed
 # form (its file has no /analytic), and `rubcont run` below draws them again with it.
 # The scenes: scripts/result_scenes.txt (scripts/check_results.sh checks the same list).
-scenes_of() { awk -v k="$1" '$1 == k { print $2 }' scripts/result_scenes.txt; }
-source scripts/result_scenes.sh  # loop_options_of SCENE: a committed loop's schedule and budget
+source scripts/result_scenes.sh  # scenes_of KIND; loop_options_of SCENE: a loop's schedule and budget
 mapfile -t sweep_scenes < <(scenes_of sweep)
 case "${1:-}" in
   --sweeps) resume=() ;;

@@ -100,15 +100,13 @@ def orbit_families(ax, loop, quantity="precession_hz", marks=True, span=None):
             ax.plot([xs], [ys], "D", color=color, mec="k", ms=5)
             named.append((xs, ys, text, color))
     # A family's neighbouring points share one label above the highest of them, three names a line,
-    # in speed order.
-    width = span if span else max((x for x, _, _, _ in named), default=1.0) - min(
-        (x for x, _, _, _ in named), default=0.0) or 1.0
+    # in speed order (without a span, each its own).
+    gap = 0.03 * span if span else 0.0
     named.sort(key=lambda m: (m[3], m[0]))
     group = []
     for i, mark in enumerate(named):
         group.append(mark)
-        last = i + 1 == len(named)
-        if last or named[i + 1][3] != mark[3] or named[i + 1][0] - mark[0] > 0.03 * width:
+        if i + 1 == len(named) or named[i + 1][3] != mark[3] or named[i + 1][0] - mark[0] > gap:
             names = [m[2] for m in group]
             text = "\n".join(", ".join(names[j:j + 3]) for j in range(0, len(names), 3))
             ax.annotate(text, (np.mean([m[0] for m in group]), max(m[1] for m in group)),
